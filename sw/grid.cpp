@@ -1,0 +1,82 @@
+#include "grid.h"
+
+#include <cmath>
+#include <sstream>
+
+#include "brute_force.h"
+
+namespace rt {
+
+std::array<int, 3> UniformGrid::resolution(const Box& box, size_t objects) {
+    const Vec3 e = box.extent();
+    const double volume = e.x * e.y * e.z;
+    const double k = std::cbrt(kCellsPerObject * double(std::max<size_t>(objects, 1)) / volume);
+    std::array<int, 3> n{};
+    for (int a = 0; a < 3; ++a) n[a] = int(std::clamp(std::lround(e[a] * k), 1L, long(kMaxCellsPerAxis)));
+    return n;
+}
+
+UniformGrid::UniformGrid(const std::vector<Shape>& objects, const Box& box)
+    : objects_(objects), lattice_(Lattice::uniform(box, resolution(box, objects.size()))) {
+    // Objects go into every cell their bounds touch, widened by a margin far
+    // above rounding error, so a hit point that rounding puts just across a
+    // cell face is still found in the cell the DDA is in.
+    const double margin = 1e-9 * std::max({box.maxExtent(), glm::length(box.lo), glm::length(box.hi)});
+    const long cells = lattice_.cellCount();
+    std::vector<uint32_t> count(cells + 1, 0);
+    std::vector<std::pair<Cell, Cell>> ranges(objects.size());
+    for (size_t i = 0; i < objects.size(); ++i) {
+        Cell f, l;
+        lattice_.overlapRange(objects[i].bounds().expanded(margin), f, l);
+        ranges[i] = {f, l};
+        for (int z = f[2]; z <= l[2]; ++z)
+            for (int y = f[1]; y <= l[1]; ++y)
+                for (int x = f[0]; x <= l[0]; ++x) ++count[cellIndex({x, y, z}) + 1];
+    }
+    start_.assign(cells + 1, 0);
+    for (long c = 0; c < cells; ++c) start_[c + 1] = start_[c] + count[c + 1];
+    items_.resize(start_[cells]);
+    std::vector<uint32_t> fill(start_.begin(), start_.end() - 1);
+    for (size_t i = 0; i < objects.size(); ++i) {
+        const auto& [f, l] = ranges[i];
+        for (int z = f[2]; z <= l[2]; ++z)
+            for (int y = f[1]; y <= l[1]; ++y)
+                for (int x = f[0]; x <= l[0]; ++x) items_[fill[cellIndex({x, y, z})]++] = uint32_t(i);
+    }
+}
+
+Hit UniformGrid::closestHit(const Ray& r, double t0, double t1, Mailbox& mailbox, Counters& counters) const {
+    Hit best;
+    mailbox.begin(objects_.size());
+    lattice_.walk(r, t0, t1, [&](const Cell& c, const Interval& seg) {
+        ++counters.voxelSteps;
+        const long ci = cellIndex(c);
+        for (uint32_t k = start_[ci]; k < start_[ci + 1]; ++k) {
+            const uint32_t obj = items_[k];
+            if (mailbox.firstVisit(obj)) testObject(objects_, obj, r, t0, t1, best, counters);
+        }
+        // A hit before this cell's exit cannot be beaten by objects further
+        // on; a hit exactly at the exit could tie with one in the next cell.
+        return !(best.t < seg.hi);
+    });
+    return best;
+}
+
+std::string UniformGrid::describe() const {
+    std::ostringstream s;
+    s << "grid " << lattice_.cells(0) << "x" << lattice_.cells(1) << "x" << lattice_.cells(2) << ", "
+      << items_.size() << " references";
+    return s.str();
+}
+
+std::vector<uint32_t> UniformGrid::cellObjects(const Cell& c) const {
+    const long ci = cellIndex(c);
+    return std::vector<uint32_t>(items_.begin() + start_[ci], items_.begin() + start_[ci + 1]);
+}
+
+std::unique_ptr<Accelerator> makeAccelerator(AccelKind kind, const std::vector<Shape>& objects, const Box& box) {
+    if (kind == AccelKind::BruteForce) return std::make_unique<BruteForce>(objects);
+    return std::make_unique<UniformGrid>(objects, box);
+}
+
+}  // namespace rt

@@ -1,0 +1,35 @@
+// Uniform grid over one region's box, traversed with the 3D-DDA of
+// Amanatides & Woo (Lattice::walk), with mailboxing.
+//
+// Resolution rule: about kCellsPerObject cells per object, cubical as far as
+// the box allows: with n objects in a box of volume V, k = cbrt(lambda n / V)
+// cells per unit length and n_a = clamp(round(extent_a k), 1, kMaxCellsPerAxis)
+// along each axis. lambda = 2 (measured on balls-4: see doc/rendering.md).
+#pragma once
+#include "accelerator.h"
+#include "lattice.h"
+
+namespace rt {
+
+class UniformGrid final : public Accelerator {
+public:
+    static constexpr double kCellsPerObject = 2.0;
+    static constexpr int kMaxCellsPerAxis = 128;
+    static std::array<int, 3> resolution(const Box& box, size_t objects);
+
+    UniformGrid(const std::vector<Shape>& objects, const Box& box);
+    Hit closestHit(const Ray& r, double t0, double t1, Mailbox& mailbox, Counters& counters) const override;
+    std::string describe() const override;
+    const Lattice& lattice() const { return lattice_; }
+    // Objects listed in cell c (for tests).
+    std::vector<uint32_t> cellObjects(const Cell& c) const;
+
+private:
+    long cellIndex(const Cell& c) const { return (long(c[2]) * lattice_.cells(1) + c[1]) * lattice_.cells(0) + c[0]; }
+    const std::vector<Shape>& objects_;
+    Lattice lattice_;
+    std::vector<uint32_t> start_;  // CSR: cell i lists items_[start_[i] .. start_[i+1])
+    std::vector<uint32_t> items_;
+};
+
+}  // namespace rt

@@ -1,0 +1,31 @@
+// A rendered frame: one linear RGB value (double) per pixel, each the sum of
+// its contributions in path-key order.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "ray_job.h"
+
+namespace rt {
+
+struct Image {
+    int width = 0, height = 0;
+    std::vector<Vec3> pixels;
+
+    Image() = default;
+    Image(int w, int h) : width(w), height(h), pixels(size_t(w) * h, Vec3(0.0)) {}
+    // 8-bit RGB, clamped to [0, 1], rounded to nearest.
+    std::vector<uint8_t> rgb8() const;
+    bool operator==(const Image& o) const;  // bit-identical doubles
+};
+
+// Sorts one pixel's contributions by path key and sums them in that order.
+// Every renderer and the frame buffer sum this way, so the order in which
+// contributions arrive cannot change a pixel.
+Vec3 sumInKeyOrder(std::vector<Contribution>& contributions);
+
+// Writes an 8-bit RGB PNG; throws std::runtime_error naming the file.
+void writePng(const Image& image, const std::string& path);
+
+}  // namespace rt

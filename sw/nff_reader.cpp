@@ -1,0 +1,237 @@
+#include "nff_reader.h"
+
+#include <array>
+#include <charconv>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <vector>
+
+#include <glm/geometric.hpp>
+
+namespace rt {
+namespace {
+
+struct Token {
+    std::string text;
+    int line;
+};
+
+std::vector<Token> tokenize(const std::string& text) {
+    std::vector<Token> out;
+    int line = 1;
+    size_t i = 0;
+    while (i < text.size()) {
+        const char c = text[i];
+        if (c == '\n') {
+            ++line;
+            ++i;
+        } else if (c == '#') {
+            while (i < text.size() && text[i] != '\n') ++i;
+        } else if (std::isspace(static_cast<unsigned char>(c))) {
+            ++i;
+        } else {
+            size_t j = i;
+            while (j < text.size() && !std::isspace(static_cast<unsigned char>(text[j])) && text[j] != '#') ++j;
+            out.push_back({text.substr(i, j - i), line});
+            i = j;
+        }
+    }
+    return out;
+}
+
+class Parser {
+public:
+    Parser(const std::string& text, std::string name) : toks_(tokenize(text)), name_(std::move(name)) {}
+
+    Scene parse() {
+        Scene s;
+        s.name = name_;
+        std::array<int, 6> viewSeen{};  // from at up angle hither resolution
+        int viewLine = 0;
+        while (pos_ < toks_.size()) {
+            const Token& kw = toks_[pos_++];
+            line_ = kw.line;
+            const std::string& k = kw.text;
+            if (k == "v") {
+                viewLine = kw.line;
+            } else if (k == "from") {
+                s.view.from = vec("'from' eye position");
+                viewSeen[0] = 1;
+            } else if (k == "at") {
+                s.view.at = vec("'at' look-at point");
+                viewSeen[1] = 1;
+            } else if (k == "up") {
+                s.view.up = vec("'up' vector");
+                viewSeen[2] = 1;
+            } else if (k == "angle") {
+                s.view.angle = number("'angle' in degrees");
+                if (!(s.view.angle > 0 && s.view.angle < 180)) fail("'angle' must be in (0, 180) degrees");
+                viewSeen[3] = 1;
+            } else if (k == "hither") {
+                s.view.hither = number("'hither' distance");
+                if (s.view.hither < 0) fail("'hither' must not be negative");
+                viewSeen[4] = 1;
+            } else if (k == "resolution") {
+                s.view.width = integer("'resolution' width");
+                s.view.height = integer("'resolution' height");
+                if (s.view.width <= 0 || s.view.height <= 0) fail("'resolution' must be positive");
+                viewSeen[5] = 1;
+            } else if (k == "b") {
+                s.background = vec("background colour 'b r g b'");
+            } else if (k == "l") {
+                Light l;
+                l.position = vec("light position 'l x y z'");
+                if (nextIsNumberOnLine(kw.line)) l.colour = vec("light colour 'l x y z r g b'");
+                s.lights.push_back(l);
+            } else if (k == "f") {
+                Material m;
+                m.colour = vec("material colour 'f r g b'");
+                m.kd = number("Kd of 'f'");
+                m.ks = number("Ks of 'f'");
+                m.shine = number("Shine of 'f'");
+                m.t = number("T of 'f'");
+                const double ior = number("index of refraction of 'f'");
+                if (m.t < 0 || m.t > 1) fail("transmittance T of 'f' must be in [0, 1]");
+                if (m.t > 0) {
+                    if (!(ior > 0)) fail("index of refraction of 'f' must be positive when T > 0");
+                    m.ior = ior;
+                }
+                s.materials.push_back(m);
+            } else if (k == "s") {
+                Sphere sp;
+                sp.centre = vec("sphere centre 's x y z r'");
+                const double r = number("sphere radius");
+                if (r == 0) fail("sphere radius must not be zero");
+                sp.radius = std::abs(r);
+                sp.insideVisible = r < 0;
+                add(s, sp);
+            } else if (k == "p" || k == "pp") {
+                const bool normals = k == "pp";
+                const int count = integer("vertex count of '" + k + "'");
+                if (count < 3) fail("polygon needs at least 3 vertices, got " + std::to_string(count));
+                Polygon poly;
+                for (int i = 0; i < count; ++i) {
+                    poly.vertices.push_back(vec("vertex " + std::to_string(i + 1) + " of '" + k + "'"));
+                    if (normals) {
+                        const Vec3 vn = vec("normal " + std::to_string(i + 1) + " of 'pp'");
+                        if (glm::length(vn) == 0) fail("zero-length vertex normal in 'pp'");
+                    }
+                }
+                line_ = kw.line;
+                if (!poly.finish()) fail("polygon vertices are collinear (no plane)");
+                add(s, poly);
+            } else if (k == "c") {
+                Cone c;
+                c.base = vec("cone base centre 'c bx by bz br ax ay az ar'");
+                const double rb = number("cone base radius");
+                c.apex = vec("cone apex centre");
+                const double ra = number("cone apex radius");
+                if ((rb > 0 && ra < 0) || (rb < 0 && ra > 0)) fail("cone radii must not have opposite signs");
+                c.baseRadius = std::abs(rb);
+                c.apexRadius = std::abs(ra);
+                c.insideVisible = rb < 0 || ra < 0;
+                line_ = kw.line;
+                if (!c.finish()) fail("degenerate cone: base and apex coincide or both radii are zero");
+                add(s, c);
+            } else {
+                fail("unknown keyword '" + k + "'");
+            }
+        }
+        static const char* names[6] = {"from", "at", "up", "angle", "hither", "resolution"};
+        line_ = toks_.empty() ? 1 : toks_.back().line;
+        if (!viewLine) fail("no viewpoint: the 'v' block is missing");
+        for (int i = 0; i < 6; ++i)
+            if (!viewSeen[i]) fail(std::string("viewpoint block lacks '") + names[i] + "'");
+        line_ = viewLine;
+        const Vec3 dir = s.view.at - s.view.from;
+        if (glm::length(dir) == 0) fail("'from' and 'at' are the same point");
+        if (glm::length(s.view.up) == 0) fail("'up' vector has zero length");
+        if (glm::length(glm::cross(dir, s.view.up)) <= 1e-12 * glm::length(dir) * glm::length(s.view.up))
+            fail("'up' is parallel to the viewing direction");
+        if (s.materials.empty()) s.materials.push_back(Material{});
+        return s;
+    }
+
+private:
+    template <class G>
+    void add(Scene& s, G geometry) {
+        if (s.materials.empty()) s.materials.push_back(Material{});  // objects before any 'f': white, diffuse
+        Shape sh;
+        sh.geometry = std::move(geometry);
+        sh.material = uint32_t(s.materials.size() - 1);
+        sh.id = uint32_t(s.objects.size());
+        sh.twoSided = s.materials[sh.material].t > 0;
+        s.objects.push_back(std::move(sh));
+    }
+
+    [[noreturn]] void fail(const std::string& what) const {
+        throw SceneError(name_ + ":" + std::to_string(line_) + ": " + what);
+    }
+
+    const Token& next(const std::string& what) {
+        if (pos_ >= toks_.size()) fail("expected " + what + ", got end of file");
+        const Token& t = toks_[pos_++];
+        line_ = t.line;
+        return t;
+    }
+
+    static bool parseDouble(const std::string& s, double& v) {
+        const char* begin = s.data();
+        const char* end = begin + s.size();
+        if (begin != end && *begin == '+') ++begin;  // from_chars takes no leading '+'
+        auto res = std::from_chars(begin, end, v);
+        return res.ec == std::errc() && res.ptr == end;
+    }
+
+    double number(const std::string& what) {
+        const Token& t = next(what);
+        double v;
+        if (!parseDouble(t.text, v)) fail("expected a number for " + what + ", got '" + t.text + "'");
+        if (!std::isfinite(v)) fail("expected a finite number for " + what + ", got '" + t.text + "'");
+        return v;
+    }
+
+    int integer(const std::string& what) {
+        const Token& t = next(what);
+        int v;
+        const char* end = t.text.data() + t.text.size();
+        auto res = std::from_chars(t.text.data(), end, v);
+        if (res.ec != std::errc() || res.ptr != end) fail("expected an integer for " + what + ", got '" + t.text + "'");
+        return v;
+    }
+
+    Vec3 vec(const std::string& what) {
+        Vec3 v;
+        for (int i = 0; i < 3; ++i) v[i] = number(what);
+        return v;
+    }
+
+    bool nextIsNumberOnLine(int line) const {
+        if (pos_ >= toks_.size() || toks_[pos_].line != line) return false;
+        double v;
+        return parseDouble(toks_[pos_].text, v);
+    }
+
+    std::vector<Token> toks_;
+    std::string name_;
+    size_t pos_ = 0;
+    int line_ = 1;
+};
+
+}  // namespace
+
+Scene parseNff(const std::string& text, const std::string& name) { return Parser(text, name).parse(); }
+
+Scene readNff(const std::string& path) {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec)) throw SceneError(path + ": no such scene file");
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw SceneError(path + ": cannot open scene file");
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    return parseNff(ss.str(), path);
+}
+
+}  // namespace rt

@@ -1,0 +1,43 @@
+// One region of space: an axis-aligned box, only the objects that overlap
+// it, and an accelerator over them. This is what one node of the machine
+// owns; the reference renderer is the one-region case.
+#pragma once
+#include <memory>
+#include <vector>
+
+#include "accelerator.h"
+#include "lattice.h"
+#include "ray_job.h"
+#include "scene.h"
+
+namespace rt {
+
+class Shader;
+
+// Objects of `all` whose bounds (widened by a rounding margin) touch `box`.
+std::vector<Shape> objectsOverlapping(const std::vector<Shape>& all, const Box& box);
+
+class Region {
+public:
+    Region(const Box& box, std::vector<Shape> objects, AccelKind kind);
+    Region(Region&&) = default;
+
+    const Box& box() const { return box_; }
+    const std::vector<Shape>& objects() const { return *objects_; }
+    const Accelerator& accelerator() const { return *accel_; }
+
+    enum class Step { Terminated, Forward };
+    // Traces the job from job.t0 to where it leaves this box (or ends). On a
+    // hit it is shaded here (spawning rays and contributions); if it reaches
+    // its end it finishes here; otherwise job.t0 becomes the exit parameter
+    // and the caller forwards it. job.t0 must be owned by this box.
+    Step trace(RayJob& job, const Shader& shader, Mailbox& mailbox, Counters& counters,
+               std::vector<RayJob>& spawned, std::vector<Contribution>& out) const;
+
+private:
+    Box box_;
+    std::unique_ptr<std::vector<Shape>> objects_;  // stable address for the accelerator
+    std::unique_ptr<Accelerator> accel_;
+};
+
+}  // namespace rt

@@ -1,0 +1,28 @@
+#include "scene.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace rt {
+
+Box Scene::objectBounds() const {
+    Box b;
+    for (const Shape& s : objects) b.add(s.bounds());
+    return b;
+}
+
+Box Scene::worldBox() const {
+    Box b = objectBounds();
+    if (!declaredBounds.empty()) b.add(declaredBounds);
+    if (b.empty()) b = Box{Vec3(-1.0), Vec3(1.0)};
+    const double size = std::max(b.maxExtent(), 1e-6);
+    return b.expanded(1e-4 * size);
+}
+
+double Scene::rayEpsilon() const {
+    const Box b = worldBox();
+    const double scale = std::max({b.maxExtent(), glm::length(b.lo), glm::length(b.hi)});
+    return 1e-9 * scale;
+}
+
+}  // namespace rt

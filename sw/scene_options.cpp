@@ -1,0 +1,61 @@
+#include "scene_options.h"
+
+#include <charconv>
+
+#include "nff_reader.h"
+
+namespace rt {
+
+void parseSize(const std::string& text, int& width, int& height) {
+    const size_t x = text.find('x');
+    auto num = [&](const char* b, const char* e, int& v) {
+        auto r = std::from_chars(b, e, v);
+        return r.ec == std::errc() && r.ptr == e && b != e && v > 0 && v <= 65536;
+    };
+    if (x == std::string::npos || !num(text.data(), text.data() + x, width) ||
+        !num(text.data() + x + 1, text.data() + text.size(), height))
+        throw CLI::ValidationError("--size", "expected WxH with W and H in 1..65536, got '" + text + "'");
+}
+
+void SceneOptions::addTo(CLI::App& app, bool positional) {
+    auto* f = positional ? app.add_option("scene", file, "NFF scene file (default: the built-in procedural scene)")
+                         : app.add_option("--scene", file, "NFF scene file (default: the built-in procedural scene)");
+    f->check(CLI::ExistingFile);
+    app.add_option("--size", size, "image size WxH (default: the scene's resolution)")
+        ->check([](const std::string& s) {
+            int w, h;
+            try {
+                parseSize(s, w, h);
+            } catch (const CLI::ValidationError&) {
+                return std::string("expected WxH with W and H in 1..65536");
+            }
+            return std::string();
+        });
+    const std::string g = "Procedural scene";
+    ProceduralParams& p = procedural;
+    app.add_option("--spheres", p.spheres, "procedural: number of spheres M")->group(g)->check(CLI::Range(1, 10000000));
+    app.add_option("--radius", p.radius, "procedural: sphere radius r (unit cube)")->group(g)->check(CLI::Range(1e-9, 0.499999));
+    app.add_option("--concentration", p.concentration, "procedural: fraction f of the progress axis the spheres crowd into, in (0, 1]")
+        ->group(g)
+        ->check(CLI::Range(1e-9, 1.0));
+    app.add_option("--axis", axis, "procedural: progress axis")->group(g)->check(CLI::IsMember({"x", "y", "z"}));
+    app.add_option("--scene-seed", p.seed, "procedural: random seed for sphere placement")->group(g);
+    app.add_option("--eye", p.eye, "procedural: camera position x y z")->group(g)->expected(3);
+    app.add_option("--look-at", p.lookAt, "procedural: point at the image centre x y z")->group(g)->expected(3);
+    app.add_option("--fov", p.angle, "procedural: field of view in degrees")->group(g)->check(CLI::Range(1e-6, 179.999));
+}
+
+Scene SceneOptions::load() const {
+    if (!file.empty()) return readNff(file);
+    ProceduralParams p = procedural;
+    p.axis = axis == "x" ? 0 : axis == "y" ? 1 : 2;
+    return makeProceduralScene(p);
+}
+
+void SceneOptions::imageSize(const Scene& scene, int& width, int& height) const {
+    width = scene.view.width;
+    height = scene.view.height;
+    if (!size.empty()) parseSize(size, width, height);
+}
+
+}  // namespace rt

@@ -1,0 +1,32 @@
+// Command-line options that choose a scene: an NFF file, or the built-in
+// procedural scene of the paper's experiment with its parameters. Shared by
+// rtref and rtsim so both read scenes the same way.
+#pragma once
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "procedural.h"
+#include "scene.h"
+
+namespace rt {
+
+struct SceneOptions {
+    std::string file;  // empty: the procedural scene
+    ProceduralParams procedural;
+    std::string axis = "x";
+    std::string size;  // "WxH", empty: the scene's own resolution
+
+    // `positional`: the scene file is a positional argument (rtref) rather
+    // than --scene (rtsim).
+    void addTo(CLI::App& app, bool positional);
+    // Reads or builds the scene; throws SceneError on bad input.
+    Scene load() const;
+    // The --size value, or the scene's resolution.
+    void imageSize(const Scene& scene, int& width, int& height) const;
+};
+
+// "WxH" with positive integers; throws CLI::ValidationError otherwise.
+void parseSize(const std::string& text, int& width, int& height);
+
+}  // namespace rt
