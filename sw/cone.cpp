@@ -72,7 +72,7 @@ double Cone::intersect(const Ray& r, double lo, double hi, bool twoSided) const 
         if (baseRadius + slope * s < 0) continue;  // the mirrored nappe of a cone
         if (!twoSided) {
             const double facing = glm::dot(r.d, outwardNormal(r.at(t)));
-            if (insideVisible ? !(facing > 0) : !(facing < 0)) continue;
+            if (insideVisible ? facing < 0 : facing > 0) continue;  // back side; grazing (0) counts
         }
         return t;
     }

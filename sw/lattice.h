@@ -58,7 +58,7 @@ public:
     // Cells whose closed box overlaps the closed box b, as index ranges.
     void overlapRange(const Box& b, Cell& first, Cell& last) const;
 
-    // 3D-DDA (Amanatides & Woo) over [t0, t1): calls visit(cell, segment) for
+    // 3D-DDA (Amanatides & Woo) over [t0, t1) clipped to the lattice's box: calls visit(cell, segment) for
     // each cell with a non-empty segment, in ray order; stops early when visit
     // returns false. Ties between axes step all tied axes at once, so a ray
     // through an edge or corner never visits a cell for zero length.
@@ -71,6 +71,9 @@ private:
 
 template <class Visit>
 void Lattice::walk(const Ray& r, double t0, double t1, Visit&& visit) const {
+    const Interval inside = boxInterval(r, bounds());  // same planes, same doubles
+    t0 = std::max(t0, inside.lo);
+    t1 = std::min(t1, inside.hi);
     if (!(t0 < t1)) return;
     std::optional<Cell> start = locate(r, t0);
     if (!start) return;

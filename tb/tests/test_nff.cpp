@@ -1,1 +1,185 @@
+// NFF reader: the SPD files parse with the counts their README lists, and
+// each kind of bad input gives a one-line "file:line: ..." error.
 #include <gtest/gtest.h>
+
+#include "nff_reader.h"
+
+using namespace rt;
+
+namespace {
+
+struct SpdCounts {
+    const char* file;
+    int s, c, p, l, f;
+};
+
+int countKind(const Scene& s, PrimitiveKind k) {
+    int n = 0;
+    for (const Shape& o : s.objects) n += o.kind() == k;
+    return n;
+}
+
+// The table in shared/scenes/spd/README.md (pp is 0 everywhere).
+const SpdCounts kSpd[] = {
+    {"balls-1", 10, 0, 1, 3, 2},     {"balls-2", 91, 0, 1, 3, 2},   {"balls-3", 820, 0, 1, 3, 2},
+    {"balls-4", 7381, 0, 1, 3, 2},   {"balls-5", 66430, 0, 1, 3, 2}, {"rings-2", 150, 150, 1, 3, 31},
+    {"tetra-3", 0, 0, 64, 1, 1},     {"gears-2", 0, 0, 1169, 5, 9},
+};
+
+const char* kHeader =
+    "b 0.1 0.2 0.3\n"
+    "v\n"
+    "from 0 -5 0\n"
+    "at 0 0 0\n"
+    "up 0 0 1\n"
+    "angle 45\n"
+    "hither 0.01\n"
+    "resolution 64 48\n"
+    "l 1 2 3\n"
+    "f 1 0 0 0.5 0.5 3 0 1\n";  // 10 lines
+
+// Parses kHeader + tail and returns the error message ("" if none).
+std::string errorOf(const std::string& text) {
+    try {
+        parseNff(text, "bad.nff");
+    } catch (const SceneError& e) {
+        return e.what();
+    }
+    return "";
+}
+
+}  // namespace
+
+TEST(Nff, SpdScenesHaveTheirPrimitiveCounts) {
+    for (const SpdCounts& e : kSpd) {
+        SCOPED_TRACE(e.file);
+        const Scene s = readNff(std::string(RT_SCENE_DIR) + "/" + e.file + ".nff");
+        EXPECT_EQ(countKind(s, PrimitiveKind::Sphere), e.s);
+        EXPECT_EQ(countKind(s, PrimitiveKind::Cone), e.c);
+        EXPECT_EQ(countKind(s, PrimitiveKind::Polygon), e.p);
+        EXPECT_EQ(int(s.lights.size()), e.l);
+        EXPECT_EQ(int(s.materials.size()), e.f);
+        EXPECT_EQ(s.view.width, 512);
+        EXPECT_EQ(s.view.height, 512);
+        EXPECT_DOUBLE_EQ(s.view.angle, 45);
+        for (size_t i = 0; i < s.objects.size(); ++i) ASSERT_EQ(s.objects[i].id, i);
+    }
+}
+
+TEST(Nff, ReadsViewBackgroundLightsAndMaterial) {
+    const Scene s = parseNff(std::string(kHeader) + "l 4 5 6 0.5 0.25 1\ns 1 2 3 0.5\n", "ok.nff");
+    EXPECT_EQ(s.view.from, Vec3(0, -5, 0));
+    EXPECT_EQ(s.view.up, Vec3(0, 0, 1));
+    EXPECT_EQ(s.view.width, 64);
+    EXPECT_EQ(s.view.height, 48);
+    EXPECT_EQ(s.background, Vec3(0.1, 0.2, 0.3));
+    ASSERT_EQ(s.lights.size(), 2u);
+    EXPECT_EQ(s.lights[0].colour, Vec3(1.0));  // no colour given: white
+    EXPECT_EQ(s.lights[1].colour, Vec3(0.5, 0.25, 1));
+    ASSERT_EQ(s.materials.size(), 1u);
+    EXPECT_EQ(s.materials[0].colour, Vec3(1, 0, 0));
+    EXPECT_DOUBLE_EQ(s.materials[0].kd, 0.5);
+    EXPECT_DOUBLE_EQ(s.materials[0].shine, 3);
+    ASSERT_EQ(s.objects.size(), 1u);
+    EXPECT_FALSE(s.objects[0].twoSided);
+}
+
+TEST(Nff, LightColourIsOnlyReadFromTheSameLine) {
+    // A number on the next line is not the light's colour: it is an error
+    // (no keyword), so the reader must not swallow it silently.
+    EXPECT_NE(errorOf(std::string(kHeader) + "l 4 5 6\n0.5 0.5 0.5\n"), "");
+}
+
+TEST(Nff, ConeBothLayoutsAgree) {
+    const Scene a = parseNff(std::string(kHeader) + "c 0 0 0 1 0 0 2 0.5\n", "a.nff");
+    const Scene b = parseNff(std::string(kHeader) + "c\n0 0 0 1\n0 0 2 0.5\n", "b.nff");
+    const Cone& ca = std::get<Cone>(a.objects.at(0).geometry);
+    const Cone& cb = std::get<Cone>(b.objects.at(0).geometry);
+    EXPECT_EQ(ca.base, cb.base);
+    EXPECT_EQ(ca.apex, cb.apex);
+    EXPECT_EQ(ca.baseRadius, 1.0);
+    EXPECT_EQ(cb.apexRadius, 0.5);
+}
+
+TEST(Nff, CommentsAndPolygonWithNormals) {
+    const Scene s = parseNff(std::string("# a comment\n") + kHeader +
+                                 "pp 3 # triangle with normals\n0 0 0 0 0 1\n1 0 0 0 0 1\n0 1 0 0 0 1\n"
+                                 "# s 0 0 0 1\n",
+                             "c.nff");
+    ASSERT_EQ(s.objects.size(), 1u);
+    EXPECT_EQ(s.objects[0].kind(), PrimitiveKind::Polygon);
+    EXPECT_EQ(std::get<Polygon>(s.objects[0].geometry).n, Vec3(0, 0, 1));
+}
+
+TEST(Nff, TransparentMaterialMakesObjectsTwoSided) {
+    const Scene s = parseNff(std::string(kHeader) + "f 1 1 1 0.2 0.1 10 0.8 1.5\ns 0 0 0 1\n", "t.nff");
+    EXPECT_TRUE(s.objects.at(0).twoSided);
+    EXPECT_DOUBLE_EQ(s.materials.at(1).ior, 1.5);
+}
+
+TEST(Nff, NegativeRadiiMeanInsideVisible) {
+    const Scene s = parseNff(std::string(kHeader) + "s 0 0 0 -2\nc 0 0 0 -1 0 0 1 -1\n", "n.nff");
+    EXPECT_TRUE(std::get<Sphere>(s.objects.at(0).geometry).insideVisible);
+    EXPECT_DOUBLE_EQ(std::get<Sphere>(s.objects.at(0).geometry).radius, 2);
+    EXPECT_TRUE(std::get<Cone>(s.objects.at(1).geometry).insideVisible);
+}
+
+struct BadCase {
+    const char* name;
+    std::string text;
+    std::string expect;  // must appear in the message, after "bad.nff:LINE:"
+};
+
+class NffBadInput : public testing::TestWithParam<BadCase> {};
+
+TEST_P(NffBadInput, GivesOneLineErrorWithFileAndLine) {
+    const BadCase& c = GetParam();
+    const std::string msg = errorOf(c.text);
+    ASSERT_NE(msg, "") << "accepted bad input";
+    EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+    EXPECT_NE(msg.find(c.expect), std::string::npos) << msg;
+}
+
+static std::string H(const std::string& tail) { return std::string(kHeader) + tail; }
+
+INSTANTIATE_TEST_SUITE_P(
+    All, NffBadInput,
+    testing::Values(
+        BadCase{"UnknownKeyword", H("sphere 0 0 0 1\n"), "bad.nff:11: unknown keyword 'sphere'"},
+        BadCase{"MissingToken", H("s 0 0 0\n"), "bad.nff:11: expected sphere radius, got end of file"},
+        BadCase{"NonNumeric", H("s 0 0 zero 1\n"), "bad.nff:11: expected a number for sphere centre"},
+        BadCase{"TrailingGarbageInNumber", H("s 0 0 0 1x\n"), "bad.nff:11: expected a number for sphere radius"},
+        BadCase{"NaN", H("s 0 0 nan 1\n"), "bad.nff:11: expected a finite number"},
+        BadCase{"Infinity", H("l inf 0 0\n"), "bad.nff:11: expected a finite number"},
+        BadCase{"PolygonTwoVertices", H("p 2\n0 0 0\n1 0 0\n"), "bad.nff:11: polygon needs at least 3 vertices"},
+        BadCase{"PolygonCollinear", H("p 3\n0 0 0\n1 1 1\n2 2 2\n"), "bad.nff:11: polygon vertices are collinear"},
+        BadCase{"PolygonShort", H("p 3\n0 0 0\n1 0 0\n"), "expected vertex 3 of 'p', got end of file"},
+        BadCase{"PolygonCountNotInteger", H("p 3.5\n"), "bad.nff:11: expected an integer for vertex count"},
+        BadCase{"ZeroResolution", "v\nfrom 0 0 -5\nat 0 0 0\nup 0 1 0\nangle 45\nhither 1\nresolution 0 64\n",
+                "bad.nff:7: 'resolution' must be positive"},
+        BadCase{"NegativeResolution", "v\nfrom 0 0 -5\nat 0 0 0\nup 0 1 0\nangle 45\nhither 1\nresolution 64 -1\n",
+                "bad.nff:7: 'resolution' must be positive"},
+        BadCase{"ZeroUp", "v\nfrom 0 0 -5\nat 0 0 0\nup 0 0 0\nangle 45\nhither 1\nresolution 8 8\n",
+                "bad.nff:1: 'up' vector has zero length"},
+        BadCase{"FromEqualsAt", "v\nfrom 1 2 3\nat 1 2 3\nup 0 1 0\nangle 45\nhither 1\nresolution 8 8\n",
+                "bad.nff:1: 'from' and 'at' are the same point"},
+        BadCase{"UpAlongView", "v\nfrom 0 0 -5\nat 0 0 0\nup 0 0 2\nangle 45\nhither 1\nresolution 8 8\n",
+                "bad.nff:1: 'up' is parallel to the viewing direction"},
+        BadCase{"NoView", "s 0 0 0 1\n", "bad.nff:1: no viewpoint"},
+        BadCase{"ViewIncomplete", "v\nfrom 0 0 -5\nat 0 0 0\n", "viewpoint block lacks 'up'"},
+        BadCase{"BadAngle", "v\nfrom 0 0 -5\nat 0 0 0\nup 0 1 0\nangle 180\n", "bad.nff:5: 'angle' must be in (0, 180)"},
+        BadCase{"ZeroRadius", H("s 0 0 0 0\n"), "bad.nff:11: sphere radius must not be zero"},
+        BadCase{"DegenerateCone", H("c 0 0 0 1 0 0 0 1\n"), "bad.nff:11: degenerate cone"},
+        BadCase{"ConeMixedSigns", H("c 0 0 0 1 0 0 1 -1\n"), "bad.nff:11: cone radii must not have opposite signs"},
+        BadCase{"MaterialShort", H("f 1 1 1 0.5 0.5 3 0\n"), "expected index of refraction of 'f', got end of file"},
+        BadCase{"BadTransmittance", H("f 1 1 1 0.5 0.5 3 2 1\n"), "bad.nff:11: transmittance T of 'f' must be in [0, 1]"}),
+    [](const testing::TestParamInfo<BadCase>& i) { return std::string(i.param.name); });
+
+TEST(Nff, MissingFileIsAnError) {
+    try {
+        readNff("/nonexistent/scene.nff");
+        FAIL() << "no error";
+    } catch (const SceneError& e) {
+        EXPECT_NE(std::string(e.what()).find("/nonexistent/scene.nff: no such scene file"), std::string::npos);
+    }
+}
