@@ -4,7 +4,7 @@
 // Resolution rule: about kCellsPerObject cells per object, cubical as far as
 // the box allows: with n objects in a box of volume V, k = cbrt(lambda n / V)
 // cells per unit length and n_a = clamp(round(extent_a k), 1, kMaxCellsPerAxis)
-// along each axis. lambda = 2 (measured on balls-4: see doc/rendering.md).
+// along each axis. lambda = 8, measured (doc/rendering.md, "Grid resolution").
 #pragma once
 #include "accelerator.h"
 #include "lattice.h"
@@ -13,8 +13,8 @@ namespace rt {
 
 class UniformGrid final : public Accelerator {
 public:
-    static constexpr double kCellsPerObject = 2.0;
-    static constexpr int kMaxCellsPerAxis = 128;
+    static constexpr double kCellsPerObject = 8.0;
+    static constexpr int kMaxCellsPerAxis = 256;
     static std::array<int, 3> resolution(const Box& box, size_t objects);
 
     UniformGrid(const std::vector<Shape>& objects, const Box& box);

@@ -11,7 +11,7 @@ namespace rt {
 void ProceduralParams::validate() const {
     auto bad = [](const std::string& what) { throw SceneError("procedural scene: " + what); };
     if (spheres < 1) bad("sphere count must be at least 1");
-    if (!(radius > 0 && radius < 0.5)) bad("sphere radius must be in (0, 0.5)");
+    if (!(radius > 0 && radius <= 0.49)) bad("sphere radius must be in (0, 0.49]");
     if (!(concentration > 0 && concentration <= 1)) bad("concentration fraction must be in (0, 1]");
     if (axis < 0 || axis > 2) bad("progress axis must be x, y or z");
     if (width < 1 || height < 1) bad("image size must be positive");

@@ -1,6 +1,7 @@
 #include "scene_options.h"
 
 #include <charconv>
+#include <sstream>
 
 #include "nff_reader.h"
 
@@ -16,6 +17,24 @@ void parseSize(const std::string& text, int& width, int& height) {
         !num(text.data() + x + 1, text.data() + text.size(), height))
         throw CLI::ValidationError("--size", "expected WxH with W and H in 1..65536, got '" + text + "'");
 }
+
+namespace {
+// A number in the open-closed interval (lo, hi], said the way a user reads it.
+CLI::Validator openClosed(double lo, double hi) {
+    return CLI::Validator(
+        [lo, hi](std::string& s) {
+            double v;
+            std::istringstream in(s);
+            if (!(in >> v) || !in.eof() || !(v > lo && v <= hi)) {
+                std::ostringstream m;
+                m << "expected a number in (" << lo << ", " << hi << "], got '" << s << "'";
+                return m.str();
+            }
+            return std::string();
+        },
+        "", "");
+}
+}  // namespace
 
 void SceneOptions::addTo(CLI::App& app, bool positional) {
     auto* f = positional ? app.add_option("scene", file, "NFF scene file (default: the built-in procedural scene)")
@@ -34,15 +53,15 @@ void SceneOptions::addTo(CLI::App& app, bool positional) {
     const std::string g = "Procedural scene";
     ProceduralParams& p = procedural;
     app.add_option("--spheres", p.spheres, "procedural: number of spheres M")->group(g)->check(CLI::Range(1, 10000000));
-    app.add_option("--radius", p.radius, "procedural: sphere radius r (unit cube)")->group(g)->check(CLI::Range(1e-9, 0.499999));
+    app.add_option("--radius", p.radius, "procedural: sphere radius r (unit cube)")->group(g)->check(openClosed(0, 0.49));
     app.add_option("--concentration", p.concentration, "procedural: fraction f of the progress axis the spheres crowd into, in (0, 1]")
         ->group(g)
-        ->check(CLI::Range(1e-9, 1.0));
+        ->check(openClosed(0, 1));
     app.add_option("--axis", axis, "procedural: progress axis")->group(g)->check(CLI::IsMember({"x", "y", "z"}));
     app.add_option("--scene-seed", p.seed, "procedural: random seed for sphere placement")->group(g);
     app.add_option("--eye", p.eye, "procedural: camera position x y z")->group(g)->expected(3);
     app.add_option("--look-at", p.lookAt, "procedural: point at the image centre x y z")->group(g)->expected(3);
-    app.add_option("--fov", p.angle, "procedural: field of view in degrees")->group(g)->check(CLI::Range(1e-6, 179.999));
+    app.add_option("--fov", p.angle, "procedural: field of view in degrees")->group(g)->check(openClosed(0, 179.9));
 }
 
 Scene SceneOptions::load() const {

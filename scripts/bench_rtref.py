@@ -1,0 +1,85 @@
+#!/usr/bin/python3
+"""Benchmark of the reference renderer: rtref on an SPD scene (default
+balls-4 at 512x512), single thread, N runs; prints the median wall time and
+rays per second with the ray counts, and with --doc writes them as a table
+into doc/benchmarks/rtref.md together with a description of the machine.
+
+Uses only the Python standard library; run with /usr/bin/python3."""
+import argparse
+import json
+import os
+import platform
+import statistics
+import subprocess
+import sys
+import tempfile
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
+def machine():
+    cpu = "unknown CPU"
+    try:
+        with open("/proc/cpuinfo") as f:
+            for line in f:
+                if line.startswith("model name"):
+                    cpu = line.split(":", 1)[1].strip()
+                    break
+    except OSError:
+        pass
+    mem = ""
+    try:
+        with open("/proc/meminfo") as f:
+            kb = int(f.readline().split()[1])
+            mem = f", {kb / 2**20:.0f} GiB RAM"
+    except (OSError, ValueError, IndexError):
+        pass
+    gxx = subprocess.run(["g++", "--version"], capture_output=True, text=True).stdout.splitlines()[0]
+    return f"{cpu}, {os.cpu_count()} cores{mem}; {platform.system()} {platform.release()}; {gxx}; Release build (-O3)"
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--scene", default=os.path.join(ROOT, "..", "shared", "scenes", "spd", "balls-4.nff"))
+    ap.add_argument("--size", default="512x512")
+    ap.add_argument("--runs", type=int, default=5)
+    ap.add_argument("--rtref", default=os.path.join(ROOT, "build", "rtref"))
+    ap.add_argument("--doc", action="store_true", help="write doc/benchmarks/rtref.md")
+    a = ap.parse_args()
+    if a.runs < 1:
+        sys.exit("bench_rtref: --runs must be at least 1")
+    runs = []
+    with tempfile.TemporaryDirectory() as tmp:
+        for i in range(a.runs):
+            stats = os.path.join(tmp, "s.json")
+            subprocess.run([a.rtref, a.scene, "--size", a.size, "--threads", "1", "-o", os.path.join(tmp, "i.png"),
+                            "--stats", stats], check=True, stdout=subprocess.DEVNULL)
+            with open(stats) as f:
+                runs.append(json.load(f))
+            print(f"run {i + 1}: {runs[-1]['wall_s']:.3f} s", file=sys.stderr)
+    walls = [r["wall_s"] for r in runs]
+    s = runs[0]
+    rays = s["primary_rays"] + s["shadow_rays"] + s["secondary_rays"]
+    med = statistics.median(walls)
+    name = os.path.splitext(os.path.basename(a.scene))[0]
+    rows = [
+        ("scene", f"{name} at {a.size}, max depth {s['max_depth']}, 1 thread, {s['accelerator']}"),
+        ("wall time, median of %d" % a.runs, f"{med:.3f} s (min {min(walls):.3f}, max {max(walls):.3f})"),
+        ("rays per second (median run)", f"{rays / med:,.0f}"),
+        ("primary rays / hits", f"{s['primary_rays']:,} / {s['primary_hits']:,}"),
+        ("shadow rays / blocked", f"{s['shadow_rays']:,} / {s['shadow_hits']:,}"),
+        ("secondary rays / hits", f"{s['secondary_rays']:,} / {s['secondary_hits']:,}"),
+        ("intersection tests", f"{s['intersection_tests']:,}"),
+        ("voxel steps", f"{s['voxel_steps']:,}"),
+        ("machine", machine()),
+    ]
+    table = "| quantity | value |\n|---|---|\n" + "".join(f"| {k} | {v} |\n" for k, v in rows)
+    print(table, end="")
+    if a.doc:
+        os.makedirs(os.path.join(ROOT, "doc", "benchmarks"), exist_ok=True)
+        with open(os.path.join(ROOT, "doc", "benchmarks", "rtref.md"), "w") as f:
+            f.write("# rtref benchmark\n\nWritten by `scripts/bench_rtref.py --doc`; do not edit by hand.\n\n" + table)
+
+
+if __name__ == "__main__":
+    main()

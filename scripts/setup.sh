@@ -1,0 +1,31 @@
+#!/usr/bin/env bash
+# Installs what rtsim needs from Debian 12 packages, only what is missing, so
+# a second run is quick. Needs root (or sudo) when something is missing.
+set -euo pipefail
+
+packages=(
+  g++ make cmake pkg-config
+  libsystemc-dev      # SystemC 2.3.4 (models/)
+  libglm-dev          # vector maths (sw/)
+  libcli11-dev        # command lines
+  nlohmann-json3-dev  # reports and stats
+  libpng-dev          # images
+  libgtest-dev        # tests
+  python3             # scripts (Debian's /usr/bin/python3)
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+[ ${#missing[@]} -eq 0 ] && exit 0
+
+echo "setup: installing ${missing[*]}" >&2
+sudo=""
+if [ "$(id -u)" -ne 0 ]; then
+  command -v sudo >/dev/null || { echo "setup: need root to install: ${missing[*]}" >&2; exit 1; }
+  sudo=sudo
+fi
+export DEBIAN_FRONTEND=noninteractive
+$sudo apt-get update -qq
+$sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
