@@ -77,6 +77,7 @@ public:
                 s.view.width = integer("'resolution' width");
                 s.view.height = integer("'resolution' height");
                 if (s.view.width <= 0 || s.view.height <= 0) fail("'resolution' must be positive");
+                if (s.view.width > 65536 || s.view.height > 65536) fail("'resolution' must be at most 65536");
                 viewSeen[5] = 1;
             } else if (k == "b") {
                 s.background = vec("background colour 'b r g b'");

@@ -26,7 +26,7 @@ Scene makeProceduralScene(const ProceduralParams& p) {
     s.name = "procedural";
     s.view = View{p.eye, p.lookAt, p.up, p.angle, 0.0, p.width, p.height};
     s.background = p.background;
-    s.lights = {Light{p.light1, Vec3(1.0)}, Light{p.light2, Vec3(1.0)}};
+    for (const Vec3& l : p.lights) s.lights.push_back(Light{l, Vec3(1.0)});
     s.materials = {p.material};
     // The engine is fixed by the standard (mt19937_64) and the mapping to
     // [0, 1) is ours, so the scene is the same on every platform.

@@ -6,6 +6,7 @@
 // first ceil(f N) layers of nodes.
 #pragma once
 #include <cstdint>
+#include <vector>
 
 #include "scene.h"
 
@@ -22,9 +23,8 @@ struct ProceduralParams {
     Vec3 up{0, 0, 1};
     double angle = 40;
     int width = 256, height = 256;
-    // Lights: two white point lights outside the cube.
-    Vec3 light1{-1.0, -2.0, 3.0};
-    Vec3 light2{2.5, -1.5, 1.5};
+    // White point lights; by default two, outside the cube.
+    std::vector<Vec3> lights{Vec3(-1.0, -2.0, 3.0), Vec3(2.5, -1.5, 1.5)};
     Material material{Vec3(0.9, 0.6, 0.3), 0.7, 0.3, 20.0, 0.0, 1.0};
     Vec3 background{0.078, 0.361, 0.753};
 

@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "nff_reader.h"
+#include "scene_error.h"
 
 namespace rt {
 
@@ -61,6 +62,10 @@ void SceneOptions::addTo(CLI::App& app, bool positional) {
     app.add_option("--scene-seed", p.seed, "procedural: random seed for sphere placement")->group(g);
     app.add_option("--eye", p.eye, "procedural: camera position x y z")->group(g)->expected(3);
     app.add_option("--look-at", p.lookAt, "procedural: point at the image centre x y z")->group(g)->expected(3);
+    app.add_option("--light", lights, "procedural: a white point light x y z (repeat for more; replaces the defaults)")
+        ->group(g)
+        ->expected(3)
+        ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
     app.add_option("--fov", p.angle, "procedural: field of view in degrees")->group(g)->check(openClosed(0, 179.9));
 }
 
@@ -68,6 +73,11 @@ Scene SceneOptions::load() const {
     if (!file.empty()) return readNff(file);
     ProceduralParams p = procedural;
     p.axis = axis == "x" ? 0 : axis == "y" ? 1 : 2;
+    if (lights.size() % 3 != 0) throw SceneError("--light: expected three numbers x y z per light");
+    if (!lights.empty()) {
+        p.lights.clear();
+        for (size_t i = 0; i + 2 < lights.size(); i += 3) p.lights.push_back(Vec3(lights[i], lights[i + 1], lights[i + 2]));
+    }
     return makeProceduralScene(p);
 }
 

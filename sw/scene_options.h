@@ -16,6 +16,7 @@ struct SceneOptions {
     ProceduralParams procedural;
     std::string axis = "x";
     std::string size;  // "WxH", empty: the scene's own resolution
+    std::vector<double> lights;  // --light x y z, repeatable; empty: the defaults
 
     // `positional`: the scene file is a positional argument (rtref) rather
     // than --scene (rtsim).

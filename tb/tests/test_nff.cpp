@@ -1,5 +1,8 @@
 // NFF reader: the SPD files parse with the counts their README lists, and
 // each kind of bad input gives a one-line "file:line: ..." error.
+#include <fstream>
+#include <random>
+
 #include <gtest/gtest.h>
 
 #include "nff_reader.h"
@@ -181,5 +184,35 @@ TEST(Nff, MissingFileIsAnError) {
         FAIL() << "no error";
     } catch (const SceneError& e) {
         EXPECT_NE(std::string(e.what()).find("/nonexistent/scene.nff: no such scene file"), std::string::npos);
+    }
+}
+
+TEST(Nff, HugeResolutionIsAnError) {
+    EXPECT_NE(errorOf("v\nfrom 0 0 -5\nat 0 0 0\nup 0 1 0\nangle 45\nhither 1\nresolution 100000 8\n")
+                  .find("bad.nff:7: 'resolution' must be at most 65536"),
+              std::string::npos);
+}
+
+// Truncated and corrupted SPD files: each either parses or gives a
+// SceneError that names the file and a line; nothing else escapes.
+TEST(Nff, TruncatedAndCorruptedFilesFailCleanly) {
+    std::mt19937_64 rng(99);
+    for (const char* name : {"rings-2", "gears-2", "tetra-3"}) {
+        std::ifstream f(std::string(RT_SCENE_DIR) + "/" + name + ".nff");
+        const std::string text((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+        ASSERT_FALSE(text.empty());
+        for (int i = 0; i < 150; ++i) {
+            std::string t = text.substr(0, rng() % text.size());
+            if (i % 2) {  // corrupt a few bytes too
+                for (int k = 0; k < 3 && !t.empty(); ++k) t[rng() % t.size()] = "x.-e9 \n#"[rng() % 8];
+            }
+            try {
+                parseNff(t, "cut.nff");
+            } catch (const SceneError& e) {
+                const std::string m = e.what();
+                ASSERT_EQ(m.rfind("cut.nff:", 0), 0u) << m;
+                ASSERT_EQ(m.find('\n'), std::string::npos) << m;
+            }
+        }
     }
 }

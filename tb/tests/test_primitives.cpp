@@ -141,3 +141,26 @@ TEST(Bounds, ContainPrimitives) {
     EXPECT_DOUBLE_EQ(cb.hi.y, 1);
     EXPECT_DOUBLE_EQ(cb.hi.z, 2);
 }
+
+#include "camera.h"
+
+TEST(Camera, NffAngleIsBetweenOutermostPixelCentres) {
+    View v;
+    v.from = Vec3(1, 2, 3);
+    v.at = Vec3(1, 2, -7);   // looking down -z
+    v.up = Vec3(0, 3, 0.5);  // not unit, not orthogonal
+    v.angle = 60;
+    const Camera cam(v, 5, 3);
+    const Ray centre = cam.primaryRay(2, 1);
+    EXPECT_NEAR(glm::length(centre.d - Vec3(0, 0, -1)), 0.0, 1e-15);
+    EXPECT_EQ(centre.o, v.from);
+    // The outermost columns are 60 degrees apart, symmetric about the centre.
+    const Ray left = cam.primaryRay(0, 1), right = cam.primaryRay(4, 1);
+    EXPECT_NEAR(std::acos(glm::dot(left.d, right.d)) * 180 / M_PI, 60.0, 1e-9);
+    EXPECT_LT(left.d.x, 0);
+    EXPECT_GT(right.d.x, 0);
+    // Square pixels: rows have the same spacing; row 0 is the top (+y here).
+    const Ray top = cam.primaryRay(2, 0);
+    EXPECT_GT(top.d.y, 0);
+    EXPECT_NEAR(top.d.y / -top.d.z, std::tan(M_PI / 6) / 2, 1e-12);
+}

@@ -112,3 +112,39 @@ TEST(Render, BackgroundWhereNothingIsHit) {
     EXPECT_EQ(r.counters.primaryHits, 0u);
     for (const Vec3& p : r.image.pixels) EXPECT_EQ(p, s.background);
 }
+
+TEST(Render, LightingModelByHand) {
+    // One sphere seen head-on, one light behind the eye: at the centre pixel
+    // N = L = -d = +z, so N.L = R.L = 1, and with one light I = sqrt(1)/2.
+    Scene s = parseNff(
+        "b 0.1 0.2 0.4\nv\nfrom 0 0 5\nat 0 0 0\nup 0 1 0\nangle 10\nhither 1\nresolution 3 3\n"
+        "l 0 0 10\nf 1 0.5 0.25 0.6 0.5 10 0 0\ns 0 0 0 1\n",
+        "hand.nff");
+    const RenderResult r = render(s, Partition::whole(s), RenderOptions{});
+    const Vec3 C(1, 0.5, 0.25);
+    const double I = 0.5, kd = 0.6, ks = 0.5;
+    const Vec3 ambient = C * kd * I, diffuse = I * kd * 1.0 * C, highlight = Vec3(I * ks * 1.0);
+    const Vec3 mirror = ks * Vec3(0.1, 0.2, 0.4);  // the mirror ray leaves the world: background
+    const Vec3 expect = ambient + diffuse + highlight + mirror;
+    const Vec3 got = r.image.pixels[4];
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(got[c], expect[c], 1e-12);
+    EXPECT_EQ(r.counters.primaryHits, 9u);  // 10 degrees: every pixel sees the sphere
+    EXPECT_EQ(r.counters.shadowHits, 0u);
+}
+
+TEST(Render, TransparentSphereRefracts) {
+    // A glass sphere in front of a red wall: the centre ray passes straight
+    // through (normal incidence), so the pixel carries T x the wall's colour.
+    Scene s = parseNff(
+        "b 0 0 0\nv\nfrom 0 0 5\nat 0 0 0\nup 0 1 0\nangle 10\nhither 1\nresolution 3 3\n"
+        "l 0 0 10\nf 1 1 1 0 0 0 0.5 1.5\ns 0 0 0 1\n"
+        "f 1 0 0 1 0 0 0 0\np 4\n-10 -10 -3\n10 -10 -3\n10 10 -3\n-10 10 -3\n",
+        "glass.nff");
+    const RenderResult r = render(s, Partition::whole(s), RenderOptions{});
+    // Wall: ambient 0.5 + diffuse 0.5 with N.L = 1 (the light shines through
+    // nothing: shadow rays are blocked by the glass), so only ambient: 0.5.
+    // Through two surfaces: weight 0.5 * 0.5.
+    EXPECT_NEAR(r.image.pixels[4].x, 0.25 * 0.5, 1e-12);
+    EXPECT_EQ(r.image.pixels[4].y, 0.0);
+    EXPECT_GT(r.counters.secondaryHits, 0u);
+}
