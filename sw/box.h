@@ -33,4 +33,12 @@ struct Box {
     }
 };
 
+// A length far above the rounding error of coordinates in and around box b
+// (1e-9 of its size or distance from the origin), far below any feature of a
+// scene: the margin by which object bounds are widened before overlap tests,
+// and the distance a spawned ray skips so as not to hit the surface it leaves.
+inline double roundingMargin(const Box& b) {
+    return 1e-9 * std::max({b.maxExtent(), glm::length(b.lo), glm::length(b.hi)});
+}
+
 }  // namespace rt

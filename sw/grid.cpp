@@ -21,7 +21,7 @@ UniformGrid::UniformGrid(const std::vector<Shape>& objects, const Box& box)
     // Objects go into every cell their bounds touch, widened by a margin far
     // above rounding error, so a hit point that rounding puts just across a
     // cell face is still found in the cell the DDA is in.
-    const double margin = 1e-9 * std::max({box.maxExtent(), glm::length(box.lo), glm::length(box.hi)});
+    const double margin = roundingMargin(box);
     const long cells = lattice_.cellCount();
     std::vector<uint32_t> count(cells + 1, 0);
     std::vector<std::pair<Cell, Cell>> ranges(objects.size());

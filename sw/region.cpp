@@ -5,7 +5,7 @@
 namespace rt {
 
 std::vector<Shape> objectsOverlapping(const std::vector<Shape>& all, const Box& box) {
-    const double margin = 1e-9 * std::max({box.maxExtent(), glm::length(box.lo), glm::length(box.hi)});
+    const double margin = roundingMargin(box);
     std::vector<Shape> out;
     for (const Shape& s : all)
         if (s.bounds().expanded(margin).overlaps(box)) out.push_back(s);

@@ -19,10 +19,6 @@ Box Scene::worldBox() const {
     return b.expanded(1e-4 * size);
 }
 
-double Scene::rayEpsilon() const {
-    const Box b = worldBox();
-    const double scale = std::max({b.maxExtent(), glm::length(b.lo), glm::length(b.hi)});
-    return 1e-9 * scale;
-}
+double Scene::rayEpsilon() const { return roundingMargin(worldBox()); }
 
 }  // namespace rt
