@@ -56,10 +56,11 @@ void SceneOptions::addTo(CLI::App& app, bool positional) {
     app.add_option("--spheres", p.spheres, "procedural: number of spheres M")->group(g)->check(CLI::Range(1, 10000000));
     app.add_option("--radius", p.radius, "procedural: sphere radius r (unit cube)")->group(g)->check(openClosed(0, 0.49));
     app.add_option("--concentration", p.concentration, "procedural: fraction f of the progress axis the spheres crowd into, in (0, 1]")
+        ->capture_default_str()
         ->group(g)
         ->check(openClosed(0, 1));
     app.add_option("--axis", axis, "procedural: progress axis")->group(g)->check(CLI::IsMember({"x", "y", "z"}));
-    app.add_option("--scene-seed", p.seed, "procedural: random seed for sphere placement")->group(g);
+    app.add_option("--seed", p.seed, "procedural: random seed for sphere placement")->group(g);
     app.add_option("--eye", p.eye, "procedural: camera position x y z")->group(g)->expected(3);
     app.add_option("--look-at", p.lookAt, "procedural: point at the image centre x y z")->group(g)->expected(3);
     app.add_option("--light", lights, "procedural: a white point light x y z (repeat for more; replaces the defaults)")

@@ -88,7 +88,7 @@ TEST_F(Rtref, SameInputsSameBytes) {
     EXPECT_EQ(slurp(dir_ / "a.png"), slurp(dir_ / "b.png"));
     ASSERT_EQ(run("--spheres 50 --size 32x32 -o " + (dir_ / "c.png").string()).code, 0);
     ASSERT_EQ(run("--spheres 50 --size 32x32 -o " + (dir_ / "d.png").string()).code, 0);
-    ASSERT_EQ(run("--spheres 50 --size 32x32 --scene-seed 2 -o " + (dir_ / "e.png").string()).code, 0);
+    ASSERT_EQ(run("--spheres 50 --size 32x32 --seed 2 -o " + (dir_ / "e.png").string()).code, 0);
     EXPECT_EQ(slurp(dir_ / "c.png"), slurp(dir_ / "d.png"));
     EXPECT_NE(slurp(dir_ / "c.png"), slurp(dir_ / "e.png"));
 }

@@ -1,0 +1,91 @@
+#include "host.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+
+namespace rt {
+
+Host::Host(sc_core::sc_module_name name, int nodes, int width, int height, Picos costPerContribution, int maxExp,
+           bool progress)
+    : sc_module(name), in("in", nodes), width_(width), height_(height), cost_(costPerContribution),
+      progress_(progress), returned_(maxExp) {
+    SC_THREAD(run);
+}
+
+void Host::run() {
+    for (auto& p : in) p->setArrivalEvent(&arrived_);
+    Picos now = sc_core::sc_time_stamp().value();
+    auto lastPrint = std::chrono::steady_clock::now();
+    if (returned_.isOne()) {  // nothing to trace at all
+        stats_.done = true;
+        stats_.renderTime = now;
+        sc_core::sc_stop();
+        return;
+    }
+    for (;;) {
+        // The oldest arrived message over all ports; ties go to the lower node.
+        int best = -1;
+        Picos bestT = 0, next = ~Picos(0);
+        for (size_t i = 0; i < in.size(); ++i) {
+            Picos a;
+            if (!in[i]->peekArrival(a)) continue;
+            if (a <= now && (best < 0 || a < bestT)) {
+                best = int(i);
+                bestT = a;
+            }
+            next = std::min(next, a);
+        }
+        if (best < 0) {
+            if (next != ~Picos(0)) wait(sc_core::sc_time::from_value(next - now), arrived_);
+            else wait(arrived_);
+            now = sc_core::sc_time_stamp().value();
+            continue;
+        }
+        Message m = in[best]->consume(now);
+        Picos cost = 0;
+        if (m.type == MsgType::Contributions) {
+            ++stats_.contributionMessages;
+            stats_.contributions += m.contributions.size();
+            cost = cost_ * m.contributions.size();
+            contributions_.insert(contributions_.end(), m.contributions.begin(), m.contributions.end());
+        } else if (m.type == MsgType::Credit) {
+            ++stats_.creditMessages;
+            returned_.add(m.credit);
+        }
+        now += cost;
+        stats_.busy += cost;
+        if (cost) wait(sc_core::sc_time::from_value(cost));
+        if (returned_.isOne()) {
+            stats_.done = true;
+            stats_.renderTime = now;
+            if (progress_) std::fprintf(stderr, "\r%-60s\r", "");
+            sc_core::sc_stop();
+            return;
+        }
+        if (progress_) {
+            const auto t = std::chrono::steady_clock::now();
+            if (t - lastPrint > std::chrono::milliseconds(500)) {
+                lastPrint = t;
+                std::fprintf(stderr, "\rrtsim: %5.1f%% of the frame's rays done", 100.0 * returned_.value());
+            }
+        }
+    }
+}
+
+Image Host::image() {
+    Image img(width_, height_);
+    std::sort(contributions_.begin(), contributions_.end(),
+              [](const Contribution& a, const Contribution& b) { return a.pixel < b.pixel; });
+    std::vector<Contribution> pixel;
+    for (size_t i = 0; i < contributions_.size();) {
+        size_t j = i;
+        while (j < contributions_.size() && contributions_[j].pixel == contributions_[i].pixel) ++j;
+        pixel.assign(contributions_.begin() + i, contributions_.begin() + j);
+        img.pixels[contributions_[i].pixel] = sumInKeyOrder(pixel);
+        i = j;
+    }
+    return img;
+}
+
+}  // namespace rt

@@ -1,0 +1,53 @@
+// The frame buffer / host: one input port per node (a Link with its own
+// latency, bandwidth and depth), a cost per contribution accumulated, and the
+// end-of-frame protocol: it has handed out credit 1 and knows the frame is
+// done when the credit returned to it sums to exactly 1 (credit.h). The render
+// time is that instant, when the machine itself would know.
+#pragma once
+#include <vector>
+
+#include <systemc>
+
+#include "credit.h"
+#include "image.h"
+#include "link.h"
+
+namespace rt {
+
+struct HostStats {
+    Picos busy = 0;
+    uint64_t contributions = 0, contributionMessages = 0, creditMessages = 0;
+    Picos renderTime = 0;
+    bool done = false;
+};
+
+class Host : public sc_core::sc_module {
+public:
+    SC_HAS_PROCESS(Host);
+    Host(sc_core::sc_module_name name, int nodes, int width, int height, Picos costPerContribution, int maxExp,
+         bool progress);
+
+    sc_core::sc_vector<sc_core::sc_port<LinkRecvIf>> in;
+
+    // Credit the host keeps (not handed to nodes) and contributions it makes
+    // itself (primary rays that miss the world box), before the start.
+    void keep(const Credit& c) { returned_.add(c); }
+    void addOwn(const Contribution& c) { contributions_.push_back(c); }
+
+    // The image: each pixel the sum of its contributions in path-key order.
+    Image image();
+    const HostStats& stats() const { return stats_; }
+
+private:
+    void run();
+
+    int width_, height_;
+    Picos cost_;
+    bool progress_;
+    Credit returned_;
+    std::vector<Contribution> contributions_;
+    sc_core::sc_event arrived_;
+    HostStats stats_;
+};
+
+}  // namespace rt

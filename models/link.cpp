@@ -1,0 +1,72 @@
+#include "link.h"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace rt {
+
+const char* msgTypeName(MsgType t) {
+    switch (t) {
+        case MsgType::Ray: return "ray";
+        case MsgType::Contributions: return "contributions";
+        case MsgType::Credit: return "credit";
+    }
+    return "?";
+}
+
+Link::Link(const char* name, const LinkParams& params)
+    : sc_core::sc_object(name), params_(params), unusedSlots_(params.depth) {}
+
+Picos Link::transferTime(uint32_t bytes) const {
+    const double ps = std::ceil(double(bytes) * 1e12 / params_.bandwidth);
+    return std::max<Picos>(1, Picos(ps));
+}
+
+void Link::send(Message m, Picos t) {
+    const int type = int(m.type);
+    ++stats_.messages[type];
+    stats_.bytes[type] += m.bytes();
+    backlog_.push_back({t, std::move(m)});
+    startWaiting();
+    stats_.backlogHighWater = std::max(stats_.backlogHighWater, backlog_.size());
+}
+
+void Link::startWaiting() {
+    while (!backlog_.empty() && (unusedSlots_ > 0 || !slotFree_.empty())) {
+        Picos slot = 0;
+        if (unusedSlots_ > 0) {
+            --unusedSlots_;
+        } else {
+            slot = slotFree_.front();
+            slotFree_.pop_front();
+        }
+        Timed w = std::move(backlog_.front());
+        backlog_.pop_front();
+        const Picos start = std::max({w.t, slot, wireFree_});
+        wireFree_ = start + transferTime(w.m.bytes());
+        const Picos arrival = wireFree_ + params_.latency;
+        buffer_.push_back({arrival, std::move(w.m)});
+        stats_.bufferHighWater = std::max(stats_.bufferHighWater, buffer_.size());
+        if (arrived_) {
+            const Picos now = sc_core::sc_time_stamp().value();
+            arrived_->notify(sc_core::sc_time::from_value(arrival - now));
+        }
+    }
+}
+
+bool Link::peekArrival(Picos& arrival) const {
+    if (buffer_.empty()) return false;
+    arrival = buffer_.front().t;
+    return true;
+}
+
+Message Link::consume(Picos t) {
+    if (buffer_.empty() || buffer_.front().t > t) throw std::logic_error(std::string(name()) + ": consumed before arrival");
+    Message m = std::move(buffer_.front().m);
+    buffer_.pop_front();
+    slotFree_.push_back(t + params_.latency);  // the credit travels back
+    startWaiting();
+    return m;
+}
+
+}  // namespace rt

@@ -1,0 +1,85 @@
+// A one-way link between two nodes (or a node and the frame buffer): a FIFO
+// channel with a latency, a bandwidth and a depth.
+//
+// Timing: a message sent at (sender) time t starts on the wire at
+//   start = max(t, wire free, a credit slot free)
+// takes ceil(bytes / bandwidth) (at least 1 ps) on the wire, and arrives
+// latency later. The link holds at most `depth` messages that the receiver
+// has not consumed; a consumed message's slot comes back to the sender one
+// latency later (credit-based flow control). Messages that find no slot wait
+// in the sender's own memory (the link's backlog), so a sender never blocks:
+// back-pressure delays messages but cannot deadlock the machine.
+//
+// Every time is computed from the others when it becomes known, never by
+// polling, so the outcome does not depend on the order in which the kernel
+// runs processes at one instant; it also lets senders and receivers run
+// ahead of the kernel (temporal decoupling).
+#pragma once
+#include <array>
+#include <deque>
+
+#include <systemc>
+
+#include "machine_config.h"
+#include "message.h"
+
+namespace rt {
+
+struct LinkStats {
+    std::array<uint64_t, kMsgTypes> messages{}, bytes{};
+    size_t backlogHighWater = 0;  // messages waiting in the sender's memory
+    size_t bufferHighWater = 0;   // messages on the link / at the receiver, unconsumed
+};
+
+class LinkSendIf : public virtual sc_core::sc_interface {
+public:
+    // Sends at the sender's time `t` (its local time, >= the kernel's).
+    virtual void send(Message m, Picos t) = 0;
+};
+
+class LinkRecvIf : public virtual sc_core::sc_interface {
+public:
+    // Arrival time of the oldest unconsumed message, if any has been sent.
+    virtual bool peekArrival(Picos& arrival) const = 0;
+    // Takes the oldest message; it must have arrived by `t`.
+    virtual Message consume(Picos t) = 0;
+    // Notified when a message arrives (set by the receiver).
+    virtual void setArrivalEvent(sc_core::sc_event* e) = 0;
+    // Messages sent towards the receiver and not yet consumed.
+    virtual size_t unconsumed() const = 0;
+};
+
+class Link : public sc_core::sc_object, public LinkSendIf, public LinkRecvIf {
+public:
+    Link(const char* name, const LinkParams& params);
+
+    void send(Message m, Picos t) override;
+    bool peekArrival(Picos& arrival) const override;
+    Message consume(Picos t) override;
+    void setArrivalEvent(sc_core::sc_event* e) override { arrived_ = e; }
+
+    const LinkParams& params() const { return params_; }
+    const LinkStats& stats() const { return stats_; }
+    size_t backlog() const { return backlog_.size(); }
+    size_t unconsumed() const override { return buffer_.size(); }
+    const char* kind() const override { return "rt_link"; }
+
+private:
+    void startWaiting();  // puts backlog messages on the wire while slots allow
+    Picos transferTime(uint32_t bytes) const;
+
+    LinkParams params_;
+    struct Timed {
+        Picos t;
+        Message m;
+    };
+    std::deque<Timed> backlog_;  // sent, waiting for a slot (t: when sent)
+    std::deque<Timed> buffer_;   // on the wire or arrived, not consumed (t: arrival)
+    int unusedSlots_;            // slots never used yet (free since time 0)
+    std::deque<Picos> slotFree_; // slots returned by the receiver, free from these times
+    Picos wireFree_ = 0;
+    sc_core::sc_event* arrived_ = nullptr;
+    LinkStats stats_;
+};
+
+}  // namespace rt

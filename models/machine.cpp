@@ -1,0 +1,188 @@
+#include "machine.h"
+
+#include <chrono>
+#include <sstream>
+#include <stdexcept>
+
+#include "trace_writer.h"
+
+namespace rt {
+namespace {
+
+int imageWidth(const Scene& s, const MachineConfig& c) { return c.width ? c.width : s.view.width; }
+int imageHeight(const Scene& s, const MachineConfig& c) { return c.height ? c.height : s.view.height; }
+
+std::string cellName(const Cell& c) {
+    std::ostringstream s;
+    s << "node_" << c[0] << "_" << c[1] << "_" << c[2];
+    return s.str();
+}
+
+}  // namespace
+
+Machine::Machine(sc_core::sc_module_name name, const Scene& scene, const MachineConfig& config)
+    : sc_module(name),
+      scene_(scene),
+      cfg_(config),
+      width_(imageWidth(scene, config)),
+      height_(imageHeight(scene, config)),
+      world_(scene.worldBox()),
+      cuts_(Lattice::uniform(world_, config.dims)),
+      camera_(scene.view, width_, height_),
+      shader_(scene, config.maxDepth),
+      nodes_("node") {
+    cfg_.validate();
+    // Credit precision: the host's split, a node's split over its primary
+    // rays, and one split per ray-tree level (a hit spawns at most L + 2 rays).
+    const long pixels = long(width_) * height_;
+    maxExp_ = ceilLog2(uint64_t(cfg_.nodeCount()) + 1) + ceilLog2(uint64_t(pixels) + 1) +
+              (cfg_.maxDepth + 1) * ceilLog2(scene.lights.size() + 2) + 2;
+    host_ = std::make_unique<Host>("host", cfg_.nodeCount(), width_, height_, cfg_.hostCost, maxExp_,
+                                   cfg_.showProgress);
+
+    nodes_.init(size_t(cfg_.nodeCount()), [&](const char*, size_t i) {
+        const Cell c{int(i % cfg_.dims[0]), int(i / cfg_.dims[0] % cfg_.dims[1]), int(i / cfg_.dims[0] / cfg_.dims[1])};
+        return new Node(cellName(c).c_str(), c, cuts_.cellBox(c), scene_, shader_, camera_, world_, cfg_.costsOf(c),
+                        cfg_.speedOf(c), cfg_.fbBatch);
+    });
+
+    // Links between face neighbours, one per direction, and the frame-buffer ports.
+    for (Node& n : nodes_) {
+        const Cell c = n.cell();
+        for (int d = 0; d < kDirs; ++d) {
+            Cell m = c;
+            m[dirAxis(d)] += dirStep(d);
+            if (m[dirAxis(d)] < 0 || m[dirAxis(d)] >= cfg_.dims[dirAxis(d)]) continue;
+            const std::string lname = cellName(c) + "_" + (d % 2 ? "m" : "p") + "xyz"[dirAxis(d)];
+            links_.push_back(std::make_unique<Link>(lname.c_str(), cfg_.linkOf(c, d)));
+            n.out[d].bind(*links_.back());
+            nodes_[nodeIndex(m)].in[opposite(d)].bind(*links_.back());
+            linkInfo_.push_back({lname, c, d, links_.back()->params(), {}});
+        }
+        const std::string fname = cellName(c) + "_fb";
+        links_.push_back(std::make_unique<Link>(fname.c_str(), cfg_.fbPort));
+        n.fb.bind(*links_.back());
+        host_->in[nodeIndex(c)].bind(*links_.back());
+        linkInfo_.push_back({fname, c, -1, cfg_.fbPort, {}});
+    }
+    for (const Cell& c : cfg_.traceNodes) nodes_[nodeIndex(c)].enableTrace();
+    if (!cfg_.vcdPath.empty() && cfg_.traceNodes.empty())
+        for (Node& n : nodes_) n.enableTrace();
+    assignPrimaryRays();
+}
+
+Machine::~Machine() = default;
+
+// The host's job description: each primary ray goes to the node that owns
+// the point where it starts inside the world box; rays that miss the world
+// are the background, which the host fills in itself. Credit: the host keeps
+// what it does not hand out; each node gets 2^-hostExp and gives each of its
+// P primary rays 2^-(hostExp + ceil(log2 P)), keeping the rest.
+void Machine::assignPrimaryRays() {
+    std::vector<std::vector<uint32_t>> perNode(nodes_.size());
+    Counters hostCounters;
+    for (int y = 0; y < height_; ++y)
+        for (int x = 0; x < width_; ++x) {
+            const RayJob j = primaryJob(camera_, x, y, world_);
+            const std::optional<Cell> c = cuts_.locate(j.ray, j.t0);
+            if (c) {
+                perNode[nodeIndex(*c)].push_back(j.pixel);
+            } else {
+                host_->addOwn(shader_.miss(j, hostCounters));
+                ++primaryMisses_;
+            }
+        }
+    size_t busyNodes = 0;
+    for (const auto& p : perNode) busyNodes += !p.empty();
+    const int hostExp = ceilLog2(busyNodes);
+    Credit kept = Credit::one(maxExp_);
+    for (size_t i = 0; i < nodes_.size(); ++i) {
+        Credit remainder(maxExp_);
+        int exp = 0;
+        if (!perNode[i].empty()) {
+            const uint64_t p = perNode[i].size();
+            const int c = ceilLog2(p);
+            exp = hostExp + c;
+            remainder.add(exp, (uint64_t(1) << c) - p);
+        }
+        nodes_[i].assignPrimaries(std::move(perNode[i]), exp, remainder);
+    }
+    // 1 - busyNodes * 2^-hostExp stays with the host.
+    Credit rest(maxExp_);
+    rest.add(hostExp, (uint64_t(1) << hostExp) - busyNodes);
+    host_->keep(rest);
+}
+
+void Machine::checkConservation() const {
+    uint64_t created = primaryMisses_, terminated = primaryMisses_, sent = primaryMisses_;
+    for (const Node& n : nodes_) {
+        created += n.stats().raysCreated;
+        terminated += n.stats().raysTerminated;
+        sent += n.stats().contributionsSent;
+    }
+    if (!host_->stats().done) throw std::runtime_error("conservation: the frame never completed");
+    if (created != terminated) {
+        std::ostringstream s;
+        s << "conservation: " << created << " rays created but " << terminated << " terminated";
+        throw std::runtime_error(s.str());
+    }
+    const uint64_t received = host_->stats().contributions + primaryMisses_;
+    if (sent != received) {
+        std::ostringstream s;
+        s << "conservation: " << sent << " contributions sent but " << received << " received";
+        throw std::runtime_error(s.str());
+    }
+    // Time accounting: every node was busy or waiting until the frame was done.
+    const Picos end = host_->stats().renderTime;
+    for (const Node& n : nodes_) {
+        const NodeStats& s = n.stats();
+        if (s.lastActive > end || s.busy + s.wait + (end - s.lastActive) != end)
+            throw std::runtime_error(std::string("time accounting: busy + wait != render time at ") + n.name());
+    }
+    for (const auto& l : links_)
+        if (l->backlog() || l->unconsumed())
+            throw std::runtime_error(std::string("conservation: messages left on ") + l->name());
+}
+
+MachineResult Machine::collect(double wallSeconds) {
+    MachineResult r;
+    r.image = host_->image();
+    r.renderTime = host_->stats().renderTime;
+    for (const Node& n : nodes_) {
+        r.nodes.push_back(n.stats());
+        r.cells.push_back(n.cell());
+        r.boxes.push_back(n.region().box());
+        r.objectsPerNode.push_back(n.region().objects().size());
+    }
+    for (size_t i = 0; i < links_.size(); ++i) {
+        r.links.push_back(linkInfo_[i]);
+        r.links.back().stats = links_[i]->stats();
+    }
+    r.host = host_->stats();
+    r.primaryMisses = primaryMisses_;
+    r.deltaCycles = sc_core::sc_delta_count();
+    r.wallSeconds = wallSeconds;
+    return r;
+}
+
+void Machine::writeTraces(const std::string& vcdPath) const {
+    std::vector<TracedNode> traced;
+    for (const Node& n : nodes_)
+        if (n.trace()) traced.push_back({cellName(n.cell()), n.trace()});
+    writeVcd(vcdPath, traced, cfg_.traceFrom, std::min(cfg_.traceTo, host_->stats().renderTime),
+             host_->stats().renderTime);
+    writeGtkw(gtkwPathFor(vcdPath), vcdPath, traced);
+}
+
+MachineResult runMachine(const Scene& scene, const MachineConfig& config) {
+    sc_core::sc_set_time_resolution(1, sc_core::SC_PS);
+    const auto t0 = std::chrono::steady_clock::now();
+    Machine machine("machine", scene, config);
+    sc_core::sc_start();
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    machine.checkConservation();
+    if (!config.vcdPath.empty()) machine.writeTraces(config.vcdPath);
+    return machine.collect(wall);
+}
+
+}  // namespace rt

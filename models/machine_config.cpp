@@ -1,0 +1,67 @@
+#include "machine_config.h"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace rt {
+
+const char* dirName(int d) {
+    static const char* names[kDirs] = {"+x", "-x", "+y", "-y", "+z", "-z"};
+    return names[d];
+}
+
+double MachineConfig::speedOf(const Cell& c) const {
+    auto it = nodeSpeed.find(c);
+    return it == nodeSpeed.end() ? speed : it->second;
+}
+
+const Costs& MachineConfig::costsOf(const Cell& c) const {
+    auto it = nodeCosts.find(c);
+    return it == nodeCosts.end() ? costs : it->second;
+}
+
+const LinkParams& MachineConfig::linkOf(const Cell& from, int dir) const {
+    auto it = linkOverride.find({from, dir});
+    return it == linkOverride.end() ? link : it->second;
+}
+
+static void checkLink(const LinkParams& l, const std::string& flag) {
+    if (!(l.bandwidth > 0) || !std::isfinite(l.bandwidth))
+        throw std::invalid_argument(flag + ": bandwidth must be positive and finite");
+    if (l.depth < 1 || l.depth > 1000000) throw std::invalid_argument(flag + ": depth must be in 1..1000000");
+}
+
+void MachineConfig::validate() const {
+    for (int a = 0; a < 3; ++a)
+        if (dims[a] < 1 || dims[a] > 16) throw std::invalid_argument("--mesh: nodes per axis must be in 1..16");
+    if (width < 0 || height < 0) throw std::invalid_argument("--size: must be positive");
+    if (maxDepth < 0 || maxDepth > 39) throw std::invalid_argument("--max-depth: must be in 0..39");
+    if (!(speed > 0) || !std::isfinite(speed)) throw std::invalid_argument("--speed: must be positive");
+    for (const auto& [c, s] : nodeSpeed) {
+        if (!(s > 0) || !std::isfinite(s)) throw std::invalid_argument("--node-speed: must be positive");
+        for (int a = 0; a < 3; ++a)
+            if (c[a] < 0 || c[a] >= dims[a]) throw std::invalid_argument("--node-speed: node outside the mesh");
+    }
+    for (const auto& [c, k] : nodeCosts)
+        for (int a = 0; a < 3; ++a)
+            if (c[a] < 0 || c[a] >= dims[a]) throw std::invalid_argument("--node-cost: node outside the mesh");
+    checkLink(link, "--link-bandwidth/--link-depth");
+    checkLink(fbPort, "--fb-bandwidth/--fb-depth");
+    for (const auto& [key, l] : linkOverride) {
+        checkLink(l, "--link-set");
+        const Cell& c = key.first;
+        for (int a = 0; a < 3; ++a)
+            if (c[a] < 0 || c[a] >= dims[a]) throw std::invalid_argument("--link-set: node outside the mesh");
+        Cell n = c;
+        n[dirAxis(key.second)] += dirStep(key.second);
+        if (n[dirAxis(key.second)] < 0 || n[dirAxis(key.second)] >= dims[dirAxis(key.second)])
+            throw std::invalid_argument("--link-set: no link in that direction (mesh face)");
+    }
+    if (fbBatch < 1 || fbBatch > 65536) throw std::invalid_argument("--fb-batch: must be in 1..65536");
+    for (const Cell& c : traceNodes)
+        for (int a = 0; a < 3; ++a)
+            if (c[a] < 0 || c[a] >= dims[a]) throw std::invalid_argument("--trace-nodes: node outside the mesh");
+    if (traceFrom > traceTo) throw std::invalid_argument("--trace-window: start after end");
+}
+
+}  // namespace rt

@@ -1,0 +1,76 @@
+// Everything that configures the machine: mesh shape, per-operation costs,
+// node speeds, link and frame-buffer port settings, with per-node and
+// per-link overrides. Plain data with named fields (no globals); rtsim fills
+// it from its command line or config file. Defaults and where their values
+// come from: doc/machine.md, "Costs".
+#pragma once
+#include <array>
+#include <map>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "lattice.h"
+#include "units.h"
+
+namespace rt {
+
+// Link directions of a node, in port order.
+enum Dir : int { PosX = 0, NegX = 1, PosY = 2, NegY = 3, PosZ = 4, NegZ = 5 };
+constexpr int kDirs = 6;
+inline int dirAxis(int d) { return d / 2; }
+inline int dirStep(int d) { return (d % 2) ? -1 : 1; }
+inline int opposite(int d) { return d ^ 1; }
+inline int dirOf(int axis, int step) { return 2 * axis + (step < 0 ? 1 : 0); }
+const char* dirName(int d);  // "+x", "-x", ...
+
+// Processing cost of each operation, before the node's speed factor.
+struct Costs {
+    std::array<Picos, 3> test{10000, 20000, 20000};  // intersection test: sphere, polygon, cone
+    Picos voxelStep = 4000;
+    Picos rayGen = 20000;   // generating one primary ray
+    Picos shade = 50000;    // shading one hit (spawning its rays and contributions)
+    Picos send = 40000;     // handling one outgoing message (link or frame-buffer port)
+    Picos recv = 40000;     // handling one incoming message
+};
+
+struct LinkParams {
+    Picos latency = 100000;   // 100 ns
+    double bandwidth = 1e9;   // bytes per second
+    int depth = 16;           // messages the link holds before back-pressure
+};
+
+struct MachineConfig {
+    std::array<int, 3> dims{4, 4, 4};  // nodes along x, y, z
+    int width = 0, height = 0;         // image size (0: the scene's)
+    int maxDepth = 5;
+
+    Costs costs;
+    double speed = 1.0;                // node speed factor: time = cost / speed
+    std::map<Cell, double> nodeSpeed;  // per-node speed overrides
+    std::map<Cell, Costs> nodeCosts;   // per-node cost overrides (whole sets)
+
+    LinkParams link;
+    std::map<std::pair<Cell, int>, LinkParams> linkOverride;  // (source node, direction)
+
+    // Each node's output port to the frame buffer, and the host's cost.
+    LinkParams fbPort{200000, 1e9, 16};
+    Picos hostCost = 5000;             // per contribution accumulated
+    int fbBatch = 32;                  // contributions per frame-buffer message
+
+    // Tracing (VCD); empty path: none.
+    std::string vcdPath;
+    std::vector<Cell> traceNodes;      // empty: every node
+    Picos traceFrom = 0, traceTo = ~Picos(0);
+
+    bool showProgress = false;
+
+    int nodeCount() const { return dims[0] * dims[1] * dims[2]; }
+    double speedOf(const Cell& c) const;
+    const Costs& costsOf(const Cell& c) const;
+    const LinkParams& linkOf(const Cell& from, int dir) const;
+    // Throws std::invalid_argument("--flag: what") for the first bad value.
+    void validate() const;
+};
+
+}  // namespace rt

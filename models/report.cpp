@@ -1,0 +1,106 @@
+#include "report.h"
+
+namespace rt {
+namespace {
+
+nlohmann::json cellJson(const Cell& c) { return {c[0], c[1], c[2]}; }
+double ns(Picos p) { return double(p) / 1000.0; }
+
+nlohmann::json costsJson(const Costs& c) {
+    return {{"test_sphere_ns", ns(c.test[0])}, {"test_polygon_ns", ns(c.test[1])}, {"test_cone_ns", ns(c.test[2])},
+            {"voxel_step_ns", ns(c.voxelStep)}, {"ray_generation_ns", ns(c.rayGen)}, {"shading_ns", ns(c.shade)},
+            {"send_ns", ns(c.send)},            {"receive_ns", ns(c.recv)}};
+}
+
+nlohmann::json linkJson(const LinkParams& l) {
+    return {{"latency_ns", ns(l.latency)}, {"bandwidth_bytes_per_s", l.bandwidth}, {"depth", l.depth}};
+}
+
+}  // namespace
+
+nlohmann::json machineReport(const MachineResult& r, const MachineConfig& cfg) {
+    nlohmann::json j;
+    auto& c = j["config"];
+    c["mesh"] = {cfg.dims[0], cfg.dims[1], cfg.dims[2]};
+    c["image"] = {r.image.width, r.image.height};
+    c["max_depth"] = cfg.maxDepth;
+    c["costs"] = costsJson(cfg.costs);
+    c["speed"] = cfg.speed;
+    for (const auto& [cell, s] : cfg.nodeSpeed) c["node_speed"].push_back({{"node", cellJson(cell)}, {"speed", s}});
+    for (const auto& [cell, k] : cfg.nodeCosts) c["node_costs"].push_back({{"node", cellJson(cell)}, {"costs", costsJson(k)}});
+    c["link"] = linkJson(cfg.link);
+    for (const auto& [key, l] : cfg.linkOverride)
+        c["link_overrides"].push_back({{"node", cellJson(key.first)}, {"dir", dirName(key.second)}, {"link", linkJson(l)}});
+    c["fb_port"] = linkJson(cfg.fbPort);
+    c["fb_batch"] = cfg.fbBatch;
+    c["host_cost_ns"] = ns(cfg.hostCost);
+
+    j["render_time_ns"] = ns(r.renderTime);
+    j["wall_s"] = r.wallSeconds;
+
+    Picos busyTotal = 0;
+    for (size_t i = 0; i < r.nodes.size(); ++i) {
+        const NodeStats& s = r.nodes[i];
+        const Counters& k = s.counters;
+        busyTotal += s.busy;
+        nlohmann::json n;
+        n["node"] = cellJson(r.cells[i]);
+        n["box"] = {{r.boxes[i].lo.x, r.boxes[i].lo.y, r.boxes[i].lo.z}, {r.boxes[i].hi.x, r.boxes[i].hi.y, r.boxes[i].hi.z}};
+        n["objects"] = r.objectsPerNode[i];
+        n["busy_ns"] = ns(s.busy);
+        // Waiting includes the stretch from the node's last step to the end of
+        // the frame; busy + wait = render time is checked at the end of the run.
+        const Picos wait = s.wait + (r.renderTime - s.lastActive);
+        n["wait_ns"] = ns(wait);
+        n["load"] = s.busy + wait ? double(s.busy) / double(s.busy + wait) : 0.0;
+        n["rays_traced"] = s.raysTraced;
+        n["rays_generated"] = s.raysGenerated;
+        n["rays_forwarded"] = s.raysForwarded;
+        n["rays_created"] = s.raysCreated;
+        n["rays_terminated"] = s.raysTerminated;
+        n["messages_sent"] = s.messagesSent;
+        n["messages_received"] = s.messagesReceived;
+        n["contributions_sent"] = s.contributionsSent;
+        n["queue_high_water"] = s.queueHighWater;
+        n["last_active_ns"] = ns(s.lastActive);
+        n["counters"] = {{"primary_rays", k.primaryRays},     {"primary_hits", k.primaryHits},
+                         {"shadow_rays", k.shadowRays},       {"shadow_hits", k.shadowHits},
+                         {"secondary_rays", k.secondaryRays}, {"secondary_hits", k.secondaryHits},
+                         {"tests_sphere", k.tests[0]},        {"tests_polygon", k.tests[1]},
+                         {"tests_cone", k.tests[2]},          {"voxel_steps", k.voxelSteps},
+                         {"shadings", k.shadings}};
+        j["nodes"].push_back(n);
+    }
+    std::array<uint64_t, kMsgTypes> msgs{}, bytes{};
+    for (const LinkReport& l : r.links) {
+        nlohmann::json lj;
+        lj["name"] = l.name;
+        lj["from"] = cellJson(l.from);
+        lj["to"] = l.dir < 0 ? nlohmann::json("host") : nlohmann::json(dirName(l.dir));
+        lj["params"] = linkJson(l.params);
+        for (int t = 0; t < kMsgTypes; ++t) {
+            const char* name = msgTypeName(MsgType(t));
+            lj["messages"][name] = l.stats.messages[t];
+            lj["bytes"][name] = l.stats.bytes[t];
+            msgs[t] += l.stats.messages[t];
+            bytes[t] += l.stats.bytes[t];
+        }
+        lj["backlog_high_water"] = l.stats.backlogHighWater;
+        lj["buffer_high_water"] = l.stats.bufferHighWater;
+        j["links"].push_back(lj);
+    }
+    for (int t = 0; t < kMsgTypes; ++t) {
+        j["totals"]["messages"][msgTypeName(MsgType(t))] = msgs[t];
+        j["totals"]["bytes"][msgTypeName(MsgType(t))] = bytes[t];
+    }
+    j["totals"]["busy_ns"] = ns(busyTotal);
+    j["totals"]["primary_misses"] = r.primaryMisses;
+    j["host"] = {{"busy_ns", ns(r.host.busy)},
+                 {"contributions", r.host.contributions},
+                 {"contribution_messages", r.host.contributionMessages},
+                 {"credit_messages", r.host.creditMessages}};
+    j["kernel"] = {{"delta_cycles", r.deltaCycles}};
+    return j;
+}
+
+}  // namespace rt

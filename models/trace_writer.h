@@ -1,0 +1,34 @@
+// VCD and GTKWave save files for the traced nodes.
+//
+// We write the VCD ourselves rather than with sc_trace: SystemC's writer
+// stamps the wall-clock date into the file (so two runs would differ), knows
+// no time window, and would need a signal and a delta cycle per change; the
+// node records its few value changes directly (node_trace.h) and they are
+// written here, in time order, once the frame is done.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "node_trace.h"
+
+namespace rt {
+
+struct TracedNode {
+    std::string name;  // "node_x_y_z"
+    const NodeTrace* trace;
+};
+
+// Per node: busy and wait (1 bit), load (real: busy / (busy + wait) over
+// windows of about renderTime / 200, 1 ps at least) and queue depth
+// (integer), for times in [from, to].
+void writeVcd(const std::string& path, const std::vector<TracedNode>& nodes, Picos from, Picos to,
+              Picos renderTime);
+// A .gtkw save file that groups each node's signals, so GTKWave opens
+// straight to them: gtkwave -a FILE.gtkw (or gtkwave FILE.vcd FILE.gtkw).
+void writeGtkw(const std::string& path, const std::string& vcdPath, const std::vector<TracedNode>& nodes);
+// FILE.vcd -> FILE.gtkw
+std::string gtkwPathFor(const std::string& vcdPath);
+// The load window the VCD uses for a frame of this length.
+Picos loadWindow(Picos renderTime);
+
+}  // namespace rt

@@ -1,0 +1,23 @@
+// Times and rates with units, as the command line and config files give them:
+// "20ns", "2.5us", "1ms", "0s"; "1GB/s", "100MB/s", "10Gb/s" (bits), "1e9B/s".
+// Decimal prefixes (1 GB/s = 1e9 bytes per second). Times are kept as integer
+// picoseconds, the kernel's resolution, so sums of costs are exact.
+#pragma once
+#include <cstdint>
+#include <optional>
+#include <string>
+
+namespace rt {
+
+using Picos = uint64_t;
+
+// Parses a non-negative time; nullopt when malformed (no unit, unknown unit,
+// negative, not finite, or not a whole number of picoseconds).
+std::optional<Picos> parseTime(const std::string& text);
+// Parses a positive, finite rate in bytes per second.
+std::optional<double> parseRate(const std::string& text);
+
+std::string formatTime(Picos t);    // "12.5 us"
+std::string formatRate(double bps); // "1 GB/s"
+
+}  // namespace rt

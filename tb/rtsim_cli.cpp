@@ -1,0 +1,196 @@
+#include "rtsim_cli.h"
+
+#include <sstream>
+
+namespace rt {
+namespace {
+
+// "x,y,z" node coordinates.
+Cell parseCell(const std::string& flag, const std::string& s) {
+    Cell c{};
+    char comma1 = 0, comma2 = 0;
+    std::istringstream in(s);
+    if (!(in >> c[0] >> comma1 >> c[1] >> comma2 >> c[2]) || comma1 != ',' || comma2 != ',' || !in.eof())
+        throw CLI::ValidationError(flag, "expected node coordinates x,y,z, got '" + s + "'");
+    return c;
+}
+
+Picos timeOf(const std::string& flag, const std::string& s) {
+    const auto t = parseTime(s);
+    if (!t) throw CLI::ValidationError(flag, "expected a non-negative time with a unit (ps ns us ms s), got '" + s + "'");
+    return *t;
+}
+
+double rateOf(const std::string& flag, const std::string& s) {
+    const auto r = parseRate(s);
+    if (!r) throw CLI::ValidationError(flag, "expected a positive rate with a unit (B/s KB/s MB/s GB/s, b/s .. Gb/s), got '" + s + "'");
+    return *r;
+}
+
+void addTime(CLI::App& app, const std::string& flag, Picos& target, const std::string& what, const std::string& group) {
+    app.add_option_function<std::string>(flag, [flag, &target](const std::string& s) { target = timeOf(flag, s); }, what)
+        ->default_str(formatTime(target))
+        ->group(group);
+}
+
+// Cost names used by --node-cost.
+Picos* costField(Costs& c, const std::string& name) {
+    if (name == "sphere") return &c.test[0];
+    if (name == "polygon") return &c.test[1];
+    if (name == "cone") return &c.test[2];
+    if (name == "voxel") return &c.voxelStep;
+    if (name == "raygen") return &c.rayGen;
+    if (name == "shade") return &c.shade;
+    if (name == "send") return &c.send;
+    if (name == "recv") return &c.recv;
+    return nullptr;
+}
+
+}  // namespace
+
+void RtsimOptions::addTo(CLI::App& app) {
+    // A flag given twice (or on the command line and in --config) takes its last value.
+    app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+    // The default scene is the paper's experiment on the default 4 x 4 x 4
+    // mesh: the spheres crowd into the first 1/N = 1/4 of the progress axis.
+    scene.procedural.concentration = 0.25;
+    scene.addTo(app, false);
+    MachineConfig& m = machine;
+    const std::string gm = "Machine", gc = "Costs", gl = "Links", go = "Outputs";
+    app.add_option("--mesh", mesh, "nodes per axis: an N x N x N mesh")->check(CLI::Range(1, 16))->capture_default_str()->group(gm);
+    app.add_option("--mesh-dims", meshDims, "mesh shape XxYxZ (each 1..16), instead of --mesh")->group(gm);
+    app.add_option("--max-depth", m.maxDepth, "mirror/refraction levels below the primary ray")
+        ->check(CLI::Range(0, 39))->capture_default_str()->group(gm);
+
+    addTime(app, "--cost-sphere", m.costs.test[0], "intersection test, sphere", gc);
+    addTime(app, "--cost-polygon", m.costs.test[1], "intersection test, polygon", gc);
+    addTime(app, "--cost-cone", m.costs.test[2], "intersection test, cone/cylinder", gc);
+    addTime(app, "--cost-voxel", m.costs.voxelStep, "one voxel step of the 3D-DDA", gc);
+    addTime(app, "--cost-raygen", m.costs.rayGen, "generating one primary ray", gc);
+    addTime(app, "--cost-shade", m.costs.shade, "shading one hit", gc);
+    addTime(app, "--cost-send", m.costs.send, "handling one outgoing message", gc);
+    addTime(app, "--cost-recv", m.costs.recv, "handling one incoming message", gc);
+    addTime(app, "--cost-host", m.hostCost, "frame buffer: accumulating one contribution", gc);
+    app.add_option_function<double>("--speed", [&m](double s) {
+           if (!(s > 0)) throw CLI::ValidationError("--speed", "must be positive");
+           m.speed = s;
+       }, "node speed factor (time = cost / speed)")
+        ->default_str("1")->group(gc);
+    app.add_option_function<std::vector<std::string>>("--node-speed", [&m](const std::vector<std::string>& v) {
+           for (const std::string& s : v) {
+               const size_t eq = s.find('=');
+               if (eq == std::string::npos) throw CLI::ValidationError("--node-speed", "expected x,y,z=SPEED, got '" + s + "'");
+               double sp;
+               std::istringstream in(s.substr(eq + 1));
+               if (!(in >> sp) || !in.eof() || !(sp > 0)) throw CLI::ValidationError("--node-speed", "speed must be a positive number in '" + s + "'");
+               m.nodeSpeed[parseCell("--node-speed", s.substr(0, eq))] = sp;
+           }
+       }, "speed factor of one node: x,y,z=SPEED (repeatable)")
+        ->group(gc);
+    app.add_option("--node-cost", nodeCostSpecs_, "a cost of one node: x,y,z:NAME=TIME, NAME one of sphere polygon cone voxel raygen shade send recv (repeatable)")
+        ->group(gc);
+
+    addTime(app, "--link-latency", m.link.latency, "link latency", gl);
+    app.add_option_function<std::string>("--link-bandwidth", [&m](const std::string& s) { m.link.bandwidth = rateOf("--link-bandwidth", s); }, "link bandwidth")
+        ->default_str("1GB/s")->group(gl);
+    app.add_option("--link-depth", m.link.depth, "messages a link holds before back-pressure")
+        ->check(CLI::Range(1, 1000000))->capture_default_str()->group(gl);
+    app.add_option("--link-set", linkSpecs_, "one link: x,y,z,DIR:latency=T,bandwidth=R,depth=N (DIR +x -x +y -y +z -z; any subset; repeatable)")
+        ->group(gl);
+    addTime(app, "--fb-latency", m.fbPort.latency, "frame-buffer port latency", gl);
+    app.add_option_function<std::string>("--fb-bandwidth", [&m](const std::string& s) { m.fbPort.bandwidth = rateOf("--fb-bandwidth", s); }, "frame-buffer port bandwidth")
+        ->default_str("1GB/s")->group(gl);
+    app.add_option("--fb-depth", m.fbPort.depth, "messages a frame-buffer port holds")->check(CLI::Range(1, 1000000))->capture_default_str()->group(gl);
+    app.add_option("--fb-batch", m.fbBatch, "contributions per frame-buffer message")->check(CLI::Range(1, 65536))->capture_default_str()->group(gl);
+
+    app.add_option("--image", image, "output PNG")->capture_default_str()->group(go);
+    app.add_option("--report", report, "JSON report")->group(go);
+    app.add_option("--vcd", vcd, "VCD waveform (a .gtkw save file is written beside it)")->group(go);
+    app.add_option("--trace-nodes", traceSpecs_, "nodes to trace in the VCD: x,y,z (repeatable; default all)")->group(go);
+    app.add_option("--trace-window", traceWindow_, "time window of the VCD: FROM,TO (e.g. 0,50us)")->group(go);
+    app.add_flag("!--no-baseline", baseline, "skip the 1x1x1 run that gives the speed-up")->group(go);
+    app.add_flag("-q,--quiet", quiet, "no summary")->group(go);
+    app.add_flag("--as-baseline", asBaseline, "internal: run as the 1x1x1 baseline of another run")->group("");
+    app.set_config("--config", "", "read flags from a file (INI/TOML: name = value, one per line)");
+}
+
+void RtsimOptions::finish() {
+    MachineConfig& m = machine;
+    m.dims = {mesh, mesh, mesh};
+    if (asBaseline) {  // one node with the global costs: no per-node or per-link settings, no outputs
+        meshDims = "1x1x1";
+        nodeCostSpecs_.clear();
+        linkSpecs_.clear();
+        traceSpecs_.clear();
+        traceWindow_.clear();
+        vcd.clear();
+        image.clear();
+        m.nodeSpeed.clear();
+        baseline = false;
+        quiet = true;
+    }
+    if (!meshDims.empty()) {
+        int x, y, z;
+        char a = 0, b = 0;
+        std::istringstream in(meshDims);
+        if (!(in >> x >> a >> y >> b >> z) || a != 'x' || b != 'x' || !in.eof() || x < 1 || y < 1 || z < 1 || x > 16 ||
+            y > 16 || z > 16)
+            throw CLI::ValidationError("--mesh-dims", "expected XxYxZ with each in 1..16, got '" + meshDims + "'");
+        m.dims = {x, y, z};
+    }
+    for (const std::string& s : nodeCostSpecs_) {
+        const size_t colon = s.find(':'), eq = s.find('=');
+        if (colon == std::string::npos || eq == std::string::npos || eq < colon)
+            throw CLI::ValidationError("--node-cost", "expected x,y,z:NAME=TIME, got '" + s + "'");
+        const Cell c = parseCell("--node-cost", s.substr(0, colon));
+        auto it = m.nodeCosts.find(c);
+        Costs& k = it == m.nodeCosts.end() ? (m.nodeCosts[c] = m.costs) : it->second;
+        Picos* f = costField(k, s.substr(colon + 1, eq - colon - 1));
+        if (!f) throw CLI::ValidationError("--node-cost", "unknown cost name in '" + s + "'");
+        *f = timeOf("--node-cost", s.substr(eq + 1));
+    }
+    for (const std::string& s : linkSpecs_) {
+        const size_t colon = s.find(':');
+        if (colon == std::string::npos) throw CLI::ValidationError("--link-set", "expected x,y,z,DIR:settings, got '" + s + "'");
+        const std::string where = s.substr(0, colon);
+        const size_t lastComma = where.find_last_of(',');
+        if (lastComma == std::string::npos) throw CLI::ValidationError("--link-set", "expected x,y,z,DIR, got '" + where + "'");
+        const Cell c = parseCell("--link-set", where.substr(0, lastComma));
+        const std::string dirText = where.substr(lastComma + 1);
+        int dir = -1;
+        for (int d = 0; d < kDirs; ++d)
+            if (dirText == dirName(d)) dir = d;
+        if (dir < 0) throw CLI::ValidationError("--link-set", "direction must be one of +x -x +y -y +z -z, got '" + dirText + "'");
+        LinkParams p = m.link;
+        std::istringstream items(s.substr(colon + 1));
+        std::string item;
+        while (std::getline(items, item, ',')) {
+            const size_t eq = item.find('=');
+            const std::string key = item.substr(0, eq), val = eq == std::string::npos ? "" : item.substr(eq + 1);
+            if (key == "latency") p.latency = timeOf("--link-set", val);
+            else if (key == "bandwidth") p.bandwidth = rateOf("--link-set", val);
+            else if (key == "depth") {
+                std::istringstream in(val);
+                if (!(in >> p.depth) || !in.eof() || p.depth < 1) throw CLI::ValidationError("--link-set", "depth must be a positive integer, got '" + val + "'");
+            } else throw CLI::ValidationError("--link-set", "unknown setting '" + key + "' (latency, bandwidth, depth)");
+        }
+        m.linkOverride[{c, dir}] = p;
+    }
+    for (const std::string& s : traceSpecs_) m.traceNodes.push_back(parseCell("--trace-nodes", s));
+    if (!traceWindow_.empty()) {
+        const size_t comma = traceWindow_.find(',');
+        if (comma == std::string::npos) throw CLI::ValidationError("--trace-window", "expected FROM,TO, got '" + traceWindow_ + "'");
+        m.traceFrom = timeOf("--trace-window", traceWindow_.substr(0, comma));
+        m.traceTo = timeOf("--trace-window", traceWindow_.substr(comma + 1));
+    }
+    m.vcdPath = vcd;
+    try {
+        m.validate();
+    } catch (const std::invalid_argument& e) {
+        const std::string msg = e.what();
+        const size_t colon = msg.find(':');
+        throw CLI::ValidationError(msg.substr(0, colon), msg.substr(colon + 2));
+    }
+}
+
+}  // namespace rt

@@ -1,0 +1,35 @@
+// The rtsim command line: flags (each also readable from --config FILE),
+// their units and ranges, and the translation into a MachineConfig.
+#pragma once
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "machine_config.h"
+#include "scene_options.h"
+
+namespace rt {
+
+struct RtsimOptions {
+    SceneOptions scene;
+    MachineConfig machine;
+    int mesh = 4;
+    std::string meshDims;  // "XxYxZ", overrides --mesh
+    std::string image = "rtsim.png", report, vcd;
+    bool baseline = true;  // also run a 1x1x1 mesh for the speed-up
+    bool quiet = false;
+    bool asBaseline = false;  // internal: this run is the 1x1x1 baseline of another
+
+    // Registers every flag on `app`.
+    void addTo(CLI::App& app);
+    // After parsing: fills `machine` (mesh, size) and validates it; throws
+    // CLI::ValidationError naming the flag.
+    void finish();
+
+private:
+    std::vector<std::string> nodeCostSpecs_, linkSpecs_, traceSpecs_;
+    std::string traceWindow_;
+};
+
+}  // namespace rt
