@@ -115,6 +115,9 @@ int sc_main(int argc, char** argv) {
         o.finish();
     } catch (const CLI::CallForHelp& e) {
         return app.exit(e);
+    } catch (const CLI::FileError& e) {
+        std::cerr << "rtsim: error: --config: " << e.what() << "\n";
+        return 2;
     } catch (const CLI::ParseError& e) {
         std::cerr << "rtsim: error: " << e.what() << "\n";
         return 2;

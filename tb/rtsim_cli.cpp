@@ -112,6 +112,7 @@ void RtsimOptions::addTo(CLI::App& app) {
     app.add_flag("-q,--quiet", quiet, "no summary")->group(go);
     app.add_flag("--as-baseline", asBaseline, "internal: run as the 1x1x1 baseline of another run")->group("");
     app.set_config("--config", "", "read flags from a file (INI/TOML: name = value, one per line)");
+    app.allow_config_extras(CLI::config_extras_mode::error);  // a misspelt name is an error, not ignored
 }
 
 void RtsimOptions::finish() {

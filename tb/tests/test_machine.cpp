@@ -1,0 +1,172 @@
+// The machine in one process per test: image identity against the reference
+// renderer for N = 1..4 under several link and cost settings (depth 1
+// included), conservation, and exact time accounting on one node.
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "machine.h"
+#include "renderer.h"
+#include "scenes.h"
+
+using namespace rt;
+
+namespace {
+
+Scene sceneNamed(const std::string& n) { return n == "procedural" ? test::procedural() : test::spd(n); }
+
+MachineConfig settings(const std::string& which, int n) {
+    MachineConfig c;
+    c.dims = {n, n, n};
+    c.width = c.height = 48;
+    if (which == "slowlinks") {  // latency- and bandwidth-bound, one message per link
+        c.link = LinkParams{5000000, 2e7, 1};
+        c.fbPort = LinkParams{1000000, 5e7, 1};
+        c.fbBatch = 1;
+    } else if (which == "randomized") {  // every link its own latency and depth, nodes their own speed
+        std::mt19937_64 rng(1000 + n);
+        for (int z = 0; z < n; ++z)
+            for (int y = 0; y < n; ++y)
+                for (int x = 0; x < n; ++x) {
+                    c.nodeSpeed[{x, y, z}] = 0.25 + double(rng() % 8) / 4.0;
+                    for (int d = 0; d < kDirs; ++d) {
+                        Cell m{x, y, z};
+                        m[dirAxis(d)] += dirStep(d);
+                        if (m[dirAxis(d)] < 0 || m[dirAxis(d)] >= n) continue;
+                        c.linkOverride[{{x, y, z}, d}] =
+                            LinkParams{Picos(1000 + rng() % 2000000), 1e7 * double(1 + rng() % 1000), int(1 + rng() % 3)};
+                    }
+                }
+        c.costs.test = {Picos(rng() % 50000), Picos(rng() % 50000), Picos(rng() % 50000)};
+        c.costs.voxelStep = rng() % 10000;
+        c.costs.send = rng() % 100000;
+        c.fbBatch = 7;
+    }
+    return c;
+}
+
+struct Case {
+    std::string scene, settings;
+    int n;
+};
+void PrintTo(const Case& c, std::ostream* os) { *os << c.scene << " N=" << c.n << " " << c.settings; }
+
+}  // namespace
+
+class ImageIdentity : public testing::TestWithParam<Case> {};
+
+TEST_P(ImageIdentity, MatchesReferenceAndConserves) {
+    const Case& k = GetParam();
+    const Scene s = sceneNamed(k.scene);
+    const MachineConfig cfg = settings(k.settings, k.n);
+    const MachineResult r = runMachine(s, cfg);  // also checks conservation and time accounting
+    RenderOptions ro;
+    ro.width = cfg.width;
+    ro.height = cfg.height;
+    const RenderResult ref = render(s, Partition::whole(s), ro);
+    EXPECT_TRUE(r.image == ref.image);
+
+    // Conservation, recomputed here from the result.
+    uint64_t created = r.primaryMisses, terminated = r.primaryMisses, sent = r.primaryMisses, primaries = r.primaryMisses;
+    Counters sum;
+    for (const NodeStats& n : r.nodes) {
+        created += n.raysCreated;
+        terminated += n.raysTerminated;
+        sent += n.contributionsSent;
+        primaries += n.raysGenerated;
+        sum += n.counters;
+    }
+    EXPECT_EQ(created, terminated);
+    EXPECT_EQ(sent, r.host.contributions + r.primaryMisses);
+    EXPECT_EQ(primaries, uint64_t(cfg.width) * cfg.height);
+    // The machine traced the same rays as the reference.
+    EXPECT_EQ(sum.primaryHits, ref.counters.primaryHits);
+    EXPECT_EQ(sum.shadowRays, ref.counters.shadowRays);
+    EXPECT_EQ(sum.shadowHits, ref.counters.shadowHits);
+    EXPECT_EQ(sum.secondaryRays, ref.counters.secondaryRays);
+    EXPECT_EQ(created, ref.counters.rays());
+    // Invariant 7: each node holds only the objects overlapping its box.
+    for (size_t i = 0; i < r.nodes.size(); ++i)
+        EXPECT_EQ(r.objectsPerNode[i], objectsOverlapping(s.objects, r.boxes[i]).size());
+    if (k.n > 1) {
+        uint64_t rayMessages = 0;
+        for (const LinkReport& l : r.links) rayMessages += l.stats.messages[int(MsgType::Ray)];
+        EXPECT_GT(rayMessages, 0u);
+    }
+}
+
+static std::vector<Case> allCases() {
+    std::vector<Case> v;
+    for (const char* s : {"balls-2", "balls-3", "rings-2", "procedural"})
+        for (int n = 1; n <= 4; ++n)
+            for (const char* set : {"default", "slowlinks", "randomized"}) v.push_back({s, set, n});
+    return v;
+}
+
+INSTANTIATE_TEST_SUITE_P(All, ImageIdentity, testing::ValuesIn(allCases()),
+                         [](const testing::TestParamInfo<Case>& i) {
+                             std::string n = i.param.scene + "_N" + std::to_string(i.param.n) + "_" + i.param.settings;
+                             n.erase(std::remove(n.begin(), n.end(), '-'), n.end());
+                             return n;
+                         });
+
+TEST(Timing, OneNodeTimeIsCountsTimesCosts) {
+    const Scene s = test::spd("rings-2");  // spheres and cones: every test kind but polygon... and one polygon
+    MachineConfig c;
+    c.dims = {1, 1, 1};
+    c.width = c.height = 40;
+    c.costs.test = {7000, 11000, 13000};
+    c.costs.voxelStep = 3000;
+    c.costs.rayGen = 17000;
+    c.costs.shade = 19000;
+    c.costs.send = 23000;
+    c.costs.recv = 29000;
+    c.fbPort = LinkParams{500000, 1e12, 16};  // 1 byte per ps
+    c.hostCost = 0;
+    c.fbBatch = 1;
+    const MachineResult r = runMachine(s, c);
+    ASSERT_EQ(r.nodes.size(), 1u);
+    const NodeStats& n = r.nodes[0];
+    const Counters& k = n.counters;
+    const Picos expected = k.tests[0] * 7000 + k.tests[1] * 11000 + k.tests[2] * 13000 + k.voxelSteps * 3000 +
+                           n.raysGenerated * 17000 + k.shadings * 19000 + n.messagesSent * 23000 +
+                           n.messagesReceived * 29000;
+    EXPECT_EQ(n.busy, expected);
+    EXPECT_GT(k.tests[1], 0u);
+    EXPECT_GT(k.tests[2], 0u);
+    // The same operations as the reference renderer.
+    RenderOptions ro;
+    ro.width = ro.height = 40;
+    const Counters ref = render(s, Partition::whole(s), ro).counters;
+    EXPECT_EQ(k.tests, ref.tests);
+    EXPECT_EQ(k.voxelSteps, ref.voxelSteps);
+    EXPECT_EQ(k.shadings, ref.shadings);
+    // One node never waits for rays; the frame ends when its last message
+    // (its credit) has crossed the port: latency + bytes at 1 byte/ps.
+    EXPECT_EQ(n.lastActive, n.busy);
+    EXPECT_EQ(n.wait, 0u);
+    uint64_t creditMsgs = 0, creditBytes = 0;
+    for (const LinkReport& l : r.links) {
+        creditMsgs += l.stats.messages[int(MsgType::Credit)];
+        creditBytes += l.stats.bytes[int(MsgType::Credit)];
+    }
+    ASSERT_EQ(creditMsgs, 1u);
+    EXPECT_EQ(r.renderTime, n.busy + 500000 + creditBytes);
+}
+
+TEST(Timing, SlowNodeTakesLonger) {
+    const Scene s = test::spd("balls-2");
+    MachineConfig c;
+    c.dims = {1, 1, 1};
+    c.width = c.height = 32;
+    c.speed = 0.5;
+    const MachineResult r = runMachine(s, c);
+    const NodeStats& n = r.nodes[0];
+    const Counters& k = n.counters;
+    const Costs& d = c.costs;
+    const Picos atSpeed1 = k.tests[0] * d.test[0] + k.tests[1] * d.test[1] + k.tests[2] * d.test[2] +
+                           k.voxelSteps * d.voxelStep + n.raysGenerated * d.rayGen + k.shadings * d.shade +
+                           n.messagesSent * d.send + n.messagesReceived * d.recv;
+    // Each step is rounded to the picosecond on its own.
+    EXPECT_NEAR(double(n.busy), 2.0 * double(atSpeed1), double(n.counters.rays()));
+}

@@ -1,0 +1,221 @@
+// rtsim end to end, as a user runs it (each run its own process): determinism
+// of report, image and VCD; timing laws (doubling every cost doubles the
+// render time; on a line of nodes the render time grows with latency by the
+// hop count); waveforms that GTKWave's tools accept; bad configuration.
+#include <sys/wait.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+struct Outcome {
+    int code;
+    std::string out, err;
+};
+
+std::string slurp(const fs::path& p) {
+    std::ifstream f(p, std::ios::binary);
+    std::ostringstream s;
+    s << f.rdbuf();
+    return s.str();
+}
+
+// Removes wall-clock fields (their names contain "wall") everywhere.
+void dropWall(json& j) {
+    if (j.is_object()) {
+        for (auto it = j.begin(); it != j.end();) {
+            if (it.key().find("wall") != std::string::npos) it = j.erase(it);
+            else dropWall(*it++);
+        }
+    } else if (j.is_array()) {
+        for (auto& e : j) dropWall(e);
+    }
+}
+
+class Rtsim : public testing::Test {
+protected:
+    void SetUp() override {
+        dir_ = fs::temp_directory_path() /
+               ("rtsim_test_" + std::to_string(::getpid()) + "_" + testing::UnitTest::GetInstance()->current_test_info()->name());
+        fs::create_directories(dir_);
+    }
+    void TearDown() override { fs::remove_all(dir_); }
+    Outcome run(const std::string& args) {
+        const fs::path out = dir_ / "stdout", err = dir_ / "stderr";
+        const std::string cmd = std::string(RTSIM_EXE) + " " + args + " >" + out.string() + " 2>" + err.string();
+        const int status = std::system(cmd.c_str());
+        return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(out), slurp(err)};
+    }
+    json report(const std::string& args, const std::string& name = "r.json") {
+        const Outcome o = run(args + " -q --no-baseline --image '' --report " + (dir_ / name).string());
+        EXPECT_EQ(o.code, 0) << o.err;
+        return json::parse(slurp(dir_ / name));
+    }
+    void expectBad(const std::string& args, const std::string& flag) {
+        SCOPED_TRACE(args);
+        const Outcome o = run(args);
+        EXPECT_EQ(o.code, 2);
+        EXPECT_EQ(std::count(o.err.begin(), o.err.end(), '\n'), 1) << o.err;
+        EXPECT_NE(o.err.find(flag), std::string::npos) << o.err;
+    }
+    std::string scene(const std::string& n) { return std::string(RT_SCENE_DIR) + "/" + n + ".nff"; }
+    fs::path dir_;
+};
+
+const char* kSmall = " --spheres 200 --radius 0.04 --size 32x32";
+
+}  // namespace
+
+TEST_F(Rtsim, SameInputsSameBytes) {
+    const std::string args = std::string(kSmall) + " --mesh 3 --link-depth 2 --no-baseline -q";
+    for (const char* k : {"a", "b"}) {
+        const std::string p = (dir_ / k).string();
+        ASSERT_EQ(run(args + " --image " + p + ".png --report " + p + ".json --vcd " + p + ".vcd").code, 0);
+    }
+    EXPECT_EQ(slurp(dir_ / "a.png"), slurp(dir_ / "b.png"));
+    EXPECT_EQ(slurp(dir_ / "a.vcd"), slurp(dir_ / "b.vcd"));
+    EXPECT_GT(slurp(dir_ / "a.vcd").size(), 1000u);
+    json a = json::parse(slurp(dir_ / "a.json")), b = json::parse(slurp(dir_ / "b.json"));
+    EXPECT_TRUE(a.contains("wall_s"));
+    dropWall(a);
+    dropWall(b);
+    EXPECT_EQ(a, b);
+    EXPECT_FALSE(a.contains("wall_s"));
+    // A different seed is a different scene.
+    ASSERT_EQ(run(args + " --seed 7 --image " + (dir_ / "c.png").string()).code, 0);
+    EXPECT_NE(slurp(dir_ / "a.png"), slurp(dir_ / "c.png"));
+}
+
+TEST_F(Rtsim, ReportHoldsPerNodeAccounting) {
+    const json r = report(std::string(kSmall) + " --mesh 2");
+    ASSERT_EQ(r["nodes"].size(), 8u);
+    const double render = r["render_time_ns"];
+    EXPECT_GT(render, 0);
+    for (const json& n : r["nodes"]) {
+        for (const char* k : {"busy_ns", "wait_ns", "load", "rays_traced", "queue_high_water"}) EXPECT_TRUE(n.contains(k)) << k;
+        EXPECT_NEAR(n["busy_ns"].get<double>() + n["wait_ns"].get<double>(), render, 1e-3);
+        EXPECT_NEAR(n["load"].get<double>(), n["busy_ns"].get<double>() / render, 1e-12);
+    }
+    EXPECT_EQ(r["links"].size(), 8u * 3 + 8);  // 3 mesh links per node of a 2x2x2 mesh, plus its port
+    EXPECT_GT(r["totals"]["messages"]["ray"].get<uint64_t>(), 0u);
+}
+
+TEST_F(Rtsim, DoublingEveryCostDoublesRenderTime) {
+    const std::string base = std::string(kSmall) + " --mesh 2 --link-depth 2 --fb-depth 3";
+    const std::string one =
+        " --cost-sphere 10ns --cost-polygon 20ns --cost-cone 20ns --cost-voxel 4ns --cost-raygen 20ns --cost-shade 50ns"
+        " --cost-send 40ns --cost-recv 40ns --cost-host 5ns --link-latency 100ns --link-bandwidth 1GB/s"
+        " --fb-latency 200ns --fb-bandwidth 2GB/s";
+    const std::string two =
+        " --cost-sphere 20ns --cost-polygon 40ns --cost-cone 40ns --cost-voxel 8ns --cost-raygen 40ns --cost-shade 100ns"
+        " --cost-send 80ns --cost-recv 80ns --cost-host 10ns --link-latency 200ns --link-bandwidth 500MB/s"
+        " --fb-latency 400ns --fb-bandwidth 1GB/s";
+    const json a = report(base + one, "a.json"), b = report(base + two, "b.json");
+    EXPECT_EQ(2 * a["render_time_ns"].get<double>(), b["render_time_ns"].get<double>());
+    EXPECT_EQ(a["totals"]["messages"], b["totals"]["messages"]);
+}
+
+TEST_F(Rtsim, LatencyOnALineAddsOneLatencyPerHop) {
+    // One pixel, one ray: from the eye at -x through every node of a line to a
+    // sphere in the last one; everything but the link latency costs nothing.
+    std::ofstream(dir_ / "line.nff") << "b 0 0 0\nv\nfrom -10 0 0\nat 0 0 0\nup 0 0 1\nangle 10\nhither 1\n"
+                                        "resolution 1 1\nl 100 0 0\nf 1 1 1 1 0 0 0 0\n"
+                                        "s 3.5 0 0 0.5\ns -3.5 3 3 0.01\n";  // the small sphere stretches the world box to -x
+    const std::string zero =
+        " --cost-sphere 0ns --cost-polygon 0ns --cost-cone 0ns --cost-voxel 0ns --cost-raygen 0ns --cost-shade 0ns"
+        " --cost-send 0ns --cost-recv 0ns --cost-host 0ns --link-bandwidth 1TB/s --fb-latency 1us --fb-bandwidth 1TB/s";
+    for (int n = 2; n <= 4; ++n) {
+        SCOPED_TRACE(n);
+        const std::string args = " --scene " + (dir_ / "line.nff").string() + " --mesh-dims " + std::to_string(n) + "x1x1" + zero;
+        const double t1 = report(args + " --link-latency 1us", "a.json")["render_time_ns"];
+        const double t2 = report(args + " --link-latency 3us", "b.json")["render_time_ns"];
+        // The ray crosses n - 1 links; each costs 2 us more.
+        EXPECT_NEAR(t2 - t1, 2000.0 * (n - 1), 1e-3);
+    }
+}
+
+TEST_F(Rtsim, WaveformsConvertAndGroupPerNode) {
+    const std::string vcd = (dir_ / "w.vcd").string();
+    ASSERT_EQ(run(std::string(kSmall) + " --mesh 2 --no-baseline -q --image '' --vcd " + vcd).code, 0);
+    const std::string text = slurp(vcd);
+    for (const char* s : {"$timescale 1ps $end", "node_1_1_1", "busy", "wait", "$var real 64", "queue"})
+        EXPECT_NE(text.find(s), std::string::npos) << s;
+    EXPECT_EQ(text.find("$date"), std::string::npos);  // nothing that changes between runs
+    const std::string gtkw = slurp(dir_ / "w.gtkw");
+    EXPECT_NE(gtkw.find("[dumpfile] \"w.vcd\""), std::string::npos);
+    EXPECT_NE(gtkw.find("@800200\n-node_0_0_0"), std::string::npos);
+    EXPECT_NE(gtkw.find("machine.node_1_0_1.busy"), std::string::npos);
+    const std::string cmd = "vcd2fst -v " + vcd + " -f " + (dir_ / "w.fst").string() + " >" + (dir_ / "v2f").string() + " 2>&1";
+    EXPECT_EQ(std::system(cmd.c_str()), 0) << slurp(dir_ / "v2f");
+    EXPECT_GT(fs::file_size(dir_ / "w.fst"), 0u);
+}
+
+TEST_F(Rtsim, TraceSubsetAndWindow) {
+    const std::string vcd = (dir_ / "s.vcd").string();
+    ASSERT_EQ(run(std::string(kSmall) + " --mesh 2 --no-baseline -q --image '' --vcd " + vcd +
+                  " --trace-nodes 1,0,0 --trace-nodes 0,1,1 --trace-window 2us,5us")
+                  .code,
+              0);
+    const std::string text = slurp(vcd);
+    EXPECT_NE(text.find("node_1_0_0"), std::string::npos);
+    EXPECT_NE(text.find("node_0_1_1"), std::string::npos);
+    EXPECT_EQ(text.find("node_0_0_0"), std::string::npos);
+    // Every timestamp lies in the window.
+    std::istringstream in(text);
+    std::string line;
+    int stamps = 0;
+    while (std::getline(in, line))
+        if (!line.empty() && line[0] == '#') {
+            const double t = std::stod(line.substr(1));
+            EXPECT_GE(t, 2e6);
+            EXPECT_LE(t, 5e6);
+            ++stamps;
+        }
+    EXPECT_GT(stamps, 1);
+}
+
+TEST_F(Rtsim, DefaultRunPrintsSummaryWithSpeedup) {
+    ASSERT_EQ(run("--spheres 100 --size 24x24 --image " + (dir_ / "d.png").string()).code, 0);
+    const Outcome o = run("--spheres 100 --size 24x24 --image " + (dir_ / "d.png").string());
+    for (const char* s : {"4x4x4 mesh", "render time", "speed-up", "busy per node", "wait per node", "messages", "wall clock"})
+        EXPECT_NE(o.out.find(s), std::string::npos) << s << "\n" << o.out;
+}
+
+TEST_F(Rtsim, ConfigFileGivesEveryFlag) {
+    std::ofstream(dir_ / "c.ini") << "mesh = 2\nspheres = 150\nsize = \"20x20\"\nlink-latency = \"250ns\"\n";
+    const json r = report("--config " + (dir_ / "c.ini").string());
+    EXPECT_EQ(r["config"]["mesh"], json({2, 2, 2}));
+    EXPECT_EQ(r["config"]["link"]["latency_ns"].get<double>(), 250.0);
+    EXPECT_EQ(r["config"]["image"], json({20, 20}));
+}
+
+TEST_F(Rtsim, BadConfigurationExits2NamingTheFlag) {
+    expectBad("--mesh 0", "--mesh");
+    expectBad("--mesh 17", "--mesh");
+    expectBad("--link-latency -5ns", "--link-latency");
+    expectBad("--link-latency 5", "--link-latency");
+    expectBad("--link-bandwidth 0GB/s", "--link-bandwidth");
+    expectBad("--link-bandwidth fast", "--link-bandwidth");
+    expectBad("--link-depth 0", "--link-depth");
+    expectBad("--scene /nonexistent.nff", "--scene");
+    expectBad("--frobnicate", "--frobnicate");
+    expectBad("--mesh-dims 2x2", "--mesh-dims");
+    expectBad("--node-speed 9,9,9=2", "--node-speed");
+    expectBad("--node-speed 0,0,0=-1", "--node-speed");
+    expectBad("--link-set 3,3,3,+x:latency=1us", "--link-set");
+    expectBad("--trace-window 5us", "--trace-window");
+    std::ofstream(dir_ / "bad.ini") << "mesh = [not closed\n";
+    expectBad("--config " + (dir_ / "bad.ini").string(), "");
+    std::ofstream(dir_ / "bad2.ini") << "no-such-flag = 3\n";
+    expectBad("--config " + (dir_ / "bad2.ini").string(), "no-such-flag");
+    expectBad("--config /nonexistent.ini", "/nonexistent.ini");
+}
