@@ -169,9 +169,9 @@ void Machine::writeTraces(const std::string& vcdPath) const {
     std::vector<TracedNode> traced;
     for (const Node& n : nodes_)
         if (n.trace()) traced.push_back({cellName(n.cell()), n.trace()});
-    writeVcd(vcdPath, traced, cfg_.traceFrom, std::min(cfg_.traceTo, host_->stats().renderTime),
-             host_->stats().renderTime);
-    writeGtkw(gtkwPathFor(vcdPath), vcdPath, traced);
+    const Picos end = host_->stats().renderTime, to = std::min(cfg_.traceTo, end);
+    writeVcd(vcdPath, traced, cfg_.traceFrom, to, end);
+    writeGtkw(gtkwPathFor(vcdPath), vcdPath, traced, cfg_.traceFrom, to);
 }
 
 MachineResult runMachine(const Scene& scene, const MachineConfig& config) {

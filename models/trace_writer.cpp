@@ -1,6 +1,7 @@
 #include "trace_writer.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <stdexcept>
@@ -118,7 +119,8 @@ void writeVcd(const std::string& path, const std::vector<TracedNode>& nodes, Pic
     if (!f) throw std::runtime_error(path + ": write failed");
 }
 
-void writeGtkw(const std::string& path, const std::string& vcdPath, const std::vector<TracedNode>& nodes) {
+void writeGtkw(const std::string& path, const std::string& vcdPath, const std::vector<TracedNode>& nodes,
+               Picos from, Picos to) {
     std::ofstream f(path);
     if (!f) throw std::runtime_error(path + ": cannot open for writing");
     // Signal flags (GTKWave's TR_* bits, hex): 28 binary; 24 decimal;
@@ -127,14 +129,17 @@ void writeGtkw(const std::string& path, const std::string& vcdPath, const std::v
     std::string vcdName = vcdPath.substr(vcdPath.find_last_of('/') + 1);
     f << "[*] written by rtsim: gtkwave -a " << path.substr(path.find_last_of('/') + 1) << "\n"
       << "[dumpfile] \"" << vcdName << "\"\n"
-      << "[timestart] 0\n[size] 1400 900\n[pos] -1 -1\n"
+      << "[timestart] " << from << "\n[size] 1400 900\n[pos] -1 -1\n"
+      // Zoom so that the window fills the wave pane: measured with GTKWave
+      // 3.3.118 at this window size, zoom z shows about 3.5 * 2^-z time units.
+      << "*" << -std::log2(std::max(1.0, double(to - from) / 3.5)) << " -1\n"
       << "[treeopen] machine.\n[sst_width] 220\n[signals_width] 200\n[sst_expanded] 1\n[sst_vpaned_height] 250\n";
     for (const TracedNode& n : nodes) {
         const std::string p = "machine." + n.name + ".";
         f << "@800200\n-" << n.name << "\n"
           << "@28\n" << p << "busy\n" << p << "wait\n"
           << "@48020\n" << p << "load\n@20000\n-\n"
-          << "@8024\n" << p << "queue[31:0]\n@20000\n-\n"
+          << "@8024\n" << p << "queue\n@20000\n-\n"
           << "@1000200\n-" << n.name << "\n";
     }
     if (!f) throw std::runtime_error(path + ": write failed");

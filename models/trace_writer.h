@@ -25,7 +25,9 @@ void writeVcd(const std::string& path, const std::vector<TracedNode>& nodes, Pic
               Picos renderTime);
 // A .gtkw save file that groups each node's signals, so GTKWave opens
 // straight to them: gtkwave -a FILE.gtkw (or gtkwave FILE.vcd FILE.gtkw).
-void writeGtkw(const std::string& path, const std::string& vcdPath, const std::vector<TracedNode>& nodes);
+// [from, to] is the traced window, which it opens zoomed to.
+void writeGtkw(const std::string& path, const std::string& vcdPath, const std::vector<TracedNode>& nodes,
+               Picos from, Picos to);
 // FILE.vcd -> FILE.gtkw
 std::string gtkwPathFor(const std::string& vcdPath);
 // The load window the VCD uses for a frame of this length.

@@ -11,6 +11,7 @@ packages=(
   nlohmann-json3-dev  # reports and stats
   libpng-dev          # images
   libgtest-dev        # tests
+  gtkwave             # vcd2fst checks the VCD; gtkwave views it
   python3             # scripts (Debian's /usr/bin/python3)
 )
 
