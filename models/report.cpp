@@ -1,5 +1,7 @@
 #include "report.h"
 
+#include "counters_json.h"
+
 namespace rt {
 namespace {
 
@@ -41,7 +43,6 @@ nlohmann::json machineReport(const MachineResult& r, const MachineConfig& cfg) {
     Picos busyTotal = 0;
     for (size_t i = 0; i < r.nodes.size(); ++i) {
         const NodeStats& s = r.nodes[i];
-        const Counters& k = s.counters;
         busyTotal += s.busy;
         nlohmann::json n;
         n["node"] = cellJson(r.cells[i]);
@@ -63,12 +64,7 @@ nlohmann::json machineReport(const MachineResult& r, const MachineConfig& cfg) {
         n["contributions_sent"] = s.contributionsSent;
         n["queue_high_water"] = s.queueHighWater;
         n["last_active_ns"] = ns(s.lastActive);
-        n["counters"] = {{"primary_rays", k.primaryRays},     {"primary_hits", k.primaryHits},
-                         {"shadow_rays", k.shadowRays},       {"shadow_hits", k.shadowHits},
-                         {"secondary_rays", k.secondaryRays}, {"secondary_hits", k.secondaryHits},
-                         {"tests_sphere", k.tests[0]},        {"tests_polygon", k.tests[1]},
-                         {"tests_cone", k.tests[2]},          {"voxel_steps", k.voxelSteps},
-                         {"shadings", k.shadings}};
+        n["counters"] = countersJson(s.counters);
         j["nodes"].push_back(n);
     }
     std::array<uint64_t, kMsgTypes> msgs{}, bytes{};

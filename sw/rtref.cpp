@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "counters.h"
+#include "counters_json.h"
 #include "renderer.h"
 #include "scene_error.h"
 #include "scene_options.h"
@@ -27,17 +28,7 @@ nlohmann::json statsJson(const rt::Scene& scene, const rt::RenderResult& r, int 
     j["max_depth"] = depth;
     j["threads"] = threads;
     j["accelerator"] = accel;
-    j["primary_rays"] = c.primaryRays;
-    j["primary_hits"] = c.primaryHits;
-    j["shadow_rays"] = c.shadowRays;
-    j["shadow_hits"] = c.shadowHits;
-    j["secondary_rays"] = c.secondaryRays;
-    j["secondary_hits"] = c.secondaryHits;
-    j["intersection_tests"] = c.intersectionTests();
-    for (int k = 0; k < rt::kPrimitiveKinds; ++k)
-        j["intersection_tests_by_primitive"][rt::primitiveName(rt::PrimitiveKind(k))] = c.tests[k];
-    j["voxel_steps"] = c.voxelSteps;
-    j["contributions"] = c.contributions;
+    j.update(rt::countersJson(c));
     j["wall_s"] = wall;
     j["rays_per_s"] = wall > 0 ? double(c.rays()) / wall : 0.0;
     return j;

@@ -126,10 +126,7 @@ int sc_main(int argc, char** argv) {
     try {
         scene = o.scene.load();
         o.scene.imageSize(scene, o.machine.width, o.machine.height);
-    } catch (const rt::SceneError& e) {
-        std::cerr << "rtsim: error: " << e.what() << "\n";
-        return 2;
-    } catch (const CLI::ValidationError& e) {
+    } catch (const std::exception& e) {  // a bad scene file or --size
         std::cerr << "rtsim: error: " << e.what() << "\n";
         return 2;
     }

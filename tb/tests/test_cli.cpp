@@ -1,57 +1,25 @@
 // rtref as a user runs it: outputs, stats JSON, determinism, and a one-line
 // error with exit code 2 for each kind of bad input.
-#include <cstdio>
-#include <filesystem>
 #include <fstream>
-#include <sstream>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
 #include "renderer.h"
+#include "command_test.h"
 #include "scenes.h"
 
-namespace fs = std::filesystem;
+using namespace rt::test;
 
 namespace {
 
-struct Outcome {
-    int code;
-    std::string out, err;
-};
-
-std::string slurp(const fs::path& p) {
-    std::ifstream f(p, std::ios::binary);
-    std::ostringstream s;
-    s << f.rdbuf();
-    return s.str();
-}
-
-class Rtref : public testing::Test {
+class Rtref : public CommandTest {
 protected:
-    void SetUp() override {
-        dir_ = fs::temp_directory_path() / ("rtref_test_" + std::to_string(::getpid()) + "_" +
-                                            testing::UnitTest::GetInstance()->current_test_info()->name());
-        fs::create_directories(dir_);
-    }
-    void TearDown() override { fs::remove_all(dir_); }
-
-    Outcome run(const std::string& args) {
-        const fs::path out = dir_ / "stdout", err = dir_ / "stderr";
-        const std::string cmd = std::string(RTREF_EXE) + " " + args + " >" + out.string() + " 2>" + err.string();
-        const int status = std::system(cmd.c_str());
-        return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(out), slurp(err)};
-    }
-    void expectBad(const std::string& args, const std::string& mention) {
-        SCOPED_TRACE(args);
-        const Outcome r = run(args);
-        EXPECT_EQ(r.code, 2);
-        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
-        EXPECT_NE(r.err.find(mention), std::string::npos) << r.err;
+    Rtref() : CommandTest(RTREF_EXE) {}
+    void expectBadNoImage(const std::string& args, const std::string& mention) {
+        expectBad(args, mention);
         EXPECT_FALSE(fs::exists(dir_ / "x.png"));
     }
-    std::string scene(const std::string& n) { return std::string(RT_SCENE_DIR) + "/" + n + ".nff"; }
-    fs::path dir_;
 };
 
 }  // namespace
@@ -95,14 +63,14 @@ TEST_F(Rtref, SameInputsSameBytes) {
 
 TEST_F(Rtref, BadInputGivesOneLineAndExit2) {
     const std::string o = " -o " + (dir_ / "x.png").string();
-    expectBad("/nonexistent.nff" + o, "/nonexistent.nff");
-    expectBad(scene("balls-1") + " --size 0x10" + o, "--size");
-    expectBad(scene("balls-1") + " --size 10by10" + o, "--size");
-    expectBad(scene("balls-1") + " --max-depth -1" + o, "--max-depth");
-    expectBad(scene("balls-1") + " --threads 0" + o, "--threads");
-    expectBad(scene("balls-1") + " --frobnicate" + o, "--frobnicate");
-    expectBad("--concentration 0" + o, "--concentration");
-    expectBad("--axis w" + o, "--axis");
+    expectBadNoImage("/nonexistent.nff" + o, "/nonexistent.nff");
+    expectBadNoImage(scene("balls-1") + " --size 0x10" + o, "--size");
+    expectBadNoImage(scene("balls-1") + " --size 10by10" + o, "--size");
+    expectBadNoImage(scene("balls-1") + " --max-depth -1" + o, "--max-depth");
+    expectBadNoImage(scene("balls-1") + " --threads 0" + o, "--threads");
+    expectBadNoImage(scene("balls-1") + " --frobnicate" + o, "--frobnicate");
+    expectBadNoImage("--concentration 0" + o, "--concentration");
+    expectBadNoImage("--axis w" + o, "--axis");
     std::ofstream(dir_ / "bad.nff") << "v\nfrom 0 0 0\nat 0 0 1\nup 0 1 0\nangle 45\nhither 1\nresolution 8 8\ns 0 0 5 q\n";
-    expectBad((dir_ / "bad.nff").string() + o, "bad.nff:8: expected a number for sphere radius, got 'q'");
+    expectBadNoImage((dir_ / "bad.nff").string() + o, "bad.nff:8: expected a number for sphere radius, got 'q'");
 }

@@ -2,32 +2,19 @@
 // of report, image and VCD; timing laws (doubling every cost doubles the
 // render time; on a line of nodes the render time grows with latency by the
 // hop count); waveforms that GTKWave's tools accept; bad configuration.
-#include <sys/wait.h>
-
 #include <cmath>
-#include <filesystem>
 #include <fstream>
 #include <sstream>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-namespace fs = std::filesystem;
+#include "command_test.h"
+
 using nlohmann::json;
+using namespace rt::test;
 
 namespace {
-
-struct Outcome {
-    int code;
-    std::string out, err;
-};
-
-std::string slurp(const fs::path& p) {
-    std::ifstream f(p, std::ios::binary);
-    std::ostringstream s;
-    s << f.rdbuf();
-    return s.str();
-}
 
 // Removes wall-clock fields (their names contain "wall") everywhere.
 void dropWall(json& j) {
@@ -41,34 +28,14 @@ void dropWall(json& j) {
     }
 }
 
-class Rtsim : public testing::Test {
+class Rtsim : public CommandTest {
 protected:
-    void SetUp() override {
-        dir_ = fs::temp_directory_path() /
-               ("rtsim_test_" + std::to_string(::getpid()) + "_" + testing::UnitTest::GetInstance()->current_test_info()->name());
-        fs::create_directories(dir_);
-    }
-    void TearDown() override { fs::remove_all(dir_); }
-    Outcome run(const std::string& args) {
-        const fs::path out = dir_ / "stdout", err = dir_ / "stderr";
-        const std::string cmd = std::string(RTSIM_EXE) + " " + args + " >" + out.string() + " 2>" + err.string();
-        const int status = std::system(cmd.c_str());
-        return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(out), slurp(err)};
-    }
+    Rtsim() : CommandTest(RTSIM_EXE) {}
     json report(const std::string& args, const std::string& name = "r.json") {
         const Outcome o = run(args + " -q --no-baseline --image '' --report " + (dir_ / name).string());
         EXPECT_EQ(o.code, 0) << o.err;
         return json::parse(slurp(dir_ / name));
     }
-    void expectBad(const std::string& args, const std::string& flag) {
-        SCOPED_TRACE(args);
-        const Outcome o = run(args);
-        EXPECT_EQ(o.code, 2);
-        EXPECT_EQ(std::count(o.err.begin(), o.err.end(), '\n'), 1) << o.err;
-        EXPECT_NE(o.err.find(flag), std::string::npos) << o.err;
-    }
-    std::string scene(const std::string& n) { return std::string(RT_SCENE_DIR) + "/" + n + ".nff"; }
-    fs::path dir_;
 };
 
 const char* kSmall = " --spheres 200 --radius 0.04 --size 32x32";

@@ -1,0 +1,64 @@
+// A fixture for tests that run one of the programs as a user would: a fresh
+// temporary folder per test, the exit code and both output streams.
+#pragma once
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <gtest/gtest.h>
+
+namespace rt::test {
+
+namespace fs = std::filesystem;
+
+struct Outcome {
+    int code;
+    std::string out, err;
+};
+
+inline std::string slurp(const fs::path& p) {
+    std::ifstream f(p, std::ios::binary);
+    std::ostringstream s;
+    s << f.rdbuf();
+    return s.str();
+}
+
+class CommandTest : public testing::Test {
+protected:
+    explicit CommandTest(std::string exe) : exe_(std::move(exe)) {}
+    void SetUp() override {
+        dir_ = fs::temp_directory_path() / ("rt_test_" + std::to_string(::getpid()) + "_" +
+                                            testing::UnitTest::GetInstance()->current_test_info()->name());
+        fs::create_directories(dir_);
+    }
+    void TearDown() override { fs::remove_all(dir_); }
+
+    Outcome run(const std::string& args) {
+        const fs::path out = dir_ / "stdout", err = dir_ / "stderr";
+        const std::string cmd = exe_ + " " + args + " >" + out.string() + " 2>" + err.string();
+        const int status = std::system(cmd.c_str());
+        return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(out), slurp(err)};
+    }
+    // Bad input: exit code 2 and one line on stderr that mentions `mention`.
+    void expectBad(const std::string& args, const std::string& mention) {
+        SCOPED_TRACE(args);
+        const Outcome o = run(args);
+        EXPECT_EQ(o.code, 2);
+        EXPECT_EQ(std::count(o.err.begin(), o.err.end(), '\n'), 1) << o.err;
+        EXPECT_NE(o.err.find(mention), std::string::npos) << o.err;
+    }
+    std::string scene(const std::string& n) const { return std::string(RT_SCENE_DIR) + "/" + n + ".nff"; }
+
+    fs::path dir_;
+
+private:
+    std::string exe_;
+};
+
+}  // namespace rt::test
