@@ -10,8 +10,18 @@ const char* msgTypeName(MsgType t) {
         case MsgType::Ray: return "ray";
         case MsgType::Contributions: return "contributions";
         case MsgType::Credit: return "credit";
+        case MsgType::LoadReport: return "load_report";
+        case MsgType::Slide: return "slide";
+        case MsgType::Ack: return "ack";
     }
     return "?";
+}
+
+uint32_t objectBytes(const Shape& s) {
+    const uint32_t head = 4 + 4 + 1;  // id, material, kind
+    if (std::holds_alternative<Sphere>(s.geometry)) return head + 4 * 8 + 1;
+    if (const auto* p = std::get_if<Polygon>(&s.geometry)) return head + 4 + uint32_t(p->vertices.size()) * 3 * 8;
+    return head + 8 * 8 + 1;  // cone: two centres, two radii, inside flag
 }
 
 Link::Link(const char* name, const LinkParams& params)
@@ -26,6 +36,7 @@ void Link::send(Message m, Picos t) {
     const int type = int(m.type);
     ++stats_.messages[type];
     stats_.bytes[type] += m.bytes();
+    ++inFlight_[type];
     backlog_.push_back({t, std::move(m)});
     startWaiting();
     stats_.backlogHighWater = std::max(stats_.backlogHighWater, backlog_.size());
@@ -64,6 +75,7 @@ Message Link::consume(Picos t) {
     if (buffer_.empty() || buffer_.front().t > t) throw std::logic_error(std::string(name()) + ": consumed before arrival");
     Message m = std::move(buffer_.front().m);
     buffer_.pop_front();
+    --inFlight_[int(m.type)];
     slotFree_.push_back(t + params_.latency);  // the credit travels back
     startWaiting();
     return m;

@@ -61,6 +61,8 @@ public:
     const LinkParams& params() const { return params_; }
     const LinkStats& stats() const { return stats_; }
     size_t backlog() const { return backlog_.size(); }
+    // Messages of this type sent and not yet consumed.
+    uint64_t inFlight(MsgType t) const { return inFlight_[int(t)]; }
     size_t unconsumed() const override { return buffer_.size(); }
     const char* kind() const override { return "rt_link"; }
 
@@ -80,6 +82,7 @@ private:
     Picos wireFree_ = 0;
     sc_core::sc_event* arrived_ = nullptr;
     LinkStats stats_;
+    std::array<uint64_t, kMsgTypes> inFlight_{};
 };
 
 }  // namespace rt

@@ -1,5 +1,6 @@
 #include "machine.h"
 
+#include <algorithm>
 #include <chrono>
 #include <sstream>
 #include <stdexcept>
@@ -32,6 +33,10 @@ Machine::Machine(sc_core::sc_module_name name, const Scene& scene, const Machine
       shader_(scene, config.maxDepth),
       nodes_("node") {
     cfg_.validate();
+    const int ax = cfg_.balance.axis;
+    minThickness_ = cfg_.balance.minThickness * world_.extent()[ax] / cfg_.dims[ax];
+    columnBounds_ = initialBoundaries();
+    const double margin = roundingMargin(world_);
     // Credit precision: the host's split, a node's split over its primary
     // rays, and one split per ray-tree level (a hit spawns at most L + 2 rays).
     const long pixels = long(width_) * height_;
@@ -42,8 +47,11 @@ Machine::Machine(sc_core::sc_module_name name, const Scene& scene, const Machine
 
     nodes_.init(size_t(cfg_.nodeCount()), [&](const char*, size_t i) {
         const Cell c{int(i % cfg_.dims[0]), int(i / cfg_.dims[0] % cfg_.dims[1]), int(i / cfg_.dims[0] / cfg_.dims[1])};
-        return new Node(cellName(c).c_str(), c, cuts_.cellBox(c), scene_, shader_, camera_, world_, cfg_.costsOf(c),
-                        cfg_.speedOf(c), cfg_.fbBatch);
+        Box b = cuts_.cellBox(c);
+        b.lo[ax] = columnBounds_[columnOf(c)][c[ax]];
+        b.hi[ax] = columnBounds_[columnOf(c)][c[ax] + 1];
+        return new Node(cellName(c).c_str(), c, b, objectsOverlapping(scene_.objects, b, margin), shader_, camera_,
+                        world_, cfg_.costsOf(c), cfg_.speedOf(c), cfg_.fbBatch, cfg_.balance, minThickness_);
     });
 
     // Links between face neighbours, one per direction, and the frame-buffer ports.
@@ -56,6 +64,7 @@ Machine::Machine(sc_core::sc_module_name name, const Scene& scene, const Machine
             const std::string lname = cellName(c) + "_" + (d % 2 ? "m" : "p") + "xyz"[dirAxis(d)];
             links_.push_back(std::make_unique<Link>(lname.c_str(), cfg_.linkOf(c, d)));
             n.out[d].bind(*links_.back());
+            meshLinks_[{nodeIndex(c), d}] = links_.back().get();
             nodes_[nodeIndex(m)].in[opposite(d)].bind(*links_.back());
             linkInfo_.push_back({lname, c, d, links_.back()->params(), {}});
         }
@@ -73,6 +82,44 @@ Machine::Machine(sc_core::sc_module_name name, const Scene& scene, const Machine
 
 Machine::~Machine() = default;
 
+int Machine::columnOf(const Cell& c) const {
+    const int ax = cfg_.balance.axis, u = (ax + 1) % 3, v = (ax + 2) % 3;
+    return c[u] + cfg_.dims[u] * c[v];
+}
+
+std::vector<std::vector<double>> Machine::initialBoundaries() const {
+    const int ax = cfg_.balance.axis, u = (ax + 1) % 3, v = (ax + 2) % 3, n = cfg_.dims[ax];
+    std::vector<std::vector<double>> bounds(size_t(cfg_.dims[u] * cfg_.dims[v]), cuts_.planes(ax));
+    if (cfg_.balance.policy != Policy::Median) return bounds;
+    const double margin = roundingMargin(world_);
+    for (int j = 0; j < cfg_.dims[v]; ++j)
+        for (int i = 0; i < cfg_.dims[u]; ++i) {
+            Cell c{};
+            c[u] = i;
+            c[v] = j;
+            c[ax] = 0;
+            Box column = cuts_.cellBox(c);
+            column.lo[ax] = world_.lo[ax];
+            column.hi[ax] = world_.hi[ax];
+            std::vector<double> centres;
+            for (const Shape& s : objectsOverlapping(scene_.objects, column, margin)) {
+                const Box ob = s.bounds();
+                centres.push_back(0.5 * (ob.lo[ax] + ob.hi[ax]));
+            }
+            std::vector<double>& b = bounds[size_t(columnOf(c))];
+            if (centres.empty()) continue;
+            std::sort(centres.begin(), centres.end());
+            // Boundary k at the k/N quantile of the object centres, kept inside
+            // the guards: every box at least the minimum thickness.
+            for (int k = 1; k < n; ++k) {
+                const double q = centres[std::min(centres.size() - 1, centres.size() * size_t(k) / size_t(n))];
+                const double lo = b[size_t(k - 1)] + minThickness_, hi = world_.hi[ax] - (n - k) * minThickness_;
+                b[size_t(k)] = std::clamp(q, lo, hi);
+            }
+        }
+    return bounds;
+}
+
 // The host's job description: each primary ray goes to the node that owns
 // the point where it starts inside the world box; rays that miss the world
 // are the background, which the host fills in itself. Credit: the host keeps
@@ -81,10 +128,18 @@ Machine::~Machine() = default;
 void Machine::assignPrimaryRays() {
     std::vector<std::vector<uint32_t>> perNode(nodes_.size());
     Counters hostCounters;
+    const int ax = cfg_.balance.axis;
     for (int y = 0; y < height_; ++y)
         for (int x = 0; x < width_; ++x) {
             const RayJob j = primaryJob(camera_, x, y, world_);
-            const std::optional<Cell> c = cuts_.locate(j.ray, j.t0);
+            std::optional<Cell> c = cuts_.locate(j.ray, j.t0);
+            if (c) {  // along the axis, the column's own boundaries decide
+                const std::vector<double>& b = columnBounds_[columnOf(*c)];
+                for (int k = 0; k < cfg_.dims[ax]; ++k) {
+                    const Interval s = slabInterval(j.ray, ax, b[k], b[k + 1]);
+                    if (s.lo <= j.t0 && j.t0 < s.hi) (*c)[ax] = k;
+                }
+            }
             if (c) {
                 perNode[nodeIndex(*c)].push_back(j.pixel);
             } else {
@@ -139,9 +194,27 @@ void Machine::checkConservation() const {
         if (s.lastActive > end || s.busy + s.wait + (end - s.lastActive) != end)
             throw std::runtime_error(std::string("time accounting: busy + wait != render time at ") + n.name());
     }
+    // Rays and frame-buffer traffic must all be delivered; balancing messages
+    // (load reports, slides, acks) may still be on their way when the frame ends.
     for (const auto& l : links_)
-        if (l->backlog() || l->unconsumed())
-            throw std::runtime_error(std::string("conservation: messages left on ") + l->name());
+        for (MsgType t : {MsgType::Ray, MsgType::Contributions, MsgType::Credit})
+            if (l->inFlight(t))
+                throw std::runtime_error(std::string("conservation: ") + msgTypeName(t) + " messages left on " + l->name());
+    // Ownership: along the axis, neighbours' faces meet, except where a slab is
+    // being handed over (a slide still on the link between them).
+    const int ax = cfg_.balance.axis;
+    for (const Node& n : nodes_) {
+        const Box& b = n.region().box();
+        if (!(b.hi[ax] - b.lo[ax] >= minThickness_ * (1 - 1e-9)))
+            throw std::runtime_error(std::string("guard: box thinner than the minimum at ") + n.name());
+        Cell up = n.cell();
+        ++up[ax];
+        if (up[ax] >= cfg_.dims[ax] || nodes_[nodeIndex(up)].region().box().lo[ax] == b.hi[ax]) continue;
+        const Link* l1 = meshLinks_.at({nodeIndex(n.cell()), dirOf(ax, +1)});
+        const Link* l2 = meshLinks_.at({nodeIndex(up), dirOf(ax, -1)});
+        if (!l1->inFlight(MsgType::Slide) && !l2->inFlight(MsgType::Slide))
+            throw std::runtime_error(std::string("ownership: a gap or overlap above ") + n.name());
+    }
 }
 
 MachineResult Machine::collect(double wallSeconds) {
@@ -159,10 +232,37 @@ MachineResult Machine::collect(double wallSeconds) {
         r.links.back().stats = links_[i]->stats();
     }
     r.host = host_->stats();
+    r.boundaries = boundaryHistories();
     r.primaryMisses = primaryMisses_;
     r.deltaCycles = sc_core::sc_delta_count();
     r.wallSeconds = wallSeconds;
     return r;
+}
+
+// Each boundary's positions over time, from the slides its two nodes gave.
+std::vector<BoundaryHistory> Machine::boundaryHistories() const {
+    const int ax = cfg_.balance.axis, u = (ax + 1) % 3, v = (ax + 2) % 3, n = cfg_.dims[ax];
+    std::vector<BoundaryHistory> out;
+    for (int j = 0; j < cfg_.dims[v]; ++j)
+        for (int i = 0; i < cfg_.dims[u]; ++i)
+            for (int k = 1; k < n; ++k) {
+                Cell below{}, above{};
+                below[u] = above[u] = i;
+                below[v] = above[v] = j;
+                below[ax] = k - 1;
+                above[ax] = k;
+                BoundaryHistory h{{i, j}, k, {{0, columnBounds_[columnOf(below)][k]}}};
+                std::vector<std::pair<Picos, double>> moves;
+                for (const SlideEvent& e : nodes_[nodeIndex(below)].stats().slides)
+                    if (e.side > 0) moves.push_back({e.t, e.boundary});
+                for (const SlideEvent& e : nodes_[nodeIndex(above)].stats().slides)
+                    if (e.side < 0) moves.push_back({e.t, e.boundary});
+                std::stable_sort(moves.begin(), moves.end(),
+                                 [](const auto& a, const auto& b) { return a.first < b.first; });
+                h.positions.insert(h.positions.end(), moves.begin(), moves.end());
+                out.push_back(std::move(h));
+            }
+    return out;
 }
 
 void Machine::writeTraces(const std::string& vcdPath) const {
@@ -179,6 +279,7 @@ MachineResult runMachine(const Scene& scene, const MachineConfig& config) {
     const auto t0 = std::chrono::steady_clock::now();
     Machine machine("machine", scene, config);
     sc_core::sc_start();
+    machine.endFrame();
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     machine.checkConservation();
     if (!config.vcdPath.empty()) machine.writeTraces(config.vcdPath);

@@ -3,6 +3,7 @@
 // host. Built from a scene and a MachineConfig; runMachine() elaborates,
 // simulates one frame and returns the image and every statistic.
 #pragma once
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -23,6 +24,13 @@ struct LinkReport {
     LinkStats stats;
 };
 
+// One boundary between two nodes of a column along the progress axis.
+struct BoundaryHistory {
+    std::array<int, 2> column;  // the column's coordinates on the other two axes (in axis order)
+    int index;                  // 1 .. N-1: between nodes index-1 and index along the axis
+    std::vector<std::pair<Picos, double>> positions;  // (time, coordinate), from the start
+};
+
 struct MachineResult {
     Image image;
     Picos renderTime = 0;
@@ -33,6 +41,7 @@ struct MachineResult {
     std::vector<LinkReport> links;
     HostStats host;
     uint64_t primaryMisses = 0;   // primary rays that miss the world box (the host fills them in)
+    std::vector<BoundaryHistory> boundaries;
     uint64_t deltaCycles = 0;
     double wallSeconds = 0;
 };
@@ -43,6 +52,9 @@ public:
     ~Machine() override;
 
     MachineResult collect(double wallSeconds);
+    void endFrame() {
+        for (Node& n : nodes_) n.endFrame(host_->stats().renderTime);
+    }
     // Checks the conservation laws at the end of a run; throws
     // std::runtime_error naming the first one broken.
     void checkConservation() const;
@@ -52,18 +64,26 @@ public:
 
 private:
     void assignPrimaryRays();
+    // Initial boundaries along the progress axis of each column: uniform, or
+    // at the object medians (the static baseline policy).
+    std::vector<std::vector<double>> initialBoundaries() const;
+    int columnOf(const Cell& c) const;
+    std::vector<BoundaryHistory> boundaryHistories() const;
 
     const Scene& scene_;
     MachineConfig cfg_;
     int width_, height_;
     Box world_;
-    Lattice cuts_;
+    Lattice cuts_;      // the initial uniform split; along the axis, columns have their own boundaries
+    std::vector<std::vector<double>> columnBounds_;
+    double minThickness_;
     Camera camera_;
     Shader shader_;
     int maxExp_;
     std::unique_ptr<Host> host_;
     sc_core::sc_vector<Node> nodes_;
     std::vector<std::unique_ptr<Link>> links_;
+    std::map<std::pair<size_t, int>, Link*> meshLinks_;  // (node, direction) -> its outgoing link
     std::vector<LinkReport> linkInfo_;
     uint64_t primaryMisses_ = 0;
 };

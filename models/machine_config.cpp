@@ -5,6 +5,16 @@
 
 namespace rt {
 
+const char* policyName(Policy p) {
+    switch (p) {
+        case Policy::None: return "none";
+        case Policy::Slide: return "slide";
+        case Policy::Work: return "work";
+        case Policy::Median: return "median";
+    }
+    return "?";
+}
+
 const char* dirName(int d) {
     static const char* names[kDirs] = {"+x", "-x", "+y", "-y", "+z", "-z"};
     return names[d];
@@ -62,6 +72,13 @@ void MachineConfig::validate() const {
         for (int a = 0; a < 3; ++a)
             if (c[a] < 0 || c[a] >= dims[a]) throw std::invalid_argument("--trace-nodes: node outside the mesh");
     if (traceFrom > traceTo) throw std::invalid_argument("--trace-window: start after end");
+    const BalanceConfig& b = balance;
+    if (b.axis < 0 || b.axis > 2) throw std::invalid_argument("--axis: must be x, y or z");
+    if (b.interval == 0) throw std::invalid_argument("--balance-interval: must be positive");
+    if (!(b.gain > 0) || !std::isfinite(b.gain)) throw std::invalid_argument("--gain: must be positive");
+    if (!(b.deadband >= 0) || !(b.deadband < 1)) throw std::invalid_argument("--deadband: must be in [0, 1)");
+    if (!(b.minThickness > 0) || !(b.minThickness <= 1)) throw std::invalid_argument("--min-thickness: must be in (0, 1]");
+    if (b.bins < 1 || b.bins > 4096) throw std::invalid_argument("--bins: must be in 1..4096");
 }
 
 }  // namespace rt

@@ -40,6 +40,24 @@ struct LinkParams {
     int depth = 16;           // messages the link holds before back-pressure
 };
 
+// Sliding boundaries (doc/balancing.md). Every column of nodes along the
+// progress axis owns its own boundaries between them.
+enum class Policy { None, Slide, Work, Median };
+const char* policyName(Policy p);
+
+struct BalanceConfig {
+    Policy policy = Policy::None;
+    int axis = 0;                 // progress axis: 0 x, 1 y, 2 z
+    Picos interval = 20000000;    // 20 us between load reports
+    double gain = 0.5;            // slide: step = gain x load difference x thickness; work: share of the gap moved
+    double deadband = 0.05;       // no slide while the load difference is at most this
+    double minThickness = 0.05;   // a box never gets thinner than this fraction of its initial thickness
+    int bins = 16;                // work policy: histogram bins along the axis
+    Picos rebuildCost = 20000;    // rebuilding a grid: per object in it
+
+    bool dynamic() const { return policy == Policy::Slide || policy == Policy::Work; }
+};
+
 struct MachineConfig {
     std::array<int, 3> dims{4, 4, 4};  // nodes along x, y, z
     int width = 0, height = 0;         // image size (0: the scene's)
@@ -57,6 +75,8 @@ struct MachineConfig {
     LinkParams fbPort{200000, 1e9, 16};
     Picos hostCost = 5000;             // per contribution accumulated
     int fbBatch = 32;                  // contributions per frame-buffer message
+
+    BalanceConfig balance;
 
     // Tracing (VCD); empty path: none.
     std::string vcdPath;

@@ -6,11 +6,12 @@
 
 #include "credit.h"
 #include "ray_job.h"
+#include "shape.h"
 
 namespace rt {
 
-enum class MsgType : uint8_t { Ray = 0, Contributions = 1, Credit = 2 };
-constexpr int kMsgTypes = 3;
+enum class MsgType : uint8_t { Ray = 0, Contributions = 1, Credit = 2, LoadReport = 3, Slide = 4, Ack = 5 };
+constexpr int kMsgTypes = 6;
 const char* msgTypeName(MsgType t);
 
 // Wire sizes (bytes). A ray: origin, direction, t0, tEnd, weight (doubles,
@@ -18,6 +19,12 @@ const char* msgTypeName(MsgType t);
 constexpr uint32_t kHeaderBytes = 8;  // type, length, source
 constexpr uint32_t kRayBytes = 13 * 8 + 4 + 8 + 4 + 1 + 1 + 2;
 constexpr uint32_t kContributionBytes = 4 + 8 + 4 + 3 * 8;  // pixel, path, slot, rgb
+constexpr uint32_t kLoadReportBytes = 4 + 8 + 8;            // interval, load, busy time
+constexpr uint32_t kSlideBytes = 8 + 4;                     // new boundary, object count (+ the objects)
+constexpr uint32_t kAckBytes = 8;                           // the boundary taken
+
+// Bytes of one object on the wire: id, material, kind, then its geometry.
+uint32_t objectBytes(const Shape& s);
 
 struct Message {
     MsgType type = MsgType::Ray;
@@ -25,12 +32,24 @@ struct Message {
     uint16_t creditExp = 0;                    // Ray: its credit is 2^-creditExp
     std::vector<Contribution> contributions;   // Contributions
     Credit credit;                             // Credit
+    int32_t interval = 0;                      // LoadReport
+    double load = 0;                           // LoadReport
+    uint64_t busy = 0;                         // LoadReport: busy time in the interval (ps)
+    double boundary = 0;                       // Slide, Ack: the boundary's new coordinate
+    std::vector<Shape> objects;                // Slide: the objects of the moved slab
 
     uint32_t bytes() const {
         switch (type) {
             case MsgType::Ray: return kHeaderBytes + kRayBytes;
             case MsgType::Contributions: return kHeaderBytes + uint32_t(contributions.size()) * kContributionBytes;
             case MsgType::Credit: return kHeaderBytes + credit.bytes();
+            case MsgType::LoadReport: return kHeaderBytes + kLoadReportBytes;
+            case MsgType::Slide: {
+                uint32_t b = kHeaderBytes + kSlideBytes;
+                for (const Shape& s : objects) b += objectBytes(s);
+                return b;
+            }
+            case MsgType::Ack: return kHeaderBytes + kAckBytes;
         }
         return kHeaderBytes;
     }

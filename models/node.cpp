@@ -1,24 +1,48 @@
 #include "node.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <unordered_set>
 
 namespace rt {
 
-Node::Node(sc_core::sc_module_name name, const Cell& cell, const Box& box, const Scene& scene, const Shader& shader,
-           const Camera& camera, const Box& world, const Costs& costs, double speed, int fbBatch)
+Node::Node(sc_core::sc_module_name name, const Cell& cell, const Box& box, std::vector<Shape> objects,
+           const Shader& shader, const Camera& camera, const Box& world, const Costs& costs, double speed, int fbBatch,
+           const BalanceConfig& balance, double minThickness)
     : sc_module(name),
       out("out", kDirs),
       in("in", kDirs),
       fb("fb"),
       cell_(cell),
-      region_(box, objectsOverlapping(scene.objects, box), AccelKind::Grid),
       shader_(shader),
       camera_(camera),
       world_(world),
       costs_(costs),
       speed_(speed),
-      fbBatch_(fbBatch) {
+      fbBatch_(fbBatch),
+      bal_(balance),
+      margin_(roundingMargin(world)),
+      minThickness_(minThickness) {
+    rebuild(box, std::move(objects));
+    if (bal_.dynamic()) {
+        nextInterval_ = bal_.interval;
+        histogram_.assign(size_t(bal_.bins), 0);
+    }
     SC_THREAD(run);
+}
+
+void Node::rebuild(const Box& box, std::vector<Shape> objects) {
+    for (int a = 0; a < 3; ++a)
+        if (!(box.lo[a] < box.hi[a])) {
+            char buf[256];
+            std::snprintf(buf, sizeof buf, "%s: empty box on axis %d: [%.17g, %.17g] at %llu ps", name(), a, box.lo[a],
+                          box.hi[a], (unsigned long long)now_);
+            throw std::logic_error(buf);
+        }
+    std::sort(objects.begin(), objects.end(), [](const Shape& a, const Shape& b) { return a.id < b.id; });
+    objects_ = std::move(objects);
+    region_ = std::make_unique<Region>(box, objects_, AccelKind::Grid);
 }
 
 void Node::assignPrimaries(std::vector<uint32_t> pixels, int primaryExp, const Credit& remainder) {
@@ -46,9 +70,17 @@ void Node::run() {
         if (in[d].size()) in[d]->setArrivalEvent(&arrived_);
     now_ = sc_core::sc_time_stamp().value();
     Work w;
+    std::optional<Message> ctl;
     for (;;) {
-        if (takeWork(w)) {
-            step(w);
+        if (bal_.dynamic() && now_ >= nextInterval_) closeInterval();
+        int fromDir = -1;
+        if (takeWork(w, ctl, fromDir)) {
+            if (ctl) {
+                control(*ctl, fromDir);
+                ctl.reset();
+            } else {
+                step(w);
+            }
             continue;
         }
         // Nothing to trace: hand the host what it is owed before waiting, so
@@ -58,7 +90,7 @@ void Node::run() {
             continue;
         }
         traceState(false, true);
-        Picos next = ~Picos(0);
+        Picos next = bal_.dynamic() ? nextInterval_ : ~Picos(0);  // wake to report the load
         for (int d = 0; d < kDirs; ++d) {
             Picos a;
             if (in[d].size() && in[d]->peekArrival(a)) next = std::min(next, a);
@@ -71,7 +103,7 @@ void Node::run() {
     }
 }
 
-bool Node::takeWork(Work& w) {
+bool Node::takeWork(Work& w, std::optional<Message>& control, int& controlDir) {
     if (!local_.empty()) {
         w = local_.back();
         local_.pop_back();
@@ -90,7 +122,12 @@ bool Node::takeWork(Work& w) {
     if (best >= 0) {
         Message m = in[best]->consume(now_);
         ++stats_.messagesReceived;
-        w = Work{m.ray, m.creditExp, true, false};
+        if (m.type == MsgType::Ray) {
+            w = Work{m.ray, m.creditExp, true, false};
+        } else {
+            controlDir = best;
+            control = std::move(m);
+        }
         return true;
     }
     if (nextPixel_ < pixels_.size()) {
@@ -105,8 +142,13 @@ bool Node::takeWork(Work& w) {
     return false;
 }
 
+// Where a ray is forwarded: the link direction towards the owner of job.t0,
+// or -1 if this box owns it. The first axis whose slab does not own t0 picks
+// the direction; a neighbour that does not own it either forwards it on, so
+// a ray always reaches its owner, also when the columns' boundaries along the
+// progress axis do not line up.
 int Node::route(const RayJob& job) const {
-    const Box& b = region_.box();
+    const Box& b = region_->box();
     for (int a = 0; a < 3; ++a) {
         if (job.ray.d[a] == 0) {
             const double o = job.ray.o[a];
@@ -145,10 +187,14 @@ void Node::step(Work& w) {
     std::vector<RayJob> spawned;
     std::vector<Contribution> contributions;
     int dir = route(w.job);
+    double where = std::nan("");  // where along the axis the work happened (work histogram)
     if (dir < 0) {
         ++stats_.raysTraced;
-        if (region_.trace(w.job, shader_, mailbox_, stats_.counters, spawned, contributions) ==
-            Region::Step::Terminated) {
+        // The middle of the segment this box traces stands for where its work is.
+        const double end = std::min(w.job.tEnd, boxInterval(w.job.ray, region_->box()).hi);
+        where = w.job.ray.at(0.5 * (w.job.t0 + end))[bal_.axis];
+        const Region::Step s = region_->trace(w.job, shader_, mailbox_, stats_.counters, spawned, contributions);
+        if (s == Region::Step::Terminated) {
             terminate(w, spawned);
             dir = -2;
         } else {
@@ -178,6 +224,12 @@ void Node::step(Work& w) {
         outbox_.push_back({-1, std::move(m)});
     }
     const Picos cost = stepCost(before, outbox_.size(), w.fromLink ? 1 : 0, w.generated ? 1 : 0);
+    if (bal_.policy == Policy::Work && std::isfinite(where)) {
+        const Box& b = region_->box();
+        const double u = (where - b.lo[bal_.axis]) / (b.hi[bal_.axis] - b.lo[bal_.axis]);
+        const int k = std::clamp(int(u * double(histogram_.size())), 0, int(histogram_.size()) - 1);
+        histogram_[size_t(k)] += cost;
+    }
     now_ += cost;
     stats_.busy += cost;
     stats_.lastActive = now_;
@@ -206,14 +258,7 @@ void Node::flushToHost() {
         credit_.clear();
         outbox_.push_back({-1, std::move(m)});
     }
-    const Picos cost = stepCost(stats_.counters, outbox_.size(), 0, 0);
-    now_ += cost;
-    stats_.busy += cost;
-    stats_.lastActive = now_;
-    for (auto& [d, m] : outbox_) fb->send(std::move(m), now_);
-    stats_.messagesSent += outbox_.size();
-    outbox_.clear();
-    wait(sc_core::sc_time::from_value(cost));
+    finishControlStep(stats_.counters, 0, 0);
 }
 
 // Where a cost is charged: a step's operation counts times their costs,
@@ -226,6 +271,169 @@ Picos Node::stepCost(const Counters& before, uint64_t sends, uint64_t recvs, uin
     ps += (c.shadings - before.shadings) * costs_.shade;
     if (speed_ == 1.0) return ps;
     return Picos(std::llround(double(ps) / speed_));
+}
+
+// Sends this step's outbox and charges its time: messages handled plus grid
+// rebuilding.
+void Node::finishControlStep(const Counters& before, uint64_t recvs, size_t rebuiltObjects) {
+    Picos cost = stepCost(before, outbox_.size(), recvs, 0);
+    cost += Picos(std::llround(double(rebuiltObjects * bal_.rebuildCost) / speed_));
+    now_ += cost;
+    stats_.busy += cost;
+    stats_.lastActive = now_;
+    for (auto& [d, m] : outbox_) {
+        if (d < 0) fb->send(std::move(m), now_);
+        else out[d]->send(std::move(m), now_);
+    }
+    stats_.messagesSent += outbox_.size();
+    outbox_.clear();
+    wait(sc_core::sc_time::from_value(cost));
+}
+
+// ---- The balancing protocol (doc/balancing.md) ----
+
+// At the end of each interval: record this node's load over it, then report
+// it and decide with each neighbour along the progress axis as far as the
+// lockstep allows (advance()).
+void Node::closeInterval() {
+    const Picos busy = stats_.busy - busyMark_, waited = stats_.wait - waitMark_;
+    const double load = busy + waited ? double(busy) / double(busy + waited) : 0.0;
+    stats_.intervals.push_back({now_, busy, waited});
+    ownLoads_[closed_++] = Load{load, busy, histogram_};
+    busyMark_ = stats_.busy;
+    waitMark_ = stats_.wait;
+    std::fill(histogram_.begin(), histogram_.end(), 0);
+    // The next interval boundary after now (a long step may have spanned several).
+    nextInterval_ = (now_ / bal_.interval + 1) * bal_.interval;
+    for (int side : {-1, +1})
+        if (out[sideDir(side)].size()) advance(side);
+}
+
+void Node::sendReport(int side, int seq) {
+    const Load& l = ownLoads_.at(seq);
+    Message m;
+    m.type = MsgType::LoadReport;
+    m.interval = seq;
+    m.load = l.load;
+    m.busy = l.busy;
+    outbox_.push_back({sideDir(side), std::move(m)});
+    reported_[side > 0] = seq;
+    traceState(true, false);
+    finishControlStep(stats_.counters, 0, 0);
+}
+
+// Lockstep with the neighbour on `side`: report s once s - 1 is decided;
+// decide s once both loads of s are here. A slide given when deciding s is
+// sent before report s + 1 on the same FIFO link, so the neighbour has taken
+// the slab before it can decide s + 1 itself: the two never give across the
+// same boundary at once, and each decides with its box up to date.
+void Node::advance(int side) {
+    const int i = side > 0;
+    for (;;) {
+        const int next = reported_[i] + 1;
+        if (next <= decided_[i] + 1 && ownLoads_.count(next)) {
+            sendReport(side, next);
+            continue;
+        }
+        const int d = decided_[i] + 1;
+        if (reported_[i] >= d && ownLoads_.count(d) && reports_[i].count(d)) {
+            decide(side, d);
+            continue;
+        }
+        return;
+    }
+}
+
+void Node::control(Message& m, int fromDir) {
+    const int side = dirStep(fromDir);  // the neighbour is below (-1) or above (+1) along the axis
+    traceState(true, false);
+    if (dirAxis(fromDir) != bal_.axis) throw std::logic_error(std::string(name()) + ": control message off the progress axis");
+    if (m.type == MsgType::LoadReport) {
+        reports_[side > 0][m.interval] = Load{m.load, Picos(m.busy), {}};
+        finishControlStep(stats_.counters, 1, 0);
+        advance(side);
+    } else if (m.type == MsgType::Slide) {
+        takeSlab(side, m.boundary, std::move(m.objects));
+    } else if (m.type == MsgType::Ack) {
+        ++stats_.acks;
+        finishControlStep(stats_.counters, 1, 0);
+    }
+}
+
+// Both neighbours compare the same two loads (their sequence s and ours), so
+// at most one of them gives a slab across their boundary.
+void Node::decide(int side, int seq) {
+    const int i = side > 0;
+    const Load own = ownLoads_.at(seq), other = reports_[i].at(seq);
+    reports_[i].erase(seq);
+    decided_[i] = seq;
+    // Own loads are kept until both sides are done with them.
+    const int done = std::min(out[sideDir(-1)].size() ? decided_[0] : seq, out[sideDir(+1)].size() ? decided_[1] : seq);
+    ownLoads_.erase(ownLoads_.begin(), ownLoads_.upper_bound(done));
+    SlideQuery q;
+    q.own = region_->box();
+    q.axis = bal_.axis;
+    q.upper = side > 0;
+    q.ownLoad = own.load;
+    q.otherLoad = other.load;
+    q.ownBusy = own.busy;
+    q.otherBusy = other.busy;
+    q.histogram = own.histogram;
+    q.minThickness = minThickness_;
+    if (const std::optional<double> b = decideSlide(bal_, q)) giveSlab(side, *b);
+}
+
+// The heavier node gives the slab between the boundary and `boundary` on
+// `side`, with the objects that overlap it, in one message. From now on rays
+// that reach it for the slab are forwarded to the neighbour (route()); the
+// link is FIFO, so they arrive after the slide.
+void Node::giveSlab(int side, double boundary) {
+    Box own = region_->box(), slab = own;
+    const int a = bal_.axis;
+    if (side > 0) {
+        slab.lo[a] = boundary;
+        own.hi[a] = boundary;
+    } else {
+        slab.hi[a] = boundary;
+        own.lo[a] = boundary;
+    }
+    Message m;
+    m.type = MsgType::Slide;
+    m.boundary = boundary;
+    std::vector<Shape> keep;
+    for (const Shape& s : objects_) {
+        if (overlapsBox(s, slab, margin_)) m.objects.push_back(s);
+        if (overlapsBox(s, own, margin_)) keep.push_back(s);
+    }
+    stats_.slides.push_back({now_, side, boundary, m.objects.size()});
+    stats_.objectsSent += m.objects.size();
+    outbox_.push_back({sideDir(side), std::move(m)});
+    const size_t n = keep.size();
+    rebuild(own, std::move(keep));
+    finishControlStep(stats_.counters, 0, n);
+}
+
+// The lighter node takes the slab: its box grows to `boundary` on `side`, its
+// objects become the union of its own and the slab's, and it acknowledges.
+void Node::takeSlab(int side, double boundary, std::vector<Shape> objects) {
+    Box own = region_->box();
+    if (side > 0) own.hi[bal_.axis] = boundary;
+    else own.lo[bal_.axis] = boundary;
+    std::vector<Shape> all = objects_;
+    std::unordered_set<uint32_t> have;
+    for (const Shape& s : all) have.insert(s.id);
+    stats_.objectsReceived += objects.size();
+    for (Shape& s : objects)
+        if (have.insert(s.id).second) all.push_back(std::move(s));
+    ++stats_.slidesTaken;
+    Message ack;
+    ack.type = MsgType::Ack;
+    ack.boundary = boundary;
+    outbox_.push_back({sideDir(side), std::move(ack)});
+    const size_t n = all.size();
+    rebuild(own, std::move(all));
+    std::fill(histogram_.begin(), histogram_.end(), 0);
+    finishControlStep(stats_.counters, 1, n);
 }
 
 }  // namespace rt

@@ -11,6 +11,8 @@
 // step's time is its operation counts times their costs, divided by the
 // node's speed (Node::stepCost); see doc/machine.md.
 #pragma once
+#include <array>
+#include <map>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -20,6 +22,7 @@
 #include "camera.h"
 #include "counters.h"
 #include "credit.h"
+#include "balancer.h"
 #include "link.h"
 #include "machine_config.h"
 #include "node_trace.h"
@@ -27,6 +30,19 @@
 #include "shading.h"
 
 namespace rt {
+
+// One boundary move, seen by the node that gave the slab.
+struct SlideEvent {
+    Picos t;
+    int side;           // +1: the node's upper face along the axis, -1: its lower face
+    double boundary;    // the face's new coordinate
+    size_t objects;     // objects sent with the slab
+};
+
+// Busy and wait time of one balancing interval, ending at `end`.
+struct IntervalRecord {
+    Picos end, busy, wait;
+};
 
 struct NodeStats {
     Picos busy = 0, wait = 0;
@@ -40,13 +56,18 @@ struct NodeStats {
     uint64_t contributionsSent = 0;
     size_t queueHighWater = 0;     // local work + unconsumed input messages
     Picos lastActive = 0;          // end of the last busy step
+    std::vector<SlideEvent> slides;        // slabs given
+    uint64_t slidesTaken = 0, acks = 0;
+    uint64_t objectsSent = 0, objectsReceived = 0;
+    std::vector<IntervalRecord> intervals; // balancing intervals (dynamic policies)
 };
 
 class Node : public sc_core::sc_module {
 public:
     SC_HAS_PROCESS(Node);
-    Node(sc_core::sc_module_name name, const Cell& cell, const Box& box, const Scene& scene, const Shader& shader,
-         const Camera& camera, const Box& world, const Costs& costs, double speed, int fbBatch);
+    Node(sc_core::sc_module_name name, const Cell& cell, const Box& box, std::vector<Shape> objects,
+         const Shader& shader, const Camera& camera, const Box& world, const Costs& costs, double speed, int fbBatch,
+         const BalanceConfig& balance, double minThickness);
 
     sc_core::sc_vector<sc_core::sc_port<LinkSendIf, 1, sc_core::SC_ZERO_OR_MORE_BOUND>> out;
     sc_core::sc_vector<sc_core::sc_port<LinkRecvIf, 1, sc_core::SC_ZERO_OR_MORE_BOUND>> in;
@@ -55,9 +76,17 @@ public:
     // Setup by the host's job description, before the simulation starts.
     void assignPrimaries(std::vector<uint32_t> pixels, int primaryExp, const Credit& remainder);
     void enableTrace() { trace_ = std::make_unique<NodeTrace>(); }
+    // The frame ended at `end`: a step still running then (a balancing step)
+    // counts as busy only up to `end`.
+    void endFrame(Picos end) {
+        if (stats_.lastActive > end) {
+            stats_.busy -= stats_.lastActive - end;
+            stats_.lastActive = end;
+        }
+    }
 
     const Cell& cell() const { return cell_; }
-    const Region& region() const { return region_; }
+    const Region& region() const { return *region_; }
     const NodeStats& stats() const { return stats_; }
     const NodeTrace* trace() const { return trace_.get(); }
 
@@ -70,8 +99,20 @@ private:
     };
 
     void run();
-    bool takeWork(Work& w);
+    // Takes the next ray (or control message, into `control`); false if none.
+    bool takeWork(Work& w, std::optional<Message>& control, int& controlDir);
     void step(Work& w);
+    // The balancing protocol (doc/balancing.md): load reports, slides, acks.
+    void control(Message& m, int fromDir);
+    void closeInterval();
+    void sendReport(int side, int seq);
+    void advance(int side);  // decide and report in lockstep with one neighbour
+    void decide(int side, int seq);
+    void giveSlab(int side, double boundary);
+    void takeSlab(int side, double boundary, std::vector<Shape> objects);
+    void rebuild(const Box& box, std::vector<Shape> objects);
+    void finishControlStep(const Counters& before, uint64_t recvs, size_t rebuiltObjects);
+    int sideDir(int side) const { return dirOf(bal_.axis, side); }  // side -1 / +1 -> link direction
     // The link direction towards the owner of job.t0, or -1 if it is ours.
     int route(const RayJob& job) const;
     void terminate(const Work& w, std::vector<RayJob>& spawned);
@@ -81,13 +122,34 @@ private:
     void traceState(bool busy, bool waiting);
 
     Cell cell_;
-    Region region_;
+    std::unique_ptr<Region> region_;
+    std::vector<Shape> objects_;  // what region_ is built over (kept to give slabs away)
     const Shader& shader_;
     const Camera& camera_;
     Box world_;
     Costs costs_;
     double speed_;
     int fbBatch_;
+    const BalanceConfig& bal_;
+    double margin_;        // object overlap margin, the same in every node (the world's)
+    double minThickness_;  // absolute, along the progress axis
+
+    // Balancing state.
+    Picos intervalStart_ = 0, nextInterval_ = 0, busyMark_ = 0, waitMark_ = 0;
+    struct Load {
+        double load;
+        Picos busy;
+        std::vector<Picos> histogram;  // own intervals only (work policy)
+    };
+    // Intervals are numbered by sequence (0, 1, ...) per node; a node decides
+    // on its boundary with a neighbour for sequence s only once it has both
+    // loads of s, and reports s + 1 to that neighbour only after deciding s.
+    int closed_ = 0;                              // intervals closed so far
+    std::map<int, Load> ownLoads_;                // by sequence
+    std::array<std::map<int, Load>, 2> reports_;  // [0]: lower neighbour's, [1]: upper's, by sequence
+    std::array<int, 2> decided_{-1, -1};          // last sequence decided, per side
+    std::array<int, 2> reported_{-1, -1};         // last sequence reported, per side
+    std::vector<Picos> histogram_;                // work along the axis, this interval
 
     std::vector<uint32_t> pixels_;
     size_t nextPixel_ = 0;

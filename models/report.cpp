@@ -37,6 +37,12 @@ nlohmann::json machineReport(const MachineResult& r, const MachineConfig& cfg) {
     c["fb_batch"] = cfg.fbBatch;
     c["host_cost_ns"] = ns(cfg.hostCost);
 
+    const BalanceConfig& bc = cfg.balance;
+    c["balance"] = {{"policy", policyName(bc.policy)},  {"axis", std::string(1, "xyz"[bc.axis])},
+                    {"interval_ns", ns(bc.interval)},    {"gain", bc.gain},
+                    {"deadband", bc.deadband},           {"min_thickness", bc.minThickness},
+                    {"bins", bc.bins},                   {"rebuild_cost_ns", ns(bc.rebuildCost)}};
+
     j["render_time_ns"] = ns(r.renderTime);
     j["wall_s"] = r.wallSeconds;
 
@@ -65,6 +71,18 @@ nlohmann::json machineReport(const MachineResult& r, const MachineConfig& cfg) {
         n["queue_high_water"] = s.queueHighWater;
         n["last_active_ns"] = ns(s.lastActive);
         n["counters"] = countersJson(s.counters);
+        n["slides_given"] = s.slides.size();
+        n["slides_taken"] = s.slidesTaken;
+        n["objects_sent"] = s.objectsSent;
+        n["objects_received"] = s.objectsReceived;
+        if (!s.intervals.empty()) {
+            auto& iv = n["intervals"];
+            for (const IntervalRecord& x : s.intervals) {
+                iv["end_ns"].push_back(ns(x.end));
+                iv["busy_ns"].push_back(ns(x.busy));
+                iv["wait_ns"].push_back(ns(x.wait));
+            }
+        }
         j["nodes"].push_back(n);
     }
     std::array<uint64_t, kMsgTypes> msgs{}, bytes{};
@@ -96,6 +114,24 @@ nlohmann::json machineReport(const MachineResult& r, const MachineConfig& cfg) {
                  {"contribution_messages", r.host.contributionMessages},
                  {"credit_messages", r.host.creditMessages}};
     j["kernel"] = {{"delta_cycles", r.deltaCycles}};
+    // Balancing: every boundary's history, the number of slides, and how
+    // even the loads are (max / mean) over the whole frame.
+    size_t slides = 0;
+    for (const BoundaryHistory& h : r.boundaries) {
+        slides += h.positions.size() - 1;
+        nlohmann::json bj;
+        bj["column"] = {h.column[0], h.column[1]};
+        bj["index"] = h.index;
+        for (const auto& [t, x] : h.positions) bj["history"].push_back({ns(t), x});
+        j["boundaries"].push_back(bj);
+    }
+    double maxLoad = 0, sumLoad = 0;
+    for (const auto& n : j["nodes"]) {
+        maxLoad = std::max(maxLoad, n["load"].get<double>());
+        sumLoad += n["load"].get<double>();
+    }
+    j["balance"] = {{"slides", slides},
+                    {"max_over_mean_load", sumLoad > 0 ? maxLoad / (sumLoad / double(r.nodes.size())) : 0.0}};
     return j;
 }
 

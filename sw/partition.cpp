@@ -7,7 +7,7 @@ Partition::Partition(const Scene& scene, const Lattice& cuts, AccelKind kind) : 
         for (int y = 0; y < cuts_.cells(1); ++y)
             for (int x = 0; x < cuts_.cells(0); ++x) {
                 const Box b = cuts_.cellBox({x, y, z});
-                regions_.emplace_back(b, objectsOverlapping(scene.objects, b), kind);
+                regions_.emplace_back(b, objectsOverlapping(scene.objects, b, roundingMargin(world_)), kind);
             }
 }
 

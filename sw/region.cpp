@@ -4,11 +4,12 @@
 
 namespace rt {
 
-std::vector<Shape> objectsOverlapping(const std::vector<Shape>& all, const Box& box) {
-    const double margin = roundingMargin(box);
+bool overlapsBox(const Shape& s, const Box& box, double margin) { return s.bounds().expanded(margin).overlaps(box); }
+
+std::vector<Shape> objectsOverlapping(const std::vector<Shape>& all, const Box& box, double margin) {
     std::vector<Shape> out;
     for (const Shape& s : all)
-        if (s.bounds().expanded(margin).overlaps(box)) out.push_back(s);
+        if (overlapsBox(s, box, margin)) out.push_back(s);
     return out;
 }
 

@@ -14,8 +14,13 @@ namespace rt {
 
 class Shader;
 
-// Objects of `all` whose bounds (widened by a rounding margin) touch `box`.
-std::vector<Shape> objectsOverlapping(const std::vector<Shape>& all, const Box& box);
+// Objects of `all` whose bounds, widened by `margin`, touch `box`. Every
+// region of one world uses the same margin (roundingMargin of the world box),
+// so that when two adjacent boxes merge, the objects of the merged box are
+// exactly the union of theirs (what a boundary slide relies on).
+std::vector<Shape> objectsOverlapping(const std::vector<Shape>& all, const Box& box, double margin);
+// Same, for one object.
+bool overlapsBox(const Shape& s, const Box& box, double margin);
 
 class Region {
 public:

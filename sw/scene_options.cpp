@@ -59,7 +59,7 @@ void SceneOptions::addTo(CLI::App& app, bool positional) {
         ->capture_default_str()
         ->group(g)
         ->check(openClosed(0, 1));
-    app.add_option("--axis", axis, "procedural: progress axis")->group(g)->check(CLI::IsMember({"x", "y", "z"}));
+    app.add_option("--axis", axis, "progress axis: the procedural scene's and the balancing's")->group(g)->check(CLI::IsMember({"x", "y", "z"}));
     app.add_option("--seed", p.seed, "procedural: random seed for sphere placement")->group(g);
     app.add_option("--eye", p.eye, "procedural: camera position x y z")->group(g)->expected(3);
     app.add_option("--look-at", p.lookAt, "procedural: point at the image centre x y z")->group(g)->expected(3);

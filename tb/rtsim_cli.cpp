@@ -103,6 +103,26 @@ void RtsimOptions::addTo(CLI::App& app) {
     app.add_option("--fb-depth", m.fbPort.depth, "messages a frame-buffer port holds")->check(CLI::Range(1, 1000000))->capture_default_str()->group(gl);
     app.add_option("--fb-batch", m.fbBatch, "contributions per frame-buffer message")->check(CLI::Range(1, 65536))->capture_default_str()->group(gl);
 
+    const std::string gb = "Balancing (sliding boundaries)";
+    BalanceConfig& b = m.balance;
+    app.add_option_function<std::string>("--balance", [&b](const std::string& s) {
+           if (s == "none") b.policy = Policy::None;
+           else if (s == "slide") b.policy = Policy::Slide;
+           else if (s == "work") b.policy = Policy::Work;
+           else if (s == "median") b.policy = Policy::Median;
+           else throw CLI::ValidationError("--balance", "expected none, slide, work or median, got '" + s + "'");
+       }, "policy: none; slide (the paper: step proportional to the load difference); work (from the giver's work histogram); median (static object-median split)")
+        ->default_str("none")->group(gb);
+    addTime(app, "--balance-interval", b.interval, "time between load reports", gb);
+    app.add_option("--gain", b.gain, "slide: step = gain x load difference x thickness; work: share of the busy-time gap moved")
+        ->check(CLI::PositiveNumber)->capture_default_str()->group(gb);
+    app.add_option("--deadband", b.deadband, "no slide while the load difference is at most this")
+        ->check(CLI::Range(0.0, 0.999))->capture_default_str()->group(gb);
+    app.add_option("--min-thickness", b.minThickness, "guard: a box keeps at least this fraction of its initial thickness")
+        ->check(CLI::Range(1e-6, 1.0))->capture_default_str()->group(gb);
+    app.add_option("--bins", b.bins, "work policy: histogram bins along the axis")->check(CLI::Range(1, 4096))->capture_default_str()->group(gb);
+    addTime(app, "--cost-rebuild", b.rebuildCost, "rebuilding a node's grid, per object", gb);
+
     app.add_option("--image", image, "output PNG")->capture_default_str()->group(go);
     app.add_option("--report", report, "JSON report")->group(go);
     app.add_option("--vcd", vcd, "VCD waveform (a .gtkw save file is written beside it)")->group(go);
@@ -127,6 +147,7 @@ void RtsimOptions::finish() {
         vcd.clear();
         image.clear();
         m.nodeSpeed.clear();
+        m.balance.policy = Policy::None;  // one node has no boundary to slide
         baseline = false;
         quiet = true;
     }
@@ -185,6 +206,7 @@ void RtsimOptions::finish() {
         m.traceTo = timeOf("--trace-window", traceWindow_.substr(comma + 1));
     }
     m.vcdPath = vcd;
+    m.balance.axis = scene.axis == "x" ? 0 : scene.axis == "y" ? 1 : 2;  // one progress axis for scene and balancing
     try {
         m.validate();
     } catch (const std::invalid_argument& e) {
