@@ -191,8 +191,10 @@ void Machine::checkConservation() const {
     const Picos end = host_->stats().renderTime;
     for (const Node& n : nodes_) {
         const NodeStats& s = n.stats();
-        if (s.lastActive > end || s.busy + s.wait + (end - s.lastActive) != end)
-            throw std::runtime_error(std::string("time accounting: busy + wait != render time at ") + n.name());
+        if (s.lastActive > end || s.busy + s.wait != end)
+            throw std::runtime_error(std::string("time accounting: busy + wait != render time at ") + n.name() +
+                                     " (busy " + std::to_string(s.busy) + ", wait " + std::to_string(s.wait) +
+                                     ", last active " + std::to_string(s.lastActive) + ", end " + std::to_string(end) + " ps)");
     }
     // Rays and frame-buffer traffic must all be delivered; balancing messages
     // (load reports, slides, acks) may still be on their way when the frame ends.
@@ -233,6 +235,7 @@ MachineResult Machine::collect(double wallSeconds) {
     }
     r.host = host_->stats();
     r.boundaries = boundaryHistories();
+    r.worldBox = world_;
     r.primaryMisses = primaryMisses_;
     r.deltaCycles = sc_core::sc_delta_count();
     r.wallSeconds = wallSeconds;

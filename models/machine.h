@@ -42,6 +42,7 @@ struct MachineResult {
     HostStats host;
     uint64_t primaryMisses = 0;   // primary rays that miss the world box (the host fills them in)
     std::vector<BoundaryHistory> boundaries;
+    Box worldBox;
     uint64_t deltaCycles = 0;
     double wallSeconds = 0;
 };

@@ -49,7 +49,7 @@ struct BalanceConfig {
     Policy policy = Policy::None;
     int axis = 0;                 // progress axis: 0 x, 1 y, 2 z
     Picos interval = 20000000;    // 20 us between load reports
-    double gain = 0.5;            // slide: step = gain x load difference x thickness; work: share of the gap moved
+    double gain = 0.25;           // slide: step = gain x load difference x thickness; work: share of the gap moved
     double deadband = 0.05;       // no slide while the load difference is at most this
     double minThickness = 0.05;   // a box never gets thinner than this fraction of its initial thickness
     int bins = 16;                // work policy: histogram bins along the axis

@@ -95,11 +95,13 @@ void Node::run() {
             Picos a;
             if (in[d].size() && in[d]->peekArrival(a)) next = std::min(next, a);
         }
-        const Picos start = now_;
+        stats_.waiting = true;
+        stats_.waitingSince = now_;
         if (next != ~Picos(0)) wait(sc_core::sc_time::from_value(next - now_), arrived_);
         else wait(arrived_);
         now_ = sc_core::sc_time_stamp().value();
-        stats_.wait += now_ - start;
+        stats_.wait += now_ - stats_.waitingSince;
+        stats_.waiting = false;
     }
 }
 

@@ -56,6 +56,8 @@ struct NodeStats {
     uint64_t contributionsSent = 0;
     size_t queueHighWater = 0;     // local work + unconsumed input messages
     Picos lastActive = 0;          // end of the last busy step
+    bool waiting = false;          // waiting for work when the frame ended
+    Picos waitingSince = 0;
     std::vector<SlideEvent> slides;        // slabs given
     uint64_t slidesTaken = 0, acks = 0;
     uint64_t objectsSent = 0, objectsReceived = 0;
@@ -78,10 +80,15 @@ public:
     void enableTrace() { trace_ = std::make_unique<NodeTrace>(); }
     // The frame ended at `end`: a step still running then (a balancing step)
     // counts as busy only up to `end`.
+    // A node still waiting at `end` waited until then.
     void endFrame(Picos end) {
         if (stats_.lastActive > end) {
             stats_.busy -= stats_.lastActive - end;
             stats_.lastActive = end;
+        }
+        if (stats_.waiting) {
+            stats_.wait += end - stats_.waitingSince;
+            stats_.waiting = false;
         }
     }
 

@@ -1,6 +1,7 @@
 #include "report.h"
 
 #include "counters_json.h"
+#include "stability.h"
 
 namespace rt {
 namespace {
@@ -55,9 +56,8 @@ nlohmann::json machineReport(const MachineResult& r, const MachineConfig& cfg) {
         n["box"] = {{r.boxes[i].lo.x, r.boxes[i].lo.y, r.boxes[i].lo.z}, {r.boxes[i].hi.x, r.boxes[i].hi.y, r.boxes[i].hi.z}};
         n["objects"] = r.objectsPerNode[i];
         n["busy_ns"] = ns(s.busy);
-        // Waiting includes the stretch from the node's last step to the end of
-        // the frame; busy + wait = render time is checked at the end of the run.
-        const Picos wait = s.wait + (r.renderTime - s.lastActive);
+        // busy + wait = render time (checked at the end of every run).
+        const Picos wait = s.wait;
         n["wait_ns"] = ns(wait);
         n["load"] = s.busy + wait ? double(s.busy) / double(s.busy + wait) : 0.0;
         n["rays_traced"] = s.raysTraced;
@@ -132,6 +132,12 @@ nlohmann::json machineReport(const MachineResult& r, const MachineConfig& cfg) {
     }
     j["balance"] = {{"slides", slides},
                     {"max_over_mean_load", sumLoad > 0 ? maxLoad / (sumLoad / double(r.nodes.size())) : 0.0}};
+    const StabilityVerdict st =
+        judgeStability(r.boundaries, r.renderTime, r.worldBox.extent()[bc.axis] / cfg.dims[bc.axis]);
+    j["balance"]["stability"] = stabilityName(st.overall);
+    j["balance"]["boundaries_converged"] = st.converged;
+    j["balance"]["boundaries_oscillating"] = st.oscillating;
+    j["balance"]["boundaries_diverging"] = st.diverging;
     return j;
 }
 

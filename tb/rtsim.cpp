@@ -102,9 +102,10 @@ void printSummary(const rt::Scene& scene, const rt::RtsimOptions& o, const rt::M
                 double(t["bytes"]["ray"].get<uint64_t>() + t["bytes"]["contributions"].get<uint64_t>() +
                        t["bytes"]["credit"].get<uint64_t>()) / 1e6);
     if (o.machine.balance.policy != rt::Policy::None)
-        std::printf("  balancing        %s along %c: %zu slides; max / mean load %.2f\n",
+        std::printf("  balancing        %s along %c: %zu slides; max / mean load %.2f; boundaries %s\n",
                     rt::policyName(o.machine.balance.policy), "xyz"[o.machine.balance.axis],
-                    report["balance"]["slides"].get<size_t>(), report["balance"]["max_over_mean_load"].get<double>());
+                    report["balance"]["slides"].get<size_t>(), report["balance"]["max_over_mean_load"].get<double>(),
+                    report["balance"]["stability"].get<std::string>().c_str());
     std::printf("  wall clock       %.3f s%s\n", r.wallSeconds, o.image.empty() ? "" : ("; image " + o.image).c_str());
 }
 
