@@ -1,0 +1,261 @@
+// Sliding boundaries: the policies' guards on their own, and whole runs under
+// every policy: image identity and conservation at many intervals with
+// randomized links, guards on pathological scenes, a slow node getting a
+// thinner box, and the default settings in the stable region.
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "balancer.h"
+#include "machine.h"
+#include "renderer.h"
+#include "scenes.h"
+#include "stability.h"
+
+using namespace rt;
+
+namespace {
+
+SlideQuery query(double ownLoad, double otherLoad, bool upper = true) {
+    SlideQuery q;
+    q.own = Box{Vec3(0.0), Vec3(1.0)};
+    q.axis = 0;
+    q.upper = upper;
+    q.ownLoad = ownLoad;
+    q.otherLoad = otherLoad;
+    q.minThickness = 0.1;
+    return q;
+}
+
+BalanceConfig policy(Policy p, double gain = 0.5) {
+    BalanceConfig b;
+    b.policy = p;
+    b.gain = gain;
+    b.deadband = 0.05;
+    return b;
+}
+
+// Every node's box, from a run's result, against the guards.
+void expectGuards(const MachineResult& r, const MachineConfig& c, const Box& world) {
+    const int ax = c.balance.axis;
+    const double minT = c.balance.minThickness * world.extent()[ax] / c.dims[ax];
+    for (const Box& b : r.boxes) EXPECT_GE(b.hi[ax] - b.lo[ax], minT * (1 - 1e-12));
+    for (const BoundaryHistory& h : r.boundaries)
+        for (const auto& [t, x] : h.positions) {
+            EXPECT_GT(x, world.lo[ax]);
+            EXPECT_LT(x, world.hi[ax]);
+        }
+}
+
+MachineResult runAndCompare(const Scene& s, const MachineConfig& c) {
+    const MachineResult r = runMachine(s, c);  // checks conservation, ownership, guards and time accounting
+    RenderOptions ro;
+    ro.width = c.width;
+    ro.height = c.height;
+    EXPECT_TRUE(r.image == render(s, Partition::whole(s), ro).image);
+    uint64_t created = r.primaryMisses, terminated = r.primaryMisses;
+    for (const NodeStats& n : r.nodes) {
+        created += n.raysCreated;
+        terminated += n.raysTerminated;
+    }
+    EXPECT_EQ(created, terminated);
+    expectGuards(r, c, s.worldBox());
+    return r;
+}
+
+Scene crowded(double f, int spheres = 400, double radius = 0.03, int axis = 0) {
+    ProceduralParams p;
+    p.spheres = spheres;
+    p.radius = radius;
+    p.concentration = f;
+    p.axis = axis;
+    p.seed = 5;
+    return makeProceduralScene(p);
+}
+
+}  // namespace
+
+// ---- The policies' decisions ----
+
+TEST(Decide, DeadBandAndOnlyTheHeavierGives) {
+    const BalanceConfig b = policy(Policy::Slide);
+    EXPECT_FALSE(decideSlide(b, query(0.54, 0.5)));  // inside the dead band
+    EXPECT_FALSE(decideSlide(b, query(0.5, 0.9)));   // lighter: never gives
+    const auto x = decideSlide(b, query(0.9, 0.5));
+    ASSERT_TRUE(x);
+    EXPECT_NEAR(*x, 1.0 - 0.5 * 0.4 * 1.0, 1e-12);  // upper face moves down by gain x difference x thickness
+    const auto y = decideSlide(b, query(0.9, 0.5, false));
+    ASSERT_TRUE(y);
+    EXPECT_NEAR(*y, 0.2, 1e-12);  // lower face moves up
+}
+
+TEST(Decide, NeverBelowMinimumThicknessEvenAfterGivingOnTheOtherSide) {
+    const BalanceConfig b = policy(Policy::Slide, 10.0);  // a huge step
+    SlideQuery q = query(1.0, 0.0);
+    const auto x = decideSlide(b, q);
+    ASSERT_TRUE(x);
+    EXPECT_NEAR(*x, 0.1, 1e-12);  // clamped: exactly the minimum is left
+    q.own.hi.x = *x;  // the box already gave that much on its upper side
+    q.upper = false;
+    EXPECT_FALSE(decideSlide(b, q));  // nothing left to give on the lower side
+}
+
+TEST(Decide, WorkPolicyShedsFromTheBinsNextToTheBoundary) {
+    BalanceConfig b = policy(Policy::Work, 1.0);
+    SlideQuery q = query(1.0, 0.2);
+    q.histogram = {0, 0, 0, 0, 0, 0, 0, 100, 100, 800};  // work piled at the upper end
+    q.ownBusy = 1000;
+    q.otherBusy = 200;  // shed (1000 - 200) / 2 = 400: half of the top bin
+    const auto x = decideSlide(b, q);
+    ASSERT_TRUE(x);
+    EXPECT_NEAR(*x, 1.0 - 0.1 * 0.5, 1e-12);
+    q.upper = false;  // from the lower end: bins 0-8 go (200 of work), then a quarter of bin 9: 0.925,
+    const auto y = decideSlide(b, q);  // more than the guard allows: clamped to leave the minimum, 0.1
+    ASSERT_TRUE(y);
+    EXPECT_NEAR(*y, 0.9, 1e-12);
+    EXPECT_FALSE(decideSlide(policy(Policy::Median), q));  // static policy: no slides
+}
+
+// ---- Whole runs ----
+
+struct Case {
+    std::string scene;
+    Policy policy;
+    Picos interval;
+};
+void PrintTo(const Case& c, std::ostream* os) { *os << c.scene << " " << policyName(c.policy) << " " << c.interval << "ps"; }
+
+class PolicyIdentity : public testing::TestWithParam<Case> {};
+
+TEST_P(PolicyIdentity, ImageConservationGuardsUnderRandomLinks) {
+    const Case& k = GetParam();
+    const Scene s = k.scene == "procedural" ? crowded(0.3) : test::spd(k.scene);
+    MachineConfig c;
+    c.dims = {3, 3, 3};
+    c.width = c.height = 40;
+    c.balance.policy = k.policy;
+    c.balance.interval = k.interval;
+    c.balance.gain = 1.0;  // large steps: many slides while rays are in flight
+    std::mt19937_64 rng(k.interval + 17 * int(k.policy));
+    for (int z = 0; z < 3; ++z)
+        for (int y = 0; y < 3; ++y)
+            for (int x = 0; x < 3; ++x)
+                for (int d = 0; d < kDirs; ++d) {
+                    Cell m{x, y, z};
+                    m[dirAxis(d)] += dirStep(d);
+                    if (m[dirAxis(d)] < 0 || m[dirAxis(d)] > 2) continue;
+                    c.linkOverride[{{x, y, z}, d}] = LinkParams{Picos(1000 + rng() % 3000000), 1e8 * double(1 + rng() % 20), int(1 + rng() % 3)};
+                }
+    const MachineResult r = runAndCompare(s, c);
+    size_t slides = 0;
+    for (const NodeStats& n : r.nodes) slides += n.slides.size();
+    if (c.balance.dynamic()) EXPECT_GT(slides, 0u);
+}
+
+static std::vector<Case> policyCases() {
+    std::vector<Case> v;
+    for (const char* s : {"balls-3", "procedural"})
+        for (Policy p : {Policy::Slide, Policy::Work, Policy::Median})
+            for (Picos iv : {Picos(700000), Picos(3000000), Picos(20000000)}) v.push_back({s, p, iv});
+    return v;
+}
+
+INSTANTIATE_TEST_SUITE_P(All, PolicyIdentity, testing::ValuesIn(policyCases()), [](const testing::TestParamInfo<Case>& i) {
+    std::string n = i.param.scene + "_" + policyName(i.param.policy) + "_" + std::to_string(i.param.interval / 1000) + "ns";
+    n.erase(std::remove(n.begin(), n.end(), '-'), n.end());
+    return n;
+});
+
+class Pathological : public testing::TestWithParam<Policy> {
+protected:
+    MachineConfig config() const {
+        MachineConfig c;
+        c.dims = {4, 2, 2};
+        c.width = c.height = 40;
+        c.balance.policy = GetParam();
+        c.balance.interval = 2000000;
+        c.balance.gain = 2.0;
+        return c;
+    }
+};
+
+TEST_P(Pathological, EveryObjectInsideOneNode) {
+    Scene s = crowded(0.05, 200, 0.01);  // all centres in the first 5 % of x
+    for (Shape& o : s.objects) {         // and in the first quarter of y and z
+        Sphere& sp = std::get<Sphere>(o.geometry);
+        sp.centre.y *= 0.2;
+        sp.centre.z *= 0.2;
+    }
+    runAndCompare(s, config());
+}
+
+TEST_P(Pathological, ObjectsPiledInACornerNotSeparableAlongTheAxis) {
+    Scene s = crowded(1.0, 200, 0.01);
+    for (Shape& o : s.objects) {  // one x for all: no boundary along x can split them
+        Sphere& sp = std::get<Sphere>(o.geometry);
+        sp.centre.x = 0.02;
+        sp.centre.y *= 0.3;
+        sp.centre.z *= 0.3;
+    }
+    runAndCompare(s, config());
+}
+
+TEST_P(Pathological, SpheresCentredOnBoundaryPlanes) {
+    Scene s = crowded(1.0, 240, 0.03);
+    const Box w = s.worldBox();
+    for (size_t i = 0; i < s.objects.size(); ++i) {  // centres exactly on the initial planes of every axis
+        Sphere& sp = std::get<Sphere>(s.objects[i].geometry);
+        const int k = 1 + int(i % 3);
+        sp.centre.x = w.lo.x + (w.hi.x - w.lo.x) * (double(k) / 4);
+        if (i % 2) sp.centre.y = w.lo.y + (w.hi.y - w.lo.y) * 0.5;
+    }
+    runAndCompare(s, config());
+}
+
+INSTANTIATE_TEST_SUITE_P(Policies, Pathological, testing::Values(Policy::Slide, Policy::Work, Policy::Median),
+                         [](const testing::TestParamInfo<Policy>& i) { return std::string(policyName(i.param)); });
+
+TEST(Balance, SlowNodeGetsAThinnerBox) {
+    const Scene s = crowded(1.0, 1500, 0.015);  // uniform load
+    MachineConfig c;
+    c.dims = {3, 1, 1};
+    c.width = c.height = 64;
+    c.balance.policy = Policy::Work;
+    c.balance.interval = 5000000;
+    c.nodeSpeed[{1, 0, 0}] = 0.25;
+    const MachineResult r = runAndCompare(s, c);
+    const double initial = s.worldBox().extent().x / 3;
+    const double slow = r.boxes[1].hi.x - r.boxes[1].lo.x;
+    EXPECT_LT(slow, 0.8 * initial);
+    EXPECT_LT(slow, r.boxes[0].hi.x - r.boxes[0].lo.x);
+    EXPECT_LT(slow, r.boxes[2].hi.x - r.boxes[2].lo.x);
+}
+
+TEST(Balance, DefaultSettingsAreStable) {
+    // The paper's experiment at its defaults (rtsim's default run, smaller).
+    const Scene s = crowded(0.25, 1000, 0.02);
+    MachineConfig c;  // default gain, interval, dead band
+    c.width = c.height = 128;
+    c.balance.policy = Policy::Slide;
+    const MachineResult r = runMachine(s, c);
+    const StabilityVerdict v = judgeStability(r.boundaries, r.renderTime, s.worldBox().extent().x / 4);
+    EXPECT_EQ(v.overall, Stability::Converged) << v.oscillating << " oscillating, " << v.diverging << " diverging";
+    size_t slides = 0;
+    for (const NodeStats& n : r.nodes) slides += n.slides.size();
+    EXPECT_GT(slides, 0u);
+}
+
+TEST(Balance, ClassifierSeesOscillationAndDivergence) {
+    // Synthetic histories: the classifier itself must be able to say no.
+    BoundaryHistory calm{{0, 0}, 1, {{0, 0.5}, {600, 0.49}, {800, 0.488}}};
+    BoundaryHistory swing{{0, 0}, 1, {{0, 0.5}}};
+    BoundaryHistory grow{{0, 0}, 1, {{0, 0.5}}};
+    for (int i = 0; i < 10; ++i) {
+        swing.positions.push_back({Picos(500 + 50 * i), i % 2 ? 0.6 : 0.4});
+        grow.positions.push_back({Picos(500 + 50 * i), 0.5 + (i % 2 ? 1 : -1) * 0.02 * (1 + i)});
+    }
+    EXPECT_EQ(judgeStability({calm}, 1000, 1.0).overall, Stability::Converged);
+    EXPECT_EQ(judgeStability({swing}, 1000, 1.0).overall, Stability::Oscillating);
+    EXPECT_EQ(judgeStability({grow}, 1000, 1.0).overall, Stability::Diverging);
+    EXPECT_EQ(judgeStability({calm, swing, grow}, 1000, 1.0).diverging, 1);
+}
