@@ -38,10 +38,11 @@ Machine::Machine(sc_core::sc_module_name name, const Scene& scene, const Machine
     columnBounds_ = initialBoundaries();
     const double margin = roundingMargin(world_);
     // Credit precision: the host's split, a node's split over its primary
-    // rays, and one split per ray-tree level (a hit spawns at most L + 2 rays).
+    // rays, and one split per ray-tree level (a hit spawns at most L + 2 rays
+    // and keeps a share: L + 3 parts).
     const long pixels = long(width_) * height_;
     maxExp_ = ceilLog2(uint64_t(cfg_.nodeCount()) + 1) + ceilLog2(uint64_t(pixels) + 1) +
-              (cfg_.maxDepth + 1) * ceilLog2(scene.lights.size() + 2) + 2;
+              (cfg_.maxDepth + 1) * ceilLog2(scene.lights.size() + 3) + 2;
     host_ = std::make_unique<Host>("host", cfg_.nodeCount(), width_, height_, cfg_.hostCost, maxExp_,
                                    cfg_.showProgress);
 
@@ -272,9 +273,15 @@ void Machine::writeTraces(const std::string& vcdPath) const {
     std::vector<TracedNode> traced;
     for (const Node& n : nodes_)
         if (n.trace()) traced.push_back({cellName(n.cell()), n.trace()});
+    std::vector<TracedBoundary> bounds;
+    if (cfg_.balance.policy != Policy::None)
+        for (const BoundaryHistory& h : boundaryHistories())
+            bounds.push_back({"col_" + std::to_string(h.column[0]) + "_" + std::to_string(h.column[1]) + "_b" +
+                                  std::to_string(h.index),
+                              h.positions});
     const Picos end = host_->stats().renderTime, to = std::min(cfg_.traceTo, end);
-    writeVcd(vcdPath, traced, cfg_.traceFrom, to, end);
-    writeGtkw(gtkwPathFor(vcdPath), vcdPath, traced, cfg_.traceFrom, to);
+    writeVcd(vcdPath, traced, bounds, cfg_.traceFrom, to, end);
+    writeGtkw(gtkwPathFor(vcdPath), vcdPath, traced, bounds, cfg_.traceFrom, to);
 }
 
 MachineResult runMachine(const Scene& scene, const MachineConfig& config) {

@@ -53,7 +53,7 @@ struct BalanceConfig {
     double deadband = 0.05;       // no slide while the load difference is at most this
     double minThickness = 0.05;   // a box never gets thinner than this fraction of its initial thickness
     int bins = 16;                // work policy: histogram bins along the axis
-    Picos rebuildCost = 20000;    // rebuilding a grid: per object in it
+    Picos rebuildCost = 20000;    // updating a node's grid: per object moved in or out
 
     bool dynamic() const { return policy == Policy::Slide || policy == Policy::Work; }
 };

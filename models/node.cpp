@@ -168,14 +168,18 @@ int Node::route(const RayJob& job) const {
 
 void Node::terminate(const Work& w, std::vector<RayJob>& spawned) {
     ++stats_.raysTerminated;
-    // The ray's credit goes to its children in equal powers of two; what is
-    // left over comes back to this node, to be returned to the host.
+    // The ray's credit goes to its children in equal powers of two, and at
+    // least one share stays here: this node returns it to the host only after
+    // the contributions the hit made here (flushToHost sends them first on
+    // the same FIFO port). Otherwise the children could end elsewhere and
+    // complete the host's credit while those contributions still wait here,
+    // for instance while this node is busy with balancing messages.
     const uint64_t m = spawned.size();
     if (m == 0) {
         credit_.add(w.creditExp);
         return;
     }
-    const int c = ceilLog2(m);
+    const int c = ceilLog2(m + 1);
     credit_.add(w.creditExp + c, (uint64_t(1) << c) - m);
     for (RayJob& j : spawned) {
         local_.push_back(Work{j, uint16_t(w.creditExp + c), false, false});
@@ -275,11 +279,11 @@ Picos Node::stepCost(const Counters& before, uint64_t sends, uint64_t recvs, uin
     return Picos(std::llround(double(ps) / speed_));
 }
 
-// Sends this step's outbox and charges its time: messages handled plus grid
-// rebuilding.
-void Node::finishControlStep(const Counters& before, uint64_t recvs, size_t rebuiltObjects) {
+// Sends this step's outbox and charges its time: messages handled plus the
+// grid update for the objects that moved in or out.
+void Node::finishControlStep(const Counters& before, uint64_t recvs, size_t movedObjects) {
     Picos cost = stepCost(before, outbox_.size(), recvs, 0);
-    cost += Picos(std::llround(double(rebuiltObjects * bal_.rebuildCost) / speed_));
+    cost += Picos(std::llround(double(movedObjects * bal_.rebuildCost) / speed_));
     now_ += cost;
     stats_.busy += cost;
     stats_.lastActive = now_;
@@ -410,9 +414,9 @@ void Node::giveSlab(int side, double boundary) {
     stats_.slides.push_back({now_, side, boundary, m.objects.size()});
     stats_.objectsSent += m.objects.size();
     outbox_.push_back({sideDir(side), std::move(m)});
-    const size_t n = keep.size();
+    const size_t moved = stats_.slides.back().objects;
     rebuild(own, std::move(keep));
-    finishControlStep(stats_.counters, 0, n);
+    finishControlStep(stats_.counters, 0, moved);
 }
 
 // The lighter node takes the slab: its box grows to `boundary` on `side`, its
@@ -425,6 +429,7 @@ void Node::takeSlab(int side, double boundary, std::vector<Shape> objects) {
     std::unordered_set<uint32_t> have;
     for (const Shape& s : all) have.insert(s.id);
     stats_.objectsReceived += objects.size();
+    const size_t moved = objects.size();
     for (Shape& s : objects)
         if (have.insert(s.id).second) all.push_back(std::move(s));
     ++stats_.slidesTaken;
@@ -432,10 +437,9 @@ void Node::takeSlab(int side, double boundary, std::vector<Shape> objects) {
     ack.type = MsgType::Ack;
     ack.boundary = boundary;
     outbox_.push_back({sideDir(side), std::move(ack)});
-    const size_t n = all.size();
     rebuild(own, std::move(all));
     std::fill(histogram_.begin(), histogram_.end(), 0);
-    finishControlStep(stats_.counters, 1, n);
+    finishControlStep(stats_.counters, 1, moved);
 }
 
 }  // namespace rt

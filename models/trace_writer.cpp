@@ -62,8 +62,8 @@ std::string gtkwPathFor(const std::string& vcdPath) {
     return vcdPath + ".gtkw";
 }
 
-void writeVcd(const std::string& path, const std::vector<TracedNode>& nodes, Picos from, Picos to,
-              Picos renderTime) {
+void writeVcd(const std::string& path, const std::vector<TracedNode>& nodes,
+              const std::vector<TracedBoundary>& boundaries, Picos from, Picos to, Picos renderTime) {
     std::ofstream f(path);
     if (!f) throw std::runtime_error(path + ": cannot open for writing");
     f << "$version rtsim $end\n$timescale 1ps $end\n$scope module machine $end\n";
@@ -74,6 +74,16 @@ void writeVcd(const std::string& path, const std::vector<TracedNode>& nodes, Pic
           << "$var real 64 " << code(4 * n + 2) << " load $end\n"
           << "$var integer 32 " << code(4 * n + 3) << " queue $end\n"
           << "$upscope $end\n";
+    }
+    const size_t b0 = 4 * nodes.size();  // boundary signals follow the nodes'
+    if (!boundaries.empty()) {
+        f << "$scope module boundaries $end\n";
+        for (size_t i = 0; i < boundaries.size(); ++i)
+            f << "$scope module " << boundaries[i].name << " $end\n"
+              << "$var real 64 " << code(b0 + 2 * i) << " position $end\n"
+              << "$var integer 32 " << code(b0 + 2 * i + 1) << " slides $end\n"
+              << "$upscope $end\n";
+        f << "$upscope $end\n";
     }
     f << "$upscope $end\n$enddefinitions $end\n";
 
@@ -93,6 +103,17 @@ void writeVcd(const std::string& path, const std::vector<TracedNode>& nodes, Pic
             const Picos b = std::min(a + window, renderTime);
             if (b <= from) continue;
             ev.push_back({std::max(a, from), 4 * n + 2, 2, 0, loadOver(tr, a, b)});
+        }
+    }
+    for (size_t i = 0; i < boundaries.size(); ++i) {
+        const auto& p = boundaries[i].positions;  // p[0] is the start position, each later entry a slide
+        size_t k = 0;
+        while (k + 1 < p.size() && p[k + 1].first <= from) ++k;
+        ev.push_back({from, b0 + 2 * i, 2, 0, p[k].second});
+        ev.push_back({from, b0 + 2 * i + 1, 1, int64_t(k), 0});
+        for (++k; k < p.size() && p[k].first <= to; ++k) {
+            ev.push_back({p[k].first, b0 + 2 * i, 2, 0, p[k].second});
+            ev.push_back({p[k].first, b0 + 2 * i + 1, 1, int64_t(k), 0});
         }
     }
     std::stable_sort(ev.begin(), ev.end(), [](const Event& a, const Event& b) {
@@ -120,7 +141,7 @@ void writeVcd(const std::string& path, const std::vector<TracedNode>& nodes, Pic
 }
 
 void writeGtkw(const std::string& path, const std::string& vcdPath, const std::vector<TracedNode>& nodes,
-               Picos from, Picos to) {
+               const std::vector<TracedBoundary>& boundaries, Picos from, Picos to) {
     std::ofstream f(path);
     if (!f) throw std::runtime_error(path + ": cannot open for writing");
     // Signal flags (GTKWave's TR_* bits, hex): 28 binary; 24 decimal;
@@ -141,6 +162,13 @@ void writeGtkw(const std::string& path, const std::string& vcdPath, const std::v
           << "@48020\n" << p << "load\n@20000\n-\n"
           << "@8024\n" << p << "queue\n@20000\n-\n"
           << "@1000200\n-" << n.name << "\n";
+    }
+    if (!boundaries.empty()) {
+        f << "@800200\n-boundaries\n";
+        for (const TracedBoundary& b : boundaries)
+            f << "@48020\nmachine.boundaries." << b.name << ".position\n@20000\n-\n"
+              << "@24\nmachine.boundaries." << b.name << ".slides\n";
+        f << "@1000200\n-boundaries\n";
     }
     if (!f) throw std::runtime_error(path + ": write failed");
 }

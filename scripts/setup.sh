@@ -15,6 +15,9 @@ packages=(
   python3             # scripts (Debian's /usr/bin/python3)
 )
 
+# `setup.sh plots`: also what the sweep and chart scripts need.
+if [ "${1:-}" = "plots" ]; then packages+=(python3-matplotlib python3-numpy); fi
+
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

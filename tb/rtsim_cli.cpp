@@ -121,7 +121,7 @@ void RtsimOptions::addTo(CLI::App& app) {
     app.add_option("--min-thickness", b.minThickness, "guard: a box keeps at least this fraction of its initial thickness")
         ->check(CLI::Range(1e-6, 1.0))->capture_default_str()->group(gb);
     app.add_option("--bins", b.bins, "work policy: histogram bins along the axis")->check(CLI::Range(1, 4096))->capture_default_str()->group(gb);
-    addTime(app, "--cost-rebuild", b.rebuildCost, "rebuilding a node's grid, per object", gb);
+    addTime(app, "--cost-rebuild", b.rebuildCost, "updating a node's grid, per object moved in or out", gb);
 
     app.add_option("--image", image, "output PNG")->capture_default_str()->group(go);
     app.add_option("--report", report, "JSON report")->group(go);

@@ -259,3 +259,22 @@ TEST(Balance, ClassifierSeesOscillationAndDivergence) {
     EXPECT_EQ(judgeStability({grow}, 1000, 1.0).overall, Stability::Diverging);
     EXPECT_EQ(judgeStability({calm, swing, grow}, 1000, 1.0).diverging, 1);
 }
+
+TEST(Balance, ContributionsNeverTrailTheCredit) {
+    // A node busy with balancing messages (no rays) must not let the host
+    // see the frame done while a contribution of a hit it shaded still waits
+    // to be sent: the configuration that once lost one contribution.
+    ProceduralParams p;
+    p.spheres = 3000;
+    p.radius = 0.012;
+    p.concentration = 0.25;
+    p.eye = Vec3(-1.3, 0.5, 0.5);
+    p.angle = 50;
+    const Scene s = makeProceduralScene(p);
+    MachineConfig c;
+    c.width = c.height = 128;
+    c.balance.policy = Policy::Slide;
+    c.balance.interval = 1000000;
+    c.balance.gain = 0.5;
+    runAndCompare(s, c);
+}

@@ -1,0 +1,89 @@
+#!/usr/bin/python3
+"""The paper's Fig. 4: image generation time with sliding-boundary balancing
+divided by the time without, against the fraction f of the space the spheres
+crowd into (1/N .. 1), one line per N, for a view along the progress axis and
+one across it. Writes doc/results/fig4.csv and doc/results/fig4.png.
+Needs python3-matplotlib (bash scripts/setup.sh plots); run with /usr/bin/python3."""
+import argparse
+import csv
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from rtsim_runs import ROOT, run_all  # noqa: E402
+
+# The experiment's settings (doc/balancing.md, "Fig. 4"): the procedural scene,
+# progress axis x; the camera either looks along x or across it (along y).
+SCENE = ["--spheres", "3000", "--radius", "0.012", "--size", "128x128", "--axis", "x", "--seed", "1"]
+VIEWS = {
+    "along": ["--eye", "-1.3", "0.5", "0.5", "--look-at", "0.5", "0.5", "0.5", "--fov", "50"],
+    "across": ["--eye", "0.5", "-1.6", "0.5", "--look-at", "0.5", "0.5", "0.5", "--fov", "40"],
+}
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--n", default="2,3,4,5,6")
+    ap.add_argument("--policy", default="slide", help="balancing policy compared with none")
+    ap.add_argument("--interval", default="5us")
+    ap.add_argument("--gain", default="0.25")
+    ap.add_argument("--out", default=os.path.join(ROOT, "doc", "results"))
+    ap.add_argument("--extra", default="", help="more rtsim flags for every run")
+    a = ap.parse_args()
+    ns = [int(x) for x in a.n.split(",")]
+    points, keys = [], []
+    for view, cam in VIEWS.items():
+        for n in ns:
+            for k in range(1, n + 1):
+                f = k / n
+                for policy in ("none", a.policy):
+                    points.append(SCENE + cam + ["--mesh", n, "--concentration", f"{f:.6f}", "--balance", policy,
+                                                 "--balance-interval", a.interval, "--gain", a.gain] + a.extra.split())
+                    keys.append((view, n, f, policy))
+    reports = run_all(points, label="fig4")
+    times = {key: r["render_time_ns"] for key, r in zip(keys, reports)}
+    extra = {key: r for key, r in zip(keys, reports)}
+    os.makedirs(a.out, exist_ok=True)
+    rows = []
+    for view in VIEWS:
+        for n in ns:
+            for k in range(1, n + 1):
+                f = k / n
+                t0, t1 = times[(view, n, f, "none")], times[(view, n, f, a.policy)]
+                b = extra[(view, n, f, a.policy)]["balance"]
+                rows.append({"view": view, "N": n, "f": round(f, 6), "time_none_ns": t0, "time_balanced_ns": t1,
+                             "ratio": t1 / t0, "slides": b["slides"], "max_over_mean_load": b["max_over_mean_load"],
+                             "stability": b["stability"]})
+    with open(os.path.join(a.out, "fig4.csv"), "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
+        w.writeheader()
+        w.writerows(rows)
+
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.5), sharey=True)
+    for ax, view in zip(axes, VIEWS):
+        for n in ns:
+            pts = [(r["f"], r["ratio"]) for r in rows if r["view"] == view and r["N"] == n]
+            ax.plot([p[0] for p in pts], [p[1] for p in pts], marker="o", label=f"N = {n}")
+        ax.axhline(0.2, color="grey", linestyle=":", linewidth=1)
+        ax.annotate("paper: about 0.2 at f = 1/N", (0.55, 0.21), color="grey", fontsize=9)
+        ax.set_title(f"view {view} the progress axis")
+        ax.set_xlabel("fraction f of the space holding the spheres")
+        ax.set_xlim(0, 1.05)
+        ax.set_ylim(0, 1.3)
+        ax.grid(alpha=0.3)
+    axes[0].set_ylabel(f"time with balancing ({a.policy}) / time without")
+    axes[1].legend(loc="lower right")
+    fig.suptitle("Fig. 4 reproduced: procedural scene, %s spheres, %s, interval %s, gain %s"
+                 % (SCENE[1], SCENE[5], a.interval, a.gain), fontsize=10)
+    fig.tight_layout()
+    fig.savefig(os.path.join(a.out, "fig4.png"), dpi=110)
+    for r in rows:
+        if abs(r["f"] - 1 / r["N"]) < 1e-6:
+            print(f"{r['view']:6s} N={r['N']} f=1/N: ratio {r['ratio']:.3f} (max/mean load {r['max_over_mean_load']:.2f})")
+
+
+if __name__ == "__main__":
+    main()
