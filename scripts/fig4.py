@@ -14,10 +14,10 @@ from rtsim_runs import ROOT, run_all  # noqa: E402
 
 # The experiment's settings (doc/balancing.md, "Fig. 4"): the procedural scene,
 # progress axis x; the camera either looks along x or across it (along y).
-SCENE = ["--spheres", "3000", "--radius", "0.012", "--size", "128x128", "--axis", "x", "--seed", "1"]
+SCENE = ["--spheres", "1000", "--radius", "0.02", "--size", "256x256", "--axis", "x", "--seed", "1"]
 VIEWS = {
-    "along": ["--eye", "-1.3", "0.5", "0.5", "--look-at", "0.5", "0.5", "0.5", "--fov", "50"],
-    "across": ["--eye", "0.5", "-1.6", "0.5", "--look-at", "0.5", "0.5", "0.5", "--fov", "40"],
+    "along": ["--eye=-1.3,0.5,0.5", "--look-at=0.5,0.5,0.5", "--fov", "50"],
+    "across": ["--eye=0.5,-1.6,0.5", "--look-at=0.5,0.5,0.5", "--fov", "40"],
 }
 
 

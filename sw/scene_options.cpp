@@ -61,11 +61,15 @@ void SceneOptions::addTo(CLI::App& app, bool positional) {
         ->check(openClosed(0, 1));
     app.add_option("--axis", axis, "progress axis: the procedural scene's and the balancing's")->group(g)->check(CLI::IsMember({"x", "y", "z"}));
     app.add_option("--seed", p.seed, "procedural: random seed for sphere placement")->group(g);
-    app.add_option("--eye", p.eye, "procedural: camera position x y z")->group(g)->expected(3);
-    app.add_option("--look-at", p.lookAt, "procedural: point at the image centre x y z")->group(g)->expected(3);
+    app.add_option("--eye", eye, "procedural: camera position x y z (or x,y,z)")->group(g)->expected(3)->delimiter(',');
+    app.add_option("--look-at", lookAt, "procedural: point at the image centre x y z (or x,y,z)")
+        ->group(g)
+        ->expected(3)
+        ->delimiter(',');
     app.add_option("--light", lights, "procedural: a white point light x y z (repeat for more; replaces the defaults)")
         ->group(g)
         ->expected(3)
+        ->delimiter(',')
         ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
     app.add_option("--fov", p.angle, "procedural: field of view in degrees")->group(g)->check(openClosed(0, 179.9));
 }
@@ -74,6 +78,13 @@ Scene SceneOptions::load() const {
     if (!file.empty()) return readNff(file);
     ProceduralParams p = procedural;
     p.axis = axis == "x" ? 0 : axis == "y" ? 1 : 2;
+    auto vec3 = [](const std::vector<double>& v, const char* flag, Vec3& out) {
+        if (v.empty()) return;
+        if (v.size() != 3) throw SceneError(std::string(flag) + ": expected three numbers x y z");
+        out = Vec3(v[0], v[1], v[2]);
+    };
+    vec3(eye, "--eye", p.eye);
+    vec3(lookAt, "--look-at", p.lookAt);
     if (lights.size() % 3 != 0) throw SceneError("--light: expected three numbers x y z per light");
     if (!lights.empty()) {
         p.lights.clear();

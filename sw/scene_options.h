@@ -17,6 +17,7 @@ struct SceneOptions {
     std::string axis = "x";
     std::string size;  // "WxH", empty: the scene's own resolution
     std::vector<double> lights;  // --light x y z, repeatable; empty: the defaults
+    std::vector<double> eye, lookAt;  // empty: the defaults
 
     // `positional`: the scene file is a positional argument (rtref) rather
     // than --scene (rtsim).

@@ -61,6 +61,15 @@ TEST_F(Rtref, SameInputsSameBytes) {
     EXPECT_NE(slurp(dir_ / "c.png"), slurp(dir_ / "e.png"));
 }
 
+TEST_F(Rtref, VectorFlagsTakeNegativeNumbersInBothForms) {
+    // A camera below the cube's centre, given with spaces and with commas.
+    ASSERT_EQ(run("--spheres 50 --size 24x24 --eye 0.5 -1.6 0.2 -o " + (dir_ / "a.png").string()).code, 0);
+    ASSERT_EQ(run("--spheres 50 --size 24x24 --eye=0.5,-1.6,0.2 -o " + (dir_ / "b.png").string()).code, 0);
+    ASSERT_EQ(run("--spheres 50 --size 24x24 -o " + (dir_ / "c.png").string()).code, 0);
+    EXPECT_EQ(slurp(dir_ / "a.png"), slurp(dir_ / "b.png"));
+    EXPECT_NE(slurp(dir_ / "a.png"), slurp(dir_ / "c.png"));
+}
+
 TEST_F(Rtref, BadInputGivesOneLineAndExit2) {
     const std::string o = " -o " + (dir_ / "x.png").string();
     expectBadNoImage("/nonexistent.nff" + o, "/nonexistent.nff");
@@ -71,6 +80,8 @@ TEST_F(Rtref, BadInputGivesOneLineAndExit2) {
     expectBadNoImage(scene("balls-1") + " --frobnicate" + o, "--frobnicate");
     expectBadNoImage("--concentration 0" + o, "--concentration");
     expectBadNoImage("--axis w" + o, "--axis");
+    expectBadNoImage("--eye 1 2" + o, "--eye");
+    expectBadNoImage("--light 0,0" + o, "--light");
     std::ofstream(dir_ / "bad.nff") << "v\nfrom 0 0 0\nat 0 0 1\nup 0 1 0\nangle 45\nhither 1\nresolution 8 8\ns 0 0 5 q\n";
     expectBadNoImage((dir_ / "bad.nff").string() + o, "bad.nff:8: expected a number for sphere radius, got 'q'");
 }

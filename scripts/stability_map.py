@@ -1,0 +1,82 @@
+#!/usr/bin/python3
+"""Stability map of the sliding-boundary balancing: gain x balancing
+interval, at two link latencies, on the paper's experiment at rtsim's
+defaults (1,000 spheres crowded into the first quarter of x, 4x4x4 mesh).
+Each point is judged converged, oscillating or diverging from its boundaries'
+movement after the transient (the report's balance.stability, computed by
+models/stability.cpp). Writes doc/results/stability.csv and .png.
+Needs python3-matplotlib (bash scripts/setup.sh plots); run with /usr/bin/python3."""
+import argparse
+import csv
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from rtsim_runs import ROOT, run_all  # noqa: E402
+
+DEFAULT_GAIN, DEFAULT_INTERVAL_US = 0.25, 20  # models/machine_config.h
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--gains", default="0.0625,0.125,0.25,0.5,1,2,4")
+    ap.add_argument("--intervals-us", default="2,5,10,20,50")
+    ap.add_argument("--latencies", default="100ns,2us")
+    ap.add_argument("--policy", default="slide")
+    ap.add_argument("--out", default=os.path.join(ROOT, "doc", "results"))
+    a = ap.parse_args()
+    gains = [float(g) for g in a.gains.split(",")]
+    intervals = [float(i) for i in a.intervals_us.split(",")]
+    lats = a.latencies.split(",")
+    points, keys = [], []
+    for lat in lats:
+        for g in gains:
+            for iv in intervals:
+                points.append(["--balance", a.policy, "--gain", g, "--balance-interval", f"{iv}us",
+                               "--link-latency", lat])
+                keys.append((lat, g, iv))
+    reports = run_all(points, label="stability map")
+    rows = [{"latency": k[0], "gain": k[1], "interval_us": k[2], "stability": r["balance"]["stability"],
+             "slides": r["balance"]["slides"], "render_time_ns": r["render_time_ns"],
+             "max_over_mean_load": r["balance"]["max_over_mean_load"],
+             "oscillating": r["balance"]["boundaries_oscillating"], "diverging": r["balance"]["boundaries_diverging"]}
+            for k, r in zip(keys, reports)]
+    os.makedirs(a.out, exist_ok=True)
+    with open(os.path.join(a.out, "stability.csv"), "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
+        w.writeheader()
+        w.writerows(rows)
+
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    colour = {"converged": "#2a9d55", "oscillating": "#e9a23b", "diverging": "#d1495b"}
+    fig, axes = plt.subplots(1, len(lats), figsize=(5.2 * len(lats), 4.4), sharey=True)
+    axes = axes if len(lats) > 1 else [axes]
+    for ax, lat in zip(axes, lats):
+        for cls, c in colour.items():
+            pts = [r for r in rows if r["latency"] == lat and r["stability"] == cls]
+            ax.scatter([r["interval_us"] for r in pts], [r["gain"] for r in pts], s=260, c=c, marker="s", label=cls)
+        for r in rows:
+            if r["latency"] == lat:
+                ax.annotate(f"{r['render_time_ns'] / 1e3:.0f}", (r["interval_us"], r["gain"]), ha="center",
+                            va="center", fontsize=6, color="white")
+        ax.scatter([DEFAULT_INTERVAL_US], [DEFAULT_GAIN], s=600, facecolors="none", edgecolors="black", linewidths=1.5,
+                   label="default")
+        ax.set_xscale("log")
+        ax.set_yscale("log", base=2)
+        ax.set_xlabel("balancing interval (us)")
+        ax.set_title(f"link latency {lat}")
+        ax.grid(alpha=0.3)
+    axes[0].set_ylabel("gain")
+    axes[-1].legend(loc="upper left", fontsize=8, markerscale=0.5)
+    fig.suptitle(f"Stability of '{a.policy}' (numbers: render time in us); rtsim default scene, 4x4x4", fontsize=10)
+    fig.tight_layout()
+    fig.savefig(os.path.join(a.out, "stability.png"), dpi=110)
+    for r in rows:
+        if r["gain"] == DEFAULT_GAIN and r["interval_us"] == DEFAULT_INTERVAL_US:
+            print(f"default at latency {r['latency']}: {r['stability']}")
+
+
+if __name__ == "__main__":
+    main()
