@@ -24,10 +24,17 @@ def main():
     ap.add_argument("--latencies", default="100ns,2us")
     ap.add_argument("--policy", default="slide")
     ap.add_argument("--out", default=os.path.join(ROOT, "doc", "results"))
+    ap.add_argument("--plot-only", action="store_true", help="redraw the chart from the CSV")
     a = ap.parse_args()
     gains = [float(g) for g in a.gains.split(",")]
     intervals = [float(i) for i in a.intervals_us.split(",")]
     lats = a.latencies.split(",")
+    if not a.plot_only:
+        sweep(a, gains, intervals, lats)
+    plot(a, lats)
+
+
+def sweep(a, gains, intervals, lats):
     points, keys = [], []
     for lat in lats:
         for g in gains:
@@ -47,6 +54,11 @@ def main():
         w.writeheader()
         w.writerows(rows)
 
+
+def plot(a, lats):
+    with open(os.path.join(a.out, "stability.csv")) as f:
+        rows = [dict(r, gain=float(r["gain"]), interval_us=float(r["interval_us"]),
+                     render_time_ns=float(r["render_time_ns"])) for r in csv.DictReader(f)]
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -69,9 +81,10 @@ def main():
         ax.set_title(f"link latency {lat}")
         ax.grid(alpha=0.3)
     axes[0].set_ylabel("gain")
-    axes[-1].legend(loc="upper left", fontsize=8, markerscale=0.5)
+    handles, labels = axes[0].get_legend_handles_labels()
+    fig.legend(handles, labels, loc="lower center", ncol=4, fontsize=8, markerscale=0.5)
     fig.suptitle(f"Stability of '{a.policy}' (numbers: render time in us); rtsim default scene, 4x4x4", fontsize=10)
-    fig.tight_layout()
+    fig.tight_layout(rect=(0, 0.08, 1, 1))
     fig.savefig(os.path.join(a.out, "stability.png"), dpi=110)
     for r in rows:
         if r["gain"] == DEFAULT_GAIN and r["interval_us"] == DEFAULT_INTERVAL_US:
