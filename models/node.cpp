@@ -236,6 +236,13 @@ void Node::step(Work& w) {
         const int k = std::clamp(int(u * double(histogram_.size())), 0, int(histogram_.size()) - 1);
         histogram_[size_t(k)] += cost;
     }
+    stats_.queueHighWater = std::max(stats_.queueHighWater, queueDepth());
+    chargeAndSend(cost);
+}
+
+// A step takes `cost`: the node is busy until then, and what it produced
+// leaves at the end of it.
+void Node::chargeAndSend(Picos cost) {
     now_ += cost;
     stats_.busy += cost;
     stats_.lastActive = now_;
@@ -245,7 +252,6 @@ void Node::step(Work& w) {
     }
     stats_.messagesSent += outbox_.size();
     outbox_.clear();
-    stats_.queueHighWater = std::max(stats_.queueHighWater, queueDepth());
     wait(sc_core::sc_time::from_value(cost));
 }
 
@@ -282,18 +288,9 @@ Picos Node::stepCost(const Counters& before, uint64_t sends, uint64_t recvs, uin
 // Sends this step's outbox and charges its time: messages handled plus the
 // grid update for the objects that moved in or out.
 void Node::finishControlStep(const Counters& before, uint64_t recvs, size_t movedObjects) {
-    Picos cost = stepCost(before, outbox_.size(), recvs, 0);
-    cost += Picos(std::llround(double(movedObjects * bal_.rebuildCost) / speed_));
-    now_ += cost;
-    stats_.busy += cost;
-    stats_.lastActive = now_;
-    for (auto& [d, m] : outbox_) {
-        if (d < 0) fb->send(std::move(m), now_);
-        else out[d]->send(std::move(m), now_);
-    }
-    stats_.messagesSent += outbox_.size();
-    outbox_.clear();
-    wait(sc_core::sc_time::from_value(cost));
+    const Picos cost = stepCost(before, outbox_.size(), recvs, 0) +
+                       Picos(std::llround(double(movedObjects * bal_.rebuildCost) / speed_));
+    chargeAndSend(cost);
 }
 
 // ---- The balancing protocol (doc/balancing.md) ----

@@ -119,6 +119,7 @@ private:
     void takeSlab(int side, double boundary, std::vector<Shape> objects);
     void rebuild(const Box& box, std::vector<Shape> objects);
     void finishControlStep(const Counters& before, uint64_t recvs, size_t movedObjects);
+    void chargeAndSend(Picos cost);
     int sideDir(int side) const { return dirOf(bal_.axis, side); }  // side -1 / +1 -> link direction
     // The link direction towards the owner of job.t0, or -1 if it is ours.
     int route(const RayJob& job) const;

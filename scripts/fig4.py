@@ -10,7 +10,7 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from rtsim_runs import ROOT, run_all  # noqa: E402
+from rtsim_runs import ROOT, run_all, write_csv  # noqa: E402
 
 # The experiment's settings (doc/balancing.md, "Fig. 4"): the procedural scene,
 # progress axis x; the camera either looks along x or across it (along y).
@@ -61,10 +61,7 @@ def sweep(a, ns):
                 rows.append({"view": view, "N": n, "f": round(f, 6), "time_none_ns": t0, "time_balanced_ns": t1,
                              "ratio": t1 / t0, "slides": b["slides"], "max_over_mean_load": b["max_over_mean_load"],
                              "stability": b["stability"]})
-    with open(os.path.join(a.out, "fig4.csv"), "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
-        w.writeheader()
-        w.writerows(rows)
+    write_csv(os.path.join(a.out, "fig4.csv"), rows)
 
 
 def plot(a, ns):

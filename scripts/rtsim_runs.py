@@ -11,6 +11,15 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 RTSIM = os.path.join(ROOT, "build", "rtsim")
 
 
+def write_csv(path, rows):
+    """Writes a list of dicts with the same keys as CSV."""
+    import csv
+    with open(path, "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
+        w.writeheader()
+        w.writerows(rows)
+
+
 def run_point(args):
     """Runs rtsim with `args` (a list); returns its report as a dict."""
     fd, report = tempfile.mkstemp(suffix=".json")

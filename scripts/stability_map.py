@@ -12,7 +12,7 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from rtsim_runs import ROOT, run_all  # noqa: E402
+from rtsim_runs import ROOT, run_all, write_csv  # noqa: E402
 
 DEFAULT_GAIN, DEFAULT_INTERVAL_US = 0.25, 20  # models/machine_config.h
 
@@ -49,10 +49,7 @@ def sweep(a, gains, intervals, lats):
              "oscillating": r["balance"]["boundaries_oscillating"], "diverging": r["balance"]["boundaries_diverging"]}
             for k, r in zip(keys, reports)]
     os.makedirs(a.out, exist_ok=True)
-    with open(os.path.join(a.out, "stability.csv"), "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
-        w.writeheader()
-        w.writerows(rows)
+    write_csv(os.path.join(a.out, "stability.csv"), rows)
 
 
 def plot(a, lats):
