@@ -196,9 +196,10 @@ void Node::step(Work& w) {
     double where = std::nan("");  // where along the axis the work happened (work histogram)
     if (dir < 0) {
         ++stats_.raysTraced;
-        // The middle of the segment this box traces stands for where its work is.
-        const double end = std::min(w.job.tEnd, boxInterval(w.job.ray, region_->box()).hi);
-        where = w.job.ray.at(0.5 * (w.job.t0 + end))[bal_.axis];
+        if (bal_.policy == Policy::Work) {  // the middle of the segment traced stands for where its work is
+            const double end = std::min(w.job.tEnd, boxInterval(w.job.ray, region_->box()).hi);
+            where = w.job.ray.at(0.5 * (w.job.t0 + end))[bal_.axis];
+        }
         const Region::Step s = region_->trace(w.job, shader_, mailbox_, stats_.counters, spawned, contributions);
         if (s == Region::Step::Terminated) {
             terminate(w, spawned);
