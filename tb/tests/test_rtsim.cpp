@@ -186,3 +186,22 @@ TEST_F(Rtsim, BadConfigurationExits2NamingTheFlag) {
     expectBad("--config " + (dir_ / "bad2.ini").string(), "no-such-flag");
     expectBad("--config /nonexistent.ini", "/nonexistent.ini");
 }
+
+TEST_F(Rtsim, BoundariesInTheWaveformAndTheSummary) {
+    const std::string vcd = (dir_ / "b.vcd").string();
+    const Outcome o = run(std::string(kSmall) + " --mesh 2 --balance slide --gain 1 --balance-interval 2us --no-baseline"
+                                                " --image '' --vcd " + vcd);
+    ASSERT_EQ(o.code, 0) << o.err;
+    const std::string text = slurp(vcd);
+    EXPECT_NE(text.find("$scope module boundaries $end"), std::string::npos);
+    EXPECT_NE(text.find("$var real 64"), std::string::npos);
+    EXPECT_NE(text.find(" slides $end"), std::string::npos);
+    EXPECT_NE(slurp(dir_ / "b.gtkw").find("machine.boundaries.col_0_0_b1.position"), std::string::npos);
+    const std::string cmd = "vcd2fst " + vcd + " " + (dir_ / "b.fst").string() + " >/dev/null 2>&1";
+    EXPECT_EQ(std::system(cmd.c_str()), 0);
+    EXPECT_NE(o.out.find("balancing        slide along x"), std::string::npos) << o.out;
+    const json r = report(std::string(kSmall) + " --mesh 2 --balance slide --gain 1 --balance-interval 2us");
+    EXPECT_GT(r["balance"]["slides"].get<size_t>(), 0u);
+    EXPECT_EQ(r["boundaries"].size(), 4u);  // a 2x2x2 mesh: 4 columns along x, one boundary each
+    EXPECT_TRUE(r["nodes"][0].contains("intervals"));
+}
