@@ -41,8 +41,7 @@ void Node::rebuild(const Box& box, std::vector<Shape> objects) {
             throw std::logic_error(buf);
         }
     std::sort(objects.begin(), objects.end(), [](const Shape& a, const Shape& b) { return a.id < b.id; });
-    objects_ = std::move(objects);
-    region_ = std::make_unique<Region>(box, objects_, AccelKind::Grid);
+    region_ = std::make_unique<Region>(box, std::move(objects), AccelKind::Grid);
 }
 
 void Node::assignPrimaries(std::vector<uint32_t> pixels, int primaryExp, const Credit& remainder) {
@@ -405,7 +404,7 @@ void Node::giveSlab(int side, double boundary) {
     m.type = MsgType::Slide;
     m.boundary = boundary;
     std::vector<Shape> keep;
-    for (const Shape& s : objects_) {
+    for (const Shape& s : region_->objects()) {
         if (overlapsBox(s, slab, margin_)) m.objects.push_back(s);
         if (overlapsBox(s, own, margin_)) keep.push_back(s);
     }
@@ -423,7 +422,7 @@ void Node::takeSlab(int side, double boundary, std::vector<Shape> objects) {
     Box own = region_->box();
     if (side > 0) own.hi[bal_.axis] = boundary;
     else own.lo[bal_.axis] = boundary;
-    std::vector<Shape> all = objects_;
+    std::vector<Shape> all = region_->objects();
     std::unordered_set<uint32_t> have;
     for (const Shape& s : all) have.insert(s.id);
     stats_.objectsReceived += objects.size();

@@ -130,8 +130,7 @@ private:
     void traceState(bool busy, bool waiting);
 
     Cell cell_;
-    std::unique_ptr<Region> region_;
-    std::vector<Shape> objects_;  // what region_ is built over (kept to give slabs away)
+    std::unique_ptr<Region> region_;  // the box, its objects and their grid
     const Shader& shader_;
     const Camera& camera_;
     Box world_;
