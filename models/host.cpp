@@ -7,9 +7,9 @@
 namespace rt {
 
 Host::Host(sc_core::sc_module_name name, int nodes, int width, int height, Picos costPerContribution, int maxExp,
-           bool progress)
+           bool progress, Picos quantum)
     : sc_module(name), in("in", nodes), width_(width), height_(height), cost_(costPerContribution),
-      progress_(progress), returned_(maxExp) {
+      progress_(progress), quantum_(quantum), returned_(maxExp) {
     SC_THREAD(run);
 }
 
@@ -37,6 +37,8 @@ void Host::run() {
             next = std::min(next, a);
         }
         if (best < 0) {
+            const Picos kernel = sc_core::sc_time_stamp().value();
+            if (now > kernel) wait(sc_core::sc_time::from_value(now - kernel));  // catch up before waiting
             if (next != ~Picos(0)) wait(sc_core::sc_time::from_value(next - now), arrived_);
             else wait(arrived_);
             now = sc_core::sc_time_stamp().value();
@@ -55,7 +57,12 @@ void Host::run() {
         }
         now += cost;
         stats_.busy += cost;
-        if (cost) wait(sc_core::sc_time::from_value(cost));
+        if (quantum_ == 0) {
+            if (cost) wait(sc_core::sc_time::from_value(cost));
+        } else {
+            const Picos kernel = sc_core::sc_time_stamp().value();
+            if (now - kernel >= quantum_) wait(sc_core::sc_time::from_value(now - kernel));
+        }
         if (returned_.isOne()) {
             stats_.done = true;
             stats_.renderTime = now;

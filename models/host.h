@@ -25,7 +25,7 @@ class Host : public sc_core::sc_module {
 public:
     SC_HAS_PROCESS(Host);
     Host(sc_core::sc_module_name name, int nodes, int width, int height, Picos costPerContribution, int maxExp,
-         bool progress);
+         bool progress, Picos quantum);
 
     sc_core::sc_vector<sc_core::sc_port<LinkRecvIf>> in;
 
@@ -44,6 +44,7 @@ private:
     int width_, height_;
     Picos cost_;
     bool progress_;
+    Picos quantum_;
     Credit returned_;
     std::vector<Contribution> contributions_;
     sc_core::sc_event arrived_;

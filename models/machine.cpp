@@ -44,7 +44,7 @@ Machine::Machine(sc_core::sc_module_name name, const Scene& scene, const Machine
     maxExp_ = ceilLog2(uint64_t(cfg_.nodeCount()) + 1) + ceilLog2(uint64_t(pixels) + 1) +
               (cfg_.maxDepth + 1) * ceilLog2(scene.lights.size() + 3) + 2;
     host_ = std::make_unique<Host>("host", cfg_.nodeCount(), width_, height_, cfg_.hostCost, maxExp_,
-                                   cfg_.showProgress);
+                                   cfg_.showProgress, cfg_.quantum);
 
     nodes_.init(size_t(cfg_.nodeCount()), [&](const char*, size_t i) {
         const Cell c{int(i % cfg_.dims[0]), int(i / cfg_.dims[0] % cfg_.dims[1]), int(i / cfg_.dims[0] / cfg_.dims[1])};
@@ -52,7 +52,8 @@ Machine::Machine(sc_core::sc_module_name name, const Scene& scene, const Machine
         b.lo[ax] = columnBounds_[columnOf(c)][c[ax]];
         b.hi[ax] = columnBounds_[columnOf(c)][c[ax] + 1];
         return new Node(cellName(c).c_str(), c, b, objectsOverlapping(scene_.objects, b, margin), shader_, camera_,
-                        world_, cfg_.costsOf(c), cfg_.speedOf(c), cfg_.fbBatch, cfg_.balance, minThickness_);
+                        world_, cfg_.costsOf(c), cfg_.speedOf(c), cfg_.fbBatch, cfg_.balance, minThickness_,
+                        cfg_.quantum);
     });
 
     // Links between face neighbours, one per direction, and the frame-buffer ports.

@@ -83,6 +83,13 @@ struct MachineConfig {
     std::vector<Cell> traceNodes;      // empty: every node
     Picos traceFrom = 0, traceTo = ~Picos(0);
 
+    // Temporal decoupling (TLM-2.0 style): a process may run this far ahead of
+    // the kernel's time before it synchronises. 0: synchronise after every
+    // step (exact). No larger than the smallest link latency: still exact,
+    // because no message can arrive sooner than one latency after the kernel's
+    // time (doc/machine.md, "Local time").
+    Picos quantum = 0;
+
     bool showProgress = false;
 
     int nodeCount() const { return dims[0] * dims[1] * dims[2]; }

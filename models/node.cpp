@@ -9,7 +9,7 @@ namespace rt {
 
 Node::Node(sc_core::sc_module_name name, const Cell& cell, const Box& box, std::vector<Shape> objects,
            const Shader& shader, const Camera& camera, const Box& world, const Costs& costs, double speed, int fbBatch,
-           const BalanceConfig& balance, double minThickness)
+           const BalanceConfig& balance, double minThickness, Picos quantum)
     : sc_module(name),
       out("out", kDirs),
       in("in", kDirs),
@@ -23,7 +23,8 @@ Node::Node(sc_core::sc_module_name name, const Cell& cell, const Box& box, std::
       fbBatch_(fbBatch),
       bal_(balance),
       margin_(roundingMargin(world)),
-      minThickness_(minThickness) {
+      minThickness_(minThickness),
+      quantum_(quantum) {
     rebuild(box, std::move(objects));
     if (bal_.dynamic()) {
         nextInterval_ = bal_.interval;
@@ -88,6 +89,7 @@ void Node::run() {
             flushToHost();
             continue;
         }
+        sync(true);  // nothing to do: let the others catch up before waiting
         traceState(false, true);
         Picos next = bal_.dynamic() ? nextInterval_ : ~Picos(0);  // wake to report the load
         for (int d = 0; d < kDirs; ++d) {
@@ -252,7 +254,13 @@ void Node::chargeAndSend(Picos cost) {
     }
     stats_.messagesSent += outbox_.size();
     outbox_.clear();
-    wait(sc_core::sc_time::from_value(cost));
+    if (quantum_ == 0) wait(sc_core::sc_time::from_value(cost));
+    else sync(false);
+}
+
+void Node::sync(bool force) {
+    const Picos kernel = sc_core::sc_time_stamp().value();
+    if (now_ > kernel && (force || now_ - kernel >= quantum_)) wait(sc_core::sc_time::from_value(now_ - kernel));
 }
 
 void Node::flushToHost() {

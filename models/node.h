@@ -69,7 +69,7 @@ public:
     SC_HAS_PROCESS(Node);
     Node(sc_core::sc_module_name name, const Cell& cell, const Box& box, std::vector<Shape> objects,
          const Shader& shader, const Camera& camera, const Box& world, const Costs& costs, double speed, int fbBatch,
-         const BalanceConfig& balance, double minThickness);
+         const BalanceConfig& balance, double minThickness, Picos quantum);
 
     sc_core::sc_vector<sc_core::sc_port<LinkSendIf, 1, sc_core::SC_ZERO_OR_MORE_BOUND>> out;
     sc_core::sc_vector<sc_core::sc_port<LinkRecvIf, 1, sc_core::SC_ZERO_OR_MORE_BOUND>> in;
@@ -120,6 +120,9 @@ private:
     void rebuild(const Box& box, std::vector<Shape> objects);
     void finishControlStep(const Counters& before, uint64_t recvs, size_t movedObjects);
     void chargeAndSend(Picos cost);
+    // Lets the kernel catch up with this node's local time: always when
+    // `force` or in exact mode, else once the node is a quantum ahead.
+    void sync(bool force);
     int sideDir(int side) const { return dirOf(bal_.axis, side); }  // side -1 / +1 -> link direction
     // The link direction towards the owner of job.t0, or -1 if it is ours.
     int route(const RayJob& job) const;
@@ -140,6 +143,7 @@ private:
     const BalanceConfig& bal_;
     double margin_;        // object overlap margin, the same in every node (the world's)
     double minThickness_;  // absolute, along the progress axis
+    Picos quantum_;        // 0: exact (synchronise every step)
 
     // Balancing state.
     Picos intervalStart_ = 0, nextInterval_ = 0, busyMark_ = 0, waitMark_ = 0;

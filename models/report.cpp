@@ -37,6 +37,7 @@ nlohmann::json machineReport(const MachineResult& r, const MachineConfig& cfg) {
     c["fb_port"] = linkJson(cfg.fbPort);
     c["fb_batch"] = cfg.fbBatch;
     c["host_cost_ns"] = ns(cfg.hostCost);
+    c["quantum_ns"] = ns(cfg.quantum);
 
     const BalanceConfig& bc = cfg.balance;
     c["balance"] = {{"policy", policyName(bc.policy)},  {"axis", std::string(1, "xyz"[bc.axis])},

@@ -21,6 +21,7 @@ bool splitNumber(const std::string& text, double& value, std::string& unit) {
 }  // namespace
 
 std::optional<Picos> parseTime(const std::string& text) {
+    if (text == "0") return Picos(0);  // zero needs no unit
     double v;
     std::string unit;
     if (!splitNumber(text, v, unit) || v < 0) return std::nullopt;

@@ -11,7 +11,8 @@ namespace rt {
 
 using Picos = uint64_t;
 
-// Parses a non-negative time; nullopt when malformed (no unit, unknown unit,
+// Parses a non-negative time ("0" may go without a unit); nullopt when
+// malformed (no unit, unknown unit,
 // negative, not finite, or not a whole number of picoseconds).
 std::optional<Picos> parseTime(const std::string& text);
 // Parses a positive, finite rate in bytes per second.

@@ -90,6 +90,9 @@ void RtsimOptions::addTo(CLI::App& app) {
     app.add_option("--node-cost", nodeCostSpecs_, "a cost of one node: x,y,z:NAME=TIME, NAME one of sphere polygon cone voxel raygen shade send recv (repeatable)")
         ->group(gc);
 
+    addTime(app, "--quantum", m.quantum,
+            "temporal decoupling: how far a process may run ahead of the kernel (0: exact; up to the smallest link latency: still exact)",
+            gm);
     addTime(app, "--link-latency", m.link.latency, "link latency", gl);
     app.add_option_function<std::string>("--link-bandwidth", [&m](const std::string& s) { m.link.bandwidth = rateOf("--link-bandwidth", s); }, "link bandwidth")
         ->default_str("1GB/s")->group(gl);

@@ -205,3 +205,29 @@ TEST_F(Rtsim, BoundariesInTheWaveformAndTheSummary) {
     EXPECT_EQ(r["boundaries"].size(), 4u);  // a 2x2x2 mesh: 4 columns along x, one boundary each
     EXPECT_TRUE(r["nodes"][0].contains("intervals"));
 }
+
+TEST_F(Rtsim, QuantumUpToTheLinkLatencyIsExactToThePicosecond) {
+    // Temporal decoupling: a process may run ahead of the kernel by the
+    // quantum. Up to the smallest link latency (the lookahead) nothing
+    // changes: same render time, busy time per node and image.
+    const std::string args = std::string(kSmall) + " --mesh 3 --link-latency 200ns --fb-latency 300ns";
+    Outcome o = run(args + " -q --no-baseline --quantum 0 --image " + (dir_ / "e.png").string() + " --report " + (dir_ / "e.json").string());
+    ASSERT_EQ(o.code, 0) << o.err;
+    const json exact = json::parse(slurp(dir_ / "e.json"));
+    for (const char* q : {"50ns", "200ns"}) {
+        SCOPED_TRACE(q);
+        o = run(args + " -q --no-baseline --quantum " + q + " --image " + (dir_ / "q.png").string() + " --report " + (dir_ / "q.json").string());
+        ASSERT_EQ(o.code, 0) << o.err;
+        const json r = json::parse(slurp(dir_ / "q.json"));
+        EXPECT_EQ(r["render_time_ns"], exact["render_time_ns"]);
+        for (size_t i = 0; i < r["nodes"].size(); ++i) EXPECT_EQ(r["nodes"][i]["busy_ns"], exact["nodes"][i]["busy_ns"]);
+        EXPECT_EQ(slurp(dir_ / "q.png"), slurp(dir_ / "e.png"));
+        EXPECT_LT(r["kernel"]["delta_cycles"].get<uint64_t>(), exact["kernel"]["delta_cycles"].get<uint64_t>());
+    }
+    // Beyond the lookahead the timing may drift; the image may not.
+    o = run(args + " -q --no-baseline --quantum 20us --image " + (dir_ / "f.png").string() + " --report " + (dir_ / "f.json").string());
+    ASSERT_EQ(o.code, 0) << o.err;
+    EXPECT_EQ(slurp(dir_ / "f.png"), slurp(dir_ / "e.png"));
+    const double drift = json::parse(slurp(dir_ / "f.json"))["render_time_ns"].get<double>() / exact["render_time_ns"].get<double>();
+    EXPECT_NEAR(drift, 1.0, 0.25);
+}
