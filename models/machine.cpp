@@ -53,7 +53,7 @@ Machine::Machine(sc_core::sc_module_name name, const Scene& scene, const Machine
         b.hi[ax] = columnBounds_[columnOf(c)][c[ax] + 1];
         return new Node(cellName(c).c_str(), c, b, objectsOverlapping(scene_.objects, b, margin), shader_, camera_,
                         world_, cfg_.costsOf(c), cfg_.speedOf(c), cfg_.fbBatch, cfg_.balance, minThickness_,
-                        cfg_.quantum);
+                        cfg_.quantum, cfg_.rayBatch);
     });
 
     // Links between face neighbours, one per direction, and the frame-buffer ports.

@@ -68,6 +68,7 @@ void MachineConfig::validate() const {
             throw std::invalid_argument("--link-set: no link in that direction (mesh face)");
     }
     if (fbBatch < 1 || fbBatch > 65536) throw std::invalid_argument("--fb-batch: must be in 1..65536");
+    if (rayBatch < 1 || rayBatch > 65536) throw std::invalid_argument("--ray-batch: must be in 1..65536");
     for (const Cell& c : traceNodes)
         for (int a = 0; a < 3; ++a)
             if (c[a] < 0 || c[a] >= dims[a]) throw std::invalid_argument("--trace-nodes: node outside the mesh");

@@ -75,6 +75,7 @@ struct MachineConfig {
     LinkParams fbPort{200000, 1e9, 16};
     Picos hostCost = 5000;             // per contribution accumulated
     int fbBatch = 32;                  // contributions per frame-buffer message
+    int rayBatch = 1;                  // rays per link message (sent when full or before the node waits)
 
     BalanceConfig balance;
 

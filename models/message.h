@@ -26,10 +26,15 @@ constexpr uint32_t kAckBytes = 8;                           // the boundary take
 // Bytes of one object on the wire: id, material, kind, then its geometry.
 uint32_t objectBytes(const Shape& s);
 
+// One ray on the wire, with its credit 2^-creditExp.
+struct RayItem {
+    RayJob job;
+    uint16_t creditExp = 0;
+};
+
 struct Message {
     MsgType type = MsgType::Ray;
-    RayJob ray;                                // Ray
-    uint16_t creditExp = 0;                    // Ray: its credit is 2^-creditExp
+    std::vector<RayItem> rays;                 // Ray: one or a batch (--ray-batch)
     std::vector<Contribution> contributions;   // Contributions
     Credit credit;                             // Credit
     int32_t interval = 0;                      // LoadReport
@@ -40,7 +45,7 @@ struct Message {
 
     uint32_t bytes() const {
         switch (type) {
-            case MsgType::Ray: return kHeaderBytes + kRayBytes;
+            case MsgType::Ray: return kHeaderBytes + uint32_t(rays.size()) * kRayBytes;
             case MsgType::Contributions: return kHeaderBytes + uint32_t(contributions.size()) * kContributionBytes;
             case MsgType::Credit: return kHeaderBytes + credit.bytes();
             case MsgType::LoadReport: return kHeaderBytes + kLoadReportBytes;

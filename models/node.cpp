@@ -9,7 +9,7 @@ namespace rt {
 
 Node::Node(sc_core::sc_module_name name, const Cell& cell, const Box& box, std::vector<Shape> objects,
            const Shader& shader, const Camera& camera, const Box& world, const Costs& costs, double speed, int fbBatch,
-           const BalanceConfig& balance, double minThickness, Picos quantum)
+           const BalanceConfig& balance, double minThickness, Picos quantum, int rayBatch)
     : sc_module(name),
       out("out", kDirs),
       in("in", kDirs),
@@ -24,7 +24,8 @@ Node::Node(sc_core::sc_module_name name, const Cell& cell, const Box& box, std::
       bal_(balance),
       margin_(roundingMargin(world)),
       minThickness_(minThickness),
-      quantum_(quantum) {
+      quantum_(quantum),
+      rayBatch_(rayBatch) {
     rebuild(box, std::move(objects));
     if (bal_.dynamic()) {
         nextInterval_ = bal_.interval;
@@ -83,8 +84,11 @@ void Node::run() {
             }
             continue;
         }
-        // Nothing to trace: hand the host what it is owed before waiting, so
-        // that the credit of every ray ended here follows its contributions.
+        // Nothing to trace: send the rays still collected in batches, and hand
+        // the host what it is owed, before waiting; so no ray waits in a batch
+        // while everyone waits, and the credit of every ray ended here
+        // follows its contributions.
+        if (flushRays()) continue;
         if (!pending_.empty() || !credit_.isZero()) {
             flushToHost();
             continue;
@@ -112,6 +116,11 @@ bool Node::takeWork(Work& w, std::optional<Message>& control, int& controlDir) {
         local_.pop_back();
         return true;
     }
+    if (receivedNext_ < received_.size()) {  // the rest of a batch: its message was handled already
+        const RayItem& r = received_[receivedNext_++];
+        w = Work{r.job, r.creditExp, false, false};
+        return true;
+    }
     // The oldest message that has arrived; ties go to the lower direction.
     int best = -1;
     Picos bestT = 0;
@@ -126,7 +135,10 @@ bool Node::takeWork(Work& w, std::optional<Message>& control, int& controlDir) {
         Message m = in[best]->consume(now_);
         ++stats_.messagesReceived;
         if (m.type == MsgType::Ray) {
-            w = Work{m.ray, m.creditExp, true, false};
+            // The first ray carries the message's handling cost.
+            w = Work{m.rays[0].job, m.rays[0].creditExp, true, false};
+            received_ = std::move(m.rays);
+            receivedNext_ = 1;
         } else {
             controlDir = best;
             control = std::move(m);
@@ -211,12 +223,7 @@ void Node::step(Work& w) {
     }
     if (dir >= 0) {
         if (out[dir].size()) {
-            Message m;
-            m.type = MsgType::Ray;
-            m.ray = w.job;
-            m.creditExp = w.creditExp;
-            outbox_.push_back({dir, std::move(m)});
-            ++stats_.raysForwarded;
+            queueRay(dir, w);
         } else {  // no neighbour that way: the ray leaves the world
             contributions.push_back(shader_.miss(w.job, stats_.counters));
             ++stats_.raysTerminated;
@@ -261,6 +268,32 @@ void Node::chargeAndSend(Picos cost) {
 void Node::sync(bool force) {
     const Picos kernel = sc_core::sc_time_stamp().value();
     if (now_ > kernel && (force || now_ - kernel >= quantum_)) wait(sc_core::sc_time::from_value(now_ - kernel));
+}
+
+// Where a ray is forwarded: into the batch for its direction, which leaves
+// as one message when full.
+void Node::queueRay(int dir, const Work& w) {
+    ++stats_.raysForwarded;
+    outRays_[dir].push_back(RayItem{w.job, w.creditExp});
+    if (outRays_[dir].size() < size_t(rayBatch_)) return;
+    Message m;
+    m.type = MsgType::Ray;
+    m.rays.swap(outRays_[dir]);
+    outbox_.push_back({dir, std::move(m)});
+}
+
+bool Node::flushRays() {
+    for (int d = 0; d < kDirs; ++d) {
+        if (outRays_[d].empty()) continue;
+        Message m;
+        m.type = MsgType::Ray;
+        m.rays.swap(outRays_[d]);
+        outbox_.push_back({d, std::move(m)});
+    }
+    if (outbox_.empty()) return false;
+    traceState(true, false);
+    finishControlStep(stats_.counters, 0, 0);
+    return true;
 }
 
 void Node::flushToHost() {

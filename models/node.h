@@ -69,7 +69,7 @@ public:
     SC_HAS_PROCESS(Node);
     Node(sc_core::sc_module_name name, const Cell& cell, const Box& box, std::vector<Shape> objects,
          const Shader& shader, const Camera& camera, const Box& world, const Costs& costs, double speed, int fbBatch,
-         const BalanceConfig& balance, double minThickness, Picos quantum);
+         const BalanceConfig& balance, double minThickness, Picos quantum, int rayBatch);
 
     sc_core::sc_vector<sc_core::sc_port<LinkSendIf, 1, sc_core::SC_ZERO_OR_MORE_BOUND>> out;
     sc_core::sc_vector<sc_core::sc_port<LinkRecvIf, 1, sc_core::SC_ZERO_OR_MORE_BOUND>> in;
@@ -128,6 +128,8 @@ private:
     int route(const RayJob& job) const;
     void terminate(const Work& w, std::vector<RayJob>& spawned);
     void flushToHost();
+    bool flushRays();  // sends every partial ray batch; false if there was none
+    void queueRay(int dir, const Work& w);
     Picos stepCost(const Counters& before, uint64_t sends, uint64_t recvs, uint64_t generated) const;
     size_t queueDepth() const;
     void traceState(bool busy, bool waiting);
@@ -144,6 +146,10 @@ private:
     double margin_;        // object overlap margin, the same in every node (the world's)
     double minThickness_;  // absolute, along the progress axis
     Picos quantum_;        // 0: exact (synchronise every step)
+    int rayBatch_;         // rays per link message
+    std::array<std::vector<RayItem>, kDirs> outRays_;  // rays collected per direction, not yet sent
+    std::vector<RayItem> received_;                     // the rest of the last batch received (FIFO)
+    size_t receivedNext_ = 0;
 
     // Balancing state.
     Picos intervalStart_ = 0, nextInterval_ = 0, busyMark_ = 0, waitMark_ = 0;

@@ -36,6 +36,7 @@ nlohmann::json machineReport(const MachineResult& r, const MachineConfig& cfg) {
         c["link_overrides"].push_back({{"node", cellJson(key.first)}, {"dir", dirName(key.second)}, {"link", linkJson(l)}});
     c["fb_port"] = linkJson(cfg.fbPort);
     c["fb_batch"] = cfg.fbBatch;
+    c["ray_batch"] = cfg.rayBatch;
     c["host_cost_ns"] = ns(cfg.hostCost);
     c["quantum_ns"] = ns(cfg.quantum);
 

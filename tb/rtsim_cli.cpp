@@ -104,6 +104,8 @@ void RtsimOptions::addTo(CLI::App& app) {
     app.add_option_function<std::string>("--fb-bandwidth", [&m](const std::string& s) { m.fbPort.bandwidth = rateOf("--fb-bandwidth", s); }, "frame-buffer port bandwidth")
         ->default_str("1GB/s")->group(gl);
     app.add_option("--fb-depth", m.fbPort.depth, "messages a frame-buffer port holds")->check(CLI::Range(1, 1000000))->capture_default_str()->group(gl);
+    app.add_option("--ray-batch", m.rayBatch, "rays per link message (sent when full or before a node waits)")
+        ->check(CLI::Range(1, 65536))->capture_default_str()->group(gl);
     app.add_option("--fb-batch", m.fbBatch, "contributions per frame-buffer message")->check(CLI::Range(1, 65536))->capture_default_str()->group(gl);
 
     const std::string gb = "Balancing (sliding boundaries)";

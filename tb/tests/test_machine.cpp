@@ -23,6 +23,10 @@ MachineConfig settings(const std::string& which, int n) {
         c.link = LinkParams{5000000, 2e7, 1};
         c.fbPort = LinkParams{1000000, 5e7, 1};
         c.fbBatch = 1;
+    } else if (which == "batched") {  // rays batched per message, processes far ahead of the kernel
+        c.rayBatch = 5;
+        c.quantum = 3000000;  // 3 us: beyond the 100 ns lookahead, so timing drifts; the image may not
+        c.link.depth = 2;
     } else if (which == "randomized") {  // every link its own latency and depth, nodes their own speed
         std::mt19937_64 rng(1000 + n);
         for (int z = 0; z < n; ++z)
@@ -99,7 +103,7 @@ static std::vector<Case> allCases() {
     std::vector<Case> v;
     for (const char* s : {"balls-2", "balls-3", "rings-2", "procedural"})
         for (int n = 1; n <= 4; ++n)
-            for (const char* set : {"default", "slowlinks", "randomized"}) v.push_back({s, set, n});
+            for (const char* set : {"default", "slowlinks", "randomized", "batched"}) v.push_back({s, set, n});
     return v;
 }
 
