@@ -53,7 +53,7 @@ void Node::assignPrimaries(std::vector<uint32_t> pixels, int primaryExp, const C
 }
 
 size_t Node::queueDepth() const {
-    size_t n = local_.size();
+    size_t n = local_.size() + (received_.size() - receivedNext_);
     for (int d = 0; d < kDirs; ++d)
         if (in[d].size()) n += in[d]->unconsumed();
     return n;
