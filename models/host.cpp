@@ -24,18 +24,8 @@ void Host::run() {
         return;
     }
     for (;;) {
-        // The oldest arrived message over all ports; ties go to the lower node.
-        int best = -1;
-        Picos bestT = 0, next = ~Picos(0);
-        for (size_t i = 0; i < in.size(); ++i) {
-            Picos a;
-            if (!in[i]->peekArrival(a)) continue;
-            if (a <= now && (best < 0 || a < bestT)) {
-                best = int(i);
-                bestT = a;
-            }
-            next = std::min(next, a);
-        }
+        Picos next;
+        const int best = oldestArrived(in, now, next);  // ties go to the lower node
         if (best < 0) {
             const Picos kernel = sc_core::sc_time_stamp().value();
             if (now > kernel) wait(sc_core::sc_time::from_value(now - kernel));  // catch up before waiting

@@ -15,6 +15,7 @@
 // runs processes at one instant; it also lets senders and receivers run
 // ahead of the kernel (temporal decoupling).
 #pragma once
+#include <algorithm>
 #include <array>
 #include <deque>
 
@@ -48,6 +49,28 @@ public:
     // Messages sent towards the receiver and not yet consumed.
     virtual size_t unconsumed() const = 0;
 };
+
+// Over a set of input ports (unbound ones skipped): the port whose oldest
+// message has arrived by `now` and arrived first, ties to the lower port, or
+// -1; `next` gets the earliest arrival of any unconsumed message (~0 if
+// none). Nodes and host take their input in this order, which is what makes
+// a run independent of the kernel's process order.
+template <class Ports>
+int oldestArrived(Ports& ports, Picos now, Picos& next) {
+    int best = -1;
+    Picos bestT = 0;
+    next = ~Picos(0);
+    for (size_t i = 0; i < ports.size(); ++i) {
+        Picos a;
+        if (!ports[i].size() || !ports[i]->peekArrival(a)) continue;
+        if (a <= now && (best < 0 || a < bestT)) {
+            best = int(i);
+            bestT = a;
+        }
+        next = std::min(next, a);
+    }
+    return best;
+}
 
 class Link : public sc_core::sc_object, public LinkSendIf, public LinkRecvIf {
 public:

@@ -95,11 +95,9 @@ void Node::run() {
         }
         sync(true);  // nothing to do: let the others catch up before waiting
         traceState(false, true);
-        Picos next = bal_.dynamic() ? nextInterval_ : ~Picos(0);  // wake to report the load
-        for (int d = 0; d < kDirs; ++d) {
-            Picos a;
-            if (in[d].size() && in[d]->peekArrival(a)) next = std::min(next, a);
-        }
+        Picos next;
+        oldestArrived(in, now_, next);
+        if (bal_.dynamic()) next = std::min(next, nextInterval_);  // wake to report the load
         stats_.waiting = true;
         stats_.waitingSince = now_;
         if (next != ~Picos(0)) wait(sc_core::sc_time::from_value(next - now_), arrived_);
@@ -121,16 +119,8 @@ bool Node::takeWork(Work& w, std::optional<Message>& control, int& controlDir) {
         w = Work{r.job, r.creditExp, false, false};
         return true;
     }
-    // The oldest message that has arrived; ties go to the lower direction.
-    int best = -1;
-    Picos bestT = 0;
-    for (int d = 0; d < kDirs; ++d) {
-        Picos a;
-        if (in[d].size() && in[d]->peekArrival(a) && a <= now_ && (best < 0 || a < bestT)) {
-            best = d;
-            bestT = a;
-        }
-    }
+    Picos next;
+    const int best = oldestArrived(in, now_, next);  // ties go to the lower direction
     if (best >= 0) {
         Message m = in[best]->consume(now_);
         ++stats_.messagesReceived;

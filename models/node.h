@@ -152,7 +152,7 @@ private:
     size_t receivedNext_ = 0;
 
     // Balancing state.
-    Picos intervalStart_ = 0, nextInterval_ = 0, busyMark_ = 0, waitMark_ = 0;
+    Picos nextInterval_ = 0, busyMark_ = 0, waitMark_ = 0;
     struct Load {
         double load;
         Picos busy;
