@@ -15,6 +15,7 @@ Host::Host(sc_core::sc_module_name name, int nodes, int width, int height, Picos
 
 void Host::run() {
     for (auto& p : in) p->setArrivalEvent(&arrived_);
+    inputOrder_.listen(in);
     Picos now = sc_core::sc_time_stamp().value();
     auto lastPrint = std::chrono::steady_clock::now();
     if (returned_.isOne()) {  // nothing to trace at all
@@ -25,7 +26,7 @@ void Host::run() {
     }
     for (;;) {
         Picos next;
-        const int best = oldestArrived(in, now, next);  // ties go to the lower node
+        const int best = inputOrder_.oldest(now, next);  // ties go to the lower node
         if (best < 0) {
             const Picos kernel = sc_core::sc_time_stamp().value();
             if (now > kernel) wait(sc_core::sc_time::from_value(now - kernel));  // catch up before waiting

@@ -8,6 +8,7 @@
 
 #include <systemc>
 
+#include "arrival_queue.h"
 #include "credit.h"
 #include "image.h"
 #include "link.h"
@@ -48,6 +49,7 @@ private:
     Credit returned_;
     std::vector<Contribution> contributions_;
     sc_core::sc_event arrived_;
+    ArrivalQueue inputOrder_;
     HostStats stats_;
 };
 

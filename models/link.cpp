@@ -57,6 +57,7 @@ void Link::startWaiting() {
         wireFree_ = start + transferTime(w.m.bytes());
         const Picos arrival = wireFree_ + params_.latency;
         buffer_.push_back({arrival, std::move(w.m)});
+        if (listener_ && buffer_.size() == 1) listener_->headChanged(listenerPort_);
         stats_.bufferHighWater = std::max(stats_.bufferHighWater, buffer_.size());
         if (arrived_) {
             const Picos now = sc_core::sc_time_stamp().value();
@@ -77,6 +78,7 @@ Message Link::consume(Picos t) {
     buffer_.pop_front();
     --inFlight_[int(m.type)];
     slotFree_.push_back(t + params_.latency);  // the credit travels back
+    if (listener_ && !buffer_.empty()) listener_->headChanged(listenerPort_);
     startWaiting();
     return m;
 }

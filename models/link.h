@@ -38,6 +38,14 @@ public:
     virtual void send(Message m, Picos t) = 0;
 };
 
+// Told by a link when its oldest unconsumed message changes: a message lands
+// in an empty link, or the oldest is consumed (arrival_queue.h).
+class ArrivalListener {
+public:
+    virtual ~ArrivalListener() = default;
+    virtual void headChanged(int port) = 0;
+};
+
 class LinkRecvIf : public virtual sc_core::sc_interface {
 public:
     // Arrival time of the oldest unconsumed message, if any has been sent.
@@ -46,31 +54,11 @@ public:
     virtual Message consume(Picos t) = 0;
     // Notified when a message arrives (set by the receiver).
     virtual void setArrivalEvent(sc_core::sc_event* e) = 0;
+    // Tells `l` (as its input `port`) whenever the oldest message changes.
+    virtual void setListener(ArrivalListener* l, int port) = 0;
     // Messages sent towards the receiver and not yet consumed.
     virtual size_t unconsumed() const = 0;
 };
-
-// Over a set of input ports (unbound ones skipped): the port whose oldest
-// message has arrived by `now` and arrived first, ties to the lower port, or
-// -1; `next` gets the earliest arrival of any unconsumed message (~0 if
-// none). Nodes and host take their input in this order, which is what makes
-// a run independent of the kernel's process order.
-template <class Ports>
-int oldestArrived(Ports& ports, Picos now, Picos& next) {
-    int best = -1;
-    Picos bestT = 0;
-    next = ~Picos(0);
-    for (size_t i = 0; i < ports.size(); ++i) {
-        Picos a;
-        if (!ports[i].size() || !ports[i]->peekArrival(a)) continue;
-        if (a <= now && (best < 0 || a < bestT)) {
-            best = int(i);
-            bestT = a;
-        }
-        next = std::min(next, a);
-    }
-    return best;
-}
 
 class Link : public sc_core::sc_object, public LinkSendIf, public LinkRecvIf {
 public:
@@ -80,6 +68,10 @@ public:
     bool peekArrival(Picos& arrival) const override;
     Message consume(Picos t) override;
     void setArrivalEvent(sc_core::sc_event* e) override { arrived_ = e; }
+    void setListener(ArrivalListener* l, int port) override {
+        listener_ = l;
+        listenerPort_ = port;
+    }
 
     const LinkParams& params() const { return params_; }
     const LinkStats& stats() const { return stats_; }
@@ -104,6 +96,8 @@ private:
     std::deque<Picos> slotFree_; // slots returned by the receiver, free from these times
     Picos wireFree_ = 0;
     sc_core::sc_event* arrived_ = nullptr;
+    ArrivalListener* listener_ = nullptr;
+    int listenerPort_ = 0;
     LinkStats stats_;
     std::array<uint64_t, kMsgTypes> inFlight_{};
 };

@@ -69,6 +69,7 @@ void Node::traceState(bool busy, bool waiting) {
 void Node::run() {
     for (int d = 0; d < kDirs; ++d)
         if (in[d].size()) in[d]->setArrivalEvent(&arrived_);
+    inputOrder_.listen(in);
     now_ = sc_core::sc_time_stamp().value();
     Work w;
     std::optional<Message> ctl;
@@ -96,7 +97,7 @@ void Node::run() {
         sync(true);  // nothing to do: let the others catch up before waiting
         traceState(false, true);
         Picos next;
-        oldestArrived(in, now_, next);
+        inputOrder_.oldest(now_, next);
         if (bal_.dynamic()) next = std::min(next, nextInterval_);  // wake to report the load
         stats_.waiting = true;
         stats_.waitingSince = now_;
@@ -120,7 +121,7 @@ bool Node::takeWork(Work& w, std::optional<Message>& control, int& controlDir) {
         return true;
     }
     Picos next;
-    const int best = oldestArrived(in, now_, next);  // ties go to the lower direction
+    const int best = inputOrder_.oldest(now_, next);  // ties go to the lower direction
     if (best >= 0) {
         Message m = in[best]->consume(now_);
         ++stats_.messagesReceived;

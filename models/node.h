@@ -23,6 +23,7 @@
 #include "counters.h"
 #include "credit.h"
 #include "balancer.h"
+#include "arrival_queue.h"
 #include "link.h"
 #include "machine_config.h"
 #include "node_trace.h"
@@ -179,6 +180,7 @@ private:
     Mailbox mailbox_;
     Picos now_ = 0;
     sc_core::sc_event arrived_;
+    ArrivalQueue inputOrder_;
     NodeStats stats_;
     std::unique_ptr<NodeTrace> trace_;
 };

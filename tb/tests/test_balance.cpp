@@ -149,7 +149,9 @@ TEST_P(PolicyIdentity, ImageConservationGuardsUnderRandomLinks) {
     const MachineResult r = runAndCompare(s, c);
     size_t slides = 0;
     for (const NodeStats& n : r.nodes) slides += n.slides.size();
-    if (c.balance.dynamic()) EXPECT_GT(slides, 0u);
+    if (c.balance.dynamic()) {
+        EXPECT_GT(slides, 0u);
+    }
 }
 
 static std::vector<Case> policyCases() {

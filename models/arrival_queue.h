@@ -1,0 +1,68 @@
+// The order in which a process takes its input: of the messages at the heads
+// of its input links, the one that arrived first, ties to the lower port.
+// Nodes and the host take their input in this order, which is what makes a
+// run independent of the order in which the kernel runs processes.
+//
+// The links tell the queue when their oldest unconsumed message changes (a
+// message lands in an empty link, or the oldest is consumed), and the queue
+// keeps a min-heap of (arrival, port). Entries are checked against the link
+// when they reach the top and dropped if the link's head has moved on, so a
+// choice costs O(log ports) instead of a scan of every port: the host has one
+// port per node (4,096 on a 16x16x16 mesh).
+#pragma once
+#include <functional>
+#include <queue>
+#include <vector>
+
+#include "link.h"
+
+namespace rt {
+
+class ArrivalQueue : public ArrivalListener {
+public:
+    // Listens to every bound port of `ports` (an sc_vector of LinkRecvIf ports).
+    template <class Ports>
+    void listen(Ports& ports) {
+        links_.assign(ports.size(), nullptr);
+        for (size_t i = 0; i < ports.size(); ++i) {
+            if (!ports[i].size()) continue;
+            links_[i] = ports[i].operator->();
+            links_[i]->setListener(this, int(i));
+            headChanged(int(i));
+        }
+    }
+
+    void headChanged(int port) override {
+        Picos a;
+        if (links_[port]->peekArrival(a)) heap_.push({a, port});
+    }
+
+    // The port whose oldest message has arrived by `now` and arrived first
+    // (ties to the lower port), or -1; `next` gets the earliest arrival of any
+    // unconsumed message (~0 if none).
+    int oldest(Picos now, Picos& next) {
+        while (!heap_.empty()) {
+            const Entry& e = heap_.top();
+            Picos a;
+            if (links_[e.port]->peekArrival(a) && a == e.arrival) break;
+            heap_.pop();  // that message has been consumed
+        }
+        if (heap_.empty()) {
+            next = ~Picos(0);
+            return -1;
+        }
+        next = heap_.top().arrival;
+        return next <= now ? heap_.top().port : -1;
+    }
+
+private:
+    struct Entry {
+        Picos arrival;
+        int port;
+        bool operator>(const Entry& o) const { return arrival != o.arrival ? arrival > o.arrival : port > o.port; }
+    };
+    std::vector<LinkRecvIf*> links_;
+    std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> heap_;
+};
+
+}  // namespace rt
