@@ -10,7 +10,8 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from rtsim_runs import ROOT, run_all, write_csv  # noqa: E402
+import sweep as driver  # noqa: E402
+from sweep import ROOT, write_csv  # noqa: E402
 
 # The experiment's settings (doc/balancing.md, "Fig. 4"): the procedural scene,
 # progress axis x; the camera either looks along x or across it (along y).
@@ -30,6 +31,7 @@ def main():
     ap.add_argument("--out", default=os.path.join(ROOT, "doc", "results"))
     ap.add_argument("--extra", default="", help="more rtsim flags for every run")
     ap.add_argument("--plot-only", action="store_true", help="redraw the chart from the CSV")
+    driver.add_arguments(ap)
     a = ap.parse_args()
     ns = [int(x) for x in a.n.split(",")]
     if not a.plot_only:
@@ -38,30 +40,36 @@ def main():
 
 
 def sweep(a, ns):
-    points, keys = [], []
+    points = []
     for view, cam in VIEWS.items():
         for n in ns:
             for k in range(1, n + 1):
                 f = k / n
                 for policy in ("none", a.policy):
-                    points.append(SCENE + cam + ["--mesh", n, "--concentration", f"{f:.6f}", "--balance", policy,
-                                                 "--balance-interval", a.interval, "--gain", a.gain] + a.extra.split())
-                    keys.append((view, n, f, policy))
-    reports = run_all(points, label="fig4")
-    times = {key: r["render_time_ns"] for key, r in zip(keys, reports)}
-    extra = {key: r for key, r in zip(keys, reports)}
-    os.makedirs(a.out, exist_ok=True)
+                    points.append({"params": {"view": view, "N": n, "f": round(f, 6), "policy": policy},
+                                   "args": SCENE + cam + ["--mesh", n, "--concentration", f"{f:.6f}",
+                                                          "--balance", policy, "--balance-interval", a.interval,
+                                                          "--gain", a.gain] + a.extra.split()})
+    runs = driver.run("fig4", points, extract, None, a)
+    by = {(r["view"], r["N"], r["f"], r["policy"]): r for r in runs}
     rows = []
     for view in VIEWS:
         for n in ns:
             for k in range(1, n + 1):
-                f = k / n
-                t0, t1 = times[(view, n, f, "none")], times[(view, n, f, a.policy)]
-                b = extra[(view, n, f, a.policy)]["balance"]
-                rows.append({"view": view, "N": n, "f": round(f, 6), "time_none_ns": t0, "time_balanced_ns": t1,
-                             "ratio": t1 / t0, "slides": b["slides"], "max_over_mean_load": b["max_over_mean_load"],
-                             "stability": b["stability"]})
+                f = round(k / n, 6)
+                r0, r1 = by[(view, n, f, "none")], by[(view, n, f, a.policy)]
+                rows.append({"view": view, "N": n, "f": f, "time_none_ns": r0["render_time_ns"],
+                             "time_balanced_ns": r1["render_time_ns"],
+                             "ratio": r1["render_time_ns"] / r0["render_time_ns"], "slides": r1["slides"],
+                             "max_over_mean_load": r1["max_over_mean_load"], "stability": r1["stability"],
+                             "version": r1["version"], "command_balanced": r1["command"]})
     write_csv(os.path.join(a.out, "fig4.csv"), rows)
+
+
+def extract(r):
+    b = r["balance"]
+    return {"render_time_ns": r["render_time_ns"], "slides": b["slides"],
+            "max_over_mean_load": b["max_over_mean_load"], "stability": b["stability"]}
 
 
 def plot(a, ns):

@@ -13,6 +13,7 @@ packages=(
   libgtest-dev        # tests
   gtkwave             # vcd2fst checks the VCD; gtkwave views it
   python3             # scripts (Debian's /usr/bin/python3)
+  python3-distributed # the sweep driver's Dask submission (and its test)
 )
 
 # `setup.sh plots`: also what the sweep and chart scripts need.

@@ -12,7 +12,8 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from rtsim_runs import ROOT, run_all, write_csv  # noqa: E402
+import sweep as driver  # noqa: E402
+from sweep import ROOT  # noqa: E402
 
 DEFAULT_GAIN, DEFAULT_INTERVAL_US = 0.25, 20  # models/machine_config.h
 
@@ -25,6 +26,7 @@ def main():
     ap.add_argument("--policy", default="slide")
     ap.add_argument("--out", default=os.path.join(ROOT, "doc", "results"))
     ap.add_argument("--plot-only", action="store_true", help="redraw the chart from the CSV")
+    driver.add_arguments(ap)
     a = ap.parse_args()
     gains = [float(g) for g in a.gains.split(",")]
     intervals = [float(i) for i in a.intervals_us.split(",")]
@@ -35,21 +37,17 @@ def main():
 
 
 def sweep(a, gains, intervals, lats):
-    points, keys = [], []
-    for lat in lats:
-        for g in gains:
-            for iv in intervals:
-                points.append(["--balance", a.policy, "--gain", g, "--balance-interval", f"{iv}us",
-                               "--link-latency", lat])
-                keys.append((lat, g, iv))
-    reports = run_all(points, label="stability map")
-    rows = [{"latency": k[0], "gain": k[1], "interval_us": k[2], "stability": r["balance"]["stability"],
-             "slides": r["balance"]["slides"], "render_time_ns": r["render_time_ns"],
-             "max_over_mean_load": r["balance"]["max_over_mean_load"],
-             "oscillating": r["balance"]["boundaries_oscillating"], "diverging": r["balance"]["boundaries_diverging"]}
-            for k, r in zip(keys, reports)]
-    os.makedirs(a.out, exist_ok=True)
-    write_csv(os.path.join(a.out, "stability.csv"), rows)
+    points = [{"params": {"latency": lat, "gain": g, "interval_us": iv},
+               "args": ["--balance", a.policy, "--gain", g, "--balance-interval", f"{iv}us", "--link-latency", lat]}
+              for lat in lats for g in gains for iv in intervals]
+    driver.run("stability_map", points, extract, os.path.join(a.out, "stability.csv"), a)
+
+
+def extract(r):
+    b = r["balance"]
+    return {"stability": b["stability"], "slides": b["slides"], "render_time_ns": r["render_time_ns"],
+            "max_over_mean_load": b["max_over_mean_load"], "oscillating": b["boundaries_oscillating"],
+            "diverging": b["boundaries_diverging"]}
 
 
 def plot(a, lats):
