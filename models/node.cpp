@@ -94,13 +94,15 @@ void Node::run() {
             flushToHost();
             continue;
         }
-        sync(true);  // nothing to do: let the others catch up before waiting
+        // Nothing to do: the node waits from its own time on, including while
+        // the kernel catches up with it.
+        stats_.waiting = true;
+        stats_.waitingSince = now_;
+        sync(true);
         traceState(false, true);
         Picos next;
         inputOrder_.oldest(now_, next);
         if (bal_.dynamic()) next = std::min(next, nextInterval_);  // wake to report the load
-        stats_.waiting = true;
-        stats_.waitingSince = now_;
         if (next != ~Picos(0)) wait(sc_core::sc_time::from_value(next - now_), arrived_);
         else wait(arrived_);
         now_ = sc_core::sc_time_stamp().value();

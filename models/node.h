@@ -80,16 +80,22 @@ public:
     void assignPrimaries(std::vector<uint32_t> pixels, int primaryExp, const Credit& remainder);
     void enableTrace() { trace_ = std::make_unique<NodeTrace>(); }
     // The frame ended at `end`: a step still running then (a balancing step)
-    // counts as busy only up to `end`.
-    // A node still waiting at `end` waited until then.
+    // counts as busy only up to `end`. A node still waiting at `end` waited
+    // until then. With a quantum beyond the lookahead a node may also be
+    // behind `end`, asleep until the kernel catches up: it had no rays left
+    // (the frame is done), so it idles until the end.
     void endFrame(Picos end) {
         if (stats_.lastActive > end) {
             stats_.busy -= stats_.lastActive - end;
             stats_.lastActive = end;
         }
         if (stats_.waiting) {
-            stats_.wait += end - stats_.waitingSince;
+            // (A node that ran past `end` may be waiting for the kernel to
+            // catch up with it; that wait lies after the end.)
+            if (stats_.waitingSince < end) stats_.wait += end - stats_.waitingSince;
             stats_.waiting = false;
+        } else if (quantum_ > 0 && stats_.busy + stats_.wait < end) {
+            stats_.wait += end - (stats_.busy + stats_.wait);
         }
     }
 

@@ -118,6 +118,20 @@ TEST(Decide, WorkPolicyShedsFromTheBinsNextToTheBoundary) {
 
 // ---- Whole runs ----
 
+// Every link of a 3x3x3 mesh its own latency (1 ns .. 3 us), bandwidth and depth 1..3.
+static void randomLinks(MachineConfig& c, uint64_t seed) {
+    std::mt19937_64 rng(seed);
+    for (int z = 0; z < 3; ++z)
+        for (int y = 0; y < 3; ++y)
+            for (int x = 0; x < 3; ++x)
+                for (int d = 0; d < kDirs; ++d) {
+                    Cell m{x, y, z};
+                    m[dirAxis(d)] += dirStep(d);
+                    if (m[dirAxis(d)] < 0 || m[dirAxis(d)] > 2) continue;
+                    c.linkOverride[{{x, y, z}, d}] = LinkParams{Picos(1000 + rng() % 3000000), 1e8 * double(1 + rng() % 20), int(1 + rng() % 3)};
+                }
+}
+
 struct Case {
     std::string scene;
     Policy policy;
@@ -136,16 +150,7 @@ TEST_P(PolicyIdentity, ImageConservationGuardsUnderRandomLinks) {
     c.balance.policy = k.policy;
     c.balance.interval = k.interval;
     c.balance.gain = 1.0;  // large steps: many slides while rays are in flight
-    std::mt19937_64 rng(k.interval + 17 * int(k.policy));
-    for (int z = 0; z < 3; ++z)
-        for (int y = 0; y < 3; ++y)
-            for (int x = 0; x < 3; ++x)
-                for (int d = 0; d < kDirs; ++d) {
-                    Cell m{x, y, z};
-                    m[dirAxis(d)] += dirStep(d);
-                    if (m[dirAxis(d)] < 0 || m[dirAxis(d)] > 2) continue;
-                    c.linkOverride[{{x, y, z}, d}] = LinkParams{Picos(1000 + rng() % 3000000), 1e8 * double(1 + rng() % 20), int(1 + rng() % 3)};
-                }
+    randomLinks(c, k.interval + 17 * int(k.policy));
     const MachineResult r = runAndCompare(s, c);
     size_t slides = 0;
     for (const NodeStats& n : r.nodes) slides += n.slides.size();
@@ -167,6 +172,57 @@ INSTANTIATE_TEST_SUITE_P(All, PolicyIdentity, testing::ValuesIn(policyCases()), 
     n.erase(std::remove(n.begin(), n.end(), '-'), n.end());
     return n;
 });
+
+// Issue 5: the image stays bit-identical in every fidelity mode, with the
+// boundaries sliding: a quantum at the lookahead and far beyond it, rays
+// batched per message, and both together. Timing (and so the slides) may
+// differ between modes; the image and conservation may not.
+struct Fidelity {
+    std::string scene;
+    Policy policy;
+    Picos quantum;
+    int rayBatch;
+};
+void PrintTo(const Fidelity& f, std::ostream* os) {
+    *os << f.scene << " " << policyName(f.policy) << " q=" << f.quantum << "ps k=" << f.rayBatch;
+}
+
+class FidelityModes : public testing::TestWithParam<Fidelity> {};
+
+TEST_P(FidelityModes, ImageIdenticalWhileBoundariesSlide) {
+    const Fidelity& k = GetParam();
+    const Scene s = k.scene == "procedural" ? crowded(0.3) : test::spd(k.scene);
+    MachineConfig c;
+    c.dims = {3, 3, 3};
+    c.width = c.height = 40;
+    c.balance.policy = k.policy;
+    c.balance.interval = 2000000;  // 2 us
+    c.balance.gain = 1.0;
+    c.quantum = k.quantum;
+    c.rayBatch = k.rayBatch;
+    randomLinks(c, 99);
+    const MachineResult r = runAndCompare(s, c);
+    size_t slides = 0;
+    for (const NodeStats& n : r.nodes) slides += n.slides.size();
+    EXPECT_GT(slides, 0u);
+}
+
+static std::vector<Fidelity> fidelityCases() {
+    std::vector<Fidelity> v;
+    for (const char* s : {"balls-3", "procedural"})
+        for (Policy p : {Policy::Slide, Policy::Work})
+            for (Picos q : {Picos(1000), Picos(5000000), Picos(100000000)})  // 1 ns (the smallest latency), 5 us, 100 us
+                for (int k : {1, 16}) v.push_back({s, p, q, k});
+    return v;
+}
+
+INSTANTIATE_TEST_SUITE_P(All, FidelityModes, testing::ValuesIn(fidelityCases()),
+                         [](const testing::TestParamInfo<Fidelity>& i) {
+                             std::string n = i.param.scene + "_" + policyName(i.param.policy) + "_q" +
+                                             std::to_string(i.param.quantum / 1000) + "ns_k" + std::to_string(i.param.rayBatch);
+                             n.erase(std::remove(n.begin(), n.end(), '-'), n.end());
+                             return n;
+                         });
 
 class Pathological : public testing::TestWithParam<Policy> {
 protected:
