@@ -55,6 +55,14 @@ public:
         return next <= now ? heap_.top().port : -1;
     }
 
+    // Messages sent to the listened ports and not yet consumed.
+    size_t unconsumed() const {
+        size_t n = 0;
+        for (const LinkRecvIf* l : links_)
+            if (l) n += l->unconsumed();
+        return n;
+    }
+
 private:
     struct Entry {
         Picos arrival;

@@ -14,7 +14,7 @@ int ceilLog2(uint64_t n) {
 
 void Credit::add(int e, uint64_t k) {
     if (k == 0) return;
-    if (e < 0 || size_t(e) > 64 * (words_.size() - 1)) throw std::logic_error("credit exponent out of range");
+    if (e < 0 || words_.empty() || size_t(e) > 64 * (words_.size() - 1)) throw std::logic_error("credit exponent out of range");
     // 2^-e is bit (63 - (e - 1) % 64) of word (e + 63) / 64 (word 0 for e = 0).
     size_t w = e == 0 ? 0 : size_t((e + 63) / 64);
     const int bit = e == 0 ? 0 : 63 - (e - 1) % 64;
@@ -48,7 +48,7 @@ bool Credit::isZero() const {
 }
 
 bool Credit::isOne() const {
-    return words_[0] == 1 && std::all_of(words_.begin() + 1, words_.end(), [](uint64_t w) { return w == 0; });
+    return !words_.empty() && words_[0] == 1 && std::all_of(words_.begin() + 1, words_.end(), [](uint64_t w) { return w == 0; });
 }
 
 uint32_t Credit::bytes() const {

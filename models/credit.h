@@ -13,8 +13,11 @@ namespace rt {
 
 class Credit {
 public:
+    // No credit, and no room for any: what a message that carries none holds
+    // (so creating a message allocates nothing for it).
+    Credit() = default;
     // A credit able to hold fractions down to 2^-maxExponent.
-    explicit Credit(int maxExponent = 0) : words_(1 + (maxExponent + 63) / 64, 0) {}
+    explicit Credit(int maxExponent) : words_(1 + (maxExponent + 63) / 64, 0) {}
     static Credit one(int maxExponent) {
         Credit c(maxExponent);
         c.words_[0] = 1;

@@ -53,10 +53,7 @@ void Node::assignPrimaries(std::vector<uint32_t> pixels, int primaryExp, const C
 }
 
 size_t Node::queueDepth() const {
-    size_t n = local_.size() + (received_.size() - receivedNext_);
-    for (int d = 0; d < kDirs; ++d)
-        if (in[d].size()) n += in[d]->unconsumed();
-    return n;
+    return local_.size() + (received_.size() - receivedNext_) + inputOrder_.unconsumed();
 }
 
 void Node::traceState(bool busy, bool waiting) {
@@ -196,8 +193,11 @@ void Node::terminate(const Work& w, std::vector<RayJob>& spawned) {
 void Node::step(Work& w) {
     const Counters before = stats_.counters;
     traceState(true, false);
-    std::vector<RayJob> spawned;
-    std::vector<Contribution> contributions;
+    // Scratch lists kept between steps, so a step allocates nothing.
+    std::vector<RayJob>& spawned = spawned_;
+    std::vector<Contribution>& contributions = contributions_;
+    spawned.clear();
+    contributions.clear();
     int dir = route(w.job);
     double where = std::nan("");  // where along the axis the work happened (work histogram)
     if (dir < 0) {

@@ -187,6 +187,8 @@ private:
     Picos now_ = 0;
     sc_core::sc_event arrived_;
     ArrivalQueue inputOrder_;
+    std::vector<RayJob> spawned_;              // step(): rays a step spawned
+    std::vector<Contribution> contributions_;  // step(): contributions a step made
     NodeStats stats_;
     std::unique_ptr<NodeTrace> trace_;
 };
