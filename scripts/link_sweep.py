@@ -1,0 +1,208 @@
+#!/usr/bin/python3
+"""Link-speed exploration: sweeps link latency and link bandwidth over
+several decades (one at a time, the other at its default) for N = 2..8, with
+and without balancing, on rtsim's default experiment (1,000 spheres crowded
+into the first quarter of x, 256x256). Charts render time, speed-up over one
+node and balancing gain; finds the knee where links start to dominate.
+Writes doc/results/link_sweep.{csv,png,md}.
+
+Knee: the link speed at which the render time has doubled from its value
+with the fastest links (links then take as long as everything else), found
+by log-log interpolation between swept points; also where it has grown by
+10 % (links start to matter). Needs python3-matplotlib
+(bash scripts/setup.sh plots); run with /usr/bin/python3."""
+import argparse
+import math
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import sweep as driver  # noqa: E402
+from sweep import ROOT, read_csv, write_csv  # noqa: E402
+
+SCENE = ["--spheres", "1000", "--concentration", "0.25", "--size", "256x256"]
+DEFAULT_LATENCY, DEFAULT_BANDWIDTH = "100ns", "1GB/s"  # models/machine_config.h
+LATENCIES = "10ns,30ns,100ns,300ns,1us,3us,10us,30us,100us"
+BANDWIDTHS = "10MB/s,30MB/s,100MB/s,300MB/s,1GB/s,3GB/s,10GB/s,30GB/s,100GB/s"
+UNITS = {"ps": 1e-12, "ns": 1e-9, "us": 1e-6, "ms": 1e-3, "s": 1.0,
+         "B/s": 1.0, "KB/s": 1e3, "MB/s": 1e6, "GB/s": 1e9}
+
+
+def value(s):
+    """'300ns' -> 3e-7 (seconds), '10GB/s' -> 1e10 (bytes per second)."""
+    for u in sorted(UNITS, key=len, reverse=True):
+        if s.endswith(u):
+            return float(s[: -len(u)]) * UNITS[u]
+    raise ValueError(s)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--n", default="2,3,4,5,6,7,8")
+    ap.add_argument("--latencies", default=LATENCIES)
+    ap.add_argument("--bandwidths", default=BANDWIDTHS)
+    ap.add_argument("--balance", default="slide", help="the balancing policy compared with none")
+    ap.add_argument("--out", default=os.path.join(ROOT, "doc", "results"))
+    ap.add_argument("--plot-only", action="store_true", help="redraw the chart and table from the CSV")
+    driver.add_arguments(ap)
+    a = ap.parse_args()
+    csv_path = os.path.join(a.out, "link_sweep.csv")
+    if not a.plot_only:
+        write_csv(csv_path, sweep(a))
+    rows = read_csv(csv_path)
+    for r in rows:
+        r["N"] = int(r["N"])
+        for k in ("latency_s", "bandwidth_Bps", "render_time_ns", "one_node_ns", "speedup", "balance_gain"):
+            r[k] = float(r[k]) if r[k] != "" else None
+    plot(a, rows)
+    table(a, rows)
+
+
+def settings(a):
+    """(swept quantity, latency, bandwidth) for both one-dimensional sweeps."""
+    lats = sorted(set(a.latencies.split(",")) | {DEFAULT_LATENCY}, key=value)  # the default link is in both
+    bws = sorted(set(a.bandwidths.split(",")) | {DEFAULT_BANDWIDTH}, key=value)
+    return [("latency", lat, DEFAULT_BANDWIDTH) for lat in lats] + [("bandwidth", DEFAULT_LATENCY, bw) for bw in bws]
+
+
+def sweep(a):
+    ns = [int(n) for n in a.n.split(",")]
+    points = [{"params": {"sweep": "one node", "N": 1, "balance": "none", "latency": DEFAULT_LATENCY,
+                          "bandwidth": DEFAULT_BANDWIDTH}, "args": SCENE + ["--mesh", 1]}]
+    for swept, lat, bw in settings(a):
+        for n in ns:
+            for bal in ("none", a.balance):
+                points.append({"params": {"sweep": swept, "N": n, "balance": bal, "latency": lat, "bandwidth": bw},
+                               "args": SCENE + ["--mesh", n, "--balance", bal, "--link-latency", lat,
+                                                "--link-bandwidth", bw]})
+    # (The default link appears in both sweeps: the second is the same point.)
+    unique = list({driver.point_id(p["args"]): p for p in points}.values())
+    runs = driver.run("link_sweep", unique, extract, None, a)
+    by = {(r["N"], r["balance"], r["latency"], r["bandwidth"]): r for r in runs}
+    one = by[(1, "none", DEFAULT_LATENCY, DEFAULT_BANDWIDTH)]["render_time_ns"]
+    rows = []
+    for swept, lat, bw in settings(a):
+        for n in ns:
+            for bal in ("none", a.balance):
+                r = by[(n, bal, lat, bw)]
+                none = by[(n, "none", lat, bw)]
+                rows.append({"sweep": swept, "N": n, "balance": bal, "latency": lat, "bandwidth": bw,
+                             "latency_s": value(lat), "bandwidth_Bps": value(bw),
+                             "render_time_ns": r["render_time_ns"], "one_node_ns": one,
+                             "speedup": one / r["render_time_ns"],
+                             "balance_gain": none["render_time_ns"] / r["render_time_ns"] if bal != "none" else "",
+                             "slides": r["slides"], "link_bytes": r["link_bytes"],
+                             "version": r["version"], "command": r["command"]})
+    return rows
+
+
+def extract(r):
+    link_bytes = sum(sum(link["bytes"].values()) for link in r["links"])  # node-to-node links only
+    return {"render_time_ns": r["render_time_ns"], "slides": r["balance"]["slides"], "link_bytes": link_bytes}
+
+
+def knee(points, factor, slower_is_larger):
+    """The link speed where the render time first reaches factor x its value
+    at the fastest link, interpolated in log-log; None if never within the
+    sweep. points: (link value, render time), any order."""
+    pts = sorted(points, key=lambda p: p[0], reverse=not slower_is_larger)  # fastest first
+    target = factor * pts[0][1]
+    for (x0, t0), (x1, t1) in zip(pts, pts[1:]):
+        if t1 >= target:  # and t0 < target: the first crossing
+            f = (math.log(target) - math.log(t0)) / (math.log(t1) - math.log(t0))
+            return math.exp(math.log(x0) + f * (math.log(x1) - math.log(x0)))
+    return None
+
+
+def knees(rows, swept, bal, n, factor):
+    pts = [(r["latency_s"] if swept == "latency" else r["bandwidth_Bps"], r["render_time_ns"])
+           for r in rows if r["sweep"] == swept and r["balance"] == bal and r["N"] == n]
+    return knee(pts, factor, slower_is_larger=(swept == "latency"))
+
+
+def fmt_latency(s):
+    return "beyond the sweep" if s is None else (f"{s * 1e9:.0f} ns" if s < 1e-6 else f"{s * 1e6:.1f} us")
+
+
+def fmt_bandwidth(b):
+    return "beyond the sweep" if b is None else (f"{b / 1e6:.0f} MB/s" if b < 1e9 else f"{b / 1e9:.1f} GB/s")
+
+
+def plot(a, rows):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    ns = sorted({r["N"] for r in rows})
+    cmap = plt.get_cmap("viridis")
+    colour = {n: cmap(i / max(1, len(ns) - 1)) for i, n in enumerate(ns)}
+    fig, axes = plt.subplots(2, 3, figsize=(15, 8.5))
+    for row, swept in enumerate(("latency", "bandwidth")):
+        key = "latency_s" if swept == "latency" else "bandwidth_Bps"
+        scale = 1e6 if swept == "latency" else 1e-9
+        for n in ns:
+            for bal, style in (("none", "-"), (a.balance, "--")):
+                pts = sorted((r for r in rows if r["sweep"] == swept and r["N"] == n and r["balance"] == bal),
+                             key=lambda r: r[key])
+                xs = [r[key] * scale for r in pts]
+                lab = f"N = {n}" if bal == "none" else None
+                axes[row][0].plot(xs, [r["render_time_ns"] / 1e3 for r in pts], style, color=colour[n], label=lab)
+                axes[row][1].plot(xs, [r["speedup"] for r in pts], style, color=colour[n], label=lab)
+                if bal != "none":
+                    axes[row][2].plot(xs, [r["balance_gain"] for r in pts], style, color=colour[n], marker=".",
+                                      label=f"N = {n}")
+            k = knees(rows, swept, "none", n, 2.0)
+            if k is not None:
+                t = 2 * min(r["render_time_ns"] for r in rows
+                            if r["sweep"] == swept and r["N"] == n and r["balance"] == "none") / 1e3
+                axes[row][0].plot([k * scale], [t], marker="x", color=colour[n], markersize=9, mew=2)
+        unit = "link latency (us)" if swept == "latency" else "link bandwidth (GB/s)"
+        for ax in axes[row]:
+            ax.set_xscale("log")
+            ax.set_xlabel(unit)
+            ax.grid(alpha=0.3, which="both")
+        axes[row][0].set_yscale("log")
+        axes[row][0].set_ylabel("render time (us)")
+        axes[row][1].set_yscale("log")
+        axes[row][1].set_ylabel("speed-up over one node")
+        axes[row][2].axhline(1.0, color="grey", linewidth=0.8)
+        axes[row][2].set_ylabel(f"balancing gain: time(none) / time({a.balance})")
+        axes[row][0].set_title(f"render time against {swept} (x: knee, time doubled)", fontsize=10)
+        axes[row][1].set_title(f"speed-up over one node against {swept}", fontsize=10)
+        axes[row][2].set_title(f"balancing gain against {swept}", fontsize=10)
+    axes[0][0].legend(fontsize=8, title="solid: none, dashed: " + a.balance, title_fontsize=8)
+    axes[0][2].legend(fontsize=8)
+    other = {"latency": DEFAULT_BANDWIDTH, "bandwidth": DEFAULT_LATENCY}
+    fig.suptitle(f"Link speed: top, latency swept at {other['latency']}; bottom, bandwidth swept at "
+                 f"{other['bandwidth']}. rtsim default experiment (1,000 spheres, f = 0.25, 256x256)", fontsize=10)
+    fig.tight_layout(rect=(0, 0, 1, 0.96))
+    fig.savefig(os.path.join(a.out, "link_sweep.png"), dpi=100)
+
+
+def table(a, rows):
+    ns = sorted({r["N"] for r in rows})
+    lines = ["<!-- written by scripts/link_sweep.py; do not edit -->",
+             "| N | latency: +10 % | latency: knee (x2) | bandwidth: +10 % | bandwidth: knee (x2) |"
+             f" knee (x2) with {a.balance}: latency, bandwidth | speed-up, fastest links | balancing gain, fastest"
+             " / default / slowest latency |",
+             "|---|---|---|---|---|---|---|---|"]
+    for n in ns:
+        lat = [r for r in rows if r["sweep"] == "latency" and r["N"] == n]
+        fastest = min((r for r in lat if r["balance"] == "none"), key=lambda r: r["latency_s"])
+        gains = sorted((r for r in lat if r["balance"] != "none"), key=lambda r: r["latency_s"])
+        default = next(r for r in gains if r["latency"] == DEFAULT_LATENCY)
+        lines.append(
+            f"| {n} | {fmt_latency(knees(rows, 'latency', 'none', n, 1.1))} | "
+            f"{fmt_latency(knees(rows, 'latency', 'none', n, 2.0))} | "
+            f"{fmt_bandwidth(knees(rows, 'bandwidth', 'none', n, 1.1))} | "
+            f"{fmt_bandwidth(knees(rows, 'bandwidth', 'none', n, 2.0))} | "
+            f"{fmt_latency(knees(rows, 'latency', a.balance, n, 2.0))}, "
+            f"{fmt_bandwidth(knees(rows, 'bandwidth', a.balance, n, 2.0))} | "
+            f"{fastest['speedup']:.2f} | {gains[0]['balance_gain']:.2f} / {default['balance_gain']:.2f} / "
+            f"{gains[-1]['balance_gain']:.2f} |")
+    with open(os.path.join(a.out, "link_sweep.md"), "w") as f:
+        f.write("\n".join(lines) + "\n")
+    print("\n".join(lines[1:]))
+
+
+if __name__ == "__main__":
+    main()
