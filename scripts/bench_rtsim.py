@@ -1,9 +1,11 @@
 #!/usr/bin/python3
 """Benchmark of the machine model: rtsim's wall time against rtref's on the
-same scene (default balls-4 at 512x512, N = 4), runs alternated so both see
-the same machine state; messages per wall second; peak memory; and how wall
-time grows with the mesh size N = 1..8. Prints a table; with --doc writes it
-to doc/benchmarks/rtsim.md. Standard library only; run with /usr/bin/python3."""
+same scene (default balls-4 at 512x512, N = 4) in each fidelity mode, runs
+alternated so both see the same machine state; messages per wall second;
+peak memory; the 16x16x16 mesh on balls-5 at 1024x1024 (time and memory);
+and how wall time grows with the mesh size N = 1..8. Prints tables; with
+--doc writes them to doc/benchmarks/rtsim.md. Standard library only; run
+with /usr/bin/python3."""
 import argparse
 import json
 import os
@@ -31,6 +33,18 @@ def timed(cmd):
     return wall, usage.ru_maxrss / 1024.0
 
 
+# Fidelity modes compared with rtref (doc/machine.md, "Fidelity knobs").
+# "fastest under 1 %" is the fastest mode of the speed-against-accuracy
+# sweep (doc/results/speed_accuracy.md) whose render-time error stays under
+# 1 % on every case there.
+MODES = [
+    ("exact", []),
+    ("exact, quantum = link latency", ["--quantum", "100ns"]),
+    ("fastest under 1 % error", ["--quantum", "100us"]),
+    ("fastest swept (64 rays per message)", ["--quantum", "100us", "--ray-batch", "64"]),
+]
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--scene", default=os.path.join(ROOT, "..", "shared", "scenes", "spd", "balls-4.nff"))
@@ -39,48 +53,84 @@ def main():
     ap.add_argument("--runs", type=int, default=5)
     ap.add_argument("--growth", default="1,2,3,4,5,6,7,8", help="mesh sizes for the growth table ('' to skip)")
     ap.add_argument("--growth-runs", type=int, default=3)
+    ap.add_argument("--big-runs", type=int, default=3, help="runs of the 16x16x16 mesh on balls-5 (0 to skip)")
     ap.add_argument("--doc", action="store_true")
     a = ap.parse_args()
     build = os.path.join(ROOT, "build")
     tmp = tempfile.mkdtemp()
     report = os.path.join(tmp, "r.json")
 
-    def rtsim(n):
-        return [os.path.join(build, "rtsim"), "--scene", a.scene, "--size", a.size, "--mesh", str(n), "--no-baseline",
-                "-q", "--image", os.path.join(tmp, "s.png"), "--report", report]
+    def rtsim(n, extra=(), scene=None, size=None, image="s.png"):
+        return [os.path.join(build, "rtsim"), "--scene", scene or a.scene, "--size", size or a.size, "--mesh", str(n),
+                "--no-baseline", "-q", "--image", os.path.join(tmp, image), "--report", report] + list(extra)
 
-    rtref = [os.path.join(build, "rtref"), a.scene, "--size", a.size, "-o", os.path.join(tmp, "r.png")]
-    sim, ref, ratios, mem = [], [], [], []
-    for i in range(a.runs):
-        ws, ms = timed(rtsim(a.mesh))
-        wr, _ = timed(rtref)
-        sim.append(ws)
-        ref.append(wr)
-        ratios.append(ws / wr)
-        mem.append(ms)
-        print(f"run {i + 1}: rtsim {ws:.3f} s, rtref {wr:.3f} s, ratio {ws / wr:.2f}", file=sys.stderr)
-    with open(report) as f:
-        r = json.load(f)
-    msgs = sum(r["totals"]["messages"].values())
-    same = open(os.path.join(tmp, "s.png"), "rb").read() == open(os.path.join(tmp, "r.png"), "rb").read()
+    def rtref(scene=None, size=None, image="r.png"):
+        return [os.path.join(build, "rtref"), scene or a.scene, "--size", size or a.size, "-o", os.path.join(tmp, image)]
+
+    def same(x, y):
+        with open(os.path.join(tmp, x), "rb") as f, open(os.path.join(tmp, y), "rb") as g:
+            return f.read() == g.read()
+
     name = os.path.splitext(os.path.basename(a.scene))[0]
+    modes = "| mode | flags | rtsim wall | rtref wall | rtsim / rtref | render time | error vs exact | image = rtref |\n" \
+            "|---|---|---:|---:|---:|---:|---:|---|\n"
+    exact_report = None
+    for label, flags in MODES:
+        sim, ref, ratios, mem = [], [], [], []
+        for i in range(a.runs):  # alternated, so both see the same machine state
+            ws, ms = timed(rtsim(a.mesh, flags))
+            wr, _ = timed(rtref())
+            sim.append(ws)
+            ref.append(wr)
+            ratios.append(ws / wr)
+            mem.append(ms)
+            print(f"{label}, run {i + 1}: rtsim {ws:.3f} s, rtref {wr:.3f} s, ratio {ws / wr:.2f}", file=sys.stderr)
+        with open(report) as f:
+            r = json.load(f)
+        if exact_report is None:
+            exact_report, exact_mem, exact_wall = r, max(mem), statistics.median(sim)
+        err = r["render_time_ns"] / exact_report["render_time_ns"] - 1
+        modes += (f"| {label} | `{' '.join(flags) or '(defaults)'}` | {statistics.median(sim):.3f} s | "
+                  f"{statistics.median(ref):.3f} s | **{statistics.median(ratios):.2f}** | "
+                  f"{r['render_time_ns'] / 1e6:.3f} ms | {err * 100:+.4f} % | "
+                  f"{'yes' if same('s.png', 'r.png') else 'NO'} |\n")
+    r = exact_report
+    msgs = sum(r["totals"]["messages"].values())
     rows = [
-        ("scene", f"{name} at {a.size}, N = {a.mesh} ({a.mesh ** 3} nodes), default costs and links"),
-        (f"rtsim wall, median of {a.runs}", f"{statistics.median(sim):.3f} s"),
-        (f"rtref wall, median of {a.runs}", f"{statistics.median(ref):.3f} s"),
-        ("rtsim / rtref, median of per-run ratios", f"{statistics.median(ratios):.2f}"),
-        ("messages (ray / contributions / credit)",
+        ("scene", f"{name} at {a.size}, N = {a.mesh} ({a.mesh ** 3} nodes), default costs and links; "
+                  f"medians of {a.runs} runs, each alternated with rtref"),
+        ("messages in exact mode (ray / contributions / credit)",
          " / ".join(f"{r['totals']['messages'][k]:,}" for k in ("ray", "contributions", "credit"))),
-        ("messages per wall second (median run)", f"{msgs / statistics.median(sim):,.0f}"),
-        ("rtsim peak memory (max over runs)", f"{max(mem):.0f} MiB"),
-        ("simulated render time", f"{r['render_time_ns'] / 1e6:.3f} ms"),
-        ("image identical to rtref's", "yes" if same else "NO"),
+        ("messages per wall second, exact mode", f"{msgs / exact_wall:,.0f}"),
+        ("rtsim peak memory, exact mode (max over runs)", f"{exact_mem:.0f} MiB"),
         ("machine", machine()),
     ]
     table = "| quantity | value |\n|---|---|\n" + "".join(f"| {k} | {v} |\n" for k, v in rows)
+    big = ""
+    if a.big_runs:
+        spd5 = os.path.join(os.path.dirname(a.scene), "balls-5.nff")
+        walls, mems = [], []
+        for i in range(a.big_runs):
+            w, m = timed(rtsim(16, [], spd5, "1024x1024", "big.png"))
+            walls.append(w)
+            mems.append(m)
+            print(f"16x16x16 balls-5 1024x1024, run {i + 1}: {w:.1f} s, {m:.0f} MiB", file=sys.stderr)
+        with open(report) as f:
+            g = json.load(f)
+        wr, _ = timed(rtref(spd5, "1024x1024", "bigref.png"))
+        big = ("\n16x16x16 mesh (4,096 nodes) on balls-5 (66,430 spheres) at 1024x1024, exact mode, "
+               f"{a.big_runs} runs:\n\n| quantity | value |\n|---|---|\n"
+               f"| rtsim wall (median) | {statistics.median(walls):.1f} s (runs: "
+               f"{', '.join(f'{w:.1f}' for w in walls)}) |\n"
+               f"| rtsim peak memory (max) | {max(mems):.0f} MiB |\n"
+               f"| rtref wall (one run) | {wr:.1f} s |\n"
+               f"| simulated render time | {g['render_time_ns'] / 1e6:.3f} ms |\n"
+               f"| ray messages | {g['totals']['messages']['ray']:,} |\n"
+               f"| image identical to rtref's | {'yes' if same('big.png', 'bigref.png') else 'NO'} |\n")
     growth = ""
     if a.growth:
-        growth = ("\n| N | nodes | rtsim wall (median of %d) | peak memory | ray messages | render time |\n"
+        growth = ("\nWall time against mesh size (same scene and costs, exact mode):\n\n"
+                  "| N | nodes | rtsim wall (median of %d) | peak memory | ray messages | render time |\n"
                   "|---:|---:|---:|---:|---:|---:|\n" % a.growth_runs)
         for n in [int(x) for x in a.growth.split(",")]:
             walls, mems = [], []
@@ -93,12 +143,12 @@ def main():
             growth += (f"| {n} | {n ** 3} | {statistics.median(walls):.3f} s | {max(mems):.0f} MiB | "
                        f"{g['totals']['messages']['ray']:,} | {g['render_time_ns'] / 1e6:.3f} ms |\n")
             print(f"N={n}: {statistics.median(walls):.3f} s", file=sys.stderr)
-    print(table + growth, end="")
+    out = modes + "\n" + table + big + growth
+    print(out, end="")
     if a.doc:
         os.makedirs(os.path.join(ROOT, "doc", "benchmarks"), exist_ok=True)
         with open(os.path.join(ROOT, "doc", "benchmarks", "rtsim.md"), "w") as f:
-            f.write("# rtsim benchmark\n\nWritten by `scripts/bench_rtsim.py --doc`; do not edit by hand.\n\n"
-                    + table + "\nWall time against mesh size (same scene and costs):\n" + growth)
+            f.write("# rtsim benchmark\n\nWritten by `scripts/bench_rtsim.py --doc`; do not edit by hand.\n\n" + out)
 
 
 if __name__ == "__main__":
