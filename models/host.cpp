@@ -9,7 +9,7 @@ namespace rt {
 Host::Host(sc_core::sc_module_name name, int nodes, int width, int height, Picos costPerContribution, int maxExp,
            bool progress, Picos quantum)
     : sc_module(name), in("in", nodes), width_(width), height_(height), cost_(costPerContribution),
-      progress_(progress), quantum_(quantum), returned_(maxExp) {
+      progress_(progress), time_(quantum), returned_(maxExp) {
     SC_THREAD(run);
 }
 
@@ -28,8 +28,7 @@ void Host::run() {
         Picos next;
         const int best = inputOrder_.oldest(now, next);  // ties go to the lower node
         if (best < 0) {
-            const Picos kernel = sc_core::sc_time_stamp().value();
-            if (now > kernel) wait(sc_core::sc_time::from_value(now - kernel));  // catch up before waiting
+            time_.catchUp(now);
             if (next != ~Picos(0)) wait(sc_core::sc_time::from_value(next - now), arrived_);
             else wait(arrived_);
             now = sc_core::sc_time_stamp().value();
@@ -48,12 +47,7 @@ void Host::run() {
         }
         now += cost;
         stats_.busy += cost;
-        if (quantum_ == 0) {
-            if (cost) wait(sc_core::sc_time::from_value(cost));
-        } else {
-            const Picos kernel = sc_core::sc_time_stamp().value();
-            if (now - kernel >= quantum_) wait(sc_core::sc_time::from_value(now - kernel));
-        }
+        time_.afterStep(now, cost);
         if (returned_.isOne()) {
             stats_.done = true;
             stats_.renderTime = now;

@@ -9,6 +9,7 @@
 #include <systemc>
 
 #include "arrival_queue.h"
+#include "time_keeper.h"
 #include "credit.h"
 #include "image.h"
 #include "link.h"
@@ -45,7 +46,7 @@ private:
     int width_, height_;
     Picos cost_;
     bool progress_;
-    Picos quantum_;
+    TimeKeeper time_;  // when to let the kernel catch up
     Credit returned_;
     std::vector<Contribution> contributions_;
     sc_core::sc_event arrived_;

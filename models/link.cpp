@@ -39,7 +39,6 @@ void Link::send(Message m, Picos t) {
     ++inFlight_[type];
     backlog_.push_back({t, std::move(m)});
     startWaiting();
-    stats_.backlogHighWater = std::max(stats_.backlogHighWater, backlog_.size());
 }
 
 void Link::startWaiting() {
@@ -56,9 +55,12 @@ void Link::startWaiting() {
         const Picos start = std::max({w.t, slot, wireFree_});
         wireFree_ = start + transferTime(w.m.bytes());
         const Picos arrival = wireFree_ + params_.latency;
-        buffer_.push_back({arrival, std::move(w.m)});
+        // Messages sent before this one and still off the wire when it was sent.
+        while (!waitedUntil_.empty() && waitedUntil_.front() <= w.t) waitedUntil_.pop_front();
+        if (start > w.t) waitedUntil_.push_back(start);
+        stats_.backlogHighWater = std::max(stats_.backlogHighWater, waitedUntil_.size());
+        buffer_.push_back({arrival, std::move(w.m), start});
         if (listener_ && buffer_.size() == 1) listener_->headChanged(listenerPort_);
-        stats_.bufferHighWater = std::max(stats_.bufferHighWater, buffer_.size());
         if (arrived_) {
             const Picos now = sc_core::sc_time_stamp().value();
             arrived_->notify(sc_core::sc_time::from_value(arrival - now));
@@ -74,6 +76,11 @@ bool Link::peekArrival(Picos& arrival) const {
 
 Message Link::consume(Picos t) {
     if (buffer_.empty() || buffer_.front().t > t) throw std::logic_error(std::string(name()) + ": consumed before arrival");
+    // Messages on the link when this one went on the wire: those before it
+    // not consumed by then, and itself.
+    while (!consumedAt_.empty() && consumedAt_.front() <= buffer_.front().start) consumedAt_.pop_front();
+    consumedAt_.push_back(t);
+    stats_.bufferHighWater = std::max(stats_.bufferHighWater, consumedAt_.size());
     Message m = std::move(buffer_.front().m);
     buffer_.pop_front();
     --inFlight_[int(m.type)];

@@ -28,8 +28,10 @@ namespace rt {
 
 struct LinkStats {
     std::array<uint64_t, kMsgTypes> messages{}, bytes{};
-    size_t backlogHighWater = 0;  // messages waiting in the sender's memory
-    size_t bufferHighWater = 0;   // messages on the link / at the receiver, unconsumed
+    // High-water marks in simulated time (so the same in every exact mode,
+    // whatever order the kernel runs the processes in):
+    size_t backlogHighWater = 0;  // messages sent and not yet on the wire, at once
+    size_t bufferHighWater = 0;   // messages on the wire or arrived and not consumed, at once
 };
 
 class LinkSendIf : public virtual sc_core::sc_interface {
@@ -89,12 +91,17 @@ private:
     struct Timed {
         Picos t;
         Message m;
+        Picos start = 0;  // in buffer_: when it went on the wire
     };
     std::deque<Timed> backlog_;  // sent, waiting for a slot (t: when sent)
     std::deque<Timed> buffer_;   // on the wire or arrived, not consumed (t: arrival)
     int unusedSlots_;            // slots never used yet (free since time 0)
     std::deque<Picos> slotFree_; // slots returned by the receiver, free from these times
     Picos wireFree_ = 0;
+    // For the high-water marks: when the messages that waited for the wire
+    // started, and when the last messages were consumed (both in FIFO order,
+    // so both sorted).
+    std::deque<Picos> waitedUntil_, consumedAt_;
     sc_core::sc_event* arrived_ = nullptr;
     ArrivalListener* listener_ = nullptr;
     int listenerPort_ = 0;

@@ -24,7 +24,7 @@ Node::Node(sc_core::sc_module_name name, const Cell& cell, const Box& box, std::
       bal_(balance),
       margin_(roundingMargin(world)),
       minThickness_(minThickness),
-      quantum_(quantum),
+      time_(quantum),
       rayBatch_(rayBatch) {
     rebuild(box, std::move(objects));
     if (bal_.dynamic()) {
@@ -95,7 +95,7 @@ void Node::run() {
         // the kernel catches up with it.
         stats_.waiting = true;
         stats_.waitingSince = now_;
-        sync(true);
+        time_.catchUp(now_);
         traceState(false, true);
         Picos next;
         inputOrder_.oldest(now_, next);
@@ -254,13 +254,7 @@ void Node::chargeAndSend(Picos cost) {
     }
     stats_.messagesSent += outbox_.size();
     outbox_.clear();
-    if (quantum_ == 0) wait(sc_core::sc_time::from_value(cost));
-    else sync(false);
-}
-
-void Node::sync(bool force) {
-    const Picos kernel = sc_core::sc_time_stamp().value();
-    if (now_ > kernel && (force || now_ - kernel >= quantum_)) wait(sc_core::sc_time::from_value(now_ - kernel));
+    time_.afterStep(now_, cost);
 }
 
 // Where a ray is forwarded: into the batch for its direction, which leaves

@@ -24,6 +24,7 @@
 #include "credit.h"
 #include "balancer.h"
 #include "arrival_queue.h"
+#include "time_keeper.h"
 #include "link.h"
 #include "machine_config.h"
 #include "node_trace.h"
@@ -81,9 +82,9 @@ public:
     void enableTrace() { trace_ = std::make_unique<NodeTrace>(); }
     // The frame ended at `end`: a step still running then (a balancing step)
     // counts as busy only up to `end`. A node still waiting at `end` waited
-    // until then. With a quantum beyond the lookahead a node may also be
-    // behind `end`, asleep until the kernel catches up: it had no rays left
-    // (the frame is done), so it idles until the end.
+    // until then. A node running ahead of the kernel may also be behind
+    // `end`, asleep until the kernel catches up: it had no rays left (the
+    // frame is done), so it idles until the end.
     void endFrame(Picos end) {
         if (stats_.lastActive > end) {
             stats_.busy -= stats_.lastActive - end;
@@ -94,7 +95,7 @@ public:
             // catch up with it; that wait lies after the end.)
             if (stats_.waitingSince < end) stats_.wait += end - stats_.waitingSince;
             stats_.waiting = false;
-        } else if (quantum_ > 0 && stats_.busy + stats_.wait < end) {
+        } else if (time_.decoupled() && stats_.busy + stats_.wait < end) {
             stats_.wait += end - (stats_.busy + stats_.wait);
         }
     }
@@ -127,9 +128,6 @@ private:
     void rebuild(const Box& box, std::vector<Shape> objects);
     void finishControlStep(const Counters& before, uint64_t recvs, size_t movedObjects);
     void chargeAndSend(Picos cost);
-    // Lets the kernel catch up with this node's local time: always when
-    // `force` or in exact mode, else once the node is a quantum ahead.
-    void sync(bool force);
     int sideDir(int side) const { return dirOf(bal_.axis, side); }  // side -1 / +1 -> link direction
     // The link direction towards the owner of job.t0, or -1 if it is ours.
     int route(const RayJob& job) const;
@@ -152,7 +150,7 @@ private:
     const BalanceConfig& bal_;
     double margin_;        // object overlap margin, the same in every node (the world's)
     double minThickness_;  // absolute, along the progress axis
-    Picos quantum_;        // 0: exact (synchronise every step)
+    TimeKeeper time_;      // when to let the kernel catch up
     int rayBatch_;         // rays per link message
     std::array<std::vector<RayItem>, kDirs> outRays_;  // rays collected per direction, not yet sent
     std::vector<RayItem> received_;                     // the rest of the last batch received (FIFO)

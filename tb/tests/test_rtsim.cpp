@@ -210,7 +210,7 @@ TEST_F(Rtsim, QuantumUpToTheLinkLatencyIsExactToThePicosecond) {
     // Temporal decoupling: a process may run ahead of the kernel by the
     // quantum. Up to the smallest link latency (the lookahead) nothing
     // changes: same render time, busy time per node and image.
-    const std::string args = std::string(kSmall) + " --mesh 3 --link-latency 200ns --fb-latency 300ns";
+    const std::string args = std::string(kSmall) + " --mesh 3 --link-latency 200ns --fb-latency 300ns --link-depth 2";
     Outcome o = run(args + " -q --no-baseline --quantum 0 --image " + (dir_ / "e.png").string() + " --report " + (dir_ / "e.json").string());
     ASSERT_EQ(o.code, 0) << o.err;
     const json exact = json::parse(slurp(dir_ / "e.json"));
@@ -221,6 +221,15 @@ TEST_F(Rtsim, QuantumUpToTheLinkLatencyIsExactToThePicosecond) {
         const json r = json::parse(slurp(dir_ / "q.json"));
         EXPECT_EQ(r["render_time_ns"], exact["render_time_ns"]);
         for (size_t i = 0; i < r["nodes"].size(); ++i) EXPECT_EQ(r["nodes"][i]["busy_ns"], exact["nodes"][i]["busy_ns"]);
+        // Link high-water marks are kept in simulated time, so decoupling
+        // does not change them either.
+        size_t waited = 0;
+        for (size_t i = 0; i < r["links"].size(); ++i) {
+            EXPECT_EQ(r["links"][i]["backlog_high_water"], exact["links"][i]["backlog_high_water"]) << i;
+            EXPECT_EQ(r["links"][i]["buffer_high_water"], exact["links"][i]["buffer_high_water"]) << i;
+            waited += r["links"][i]["backlog_high_water"].get<size_t>();
+        }
+        EXPECT_GT(waited, 0u);  // depth-2 links: messages did wait
         EXPECT_EQ(slurp(dir_ / "q.png"), slurp(dir_ / "e.png"));
         EXPECT_LT(r["kernel"]["delta_cycles"].get<uint64_t>(), exact["kernel"]["delta_cycles"].get<uint64_t>());
     }
