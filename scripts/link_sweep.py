@@ -9,7 +9,8 @@ Writes doc/results/link_sweep.{csv,png,md}.
 Knee: the link speed at which the render time has doubled from its value
 with the fastest links (links then take as long as everything else), found
 by log-log interpolation between swept points; also where it has grown by
-10 % (links start to matter). Needs python3-matplotlib
+10 % (links start to matter). The latency sweep is repeated with deeper
+links (--deep-depth, without balancing) to show what sets the latency knee. Needs python3-matplotlib
 (bash scripts/setup.sh plots); run with /usr/bin/python3."""
 import argparse
 import math
@@ -21,7 +22,7 @@ import sweep as driver  # noqa: E402
 from sweep import ROOT, read_csv, write_csv  # noqa: E402
 
 SCENE = ["--spheres", "1000", "--concentration", "0.25", "--size", "256x256"]
-DEFAULT_LATENCY, DEFAULT_BANDWIDTH = "100ns", "1GB/s"  # models/machine_config.h
+DEFAULT_LATENCY, DEFAULT_BANDWIDTH, DEFAULT_DEPTH = "100ns", "1GB/s", 16  # models/machine_config.h
 LATENCIES = "10ns,30ns,100ns,300ns,1us,3us,10us,30us,100us"
 BANDWIDTHS = "10MB/s,30MB/s,100MB/s,300MB/s,1GB/s,3GB/s,10GB/s,30GB/s,100GB/s"
 UNITS = {"ps": 1e-12, "ns": 1e-9, "us": 1e-6, "ms": 1e-3, "s": 1.0,
@@ -42,8 +43,11 @@ def main():
     ap.add_argument("--latencies", default=LATENCIES)
     ap.add_argument("--bandwidths", default=BANDWIDTHS)
     ap.add_argument("--balance", default="slide", help="the balancing policy compared with none")
+    ap.add_argument("--deep-depth", type=int, default=64, help="link depth of the repeated latency sweep")
     ap.add_argument("--out", default=os.path.join(ROOT, "doc", "results"))
     ap.add_argument("--plot-only", action="store_true", help="redraw the chart and table from the CSV")
+    ap.add_argument("--doc", default=os.path.join(ROOT, "doc", "exploration.md"),
+                    help="doc page whose generated table section to update ('' for none)")
     driver.add_arguments(ap)
     a = ap.parse_args()
     csv_path = os.path.join(a.out, "link_sweep.csv")
@@ -59,34 +63,40 @@ def main():
 
 
 def settings(a):
-    """(swept quantity, latency, bandwidth) for both one-dimensional sweeps."""
-    lats = sorted(set(a.latencies.split(",")) | {DEFAULT_LATENCY}, key=value)  # the default link is in both
+    """(swept quantity, latency, bandwidth, depth, balancing policies) for the
+    one-dimensional sweeps."""
+    lats = sorted(set(a.latencies.split(",")) | {DEFAULT_LATENCY}, key=value)  # the default link is in all
     bws = sorted(set(a.bandwidths.split(",")) | {DEFAULT_BANDWIDTH}, key=value)
-    return [("latency", lat, DEFAULT_BANDWIDTH) for lat in lats] + [("bandwidth", DEFAULT_LATENCY, bw) for bw in bws]
+    both = ("none", a.balance)
+    return ([("latency", lat, DEFAULT_BANDWIDTH, DEFAULT_DEPTH, both) for lat in lats] +
+            [("bandwidth", DEFAULT_LATENCY, bw, DEFAULT_DEPTH, both) for bw in bws] +
+            [("latency, deep links", lat, DEFAULT_BANDWIDTH, a.deep_depth, ("none",)) for lat in lats])
 
 
 def sweep(a):
     ns = [int(n) for n in a.n.split(",")]
     points = [{"params": {"sweep": "one node", "N": 1, "balance": "none", "latency": DEFAULT_LATENCY,
-                          "bandwidth": DEFAULT_BANDWIDTH}, "args": SCENE + ["--mesh", 1]}]
-    for swept, lat, bw in settings(a):
+                          "bandwidth": DEFAULT_BANDWIDTH, "depth": DEFAULT_DEPTH}, "args": SCENE + ["--mesh", 1]}]
+    for swept, lat, bw, depth, bals in settings(a):
         for n in ns:
-            for bal in ("none", a.balance):
-                points.append({"params": {"sweep": swept, "N": n, "balance": bal, "latency": lat, "bandwidth": bw},
+            for bal in bals:
+                points.append({"params": {"sweep": swept, "N": n, "balance": bal, "latency": lat, "bandwidth": bw,
+                                          "depth": depth},
                                "args": SCENE + ["--mesh", n, "--balance", bal, "--link-latency", lat,
-                                                "--link-bandwidth", bw]})
-    # (The default link appears in both sweeps: the second is the same point.)
+                                                "--link-bandwidth", bw] +
+                               ([] if depth == DEFAULT_DEPTH else ["--link-depth", depth])})
+    # (The default link appears in every sweep: the later ones are the same point.)
     unique = list({driver.point_id(p["args"]): p for p in points}.values())
     runs = driver.run("link_sweep", unique, extract, None, a)
-    by = {(r["N"], r["balance"], r["latency"], r["bandwidth"]): r for r in runs}
-    one = by[(1, "none", DEFAULT_LATENCY, DEFAULT_BANDWIDTH)]["render_time_ns"]
+    by = {(r["N"], r["balance"], r["latency"], r["bandwidth"], r.get("depth", DEFAULT_DEPTH)): r for r in runs}
+    one = by[(1, "none", DEFAULT_LATENCY, DEFAULT_BANDWIDTH, DEFAULT_DEPTH)]["render_time_ns"]
     rows = []
-    for swept, lat, bw in settings(a):
+    for swept, lat, bw, depth, bals in settings(a):
         for n in ns:
-            for bal in ("none", a.balance):
-                r = by[(n, bal, lat, bw)]
-                none = by[(n, "none", lat, bw)]
-                rows.append({"sweep": swept, "N": n, "balance": bal, "latency": lat, "bandwidth": bw,
+            for bal in bals:
+                r = by[(n, bal, lat, bw, depth)]
+                none = by[(n, "none", lat, bw, depth)]
+                rows.append({"sweep": swept, "N": n, "balance": bal, "latency": lat, "bandwidth": bw, "depth": depth,
                              "latency_s": value(lat), "bandwidth_Bps": value(bw),
                              "render_time_ns": r["render_time_ns"], "one_node_ns": one,
                              "speedup": one / r["render_time_ns"],
@@ -150,6 +160,11 @@ def plot(a, rows):
                 if bal != "none":
                     axes[row][2].plot(xs, [r["balance_gain"] for r in pts], style, color=colour[n], marker=".",
                                       label=f"N = {n}")
+            if swept == "latency":
+                deep = sorted((r for r in rows if r["sweep"] == "latency, deep links" and r["N"] == n),
+                              key=lambda r: r[key])
+                axes[row][0].plot([r[key] * scale for r in deep], [r["render_time_ns"] / 1e3 for r in deep], ":",
+                                  color=colour[n], linewidth=1)
             k = knees(rows, swept, "none", n, 2.0)
             if k is not None:
                 t = 2 * min(r["render_time_ns"] for r in rows
@@ -169,7 +184,8 @@ def plot(a, rows):
         axes[row][0].set_title(f"render time against {swept} (x: knee, time doubled)", fontsize=10)
         axes[row][1].set_title(f"speed-up over one node against {swept}", fontsize=10)
         axes[row][2].set_title(f"balancing gain against {swept}", fontsize=10)
-    axes[0][0].legend(fontsize=8, title="solid: none, dashed: " + a.balance, title_fontsize=8)
+    axes[0][0].legend(fontsize=8, title=f"solid: none, dashed: {a.balance};\ndotted: none, depth {a.deep_depth}",
+                      title_fontsize=8)
     axes[0][2].legend(fontsize=8)
     other = {"latency": DEFAULT_BANDWIDTH, "bandwidth": DEFAULT_LATENCY}
     fig.suptitle(f"Link speed: top, latency swept at {other['latency']}; bottom, bandwidth swept at "
@@ -181,10 +197,11 @@ def plot(a, rows):
 def table(a, rows):
     ns = sorted({r["N"] for r in rows})
     lines = ["<!-- written by scripts/link_sweep.py; do not edit -->",
-             "| N | latency: +10 % | latency: knee (x2) | bandwidth: +10 % | bandwidth: knee (x2) |"
+             "| N | latency: +10 % | latency: knee (x2) | latency knee (x2), depth "
+             f"{a.deep_depth} | bandwidth: +10 % | bandwidth: knee (x2) |"
              f" knee (x2) with {a.balance}: latency, bandwidth | speed-up, fastest links | balancing gain, fastest"
              " / default / slowest latency |",
-             "|---|---|---|---|---|---|---|---|"]
+             "|---|---|---|---|---|---|---|---|---|"]
     for n in ns:
         lat = [r for r in rows if r["sweep"] == "latency" and r["N"] == n]
         fastest = min((r for r in lat if r["balance"] == "none"), key=lambda r: r["latency_s"])
@@ -193,6 +210,7 @@ def table(a, rows):
         lines.append(
             f"| {n} | {fmt_latency(knees(rows, 'latency', 'none', n, 1.1))} | "
             f"{fmt_latency(knees(rows, 'latency', 'none', n, 2.0))} | "
+            f"{fmt_latency(knees(rows, 'latency, deep links', 'none', n, 2.0))} | "
             f"{fmt_bandwidth(knees(rows, 'bandwidth', 'none', n, 1.1))} | "
             f"{fmt_bandwidth(knees(rows, 'bandwidth', 'none', n, 2.0))} | "
             f"{fmt_latency(knees(rows, 'latency', a.balance, n, 2.0))}, "
@@ -201,6 +219,8 @@ def table(a, rows):
             f"{gains[-1]['balance_gain']:.2f} |")
     with open(os.path.join(a.out, "link_sweep.md"), "w") as f:
         f.write("\n".join(lines) + "\n")
+    if a.doc:
+        driver.update_doc_section(a.doc, "link_sweep table", "\n".join(lines[1:]))
     print("\n".join(lines[1:]))
 
 

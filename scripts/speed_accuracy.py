@@ -35,6 +35,8 @@ def main():
     ap.add_argument("--repeats", type=int, default=3)
     ap.add_argument("--out", default=os.path.join(ROOT, "doc", "results"))
     ap.add_argument("--plot-only", action="store_true", help="redraw the chart and table from the CSV")
+    ap.add_argument("--doc", default=os.path.join(ROOT, "doc", "exploration.md"),
+                    help="doc page whose generated table section to update ('' for none)")
     driver.add_arguments(ap)
     a = ap.parse_args()
     a.jobs = a.jobs or 1  # timing: one run at a time unless asked
@@ -184,6 +186,8 @@ def table(a, rows):
                              f"{exact['wall_s'] / p['wall_s']:.2f} | {pct(p['error'])} | {gain} |")
     with open(os.path.join(a.out, "speed_accuracy.md"), "w") as f:
         f.write("\n".join(lines) + "\n")
+    if a.doc:
+        driver.update_doc_section(a.doc, "speed_accuracy table", "\n".join(lines[1:]))
     print("\n".join(lines[1:]))
 
 

@@ -226,3 +226,18 @@ def write_csv(path, rows):
 def read_csv(path):
     with open(path, newline="") as f:
         return list(csv.DictReader(f))
+
+
+def update_doc_section(path, name, text):
+    """Replaces the text between `<!-- begin NAME -->` and `<!-- end NAME -->`
+    in a doc page with `text`, so tables shown in doc/ pages are regenerated
+    by the script that computes them, never edited by hand."""
+    begin, end = f"<!-- begin {name} (generated; do not edit) -->", f"<!-- end {name} -->"
+    with open(path) as f:
+        doc = f.read()
+    if begin not in doc or end not in doc:
+        raise ValueError(f"{path}: no section markers for '{name}'")
+    head, rest = doc.split(begin, 1)
+    _, tail = rest.split(end, 1)
+    with open(path, "w") as f:
+        f.write(head + begin + "\n" + text.rstrip("\n") + "\n" + end + tail)
