@@ -125,9 +125,10 @@ def knee(points, factor, slower_is_larger):
 
 
 def knees(rows, swept, bal, n, factor):
-    pts = [(r["latency_s"] if swept == "latency" else r["bandwidth_Bps"], r["render_time_ns"])
+    by_latency = swept.startswith("latency")
+    pts = [(r["latency_s"] if by_latency else r["bandwidth_Bps"], r["render_time_ns"])
            for r in rows if r["sweep"] == swept and r["balance"] == bal and r["N"] == n]
-    return knee(pts, factor, slower_is_larger=(swept == "latency"))
+    return knee(pts, factor, slower_is_larger=by_latency)
 
 
 def fmt_latency(s):
