@@ -19,17 +19,17 @@
 
 #include <systemc>
 
+#include "arrival_queue.h"
+#include "balancer.h"
 #include "camera.h"
 #include "counters.h"
 #include "credit.h"
-#include "balancer.h"
-#include "arrival_queue.h"
-#include "time_keeper.h"
 #include "link.h"
 #include "machine_config.h"
 #include "node_trace.h"
 #include "region.h"
 #include "shading.h"
+#include "time_keeper.h"
 
 namespace rt {
 
