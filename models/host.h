@@ -9,10 +9,10 @@
 #include <systemc>
 
 #include "arrival_queue.h"
-#include "time_keeper.h"
 #include "credit.h"
 #include "image.h"
 #include "link.h"
+#include "time_keeper.h"
 
 namespace rt {
 
