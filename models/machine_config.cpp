@@ -1,5 +1,6 @@
 #include "machine_config.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -33,6 +34,12 @@ const Costs& MachineConfig::costsOf(const Cell& c) const {
 const LinkParams& MachineConfig::linkOf(const Cell& from, int dir) const {
     auto it = linkOverride.find({from, dir});
     return it == linkOverride.end() ? link : it->second;
+}
+
+Picos MachineConfig::lookahead() const {
+    Picos l = std::min(link.latency, fbPort.latency);
+    for (const auto& [where, p] : linkOverride) l = std::min(l, p.latency);
+    return l;
 }
 
 static void checkLink(const LinkParams& l, const std::string& flag) {

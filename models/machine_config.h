@@ -97,6 +97,9 @@ struct MachineConfig {
     double speedOf(const Cell& c) const;
     const Costs& costsOf(const Cell& c) const;
     const LinkParams& linkOf(const Cell& from, int dir) const;
+    // The lookahead: the smallest latency of any link or frame-buffer port. A
+    // quantum up to this is still exact.
+    Picos lookahead() const;
     // Throws std::invalid_argument("--flag: what") for the first bad value.
     void validate() const;
 };

@@ -90,9 +90,12 @@ void RtsimOptions::addTo(CLI::App& app) {
     app.add_option("--node-cost", nodeCostSpecs_, "a cost of one node: x,y,z:NAME=TIME, NAME one of sphere polygon cone voxel raygen shade send recv (repeatable)")
         ->group(gc);
 
-    addTime(app, "--quantum", m.quantum,
-            "temporal decoupling: how far a process may run ahead of the kernel (0: exact; up to the smallest link latency: still exact)",
-            gm);
+    app.add_option("--quantum", quantum_,
+                   "temporal decoupling: how far a process may run ahead of the kernel. 'lookahead': the smallest link or "
+                   "port latency, the largest that is still exact; 0: synchronise after every step (also exact, slower); "
+                   "beyond the lookahead: faster, timing approximate")
+        ->capture_default_str()
+        ->group(gm);
     addTime(app, "--link-latency", m.link.latency, "link latency", gl);
     app.add_option_function<std::string>("--link-bandwidth", [&m](const std::string& s) { m.link.bandwidth = rateOf("--link-bandwidth", s); }, "link bandwidth")
         ->default_str("1GB/s")->group(gl);
@@ -211,6 +214,14 @@ void RtsimOptions::finish() {
         m.traceTo = timeOf("--trace-window", traceWindow_.substr(comma + 1));
     }
     m.vcdPath = vcd;
+    // After every link setting: the lookahead is the smallest of their latencies.
+    if (quantum_ == "lookahead") {
+        m.quantum = m.lookahead();
+    } else {
+        const auto q = parseTime(quantum_);
+        if (!q) throw CLI::ValidationError("--quantum", "expected 'lookahead' or a non-negative time with a unit (ps ns us ms s), got '" + quantum_ + "'");
+        m.quantum = *q;
+    }
     m.balance.axis = scene.axis == "x" ? 0 : scene.axis == "y" ? 1 : 2;  // one progress axis for scene and balancing
     try {
         m.validate();

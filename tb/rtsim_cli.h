@@ -30,6 +30,7 @@ struct RtsimOptions {
 private:
     std::vector<std::string> nodeCostSpecs_, linkSpecs_, traceSpecs_;
     std::string traceWindow_;
+    std::string quantum_ = "lookahead";  // --quantum: a time, or the lookahead
 };
 
 }  // namespace rt

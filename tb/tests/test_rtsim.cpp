@@ -180,6 +180,7 @@ TEST_F(Rtsim, BadConfigurationExits2NamingTheFlag) {
     expectBad("--node-speed 0,0,0=-1", "--node-speed");
     expectBad("--link-set 3,3,3,+x:latency=1us", "--link-set");
     expectBad("--trace-window 5us", "--trace-window");
+    expectBad("--quantum soon", "--quantum");
     std::ofstream(dir_ / "bad.ini") << "mesh = [not closed\n";
     expectBad("--config " + (dir_ / "bad.ini").string(), "");
     std::ofstream(dir_ / "bad2.ini") << "no-such-flag = 3\n";
@@ -214,7 +215,7 @@ TEST_F(Rtsim, QuantumUpToTheLinkLatencyIsExactToThePicosecond) {
     Outcome o = run(args + " -q --no-baseline --quantum 0 --image " + (dir_ / "e.png").string() + " --report " + (dir_ / "e.json").string());
     ASSERT_EQ(o.code, 0) << o.err;
     const json exact = json::parse(slurp(dir_ / "e.json"));
-    for (const char* q : {"50ns", "200ns"}) {
+    for (const char* q : {"50ns", "200ns", "lookahead"}) {
         SCOPED_TRACE(q);
         o = run(args + " -q --no-baseline --quantum " + q + " --image " + (dir_ / "q.png").string() + " --report " + (dir_ / "q.json").string());
         ASSERT_EQ(o.code, 0) << o.err;
@@ -232,7 +233,14 @@ TEST_F(Rtsim, QuantumUpToTheLinkLatencyIsExactToThePicosecond) {
         EXPECT_GT(waited, 0u);  // depth-2 links: messages did wait
         EXPECT_EQ(slurp(dir_ / "q.png"), slurp(dir_ / "e.png"));
         EXPECT_LT(r["kernel"]["delta_cycles"].get<uint64_t>(), exact["kernel"]["delta_cycles"].get<uint64_t>());
+        if (std::string(q) == "lookahead") {
+            EXPECT_EQ(r["config"]["quantum_ns"], 200.0);  // the smallest latency: the links'
+        }
     }
+    // The default is the lookahead: here a 40 ns link sets it.
+    o = run(args + " --link-set 1,1,1,+x:latency=40ns -q --no-baseline --image '' --report " + (dir_ / "d.json").string());
+    ASSERT_EQ(o.code, 0) << o.err;
+    EXPECT_EQ(json::parse(slurp(dir_ / "d.json"))["config"]["quantum_ns"], 40.0);
     // Beyond the lookahead the timing may drift; the image may not.
     o = run(args + " -q --no-baseline --quantum 20us --image " + (dir_ / "f.png").string() + " --report " + (dir_ / "f.json").string());
     ASSERT_EQ(o.code, 0) << o.err;
