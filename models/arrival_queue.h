@@ -9,10 +9,18 @@
 // when they reach the top and dropped if the link's head has moved on, so a
 // choice costs O(log ports) instead of a scan of every port: the host has one
 // port per node (4,096 on a 16x16x16 mesh).
+//
+// It also wakes its process: a process with nothing to do waits until its
+// next known arrival (waitForInput), and only a message that lands in an
+// empty link and arrives sooner than that notifies it. A message behind
+// another in its link, or sent to a busy process, costs the kernel nothing.
 #pragma once
+#include <algorithm>
 #include <functional>
 #include <queue>
 #include <vector>
+
+#include <systemc>
 
 #include "link.h"
 
@@ -34,7 +42,27 @@ public:
 
     void headChanged(int port) override {
         Picos a;
-        if (links_[port]->peekArrival(a)) heap_.push({a, port});
+        if (!links_[port]->peekArrival(a)) return;
+        heap_.push({a, port});
+        if (waiting_ && a < wakeAt_) {  // sooner than the waiting process expects
+            wakeAt_ = a;
+            arrived_.notify(sc_core::sc_time::from_value(a - sc_core::sc_time_stamp().value()));
+        }
+    }
+
+    // In the calling process, whose local time `now` the kernel has caught up
+    // with: waits until the next message arrives or until `deadline`,
+    // whichever is first; returns at once if a message has arrived by `now`.
+    void waitForInput(Picos now, Picos deadline = ~Picos(0)) {
+        Picos next;
+        oldest(now, next);
+        next = std::min(next, deadline);
+        if (next <= now) return;
+        waiting_ = true;
+        wakeAt_ = next;
+        if (next != ~Picos(0)) sc_core::wait(sc_core::sc_time::from_value(next - now), arrived_);
+        else sc_core::wait(arrived_);
+        waiting_ = false;
     }
 
     // The port whose oldest message has arrived by `now` and arrived first
@@ -71,6 +99,9 @@ private:
     };
     std::vector<LinkRecvIf*> links_;
     std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> heap_;
+    sc_core::sc_event arrived_;  // wakes the waiting process
+    bool waiting_ = false;
+    Picos wakeAt_ = 0;           // while waiting: when the process wakes anyway
 };
 
 }  // namespace rt

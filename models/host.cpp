@@ -14,7 +14,6 @@ Host::Host(sc_core::sc_module_name name, int nodes, int width, int height, Picos
 }
 
 void Host::run() {
-    for (auto& p : in) p->setArrivalEvent(&arrived_);
     inputOrder_.listen(in);
     Picos now = sc_core::sc_time_stamp().value();
     auto lastPrint = std::chrono::steady_clock::now();
@@ -29,8 +28,7 @@ void Host::run() {
         const int best = inputOrder_.oldest(now, next);  // ties go to the lower node
         if (best < 0) {
             time_.catchUp(now);
-            if (next != ~Picos(0)) wait(sc_core::sc_time::from_value(next - now), arrived_);
-            else wait(arrived_);
+            inputOrder_.waitForInput(now);
             now = sc_core::sc_time_stamp().value();
             continue;
         }

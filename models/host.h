@@ -49,7 +49,6 @@ private:
     TimeKeeper time_;  // when to let the kernel catch up
     Credit returned_;
     std::vector<Contribution> contributions_;
-    sc_core::sc_event arrived_;
     ArrivalQueue inputOrder_;
     HostStats stats_;
 };

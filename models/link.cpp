@@ -61,10 +61,6 @@ void Link::startWaiting() {
         stats_.backlogHighWater = std::max(stats_.backlogHighWater, waitedUntil_.size());
         buffer_.push_back({arrival, std::move(w.m), start});
         if (listener_ && buffer_.size() == 1) listener_->headChanged(listenerPort_);
-        if (arrived_) {
-            const Picos now = sc_core::sc_time_stamp().value();
-            arrived_->notify(sc_core::sc_time::from_value(arrival - now));
-        }
     }
 }
 

@@ -54,8 +54,6 @@ public:
     virtual bool peekArrival(Picos& arrival) const = 0;
     // Takes the oldest message; it must have arrived by `t`.
     virtual Message consume(Picos t) = 0;
-    // Notified when a message arrives (set by the receiver).
-    virtual void setArrivalEvent(sc_core::sc_event* e) = 0;
     // Tells `l` (as its input `port`) whenever the oldest message changes.
     virtual void setListener(ArrivalListener* l, int port) = 0;
     // Messages sent towards the receiver and not yet consumed.
@@ -69,7 +67,6 @@ public:
     void send(Message m, Picos t) override;
     bool peekArrival(Picos& arrival) const override;
     Message consume(Picos t) override;
-    void setArrivalEvent(sc_core::sc_event* e) override { arrived_ = e; }
     void setListener(ArrivalListener* l, int port) override {
         listener_ = l;
         listenerPort_ = port;
@@ -102,7 +99,6 @@ private:
     // started, and when the last messages were consumed (both in FIFO order,
     // so both sorted).
     std::deque<Picos> waitedUntil_, consumedAt_;
-    sc_core::sc_event* arrived_ = nullptr;
     ArrivalListener* listener_ = nullptr;
     int listenerPort_ = 0;
     LinkStats stats_;

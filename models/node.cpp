@@ -64,8 +64,6 @@ void Node::traceState(bool busy, bool waiting) {
 }
 
 void Node::run() {
-    for (int d = 0; d < kDirs; ++d)
-        if (in[d].size()) in[d]->setArrivalEvent(&arrived_);
     inputOrder_.listen(in);
     now_ = sc_core::sc_time_stamp().value();
     Work w;
@@ -97,11 +95,7 @@ void Node::run() {
         stats_.waitingSince = now_;
         time_.catchUp(now_);
         traceState(false, true);
-        Picos next;
-        inputOrder_.oldest(now_, next);
-        if (bal_.dynamic()) next = std::min(next, nextInterval_);  // wake to report the load
-        if (next != ~Picos(0)) wait(sc_core::sc_time::from_value(next - now_), arrived_);
-        else wait(arrived_);
+        inputOrder_.waitForInput(now_, bal_.dynamic() ? nextInterval_ : ~Picos(0));  // wake to report the load too
         now_ = sc_core::sc_time_stamp().value();
         stats_.wait += now_ - stats_.waitingSince;
         stats_.waiting = false;

@@ -183,7 +183,6 @@ private:
     std::vector<std::pair<int, Message>> outbox_;  // this step's sends: (direction or -1 for fb, message)
     Mailbox mailbox_;
     Picos now_ = 0;
-    sc_core::sc_event arrived_;
     ArrivalQueue inputOrder_;
     std::vector<RayJob> spawned_;              // step(): rays a step spawned
     std::vector<Contribution> contributions_;  // step(): contributions a step made
