@@ -75,6 +75,7 @@ def main():
     modes = "| mode | flags | rtsim wall | rtref wall | rtsim / rtref | render time | error vs exact | image = rtref |\n" \
             "|---|---|---:|---:|---:|---:|---:|---|\n"
     exact_report = None
+    ratio_of = {}
     for label, flags in MODES:
         sim, ref, ratios, mem = [], [], [], []
         for i in range(a.runs):  # alternated, so both see the same machine state
@@ -90,6 +91,7 @@ def main():
         if exact_report is None:
             exact_report, exact_mem, exact_wall = r, max(mem), statistics.median(sim)
         err = r["render_time_ns"] / exact_report["render_time_ns"] - 1
+        ratio_of[label] = (statistics.median(ratios), err)
         modes += (f"| {label} | `{' '.join(flags) or '(defaults)'}` | {statistics.median(sim):.3f} s | "
                   f"{statistics.median(ref):.3f} s | **{statistics.median(ratios):.2f}** | "
                   f"{r['render_time_ns'] / 1e6:.3f} ms | {err * 100:+.4f} % | "
@@ -106,7 +108,7 @@ def main():
         ("machine", machine()),
     ]
     table = "| quantity | value |\n|---|---|\n" + "".join(f"| {k} | {v} |\n" for k, v in rows)
-    big = ""
+    big, big_figures = "", None
     if a.big_runs:
         spd5 = os.path.join(os.path.dirname(a.scene), "balls-5.nff")
         walls, mems = [], []
@@ -118,6 +120,7 @@ def main():
         with open(report) as f:
             g = json.load(f)
         wr, _ = timed(rtref(spd5, "1024x1024", "bigref.png"))
+        big_figures = (statistics.median(walls), max(mems), same("big.png", "bigref.png"))
         big = ("\n16x16x16 mesh (4,096 nodes) on balls-5 (66,430 spheres) at 1024x1024, exact mode, "
                f"{a.big_runs} runs:\n\n| quantity | value |\n|---|---|\n"
                f"| rtsim wall (median) | {statistics.median(walls):.1f} s (runs: "
@@ -146,9 +149,28 @@ def main():
     out = modes + "\n" + table + big + growth
     print(out, end="")
     if a.doc:
+        targets(ratio_of, big_figures)
         os.makedirs(os.path.join(ROOT, "doc", "benchmarks"), exist_ok=True)
         with open(os.path.join(ROOT, "doc", "benchmarks", "rtsim.md"), "w") as f:
             f.write("# rtsim benchmark\n\nWritten by `scripts/bench_rtsim.py --doc`; do not edit by hand.\n\n" + out)
+
+
+def targets(ratio_of, big):
+    """The issue's performance targets against what was measured, into
+    doc/exploration.md's generated section."""
+    from sweep import update_doc_section
+    lock, look = ratio_of[MODES[0][0]], ratio_of[MODES[1][0]]
+    fast, fast_flags = ratio_of[MODES[2][0]], " ".join(MODES[2][1])
+    rows = ["| target | measured | met? |", "|---|---|---|",
+            f"| exact mode: rtsim / rtref at most 2.0 | {look[0]:.2f} with the default lookahead quantum, "
+            f"{lock[0]:.2f} in lockstep (`--quantum 0`) | {'yes' if min(look[0], lock[0]) <= 2.0 else 'no'} |",
+            f"| fastest mode with render-time error under 1 %: at most 1.2 | {fast[0]:.2f} at `{fast_flags}` "
+            f"(error {fast[1] * 100:+.4f} %) | {'yes' if fast[0] <= 1.2 and abs(fast[1]) < 0.01 else 'no'} |"]
+    if big:
+        rows.append(f"| 16x16x16 mesh on balls-5 at 1024x1024: under 5 minutes, within 4 GB | {big[0]:.1f} s, "
+                    f"{big[1]:.0f} MiB peak, exact mode, image {'identical to' if big[2] else 'DIFFERENT from'} rtref's | "
+                    f"{'yes' if big[0] < 300 and big[1] < 4096 and big[2] else 'no'} |")
+    update_doc_section(os.path.join(ROOT, "doc", "exploration.md"), "performance targets", "\n".join(rows))
 
 
 if __name__ == "__main__":
