@@ -83,11 +83,11 @@ public:
         return next <= now ? heap_.top().port : -1;
     }
 
-    // Messages sent to the listened ports and not yet consumed.
-    size_t unconsumed() const {
+    // Messages that have arrived at the listened ports by `t`, not yet taken.
+    size_t arrivedBy(Picos t) const {
         size_t n = 0;
         for (const LinkRecvIf* l : links_)
-            if (l) n += l->unconsumed();
+            if (l) n += l->arrivedBy(t);
         return n;
     }
 

@@ -70,6 +70,12 @@ bool Link::peekArrival(Picos& arrival) const {
     return true;
 }
 
+size_t Link::arrivedBy(Picos t) const {
+    size_t n = 0;
+    while (n < buffer_.size() && buffer_[n].t <= t) ++n;  // buffer_ is in arrival order
+    return n;
+}
+
 Message Link::consume(Picos t) {
     if (buffer_.empty() || buffer_.front().t > t) throw std::logic_error(std::string(name()) + ": consumed before arrival");
     // Messages on the link when this one went on the wire: those before it

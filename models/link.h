@@ -56,8 +56,8 @@ public:
     virtual Message consume(Picos t) = 0;
     // Tells `l` (as its input `port`) whenever the oldest message changes.
     virtual void setListener(ArrivalListener* l, int port) = 0;
-    // Messages sent towards the receiver and not yet consumed.
-    virtual size_t unconsumed() const = 0;
+    // Messages that have arrived by `t` and are not yet consumed.
+    virtual size_t arrivedBy(Picos t) const = 0;
 };
 
 class Link : public sc_core::sc_object, public LinkSendIf, public LinkRecvIf {
@@ -77,7 +77,7 @@ public:
     size_t backlog() const { return backlog_.size(); }
     // Messages of this type sent and not yet consumed.
     uint64_t inFlight(MsgType t) const { return inFlight_[int(t)]; }
-    size_t unconsumed() const override { return buffer_.size(); }
+    size_t arrivedBy(Picos t) const override;
     const char* kind() const override { return "rt_link"; }
 
 private:

@@ -53,7 +53,9 @@ void Node::assignPrimaries(std::vector<uint32_t> pixels, int primaryExp, const C
 }
 
 size_t Node::queueDepth() const {
-    return local_.size() + (received_.size() - receivedNext_) + inputOrder_.unconsumed();
+    // Counted in simulated time (messages that have arrived by now), so the
+    // same in every exact mode.
+    return local_.size() + (received_.size() - receivedNext_) + inputOrder_.arrivedBy(now_);
 }
 
 void Node::traceState(bool busy, bool waiting) {

@@ -56,7 +56,7 @@ struct NodeStats {
     uint64_t raysForwarded = 0;    // sent to a neighbour
     uint64_t messagesSent = 0, messagesReceived = 0;
     uint64_t contributionsSent = 0;
-    size_t queueHighWater = 0;     // local work + unconsumed input messages
+    size_t queueHighWater = 0;     // local work + input messages arrived and not yet taken
     Picos lastActive = 0;          // end of the last busy step
     bool waiting = false;          // waiting for work when the frame ended
     Picos waitingSince = 0;
