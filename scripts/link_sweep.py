@@ -10,8 +10,9 @@ Knee: the link speed at which the render time has doubled from its value
 with the fastest links (links then take as long as everything else), found
 by log-log interpolation between swept points; also where it has grown by
 10 % (links start to matter). The latency sweep is repeated with deeper
-links (--deep-depth, without balancing) to show what sets the latency knee. Needs python3-matplotlib
-(bash scripts/setup.sh plots); run with /usr/bin/python3."""
+links (--deep-depth, without balancing) to show what sets the latency knee.
+Needs python3-matplotlib (bash scripts/setup.sh plots); run with
+/usr/bin/python3."""
 import argparse
 import math
 import os
