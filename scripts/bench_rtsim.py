@@ -18,6 +18,7 @@ import time
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(ROOT, "scripts"))
 from bench_rtref import machine  # noqa: E402
+from sweep import version  # noqa: E402
 
 
 def timed(cmd):
@@ -106,6 +107,7 @@ def main():
         ("messages per wall second, exact mode", f"{msgs / exact_wall:,.0f}"),
         ("rtsim peak memory, exact mode (max over runs)", f"{exact_mem:.0f} MiB"),
         ("machine", machine()),
+        ("version (git describe)", version()),
     ]
     table = "| quantity | value |\n|---|---|\n" + "".join(f"| {k} | {v} |\n" for k, v in rows)
     big, big_figures = "", None
