@@ -83,6 +83,14 @@ public:
         return next <= now ? heap_.top().port : -1;
     }
 
+    // Messages on the listened links or arrived there, not yet taken.
+    size_t unconsumed() const {
+        size_t n = 0;
+        for (const LinkRecvIf* l : links_)
+            if (l) n += l->unconsumed();
+        return n;
+    }
+
     // Messages that have arrived at the listened ports by `t`, not yet taken.
     size_t arrivedBy(Picos t) const {
         size_t n = 0;

@@ -58,6 +58,8 @@ public:
     virtual void setListener(ArrivalListener* l, int port) = 0;
     // Messages that have arrived by `t` and are not yet consumed.
     virtual size_t arrivedBy(Picos t) const = 0;
+    // Messages on the link or arrived, not yet consumed (at least arrivedBy).
+    virtual size_t unconsumed() const = 0;
 };
 
 class Link : public sc_core::sc_object, public LinkSendIf, public LinkRecvIf {
@@ -78,6 +80,7 @@ public:
     // Messages of this type sent and not yet consumed.
     uint64_t inFlight(MsgType t) const { return inFlight_[int(t)]; }
     size_t arrivedBy(Picos t) const override;
+    size_t unconsumed() const override { return buffer_.size(); }
     const char* kind() const override { return "rt_link"; }
 
 private:

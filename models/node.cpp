@@ -234,7 +234,10 @@ void Node::step(Work& w) {
         const int k = std::clamp(int(u * double(histogram_.size())), 0, int(histogram_.size()) - 1);
         histogram_[size_t(k)] += cost;
     }
-    stats_.queueHighWater = std::max(stats_.queueHighWater, queueDepth());
+    // The exact depth (a scan of the input links) only when it could set a
+    // new high-water mark: it is at most the local work plus all unconsumed.
+    if (local_.size() + (received_.size() - receivedNext_) + inputOrder_.unconsumed() > stats_.queueHighWater)
+        stats_.queueHighWater = std::max(stats_.queueHighWater, queueDepth());
     chargeAndSend(cost);
 }
 
