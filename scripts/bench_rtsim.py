@@ -18,7 +18,7 @@ import time
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(ROOT, "scripts"))
 from bench_rtref import machine  # noqa: E402
-from sweep import version  # noqa: E402
+from sweep import update_doc_section, version  # noqa: E402
 
 
 def timed(cmd):
@@ -160,7 +160,6 @@ def main():
 def targets(ratio_of, big):
     """The issue's performance targets against what was measured, into
     doc/exploration.md's generated section."""
-    from sweep import update_doc_section
     lock, look = ratio_of[MODES[0][0]], ratio_of[MODES[1][0]]
     fast, fast_flags = ratio_of[MODES[2][0]], " ".join(MODES[2][1])
     rows = ["| target | measured | met? |", "|---|---|---|",

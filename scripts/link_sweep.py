@@ -219,11 +219,7 @@ def table(a, rows):
             f"{fmt_bandwidth(knees(rows, 'bandwidth', a.balance, n, 2.0))} | "
             f"{fastest['speedup']:.2f} | {gains[0]['balance_gain']:.2f} / {default['balance_gain']:.2f} / "
             f"{gains[-1]['balance_gain']:.2f} |")
-    with open(os.path.join(a.out, "link_sweep.md"), "w") as f:
-        f.write("\n".join(lines) + "\n")
-    if a.doc:
-        driver.update_doc_section(a.doc, "link_sweep table", "\n".join(lines[1:]))
-    print("\n".join(lines[1:]))
+    driver.publish_table(lines, os.path.join(a.out, "link_sweep.md"), a.doc, "link_sweep table")
 
 
 if __name__ == "__main__":

@@ -184,11 +184,7 @@ def table(a, rows):
                 gain = "" if p["balance_gain"] is None else f"{p['balance_gain']:.3f} ({p['exact_balance_gain']:.3f})"
                 lines.append(f"| {scene} | {n} | {bal} | {p['quantum']}, {p['ray_batch']} | {p['wall_s']:.2f} | "
                              f"{exact['wall_s'] / p['wall_s']:.2f} | {pct(p['error'])} | {gain} |")
-    with open(os.path.join(a.out, "speed_accuracy.md"), "w") as f:
-        f.write("\n".join(lines) + "\n")
-    if a.doc:
-        driver.update_doc_section(a.doc, "speed_accuracy table", "\n".join(lines[1:]))
-    print("\n".join(lines[1:]))
+    driver.publish_table(lines, os.path.join(a.out, "speed_accuracy.md"), a.doc, "speed_accuracy table")
 
 
 if __name__ == "__main__":

@@ -228,6 +228,16 @@ def read_csv(path):
         return list(csv.DictReader(f))
 
 
+def publish_table(lines, md_path, doc_path, section):
+    """A generated markdown table (lines[0] a "written by" comment): to its
+    results file, into its section of a doc page (if doc_path), and to stdout."""
+    with open(md_path, "w") as f:
+        f.write("\n".join(lines) + "\n")
+    if doc_path:
+        update_doc_section(doc_path, section, "\n".join(lines[1:]))
+    print("\n".join(lines[1:]))
+
+
 def update_doc_section(path, name, text):
     """Replaces the text between `<!-- begin NAME -->` and `<!-- end NAME -->`
     in a doc page with `text`, so tables shown in doc/ pages are regenerated
