@@ -118,6 +118,27 @@ TEST(Decide, WorkPolicyShedsFromTheBinsNextToTheBoundary) {
 
 // ---- Whole runs ----
 
+// The scenes of the whole-run tests: an SPD file, or the crowded procedural scene.
+static Scene balancingScene(const std::string& name) { return name == "procedural" ? crowded(0.3) : test::spd(name); }
+
+// A 3x3x3 mesh at 40x40 under `p`, with large steps (gain 1): many slides
+// while rays are in flight.
+static MachineConfig slidingMesh(Policy p, Picos interval) {
+    MachineConfig c;
+    c.dims = {3, 3, 3};
+    c.width = c.height = 40;
+    c.balance.policy = p;
+    c.balance.interval = interval;
+    c.balance.gain = 1.0;
+    return c;
+}
+
+static size_t slidesIn(const MachineResult& r) {
+    size_t slides = 0;
+    for (const NodeStats& n : r.nodes) slides += n.slides.size();
+    return slides;
+}
+
 // Every link of a 3x3x3 mesh its own latency (1 ns .. 3 us), bandwidth and depth 1..3.
 static void randomLinks(MachineConfig& c, uint64_t seed) {
     std::mt19937_64 rng(seed);
@@ -143,19 +164,12 @@ class PolicyIdentity : public testing::TestWithParam<Case> {};
 
 TEST_P(PolicyIdentity, ImageConservationGuardsUnderRandomLinks) {
     const Case& k = GetParam();
-    const Scene s = k.scene == "procedural" ? crowded(0.3) : test::spd(k.scene);
-    MachineConfig c;
-    c.dims = {3, 3, 3};
-    c.width = c.height = 40;
-    c.balance.policy = k.policy;
-    c.balance.interval = k.interval;
-    c.balance.gain = 1.0;  // large steps: many slides while rays are in flight
+    const Scene s = balancingScene(k.scene);
+    MachineConfig c = slidingMesh(k.policy, k.interval);
     randomLinks(c, k.interval + 17 * int(k.policy));
     const MachineResult r = runAndCompare(s, c);
-    size_t slides = 0;
-    for (const NodeStats& n : r.nodes) slides += n.slides.size();
     if (c.balance.dynamic()) {
-        EXPECT_GT(slides, 0u);
+        EXPECT_GT(slidesIn(r), 0u);
     }
 }
 
@@ -191,20 +205,13 @@ class FidelityModes : public testing::TestWithParam<Fidelity> {};
 
 TEST_P(FidelityModes, ImageIdenticalWhileBoundariesSlide) {
     const Fidelity& k = GetParam();
-    const Scene s = k.scene == "procedural" ? crowded(0.3) : test::spd(k.scene);
-    MachineConfig c;
-    c.dims = {3, 3, 3};
-    c.width = c.height = 40;
-    c.balance.policy = k.policy;
-    c.balance.interval = 2000000;  // 2 us
-    c.balance.gain = 1.0;
+    const Scene s = balancingScene(k.scene);
+    MachineConfig c = slidingMesh(k.policy, 2000000);  // 2 us
     c.quantum = k.quantum;
     c.rayBatch = k.rayBatch;
     randomLinks(c, 99);
     const MachineResult r = runAndCompare(s, c);
-    size_t slides = 0;
-    for (const NodeStats& n : r.nodes) slides += n.slides.size();
-    EXPECT_GT(slides, 0u);
+    EXPECT_GT(slidesIn(r), 0u);
 }
 
 static std::vector<Fidelity> fidelityCases() {
@@ -298,9 +305,7 @@ TEST(Balance, DefaultSettingsAreStable) {
     const MachineResult r = runMachine(s, c);
     const StabilityVerdict v = judgeStability(r.boundaries, r.renderTime, s.worldBox().extent().x / 4);
     EXPECT_EQ(v.overall, Stability::Converged) << v.oscillating << " oscillating, " << v.diverging << " diverging";
-    size_t slides = 0;
-    for (const NodeStats& n : r.nodes) slides += n.slides.size();
-    EXPECT_GT(slides, 0u);
+    EXPECT_GT(slidesIn(r), 0u);
 }
 
 TEST(Balance, ClassifierSeesOscillationAndDivergence) {
