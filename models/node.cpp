@@ -55,7 +55,7 @@ void Node::assignPrimaries(std::vector<uint32_t> pixels, int primaryExp, const C
 size_t Node::queueDepth() const {
     // Counted in simulated time (messages that have arrived by now), so the
     // same in every exact mode.
-    return local_.size() + (received_.size() - receivedNext_) + inputOrder_.arrivedBy(now_);
+    return ownWork() + inputOrder_.arrivedBy(now_);
 }
 
 void Node::traceState(bool busy, bool waiting) {
@@ -236,7 +236,7 @@ void Node::step(Work& w) {
     }
     // The exact depth (a scan of the input links) only when it could set a
     // new high-water mark: it is at most the local work plus all unconsumed.
-    if (local_.size() + (received_.size() - receivedNext_) + inputOrder_.unconsumed() > stats_.queueHighWater)
+    if (ownWork() + inputOrder_.unconsumed() > stats_.queueHighWater)
         stats_.queueHighWater = std::max(stats_.queueHighWater, queueDepth());
     chargeAndSend(cost);
 }

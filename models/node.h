@@ -137,6 +137,8 @@ private:
     void queueRay(int dir, const Work& w);
     Picos stepCost(const Counters& before, uint64_t sends, uint64_t recvs, uint64_t generated) const;
     size_t queueDepth() const;
+    // Rays in hand: spawned here, or the rest of a batch received.
+    size_t ownWork() const { return local_.size() + (received_.size() - receivedNext_); }
     void traceState(bool busy, bool waiting);
 
     Cell cell_;
