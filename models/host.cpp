@@ -38,7 +38,7 @@ void Host::run() {
             ++stats_.contributionMessages;
             stats_.contributions += m.contributions.size();
             cost = cost_ * m.contributions.size();
-            contributions_.insert(contributions_.end(), m.contributions.begin(), m.contributions.end());
+            received_.push_back(std::move(m.contributions));
         } else if (m.type == MsgType::Credit) {
             ++stats_.creditMessages;
             returned_.add(m.credit);
@@ -65,15 +65,26 @@ void Host::run() {
 
 Image Host::image() {
     Image img(width_, height_);
-    std::sort(contributions_.begin(), contributions_.end(),
-              [](const Contribution& a, const Contribution& b) { return a.pixel < b.pixel; });
+    // Group the contributions by pixel (a counting sort, by reference), then
+    // sum each pixel's in path-key order.
+    const size_t pixels = size_t(width_) * size_t(height_);
+    auto forEach = [&](auto&& f) {
+        for (const std::vector<Contribution>& batch : received_)
+            for (const Contribution& c : batch) f(c);
+        for (const Contribution& c : own_) f(c);
+    };
+    std::vector<size_t> first(pixels + 1, 0);  // pixel p's contributions: byPixel[first[p] .. first[p + 1])
+    forEach([&](const Contribution& c) { ++first[c.pixel + 1]; });
+    for (size_t p = 0; p < pixels; ++p) first[p + 1] += first[p];
+    std::vector<const Contribution*> byPixel(first[pixels]);
+    std::vector<size_t> next(first.begin(), first.end() - 1);
+    forEach([&](const Contribution& c) { byPixel[next[c.pixel]++] = &c; });
     std::vector<Contribution> pixel;
-    for (size_t i = 0; i < contributions_.size();) {
-        size_t j = i;
-        while (j < contributions_.size() && contributions_[j].pixel == contributions_[i].pixel) ++j;
-        pixel.assign(contributions_.begin() + i, contributions_.begin() + j);
-        img.pixels[contributions_[i].pixel] = sumInKeyOrder(pixel);
-        i = j;
+    for (size_t p = 0; p < pixels; ++p) {
+        if (first[p] == first[p + 1]) continue;
+        pixel.clear();
+        for (size_t k = first[p]; k < first[p + 1]; ++k) pixel.push_back(*byPixel[k]);
+        img.pixels[p] = sumInKeyOrder(pixel);
     }
     return img;
 }

@@ -37,31 +37,43 @@ void Link::send(Message m, Picos t) {
     ++stats_.messages[type];
     stats_.bytes[type] += m.bytes();
     ++inFlight_[type];
+    if (backlog_.empty() && (unusedSlots_ > 0 || !slotFree_.empty())) {
+        putOnWire(t, std::move(m), takeSlot());  // the usual case: a slot is free, nothing waits before it
+        return;
+    }
     backlog_.push_back({t, std::move(m)});
     startWaiting();
 }
 
+Picos Link::takeSlot() {
+    if (unusedSlots_ > 0) {
+        --unusedSlots_;
+        return 0;
+    }
+    const Picos slot = slotFree_.front();
+    slotFree_.pop_front();
+    return slot;
+}
+
 void Link::startWaiting() {
     while (!backlog_.empty() && (unusedSlots_ > 0 || !slotFree_.empty())) {
-        Picos slot = 0;
-        if (unusedSlots_ > 0) {
-            --unusedSlots_;
-        } else {
-            slot = slotFree_.front();
-            slotFree_.pop_front();
-        }
-        Timed w = std::move(backlog_.front());
+        const Picos slot = takeSlot();
+        Timed& w = backlog_.front();
+        putOnWire(w.t, std::move(w.m), slot);
         backlog_.pop_front();
-        const Picos start = std::max({w.t, slot, wireFree_});
-        wireFree_ = start + transferTime(w.m.bytes());
-        const Picos arrival = wireFree_ + params_.latency;
-        // Messages sent before this one and still off the wire when it was sent.
-        while (!waitedUntil_.empty() && waitedUntil_.front() <= w.t) waitedUntil_.pop_front();
-        if (start > w.t) waitedUntil_.push_back(start);
-        stats_.backlogHighWater = std::max(stats_.backlogHighWater, waitedUntil_.size());
-        buffer_.push_back({arrival, std::move(w.m), start});
-        if (listener_ && buffer_.size() == 1) listener_->headChanged(listenerPort_);
     }
+}
+
+void Link::putOnWire(Picos sent, Message&& m, Picos slot) {
+    const Picos start = std::max({sent, slot, wireFree_});
+    wireFree_ = start + transferTime(m.bytes());
+    const Picos arrival = wireFree_ + params_.latency;
+    // Messages sent before this one and still off the wire when it was sent.
+    while (!waitedUntil_.empty() && waitedUntil_.front() <= sent) waitedUntil_.pop_front();
+    if (start > sent) waitedUntil_.push_back(start);
+    stats_.backlogHighWater = std::max(stats_.backlogHighWater, waitedUntil_.size());
+    buffer_.push_back({arrival, std::move(m), start});
+    if (listener_ && buffer_.size() == 1) listener_->headChanged(listenerPort_);
 }
 
 bool Link::peekArrival(Picos& arrival) const {

@@ -85,6 +85,8 @@ public:
 
 private:
     void startWaiting();  // puts backlog messages on the wire while slots allow
+    Picos takeSlot();     // a free slot (one must be), and when it became free
+    void putOnWire(Picos sent, Message&& m, Picos slot);
     Picos transferTime(uint32_t bytes) const;
 
     LinkParams params_;

@@ -123,6 +123,7 @@ bool Node::takeWork(Work& w, std::optional<Message>& control, int& controlDir) {
         if (m.type == MsgType::Ray) {
             // The first ray carries the message's handling cost.
             w = Work{m.rays[0].job, m.rays[0].creditExp, true, false};
+            recycle(received_);
             received_ = std::move(m.rays);
             receivedNext_ = 1;
         } else {
@@ -225,6 +226,7 @@ void Node::step(Work& w) {
         Message m;
         m.type = MsgType::Contributions;
         m.contributions.swap(pending_);
+        pending_.reserve(size_t(fbBatch_));  // the host keeps the list: it should hold no spare room
         outbox_.push_back({-1, std::move(m)});
     }
     const Picos cost = stepCost(before, outbox_.size(), w.fromLink ? 1 : 0, w.generated ? 1 : 0);
@@ -260,12 +262,25 @@ void Node::chargeAndSend(Picos cost) {
 // as one message when full.
 void Node::queueRay(int dir, const Work& w) {
     ++stats_.raysForwarded;
+    if (outRays_[dir].capacity() == 0 && !spareRays_.empty()) {
+        outRays_[dir] = std::move(spareRays_.back());
+        spareRays_.pop_back();
+    }
     outRays_[dir].push_back(RayItem{w.job, w.creditExp});
     if (outRays_[dir].size() < size_t(rayBatch_)) return;
     Message m;
     m.type = MsgType::Ray;
     m.rays.swap(outRays_[dir]);
     outbox_.push_back({dir, std::move(m)});
+}
+
+// A ray list this node is done with becomes the next one it sends: nodes
+// receive about as many ray messages as they send, so most messages reuse a
+// list instead of allocating one (and the receiver freeing it).
+void Node::recycle(std::vector<RayItem>& rays) {
+    if (rays.capacity() == 0 || spareRays_.size() >= kSpareRayLists) return;
+    rays.clear();
+    spareRays_.push_back(std::move(rays));
 }
 
 bool Node::flushRays() {
@@ -287,7 +302,8 @@ void Node::flushToHost() {
     if (!pending_.empty()) {
         Message m;
         m.type = MsgType::Contributions;
-        m.contributions.swap(pending_);
+        m.contributions.assign(pending_.begin(), pending_.end());  // a part batch: a list of its size
+        pending_.clear();
         outbox_.push_back({-1, std::move(m)});
     }
     if (!credit_.isZero()) {

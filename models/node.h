@@ -135,6 +135,7 @@ private:
     void flushToHost();
     bool flushRays();  // sends every partial ray batch; false if there was none
     void queueRay(int dir, const Work& w);
+    void recycle(std::vector<RayItem>& rays);
     Picos stepCost(const Counters& before, uint64_t sends, uint64_t recvs, uint64_t generated) const;
     size_t queueDepth() const;
     // Rays in hand: spawned here, or the rest of a batch received.
@@ -157,6 +158,8 @@ private:
     std::array<std::vector<RayItem>, kDirs> outRays_;  // rays collected per direction, not yet sent
     std::vector<RayItem> received_;                     // the rest of the last batch received (FIFO)
     size_t receivedNext_ = 0;
+    static constexpr size_t kSpareRayLists = 8;
+    std::vector<std::vector<RayItem>> spareRays_;       // emptied ray lists, reused for sending
 
     // Balancing state.
     Picos nextInterval_ = 0, busyMark_ = 0, waitMark_ = 0;

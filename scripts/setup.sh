@@ -6,6 +6,7 @@ set -euo pipefail
 packages=(
   g++ make cmake pkg-config
   libsystemc-dev      # SystemC 2.3.4 (models/)
+  libjemalloc-dev     # rtsim's allocator, on huge pages (tb/rtsim.cpp)
   libglm-dev          # vector maths (sw/)
   libcli11-dev        # command lines
   nlohmann-json3-dev  # reports and stats
