@@ -27,6 +27,10 @@ void Host::run() {
         Picos next;
         const int best = inputOrder_.oldest(now, next);  // ties go to the lower node
         if (best < 0) {
+            if (time_.mayIdleUntil(next)) {  // the next arrival is known and within the quantum
+                now = next;
+                continue;
+            }
             time_.catchUp(now);
             inputOrder_.waitForInput(now);
             now = sc_core::sc_time_stamp().value();

@@ -52,6 +52,54 @@ void Node::assignPrimaries(std::vector<uint32_t> pixels, int primaryExp, const C
     credit_ = remainder;
 }
 
+void Node::checkpoint() {
+    if (!time_.decoupled()) return;
+    const Picos k = sc_core::sc_time_stamp().value();
+    while (timeline_.size() >= 2 && timeline_[1].t <= k) timeline_.pop_front();
+    timeline_.push_back({now_, stats_.busy, stats_.lastActive});
+}
+
+void Node::endFrame(Picos end) {
+    if (stats_.waiting) {
+        stats_.waiting = false;
+        if (stats_.waitingSince <= end) {  // waiting for input since then
+            stats_.wait += end - stats_.waitingSince;
+            return;
+        }
+        // Otherwise it was waiting for the kernel to catch up with it, from
+        // past the end: ahead of the end, below.
+    }
+    if (!time_.decoupled()) {  // lockstep: at most the last step runs past the end
+        if (stats_.lastActive > end) {
+            stats_.busy -= stats_.lastActive - end;
+            stats_.lastActive = end;
+        }
+        return;
+    }
+    const Picos local = stats_.busy + stats_.wait;  // the node's local time: every picosecond is one or the other
+    if (local <= end) {  // idle from its local time until the end (asleep while the kernel caught up)
+        stats_.wait += end - local;
+        return;
+    }
+    // Ahead of the end: between two checkpoints the node waited, then ran one
+    // step (or only idled), so the busy time at `end` is the earlier one's
+    // plus whatever of that step lies before `end`. (The kernel stopped at or
+    // before `end`, so the timeline reaches back to it.)
+    Checkpoint prev{0, 0, 0};
+    for (const Checkpoint& c : timeline_) {
+        if (c.t > end) {
+            const Picos stepStart = c.t - (c.busy - prev.busy);
+            const bool running = end > stepStart;  // a step was running at the end
+            stats_.busy = prev.busy + (running ? end - stepStart : 0);
+            stats_.wait = end - stats_.busy;
+            stats_.lastActive = running ? end : prev.lastActive;
+            return;
+        }
+        prev = c;
+    }
+    throw std::logic_error(std::string(name()) + ": local time past the end of the frame, but no checkpoint after it");
+}
+
 size_t Node::queueDepth() const {
     // Counted in simulated time (messages that have arrived by now), so the
     // same in every exact mode.
@@ -92,13 +140,25 @@ void Node::run() {
             continue;
         }
         // Nothing to do: the node waits from its own time on, including while
-        // the kernel catches up with it.
+        // the kernel catches up with it: until the next message arrives, or
+        // the balancing interval ends (to report the load).
         stats_.waiting = true;
         stats_.waitingSince = now_;
-        time_.catchUp(now_);
         traceState(false, true);
-        inputOrder_.waitForInput(now_, bal_.dynamic() ? nextInterval_ : ~Picos(0));  // wake to report the load too
-        now_ = sc_core::sc_time_stamp().value();
+        Picos next;
+        inputOrder_.oldest(now_, next);
+        next = std::min(next, bal_.dynamic() ? nextInterval_ : ~Picos(0));
+        if (time_.mayIdleUntil(next)) {
+            now_ = next;  // known to be the next thing to happen, and within the quantum
+            stats_.wait += now_ - stats_.waitingSince;
+            stats_.waiting = false;
+            checkpoint();
+            continue;
+        } else {
+            time_.catchUp(now_);
+            inputOrder_.waitForInput(now_, bal_.dynamic() ? nextInterval_ : ~Picos(0));
+            now_ = sc_core::sc_time_stamp().value();
+        }
         stats_.wait += now_ - stats_.waitingSince;
         stats_.waiting = false;
     }
@@ -255,6 +315,7 @@ void Node::chargeAndSend(Picos cost) {
     }
     stats_.messagesSent += outbox_.size();
     outbox_.clear();
+    checkpoint();
     time_.afterStep(now_, cost);
 }
 

@@ -12,6 +12,7 @@
 // node's speed (Node::stepCost); see doc/machine.md.
 #pragma once
 #include <array>
+#include <deque>
 #include <map>
 #include <memory>
 #include <optional>
@@ -80,25 +81,12 @@ public:
     // Setup by the host's job description, before the simulation starts.
     void assignPrimaries(std::vector<uint32_t> pixels, int primaryExp, const Credit& remainder);
     void enableTrace() { trace_ = std::make_unique<NodeTrace>(); }
-    // The frame ended at `end`: a step still running then (a balancing step)
-    // counts as busy only up to `end`. A node still waiting at `end` waited
-    // until then. A node running ahead of the kernel may also be behind
-    // `end`, asleep until the kernel catches up: it had no rays left (the
-    // frame is done), so it idles until the end.
-    void endFrame(Picos end) {
-        if (stats_.lastActive > end) {
-            stats_.busy -= stats_.lastActive - end;
-            stats_.lastActive = end;
-        }
-        if (stats_.waiting) {
-            // (A node that ran past `end` may be waiting for the kernel to
-            // catch up with it; that wait lies after the end.)
-            if (stats_.waitingSince < end) stats_.wait += end - stats_.waitingSince;
-            stats_.waiting = false;
-        } else if (time_.decoupled() && stats_.busy + stats_.wait < end) {
-            stats_.wait += end - (stats_.busy + stats_.wait);
-        }
-    }
+    // The frame ended at `end`: the node's busy and wait time up to then
+    // (busy + wait = end). A step still running then counts as busy only up
+    // to `end`; a node still waiting then waited until then. A node running
+    // ahead of the kernel may have gone past `end` (steps, or idling to a
+    // known arrival): its time after `end` is not the frame's.
+    void endFrame(Picos end);
 
     const Cell& cell() const { return cell_; }
     const Region& region() const { return *region_; }
@@ -182,6 +170,15 @@ private:
     size_t nextPixel_ = 0;
     int primaryExp_ = 0;
     Credit credit_;  // returned credit not yet sent to the host
+
+    // Decoupled modes: the node's time, busy time and end of its last step at
+    // the end of each step and idle stretch, kept back to the last one the
+    // kernel has passed; endFrame reads the figures at the frame's end off it.
+    struct Checkpoint {
+        Picos t, busy, lastActive;
+    };
+    void checkpoint();
+    std::deque<Checkpoint> timeline_;
 
     std::vector<Work> local_;                 // spawned rays, LIFO
     std::vector<Contribution> pending_;   // contributions not yet sent

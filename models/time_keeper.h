@@ -8,7 +8,11 @@
 //                smallest link latency (the lookahead).
 //
 // In both, a process catches up with the kernel before it waits for input,
-// so the kernel can move on.
+// so the kernel can move on; but with a quantum, a process whose next input
+// is already on its way and due within the quantum idles until it arrives
+// without waiting for the kernel (mayIdleUntil). Most of a node's time is
+// idle, so this is what makes a quantum pay: on balls-4 at 512x512, N = 4,
+// a 10 us quantum takes 0.4 M delta cycles instead of 3.5 M.
 #pragma once
 #include <systemc>
 
@@ -34,6 +38,16 @@ public:
     void catchUp(Picos now) const {
         const Picos k = kernel();
         if (now > k) sc_core::wait(sc_core::sc_time::from_value(now - k));
+    }
+
+    // A process with nothing to do until `t` (a known arrival or deadline)
+    // may move its local time there without waiting for the kernel, if `t`
+    // lies within the quantum: the same licence as running ahead by working.
+    // Exact under the lookahead quantum, since no message still to be sent
+    // can arrive before kernel time + lookahead.
+    bool mayIdleUntil(Picos t) const {
+        const Picos k = kernel();
+        return quantum_ > 0 && t != ~Picos(0) && t >= k && t - k < quantum_;
     }
 
     bool decoupled() const { return quantum_ > 0; }
