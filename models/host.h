@@ -4,6 +4,7 @@
 // done when the credit returned to it sums to exactly 1 (credit.h). The render
 // time is that instant, when the machine itself would know.
 #pragma once
+#include <deque>
 #include <vector>
 
 #include <systemc>
@@ -51,7 +52,7 @@ private:
     // The contributions: each message's list as it came (kept, not copied:
     // copying them into one growing array cost about 5 % of a run, most of
     // it the kernel handing out fresh pages), and the host's own.
-    std::vector<std::vector<Contribution>> received_;
+    std::deque<std::vector<Contribution>> received_;  // (a deque: grows without copying)
     std::vector<Contribution> own_;
     ArrivalQueue inputOrder_;
     HostStats stats_;

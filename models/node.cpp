@@ -55,7 +55,11 @@ void Node::assignPrimaries(std::vector<uint32_t> pixels, int primaryExp, const C
 void Node::checkpoint() {
     if (!time_.decoupled()) return;
     const Picos k = sc_core::sc_time_stamp().value();
-    while (timeline_.size() >= 2 && timeline_[1].t <= k) timeline_.pop_front();
+    while (timelineStart_ + 1 < timeline_.size() && timeline_[timelineStart_ + 1].t <= k) ++timelineStart_;
+    if (timelineStart_ > 64 && timelineStart_ * 2 > timeline_.size()) {
+        timeline_.erase(timeline_.begin(), timeline_.begin() + std::ptrdiff_t(timelineStart_));
+        timelineStart_ = 0;
+    }
     timeline_.push_back({now_, stats_.busy, stats_.lastActive});
 }
 
@@ -86,7 +90,8 @@ void Node::endFrame(Picos end) {
     // plus whatever of that step lies before `end`. (The kernel stopped at or
     // before `end`, so the timeline reaches back to it.)
     Checkpoint prev{0, 0, 0};
-    for (const Checkpoint& c : timeline_) {
+    for (size_t i = timelineStart_; i < timeline_.size(); ++i) {
+        const Checkpoint& c = timeline_[i];
         if (c.t > end) {
             const Picos stepStart = c.t - (c.busy - prev.busy);
             const bool running = end > stepStart;  // a step was running at the end

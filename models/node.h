@@ -12,7 +12,6 @@
 // node's speed (Node::stepCost); see doc/machine.md.
 #pragma once
 #include <array>
-#include <deque>
 #include <map>
 #include <memory>
 #include <optional>
@@ -178,7 +177,8 @@ private:
         Picos t, busy, lastActive;
     };
     void checkpoint();
-    std::deque<Checkpoint> timeline_;
+    std::vector<Checkpoint> timeline_;  // from timelineStart_ on (the older ones are dropped in bulk)
+    size_t timelineStart_ = 0;
 
     std::vector<Work> local_;                 // spawned rays, LIFO
     std::vector<Contribution> pending_;   // contributions not yet sent

@@ -34,14 +34,16 @@ def timed(cmd):
     return wall, usage.ru_maxrss / 1024.0
 
 
-# Fidelity modes compared with rtref (doc/machine.md, "Fidelity knobs").
-# "fastest under 1 %" is the fastest mode of the speed-against-accuracy
-# sweep (doc/results/speed_accuracy.md) whose render-time error stays under
-# 1 % on every case there.
+# Fidelity modes compared with rtref (doc/machine.md, "Fidelity knobs"):
+# the two exact ones, the two quanta whose render-time error stays under 1 %
+# on every case without balancing in the speed-against-accuracy sweep
+# (doc/results/speed_accuracy.md), and the fastest setting swept. The target
+# table takes the fastest mode whose error here is under 1 %.
 MODES = [
     ("exact, lockstep", ["--quantum", "0"]),
     ("exact, quantum = lookahead (the default)", []),
-    ("fastest under 1 % error", ["--quantum", "10us"]),
+    ("10 us quantum", ["--quantum", "10us"]),
+    ("100 us quantum", ["--quantum", "100us"]),
     ("fastest swept (64 rays per message)", ["--quantum", "100us", "--ray-batch", "64"]),
 ]
 
@@ -161,7 +163,9 @@ def targets(ratio_of, big):
     """The issue's performance targets against what was measured, into
     doc/exploration.md's generated section."""
     lock, look = ratio_of[MODES[0][0]], ratio_of[MODES[1][0]]
-    fast, fast_flags = ratio_of[MODES[2][0]], " ".join(MODES[2][1])
+    honest = [(ratio_of[label], " ".join(flags) or "(defaults)") for label, flags in MODES
+              if abs(ratio_of[label][1]) < 0.01]
+    fast, fast_flags = min(honest)
     rows = ["| target | measured | met? |", "|---|---|---|",
             f"| exact mode: rtsim / rtref at most 2.0 | {look[0]:.2f} with the default lookahead quantum, "
             f"{lock[0]:.2f} in lockstep (`--quantum 0`) | {'yes' if min(look[0], lock[0]) <= 2.0 else 'no'} |",
