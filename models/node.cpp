@@ -152,7 +152,10 @@ void Node::run() {
         traceState(false, true);
         Picos next;
         inputOrder_.oldest(now_, next);
-        next = std::min(next, bal_.dynamic() ? nextInterval_ : ~Picos(0));
+        // Only to a message: a node that idled ahead to the end of its
+        // balancing interval would report itself idle while its neighbours,
+        // up to a quantum behind, may still send it work for that interval.
+        if (bal_.dynamic() && next >= nextInterval_) next = ~Picos(0);
         if (time_.mayIdleUntil(next)) {
             now_ = next;  // known to be the next thing to happen, and within the quantum
             stats_.wait += now_ - stats_.waitingSince;

@@ -8,6 +8,7 @@
 #include "machine.h"
 #include "renderer.h"
 #include "scenes.h"
+#include "time_keeper.h"
 
 using namespace rt;
 
@@ -173,4 +174,18 @@ TEST(Timing, SlowNodeTakesLonger) {
                            n.messagesSent * d.send + n.messagesReceived * d.recv;
     // Each step is rounded to the picosecond on its own.
     EXPECT_NEAR(double(n.busy), 2.0 * double(atSpeed1), double(n.counters.rays()));
+}
+
+// The licence to idle ahead of the kernel to a known arrival: only within
+// the quantum (like running ahead by working), never in lockstep, and never
+// towards "nothing known to come".
+TEST(TimeKeeper, IdlesAheadOnlyWithinTheQuantum) {
+    ASSERT_EQ(sc_core::sc_time_stamp().value(), 0u);  // no simulation yet: the kernel is at 0
+    const TimeKeeper lockstep(0), q(100000);
+    EXPECT_FALSE(lockstep.mayIdleUntil(0));
+    EXPECT_FALSE(lockstep.mayIdleUntil(1));
+    EXPECT_TRUE(q.mayIdleUntil(0));
+    EXPECT_TRUE(q.mayIdleUntil(99999));
+    EXPECT_FALSE(q.mayIdleUntil(100000));  // a whole quantum ahead: wait for the kernel first
+    EXPECT_FALSE(q.mayIdleUntil(~Picos(0)));
 }
