@@ -44,23 +44,29 @@ public:
         Picos a;
         if (!links_[port]->peekArrival(a)) return;
         heap_.push({a, port});
-        if (waiting_ && a < wakeAt_) {  // sooner than the waiting process expects
-            wakeAt_ = a;
-            arrived_.notify(sc_core::sc_time::from_value(a - sc_core::sc_time_stamp().value()));
+        const Picos w = std::max(a, notBefore_);
+        if (waiting_ && w < wakeAt_) {  // sooner than the waiting process expects
+            wakeAt_ = w;
+            arrived_.notify(sc_core::sc_time::from_value(w - sc_core::sc_time_stamp().value()));
         }
     }
 
-    // In the calling process, whose local time `now` the kernel has caught up
-    // with: waits until the next message arrives or until `deadline`,
-    // whichever is first; returns at once if a message has arrived by `now`.
+    // In the calling process, at local time `now` (at or ahead of the
+    // kernel's): waits until the kernel reaches `now` if a message has
+    // arrived by then, otherwise until the next message arrives or
+    // `deadline`, whichever is first. One wait, however far ahead `now` is:
+    // the process looks at its input only once the kernel is there, so
+    // nothing that arrives by then can be missed.
     void waitForInput(Picos now, Picos deadline = ~Picos(0)) {
         Picos next;
         oldest(now, next);
-        next = std::min(next, deadline);
-        if (next <= now) return;
+        next = std::max(now, std::min(next, deadline));
+        const Picos k = sc_core::sc_time_stamp().value();
+        if (next <= k) return;
         waiting_ = true;
+        notBefore_ = now;
         wakeAt_ = next;
-        if (next != ~Picos(0)) sc_core::wait(sc_core::sc_time::from_value(next - now), arrived_);
+        if (next != ~Picos(0)) sc_core::wait(sc_core::sc_time::from_value(next - k), arrived_);
         else sc_core::wait(arrived_);
         waiting_ = false;
     }
@@ -109,6 +115,7 @@ private:
     std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> heap_;
     sc_core::sc_event arrived_;  // wakes the waiting process
     bool waiting_ = false;
+    Picos notBefore_ = 0;        // while waiting: the process's local time, before which it takes nothing
     Picos wakeAt_ = 0;           // while waiting: when the process wakes anyway
 };
 

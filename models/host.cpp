@@ -31,8 +31,7 @@ void Host::run() {
                 now = next;
                 continue;
             }
-            time_.catchUp(now);
-            inputOrder_.waitForInput(now);
+            inputOrder_.waitForInput(now);  // also lets the kernel catch up with `now`
             now = sc_core::sc_time_stamp().value();
             continue;
         }

@@ -105,17 +105,17 @@ void Node::endFrame(Picos end) {
     throw std::logic_error(std::string(name()) + ": local time past the end of the frame, but no checkpoint after it");
 }
 
-size_t Node::queueDepth() const {
-    // Counted in simulated time (messages that have arrived by now), so the
+size_t Node::queueDepth(Picos at) const {
+    // Counted in simulated time (messages that have arrived by `at`), so the
     // same in every exact mode.
-    return ownWork() + inputOrder_.arrivedBy(now_);
+    return ownWork() + inputOrder_.arrivedBy(at);
 }
 
 void Node::traceState(bool busy, bool waiting) {
     if (!trace_) return;
     NodeTrace::record(trace_->busy, now_, busy);
     NodeTrace::record(trace_->wait, now_, waiting);
-    NodeTrace::record(trace_->queue, now_, int64_t(queueDepth()));
+    NodeTrace::record(trace_->queue, now_, int64_t(queueDepth(now_)));
 }
 
 void Node::run() {
@@ -144,32 +144,46 @@ void Node::run() {
             flushToHost();
             continue;
         }
-        // Nothing to do: the node waits from its own time on, including while
-        // the kernel catches up with it: until the next message arrives, or
-        // the balancing interval ends (to report the load).
-        stats_.waiting = true;
-        stats_.waitingSince = now_;
-        traceState(false, true);
-        Picos next;
-        inputOrder_.oldest(now_, next);
-        // Only to a message: a node that idled ahead to the end of its
-        // balancing interval would report itself idle while its neighbours,
-        // up to a quantum behind, may still send it work for that interval.
-        if (bal_.dynamic() && next >= nextInterval_) next = ~Picos(0);
-        if (time_.mayIdleUntil(next)) {
-            now_ = next;  // known to be the next thing to happen, and within the quantum
-            stats_.wait += now_ - stats_.waitingSince;
-            stats_.waiting = false;
-            checkpoint();
-            continue;
-        } else {
-            time_.catchUp(now_);
-            inputOrder_.waitForInput(now_, bal_.dynamic() ? nextInterval_ : ~Picos(0));
-            now_ = sc_core::sc_time_stamp().value();
-        }
-        stats_.wait += now_ - stats_.waitingSince;
-        stats_.waiting = false;
+        waitForWork();
     }
+}
+
+// Nothing to do: the node waits from its own time on, including while the
+// kernel catches up with it: until the next message arrives, or the
+// balancing interval ends (to report the load).
+void Node::waitForWork() {
+    stats_.waiting = true;
+    stats_.waitingSince = now_;
+    // Traced as waiting from now. Straight after a step the kernel may not
+    // have caught up yet, but a message arriving by now makes the wait last
+    // no time, and the next step's state, traced at the same instant,
+    // replaces this one; so the trace is the same as in lockstep.
+    traceState(false, true);
+    Picos next;
+    inputOrder_.oldest(now_, next);
+    // Only to a message: a node that idled ahead to the end of its balancing
+    // interval would report itself idle while its neighbours, up to a quantum
+    // behind, may still send it work for that interval.
+    if (bal_.dynamic() && next >= nextInterval_) next = ~Picos(0);
+    next = std::max(next, now_);  // (straight after a step, a message may have arrived by now)
+    if (time_.mayIdleUntil(next)) {
+        now_ = next;  // known to be the next thing to happen, and within the quantum
+    } else {
+        inputOrder_.waitForInput(now_, bal_.dynamic() ? nextInterval_ : ~Picos(0));
+        now_ = sc_core::sc_time_stamp().value();
+    }
+    stats_.wait += now_ - stats_.waitingSince;
+    stats_.waiting = false;
+    checkpoint();
+}
+
+// What the node will do next without input: rays in hand or still to
+// generate, rays in partial batches, contributions or credit owed.
+bool Node::nothingToDo() const {
+    if (ownWork() || nextPixel_ < pixels_.size() || !pending_.empty() || !credit_.isZero()) return false;
+    for (const std::vector<RayItem>& b : outRays_)
+        if (!b.empty()) return false;
+    return true;
 }
 
 bool Node::takeWork(Work& w, std::optional<Message>& control, int& controlDir) {
@@ -307,13 +321,13 @@ void Node::step(Work& w) {
     // The exact depth (a scan of the input links) only when it could set a
     // new high-water mark: it is at most the local work plus all unconsumed.
     if (ownWork() + inputOrder_.unconsumed() > stats_.queueHighWater)
-        stats_.queueHighWater = std::max(stats_.queueHighWater, queueDepth());
-    chargeAndSend(cost);
+        stats_.queueHighWater = std::max(stats_.queueHighWater, queueDepth(now_));
+    chargeAndSend(cost, true);
 }
 
 // A step takes `cost`: the node is busy until then, and what it produced
 // leaves at the end of it.
-void Node::chargeAndSend(Picos cost) {
+void Node::chargeAndSend(Picos cost, bool mayWaitForWork) {
     now_ += cost;
     stats_.busy += cost;
     stats_.lastActive = now_;
@@ -324,6 +338,14 @@ void Node::chargeAndSend(Picos cost) {
     stats_.messagesSent += outbox_.size();
     outbox_.clear();
     checkpoint();
+    // A step that leaves the node with nothing to do and must let the kernel
+    // catch up anyway goes straight into waiting for input, which includes
+    // the catching up: one kernel wait instead of two. The node takes its
+    // input at the same times either way.
+    if (mayWaitForWork && time_.mustSync(now_, cost) && nothingToDo()) {
+        waitForWork();
+        return;
+    }
     time_.afterStep(now_, cost);
 }
 

@@ -114,7 +114,12 @@ private:
     void takeSlab(int side, double boundary, std::vector<Shape> objects);
     void rebuild(const Box& box, std::vector<Shape> objects);
     void finishControlStep(const Counters& before, uint64_t recvs, size_t movedObjects);
-    void chargeAndSend(Picos cost);
+    // Advances the node's time by a step's cost, sends what the step made,
+    // and lets the kernel catch up as the quantum asks (with a ray step that
+    // leaves nothing to do, by waiting for work at once: mayWaitForWork).
+    void chargeAndSend(Picos cost, bool mayWaitForWork = false);
+    void waitForWork();
+    bool nothingToDo() const;
     int sideDir(int side) const { return dirOf(bal_.axis, side); }  // side -1 / +1 -> link direction
     // The link direction towards the owner of job.t0, or -1 if it is ours.
     int route(const RayJob& job) const;
@@ -124,10 +129,10 @@ private:
     void queueRay(int dir, const Work& w);
     void recycle(std::vector<RayItem>& rays);
     Picos stepCost(const Counters& before, uint64_t sends, uint64_t recvs, uint64_t generated) const;
-    size_t queueDepth() const;
+    size_t queueDepth(Picos at) const;  // rays in hand and input arrived by `at`, not yet taken
     // Rays in hand: spawned here, or the rest of a batch received.
     size_t ownWork() const { return local_.size() + (received_.size() - receivedNext_); }
-    void traceState(bool busy, bool waiting);
+    void traceState(bool busy, bool waiting);  // at now_
 
     Cell cell_;
     std::unique_ptr<Region> region_;  // the box, its objects and their grid

@@ -7,8 +7,10 @@
 //                TLM-2.0 quantum keeper). Still exact while Q is at most the
 //                smallest link latency (the lookahead).
 //
-// In both, a process catches up with the kernel before it waits for input,
-// so the kernel can move on; but with a quantum, a process whose next input
+// In both, a process that waits for input waits until the kernel has caught
+// up with it at least (one wait, ArrivalQueue::waitForInput); a step that
+// leaves it with nothing to do goes straight into that wait instead of
+// synchronising first. With a quantum, a process whose next input
 // is already on its way and due within the quantum idles until it arrives
 // without waiting for the kernel (mayIdleUntil). Most of a node's time is
 // idle, so this is what makes a quantum pay: on balls-4 at 512x512, N = 4,
@@ -24,20 +26,17 @@ class TimeKeeper {
 public:
     explicit TimeKeeper(Picos quantum) : quantum_(quantum) {}
 
-    // After a step that took `cost` and ended at local time `now`.
-    void afterStep(Picos now, Picos cost) const {
-        if (quantum_ == 0) {
-            if (cost) sc_core::wait(sc_core::sc_time::from_value(cost));
-            return;
-        }
+    // After a step that took `cost` and ended at local time `now`: whether
+    // the process must let the kernel catch up before it goes on.
+    bool mustSync(Picos now, Picos cost) const {
+        if (quantum_ == 0) return cost > 0;
         const Picos k = kernel();
-        if (now > k && now - k >= quantum_) sc_core::wait(sc_core::sc_time::from_value(now - k));
+        return now > k && now - k >= quantum_;
     }
 
-    // Before waiting for input: the kernel catches up with `now`.
-    void catchUp(Picos now) const {
-        const Picos k = kernel();
-        if (now > k) sc_core::wait(sc_core::sc_time::from_value(now - k));
+    // After a step that took `cost` and ended at local time `now`.
+    void afterStep(Picos now, Picos cost) const {
+        if (mustSync(now, cost)) sc_core::wait(sc_core::sc_time::from_value(now - kernel()));
     }
 
     // A process with nothing to do until `t` (a known arrival or deadline)

@@ -212,12 +212,14 @@ TEST_F(Rtsim, QuantumUpToTheLinkLatencyIsExactToThePicosecond) {
     // quantum. Up to the smallest link latency (the lookahead) nothing
     // changes: same render time, busy time per node and image.
     const std::string args = std::string(kSmall) + " --mesh 3 --link-latency 200ns --fb-latency 300ns --link-depth 2";
-    Outcome o = run(args + " -q --no-baseline --quantum 0 --image " + (dir_ / "e.png").string() + " --report " + (dir_ / "e.json").string());
+    Outcome o = run(args + " -q --no-baseline --quantum 0 --image " + (dir_ / "e.png").string() + " --report " +
+                    (dir_ / "e.json").string() + " --vcd " + (dir_ / "e.vcd").string());
     ASSERT_EQ(o.code, 0) << o.err;
     const json exact = json::parse(slurp(dir_ / "e.json"));
     for (const char* q : {"50ns", "200ns", "lookahead"}) {
         SCOPED_TRACE(q);
-        o = run(args + " -q --no-baseline --quantum " + q + " --image " + (dir_ / "q.png").string() + " --report " + (dir_ / "q.json").string());
+        o = run(args + " -q --no-baseline --quantum " + q + " --image " + (dir_ / "q.png").string() + " --report " +
+                (dir_ / "q.json").string() + " --vcd " + (dir_ / "q.vcd").string());
         ASSERT_EQ(o.code, 0) << o.err;
         const json r = json::parse(slurp(dir_ / "q.json"));
         EXPECT_EQ(r["render_time_ns"], exact["render_time_ns"]);
@@ -241,6 +243,10 @@ TEST_F(Rtsim, QuantumUpToTheLinkLatencyIsExactToThePicosecond) {
             j->erase("config");
         }
         EXPECT_TRUE(a == b) << json::diff(b, a).dump().substr(0, 800);
+        // And the waveforms: every node's busy, wait and queue changes at the
+        // same picoseconds, also where a process waits from ahead of the
+        // kernel and the queue depth is traced once it has caught up.
+        EXPECT_TRUE(slurp(dir_ / "q.vcd") == slurp(dir_ / "e.vcd"));
         if (std::string(q) == "lookahead") {
             EXPECT_EQ(r["config"]["quantum_ns"], 200.0);  // the smallest latency: the links'
         }
