@@ -50,7 +50,7 @@ private:
     TimeKeeper time_;  // when to let the kernel catch up
     Credit returned_;
     // The contributions: each message's list as it came (kept, not copied:
-    // copying them into one growing array cost about 5 % of a run, most of
+    // copying them into one growing array cost about 9 % of a run, most of
     // it the kernel handing out fresh pages), and the host's own.
     std::deque<std::vector<Contribution>> received_;  // (a deque: grows without copying)
     std::vector<Contribution> own_;

@@ -14,7 +14,7 @@
 // is already on its way and due within the quantum idles until it arrives
 // without waiting for the kernel (mayIdleUntil). Most of a node's time is
 // idle, so this is what makes a quantum pay: on balls-4 at 512x512, N = 4,
-// a 10 us quantum takes 0.4 M delta cycles instead of 3.5 M.
+// a 10 us quantum took 3.5 M delta cycles before these two, 0.27 M after.
 #pragma once
 #include <systemc>
 
