@@ -28,9 +28,8 @@ def main():
     ap.add_argument("--policy", default="slide", help="balancing policy compared with none")
     ap.add_argument("--interval", default="5us")
     ap.add_argument("--gain", default="0.25")
-    ap.add_argument("--out", default=os.path.join(ROOT, "doc", "results"))
     ap.add_argument("--extra", default="", help="more rtsim flags for every run")
-    ap.add_argument("--plot-only", action="store_true", help="redraw the chart from the CSV")
+    driver.add_output_arguments(ap)
     driver.add_arguments(ap)
     a = ap.parse_args()
     ns = [int(x) for x in a.n.split(",")]

@@ -45,10 +45,7 @@ def main():
     ap.add_argument("--bandwidths", default=BANDWIDTHS)
     ap.add_argument("--balance", default="slide", help="the balancing policy compared with none")
     ap.add_argument("--deep-depth", type=int, default=64, help="link depth of the repeated latency sweep")
-    ap.add_argument("--out", default=os.path.join(ROOT, "doc", "results"))
-    ap.add_argument("--plot-only", action="store_true", help="redraw the chart and table from the CSV")
-    ap.add_argument("--doc", default=os.path.join(ROOT, "doc", "exploration.md"),
-                    help="doc page whose generated table section to update ('' for none)")
+    driver.add_output_arguments(ap, os.path.join(ROOT, "doc", "exploration.md"))
     driver.add_arguments(ap)
     a = ap.parse_args()
     csv_path = os.path.join(a.out, "link_sweep.csv")

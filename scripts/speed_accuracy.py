@@ -33,10 +33,7 @@ def main():
     ap.add_argument("--batches", default="1,4,16,64", help="--ray-batch values")
     ap.add_argument("--balance", default="slide", help="the balancing policy compared with none")
     ap.add_argument("--repeats", type=int, default=3)
-    ap.add_argument("--out", default=os.path.join(ROOT, "doc", "results"))
-    ap.add_argument("--plot-only", action="store_true", help="redraw the chart and table from the CSV")
-    ap.add_argument("--doc", default=os.path.join(ROOT, "doc", "exploration.md"),
-                    help="doc page whose generated table section to update ('' for none)")
+    driver.add_output_arguments(ap, os.path.join(ROOT, "doc", "exploration.md"))
     driver.add_arguments(ap)
     a = ap.parse_args()
     a.jobs = a.jobs or 1  # timing: one run at a time unless asked

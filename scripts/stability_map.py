@@ -24,8 +24,7 @@ def main():
     ap.add_argument("--intervals-us", default="2,5,10,20,50")
     ap.add_argument("--latencies", default="100ns,2us")
     ap.add_argument("--policy", default="slide")
-    ap.add_argument("--out", default=os.path.join(ROOT, "doc", "results"))
-    ap.add_argument("--plot-only", action="store_true", help="redraw the chart from the CSV")
+    driver.add_output_arguments(ap)
     driver.add_arguments(ap)
     a = ap.parse_args()
     gains = [float(g) for g in a.gains.split(",")]

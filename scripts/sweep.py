@@ -44,6 +44,18 @@ def add_arguments(ap):
     g.add_argument("--journal-dir", default=JOURNALS, help="where finished points are journalled")
 
 
+def add_output_arguments(ap, doc_page=None):
+    """Where a sweep script writes, shared by every one: --out (the results
+    folder) and --plot-only; with `doc_page` (a script that publishes a table,
+    publish_table), also --doc, the page whose generated section it updates."""
+    ap.add_argument("--out", default=os.path.join(ROOT, "doc", "results"))
+    what = "chart and table" if doc_page else "chart"
+    ap.add_argument("--plot-only", action="store_true", help=f"redraw the {what} from the CSV")
+    if doc_page:
+        ap.add_argument("--doc", default=doc_page,
+                        help="doc page whose generated table section to update ('' for none)")
+
+
 def version():
     """The tree's version: git describe, with -dirty for uncommitted changes."""
     try:
