@@ -37,7 +37,7 @@ void Link::send(Message m, Picos t) {
     ++stats_.messages[type];
     stats_.bytes[type] += m.bytes();
     ++inFlight_[type];
-    if (backlog_.empty() && (unusedSlots_ > 0 || !slotFree_.empty())) {
+    if (backlog_.empty() && slotFree()) {
         putOnWire(t, std::move(m), takeSlot());  // the usual case: a slot is free, nothing waits before it
         return;
     }
@@ -56,7 +56,7 @@ Picos Link::takeSlot() {
 }
 
 void Link::startWaiting() {
-    while (!backlog_.empty() && (unusedSlots_ > 0 || !slotFree_.empty())) {
+    while (!backlog_.empty() && slotFree()) {
         const Picos slot = takeSlot();
         Timed& w = backlog_.front();
         putOnWire(w.t, std::move(w.m), slot);

@@ -85,6 +85,7 @@ public:
 
 private:
     void startWaiting();  // puts backlog messages on the wire while slots allow
+    bool slotFree() const { return unusedSlots_ > 0 || !slotFree_.empty(); }
     Picos takeSlot();     // a free slot (one must be), and when it became free
     void putOnWire(Picos sent, Message&& m, Picos slot);
     Picos transferTime(uint32_t bytes) const;

@@ -140,7 +140,7 @@ void Node::run() {
         // while everyone waits, and the credit of every ray ended here
         // follows its contributions.
         if (flushRays()) continue;
-        if (!pending_.empty() || !credit_.isZero()) {
+        if (owesHost()) {
             flushToHost();
             continue;
         }
@@ -180,7 +180,7 @@ void Node::waitForWork() {
 // What the node will do next without input: rays in hand or still to
 // generate, rays in partial batches, contributions or credit owed.
 bool Node::nothingToDo() const {
-    if (ownWork() || nextPixel_ < pixels_.size() || !pending_.empty() || !credit_.isZero()) return false;
+    if (ownWork() || nextPixel_ < pixels_.size() || owesHost()) return false;
     for (const std::vector<RayItem>& b : outRays_)
         if (!b.empty()) return false;
     return true;
@@ -342,11 +342,9 @@ void Node::chargeAndSend(Picos cost, bool mayWaitForWork) {
     // catch up anyway goes straight into waiting for input, which includes
     // the catching up: one kernel wait instead of two. The node takes its
     // input at the same times either way.
-    if (mayWaitForWork && time_.mustSync(now_, cost) && nothingToDo()) {
-        waitForWork();
-        return;
-    }
-    time_.afterStep(now_, cost);
+    if (!time_.mustSync(now_, cost)) return;
+    if (mayWaitForWork && nothingToDo()) waitForWork();
+    else time_.syncTo(now_);
 }
 
 // Where a ray is forwarded: into the batch for its direction, which leaves

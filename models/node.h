@@ -120,6 +120,7 @@ private:
     void chargeAndSend(Picos cost, bool mayWaitForWork = false);
     void waitForWork();
     bool nothingToDo() const;
+    bool owesHost() const { return !pending_.empty() || !credit_.isZero(); }  // contributions or credit not yet sent
     int sideDir(int side) const { return dirOf(bal_.axis, side); }  // side -1 / +1 -> link direction
     // The link direction towards the owner of job.t0, or -1 if it is ours.
     int route(const RayJob& job) const;

@@ -34,9 +34,12 @@ public:
         return now > k && now - k >= quantum_;
     }
 
+    // Lets the kernel catch up with local time `now`.
+    void syncTo(Picos now) const { sc_core::wait(sc_core::sc_time::from_value(now - kernel())); }
+
     // After a step that took `cost` and ended at local time `now`.
     void afterStep(Picos now, Picos cost) const {
-        if (mustSync(now, cost)) sc_core::wait(sc_core::sc_time::from_value(now - kernel()));
+        if (mustSync(now, cost)) syncTo(now);
     }
 
     // A process with nothing to do until `t` (a known arrival or deadline)

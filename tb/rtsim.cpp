@@ -25,7 +25,7 @@
 // pages. The model's data is spread over every node (its grid, objects, link
 // buffers, stack) and a run visits them in turn, so most of its cost is
 // memory access, not arithmetic; 2 MB pages cut the TLB misses and the page
-// faults, about 10 % of the wall time on balls-4 at 512x512, N = 4
+// faults, about 9 % of the wall time on balls-4 at 512x512, N = 4
 // (doc/exploration.md, "Performance"). jemalloc reads this at start-up.
 extern "C" {
 const char* malloc_conf = "thp:always,metadata_thp:always";
