@@ -13,6 +13,8 @@ const char* msgTypeName(MsgType t) {
         case MsgType::LoadReport: return "load_report";
         case MsgType::Slide: return "slide";
         case MsgType::Ack: return "ack";
+        case MsgType::FbExpect: return "fb_expect";
+        case MsgType::FbDone: return "fb_done";
     }
     return "?";
 }
@@ -24,8 +26,8 @@ uint32_t objectBytes(const Shape& s) {
     return head + 8 * 8 + 1;  // cone: two centres, two radii, inside flag
 }
 
-Link::Link(const char* name, const LinkParams& params)
-    : sc_core::sc_object(name), params_(params), unusedSlots_(params.depth) {}
+Link::Link(std::string name, const LinkParams& params)
+    : name_(std::move(name)), params_(params), unusedSlots_(params.depth) {}
 
 Picos Link::transferTime(uint32_t bytes) const {
     const double ps = std::ceil(double(bytes) * 1e12 / params_.bandwidth);
@@ -89,7 +91,7 @@ size_t Link::arrivedBy(Picos t) const {
 }
 
 Message Link::consume(Picos t) {
-    if (buffer_.empty() || buffer_.front().t > t) throw std::logic_error(std::string(name()) + ": consumed before arrival");
+    if (buffer_.empty() || buffer_.front().t > t) throw std::logic_error(name_ + ": consumed before arrival");
     // Messages on the link when this one went on the wire: those before it
     // not consumed by then, and itself.
     while (!consumedAt_.empty() && consumedAt_.front() <= buffer_.front().start) consumedAt_.pop_front();

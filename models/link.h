@@ -17,10 +17,11 @@
 #pragma once
 #include <algorithm>
 #include <array>
-#include <deque>
+#include <string>
 
 #include <systemc>
 
+#include "fifo.h"
 #include "machine_config.h"
 #include "message.h"
 
@@ -62,9 +63,13 @@ public:
     virtual size_t unconsumed() const = 0;
 };
 
-class Link : public sc_core::sc_object, public LinkSendIf, public LinkRecvIf {
+// A channel, but not an sc_object: ports bind to its interfaces, and a
+// machine has tens of thousands of links (a frame-buffer port from every node
+// to every unit), which SystemC's object hierarchy registers by name and
+// unregisters one linear search at a time.
+class Link : public LinkSendIf, public LinkRecvIf {
 public:
-    Link(const char* name, const LinkParams& params);
+    Link(std::string name, const LinkParams& params);
 
     void send(Message m, Picos t) override;
     bool peekArrival(Picos& arrival) const override;
@@ -81,7 +86,7 @@ public:
     uint64_t inFlight(MsgType t) const { return inFlight_[int(t)]; }
     size_t arrivedBy(Picos t) const override;
     size_t unconsumed() const override { return buffer_.size(); }
-    const char* kind() const override { return "rt_link"; }
+    const std::string& name() const { return name_; }
 
 private:
     void startWaiting();  // puts backlog messages on the wire while slots allow
@@ -90,21 +95,22 @@ private:
     void putOnWire(Picos sent, Message&& m, Picos slot);
     Picos transferTime(uint32_t bytes) const;
 
+    std::string name_;
     LinkParams params_;
     struct Timed {
         Picos t;
         Message m;
         Picos start = 0;  // in buffer_: when it went on the wire
     };
-    std::deque<Timed> backlog_;  // sent, waiting for a slot (t: when sent)
-    std::deque<Timed> buffer_;   // on the wire or arrived, not consumed (t: arrival)
+    Fifo<Timed> backlog_;     // sent, waiting for a slot (t: when sent)
+    Fifo<Timed> buffer_;      // on the wire or arrived, not consumed (t: arrival)
     int unusedSlots_;            // slots never used yet (free since time 0)
-    std::deque<Picos> slotFree_; // slots returned by the receiver, free from these times
+    Fifo<Picos> slotFree_;      // slots returned by the receiver, free from these times
     Picos wireFree_ = 0;
     // For the high-water marks: when the messages that waited for the wire
     // started, and when the last messages were consumed (both in FIFO order,
     // so both sorted).
-    std::deque<Picos> waitedUntil_, consumedAt_;
+    Fifo<Picos> waitedUntil_, consumedAt_;
     ArrivalListener* listener_ = nullptr;
     int listenerPort_ = 0;
     LinkStats stats_;

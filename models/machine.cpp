@@ -31,6 +31,7 @@ Machine::Machine(sc_core::sc_module_name name, const Scene& scene, const Machine
       cuts_(Lattice::uniform(world_, config.dims)),
       camera_(scene.view, width_, height_),
       shader_(scene, config.maxDepth),
+      units_("fb"),
       nodes_("node") {
     cfg_.validate();
     const int ax = cfg_.balance.axis;
@@ -41,10 +42,13 @@ Machine::Machine(sc_core::sc_module_name name, const Scene& scene, const Machine
     // rays, and one split per ray-tree level (a hit spawns at most L + 2 rays
     // and keeps a share: L + 3 parts).
     const long pixels = long(width_) * height_;
+    const int k = cfg_.fbUnits;
     maxExp_ = ceilLog2(uint64_t(cfg_.nodeCount()) + 1) + ceilLog2(uint64_t(pixels) + 1) +
               (cfg_.maxDepth + 1) * ceilLog2(scene.lights.size() + 3) + 2;
-    host_ = std::make_unique<Host>("host", cfg_.nodeCount(), width_, height_, cfg_.hostCost, maxExp_,
-                                   cfg_.showProgress, cfg_.quantum);
+    units_.init(size_t(k), [&](const char* n, size_t u) {
+        return new FrameBufferUnit(n, int(u), k, cfg_.nodeCount(), cfg_.hostCost, maxExp_, cfg_.showProgress,
+                                   cfg_.quantum);
+    });
 
     nodes_.init(size_t(cfg_.nodeCount()), [&](const char*, size_t i) {
         const Cell c{int(i % cfg_.dims[0]), int(i / cfg_.dims[0] % cfg_.dims[1]), int(i / cfg_.dims[0] / cfg_.dims[1])};
@@ -52,7 +56,7 @@ Machine::Machine(sc_core::sc_module_name name, const Scene& scene, const Machine
         b.lo[ax] = columnBounds_[columnOf(c)][c[ax]];
         b.hi[ax] = columnBounds_[columnOf(c)][c[ax] + 1];
         return new Node(cellName(c).c_str(), c, b, objectsOverlapping(scene_.objects, b, margin), shader_, camera_,
-                        world_, cfg_.costsOf(c), cfg_.speedOf(c), cfg_.fbBatch, cfg_.balance, minThickness_,
+                        world_, cfg_.costsOf(c), cfg_.speedOf(c), k, cfg_.fbBatch, cfg_.balance, minThickness_,
                         cfg_.quantum, cfg_.rayBatch);
     });
 
@@ -64,17 +68,29 @@ Machine::Machine(sc_core::sc_module_name name, const Scene& scene, const Machine
             m[dirAxis(d)] += dirStep(d);
             if (m[dirAxis(d)] < 0 || m[dirAxis(d)] >= cfg_.dims[dirAxis(d)]) continue;
             const std::string lname = cellName(c) + "_" + (d % 2 ? "m" : "p") + "xyz"[dirAxis(d)];
-            links_.push_back(std::make_unique<Link>(lname.c_str(), cfg_.linkOf(c, d)));
+            links_.push_back(std::make_unique<Link>(lname, cfg_.linkOf(c, d)));
             n.out[d].bind(*links_.back());
             meshLinks_[{nodeIndex(c), d}] = links_.back().get();
             nodes_[nodeIndex(m)].in[opposite(d)].bind(*links_.back());
-            linkInfo_.push_back({lname, c, d, links_.back()->params(), {}});
+            linkInfo_.push_back({lname, c, d, -1, links_.back()->params(), {}});
         }
-        const std::string fname = cellName(c) + "_fb";
-        links_.push_back(std::make_unique<Link>(fname.c_str(), cfg_.fbPort));
-        n.fb.bind(*links_.back());
-        host_->in[nodeIndex(c)].bind(*links_.back());
-        linkInfo_.push_back({fname, c, -1, cfg_.fbPort, {}});
+        for (int u = 0; u < k; ++u) {  // its ports to the frame-buffer units
+            const std::string fname = cellName(c) + "_fb" + (k > 1 ? std::to_string(u) : "");
+            links_.push_back(std::make_unique<Link>(fname, cfg_.fbPort));
+            n.fb[size_t(u)].bind(*links_.back());
+            units_[size_t(u)].in[nodeIndex(c)].bind(*links_.back());
+            linkInfo_.push_back({fname, c, -1, u, cfg_.fbPort, {}});
+        }
+    }
+    // Unit 0 and each other unit: a port each way, for the end-of-frame check.
+    for (int u = 1; u < k; ++u) {
+        const std::string up = "fb" + std::to_string(u) + "_to_fb0", down = "fb0_to_fb" + std::to_string(u);
+        unitLinks_.push_back(std::make_unique<Link>(up, cfg_.fbPort));
+        units_[size_t(u)].toController.bind(*unitLinks_.back());
+        units_[0].in[size_t(cfg_.nodeCount() + u - 1)].bind(*unitLinks_.back());
+        unitLinks_.push_back(std::make_unique<Link>(down, cfg_.fbPort));
+        units_[0].toUnits[size_t(u - 1)].bind(*unitLinks_.back());
+        units_[size_t(u)].in[size_t(cfg_.nodeCount())].bind(*unitLinks_.back());
     }
     for (const Cell& c : cfg_.traceNodes) nodes_[nodeIndex(c)].enableTrace();
     if (!cfg_.vcdPath.empty() && cfg_.traceNodes.empty())
@@ -145,7 +161,7 @@ void Machine::assignPrimaryRays() {
             if (c) {
                 perNode[nodeIndex(*c)].push_back(j.pixel);
             } else {
-                host_->addOwn(shader_.miss(j, hostCounters));
+                units_[j.pixel % uint32_t(cfg_.fbUnits)].addOwn(shader_.miss(j, hostCounters));
                 ++primaryMisses_;
             }
         }
@@ -164,10 +180,10 @@ void Machine::assignPrimaryRays() {
         }
         nodes_[i].assignPrimaries(std::move(perNode[i]), exp, remainder);
     }
-    // 1 - busyNodes * 2^-hostExp stays with the host.
+    // 1 - busyNodes * 2^-hostExp stays with the host (unit 0).
     Credit rest(maxExp_);
     rest.add(hostExp, (uint64_t(1) << hostExp) - busyNodes);
-    host_->keep(rest);
+    units_[0].keep(rest);
 }
 
 void Machine::checkConservation() const {
@@ -177,20 +193,21 @@ void Machine::checkConservation() const {
         terminated += n.stats().raysTerminated;
         sent += n.stats().contributionsSent;
     }
-    if (!host_->stats().done) throw std::runtime_error("conservation: the frame never completed");
+    if (!controller().done()) throw std::runtime_error("conservation: the frame never completed");
     if (created != terminated) {
         std::ostringstream s;
         s << "conservation: " << created << " rays created but " << terminated << " terminated";
         throw std::runtime_error(s.str());
     }
-    const uint64_t received = host_->stats().contributions + primaryMisses_;
+    uint64_t received = primaryMisses_;
+    for (const FrameBufferUnit& u : units_) received += u.stats().contributions;
     if (sent != received) {
         std::ostringstream s;
         s << "conservation: " << sent << " contributions sent but " << received << " received";
         throw std::runtime_error(s.str());
     }
     // Time accounting: every node was busy or waiting until the frame was done.
-    const Picos end = host_->stats().renderTime;
+    const Picos end = controller().renderTime();
     for (const Node& n : nodes_) {
         const NodeStats& s = n.stats();
         if (s.lastActive > end || s.busy + s.wait != end)
@@ -200,10 +217,12 @@ void Machine::checkConservation() const {
     }
     // Rays and frame-buffer traffic must all be delivered; balancing messages
     // (load reports, slides, acks) may still be on their way when the frame ends.
-    for (const auto& l : links_)
-        for (MsgType t : {MsgType::Ray, MsgType::Contributions, MsgType::Credit})
-            if (l->inFlight(t))
-                throw std::runtime_error(std::string("conservation: ") + msgTypeName(t) + " messages left on " + l->name());
+    for (const auto* links : {&links_, &unitLinks_})
+        for (const auto& l : *links)
+            for (MsgType t : {MsgType::Ray, MsgType::Contributions, MsgType::Credit, MsgType::FbExpect, MsgType::FbDone})
+                if (l->inFlight(t))
+                    throw std::runtime_error(std::string("conservation: ") + msgTypeName(t) + " messages left on " +
+                                             l->name());
     // Ownership: along the axis, neighbours' faces meet, except where a slab is
     // being handed over (a slide still on the link between them).
     const int ax = cfg_.balance.axis;
@@ -223,8 +242,12 @@ void Machine::checkConservation() const {
 
 MachineResult Machine::collect(double wallSeconds) {
     MachineResult r;
-    r.image = host_->image();
-    r.renderTime = host_->stats().renderTime;
+    r.image = assembleImage(units_, width_, height_);
+    for (const FrameBufferUnit& u : units_) {
+        r.frameBuffer.push_back({u.stats(), std::nullopt});
+        if (u.index() > 0) r.frameBuffer.back().toController = unitLinks_[size_t(2 * (u.index() - 1))]->stats();
+    }
+    r.renderTime = controller().renderTime();
     for (const Node& n : nodes_) {
         r.nodes.push_back(n.stats());
         r.cells.push_back(n.cell());
@@ -235,7 +258,6 @@ MachineResult Machine::collect(double wallSeconds) {
         r.links.push_back(linkInfo_[i]);
         r.links.back().stats = links_[i]->stats();
     }
-    r.host = host_->stats();
     r.boundaries = boundaryHistories();
     r.worldBox = world_;
     r.primaryMisses = primaryMisses_;
@@ -280,7 +302,7 @@ void Machine::writeTraces(const std::string& vcdPath) const {
             bounds.push_back({"col_" + std::to_string(h.column[0]) + "_" + std::to_string(h.column[1]) + "_b" +
                                   std::to_string(h.index),
                               h.positions});
-    const Picos end = host_->stats().renderTime, to = std::min(cfg_.traceTo, end);
+    const Picos end = controller().renderTime(), to = std::min(cfg_.traceTo, end);
     writeVcd(vcdPath, traced, bounds, cfg_.traceFrom, to, end);
     writeGtkw(gtkwPathFor(vcdPath), vcdPath, traced, bounds, cfg_.traceFrom, to);
 }

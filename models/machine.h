@@ -1,16 +1,18 @@
 // The machine: an X x Y x Z mesh of nodes (sc_vector), a link per direction
-// between face neighbours, an output port per node to the frame buffer /
-// host. Built from a scene and a MachineConfig; runMachine() elaborates,
-// simulates one frame and returns the image and every statistic.
+// between face neighbours, the frame-buffer units (sc_vector) and a port from
+// every node to every unit. Built from a scene and a MachineConfig;
+// runMachine() elaborates, simulates one frame and returns the image and
+// every statistic.
 #pragma once
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <systemc>
 
-#include "host.h"
+#include "frame_buffer.h"
 #include "lattice.h"
 #include "node.h"
 
@@ -19,9 +21,15 @@ namespace rt {
 struct LinkReport {
     std::string name;
     Cell from;
-    int dir;  // -1: the node's frame-buffer port
+    int dir;       // -1: a frame-buffer port
+    int unit = -1; // a frame-buffer port: the unit it goes to
     LinkParams params;
     LinkStats stats;
+};
+
+struct FrameBufferUnitReport {
+    FrameBufferStats stats;
+    std::optional<LinkStats> toController;  // units 1..K-1: the port to unit 0
 };
 
 // One boundary between two nodes of a column along the progress axis.
@@ -39,7 +47,7 @@ struct MachineResult {
     std::vector<Box> boxes;
     std::vector<size_t> objectsPerNode;
     std::vector<LinkReport> links;
-    HostStats host;
+    std::vector<FrameBufferUnitReport> frameBuffer;  // per unit
     uint64_t primaryMisses = 0;   // primary rays that miss the world box (the host fills them in)
     std::vector<BoundaryHistory> boundaries;
     Box worldBox;
@@ -54,7 +62,7 @@ public:
 
     MachineResult collect(double wallSeconds);
     void endFrame() {
-        for (Node& n : nodes_) n.endFrame(host_->stats().renderTime);
+        for (Node& n : nodes_) n.endFrame(controller().renderTime());
     }
     // Checks the conservation laws at the end of a run; throws
     // std::runtime_error naming the first one broken.
@@ -70,6 +78,7 @@ private:
     std::vector<std::vector<double>> initialBoundaries() const;
     int columnOf(const Cell& c) const;
     std::vector<BoundaryHistory> boundaryHistories() const;
+    const FrameBufferUnit& controller() const { return units_[0]; }  // unit 0 ends the frame
 
     const Scene& scene_;
     MachineConfig cfg_;
@@ -81,9 +90,10 @@ private:
     Camera camera_;
     Shader shader_;
     int maxExp_;
-    std::unique_ptr<Host> host_;
+    sc_core::sc_vector<FrameBufferUnit> units_;
     sc_core::sc_vector<Node> nodes_;
     std::vector<std::unique_ptr<Link>> links_;
+    std::vector<std::unique_ptr<Link>> unitLinks_;  // units 1..K-1: [2(u-1)] u -> 0, [2(u-1) + 1] 0 -> u
     std::map<std::pair<size_t, int>, Link*> meshLinks_;  // (node, direction) -> its outgoing link
     std::vector<LinkReport> linkInfo_;
     uint64_t primaryMisses_ = 0;

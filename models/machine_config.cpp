@@ -74,6 +74,7 @@ void MachineConfig::validate() const {
         if (n[dirAxis(key.second)] < 0 || n[dirAxis(key.second)] >= dims[dirAxis(key.second)])
             throw std::invalid_argument("--link-set: no link in that direction (mesh face)");
     }
+    if (fbUnits < 1 || fbUnits > 256) throw std::invalid_argument("--fb-units: must be in 1..256");
     if (fbBatch < 1 || fbBatch > 65536) throw std::invalid_argument("--fb-batch: must be in 1..65536");
     if (rayBatch < 1 || rayBatch > 65536) throw std::invalid_argument("--ray-batch: must be in 1..65536");
     for (const Cell& c : traceNodes)

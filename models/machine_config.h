@@ -44,6 +44,8 @@ struct LinkParams {
 // progress axis owns its own boundaries between them.
 enum class Policy { None, Slide, Work, Median };
 const char* policyName(Policy p);
+// What `--balance default` selects: the recommended policy (doc/balancing.md).
+constexpr Policy kDefaultPolicy = Policy::Slide;
 
 struct BalanceConfig {
     Policy policy = Policy::None;
@@ -71,9 +73,12 @@ struct MachineConfig {
     LinkParams link;
     std::map<std::pair<Cell, int>, LinkParams> linkOverride;  // (source node, direction)
 
-    // Each node's output port to the frame buffer, and the host's cost.
+    // The frame buffer (doc/machine.md, "The frame buffer"): fbUnits units,
+    // pixel-interleaved (pixel p in unit p mod fbUnits); 1 is a single host.
+    // Each node has a port to each unit (and each unit but 0 one to unit 0).
+    int fbUnits = 16;
     LinkParams fbPort{200000, 1e9, 16};
-    Picos hostCost = 5000;             // per contribution accumulated
+    Picos hostCost = 5000;             // per contribution accumulated, in its unit
     int fbBatch = 32;                  // contributions per frame-buffer message
     int rayBatch = 1;                  // rays per link message (sent when full or before the node waits)
 

@@ -2,6 +2,7 @@
 // a size in bytes; the size is what the link's bandwidth is charged for.
 #pragma once
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "credit.h"
@@ -10,8 +11,12 @@
 
 namespace rt {
 
-enum class MsgType : uint8_t { Ray = 0, Contributions = 1, Credit = 2, LoadReport = 3, Slide = 4, Ack = 5 };
-constexpr int kMsgTypes = 6;
+enum class MsgType : uint8_t {
+    Ray = 0, Contributions = 1, Credit = 2, LoadReport = 3, Slide = 4, Ack = 5,
+    FbExpect = 6,  // frame-buffer unit 0 to unit u, at the end: how many contributions u must have
+    FbDone = 7,    // unit u back to unit 0: it has accumulated them all
+};
+constexpr int kMsgTypes = 8;
 const char* msgTypeName(MsgType t);
 
 // Wire sizes (bytes). A ray: origin, direction, t0, tEnd, weight (doubles,
@@ -22,6 +27,8 @@ constexpr uint32_t kContributionBytes = 4 + 8 + 4 + 3 * 8;  // pixel, path, slot
 constexpr uint32_t kLoadReportBytes = 4 + 8 + 8;            // interval, load, busy time
 constexpr uint32_t kSlideBytes = 8 + 4;                     // new boundary, object count (+ the objects)
 constexpr uint32_t kAckBytes = 8;                           // the boundary taken
+constexpr uint32_t kUnitCountBytes = 2 + 4;                 // Credit: a frame-buffer unit and a count
+constexpr uint32_t kFbExpectBytes = 8;                      // the count
 
 // Bytes of one object on the wire: id, material, kind, then its geometry.
 uint32_t objectBytes(const Shape& s);
@@ -37,6 +44,10 @@ struct Message {
     std::vector<RayItem> rays;                 // Ray: one or a batch (--ray-batch)
     std::vector<Contribution> contributions;   // Contributions
     Credit credit;                             // Credit
+    // Credit, with more than one frame-buffer unit: contributions sent to
+    // each unit but 0 since the node last returned credit (unit, count).
+    std::vector<std::pair<uint16_t, uint32_t>> unitCounts;
+    uint64_t count = 0;                        // FbExpect
     int32_t interval = 0;                      // LoadReport
     double load = 0;                           // LoadReport
     uint64_t busy = 0;                         // LoadReport: busy time in the interval (ps)
@@ -47,7 +58,7 @@ struct Message {
         switch (type) {
             case MsgType::Ray: return kHeaderBytes + uint32_t(rays.size()) * kRayBytes;
             case MsgType::Contributions: return kHeaderBytes + uint32_t(contributions.size()) * kContributionBytes;
-            case MsgType::Credit: return kHeaderBytes + credit.bytes();
+            case MsgType::Credit: return kHeaderBytes + credit.bytes() + uint32_t(unitCounts.size()) * kUnitCountBytes;
             case MsgType::LoadReport: return kHeaderBytes + kLoadReportBytes;
             case MsgType::Slide: {
                 uint32_t b = kHeaderBytes + kSlideBytes;
@@ -55,6 +66,8 @@ struct Message {
                 return b;
             }
             case MsgType::Ack: return kHeaderBytes + kAckBytes;
+            case MsgType::FbExpect: return kHeaderBytes + kFbExpectBytes;
+            case MsgType::FbDone: return kHeaderBytes;
         }
         return kHeaderBytes;
     }

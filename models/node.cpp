@@ -8,12 +8,12 @@
 namespace rt {
 
 Node::Node(sc_core::sc_module_name name, const Cell& cell, const Box& box, std::vector<Shape> objects,
-           const Shader& shader, const Camera& camera, const Box& world, const Costs& costs, double speed, int fbBatch,
-           const BalanceConfig& balance, double minThickness, Picos quantum, int rayBatch)
+           const Shader& shader, const Camera& camera, const Box& world, const Costs& costs, double speed, int fbUnits,
+           int fbBatch, const BalanceConfig& balance, double minThickness, Picos quantum, int rayBatch)
     : sc_module(name),
       out("out", kDirs),
       in("in", kDirs),
-      fb("fb"),
+      fb("fb", size_t(fbUnits)),
       cell_(cell),
       shader_(shader),
       camera_(camera),
@@ -25,7 +25,9 @@ Node::Node(sc_core::sc_module_name name, const Cell& cell, const Box& box, std::
       margin_(roundingMargin(world)),
       minThickness_(minThickness),
       time_(quantum),
-      rayBatch_(rayBatch) {
+      rayBatch_(rayBatch),
+      pending_(size_t(fbUnits)),
+      sentSince_(size_t(fbUnits), 0) {
     rebuild(box, std::move(objects));
     if (bal_.dynamic()) {
         nextInterval_ = bal_.interval;
@@ -136,12 +138,12 @@ void Node::run() {
             continue;
         }
         // Nothing to trace: send the rays still collected in batches, and hand
-        // the host what it is owed, before waiting; so no ray waits in a batch
+        // the frame buffer what it is owed, before waiting; so no ray waits in a batch
         // while everyone waits, and the credit of every ray ended here
         // follows its contributions.
         if (flushRays()) continue;
-        if (owesHost()) {
-            flushToHost();
+        if (owesFrameBuffer()) {
+            flushToFrameBuffer();
             continue;
         }
         waitForWork();
@@ -180,7 +182,7 @@ void Node::waitForWork() {
 // What the node will do next without input: rays in hand or still to
 // generate, rays in partial batches, contributions or credit owed.
 bool Node::nothingToDo() const {
-    if (ownWork() || nextPixel_ < pixels_.size() || owesHost()) return false;
+    if (ownWork() || nextPixel_ < pixels_.size() || owesFrameBuffer()) return false;
     for (const std::vector<RayItem>& b : outRays_)
         if (!b.empty()) return false;
     return true;
@@ -251,11 +253,11 @@ int Node::route(const RayJob& job) const {
 void Node::terminate(const Work& w, std::vector<RayJob>& spawned) {
     ++stats_.raysTerminated;
     // The ray's credit goes to its children in equal powers of two, and at
-    // least one share stays here: this node returns it to the host only after
-    // the contributions the hit made here (flushToHost sends them first on
-    // the same FIFO port). Otherwise the children could end elsewhere and
-    // complete the host's credit while those contributions still wait here,
-    // for instance while this node is busy with balancing messages.
+    // least one share stays here: this node returns it to the frame buffer
+    // only after the contributions the hit made here (flushToFrameBuffer sends
+    // them first on the same FIFO ports). Otherwise the children could end
+    // elsewhere and complete the credit while those contributions still wait
+    // here, for instance while this node is busy with balancing messages.
     const uint64_t m = spawned.size();
     if (m == 0) {
         credit_.add(w.creditExp);
@@ -302,14 +304,11 @@ void Node::step(Work& w) {
             credit_.add(w.creditExp);
         }
     }
-    for (const Contribution& c : contributions) pending_.push_back(c);
+    for (const Contribution& c : contributions) queueContribution(c);
     stats_.contributionsSent += contributions.size();
-    if (pending_.size() >= size_t(fbBatch_)) {
-        Message m;
-        m.type = MsgType::Contributions;
-        m.contributions.swap(pending_);
-        pending_.reserve(size_t(fbBatch_));  // the host keeps the list: it should hold no spare room
-        outbox_.push_back({-1, std::move(m)});
+    for (const Contribution& c : contributions) {  // full batches leave at the end of the step
+        const int u = unitOf(c);
+        if (pending_[size_t(u)].size() >= size_t(fbBatch_)) sendContributions(u);
     }
     const Picos cost = stepCost(before, outbox_.size(), w.fromLink ? 1 : 0, w.generated ? 1 : 0);
     if (bal_.policy == Policy::Work && std::isfinite(where)) {
@@ -332,7 +331,7 @@ void Node::chargeAndSend(Picos cost, bool mayWaitForWork) {
     stats_.busy += cost;
     stats_.lastActive = now_;
     for (auto& [d, m] : outbox_) {
-        if (d < 0) fb->send(std::move(m), now_);
+        if (d >= kDirs) fb[size_t(d - kDirs)]->send(std::move(m), now_);
         else out[d]->send(std::move(m), now_);
     }
     stats_.messagesSent += outbox_.size();
@@ -386,21 +385,49 @@ bool Node::flushRays() {
     return true;
 }
 
-void Node::flushToHost() {
-    traceState(true, false);
-    if (!pending_.empty()) {
-        Message m;
-        m.type = MsgType::Contributions;
-        m.contributions.assign(pending_.begin(), pending_.end());  // a part batch: a list of its size
-        pending_.clear();
-        outbox_.push_back({-1, std::move(m)});
+void Node::queueContribution(const Contribution& c) {
+    pending_[size_t(unitOf(c))].push_back(c);
+    ++pendingCount_;
+}
+
+void Node::sendContributions(int unit) {
+    std::vector<Contribution>& p = pending_[size_t(unit)];
+    Message m;
+    m.type = MsgType::Contributions;
+    if (p.size() >= size_t(fbBatch_)) {  // a full batch: hand over the list itself
+        m.contributions.swap(p);
+        p.reserve(size_t(fbBatch_));     // the unit keeps the list: it should hold no spare room
+    } else {
+        m.contributions.assign(p.begin(), p.end());  // a part batch: a list of its size
+        p.clear();
     }
+    pendingCount_ -= m.contributions.size();
+    sentSince_[size_t(unit)] += uint32_t(m.contributions.size());
+    outbox_.push_back({fbTarget(unit), std::move(m)});
+}
+
+// The node hands the frame buffer what it owes: every part batch, then its
+// returned credit, to unit 0 (the host), with how many contributions it has
+// sent to each other unit since it last returned credit. Unit 0's own
+// contributions travel ahead of the credit on the same FIFO port; for the
+// others, unit 0 checks the counts with each unit once the credit is whole
+// (frame_buffer.h).
+void Node::flushToFrameBuffer() {
+    traceState(true, false);
+    for (size_t u = 0; u < pending_.size(); ++u)
+        if (!pending_[u].empty()) sendContributions(int(u));
     if (!credit_.isZero()) {
         Message m;
         m.type = MsgType::Credit;
         m.credit = credit_;
         credit_.clear();
-        outbox_.push_back({-1, std::move(m)});
+        for (size_t u = 1; u < sentSince_.size(); ++u)
+            if (sentSince_[u]) m.unitCounts.push_back({uint16_t(u), sentSince_[u]});
+        std::fill(sentSince_.begin(), sentSince_.end(), 0);
+        outbox_.push_back({fbTarget(0), std::move(m)});
+    } else if (std::any_of(sentSince_.begin(), sentSince_.end(), [](uint32_t n) { return n != 0; })) {
+        // A contribution is made with credit kept for it (terminate), so this cannot happen.
+        throw std::logic_error(std::string(name()) + ": contributions sent without credit to cover them");
     }
     finishControlStep(stats_.counters, 0, 0);
 }

@@ -1,13 +1,14 @@
 // One computer of the mesh: a SystemC module with one tracer process, six
 // link ports (+x -x +y -y +z -z; unbound on the mesh faces) and an output
-// port to the frame buffer. It owns one box of space, only the objects that
+// port to each frame-buffer unit. It owns one box of space, only the objects that
 // overlap it and a grid over them (sw/Region), and it knows the camera,
 // lights and materials (the job's configuration), nothing else of the scene.
 //
 // The tracer runs one step at a time: take a ray (local work first, then the
 // oldest arrived message, then a new primary ray), trace it through the box
 // (sw/Region::trace), and send what comes out: a ray leaving the box to the
-// neighbour it enters (Node::route), contributions to the frame buffer. A
+// neighbour it enters (Node::route), contributions to the frame-buffer unit
+// that holds their pixel (pixel mod units; Node::queueContribution). A
 // step's time is its operation counts times their costs, divided by the
 // node's speed (Node::stepCost); see doc/machine.md.
 #pragma once
@@ -70,12 +71,12 @@ class Node : public sc_core::sc_module {
 public:
     SC_HAS_PROCESS(Node);
     Node(sc_core::sc_module_name name, const Cell& cell, const Box& box, std::vector<Shape> objects,
-         const Shader& shader, const Camera& camera, const Box& world, const Costs& costs, double speed, int fbBatch,
-         const BalanceConfig& balance, double minThickness, Picos quantum, int rayBatch);
+         const Shader& shader, const Camera& camera, const Box& world, const Costs& costs, double speed, int fbUnits,
+         int fbBatch, const BalanceConfig& balance, double minThickness, Picos quantum, int rayBatch);
 
     sc_core::sc_vector<sc_core::sc_port<LinkSendIf, 1, sc_core::SC_ZERO_OR_MORE_BOUND>> out;
     sc_core::sc_vector<sc_core::sc_port<LinkRecvIf, 1, sc_core::SC_ZERO_OR_MORE_BOUND>> in;
-    sc_core::sc_port<LinkSendIf> fb;
+    sc_core::sc_vector<sc_core::sc_port<LinkSendIf>> fb;  // one per frame-buffer unit
 
     // Setup by the host's job description, before the simulation starts.
     void assignPrimaries(std::vector<uint32_t> pixels, int primaryExp, const Credit& remainder);
@@ -120,12 +121,18 @@ private:
     void chargeAndSend(Picos cost, bool mayWaitForWork = false);
     void waitForWork();
     bool nothingToDo() const;
-    bool owesHost() const { return !pending_.empty() || !credit_.isZero(); }  // contributions or credit not yet sent
+    bool owesFrameBuffer() const { return pendingCount_ || !credit_.isZero(); }  // contributions or credit not yet sent
     int sideDir(int side) const { return dirOf(bal_.axis, side); }  // side -1 / +1 -> link direction
     // The link direction towards the owner of job.t0, or -1 if it is ours.
     int route(const RayJob& job) const;
     void terminate(const Work& w, std::vector<RayJob>& spawned);
-    void flushToHost();
+    void flushToFrameBuffer();
+    // A contribution into the batch of its pixel's unit, which leaves as one
+    // message when full.
+    void queueContribution(const Contribution& c);
+    void sendContributions(int unit);  // the unit's batch, now
+    static int fbTarget(int unit) { return kDirs + unit; }  // outbox destination of a frame-buffer unit
+    int unitOf(const Contribution& c) const { return int(c.pixel % uint32_t(pending_.size())); }
     bool flushRays();  // sends every partial ray batch; false if there was none
     void queueRay(int dir, const Work& w);
     void recycle(std::vector<RayItem>& rays);
@@ -174,7 +181,7 @@ private:
     std::vector<uint32_t> pixels_;
     size_t nextPixel_ = 0;
     int primaryExp_ = 0;
-    Credit credit_;  // returned credit not yet sent to the host
+    Credit credit_;  // returned credit not yet sent to the frame buffer
 
     // Decoupled modes: the node's time, busy time and end of its last step at
     // the end of each step and idle stretch, kept back to the last one the
@@ -187,8 +194,10 @@ private:
     size_t timelineStart_ = 0;
 
     std::vector<Work> local_;                 // spawned rays, LIFO
-    std::vector<Contribution> pending_;   // contributions not yet sent
-    std::vector<std::pair<int, Message>> outbox_;  // this step's sends: (direction or -1 for fb, message)
+    std::vector<std::vector<Contribution>> pending_;  // per frame-buffer unit: contributions not yet sent
+    size_t pendingCount_ = 0;                         // in all of them
+    std::vector<uint32_t> sentSince_;  // per unit: contributions sent since the last credit return
+    std::vector<std::pair<int, Message>> outbox_;  // this step's sends: (direction, or fbTarget(unit); message)
     Mailbox mailbox_;
     Picos now_ = 0;
     ArrivalQueue inputOrder_;

@@ -1,5 +1,6 @@
 #include "report.h"
 
+#include "bounds.h"
 #include "counters_json.h"
 #include "stability.h"
 
@@ -34,6 +35,7 @@ nlohmann::json machineReport(const MachineResult& r, const MachineConfig& cfg) {
     c["link"] = linkJson(cfg.link);
     for (const auto& [key, l] : cfg.linkOverride)
         c["link_overrides"].push_back({{"node", cellJson(key.first)}, {"dir", dirName(key.second)}, {"link", linkJson(l)}});
+    c["fb_units"] = cfg.fbUnits;
     c["fb_port"] = linkJson(cfg.fbPort);
     c["fb_batch"] = cfg.fbBatch;
     c["ray_batch"] = cfg.rayBatch;
@@ -92,7 +94,7 @@ nlohmann::json machineReport(const MachineResult& r, const MachineConfig& cfg) {
         nlohmann::json lj;
         lj["name"] = l.name;
         lj["from"] = cellJson(l.from);
-        lj["to"] = l.dir < 0 ? nlohmann::json("host") : nlohmann::json(dirName(l.dir));
+        lj["to"] = l.dir < 0 ? nlohmann::json("fb" + std::to_string(l.unit)) : nlohmann::json(dirName(l.dir));
         lj["params"] = linkJson(l.params);
         for (int t = 0; t < kMsgTypes; ++t) {
             const char* name = msgTypeName(MsgType(t));
@@ -111,10 +113,33 @@ nlohmann::json machineReport(const MachineResult& r, const MachineConfig& cfg) {
     }
     j["totals"]["busy_ns"] = ns(busyTotal);
     j["totals"]["primary_misses"] = r.primaryMisses;
-    j["host"] = {{"busy_ns", ns(r.host.busy)},
-                 {"contributions", r.host.contributions},
-                 {"contribution_messages", r.host.contributionMessages},
-                 {"credit_messages", r.host.creditMessages}};
+    // The frame buffer: per unit, and its busiest unit's busy time (the
+    // floor the frame buffer puts under the frame).
+    auto& fb = j["frame_buffer"];
+    Picos fbMax = 0, fbTotal = 0;
+    uint64_t contributions = 0;
+    for (size_t u = 0; u < r.frameBuffer.size(); ++u) {
+        const FrameBufferStats& s = r.frameBuffer[u].stats;
+        fbMax = std::max(fbMax, s.busy);
+        fbTotal += s.busy;
+        contributions += s.contributions;
+        nlohmann::json uj = {{"unit", u},
+                             {"busy_ns", ns(s.busy)},
+                             {"last_active_ns", ns(s.lastActive)},
+                             {"contributions", s.contributions},
+                             {"contribution_messages", s.contributionMessages},
+                             {"credit_messages", s.creditMessages}};
+        fb["units"].push_back(uj);
+    }
+    fb["busy_ns"] = ns(fbMax);
+    fb["busy_total_ns"] = ns(fbTotal);
+    fb["contributions"] = contributions;
+    // The bounds (bounds.h), each in ns and as a fraction of the render time.
+    const Bounds bd = renderTimeBounds(r, cfg);
+    auto bound = [&](Picos t) {
+        return nlohmann::json{{"ns", ns(t)}, {"fraction", r.renderTime ? double(t) / double(r.renderTime) : 0.0}};
+    };
+    j["bounds"] = {{"perfect", bound(bd.perfect)}, {"column", bound(bd.column)}, {"frame_buffer", bound(bd.frameBuffer)}};
     j["kernel"] = {{"delta_cycles", r.deltaCycles}};
     // Balancing: every boundary's history, the number of slides, and how
     // even the loads are (max / mean) over the whole frame.

@@ -1,105 +1,152 @@
 #!/usr/bin/python3
-"""The paper's Fig. 4: image generation time with sliding-boundary balancing
+"""The paper's Fig. 4 against its bounds: image generation time with balancing
 divided by the time without, against the fraction f of the space the spheres
-crowd into (1/N .. 1), one line per N, for a view along the progress axis and
-one across it. Writes doc/results/fig4.csv and doc/results/fig4.png.
-Needs python3-matplotlib (bash scripts/setup.sh plots); run with /usr/bin/python3."""
+crowd into (1/N .. 1), per mesh size N, for a view along the progress axis
+and one across it. Each panel shows every policy (the static object-median
+split and the dynamic ones), the column bound of the unbalanced run (the best
+any balancer that slides boundaries along one axis could do with its work),
+1/N, and the paper's 0.2.
+
+Runs on a machine preset (--preset: configs/NAME.conf; modern is rtsim's
+defaults) with the project's default balancing settings. Writes
+doc/results/fig4[-PRESET].{csv,png,md} and the f = 1/N table into
+doc/balancing.md. Needs python3-matplotlib (bash scripts/setup.sh plots);
+run with /usr/bin/python3."""
 import argparse
-import csv
 import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import sweep as driver  # noqa: E402
-from sweep import ROOT, write_csv  # noqa: E402
+from sweep import ROOT, read_csv, write_csv  # noqa: E402
 
-# The experiment's settings (doc/balancing.md, "Fig. 4"): the procedural scene,
-# progress axis x; the camera either looks along x or across it (along y).
+# The experiment (doc/balancing.md, "Fig. 4"): the procedural scene, progress
+# axis x; the camera either looks along x or across it (along y).
 SCENE = ["--spheres", "1000", "--radius", "0.02", "--size", "256x256", "--axis", "x", "--seed", "1"]
 VIEWS = {
     "along": ["--eye=-1.3,0.5,0.5", "--look-at=0.5,0.5,0.5", "--fov", "50"],
     "across": ["--eye=0.5,-1.6,0.5", "--look-at=0.5,0.5,0.5", "--fov", "40"],
 }
+POLICIES = "median,slide,work"
+PAPER = 0.2
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--n", default="2,3,4,5,6")
-    ap.add_argument("--policy", default="slide", help="balancing policy compared with none")
-    ap.add_argument("--interval", default="5us")
-    ap.add_argument("--gain", default="0.25")
+    ap.add_argument("--n", default="2,3,4,5,6,7,8")
+    ap.add_argument("--policies", default=POLICIES, help="policies compared with none")
+    ap.add_argument("--preset", default="modern", help="configs/PRESET.conf")
     ap.add_argument("--extra", default="", help="more rtsim flags for every run")
-    driver.add_output_arguments(ap)
+    driver.add_output_arguments(ap, os.path.join(ROOT, "doc", "balancing.md"))
     driver.add_arguments(ap)
     a = ap.parse_args()
     ns = [int(x) for x in a.n.split(",")]
+    policies = a.policies.split(",")
+    stem = "fig4" if a.preset == "modern" else f"fig4-{a.preset}"
+    csv_path = os.path.join(a.out, stem + ".csv")
     if not a.plot_only:
-        sweep(a, ns)
-    plot(a, ns)
+        write_csv(csv_path, sweep(a, ns, policies))
+    rows = read_csv(csv_path)
+    for r in rows:
+        r["N"] = int(r["N"])
+        for k in ("f", "ratio", "column_bound", "perfect_bound", "fb_bound", "time_none_ns", "time_ns"):
+            r[k] = float(r[k])
+    plot(a, rows, ns, policies, os.path.join(a.out, stem + ".png"))
+    table(a, rows, ns, policies, os.path.join(a.out, stem + ".md"))
 
 
-def sweep(a, ns):
+def preset_args(a):
+    return ["--config", os.path.join(ROOT, "configs", a.preset + ".conf")]
+
+
+def sweep(a, ns, policies):
     points = []
     for view, cam in VIEWS.items():
         for n in ns:
             for k in range(1, n + 1):
-                f = k / n
-                for policy in ("none", a.policy):
-                    points.append({"params": {"view": view, "N": n, "f": round(f, 6), "policy": policy},
-                                   "args": SCENE + cam + ["--mesh", n, "--concentration", f"{f:.6f}",
-                                                          "--balance", policy, "--balance-interval", a.interval,
-                                                          "--gain", a.gain] + a.extra.split()})
-    runs = driver.run("fig4", points, extract, None, a)
+                for policy in ["none"] + policies:
+                    points.append({"params": {"view": view, "N": n, "f": round(k / n, 6), "policy": policy},
+                                   "args": preset_args(a) + SCENE + cam +
+                                   ["--mesh", n, "--concentration", f"{k / n:.6f}", "--balance", policy] +
+                                   a.extra.split()})
+    runs = driver.run(f"fig4-{a.preset}", points, extract, None, a)
     by = {(r["view"], r["N"], r["f"], r["policy"]): r for r in runs}
     rows = []
     for view in VIEWS:
         for n in ns:
             for k in range(1, n + 1):
                 f = round(k / n, 6)
-                r0, r1 = by[(view, n, f, "none")], by[(view, n, f, a.policy)]
-                rows.append({"view": view, "N": n, "f": f, "time_none_ns": r0["render_time_ns"],
-                             "time_balanced_ns": r1["render_time_ns"],
-                             "ratio": r1["render_time_ns"] / r0["render_time_ns"], "slides": r1["slides"],
-                             "max_over_mean_load": r1["max_over_mean_load"], "stability": r1["stability"],
-                             "version": r1["version"], "command_balanced": r1["command"]})
-    write_csv(os.path.join(a.out, "fig4.csv"), rows)
+                none = by[(view, n, f, "none")]
+                for policy in policies:
+                    r = by[(view, n, f, policy)]
+                    rows.append({"preset": a.preset, "view": view, "N": n, "f": f, "policy": policy,
+                                 "time_none_ns": none["render_time_ns"], "time_ns": r["render_time_ns"],
+                                 "ratio": r["render_time_ns"] / none["render_time_ns"],
+                                 # the unbalanced run's bounds, as fractions of its time
+                                 "column_bound": none["column_bound"], "perfect_bound": none["perfect_bound"],
+                                 "fb_bound": none["fb_bound"], "slides": r["slides"],
+                                 "max_over_mean_load": r["max_over_mean_load"], "stability": r["stability"],
+                                 "version": r["version"], "command": r["command"]})
+    return rows
 
 
 def extract(r):
-    b = r["balance"]
+    b, bd = r["balance"], r["bounds"]
     return {"render_time_ns": r["render_time_ns"], "slides": b["slides"],
-            "max_over_mean_load": b["max_over_mean_load"], "stability": b["stability"]}
+            "max_over_mean_load": b["max_over_mean_load"], "stability": b["stability"],
+            "column_bound": bd["column"]["fraction"], "perfect_bound": bd["perfect"]["fraction"],
+            "fb_bound": bd["frame_buffer"]["fraction"]}
 
 
-def plot(a, ns):
-    with open(os.path.join(a.out, "fig4.csv")) as f:
-        rows = [dict(r, N=int(r["N"]), f=float(r["f"]), ratio=float(r["ratio"]),
-                     max_over_mean_load=float(r["max_over_mean_load"])) for r in csv.DictReader(f)]
-
+def plot(a, rows, ns, policies, path):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    fig, axes = plt.subplots(1, 2, figsize=(11, 4.5), sharey=True)
-    for ax, view in zip(axes, VIEWS):
+    colours = {"median": "#7a7a7a", "slide": "#1f77b4", "work": "#d62728"}
+    fig, axes = plt.subplots(len(VIEWS), len(ns), figsize=(2.6 * len(ns) + 1, 2.7 * len(VIEWS) + 0.8),
+                             sharey=True, squeeze=False)
+    for row, view in enumerate(VIEWS):
+        for col, n in enumerate(ns):
+            ax = axes[row][col]
+            pts = sorted((r for r in rows if r["view"] == view and r["N"] == n), key=lambda r: r["f"])
+            fs = sorted({r["f"] for r in pts})
+            for p in policies:
+                ys = [next(r["ratio"] for r in pts if r["f"] == f and r["policy"] == p) for f in fs]
+                ax.plot(fs, ys, marker="o", markersize=3, color=colours.get(p), label=p)
+            bound = [next(r["column_bound"] for r in pts if r["f"] == f) for f in fs]
+            ax.plot(fs, bound, "k--", linewidth=1, label="column bound (unbalanced run)")
+            ax.axhline(1 / n, color="green", linestyle=":", linewidth=1, label="1/N")
+            ax.axhline(PAPER, color="grey", linestyle="-.", linewidth=1, label="paper: about 0.2 at f = 1/N")
+            ax.axhline(1.0, color="black", linewidth=0.5)
+            ax.set_xlim(0, 1.05)
+            ax.set_ylim(0, 1.4)
+            ax.grid(alpha=0.3)
+            ax.set_title(f"N = {n}, view {view}", fontsize=9)
+            if row == len(VIEWS) - 1:
+                ax.set_xlabel("f", fontsize=9)
+        axes[row][0].set_ylabel("time / time without", fontsize=9)
+    handles, labels = axes[0][0].get_legend_handles_labels()
+    fig.legend(handles, labels, loc="lower center", ncol=len(labels), fontsize=9)
+    fig.suptitle(f"Fig. 4 against its bounds, preset {a.preset}: 1,000 spheres crowded into the first f of x, "
+                 f"256x256, default balancing settings", fontsize=10)
+    fig.tight_layout(rect=(0, 0.07, 1, 0.95))
+    fig.savefig(path, dpi=90)
+
+
+def table(a, rows, ns, policies, md_path):
+    """The f = 1/N points: every policy's ratio beside the bounds."""
+    head = " | ".join(policies)
+    lines = [f"<!-- written by scripts/fig4.py --preset {a.preset}; do not edit -->",
+             f"| view | N | {head} | column bound | perfect bound | 1/N | paper |",
+             "|---|---:|" + "---:|" * (len(policies) + 4)]
+    for view in VIEWS:
         for n in ns:
-            pts = [(r["f"], r["ratio"]) for r in rows if r["view"] == view and r["N"] == n]
-            ax.plot([p[0] for p in pts], [p[1] for p in pts], marker="o", label=f"N = {n}")
-        ax.axhline(0.2, color="grey", linestyle=":", linewidth=1)
-        ax.annotate("paper: about 0.2 at f = 1/N", (0.02, 0.22), color="grey", fontsize=9)
-        ax.set_title(f"view {view} the progress axis")
-        ax.set_xlabel("fraction f of the space holding the spheres")
-        ax.set_xlim(0, 1.05)
-        ax.set_ylim(0, 1.3)
-        ax.grid(alpha=0.3)
-    axes[0].set_ylabel(f"time with balancing ({a.policy}) / time without")
-    axes[1].legend(loc="lower right")
-    fig.suptitle("Fig. 4 reproduced: procedural scene, %s spheres, %s, interval %s, gain %s"
-                 % (SCENE[1], SCENE[5], a.interval, a.gain), fontsize=10)
-    fig.tight_layout()
-    fig.savefig(os.path.join(a.out, "fig4.png"), dpi=110)
-    for r in rows:
-        if abs(r["f"] - 1 / r["N"]) < 1e-6:
-            print(f"{r['view']:6s} N={r['N']} f=1/N: ratio {r['ratio']:.3f} (max/mean load {r['max_over_mean_load']:.2f})")
+            at = [r for r in rows if r["view"] == view and r["N"] == n and abs(r["f"] - 1 / n) < 1e-6]
+            ratio = {r["policy"]: r["ratio"] for r in at}
+            lines.append(f"| {view} | {n} | " + " | ".join(f"{ratio[p]:.2f}" for p in policies) +
+                         f" | {at[0]['column_bound']:.2f} | {at[0]['perfect_bound']:.2f} | {1 / n:.2f} | {PAPER} |")
+    doc = a.doc if a.doc else None
+    driver.publish_table(lines, md_path, doc, f"fig4 table {a.preset}")
 
 
 if __name__ == "__main__":

@@ -2,9 +2,11 @@
 """Link-speed exploration: sweeps link latency and link bandwidth over
 several decades (one at a time, the other at its default) for N = 2..8, with
 and without balancing, on rtsim's default experiment (1,000 spheres crowded
-into the first quarter of x, 256x256). Charts render time, speed-up over one
-node and balancing gain; finds the knee where links start to dominate.
-Writes doc/results/link_sweep.{csv,png,md}.
+into the first quarter of x, 256x256), on a machine preset (--preset:
+configs/NAME.conf; the sweep spans the same decades around the preset's own
+link). Charts render time, speed-up over one node and balancing gain; finds
+the knee where links start to dominate. Writes
+doc/results/link_sweep[-PRESET].{csv,png,md}.
 
 Knee: the link speed at which the render time has doubled from its value
 with the fastest links (links then take as long as everything else), found
@@ -23,9 +25,18 @@ import sweep as driver  # noqa: E402
 from sweep import ROOT, read_csv, write_csv  # noqa: E402
 
 SCENE = ["--spheres", "1000", "--concentration", "0.25", "--size", "256x256"]
-DEFAULT_LATENCY, DEFAULT_BANDWIDTH, DEFAULT_DEPTH = "100ns", "1GB/s", 16  # models/machine_config.h
-LATENCIES = "10ns,30ns,100ns,300ns,1us,3us,10us,30us,100us"
-BANDWIDTHS = "10MB/s,30MB/s,100MB/s,300MB/s,1GB/s,3GB/s,10GB/s,30GB/s,100GB/s"
+# Per preset (configs/NAME.conf): its link, and the swept values around it:
+# latency from a tenth to a thousand times the preset's, bandwidth from a
+# hundredth to a hundred times, in half decades; the deep-link repeat at four
+# times the preset's depth.
+PRESETS = {
+    "modern": {"latency": "100ns", "bandwidth": "1GB/s", "depth": 16,
+               "latencies": "10ns,30ns,100ns,300ns,1us,3us,10us,30us,100us",
+               "bandwidths": "10MB/s,30MB/s,100MB/s,300MB/s,1GB/s,3GB/s,10GB/s,30GB/s,100GB/s"},
+    "transputer-1987": {"latency": "1.5us", "bandwidth": "1.2MB/s", "depth": 2,
+                        "latencies": "150ns,450ns,1.5us,4.5us,15us,45us,150us,450us,1500us",
+                        "bandwidths": "12KB/s,36KB/s,120KB/s,360KB/s,1.2MB/s,3.6MB/s,12MB/s,36MB/s,120MB/s"},
+}
 UNITS = {"ps": 1e-12, "ns": 1e-9, "us": 1e-6, "ms": 1e-3, "s": 1.0,
          "B/s": 1.0, "KB/s": 1e3, "MB/s": 1e6, "GB/s": 1e9}
 
@@ -41,14 +52,21 @@ def value(s):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--n", default="2,3,4,5,6,7,8")
-    ap.add_argument("--latencies", default=LATENCIES)
-    ap.add_argument("--bandwidths", default=BANDWIDTHS)
-    ap.add_argument("--balance", default="slide", help="the balancing policy compared with none")
-    ap.add_argument("--deep-depth", type=int, default=64, help="link depth of the repeated latency sweep")
+    ap.add_argument("--preset", default="modern", choices=sorted(PRESETS), help="configs/PRESET.conf")
+    ap.add_argument("--latencies", help="swept latencies (default: the preset's)")
+    ap.add_argument("--bandwidths", help="swept bandwidths (default: the preset's)")
+    ap.add_argument("--balance", default="default", help="the balancing policy compared with none")
+    ap.add_argument("--deep-depth", type=int, help="link depth of the repeated latency sweep (default: 4x the preset's)")
     driver.add_output_arguments(ap, os.path.join(ROOT, "doc", "exploration.md"))
     driver.add_arguments(ap)
     a = ap.parse_args()
-    csv_path = os.path.join(a.out, "link_sweep.csv")
+    p = PRESETS[a.preset]
+    a.default_latency, a.default_bandwidth, a.default_depth = p["latency"], p["bandwidth"], p["depth"]
+    a.latencies = a.latencies or p["latencies"]
+    a.bandwidths = a.bandwidths or p["bandwidths"]
+    a.deep_depth = a.deep_depth or 4 * p["depth"]
+    a.stem = "link_sweep" if a.preset == "modern" else f"link_sweep-{a.preset}"
+    csv_path = os.path.join(a.out, a.stem + ".csv")
     if not a.plot_only:
         write_csv(csv_path, sweep(a))
     rows = read_csv(csv_path)
@@ -63,31 +81,33 @@ def main():
 def settings(a):
     """(swept quantity, latency, bandwidth, depth, balancing policies) for the
     one-dimensional sweeps."""
-    lats = sorted(set(a.latencies.split(",")) | {DEFAULT_LATENCY}, key=value)  # the default link is in all
-    bws = sorted(set(a.bandwidths.split(",")) | {DEFAULT_BANDWIDTH}, key=value)
+    lats = sorted(set(a.latencies.split(",")) | {a.default_latency}, key=value)  # the default link is in all
+    bws = sorted(set(a.bandwidths.split(",")) | {a.default_bandwidth}, key=value)
     both = ("none", a.balance)
-    return ([("latency", lat, DEFAULT_BANDWIDTH, DEFAULT_DEPTH, both) for lat in lats] +
-            [("bandwidth", DEFAULT_LATENCY, bw, DEFAULT_DEPTH, both) for bw in bws] +
-            [("latency, deep links", lat, DEFAULT_BANDWIDTH, a.deep_depth, ("none",)) for lat in lats])
+    return ([("latency", lat, a.default_bandwidth, a.default_depth, both) for lat in lats] +
+            [("bandwidth", a.default_latency, bw, a.default_depth, both) for bw in bws] +
+            [("latency, deep links", lat, a.default_bandwidth, a.deep_depth, ("none",)) for lat in lats])
 
 
 def sweep(a):
     ns = [int(n) for n in a.n.split(",")]
-    points = [{"params": {"sweep": "one node", "N": 1, "balance": "none", "latency": DEFAULT_LATENCY,
-                          "bandwidth": DEFAULT_BANDWIDTH, "depth": DEFAULT_DEPTH}, "args": SCENE + ["--mesh", 1]}]
+    preset = ["--config", os.path.join(ROOT, "configs", a.preset + ".conf")]
+    points = [{"params": {"sweep": "one node", "N": 1, "balance": "none", "latency": a.default_latency,
+                          "bandwidth": a.default_bandwidth, "depth": a.default_depth},
+               "args": preset + SCENE + ["--mesh", 1]}]
     for swept, lat, bw, depth, bals in settings(a):
         for n in ns:
             for bal in bals:
                 points.append({"params": {"sweep": swept, "N": n, "balance": bal, "latency": lat, "bandwidth": bw,
                                           "depth": depth},
-                               "args": SCENE + ["--mesh", n, "--balance", bal, "--link-latency", lat,
-                                                "--link-bandwidth", bw] +
-                               ([] if depth == DEFAULT_DEPTH else ["--link-depth", depth])})
+                               "args": preset + SCENE + ["--mesh", n, "--balance", bal, "--link-latency", lat,
+                                                         "--link-bandwidth", bw] +
+                               ([] if depth == a.default_depth else ["--link-depth", depth])})
     # (The default link appears in every sweep: the later ones are the same point.)
     unique = list({driver.point_id(p["args"]): p for p in points}.values())
-    runs = driver.run("link_sweep", unique, extract, None, a)
-    by = {(r["N"], r["balance"], r["latency"], r["bandwidth"], r.get("depth", DEFAULT_DEPTH)): r for r in runs}
-    one = by[(1, "none", DEFAULT_LATENCY, DEFAULT_BANDWIDTH, DEFAULT_DEPTH)]["render_time_ns"]
+    runs = driver.run(a.stem, unique, extract, None, a)
+    by = {(r["N"], r["balance"], r["latency"], r["bandwidth"], r.get("depth", a.default_depth)): r for r in runs}
+    one = by[(1, "none", a.default_latency, a.default_bandwidth, a.default_depth)]["render_time_ns"]
     rows = []
     for swept, lat, bw, depth, bals in settings(a):
         for n in ns:
@@ -105,7 +125,7 @@ def sweep(a):
 
 
 def extract(r):
-    link_bytes = sum(sum(link["bytes"].values()) for link in r["links"])  # node-to-node links only
+    link_bytes = sum(sum(link["bytes"].values()) for link in r["links"] if not link["to"].startswith("fb"))
     return {"render_time_ns": r["render_time_ns"], "slides": r["balance"]["slides"], "link_bytes": link_bytes}
 
 
@@ -186,16 +206,16 @@ def plot(a, rows):
     axes[0][0].legend(fontsize=8, title=f"solid: none, dashed: {a.balance};\ndotted: none, depth {a.deep_depth}",
                       title_fontsize=8)
     axes[0][2].legend(fontsize=8)
-    other = {"latency": DEFAULT_BANDWIDTH, "bandwidth": DEFAULT_LATENCY}
+    other = {"latency": a.default_bandwidth, "bandwidth": a.default_latency}
     fig.suptitle(f"Link speed: top, latency swept at {other['latency']}; bottom, bandwidth swept at "
-                 f"{other['bandwidth']}. rtsim default experiment (1,000 spheres, f = 0.25, 256x256)", fontsize=10)
+                 f"{other['bandwidth']}. rtsim default experiment (1,000 spheres, f = 0.25, 256x256), preset {a.preset}", fontsize=10)
     fig.tight_layout(rect=(0, 0, 1, 0.96))
-    fig.savefig(os.path.join(a.out, "link_sweep.png"), dpi=100)
+    fig.savefig(os.path.join(a.out, a.stem + ".png"), dpi=100)
 
 
 def table(a, rows):
     ns = sorted({r["N"] for r in rows})
-    lines = ["<!-- written by scripts/link_sweep.py; do not edit -->",
+    lines = [f"<!-- written by scripts/link_sweep.py --preset {a.preset}; do not edit -->",
              "| N | latency: +10 % | latency: knee (x2) | latency knee (x2), depth "
              f"{a.deep_depth} | bandwidth: +10 % | bandwidth: knee (x2) |"
              f" knee (x2) with {a.balance}: latency, bandwidth | speed-up, fastest links | balancing gain, fastest"
@@ -205,7 +225,7 @@ def table(a, rows):
         lat = [r for r in rows if r["sweep"] == "latency" and r["N"] == n]
         fastest = min((r for r in lat if r["balance"] == "none"), key=lambda r: r["latency_s"])
         gains = sorted((r for r in lat if r["balance"] != "none"), key=lambda r: r["latency_s"])
-        default = next(r for r in gains if r["latency"] == DEFAULT_LATENCY)
+        default = next(r for r in gains if r["latency"] == a.default_latency)
         lines.append(
             f"| {n} | {fmt_latency(knees(rows, 'latency', 'none', n, 1.1))} | "
             f"{fmt_latency(knees(rows, 'latency', 'none', n, 2.0))} | "
@@ -216,7 +236,8 @@ def table(a, rows):
             f"{fmt_bandwidth(knees(rows, 'bandwidth', a.balance, n, 2.0))} | "
             f"{fastest['speedup']:.2f} | {gains[0]['balance_gain']:.2f} / {default['balance_gain']:.2f} / "
             f"{gains[-1]['balance_gain']:.2f} |")
-    driver.publish_table(lines, os.path.join(a.out, "link_sweep.md"), a.doc, "link_sweep table")
+    section = "link_sweep table" if a.preset == "modern" else f"link_sweep table {a.preset}"
+    driver.publish_table(lines, os.path.join(a.out, a.stem + ".md"), a.doc, section)
 
 
 if __name__ == "__main__":

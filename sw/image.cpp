@@ -26,6 +26,27 @@ bool Image::operator==(const Image& o) const {
            std::memcmp(pixels.data(), o.pixels.data(), pixels.size() * sizeof(Vec3)) == 0;
 }
 
+namespace {
+// splitmix64's finaliser: a well-mixed 64-bit hash step.
+uint64_t mix(uint64_t x) {
+    x += 0x9e3779b97f4a7c15ull;
+    x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
+    x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
+    return x ^ (x >> 31);
+}
+uint64_t bitsOf(double d) {
+    uint64_t b;
+    std::memcpy(&b, &d, sizeof b);
+    return b;
+}
+}  // namespace
+
+uint64_t contributionDigest(const Contribution& c) {
+    uint64_t h = mix(c.pixel);
+    for (uint64_t v : {c.key.path, uint64_t(c.key.slot), bitsOf(c.rgb.x), bitsOf(c.rgb.y), bitsOf(c.rgb.z)}) h = mix(h ^ v);
+    return h;
+}
+
 Vec3 sumInKeyOrder(std::vector<Contribution>& c) {
     std::sort(c.begin(), c.end(), [](const Contribution& a, const Contribution& b) { return a.key < b.key; });
     Vec3 sum(0.0);

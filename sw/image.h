@@ -25,6 +25,12 @@ struct Image {
 // contributions arrive cannot change a pixel.
 Vec3 sumInKeyOrder(std::vector<Contribution>& contributions);
 
+// An order-independent fingerprint of a set of contributions: the sum
+// (mod 2^64) of a hash of each one's pixel, path key and colour bits. Two
+// sets with the same digest and count are, but for a 2^-64 chance, the same
+// multiset: a frame buffer that lost, doubled or changed one would show it.
+uint64_t contributionDigest(const Contribution& c);
+
 // Writes an 8-bit RGB PNG; throws std::runtime_error naming the file.
 void writePng(const Image& image, const std::string& path);
 

@@ -21,12 +21,49 @@ void traceThrough(const Partition& partition, const Shader& shader, RayJob job, 
     }
 }
 
-RenderResult render(const Scene& scene, const Partition& partition, const RenderOptions& opt) {
-    const int w = opt.width ? opt.width : scene.view.width;
-    const int h = opt.height ? opt.height : scene.view.height;
-    if (w <= 0 || h <= 0) throw std::invalid_argument("image size must be positive");
+namespace {
+
+int widthOf(const Scene& scene, const RenderOptions& opt) { return opt.width ? opt.width : scene.view.width; }
+int heightOf(const Scene& scene, const RenderOptions& opt) { return opt.height ? opt.height : scene.view.height; }
+
+void checkOptions(const Scene& scene, const RenderOptions& opt) {
+    if (widthOf(scene, opt) <= 0 || heightOf(scene, opt) <= 0) throw std::invalid_argument("image size must be positive");
     if (opt.maxDepth < 0 || opt.maxDepth > kMaxRayDepth)
         throw std::invalid_argument("max depth must be in [0, " + std::to_string(kMaxRayDepth) + "]");
+}
+
+// One pixel's ray tree, traced to its end: its contributions are appended.
+void tracePixel(const Camera& camera, const Partition& partition, const Shader& shader, int x, int y, Mailbox& mailbox,
+                Counters& counters, std::vector<RayJob>& pending, std::vector<Contribution>& contributions) {
+    pending.push_back(primaryJob(camera, x, y, partition.world()));
+    ++counters.primaryRays;
+    while (!pending.empty()) {
+        RayJob job = pending.back();
+        pending.pop_back();
+        traceThrough(partition, shader, job, mailbox, counters, pending, contributions);
+    }
+}
+
+}  // namespace
+
+std::vector<Contribution> referenceContributions(const Scene& scene, const RenderOptions& opt) {
+    checkOptions(scene, opt);
+    const int w = widthOf(scene, opt), h = heightOf(scene, opt);
+    const Partition whole = Partition::whole(scene);
+    const Camera camera(scene.view, w, h);
+    const Shader shader(scene, opt.maxDepth);
+    Mailbox mailbox;
+    Counters counters;
+    std::vector<RayJob> pending;
+    std::vector<Contribution> out;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) tracePixel(camera, whole, shader, x, y, mailbox, counters, pending, out);
+    return out;
+}
+
+RenderResult render(const Scene& scene, const Partition& partition, const RenderOptions& opt) {
+    checkOptions(scene, opt);
+    const int w = widthOf(scene, opt), h = heightOf(scene, opt);
     const Camera camera(scene.view, w, h);
     const Shader shader(scene, opt.maxDepth);
     RenderResult result{Image(w, h), {}};
@@ -41,13 +78,7 @@ RenderResult render(const Scene& scene, const Partition& partition, const Render
         for (int y = t; y < h; y += threads)
             for (int x = 0; x < w; ++x) {
                 contributions.clear();
-                pending.push_back(primaryJob(camera, x, y, partition.world()));
-                ++counters.primaryRays;
-                while (!pending.empty()) {
-                    RayJob job = pending.back();
-                    pending.pop_back();
-                    traceThrough(partition, shader, job, mailbox, counters, pending, contributions);
-                }
+                tracePixel(camera, partition, shader, x, y, mailbox, counters, pending, contributions);
                 result.image.pixels[size_t(y) * w + x] = sumInKeyOrder(contributions);
             }
     };

@@ -23,6 +23,11 @@ struct RenderResult {
 
 RenderResult render(const Scene& scene, const Partition& partition, const RenderOptions& options);
 
+// Every contribution of the frame, pixel by pixel (row-major), as the
+// reference renderer sums them: what a frame buffer must accumulate, each
+// exactly once (the tests hold the machine's frame buffer to it).
+std::vector<Contribution> referenceContributions(const Scene& scene, const RenderOptions& options);
+
 // Traces one ray job to its end through the partition, region by region, in
 // the order it crosses them; spawned rays and contributions are appended.
 void traceThrough(const Partition& partition, const Shader& shader, RayJob job, Mailbox& mailbox,

@@ -10,7 +10,10 @@
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <sstream>
+#include <thread>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 #include <systemc>
@@ -39,30 +42,32 @@ std::string shellQuote(const std::string& s) {
     return q + "'";
 }
 
-// The same run on a 1x1x1 mesh, in a child process (SystemC elaborates once
-// per process): its render time, or a negative number if it failed.
-double baselineRenderTimeNs(int argc, char** argv) {
-    char tmpl[] = "/tmp/rtsim-baseline-XXXXXX";
+// The same command in a child process (SystemC elaborates once per
+// process) with `extra` flags after the user's: its report, or nothing if it
+// failed.
+std::optional<nlohmann::json> childReport(int argc, char** argv, const std::vector<std::string>& extra) {
+    char tmpl[] = "/tmp/rtsim-child-XXXXXX";
     const int fd = mkstemp(tmpl);
-    if (fd < 0) return -1;
+    if (fd < 0) return std::nullopt;
     close(fd);
     char self[4096];
     const ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);
-    if (n <= 0) return -1;
+    if (n <= 0) return std::nullopt;
     self[n] = 0;
     std::string cmd = shellQuote(self);
     for (int i = 1; i < argc; ++i) cmd += " " + shellQuote(argv[i]);
-    cmd += " --as-baseline --report " + shellQuote(tmpl) + " </dev/null >/dev/null";
-    double t = -1;
+    for (const std::string& e : extra) cmd += " " + shellQuote(e);
+    cmd += " --report " + shellQuote(tmpl) + " </dev/null >/dev/null";
+    std::optional<nlohmann::json> r;
     if (std::system(cmd.c_str()) == 0) {
         std::ifstream f(tmpl);
         try {
-            t = nlohmann::json::parse(f).at("render_time_ns").get<double>();
+            r = nlohmann::json::parse(f);
         } catch (const std::exception&) {
         }
     }
     std::remove(tmpl);
-    return t;
+    return r;
 }
 
 struct Spread {
@@ -104,6 +109,10 @@ void printSummary(const rt::Scene& scene, const rt::RtsimOptions& o, const rt::M
     pr("busy per node", "busy_ns", true);
     pr("wait per node", "wait_ns", true);
     pr("load per node", "load", false);
+    const auto& fb = report["frame_buffer"];
+    std::printf("  frame buffer     %zu unit%s, busiest %s busy (%.1f %% of the render time)\n", fb["units"].size(),
+                fb["units"].size() == 1 ? "" : "s", rt::formatTime(rt::Picos(fb["busy_ns"].get<double>() * 1000)).c_str(),
+                100.0 * report["bounds"]["frame_buffer"]["fraction"].get<double>());
     const auto& t = report["totals"];
     std::printf("  messages         %llu ray, %llu contribution, %llu credit (%.3g MB on links and ports)\n",
                 (unsigned long long)t["messages"]["ray"].get<uint64_t>(),
@@ -111,11 +120,29 @@ void printSummary(const rt::Scene& scene, const rt::RtsimOptions& o, const rt::M
                 (unsigned long long)t["messages"]["credit"].get<uint64_t>(),
                 double(t["bytes"]["ray"].get<uint64_t>() + t["bytes"]["contributions"].get<uint64_t>() +
                        t["bytes"]["credit"].get<uint64_t>()) / 1e6);
-    if (o.machine.balance.policy != rt::Policy::None)
+    const char axis = "xyz"[o.machine.balance.axis];
+    if (o.machine.balance.policy != rt::Policy::None) {
         std::printf("  balancing        %s along %c: %zu slides; max / mean load %.2f; boundaries %s\n",
-                    rt::policyName(o.machine.balance.policy), "xyz"[o.machine.balance.axis],
-                    report["balance"]["slides"].get<size_t>(), report["balance"]["max_over_mean_load"].get<double>(),
+                    rt::policyName(o.machine.balance.policy), axis, report["balance"]["slides"].get<size_t>(),
+                    report["balance"]["max_over_mean_load"].get<double>(),
                     report["balance"]["stability"].get<std::string>().c_str());
+        const auto& b = report["bounds"];
+        auto bound = [&](const char* k) {
+            return rt::formatTime(rt::Picos(b[k]["ns"].get<double>() * 1000)) + " (" +
+                   std::to_string(b[k]["fraction"].get<double>()).substr(0, 4) + ")";
+        };
+        std::printf("  bounds           perfect %s, column along %c %s, frame buffer %s (fractions of the render time)\n",
+                    bound("perfect").c_str(), axis, bound("column").c_str(), bound("frame_buffer").c_str());
+    }
+    if (report.contains("comparison")) {  // the paper's Fig. 4 quantity for this frame
+        const auto& c = report["comparison"];
+        std::printf("  with / without   %s: %s, none: %s; ratio %.2f (bound %.2f: the heaviest column along %c spread "
+                    "evenly; paper about 0.2 at f = 1/N)\n",
+                    c["balanced_policy"].get<std::string>().c_str(),
+                    rt::formatTime(rt::Picos(c["balanced_ns"].get<double>() * 1000)).c_str(),
+                    rt::formatTime(rt::Picos(c["unbalanced_ns"].get<double>() * 1000)).c_str(),
+                    c["ratio"].get<double>(), c["column_bound"].get<double>(), axis);
+    }
     std::printf("  wall clock       %.3f s%s\n", r.wallSeconds, o.image.empty() ? "" : ("; image " + o.image).c_str());
 }
 
@@ -151,15 +178,43 @@ int sc_main(int argc, char** argv) {
         const rt::MachineResult r = rt::runMachine(scene, o.machine);
         nlohmann::json report = rt::machineReport(r, o.machine);
         double baselineNs = single ? report["render_time_ns"].get<double>() : -1;
+        // The reference runs, in two child processes at once: the 1x1x1 mesh
+        // (the speed-up), and the same frame balanced the other way (with the
+        // default policy if this run does not balance, without otherwise).
+        const rt::Policy policy = o.machine.balance.policy;
+        const bool compare = o.baseline && o.machine.dims[size_t(o.machine.balance.axis)] > 1;
+        std::optional<nlohmann::json> base, other;
+        const auto t0 = std::chrono::steady_clock::now();
+        std::thread baseRun, otherRun;
+        if (o.baseline && !single) baseRun = std::thread([&] { base = childReport(argc, argv, {"--as-baseline"}); });
+        if (compare)
+            otherRun = std::thread([&] {
+                other = childReport(argc, argv, {"--as-comparison", "--balance", policy == rt::Policy::None ? "default" : "none"});
+            });
+        if (baseRun.joinable()) baseRun.join();
+        if (otherRun.joinable()) otherRun.join();
         if (o.baseline && !single) {
-            const auto t0 = std::chrono::steady_clock::now();
-            baselineNs = baselineRenderTimeNs(argc, argv);
             report["baseline"]["wall_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-            if (baselineNs < 0) std::cerr << "rtsim: warning: the 1x1x1 baseline run failed; no speed-up\n";
+            if (base) baselineNs = (*base)["render_time_ns"].get<double>();
+            else std::cerr << "rtsim: warning: the 1x1x1 baseline run failed; no speed-up\n";
         }
         if (baselineNs > 0) {
             report["baseline"]["render_time_ns"] = baselineNs;
             report["baseline"]["speedup"] = baselineNs / report["render_time_ns"].get<double>();
+        }
+        if (compare && !other) std::cerr << "rtsim: warning: the balancing comparison run failed; no ratio\n";
+        if (other) {
+            const nlohmann::json& balanced = policy == rt::Policy::None ? *other : report;
+            const nlohmann::json& unbalanced = policy == rt::Policy::None ? report : *other;
+            report["comparison"] = {
+                {"balanced_policy", balanced["config"]["balance"]["policy"]},
+                {"balanced_ns", balanced["render_time_ns"]},
+                {"unbalanced_ns", unbalanced["render_time_ns"]},
+                {"ratio", balanced["render_time_ns"].get<double>() / unbalanced["render_time_ns"].get<double>()},
+                // The bounds of the unbalanced run, as fractions of its time:
+                // what the ratio could at best be.
+                {"column_bound", unbalanced["bounds"]["column"]["fraction"]},
+                {"perfect_bound", unbalanced["bounds"]["perfect"]["fraction"]}};
         }
         if (!o.image.empty()) rt::writePng(r.image, o.image);
         if (!o.report.empty()) {

@@ -103,6 +103,10 @@ void RtsimOptions::addTo(CLI::App& app) {
         ->check(CLI::Range(1, 1000000))->capture_default_str()->group(gl);
     app.add_option("--link-set", linkSpecs_, "one link: x,y,z,DIR:latency=T,bandwidth=R,depth=N (DIR +x -x +y -y +z -z; any subset; repeatable)")
         ->group(gl);
+    app.add_option("--fb-units", m.fbUnits,
+                   "frame-buffer units, pixel-interleaved (pixel p in unit p mod K), each with a port from every node; "
+                   "1: a single host")
+        ->check(CLI::Range(1, 256))->capture_default_str()->group(gl);
     addTime(app, "--fb-latency", m.fbPort.latency, "frame-buffer port latency", gl);
     app.add_option_function<std::string>("--fb-bandwidth", [&m](const std::string& s) { m.fbPort.bandwidth = rateOf("--fb-bandwidth", s); }, "frame-buffer port bandwidth")
         ->default_str("1GB/s")->group(gl);
@@ -118,8 +122,11 @@ void RtsimOptions::addTo(CLI::App& app) {
            else if (s == "slide") b.policy = Policy::Slide;
            else if (s == "work") b.policy = Policy::Work;
            else if (s == "median") b.policy = Policy::Median;
-           else throw CLI::ValidationError("--balance", "expected none, slide, work or median, got '" + s + "'");
-       }, "policy: none; slide (the paper: step proportional to the load difference); work (from the giver's work histogram); median (static object-median split)")
+           else if (s == "default") b.policy = kDefaultPolicy;
+           else throw CLI::ValidationError("--balance", "expected none, default, slide, work or median, got '" + s + "'");
+       }, std::string("policy: none; slide (the paper: step proportional to the load difference); work (from the giver's "
+                      "work histogram); median (static object-median split); default (the recommended one: ") +
+              policyName(kDefaultPolicy) + ")")
         ->default_str("none")->group(gb);
     addTime(app, "--balance-interval", b.interval, "time between load reports", gb);
     app.add_option("--gain", b.gain, "slide: step = gain x load difference x thickness; work: share of the busy-time gap moved")
@@ -136,9 +143,13 @@ void RtsimOptions::addTo(CLI::App& app) {
     app.add_option("--vcd", vcd, "VCD waveform (a .gtkw save file is written beside it)")->group(go);
     app.add_option("--trace-nodes", traceSpecs_, "nodes to trace in the VCD: x,y,z (repeatable; default all)")->group(go);
     app.add_option("--trace-window", traceWindow_, "time window of the VCD: FROM,TO (e.g. 0,50us)")->group(go);
-    app.add_flag("!--no-baseline", baseline, "skip the 1x1x1 run that gives the speed-up")->group(go);
+    app.add_flag("!--no-baseline", baseline,
+                 "skip the reference runs: the 1x1x1 mesh that gives the speed-up, and the same frame with the default "
+                 "balancing (or, when balancing, without) that gives the balancing ratio")
+        ->group(go);
     app.add_flag("-q,--quiet", quiet, "no summary")->group(go);
     app.add_flag("--as-baseline", asBaseline, "internal: run as the 1x1x1 baseline of another run")->group("");
+    app.add_flag("--as-comparison", asComparison, "internal: run as the balancing comparison of another run")->group("");
     app.set_config("--config", "", "read flags from a file (INI/TOML: name = value, one per line)");
     app.allow_config_extras(CLI::config_extras_mode::error);  // a misspelt name is an error, not ignored
 }
@@ -156,6 +167,14 @@ void RtsimOptions::finish() {
         image.clear();
         m.nodeSpeed.clear();
         m.balance.policy = Policy::None;  // one node has no boundary to slide
+        baseline = false;
+        quiet = true;
+    }
+    if (asComparison) {  // the same machine and frame, no outputs; the caller sets --balance
+        traceSpecs_.clear();
+        traceWindow_.clear();
+        vcd.clear();
+        image.clear();
         baseline = false;
         quiet = true;
     }

@@ -20,6 +20,7 @@ struct RtsimOptions {
     bool baseline = true;  // also run a 1x1x1 mesh for the speed-up
     bool quiet = false;
     bool asBaseline = false;  // internal: this run is the 1x1x1 baseline of another
+    bool asComparison = false;  // internal: this run is the balancing comparison of another
 
     // Registers every flag on `app`.
     void addTo(CLI::App& app);

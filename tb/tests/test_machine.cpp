@@ -82,7 +82,9 @@ TEST_P(ImageIdentity, MatchesReferenceAndConserves) {
         sum += n.counters;
     }
     EXPECT_EQ(created, terminated);
-    EXPECT_EQ(sent, r.host.contributions + r.primaryMisses);
+    uint64_t received = r.primaryMisses;
+    for (const FrameBufferUnitReport& u : r.frameBuffer) received += u.stats.contributions;
+    EXPECT_EQ(sent, received);
     EXPECT_EQ(primaries, uint64_t(cfg.width) * cfg.height);
     // The machine traced the same rays as the reference.
     EXPECT_EQ(sum.primaryHits, ref.counters.primaryHits);
@@ -127,6 +129,7 @@ TEST(Timing, OneNodeTimeIsCountsTimesCosts) {
     c.costs.send = 23000;
     c.costs.recv = 29000;
     c.fbPort = LinkParams{500000, 1e12, 16};  // 1 byte per ps
+    c.fbUnits = 1;  // the single host: the credit's last message ends the frame
     c.hostCost = 0;
     c.fbBatch = 1;
     const MachineResult r = runMachine(s, c);

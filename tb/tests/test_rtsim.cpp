@@ -72,7 +72,8 @@ TEST_F(Rtsim, ReportHoldsPerNodeAccounting) {
         EXPECT_NEAR(n["busy_ns"].get<double>() + n["wait_ns"].get<double>(), render, 1e-3);
         EXPECT_NEAR(n["load"].get<double>(), n["busy_ns"].get<double>() / render, 1e-12);
     }
-    EXPECT_EQ(r["links"].size(), 8u * 3 + 8);  // 3 mesh links per node of a 2x2x2 mesh, plus its port
+    // 3 mesh links per node of a 2x2x2 mesh, plus a port to each frame-buffer unit.
+    EXPECT_EQ(r["links"].size(), 8u * 3 + 8 * r["config"]["fb_units"].get<size_t>());
     EXPECT_GT(r["totals"]["messages"]["ray"].get<uint64_t>(), 0u);
 }
 
@@ -157,6 +158,52 @@ TEST_F(Rtsim, DefaultRunPrintsSummaryWithSpeedup) {
         EXPECT_NE(o.out.find(s), std::string::npos) << s << "\n" << o.out;
 }
 
+// The main job's comparison: the same frame balanced and not, each checked
+// against a run of its own, and the speed-up against a run on one node.
+TEST_F(Rtsim, SummaryComparesTheFrameWithAndWithoutBalancing) {
+    const std::string args = std::string(kSmall) + " --mesh 3 --balance-interval 3us";
+    const Outcome o = run(args + " --image '' --report " + (dir_ / "m.json").string());
+    ASSERT_EQ(o.code, 0) << o.err;
+    const json m = json::parse(slurp(dir_ / "m.json"));
+    const double none = report(args + " --balance none", "n.json")["render_time_ns"];
+    const json slide = report(args + " --balance slide", "s.json");
+    const json noneReport = json::parse(slurp(dir_ / "n.json"));
+    const double one = report(args + " --mesh 1", "o.json")["render_time_ns"];
+    ASSERT_TRUE(m.contains("comparison"));
+    const json& c = m["comparison"];
+    EXPECT_EQ(c["balanced_policy"], "slide");  // what --balance default selects
+    EXPECT_EQ(c["unbalanced_ns"].get<double>(), none);
+    EXPECT_EQ(c["balanced_ns"].get<double>(), slide["render_time_ns"].get<double>());
+    EXPECT_DOUBLE_EQ(c["ratio"].get<double>(), slide["render_time_ns"].get<double>() / none);
+    EXPECT_EQ(c["column_bound"], noneReport["bounds"]["column"]["fraction"]);
+    EXPECT_DOUBLE_EQ(m["baseline"]["speedup"].get<double>(), one / none);
+    char ratio[32];
+    std::snprintf(ratio, sizeof ratio, "ratio %.2f", c["ratio"].get<double>());
+    EXPECT_NE(o.out.find(ratio), std::string::npos) << o.out;
+    EXPECT_NE(o.out.find("frame buffer     16 units"), std::string::npos) << o.out;
+    // A balancing run compares itself with the frame unbalanced, and prints its bounds.
+    const Outcome b = run(args + " --balance work --image '' --report " + (dir_ / "w.json").string());
+    ASSERT_EQ(b.code, 0) << b.err;
+    const json w = json::parse(slurp(dir_ / "w.json"));
+    EXPECT_EQ(w["comparison"]["balanced_policy"], "work");
+    EXPECT_EQ(w["comparison"]["unbalanced_ns"].get<double>(), none);
+    EXPECT_NE(b.out.find("bounds           perfect"), std::string::npos) << b.out;
+}
+
+// The presets: modern.conf is exactly the built-in defaults, and the 1987
+// preset is a valid configuration that changes every cost.
+TEST_F(Rtsim, PresetsAreValidAndModernIsTheDefault) {
+    json a = report(std::string(kSmall) + " --mesh 2 --config " RT_CONFIG_DIR "/modern.conf", "a.json");
+    json b = report(std::string(kSmall) + " --mesh 2", "b.json");
+    a.erase("wall_s");
+    b.erase("wall_s");
+    EXPECT_TRUE(a == b) << json::diff(b, a).dump().substr(0, 800);
+    const json t = report(std::string(kSmall) + " --mesh 2 --config " RT_CONFIG_DIR "/transputer-1987.conf", "t.json");
+    EXPECT_EQ(t["config"]["costs"]["test_sphere_ns"].get<double>(), 17000.0);
+    EXPECT_EQ(t["config"]["link"]["latency_ns"].get<double>(), 1500.0);
+    EXPECT_GT(t["render_time_ns"].get<double>(), 1000 * b["render_time_ns"].get<double>());
+}
+
 TEST_F(Rtsim, ConfigFileGivesEveryFlag) {
     std::ofstream(dir_ / "c.ini") << "mesh = 2\nspheres = 150\nsize = \"20x20\"\nlink-latency = \"250ns\"\n";
     const json r = report("--config " + (dir_ / "c.ini").string());
@@ -181,6 +228,9 @@ TEST_F(Rtsim, BadConfigurationExits2NamingTheFlag) {
     expectBad("--link-set 3,3,3,+x:latency=1us", "--link-set");
     expectBad("--trace-window 5us", "--trace-window");
     expectBad("--quantum soon", "--quantum");
+    expectBad("--fb-units 0", "--fb-units");
+    expectBad("--fb-units 257", "--fb-units");
+    expectBad("--balance sometimes", "--balance");
     std::ofstream(dir_ / "bad.ini") << "mesh = [not closed\n";
     expectBad("--config " + (dir_ / "bad.ini").string(), "");
     std::ofstream(dir_ / "bad2.ini") << "no-such-flag = 3\n";

@@ -1,0 +1,147 @@
+#include "frame_buffer.h"
+
+#include <chrono>
+#include <cstdio>
+#include <stdexcept>
+#include <string>
+
+namespace rt {
+
+FrameBufferUnit::FrameBufferUnit(sc_core::sc_module_name name, int index, int units, int nodes,
+                                 Picos costPerContribution, int maxExp, bool progress, Picos quantum)
+    : sc_module(name),
+      in("in", size_t(nodes + (index == 0 ? units - 1 : 1))),
+      toController("to_controller"),
+      toUnits("to_unit", size_t(index == 0 ? units - 1 : 0)),
+      index_(index),
+      units_(units),
+      cost_(costPerContribution),
+      progress_(progress && index == 0),
+      time_(quantum),
+      credit_(maxExp),
+      expected_(size_t(index == 0 ? units : 0), 0) {
+    SC_THREAD(run);
+}
+
+void FrameBufferUnit::finish(Picos now) {
+    done_ = true;
+    renderTime_ = now;
+    if (progress_) std::fprintf(stderr, "\r%-60s\r", "");
+    sc_core::sc_stop();
+}
+
+Picos FrameBufferUnit::take(Message& m) {
+    auto fail = [&](const std::string& what) { throw std::logic_error(std::string(name()) + ": " + what); };
+    switch (m.type) {
+        case MsgType::Contributions:
+            for (const Contribution& c : m.contributions) {
+                if (int(c.pixel % uint32_t(units_)) != index_)
+                    fail("a contribution for another unit's pixel " + std::to_string(c.pixel));
+                stats_.digest += contributionDigest(c);
+            }
+            ++stats_.contributionMessages;
+            stats_.contributions += m.contributions.size();
+            received_.push_back(std::move(m.contributions));
+            return cost_ * received_.back().size();
+        case MsgType::Credit:
+            if (!controller()) fail("credit sent to a unit other than 0");
+            ++stats_.creditMessages;
+            credit_.add(m.credit);
+            for (const auto& [u, n] : m.unitCounts) expected_.at(u) += n;
+            return 0;
+        case MsgType::FbExpect:
+            if (controller() || expect_) fail("unexpected fb_expect");
+            expect_ = m.count;
+            return 0;
+        case MsgType::FbDone:
+            if (!controller() || awaiting_ <= 0) fail("unexpected fb_done");
+            --awaiting_;
+            return 0;
+        default:
+            fail(std::string("unexpected ") + msgTypeName(m.type) + " message");
+    }
+    return 0;
+}
+
+void FrameBufferUnit::run() {
+    inputOrder_.listen(in);
+    Picos now = sc_core::sc_time_stamp().value();
+    auto lastPrint = std::chrono::steady_clock::now();
+    if (controller() && credit_.isOne()) {  // nothing to trace at all
+        finish(now);
+        return;
+    }
+    for (;;) {
+        Picos next;
+        const int best = inputOrder_.oldest(now, next);  // ties go to the lower port: nodes, then units
+        if (best < 0) {
+            if (time_.mayIdleUntil(next)) {  // the next arrival is known and within the quantum
+                now = next;
+                continue;
+            }
+            inputOrder_.waitForInput(now);  // also lets the kernel catch up with `now`
+            now = sc_core::sc_time_stamp().value();
+            continue;
+        }
+        Message m = in[best]->consume(now);
+        const Picos cost = take(m);
+        now += cost;
+        stats_.busy += cost;
+        if (cost) stats_.lastActive = now;
+        if (controller()) {
+            if (awaiting_ < 0 && credit_.isOne()) {  // every contribution sent: check the other units have them
+                awaiting_ = units_ - 1;
+                for (int u = 1; u < units_; ++u) {
+                    Message e;
+                    e.type = MsgType::FbExpect;
+                    e.count = expected_[size_t(u)];
+                    toUnits[size_t(u - 1)]->send(std::move(e), now);
+                }
+            }
+            if (awaiting_ == 0) {
+                finish(now);
+                return;
+            }
+        } else if (expect_ && stats_.contributions >= *expect_) {  // all accumulated: say so, once
+            if (stats_.contributions > *expect_) throw std::logic_error(std::string(name()) + ": more contributions than sent");
+            Message d;
+            d.type = MsgType::FbDone;
+            toController->send(std::move(d), now);
+            expect_.reset();
+        }
+        time_.afterStep(now, cost);
+        if (progress_) {
+            const auto t = std::chrono::steady_clock::now();
+            if (t - lastPrint > std::chrono::milliseconds(500)) {
+                lastPrint = t;
+                std::fprintf(stderr, "\rrtsim: %5.1f%% of the frame's rays done", 100.0 * credit_.value());
+            }
+        }
+    }
+}
+
+Image assembleImage(const sc_core::sc_vector<FrameBufferUnit>& units, int width, int height) {
+    Image img(width, height);
+    // Group the contributions by pixel (a counting sort, by reference), then
+    // sum each pixel's in path-key order.
+    const size_t pixels = size_t(width) * size_t(height);
+    auto forEach = [&](auto&& f) {
+        for (const FrameBufferUnit& u : units) u.forEachContribution(f);
+    };
+    std::vector<size_t> first(pixels + 1, 0);  // pixel p's contributions: byPixel[first[p] .. first[p + 1])
+    forEach([&](const Contribution& c) { ++first[c.pixel + 1]; });
+    for (size_t p = 0; p < pixels; ++p) first[p + 1] += first[p];
+    std::vector<const Contribution*> byPixel(first[pixels]);
+    std::vector<size_t> next(first.begin(), first.end() - 1);
+    forEach([&](const Contribution& c) { byPixel[next[c.pixel]++] = &c; });
+    std::vector<Contribution> pixel;
+    for (size_t p = 0; p < pixels; ++p) {
+        if (first[p] == first[p + 1]) continue;
+        pixel.clear();
+        for (size_t k = first[p]; k < first[p + 1]; ++k) pixel.push_back(*byPixel[k]);
+        img.pixels[p] = sumInKeyOrder(pixel);
+    }
+    return img;
+}
+
+}  // namespace rt

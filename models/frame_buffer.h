@@ -1,0 +1,111 @@
+// The frame buffer: K units, pixel-interleaved (pixel p belongs to unit
+// p mod K), each with an input port from every node (a Link with its own
+// latency, bandwidth and depth) and a cost per contribution accumulated.
+// K = 1 is the single host of the first machine; K > 1 spreads the
+// accumulation, which is serial within a unit, over K units working at once
+// (doc/machine.md, "The frame buffer").
+//
+// Unit 0 is also the host that ends the frame, in two steps:
+//  1. Weight throwing (credit.h): it has handed out credit 1 and gets it back
+//     from the nodes, on their ports to it, behind their contributions to it.
+//     When the sum is exactly 1 every ray has ended and every contribution
+//     has been sent; unit 0 has accumulated its own (each port is FIFO).
+//  2. With K > 1, the credit messages also carried how many contributions
+//     each node sent to each other unit; unit 0 sends each unit its total
+//     (fb_expect), and the unit answers (fb_done) once it has accumulated
+//     that many. The render time is when the last answer is in: the image is
+//     complete, and the machine itself knows it.
+#pragma once
+#include <deque>
+#include <optional>
+#include <vector>
+
+#include <systemc>
+
+#include "arrival_queue.h"
+#include "credit.h"
+#include "image.h"
+#include "link.h"
+#include "time_keeper.h"
+
+namespace rt {
+
+struct FrameBufferStats {
+    Picos busy = 0;                 // accumulating contributions
+    Picos lastActive = 0;           // end of its last accumulation
+    uint64_t contributions = 0, contributionMessages = 0, creditMessages = 0;
+    uint64_t own = 0;               // contributions it made itself (background of missed primaries)
+    uint64_t digest = 0;            // of every contribution it holds (contributionDigest): conservation
+};
+
+class FrameBufferUnit : public sc_core::sc_module {
+public:
+    SC_HAS_PROCESS(FrameBufferUnit);
+    // `nodes` input ports from the nodes, and unit 0 one more from each other unit.
+    FrameBufferUnit(sc_core::sc_module_name name, int index, int units, int nodes, Picos costPerContribution,
+                    int maxExp, bool progress, Picos quantum);
+
+    // From every node, then (unit 0) from units 1..K-1, or (the others) from unit 0.
+    sc_core::sc_vector<sc_core::sc_port<LinkRecvIf>> in;
+    // Units 1..K-1: the port to unit 0 (unbound on unit 0).
+    sc_core::sc_port<LinkSendIf, 1, sc_core::SC_ZERO_OR_MORE_BOUND> toController;
+    // Unit 0: a port to each of units 1..K-1.
+    sc_core::sc_vector<sc_core::sc_port<LinkSendIf>> toUnits;
+
+    // Before the start: credit unit 0 keeps (not handed to nodes), and
+    // contributions the unit makes itself (primary rays that miss the world
+    // box: the background of its pixels).
+    void keep(const Credit& c) { credit_.add(c); }
+    void addOwn(const Contribution& c) {
+        own_.push_back(c);
+        ++stats_.own;
+        stats_.digest += contributionDigest(c);
+    }
+
+    // Calls f(c) for every contribution the unit holds (its pixels').
+    template <class F>
+    void forEachContribution(F&& f) const {
+        for (const std::vector<Contribution>& batch : received_)
+            for (const Contribution& c : batch) f(c);
+        for (const Contribution& c : own_) f(c);
+    }
+    const FrameBufferStats& stats() const { return stats_; }
+    int index() const { return index_; }
+    bool controller() const { return index_ == 0; }
+    // Unit 0: the frame is done (the returned credit is exactly 1), and when.
+    bool done() const { return done_; }
+    Picos renderTime() const { return renderTime_; }
+
+private:
+    void run();
+    // Takes one message; returns the time it costs.
+    Picos take(Message& m);
+    void finish(Picos now);
+
+    int index_, units_;
+    Picos cost_;
+    bool progress_;
+    TimeKeeper time_;  // when to let the kernel catch up
+    Credit credit_;  // unit 0: the credit returned so far
+    // Unit 0: contributions the nodes have reported sending to each unit
+    // (with their credit); fb_done answers still to come once it is whole.
+    std::vector<uint64_t> expected_;
+    int awaiting_ = -1;  // -1: the credit is not whole yet
+    // Units 1..K-1: the count unit 0 says to expect, once it has said so.
+    std::optional<uint64_t> expect_;
+    // The contributions: each message's list as it came (kept, not copied:
+    // copying them into one growing array cost about 9 % of a run, most of
+    // it the kernel handing out fresh pages), and the unit's own.
+    std::deque<std::vector<Contribution>> received_;  // (a deque: grows without copying)
+    std::vector<Contribution> own_;
+    ArrivalQueue inputOrder_;
+    FrameBufferStats stats_;
+    bool done_ = false;
+    Picos renderTime_ = 0;
+};
+
+// The image the units hold: each pixel the sum of its contributions in
+// path-key order (image.h), as rtref sums them.
+Image assembleImage(const sc_core::sc_vector<FrameBufferUnit>& units, int width, int height);
+
+}  // namespace rt

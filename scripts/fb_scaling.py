@@ -1,0 +1,70 @@
+#!/usr/bin/python3
+"""Does the frame buffer scale with the mesh? rtsim's default experiment
+(1,000 spheres crowded into the first quarter of x, 256x256, no balancing)
+with the fastest links of the link sweep (10 ns, 100 GB/s), N = 2..8, with
+one frame-buffer unit (the single host) and with the default 16. For each:
+the render time, the busiest unit's busy time as a share of it, and the
+busiest node's busy time, which no frame buffer can take off the frame.
+Writes doc/results/fb_scaling.{csv,md} and the table in doc/machine.md.
+Standard library only; run with /usr/bin/python3."""
+import argparse
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import sweep as driver  # noqa: E402
+from sweep import ROOT, read_csv, write_csv  # noqa: E402
+
+SCENE = ["--spheres", "1000", "--concentration", "0.25", "--size", "256x256",
+         "--link-latency", "10ns", "--link-bandwidth", "100GB/s"]
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--n", default="2,3,4,5,6,7,8")
+    ap.add_argument("--units", default="1,16")
+    driver.add_output_arguments(ap, os.path.join(ROOT, "doc", "machine.md"))
+    driver.add_arguments(ap)
+    a = ap.parse_args()
+    ns = [int(n) for n in a.n.split(",")]
+    units = [int(k) for k in a.units.split(",")]
+    csv_path = os.path.join(a.out, "fb_scaling.csv")
+    if not a.plot_only:
+        points = [{"params": {"N": n, "units": k}, "args": SCENE + ["--mesh", n, "--fb-units", k]}
+                  for k in units for n in ns]
+        driver.run("fb_scaling", points, extract, csv_path, a)
+    rows = read_csv(csv_path)
+    for r in rows:
+        r["N"], r["units"] = int(r["N"]), int(r["units"])
+        for k in ("render_time_ns", "fb_busy_ns", "max_node_busy_ns"):
+            r[k] = float(r[k])
+    table(a, rows, ns, units)
+
+
+def extract(r):
+    return {"render_time_ns": r["render_time_ns"], "fb_busy_ns": r["frame_buffer"]["busy_ns"],
+            "max_node_busy_ns": max(n["busy_ns"] for n in r["nodes"])}
+
+
+def table(a, rows, ns, units):
+    by = {(r["N"], r["units"]): r for r in rows}
+    head = " | ".join(f"{k} unit{'s' if k > 1 else ''}: render time, frame buffer busy" for k in units)
+    lines = ["<!-- written by scripts/fb_scaling.py; do not edit -->",
+             f"| N | {head} | busiest node's busy time |",
+             "|---:|" + "---|" * len(units) + "---:|"]
+    for n in ns:
+        cells = [f"{by[(n, k)]['render_time_ns'] / 1e3:.1f} us, {100 * by[(n, k)]['fb_busy_ns'] / by[(n, k)]['render_time_ns']:.1f} %"
+                 for k in units]
+        lines.append(f"| {n} | " + " | ".join(cells) + f" | {by[(n, units[-1])]['max_node_busy_ns'] / 1e3:.1f} us |")
+    if 6 in ns and 8 in ns:
+        lines.append("")
+        for k in units:
+            t6, t8 = by[(6, k)]["render_time_ns"], by[(8, k)]["render_time_ns"]
+            lines.append(f"N = 8 against N = 6, {k} unit{'s' if k > 1 else ''}: {t8 / t6:.3f} of the time "
+                         f"(the busiest node at N = 8 alone: {by[(8, k)]['max_node_busy_ns'] / t6:.3f}; "
+                         f"node count alone: {(6 / 8) ** 3:.3f}).")
+    driver.publish_table(lines, os.path.join(a.out, "fb_scaling.md"), a.doc, "fb_scaling table")
+
+
+if __name__ == "__main__":
+    main()
