@@ -28,16 +28,20 @@ namespace rt {
 
 class ArrivalQueue : public ArrivalListener {
 public:
-    // Listens to every bound port of `ports` (an sc_vector of LinkRecvIf ports).
+    // Listens to every bound port of `ports` (an sc_vector of LinkRecvIf
+    // ports; an unbound one keeps its index, empty).
     template <class Ports>
     void listen(Ports& ports) {
-        links_.assign(ports.size(), nullptr);
-        for (size_t i = 0; i < ports.size(); ++i) {
-            if (!ports[i].size()) continue;
-            links_[i] = ports[i].operator->();
-            links_[i]->setListener(this, int(i));
-            headChanged(int(i));
-        }
+        std::vector<LinkRecvIf*> links(ports.size(), nullptr);
+        for (size_t i = 0; i < ports.size(); ++i)
+            if (ports[i].size()) links[i] = ports[i].operator->();
+        listen(std::move(links));
+    }
+    // Listens to every link a multiport is bound to, in binding order.
+    void listen(sc_core::sc_port<LinkRecvIf, 0>& multiport) {
+        std::vector<LinkRecvIf*> links(size_t(multiport.size()));
+        for (int i = 0; i < multiport.size(); ++i) links[size_t(i)] = multiport[i];
+        listen(std::move(links));
     }
 
     void headChanged(int port) override {
@@ -106,6 +110,15 @@ public:
     }
 
 private:
+    void listen(std::vector<LinkRecvIf*> links) {
+        links_ = std::move(links);
+        for (size_t i = 0; i < links_.size(); ++i) {
+            if (!links_[i]) continue;
+            links_[i]->setListener(this, int(i));
+            headChanged(int(i));
+        }
+    }
+
     struct Entry {
         Picos arrival;
         int port;

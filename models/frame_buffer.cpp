@@ -7,12 +7,12 @@
 
 namespace rt {
 
-FrameBufferUnit::FrameBufferUnit(sc_core::sc_module_name name, int index, int units, int nodes,
-                                 Picos costPerContribution, int maxExp, bool progress, Picos quantum)
+FrameBufferUnit::FrameBufferUnit(sc_core::sc_module_name name, int index, int units, Picos costPerContribution,
+                                 int maxExp, bool progress, Picos quantum)
     : sc_module(name),
-      in("in", size_t(nodes + (index == 0 ? units - 1 : 1))),
+      in("in"),
       toController("to_controller"),
-      toUnits("to_unit", size_t(index == 0 ? units - 1 : 0)),
+      toUnits("to_units"),
       index_(index),
       units_(units),
       cost_(costPerContribution),
@@ -95,7 +95,7 @@ void FrameBufferUnit::run() {
                     Message e;
                     e.type = MsgType::FbExpect;
                     e.count = expected_[size_t(u)];
-                    toUnits[size_t(u - 1)]->send(std::move(e), now);
+                    toUnits[u - 1]->send(std::move(e), now);
                 }
             }
             if (awaiting_ == 0) {

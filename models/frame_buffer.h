@@ -41,16 +41,16 @@ struct FrameBufferStats {
 class FrameBufferUnit : public sc_core::sc_module {
 public:
     SC_HAS_PROCESS(FrameBufferUnit);
-    // `nodes` input ports from the nodes, and unit 0 one more from each other unit.
-    FrameBufferUnit(sc_core::sc_module_name name, int index, int units, int nodes, Picos costPerContribution,
-                    int maxExp, bool progress, Picos quantum);
+    FrameBufferUnit(sc_core::sc_module_name name, int index, int units, Picos costPerContribution, int maxExp,
+                    bool progress, Picos quantum);
 
-    // From every node, then (unit 0) from units 1..K-1, or (the others) from unit 0.
-    sc_core::sc_vector<sc_core::sc_port<LinkRecvIf>> in;
+    // Multiports (one object each, however many nodes): bound to every node
+    // in node order, then (unit 0) to units 1..K-1, or (the others) to unit 0.
+    sc_core::sc_port<LinkRecvIf, 0> in;
     // Units 1..K-1: the port to unit 0 (unbound on unit 0).
     sc_core::sc_port<LinkSendIf, 1, sc_core::SC_ZERO_OR_MORE_BOUND> toController;
-    // Unit 0: a port to each of units 1..K-1.
-    sc_core::sc_vector<sc_core::sc_port<LinkSendIf>> toUnits;
+    // Unit 0: bound to units 1..K-1, in order.
+    sc_core::sc_port<LinkSendIf, 0, sc_core::SC_ZERO_OR_MORE_BOUND> toUnits;
 
     // Before the start: credit unit 0 keeps (not handed to nodes), and
     // contributions the unit makes itself (primary rays that miss the world

@@ -35,6 +35,17 @@ struct LinkStats {
     size_t bufferHighWater = 0;   // messages on the wire or arrived and not consumed, at once
 };
 
+// Adds one channel's figures to a port's: counts summed, high-water marks the
+// larger of the two (each channel has its own slots).
+inline void mergeChannel(LinkStats& into, const LinkStats& s) {
+    for (size_t t = 0; t < s.messages.size(); ++t) {
+        into.messages[t] += s.messages[t];
+        into.bytes[t] += s.bytes[t];
+    }
+    into.backlogHighWater = std::max(into.backlogHighWater, s.backlogHighWater);
+    into.bufferHighWater = std::max(into.bufferHighWater, s.bufferHighWater);
+}
+
 class LinkSendIf : public virtual sc_core::sc_interface {
 public:
     // Sends at the sender's time `t` (its local time, >= the kernel's).

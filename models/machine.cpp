@@ -46,8 +46,7 @@ Machine::Machine(sc_core::sc_module_name name, const Scene& scene, const Machine
     maxExp_ = ceilLog2(uint64_t(cfg_.nodeCount()) + 1) + ceilLog2(uint64_t(pixels) + 1) +
               (cfg_.maxDepth + 1) * ceilLog2(scene.lights.size() + 3) + 2;
     units_.init(size_t(k), [&](const char* n, size_t u) {
-        return new FrameBufferUnit(n, int(u), k, cfg_.nodeCount(), cfg_.hostCost, maxExp_, cfg_.showProgress,
-                                   cfg_.quantum);
+        return new FrameBufferUnit(n, int(u), k, cfg_.hostCost, maxExp_, cfg_.showProgress, cfg_.quantum);
     });
 
     nodes_.init(size_t(cfg_.nodeCount()), [&](const char*, size_t i) {
@@ -72,25 +71,28 @@ Machine::Machine(sc_core::sc_module_name name, const Scene& scene, const Machine
             n.out[d].bind(*links_.back());
             meshLinks_[{nodeIndex(c), d}] = links_.back().get();
             nodes_[nodeIndex(m)].in[opposite(d)].bind(*links_.back());
-            linkInfo_.push_back({lname, c, d, -1, links_.back()->params(), {}});
+            reportOf_.push_back(linkInfo_.size());
+            linkInfo_.push_back({lname, c, d, links_.back()->params(), {}});
         }
-        for (int u = 0; u < k; ++u) {  // its ports to the frame-buffer units
-            const std::string fname = cellName(c) + "_fb" + (k > 1 ? std::to_string(u) : "");
-            links_.push_back(std::make_unique<Link>(fname, cfg_.fbPort));
-            n.fb[size_t(u)].bind(*links_.back());
-            units_[size_t(u)].in[nodeIndex(c)].bind(*links_.back());
-            linkInfo_.push_back({fname, c, -1, u, cfg_.fbPort, {}});
+        // Its port to the frame buffer: a channel to each unit, reported as one.
+        const std::string fname = cellName(c) + "_fb";
+        for (int u = 0; u < k; ++u) {
+            links_.push_back(std::make_unique<Link>(k > 1 ? fname + std::to_string(u) : fname, cfg_.fbPort));
+            n.fb.bind(*links_.back());                   // the node's u-th binding
+            units_[size_t(u)].in.bind(*links_.back());   // the unit's binding for this node (nodes in order)
+            reportOf_.push_back(linkInfo_.size());
         }
+        linkInfo_.push_back({fname, c, -1, cfg_.fbPort, {}});
     }
     // Unit 0 and each other unit: a port each way, for the end-of-frame check.
     for (int u = 1; u < k; ++u) {
         const std::string up = "fb" + std::to_string(u) + "_to_fb0", down = "fb0_to_fb" + std::to_string(u);
         unitLinks_.push_back(std::make_unique<Link>(up, cfg_.fbPort));
         units_[size_t(u)].toController.bind(*unitLinks_.back());
-        units_[0].in[size_t(cfg_.nodeCount() + u - 1)].bind(*unitLinks_.back());
+        units_[0].in.bind(*unitLinks_.back());  // after the nodes' ports
         unitLinks_.push_back(std::make_unique<Link>(down, cfg_.fbPort));
-        units_[0].toUnits[size_t(u - 1)].bind(*unitLinks_.back());
-        units_[size_t(u)].in[size_t(cfg_.nodeCount())].bind(*unitLinks_.back());
+        units_[0].toUnits.bind(*unitLinks_.back());
+        units_[size_t(u)].in.bind(*unitLinks_.back());
     }
     for (const Cell& c : cfg_.traceNodes) nodes_[nodeIndex(c)].enableTrace();
     if (!cfg_.vcdPath.empty() && cfg_.traceNodes.empty())
@@ -254,10 +256,8 @@ MachineResult Machine::collect(double wallSeconds) {
         r.boxes.push_back(n.region().box());
         r.objectsPerNode.push_back(n.region().objects().size());
     }
-    for (size_t i = 0; i < links_.size(); ++i) {
-        r.links.push_back(linkInfo_[i]);
-        r.links.back().stats = links_[i]->stats();
-    }
+    r.links = linkInfo_;
+    for (size_t i = 0; i < links_.size(); ++i) mergeChannel(r.links[reportOf_[i]].stats, links_[i]->stats());
     r.boundaries = boundaryHistories();
     r.worldBox = world_;
     r.primaryMisses = primaryMisses_;

@@ -18,11 +18,13 @@
 
 namespace rt {
 
+// One link of the report: a mesh link, or a node's port to the frame buffer
+// (its channels to the K units together: counts summed, high-water marks the
+// largest channel's).
 struct LinkReport {
     std::string name;
     Cell from;
-    int dir;       // -1: a frame-buffer port
-    int unit = -1; // a frame-buffer port: the unit it goes to
+    int dir;  // -1: the node's frame-buffer port
     LinkParams params;
     LinkStats stats;
 };
@@ -95,7 +97,8 @@ private:
     std::vector<std::unique_ptr<Link>> links_;
     std::vector<std::unique_ptr<Link>> unitLinks_;  // units 1..K-1: [2(u-1)] u -> 0, [2(u-1) + 1] 0 -> u
     std::map<std::pair<size_t, int>, Link*> meshLinks_;  // (node, direction) -> its outgoing link
-    std::vector<LinkReport> linkInfo_;
+    std::vector<LinkReport> linkInfo_;  // the report's links
+    std::vector<size_t> reportOf_;      // per link in links_: its entry in linkInfo_
     uint64_t primaryMisses_ = 0;
 };
 

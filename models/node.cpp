@@ -13,7 +13,7 @@ Node::Node(sc_core::sc_module_name name, const Cell& cell, const Box& box, std::
     : sc_module(name),
       out("out", kDirs),
       in("in", kDirs),
-      fb("fb", size_t(fbUnits)),
+      fb("fb"),
       cell_(cell),
       shader_(shader),
       camera_(camera),
@@ -331,7 +331,7 @@ void Node::chargeAndSend(Picos cost, bool mayWaitForWork) {
     stats_.busy += cost;
     stats_.lastActive = now_;
     for (auto& [d, m] : outbox_) {
-        if (d >= kDirs) fb[size_t(d - kDirs)]->send(std::move(m), now_);
+        if (d >= kDirs) fb[d - kDirs]->send(std::move(m), now_);
         else out[d]->send(std::move(m), now_);
     }
     stats_.messagesSent += outbox_.size();

@@ -76,7 +76,9 @@ public:
 
     sc_core::sc_vector<sc_core::sc_port<LinkSendIf, 1, sc_core::SC_ZERO_OR_MORE_BOUND>> out;
     sc_core::sc_vector<sc_core::sc_port<LinkRecvIf, 1, sc_core::SC_ZERO_OR_MORE_BOUND>> in;
-    sc_core::sc_vector<sc_core::sc_port<LinkSendIf>> fb;  // one per frame-buffer unit
+    // Bound once per frame-buffer unit, in unit order (a multiport: one
+    // object, not one per unit, since a big mesh has tens of thousands).
+    sc_core::sc_port<LinkSendIf, 0> fb;
 
     // Setup by the host's job description, before the simulation starts.
     void assignPrimaries(std::vector<uint32_t> pixels, int primaryExp, const Credit& remainder);

@@ -94,7 +94,7 @@ nlohmann::json machineReport(const MachineResult& r, const MachineConfig& cfg) {
         nlohmann::json lj;
         lj["name"] = l.name;
         lj["from"] = cellJson(l.from);
-        lj["to"] = l.dir < 0 ? nlohmann::json("fb" + std::to_string(l.unit)) : nlohmann::json(dirName(l.dir));
+        lj["to"] = l.dir < 0 ? "fb" : dirName(l.dir);
         lj["params"] = linkJson(l.params);
         for (int t = 0; t < kMsgTypes; ++t) {
             const char* name = msgTypeName(MsgType(t));

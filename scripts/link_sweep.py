@@ -150,11 +150,15 @@ def knees(rows, swept, bal, n, factor):
 
 
 def fmt_latency(s):
-    return "beyond the sweep" if s is None else (f"{s * 1e9:.0f} ns" if s < 1e-6 else f"{s * 1e6:.1f} us")
+    if s is None:
+        return "beyond the sweep"
+    return f"{s * 1e9:.0f} ns" if s < 1e-6 else f"{s * 1e6:.1f} us" if s < 1e-3 else f"{s * 1e3:.2f} ms"
 
 
 def fmt_bandwidth(b):
-    return "beyond the sweep" if b is None else (f"{b / 1e6:.0f} MB/s" if b < 1e9 else f"{b / 1e9:.1f} GB/s")
+    if b is None:
+        return "beyond the sweep"
+    return f"{b / 1e3:.0f} KB/s" if b < 1e6 else f"{b / 1e6:.0f} MB/s" if b < 1e9 else f"{b / 1e9:.1f} GB/s"
 
 
 def plot(a, rows):
