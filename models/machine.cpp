@@ -245,10 +245,7 @@ void Machine::checkConservation() const {
 MachineResult Machine::collect(double wallSeconds) {
     MachineResult r;
     r.image = assembleImage(units_, width_, height_);
-    for (const FrameBufferUnit& u : units_) {
-        r.frameBuffer.push_back({u.stats(), std::nullopt});
-        if (u.index() > 0) r.frameBuffer.back().toController = unitLinks_[size_t(2 * (u.index() - 1))]->stats();
-    }
+    for (const FrameBufferUnit& u : units_) r.frameBuffer.push_back({u.stats()});
     r.renderTime = controller().renderTime();
     for (const Node& n : nodes_) {
         r.nodes.push_back(n.stats());

@@ -6,7 +6,6 @@
 #pragma once
 #include <map>
 #include <memory>
-#include <optional>
 #include <string>
 #include <vector>
 
@@ -31,7 +30,6 @@ struct LinkReport {
 
 struct FrameBufferUnitReport {
     FrameBufferStats stats;
-    std::optional<LinkStats> toController;  // units 1..K-1: the port to unit 0
 };
 
 // One boundary between two nodes of a column along the progress axis.

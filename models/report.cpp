@@ -113,14 +113,15 @@ nlohmann::json machineReport(const MachineResult& r, const MachineConfig& cfg) {
     }
     j["totals"]["busy_ns"] = ns(busyTotal);
     j["totals"]["primary_misses"] = r.primaryMisses;
+    // The bounds (bounds.h).
+    const Bounds bd = renderTimeBounds(r, cfg);
     // The frame buffer: per unit, and its busiest unit's busy time (the
-    // floor the frame buffer puts under the frame).
+    // floor the frame buffer puts under the frame: the bound).
     auto& fb = j["frame_buffer"];
-    Picos fbMax = 0, fbTotal = 0;
+    Picos fbTotal = 0;
     uint64_t contributions = 0;
     for (size_t u = 0; u < r.frameBuffer.size(); ++u) {
         const FrameBufferStats& s = r.frameBuffer[u].stats;
-        fbMax = std::max(fbMax, s.busy);
         fbTotal += s.busy;
         contributions += s.contributions;
         nlohmann::json uj = {{"unit", u},
@@ -131,11 +132,10 @@ nlohmann::json machineReport(const MachineResult& r, const MachineConfig& cfg) {
                              {"credit_messages", s.creditMessages}};
         fb["units"].push_back(uj);
     }
-    fb["busy_ns"] = ns(fbMax);
+    fb["busy_ns"] = ns(bd.frameBuffer);
     fb["busy_total_ns"] = ns(fbTotal);
     fb["contributions"] = contributions;
-    // The bounds (bounds.h), each in ns and as a fraction of the render time.
-    const Bounds bd = renderTimeBounds(r, cfg);
+    // Each bound in ns and as a fraction of the render time.
     auto bound = [&](Picos t) {
         return nlohmann::json{{"ns", ns(t)}, {"fraction", r.renderTime ? double(t) / double(r.renderTime) : 0.0}};
     };

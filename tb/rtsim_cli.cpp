@@ -157,27 +157,22 @@ void RtsimOptions::addTo(CLI::App& app) {
 void RtsimOptions::finish() {
     MachineConfig& m = machine;
     m.dims = {mesh, mesh, mesh};
-    if (asBaseline) {  // one node with the global costs: no per-node or per-link settings, no outputs
+    if (asBaseline || asComparison) {  // a reference run of another: no outputs (the caller reads its report)
+        traceSpecs_.clear();
+        traceWindow_.clear();
+        vcd.clear();
+        image.clear();
+        baseline = false;
+        quiet = true;
+    }
+    if (asBaseline) {  // one node with the global costs: no per-node or per-link settings
         meshDims = "1x1x1";
         nodeCostSpecs_.clear();
         linkSpecs_.clear();
-        traceSpecs_.clear();
-        traceWindow_.clear();
-        vcd.clear();
-        image.clear();
         m.nodeSpeed.clear();
         m.balance.policy = Policy::None;  // one node has no boundary to slide
-        baseline = false;
-        quiet = true;
     }
-    if (asComparison) {  // the same machine and frame, no outputs; the caller sets --balance
-        traceSpecs_.clear();
-        traceWindow_.clear();
-        vcd.clear();
-        image.clear();
-        baseline = false;
-        quiet = true;
-    }
+    // (asComparison: the same machine and frame; the caller sets --balance.)
     if (!meshDims.empty()) {
         int x, y, z;
         char a = 0, b = 0;
