@@ -124,7 +124,7 @@ struct EndOfFrame {
     std::vector<uint64_t> c;  // C_u, from the reference renderer
 };
 
-EndOfFrame oneNodeRun(int units, Picos h, int depth) {
+EndOfFrame oneNodeRun(int units, Picos h, int depth, double bandwidth = 1e15, int batch = 1, Picos latency = kL) {
     ProceduralParams p;
     p.spheres = 60;
     p.radius = 0.08;
@@ -136,8 +136,8 @@ EndOfFrame oneNodeRun(int units, Picos h, int depth) {
     c.costs.test = {0, 0, 0};
     c.costs.voxelStep = c.costs.rayGen = c.costs.shade = c.costs.send = c.costs.recv = 0;
     c.fbUnits = units;
-    c.fbPort = LinkParams{kL, 1e15, depth};
-    c.fbBatch = 1;
+    c.fbPort = LinkParams{latency, bandwidth, depth};
+    c.fbBatch = batch;
     c.hostCost = h;
     EndOfFrame e{runMachine(s, c), expectedPerUnit(s, c.width, c.height, units).count};
     for (const FrameBufferUnitReport& u : e.result.frameBuffer) EXPECT_EQ(u.stats.own, 0u);
@@ -189,7 +189,47 @@ TEST_P(EndOfFrameClosedForm, PortBoundFrameWithDepthOnePorts) {
     EXPECT_GT(backlog, 1u);
 }
 
+// The same end of the frame with the messages' real sizes on the wire: at
+// 1 GB/s a message takes its size in bytes as ns. Written by hand: a
+// contribution message 8 + 40 bytes; the credit message 8 + 8 (a lone node
+// is handed the whole credit, 1: only the whole-part word is sent) + 6 per
+// other unit it sent contributions to; fb_expect 8 + 8; fb_done 8.
+// Units are fast (h = 1 ns) and ports deep (1,000 slots, never short), so
+// each port's wire is the limit: message k reaches unit u at 48 (k + 1) + L.
+// Unit u is done at F_u = 48 C_u + L + h; the credit reaches unit 0 at
+// T_0 = 48 C_0 + (16 + 6 (K - 1)) + L; fb_expect reaches unit u at
+// T_0 + 16 + L, and its fb_done is at unit 0 8 + L after max(F_u, that).
+// With L = 5 us the handshake, not the units, sets the end: every term of
+// it counts.
+class HandshakeClosedForm : public testing::TestWithParam<int> {};
+
+TEST_P(HandshakeClosedForm, WireBoundFrameWithRealMessageSizes) {
+    const int units = GetParam();
+    const Picos h = 1000, ns = 1000, L = 5000 * ns;
+    const EndOfFrame e = oneNodeRun(units, h, 1000, 1e9, 1, L);
+    const Picos t0 = (48 * e.c[0] + 16 + 6 * Picos(units - 1)) * ns + L;
+    Picos expected = t0;
+    bool handshakeBound = false;
+    for (size_t u = 1; u < e.c.size(); ++u) {
+        const Picos f = 48 * e.c[u] * ns + L + h;
+        handshakeBound |= t0 + 16 * ns + L > f;
+        expected = std::max(expected, std::max(f, t0 + 16 * ns + L) + 8 * ns + L);
+    }
+    EXPECT_TRUE(handshakeBound);  // the case this test is for
+    EXPECT_EQ(e.result.renderTime, expected);
+}
+
+// A unit's busy time is its contributions times the cost, however they are
+// batched into messages.
+TEST_P(EndOfFrameClosedForm, BusyIsPerContributionWhateverTheBatch) {
+    const int units = GetParam();
+    const Picos h = 1000000;
+    const EndOfFrame e = oneNodeRun(units, h, 16, 1e15, 4);
+    for (size_t u = 0; u < e.c.size(); ++u) EXPECT_EQ(e.result.frameBuffer[u].stats.busy, e.c[u] * h);
+}
+
 INSTANTIATE_TEST_SUITE_P(Units, EndOfFrameClosedForm, testing::Values(1, 2, 5, 16));
+INSTANTIATE_TEST_SUITE_P(Units, HandshakeClosedForm, testing::Values(2, 5, 16));  // one unit has no handshake
 
 // ---- The bounds, from figures written here ----
 
