@@ -18,6 +18,7 @@ public:
     T& front() { return items_[head_]; }
     const T& front() const { return items_[head_]; }
     const T& operator[](size_t i) const { return items_[head_ + i]; }
+    T& operator[](size_t i) { return items_[head_ + i]; }
     void push_back(T v) { items_.push_back(std::move(v)); }
     void pop_front() {
         items_[head_] = T();  // let go of what it holds now

@@ -26,8 +26,10 @@ uint32_t objectBytes(const Shape& s) {
     return head + 8 * 8 + 1;  // cone: two centres, two radii, inside flag
 }
 
-Link::Link(std::string name, const LinkParams& params)
-    : name_(std::move(name)), params_(params), unusedSlots_(params.depth) {}
+Link::Link(std::string name, const LinkParams& params) : name_(std::move(name)), params_(params) {
+    lanes_[kData].unusedSlots = params.depth;
+    lanes_[kControl].unusedSlots = params.controlDepth;
+}
 
 Picos Link::transferTime(uint32_t bytes) const {
     const double ps = std::ceil(double(bytes) * 1e12 / params_.bandwidth);
@@ -39,70 +41,116 @@ void Link::send(Message m, Picos t) {
     ++stats_.messages[type];
     stats_.bytes[type] += m.bytes();
     ++inFlight_[type];
-    if (backlog_.empty() && slotFree()) {
-        putOnWire(t, std::move(m), takeSlot());  // the usual case: a slot is free, nothing waits before it
+    const int lane = laneOf(m.type);
+    Lane& l = lanes_[lane];
+    if (l.backlog.empty() && l.slotFree_()) {
+        putOnWire(lane, t, std::move(m), takeSlot(l));  // the usual case: a slot is free, nothing waits before it
         return;
     }
-    backlog_.push_back({t, std::move(m)});
-    startWaiting();
+    l.backlog.push_back({t, std::move(m)});
+    startWaiting(lane);
 }
 
-Picos Link::takeSlot() {
-    if (unusedSlots_ > 0) {
-        --unusedSlots_;
+Picos Link::takeSlot(Lane& l) {
+    if (l.unusedSlots > 0) {
+        --l.unusedSlots;
         return 0;
     }
-    const Picos slot = slotFree_.front();
-    slotFree_.pop_front();
+    const Picos slot = l.slotFree.front();
+    l.slotFree.pop_front();
     return slot;
 }
 
-void Link::startWaiting() {
-    while (!backlog_.empty() && slotFree()) {
-        const Picos slot = takeSlot();
-        Timed& w = backlog_.front();
-        putOnWire(w.t, std::move(w.m), slot);
-        backlog_.pop_front();
+void Link::startWaiting(int lane) {
+    Lane& l = lanes_[lane];
+    while (!l.backlog.empty() && l.slotFree_()) {
+        const Picos slot = takeSlot(l);
+        Timed& w = l.backlog.front();
+        putOnWire(lane, w.t, std::move(w.m), slot);
+        l.backlog.pop_front();
     }
 }
 
-void Link::putOnWire(Picos sent, Message&& m, Picos slot) {
-    const Picos start = std::max({sent, slot, wireFree_});
-    wireFree_ = start + transferTime(m.bytes());
-    const Picos arrival = wireFree_ + params_.latency;
+void Link::putOnWire(int lane, Picos sent, Message&& m, Picos slot) {
+    Lane& l = lanes_[lane];
+    const Picos transfer = transferTime(m.bytes());
+    const Picos ready = std::max(sent, slot);
+    Picos start;
+    if (lane == kData) {
+        start = std::max(ready, wireFree_);
+        wireFree_ = start + transfer;
+    } else {
+        start = scheduleControl(ready, transfer);
+    }
+    const Picos arrival = start + transfer + params_.latency;
     // Messages sent before this one and still off the wire when it was sent.
-    while (!waitedUntil_.empty() && waitedUntil_.front() <= sent) waitedUntil_.pop_front();
-    if (start > sent) waitedUntil_.push_back(start);
-    stats_.backlogHighWater = std::max(stats_.backlogHighWater, waitedUntil_.size());
-    buffer_.push_back({arrival, std::move(m), start});
-    if (listener_ && buffer_.size() == 1) listener_->headChanged(listenerPort_);
+    while (!l.waitedUntil.empty() && l.waitedUntil.front() <= sent) l.waitedUntil.pop_front();
+    if (start > sent) l.waitedUntil.push_back(start);
+    stats_.backlogHighWater = std::max(stats_.backlogHighWater, l.waitedUntil.size());
+    l.buffer.push_back({arrival, std::move(m), start, ready, transfer});
+    if (listener_ && l.buffer.size() == 1) listener_->headChanged(listenerPort_);
+}
+
+Picos Link::scheduleControl(Picos ready, Picos transfer) {
+    Fifo<Timed>& data = lanes_[kData].buffer;  // in the order they go on the wire
+    size_t first = 0;                          // the first data message not started by `ready`
+    while (first < data.size() && data[first].start < ready) ++first;
+    Picos start = std::max(ready, controlFree_);
+    if (first > 0) start = std::max(start, data[first - 1].start + data[first - 1].transfer);  // on the wire then
+    controlFree_ = start + transfer;
+    Picos end = controlFree_;
+    for (size_t i = first; i < data.size(); ++i) {
+        Timed& d = data[i];
+        d.start = std::max(d.ready, end);
+        end = d.start + d.transfer;
+        d.t = end + params_.latency;
+    }
+    wireFree_ = std::max(wireFree_, end);
+    if (listener_ && first == 0 && !data.empty()) listener_->headChanged(listenerPort_);  // the data head moved
+    return start;
 }
 
 bool Link::peekArrival(Picos& arrival) const {
-    if (buffer_.empty()) return false;
-    arrival = buffer_.front().t;
+    const Fifo<Timed>&d = lanes_[kData].buffer, &c = lanes_[kControl].buffer;
+    if (d.empty() && c.empty()) return false;
+    arrival = d.empty() ? c.front().t : c.empty() ? d.front().t : std::min(d.front().t, c.front().t);
     return true;
 }
 
 size_t Link::arrivedBy(Picos t) const {
     size_t n = 0;
-    while (n < buffer_.size() && buffer_[n].t <= t) ++n;  // buffer_ is in arrival order
+    for (const Lane& l : lanes_)
+        for (size_t i = 0; i < l.buffer.size() && l.buffer[i].t <= t; ++i) ++n;  // buffers are in arrival order
     return n;
 }
 
+bool Link::controlArrivedBy(Picos t) const {
+    const Fifo<Timed>& c = lanes_[kControl].buffer;
+    return !c.empty() && c.front().t <= t;
+}
+
+Message Link::consumeControl(Picos t) { return take(kControl, t); }
+
 Message Link::consume(Picos t) {
-    if (buffer_.empty() || buffer_.front().t > t) throw std::logic_error(name_ + ": consumed before arrival");
-    // Messages on the link when this one went on the wire: those before it
+    const Fifo<Timed>&d = lanes_[kData].buffer, &c = lanes_[kControl].buffer;
+    const bool control = !c.empty() && (d.empty() || c.front().t <= d.front().t);  // ties to control
+    return take(control ? kControl : kData, t);
+}
+
+Message Link::take(int lane, Picos t) {
+    Lane& l = lanes_[lane];
+    if (l.buffer.empty() || l.buffer.front().t > t) throw std::logic_error(name_ + ": consumed before arrival");
+    // Messages on the lane when this one went on the wire: those before it
     // not consumed by then, and itself.
-    while (!consumedAt_.empty() && consumedAt_.front() <= buffer_.front().start) consumedAt_.pop_front();
-    consumedAt_.push_back(t);
-    stats_.bufferHighWater = std::max(stats_.bufferHighWater, consumedAt_.size());
-    Message m = std::move(buffer_.front().m);
-    buffer_.pop_front();
+    while (!l.consumedAt.empty() && l.consumedAt.front() <= l.buffer.front().start) l.consumedAt.pop_front();
+    l.consumedAt.push_back(t);
+    stats_.bufferHighWater = std::max(stats_.bufferHighWater, l.consumedAt.size());
+    Message m = std::move(l.buffer.front().m);
+    l.buffer.pop_front();
     --inFlight_[int(m.type)];
-    slotFree_.push_back(t + params_.latency);  // the credit travels back
-    if (listener_ && !buffer_.empty()) listener_->headChanged(listenerPort_);
-    startWaiting();
+    l.slotFree.push_back(t + params_.latency);  // the credit travels back
+    if (listener_ && unconsumed()) listener_->headChanged(listenerPort_);
+    startWaiting(lane);
     return m;
 }
 

@@ -10,10 +10,25 @@
 // in the sender's own memory (the link's backlog), so a sender never blocks:
 // back-pressure delays messages but cannot deadlock the machine.
 //
+// The control lane. Load reports, slides and acks (the balancing protocol)
+// travel in a second virtual channel with its own `controlDepth` slots and
+// priority on the wire: a control message goes on the wire as soon as the
+// message being sent when it became ready has left, ahead of every data
+// message not yet started, which moves back behind it. The two lanes share
+// the wire's bandwidth and latency. The receiver may take a control message
+// ahead of data that arrived before it (Node::takeWork does). This is what
+// link hardware with virtual channels does, and it keeps the balancing's
+// decisions from waiting behind rays (doc/balancing.md, "The control lane").
+// Order still holds where the protocol needs it: each lane is FIFO, and a
+// data message sent after a control message arrives after it.
+//
 // Every time is computed from the others when it becomes known, never by
 // polling, so the outcome does not depend on the order in which the kernel
 // runs processes at one instant; it also lets senders and receivers run
-// ahead of the kernel (temporal decoupling).
+// ahead of the kernel (temporal decoupling). A control message moves back
+// only data messages that have not started yet, so none that a receiver
+// could have taken (their arrival is more than one latency after the
+// sender's time, which is the lookahead).
 #pragma once
 #include <algorithm>
 #include <array>
@@ -50,6 +65,7 @@ class LinkSendIf : public virtual sc_core::sc_interface {
 public:
     // Sends at the sender's time `t` (its local time, >= the kernel's).
     virtual void send(Message m, Picos t) = 0;
+    virtual const LinkParams& params() const = 0;
 };
 
 // Told by a link when its oldest unconsumed message changes: a message lands
@@ -72,7 +88,14 @@ public:
     virtual size_t arrivedBy(Picos t) const = 0;
     // Messages on the link or arrived, not yet consumed (at least arrivedBy).
     virtual size_t unconsumed() const = 0;
+    // The control lane: whether its oldest message has arrived by `t`, and
+    // taking it (ahead of data that arrived earlier).
+    virtual bool controlArrivedBy(Picos t) const = 0;
+    virtual Message consumeControl(Picos t) = 0;
 };
+
+// Load reports, slides and acks: what the control lane carries.
+inline bool isControl(MsgType t) { return t == MsgType::LoadReport || t == MsgType::Slide || t == MsgType::Ack; }
 
 // A channel, but not an sc_object: ports bind to its interfaces, and a
 // machine has tens of thousands of links (a frame-buffer port from every node
@@ -85,43 +108,58 @@ public:
     void send(Message m, Picos t) override;
     bool peekArrival(Picos& arrival) const override;
     Message consume(Picos t) override;
+    bool controlArrivedBy(Picos t) const override;
+    Message consumeControl(Picos t) override;
     void setListener(ArrivalListener* l, int port) override {
         listener_ = l;
         listenerPort_ = port;
     }
 
-    const LinkParams& params() const { return params_; }
+    const LinkParams& params() const override { return params_; }
     const LinkStats& stats() const { return stats_; }
-    size_t backlog() const { return backlog_.size(); }
+    size_t backlog() const { return lanes_[0].backlog.size() + lanes_[1].backlog.size(); }
     // Messages of this type sent and not yet consumed.
     uint64_t inFlight(MsgType t) const { return inFlight_[int(t)]; }
     size_t arrivedBy(Picos t) const override;
-    size_t unconsumed() const override { return buffer_.size(); }
+    size_t unconsumed() const override { return lanes_[0].buffer.size() + lanes_[1].buffer.size(); }
     const std::string& name() const { return name_; }
 
 private:
-    void startWaiting();  // puts backlog messages on the wire while slots allow
-    bool slotFree() const { return unusedSlots_ > 0 || !slotFree_.empty(); }
-    Picos takeSlot();     // a free slot (one must be), and when it became free
-    void putOnWire(Picos sent, Message&& m, Picos slot);
+    struct Timed {
+        Picos t;
+        Message m;
+        Picos start = 0;     // in a buffer: when it went on the wire
+        Picos ready = 0;     // in a buffer: when it could have (sent, and a slot free)
+        Picos transfer = 0;  // in a buffer: its time on the wire
+    };
+    // One virtual channel: its slots, its backlog and its buffer.
+    struct Lane {
+        Fifo<Timed> backlog;   // sent, waiting for a slot (t: when sent)
+        Fifo<Timed> buffer;    // on the wire or arrived, not consumed (t: arrival)
+        int unusedSlots = 0;   // slots never used yet (free since time 0)
+        Fifo<Picos> slotFree;  // slots returned by the receiver, free from these times
+        // For the high-water marks: when the messages that waited for the
+        // wire started, and when the last messages were consumed.
+        Fifo<Picos> waitedUntil, consumedAt;
+        bool slotFree_() const { return unusedSlots > 0 || !slotFree.empty(); }
+    };
+    static constexpr int kData = 0, kControl = 1;
+    int laneOf(MsgType t) const { return params_.controlDepth > 0 && isControl(t) ? kControl : kData; }
+    void startWaiting(int lane);  // puts backlog messages on the wire while slots allow
+    Picos takeSlot(Lane& l);      // a free slot (one must be), and when it became free
+    void putOnWire(int lane, Picos sent, Message&& m, Picos slot);
+    // A control message ready at `ready`: its start on the wire, after the
+    // message being sent then; the data messages not started by then move
+    // back behind it.
+    Picos scheduleControl(Picos ready, Picos transfer);
+    Message take(int lane, Picos t);
     Picos transferTime(uint32_t bytes) const;
 
     std::string name_;
     LinkParams params_;
-    struct Timed {
-        Picos t;
-        Message m;
-        Picos start = 0;  // in buffer_: when it went on the wire
-    };
-    Fifo<Timed> backlog_;     // sent, waiting for a slot (t: when sent)
-    Fifo<Timed> buffer_;      // on the wire or arrived, not consumed (t: arrival)
-    int unusedSlots_;            // slots never used yet (free since time 0)
-    Fifo<Picos> slotFree_;      // slots returned by the receiver, free from these times
-    Picos wireFree_ = 0;
-    // For the high-water marks: when the messages that waited for the wire
-    // started, and when the last messages were consumed (both in FIFO order,
-    // so both sorted).
-    Fifo<Picos> waitedUntil_, consumedAt_;
+    std::array<Lane, 2> lanes_;
+    Picos wireFree_ = 0;     // the end of the last transmission scheduled
+    Picos controlFree_ = 0;  // the end of the last control transmission
     ArrivalListener* listener_ = nullptr;
     int listenerPort_ = 0;
     LinkStats stats_;

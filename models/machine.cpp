@@ -49,14 +49,15 @@ Machine::Machine(sc_core::sc_module_name name, const Scene& scene, const Machine
         return new FrameBufferUnit(n, int(u), k, cfg_.hostCost, maxExp_, cfg_.showProgress, cfg_.quantum);
     });
 
+    const NodeParams params{shader_,       camera_,         world_,  k, cfg_.fbBatch, cfg_.rayBatch, cfg_.balance,
+                            cfg_.dims[ax], minThickness_, cfg_.quantum};
     nodes_.init(size_t(cfg_.nodeCount()), [&](const char*, size_t i) {
         const Cell c{int(i % cfg_.dims[0]), int(i / cfg_.dims[0] % cfg_.dims[1]), int(i / cfg_.dims[0] / cfg_.dims[1])};
         Box b = cuts_.cellBox(c);
         b.lo[ax] = columnBounds_[columnOf(c)][c[ax]];
         b.hi[ax] = columnBounds_[columnOf(c)][c[ax] + 1];
-        return new Node(cellName(c).c_str(), c, b, objectsOverlapping(scene_.objects, b, margin), shader_, camera_,
-                        world_, cfg_.costsOf(c), cfg_.speedOf(c), k, cfg_.fbBatch, cfg_.balance, minThickness_,
-                        cfg_.quantum, cfg_.rayBatch);
+        return new Node(cellName(c).c_str(), c, b, objectsOverlapping(scene_.objects, b, margin), params,
+                        cfg_.costsOf(c), cfg_.speedOf(c));
     });
 
     // Links between face neighbours, one per direction, and the frame-buffer ports.
@@ -110,7 +111,7 @@ int Machine::columnOf(const Cell& c) const {
 std::vector<std::vector<double>> Machine::initialBoundaries() const {
     const int ax = cfg_.balance.axis, u = (ax + 1) % 3, v = (ax + 2) % 3, n = cfg_.dims[ax];
     std::vector<std::vector<double>> bounds(size_t(cfg_.dims[u] * cfg_.dims[v]), cuts_.planes(ax));
-    if (cfg_.balance.policy != Policy::Median) return bounds;
+    if (cfg_.balance.policy != "median") return bounds;
     const double margin = roundingMargin(world_);
     for (int j = 0; j < cfg_.dims[v]; ++j)
         for (int i = 0; i < cfg_.dims[u]; ++i) {
@@ -294,7 +295,7 @@ void Machine::writeTraces(const std::string& vcdPath) const {
     for (const Node& n : nodes_)
         if (n.trace()) traced.push_back({cellName(n.cell()), n.trace()});
     std::vector<TracedBoundary> bounds;
-    if (cfg_.balance.policy != Policy::None)
+    if (cfg_.balance.policy != "none")
         for (const BoundaryHistory& h : boundaryHistories())
             bounds.push_back({"col_" + std::to_string(h.column[0]) + "_" + std::to_string(h.column[1]) + "_b" +
                                   std::to_string(h.index),

@@ -1,19 +1,22 @@
 #include "machine_config.h"
 
+#include "policy.h"
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
 namespace rt {
 
-const char* policyName(Policy p) {
-    switch (p) {
-        case Policy::None: return "none";
-        case Policy::Slide: return "slide";
-        case Policy::Work: return "work";
-        case Policy::Median: return "median";
-    }
-    return "?";
+bool BalanceConfig::dynamic() const {
+    const PolicyInfo* p = findPolicy(policy);
+    return p && p->kind == PolicyKind::Dynamic;
+}
+
+double BalanceConfig::gainOf() const {
+    if (gain > 0) return gain;
+    const PolicyInfo* p = findPolicy(policy);
+    return p ? p->defaultGain : 0.0;
 }
 
 const char* dirName(int d) {
@@ -46,6 +49,7 @@ static void checkLink(const LinkParams& l, const std::string& flag) {
     if (!(l.bandwidth > 0) || !std::isfinite(l.bandwidth))
         throw std::invalid_argument(flag + ": bandwidth must be positive and finite");
     if (l.depth < 1 || l.depth > 1000000) throw std::invalid_argument(flag + ": depth must be in 1..1000000");
+    if (l.controlDepth < 0 || l.controlDepth > 1000000) throw std::invalid_argument(flag + ": control depth must be in 0..1000000");
 }
 
 void MachineConfig::validate() const {
@@ -84,7 +88,11 @@ void MachineConfig::validate() const {
     const BalanceConfig& b = balance;
     if (b.axis < 0 || b.axis > 2) throw std::invalid_argument("--axis: must be x, y or z");
     if (b.interval == 0) throw std::invalid_argument("--balance-interval: must be positive");
-    if (!(b.gain > 0) || !std::isfinite(b.gain)) throw std::invalid_argument("--gain: must be positive");
+    if (!findPolicy(b.policy)) throw std::invalid_argument("--balance: no policy named '" + b.policy + "'");
+    if (!(b.gain >= 0) || !std::isfinite(b.gain)) throw std::invalid_argument("--gain: must be positive (0: the policy's)");
+    if (!(b.maxAge >= 0) || !std::isfinite(b.maxAge)) throw std::invalid_argument("--max-age: must be non-negative");
+    if (!(b.horizon >= 0) || !std::isfinite(b.horizon)) throw std::invalid_argument("--guard-horizon: must be non-negative");
+    if (!(b.hopRatio >= 0) || !std::isfinite(b.hopRatio)) throw std::invalid_argument("--guard-hop: must be non-negative");
     if (!(b.deadband >= 0) || !(b.deadband < 1)) throw std::invalid_argument("--deadband: must be in [0, 1)");
     if (!(b.minThickness > 0) || !(b.minThickness <= 1)) throw std::invalid_argument("--min-thickness: must be in (0, 1]");
     if (b.bins < 1 || b.bins > 4096) throw std::invalid_argument("--bins: must be in 1..4096");

@@ -38,26 +38,39 @@ struct LinkParams {
     Picos latency = 100000;   // 100 ns
     double bandwidth = 1e9;   // bytes per second
     int depth = 16;           // messages the link holds before back-pressure
+    // The control lane (link.h): slots of a second virtual channel for load
+    // reports, slides and acks, which go on the wire ahead of waiting rays.
+    // 0 (the default): no lane; control messages queue with the rays, in one
+    // FIFO. Experimental: with random link settings and no guard a frame has
+    // been seen never to end with the lane on (doc/balancing.md).
+    int controlDepth = 0;
 };
 
 // Sliding boundaries (doc/balancing.md). Every column of nodes along the
-// progress axis owns its own boundaries between them.
-enum class Policy { None, Slide, Work, Median };
-const char* policyName(Policy p);
+// progress axis owns its own boundaries between them. Policies are named
+// (models/policy_registry.cpp): none, slide, work, quantile, median.
 // What `--balance default` selects: the recommended policy (doc/balancing.md).
-constexpr Policy kDefaultPolicy = Policy::Slide;
+constexpr const char* kDefaultPolicy = "slide";
 
 struct BalanceConfig {
-    Policy policy = Policy::None;
+    std::string policy = "none";
     int axis = 0;                 // progress axis: 0 x, 1 y, 2 z
     Picos interval = 20000000;    // 20 us between load reports
-    double gain = 0.25;           // slide: step = gain x load difference x thickness; work: share of the gap moved
-    double deadband = 0.05;       // no slide while the load difference is at most this
+    double gain = 0;              // how far a decision moves (the policy's; 0: its default, gainOf())
+    double deadband = 0.05;       // no slide while the difference is at most this (the policy's measure)
     double minThickness = 0.05;   // a box never gets thinner than this fraction of its initial thickness
-    int bins = 16;                // work policy: histogram bins along the axis
+    int bins = 16;                // work profile: bins per initial box thickness along the axis
     Picos rebuildCost = 20000;    // updating a node's grid: per object moved in or out
+    // The guard (every policy; balance_agent.h): no slide on loads older than
+    // maxAge intervals, or whose cost exceeds the work it moves over the
+    // next `horizon` intervals.
+    bool guard = true;
+    double maxAge = 4;
+    double horizon = 10;
+    double hopRatio = 4;          // no slide while a ray's hop takes longer than this many mean steps
 
-    bool dynamic() const { return policy == Policy::Slide || policy == Policy::Work; }
+    bool dynamic() const;         // a policy that moves boundaries during the frame
+    double gainOf() const;        // gain, or the policy's default
 };
 
 struct MachineConfig {

@@ -24,7 +24,7 @@ const char* msgTypeName(MsgType t);
 constexpr uint32_t kHeaderBytes = 8;  // type, length, source
 constexpr uint32_t kRayBytes = 13 * 8 + 4 + 8 + 4 + 1 + 1 + 2;
 constexpr uint32_t kContributionBytes = 4 + 8 + 4 + 3 * 8;  // pixel, path, slot, rgb
-constexpr uint32_t kLoadReportBytes = 4 + 8 + 8;            // interval, load, busy time
+constexpr uint32_t kLoadReportBytes = 4 + 5 * 8;            // round, end, busy, wait, backlog, column sum
 constexpr uint32_t kSlideBytes = 8 + 4;                     // new boundary, object count (+ the objects)
 constexpr uint32_t kAckBytes = 8;                           // the boundary taken
 constexpr uint32_t kUnitCountBytes = 2 + 4;                 // Credit: a frame-buffer unit and a count
@@ -48,9 +48,10 @@ struct Message {
     // each unit but 0 since the node last returned credit (unit, count).
     std::vector<std::pair<uint16_t, uint32_t>> unitCounts;
     uint64_t count = 0;                        // FbExpect
-    int32_t interval = 0;                      // LoadReport
-    double load = 0;                           // LoadReport
-    uint64_t busy = 0;                         // LoadReport: busy time in the interval (ps)
+    int32_t interval = 0;                      // LoadReport: the round
+    uint64_t end = 0, busy = 0, wait = 0;      // LoadReport: the span's end, busy and wait time (ps)
+    uint64_t backlog = 0;                      // LoadReport: work waiting at the end (ps)
+    double sum = 0;                            // LoadReport: the column's demand up to the reporter (policy.h)
     double boundary = 0;                       // Slide, Ack: the boundary's new coordinate
     std::vector<Shape> objects;                // Slide: the objects of the moved slab
 

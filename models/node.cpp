@@ -8,31 +8,27 @@
 namespace rt {
 
 Node::Node(sc_core::sc_module_name name, const Cell& cell, const Box& box, std::vector<Shape> objects,
-           const Shader& shader, const Camera& camera, const Box& world, const Costs& costs, double speed, int fbUnits,
-           int fbBatch, const BalanceConfig& balance, double minThickness, Picos quantum, int rayBatch)
+           const NodeParams& params, const Costs& costs, double speed)
     : sc_module(name),
       out("out", kDirs),
       in("in", kDirs),
       fb("fb"),
       cell_(cell),
-      shader_(shader),
-      camera_(camera),
-      world_(world),
+      shader_(params.shader),
+      camera_(params.camera),
+      world_(params.world),
       costs_(costs),
       speed_(speed),
-      fbBatch_(fbBatch),
-      bal_(balance),
-      margin_(roundingMargin(world)),
-      minThickness_(minThickness),
-      time_(quantum),
-      rayBatch_(rayBatch),
-      pending_(size_t(fbUnits)),
-      sentSince_(size_t(fbUnits), 0) {
+      fbBatch_(params.fbBatch),
+      bal_(params.balance),
+      margin_(roundingMargin(params.world)),
+      minThickness_(params.minThickness),
+      time_(params.quantum),
+      rayBatch_(params.rayBatch),
+      columnLength_(params.columnLength),
+      pending_(size_t(params.fbUnits)),
+      sentSince_(size_t(params.fbUnits), 0) {
     rebuild(box, std::move(objects));
-    if (bal_.dynamic()) {
-        nextInterval_ = bal_.interval;
-        histogram_.assign(size_t(bal_.bins), 0);
-    }
     SC_THREAD(run);
 }
 
@@ -66,6 +62,7 @@ void Node::checkpoint() {
 }
 
 void Node::endFrame(Picos end) {
+    if (balance_) stats_.balance = balance_->stats();
     if (stats_.waiting) {
         stats_.waiting = false;
         if (stats_.waitingSince <= end) {  // waiting for input since then
@@ -123,10 +120,13 @@ void Node::traceState(bool busy, bool waiting) {
 void Node::run() {
     inputOrder_.listen(in);
     now_ = sc_core::sc_time_stamp().value();
+    if (bal_.dynamic())
+        balance_ = std::make_unique<BalanceAgent>(bal_, static_cast<BalanceHost&>(*this), world_, cell_[bal_.axis], columnLength_,
+                                                  out[sideDir(-1)].size() > 0, out[sideDir(+1)].size() > 0, minThickness_);
     Work w;
     std::optional<Message> ctl;
     for (;;) {
-        if (bal_.dynamic() && now_ >= nextInterval_) closeInterval();
+        if (balance_ && balance_->due(now_)) closeInterval();
         int fromDir = -1;
         if (takeWork(w, ctl, fromDir)) {
             if (ctl) {
@@ -166,12 +166,12 @@ void Node::waitForWork() {
     // Only to a message: a node that idled ahead to the end of its balancing
     // interval would report itself idle while its neighbours, up to a quantum
     // behind, may still send it work for that interval.
-    if (bal_.dynamic() && next >= nextInterval_) next = ~Picos(0);
+    if (balance_ && next >= balance_->nextClose()) next = ~Picos(0);
     next = std::max(next, now_);  // (straight after a step, a message may have arrived by now)
     if (time_.mayIdleUntil(next)) {
         now_ = next;  // known to be the next thing to happen, and within the quantum
     } else {
-        inputOrder_.waitForInput(now_, bal_.dynamic() ? nextInterval_ : ~Picos(0));
+        inputOrder_.waitForInput(now_, balance_ ? balance_->nextClose() : ~Picos(0));
         now_ = sc_core::sc_time_stamp().value();
     }
     stats_.wait += now_ - stats_.waitingSince;
@@ -188,7 +188,23 @@ bool Node::nothingToDo() const {
     return true;
 }
 
+// The control lane's messages are handled before any ray (link.h), as an
+// interrupt-driven link controller would.
+bool Node::takeControl(std::optional<Message>& control, int& controlDir) {
+    for (int side : {-1, +1}) {
+        const int d = sideDir(side);
+        if (in[d].size() && in[d]->controlArrivedBy(now_)) {
+            control = in[d]->consumeControl(now_);
+            ++stats_.messagesReceived;
+            controlDir = d;
+            return true;
+        }
+    }
+    return false;
+}
+
 bool Node::takeWork(Work& w, std::optional<Message>& control, int& controlDir) {
+    if (balance_ && takeControl(control, controlDir)) return true;
     if (!local_.empty()) {
         w = local_.back();
         local_.pop_back();
@@ -283,7 +299,7 @@ void Node::step(Work& w) {
     double where = std::nan("");  // where along the axis the work happened (work histogram)
     if (dir < 0) {
         ++stats_.raysTraced;
-        if (bal_.policy == Policy::Work) {  // the middle of the segment traced stands for where its work is
+        if (balance_) {  // the middle of the segment traced stands for where its work is
             const double end = std::min(w.job.tEnd, boxInterval(w.job.ray, region_->box()).hi);
             where = w.job.ray.at(0.5 * (w.job.t0 + end))[bal_.axis];
         }
@@ -311,12 +327,7 @@ void Node::step(Work& w) {
         if (pending_[size_t(u)].size() >= size_t(fbBatch_)) sendContributions(u);
     }
     const Picos cost = stepCost(before, outbox_.size(), w.fromLink ? 1 : 0, w.generated ? 1 : 0);
-    if (bal_.policy == Policy::Work && std::isfinite(where)) {
-        const Box& b = region_->box();
-        const double u = (where - b.lo[bal_.axis]) / (b.hi[bal_.axis] - b.lo[bal_.axis]);
-        const int k = std::clamp(int(u * double(histogram_.size())), 0, int(histogram_.size()) - 1);
-        histogram_[size_t(k)] += cost;
-    }
+    if (balance_ && std::isfinite(where)) balance_->recordStep(where, cost);
     // The exact depth (a scan of the input links) only when it could set a
     // new high-water mark: it is at most the local work plus all unconsumed.
     if (ownWork() + inputOrder_.unconsumed() > stats_.queueHighWater)
@@ -452,58 +463,18 @@ void Node::finishControlStep(const Counters& before, uint64_t recvs, size_t move
     chargeAndSend(cost);
 }
 
-// ---- The balancing protocol (doc/balancing.md) ----
+// ---- The balancing protocol (doc/balancing.md): the node's side ----
 
-// At the end of each interval: record this node's load over it, then report
-// it and decide with each neighbour along the progress axis as far as the
-// lockstep allows (advance()).
+// At the end of each interval: the agent records the node's load over it,
+// and reports and decides with each neighbour as far as the lockstep allows.
 void Node::closeInterval() {
-    const Picos busy = stats_.busy - busyMark_, waited = stats_.wait - waitMark_;
-    const double load = busy + waited ? double(busy) / double(busy + waited) : 0.0;
-    stats_.intervals.push_back({now_, busy, waited});
-    ownLoads_[closed_++] = Load{load, busy, histogram_};
-    busyMark_ = stats_.busy;
-    waitMark_ = stats_.wait;
-    std::fill(histogram_.begin(), histogram_.end(), 0);
-    // The next interval boundary after now (a long step may have spanned several).
-    nextInterval_ = (now_ / bal_.interval + 1) * bal_.interval;
-    for (int side : {-1, +1})
-        if (out[sideDir(side)].size()) advance(side);
+    balance_->closeInterval(now_, stats_.busy, stats_.wait, waitingWork());
 }
 
-void Node::sendReport(int side, int seq) {
-    const Load& l = ownLoads_.at(seq);
-    Message m;
-    m.type = MsgType::LoadReport;
-    m.interval = seq;
-    m.load = l.load;
-    m.busy = l.busy;
+void Node::sendReport(int side, Message m) {
     outbox_.push_back({sideDir(side), std::move(m)});
-    reported_[side > 0] = seq;
     traceState(true, false);
     finishControlStep(stats_.counters, 0, 0);
-}
-
-// Lockstep with the neighbour on `side`: report s once s - 1 is decided;
-// decide s once both loads of s are here. A slide given when deciding s is
-// sent before report s + 1 on the same FIFO link, so the neighbour has taken
-// the slab before it can decide s + 1 itself: the two never give across the
-// same boundary at once, and each decides with its box up to date.
-void Node::advance(int side) {
-    const int i = side > 0;
-    for (;;) {
-        const int next = reported_[i] + 1;
-        if (next <= decided_[i] + 1 && ownLoads_.count(next)) {
-            sendReport(side, next);
-            continue;
-        }
-        const int d = decided_[i] + 1;
-        if (reported_[i] >= d && ownLoads_.count(d) && reports_[i].count(d)) {
-            decide(side, d);
-            continue;
-        }
-        return;
-    }
 }
 
 void Node::control(Message& m, int fromDir) {
@@ -511,9 +482,8 @@ void Node::control(Message& m, int fromDir) {
     traceState(true, false);
     if (dirAxis(fromDir) != bal_.axis) throw std::logic_error(std::string(name()) + ": control message off the progress axis");
     if (m.type == MsgType::LoadReport) {
-        reports_[side > 0][m.interval] = Load{m.load, Picos(m.busy), {}};
         finishControlStep(stats_.counters, 1, 0);
-        advance(side);
+        balance_->onReport(side, m, now_);
     } else if (m.type == MsgType::Slide) {
         takeSlab(side, m.boundary, std::move(m.objects));
     } else if (m.type == MsgType::Ack) {
@@ -522,27 +492,35 @@ void Node::control(Message& m, int fromDir) {
     }
 }
 
-// Both neighbours compare the same two loads (their sequence s and ours), so
-// at most one of them gives a slab across their boundary.
-void Node::decide(int side, int seq) {
-    const int i = side > 0;
-    const Load own = ownLoads_.at(seq), other = reports_[i].at(seq);
-    reports_[i].erase(seq);
-    decided_[i] = seq;
-    // Own loads are kept until both sides are done with them.
-    const int done = std::min(out[sideDir(-1)].size() ? decided_[0] : seq, out[sideDir(+1)].size() ? decided_[1] : seq);
-    ownLoads_.erase(ownLoads_.begin(), ownLoads_.upper_bound(done));
-    SlideQuery q;
-    q.own = region_->box();
-    q.axis = bal_.axis;
-    q.upper = side > 0;
-    q.ownLoad = own.load;
-    q.otherLoad = other.load;
-    q.ownBusy = own.busy;
-    q.otherBusy = other.busy;
-    q.histogram = own.histogram;
-    q.minThickness = minThickness_;
-    if (const std::optional<double> b = decideSlide(bal_, q)) giveSlab(side, *b);
+Box Node::slabOf(int side, double boundary) const {
+    Box slab = region_->box();
+    if (side > 0) slab.lo[bal_.axis] = boundary;
+    else slab.hi[bal_.axis] = boundary;
+    return slab;
+}
+
+// What giving the slab would cost: both nodes handle a message and update
+// their grids for its objects (rebuild cost per object moved, on each), and
+// the slab crosses the link (latency and its bytes at the link's bandwidth).
+Picos Node::hopTime(int side) const {
+    const LinkParams& l = out[sideDir(side)]->params();
+    return l.latency + Picos(double(kHeaderBytes + kRayBytes) * 1e12 / l.bandwidth);
+}
+
+Picos Node::slabCost(int side, double boundary) const {
+    const Box slab = slabOf(side, boundary);
+    Message m;
+    m.type = MsgType::Slide;
+    size_t objects = 0;
+    uint32_t bytes = m.bytes();
+    for (const Shape& s : region_->objects())
+        if (overlapsBox(s, slab, margin_)) {
+            ++objects;
+            bytes += objectBytes(s);
+        }
+    const LinkParams& l = out[sideDir(side)]->params();
+    const double handling = double(costs_.send + costs_.recv + 2 * objects * bal_.rebuildCost) / speed_;
+    return Picos(handling + double(l.latency) + double(bytes) * 1e12 / l.bandwidth);
 }
 
 // The heavier node gives the slab between the boundary and `boundary` on
@@ -550,15 +528,10 @@ void Node::decide(int side, int seq) {
 // that reach it for the slab are forwarded to the neighbour (route()); the
 // link is FIFO, so they arrive after the slide.
 void Node::giveSlab(int side, double boundary) {
-    Box own = region_->box(), slab = own;
-    const int a = bal_.axis;
-    if (side > 0) {
-        slab.lo[a] = boundary;
-        own.hi[a] = boundary;
-    } else {
-        slab.hi[a] = boundary;
-        own.lo[a] = boundary;
-    }
+    Box own = region_->box();
+    const Box slab = slabOf(side, boundary);
+    if (side > 0) own.hi[bal_.axis] = boundary;
+    else own.lo[bal_.axis] = boundary;
     Message m;
     m.type = MsgType::Slide;
     m.boundary = boundary;
@@ -594,7 +567,6 @@ void Node::takeSlab(int side, double boundary, std::vector<Shape> objects) {
     ack.boundary = boundary;
     outbox_.push_back({sideDir(side), std::move(ack)});
     rebuild(own, std::move(all));
-    std::fill(histogram_.begin(), histogram_.end(), 0);
     finishControlStep(stats_.counters, 1, moved);
 }
 

@@ -21,7 +21,7 @@
 #include <systemc>
 
 #include "arrival_queue.h"
-#include "balancer.h"
+#include "balance_agent.h"
 #include "camera.h"
 #include "counters.h"
 #include "credit.h"
@@ -42,11 +42,6 @@ struct SlideEvent {
     size_t objects;     // objects sent with the slab
 };
 
-// Busy and wait time of one balancing interval, ending at `end`.
-struct IntervalRecord {
-    Picos end, busy, wait;
-};
-
 struct NodeStats {
     Picos busy = 0, wait = 0;
     Counters counters;             // operations, as sw counts them
@@ -64,15 +59,27 @@ struct NodeStats {
     std::vector<SlideEvent> slides;        // slabs given
     uint64_t slidesTaken = 0, acks = 0;
     uint64_t objectsSent = 0, objectsReceived = 0;
-    std::vector<IntervalRecord> intervals; // balancing intervals (dynamic policies)
+    BalanceStats balance;                  // intervals, decisions and their loads' ages (dynamic policies)
 };
 
-class Node : public sc_core::sc_module {
+// What every node of a machine shares: the job, the costs' context and the
+// machine's settings.
+struct NodeParams {
+    const Shader& shader;
+    const Camera& camera;
+    Box world;
+    int fbUnits = 1, fbBatch = 1, rayBatch = 1;
+    const BalanceConfig& balance;
+    int columnLength = 1;   // nodes along the balancing axis
+    double minThickness;    // absolute, along the balancing axis
+    Picos quantum = 0;
+};
+
+class Node : public sc_core::sc_module, private BalanceHost {
 public:
     SC_HAS_PROCESS(Node);
     Node(sc_core::sc_module_name name, const Cell& cell, const Box& box, std::vector<Shape> objects,
-         const Shader& shader, const Camera& camera, const Box& world, const Costs& costs, double speed, int fbUnits,
-         int fbBatch, const BalanceConfig& balance, double minThickness, Picos quantum, int rayBatch);
+         const NodeParams& params, const Costs& costs, double speed);
 
     sc_core::sc_vector<sc_core::sc_port<LinkSendIf, 1, sc_core::SC_ZERO_OR_MORE_BOUND>> out;
     sc_core::sc_vector<sc_core::sc_port<LinkRecvIf, 1, sc_core::SC_ZERO_OR_MORE_BOUND>> in;
@@ -107,13 +114,18 @@ private:
     // Takes the next ray (or control message, into `control`); false if none.
     bool takeWork(Work& w, std::optional<Message>& control, int& controlDir);
     void step(Work& w);
-    // The balancing protocol (doc/balancing.md): load reports, slides, acks.
+    // The balancing protocol (doc/balancing.md): the node's side of it. The
+    // agent (balance_agent.h) runs the rounds and decides; the node measures,
+    // carries the messages and hands over slabs.
+    bool takeControl(std::optional<Message>& control, int& controlDir);  // control messages first
     void control(Message& m, int fromDir);
     void closeInterval();
-    void sendReport(int side, int seq);
-    void advance(int side);  // decide and report in lockstep with one neighbour
-    void decide(int side, int seq);
-    void giveSlab(int side, double boundary);
+    const Box& box() const override { return region_->box(); }
+    void sendReport(int side, Message m) override;
+    void giveSlab(int side, double boundary) override;
+    Picos slabCost(int side, double boundary) const override;
+    Picos hopTime(int side) const override;
+    Box slabOf(int side, double boundary) const;  // between the face on `side` and `boundary`
     void takeSlab(int side, double boundary, std::vector<Shape> objects);
     void rebuild(const Box& box, std::vector<Shape> objects);
     void finishControlStep(const Counters& before, uint64_t recvs, size_t movedObjects);
@@ -125,6 +137,7 @@ private:
     bool nothingToDo() const;
     bool owesFrameBuffer() const { return pendingCount_ || !credit_.isZero(); }  // contributions or credit not yet sent
     int sideDir(int side) const { return dirOf(bal_.axis, side); }  // side -1 / +1 -> link direction
+    uint64_t waitingWork() const { return ownWork() + inputOrder_.arrivedBy(now_); }
     // The link direction towards the owner of job.t0, or -1 if it is ours.
     int route(const RayJob& job) const;
     void terminate(const Work& w, std::vector<RayJob>& spawned);
@@ -163,22 +176,10 @@ private:
     static constexpr size_t kSpareRayLists = 8;
     std::vector<std::vector<RayItem>> spareRays_;       // emptied ray lists, reused for sending
 
-    // Balancing state.
-    Picos nextInterval_ = 0, busyMark_ = 0, waitMark_ = 0;
-    struct Load {
-        double load;
-        Picos busy;
-        std::vector<Picos> histogram;  // own intervals only (work policy)
-    };
-    // Intervals are numbered by sequence (0, 1, ...) per node; a node decides
-    // on its boundary with a neighbour for sequence s only once it has both
-    // loads of s, and reports s + 1 to that neighbour only after deciding s.
-    int closed_ = 0;                              // intervals closed so far
-    std::map<int, Load> ownLoads_;                // by sequence
-    std::array<std::map<int, Load>, 2> reports_;  // [0]: lower neighbour's, [1]: upper's, by sequence
-    std::array<int, 2> decided_{-1, -1};          // last sequence decided, per side
-    std::array<int, 2> reported_{-1, -1};         // last sequence reported, per side
-    std::vector<Picos> histogram_;                // work along the axis, this interval
+    // Balancing (dynamic policies); made when the process starts, once the
+    // node knows which neighbours it has.
+    std::unique_ptr<BalanceAgent> balance_;
+    int columnLength_;
 
     std::vector<uint32_t> pixels_;
     size_t nextPixel_ = 0;

@@ -17,7 +17,10 @@ nlohmann::json costsJson(const Costs& c) {
 }
 
 nlohmann::json linkJson(const LinkParams& l) {
-    return {{"latency_ns", ns(l.latency)}, {"bandwidth_bytes_per_s", l.bandwidth}, {"depth", l.depth}};
+    return {{"latency_ns", ns(l.latency)},
+            {"bandwidth_bytes_per_s", l.bandwidth},
+            {"depth", l.depth},
+            {"control_depth", l.controlDepth}};
 }
 
 }  // namespace
@@ -43,10 +46,12 @@ nlohmann::json machineReport(const MachineResult& r, const MachineConfig& cfg) {
     c["quantum_ns"] = ns(cfg.quantum);
 
     const BalanceConfig& bc = cfg.balance;
-    c["balance"] = {{"policy", policyName(bc.policy)},  {"axis", std::string(1, "xyz"[bc.axis])},
-                    {"interval_ns", ns(bc.interval)},    {"gain", bc.gain},
+    c["balance"] = {{"policy", bc.policy},               {"axis", std::string(1, "xyz"[bc.axis])},
+                    {"interval_ns", ns(bc.interval)},    {"gain", bc.gainOf()},
                     {"deadband", bc.deadband},           {"min_thickness", bc.minThickness},
-                    {"bins", bc.bins},                   {"rebuild_cost_ns", ns(bc.rebuildCost)}};
+                    {"bins", bc.bins},                   {"rebuild_cost_ns", ns(bc.rebuildCost)},
+                    {"guard", bc.guard},                 {"max_age_intervals", bc.maxAge},
+                    {"guard_horizon_intervals", bc.horizon}, {"guard_hop_steps", bc.hopRatio}};
 
     j["render_time_ns"] = ns(r.renderTime);
     j["wall_s"] = r.wallSeconds;
@@ -79,9 +84,9 @@ nlohmann::json machineReport(const MachineResult& r, const MachineConfig& cfg) {
         n["slides_taken"] = s.slidesTaken;
         n["objects_sent"] = s.objectsSent;
         n["objects_received"] = s.objectsReceived;
-        if (!s.intervals.empty()) {
+        if (!s.balance.intervals.empty()) {
             auto& iv = n["intervals"];
-            for (const IntervalRecord& x : s.intervals) {
+            for (const IntervalRecord& x : s.balance.intervals) {
                 iv["end_ns"].push_back(ns(x.end));
                 iv["busy_ns"].push_back(ns(x.busy));
                 iv["wait_ns"].push_back(ns(x.wait));
@@ -165,6 +170,27 @@ nlohmann::json machineReport(const MachineResult& r, const MachineConfig& cfg) {
     j["balance"]["boundaries_converged"] = st.converged;
     j["balance"]["boundaries_oscillating"] = st.oscillating;
     j["balance"]["boundaries_diverging"] = st.diverging;
+    // The decisions, what the guard stopped, and how old the loads they used
+    // were (the older of the two, in intervals).
+    uint64_t decisions = 0, gives = 0, stale = 0, latency = 0, costly = 0;
+    std::vector<double> ages;
+    for (const NodeStats& s : r.nodes) {
+        decisions += s.balance.decisions;
+        gives += s.balance.gives;
+        stale += s.balance.skippedStale;
+        latency += s.balance.skippedLatency;
+        costly += s.balance.skippedCost;
+        ages.insert(ages.end(), s.balance.ages.begin(), s.balance.ages.end());
+    }
+    j["balance"]["decisions"] = decisions;
+    j["balance"]["guard_stale"] = stale;
+    j["balance"]["guard_latency"] = latency;
+    j["balance"]["guard_cost"] = costly;
+    if (!ages.empty()) {
+        std::sort(ages.begin(), ages.end());
+        const auto pct = [&](double p) { return ages[std::min(ages.size() - 1, size_t(p * double(ages.size())))]; };
+        j["balance"]["load_age_intervals"] = {{"median", pct(0.5)}, {"p95", pct(0.95)}, {"max", ages.back()}};
+    }
     return j;
 }
 

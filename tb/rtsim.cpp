@@ -121,9 +121,9 @@ void printSummary(const rt::Scene& scene, const rt::RtsimOptions& o, const rt::M
                 double(t["bytes"]["ray"].get<uint64_t>() + t["bytes"]["contributions"].get<uint64_t>() +
                        t["bytes"]["credit"].get<uint64_t>()) / 1e6);
     const char axis = "xyz"[o.machine.balance.axis];
-    if (o.machine.balance.policy != rt::Policy::None) {
+    if (o.machine.balance.policy != "none") {
         std::printf("  balancing        %s along %c: %zu slides; max / mean load %.2f; boundaries %s\n",
-                    rt::policyName(o.machine.balance.policy), axis, report["balance"]["slides"].get<size_t>(),
+                    o.machine.balance.policy.c_str(), axis, report["balance"]["slides"].get<size_t>(),
                     report["balance"]["max_over_mean_load"].get<double>(),
                     report["balance"]["stability"].get<std::string>().c_str());
         const auto& b = report["bounds"];
@@ -181,7 +181,7 @@ int sc_main(int argc, char** argv) {
         // The reference runs, in two child processes at once: the 1x1x1 mesh
         // (the speed-up), and the same frame balanced the other way (with the
         // default policy if this run does not balance, without otherwise).
-        const rt::Policy policy = o.machine.balance.policy;
+        const std::string policy = o.machine.balance.policy;
         const bool compare = o.baseline && o.machine.dims[size_t(o.machine.balance.axis)] > 1;
         std::optional<nlohmann::json> base, other;
         const auto t0 = std::chrono::steady_clock::now();
@@ -189,7 +189,7 @@ int sc_main(int argc, char** argv) {
         if (o.baseline && !single) baseRun = std::thread([&] { base = childReport(argc, argv, {"--as-baseline"}); });
         if (compare)
             otherRun = std::thread([&] {
-                other = childReport(argc, argv, {"--as-comparison", "--balance", policy == rt::Policy::None ? "default" : "none"});
+                other = childReport(argc, argv, {"--as-comparison", "--balance", policy == "none" ? "default" : "none"});
             });
         if (baseRun.joinable()) baseRun.join();
         if (otherRun.joinable()) otherRun.join();
@@ -204,8 +204,8 @@ int sc_main(int argc, char** argv) {
         }
         if (compare && !other) std::cerr << "rtsim: warning: the balancing comparison run failed; no ratio\n";
         if (other) {
-            const nlohmann::json& balanced = policy == rt::Policy::None ? *other : report;
-            const nlohmann::json& unbalanced = policy == rt::Policy::None ? report : *other;
+            const nlohmann::json& balanced = policy == "none" ? *other : report;
+            const nlohmann::json& unbalanced = policy == "none" ? report : *other;
             report["comparison"] = {
                 {"balanced_policy", balanced["config"]["balance"]["policy"]},
                 {"balanced_ns", balanced["render_time_ns"]},

@@ -1,5 +1,7 @@
 #include "rtsim_cli.h"
 
+#include "policy.h"
+
 #include <sstream>
 
 namespace rt {
@@ -101,6 +103,9 @@ void RtsimOptions::addTo(CLI::App& app) {
         ->default_str("1GB/s")->group(gl);
     app.add_option("--link-depth", m.link.depth, "messages a link holds before back-pressure")
         ->check(CLI::Range(1, 1000000))->capture_default_str()->group(gl);
+    app.add_option("--link-control-depth", m.link.controlDepth,
+                   "slots of the links' control lane (load reports, slides, acks ahead of rays); 0: no lane, one FIFO")
+        ->check(CLI::Range(0, 1000000))->capture_default_str()->group(gl);
     app.add_option("--link-set", linkSpecs_, "one link: x,y,z,DIR:latency=T,bandwidth=R,depth=N (DIR +x -x +y -y +z -z; any subset; repeatable)")
         ->group(gl);
     app.add_option("--fb-units", m.fbUnits,
@@ -117,25 +122,40 @@ void RtsimOptions::addTo(CLI::App& app) {
 
     const std::string gb = "Balancing (sliding boundaries)";
     BalanceConfig& b = m.balance;
-    app.add_option_function<std::string>("--balance", [&b](const std::string& s) {
-           if (s == "none") b.policy = Policy::None;
-           else if (s == "slide") b.policy = Policy::Slide;
-           else if (s == "work") b.policy = Policy::Work;
-           else if (s == "median") b.policy = Policy::Median;
-           else if (s == "default") b.policy = kDefaultPolicy;
-           else throw CLI::ValidationError("--balance", "expected none, default, slide, work or median, got '" + s + "'");
-       }, std::string("policy: none; slide (the paper: step proportional to the load difference); work (from the giver's "
-                      "work histogram); median (static object-median split); default (the recommended one: ") +
-              policyName(kDefaultPolicy) + ")")
+    std::string policyHelp = "policy: default (the recommended one: " + std::string(kDefaultPolicy) + ")";
+    std::string names = "default";
+    for (const PolicyInfo& p : policies()) {
+        policyHelp += std::string("; ") + p.name + " (" + p.help + ")";
+        names += std::string(", ") + p.name;
+    }
+    app.add_option_function<std::string>("--balance", [&b, names](const std::string& s) {
+           if (s == "default") b.policy = kDefaultPolicy;
+           else if (findPolicy(s)) b.policy = s;
+           else throw CLI::ValidationError("--balance", "expected " + names + ", got '" + s + "'");
+       }, policyHelp)
         ->default_str("none")->group(gb);
     addTime(app, "--balance-interval", b.interval, "time between load reports", gb);
-    app.add_option("--gain", b.gain, "slide: step = gain x load difference x thickness; work: share of the busy-time gap moved")
-        ->check(CLI::PositiveNumber)->capture_default_str()->group(gb);
+    app.add_option("--gain", b.gain,
+                   "slide: step = gain x load difference x thickness; work: share of the busy-time gap moved; "
+                   "quantile: share of the way to the target")
+        ->check(CLI::NonNegativeNumber)->default_str("0: the policy's, slide and work 0.25, quantile 0.5")->group(gb);
     app.add_option("--deadband", b.deadband, "no slide while the load difference is at most this")
         ->check(CLI::Range(0.0, 0.999))->capture_default_str()->group(gb);
     app.add_option("--min-thickness", b.minThickness, "guard: a box keeps at least this fraction of its initial thickness")
         ->check(CLI::Range(1e-6, 1.0))->capture_default_str()->group(gb);
-    app.add_option("--bins", b.bins, "work policy: histogram bins along the axis")->check(CLI::Range(1, 4096))->capture_default_str()->group(gb);
+    app.add_flag("!--no-guard", b.guard,
+                 "no guard: slide on loads however old, and whatever the slide costs against the work it moves")
+        ->group(gb);
+    app.add_option("--max-age", b.maxAge, "guard: no slide on loads older than this many intervals")
+        ->check(CLI::Range(0.0, 1e9))->capture_default_str()->group(gb);
+    app.add_option("--guard-hop", b.hopRatio,
+                   "guard: no slide while a ray's hop to the neighbour (latency + wire) takes longer than this many "
+                   "of the giver's mean ray steps")
+        ->check(CLI::Range(0.0, 1e9))->capture_default_str()->group(gb);
+    app.add_option("--guard-horizon", b.horizon,
+                   "guard: no slide that costs more than the work it moves over this many intervals")
+        ->check(CLI::Range(0.0, 1e9))->capture_default_str()->group(gb);
+    app.add_option("--bins", b.bins, "work profile: bins per box thickness along the axis")->check(CLI::Range(1, 4096))->capture_default_str()->group(gb);
     addTime(app, "--cost-rebuild", b.rebuildCost, "updating a node's grid, per object moved in or out", gb);
 
     app.add_option("--image", image, "output PNG")->capture_default_str()->group(go);
@@ -170,7 +190,7 @@ void RtsimOptions::finish() {
         nodeCostSpecs_.clear();
         linkSpecs_.clear();
         m.nodeSpeed.clear();
-        m.balance.policy = Policy::None;  // one node has no boundary to slide
+        m.balance.policy = "none";  // one node has no boundary to slide
     }
     // (asComparison: the same machine and frame; the caller sets --balance.)
     if (!meshDims.empty()) {
@@ -216,7 +236,11 @@ void RtsimOptions::finish() {
             else if (key == "depth") {
                 std::istringstream in(val);
                 if (!(in >> p.depth) || !in.eof() || p.depth < 1) throw CLI::ValidationError("--link-set", "depth must be a positive integer, got '" + val + "'");
-            } else throw CLI::ValidationError("--link-set", "unknown setting '" + key + "' (latency, bandwidth, depth)");
+            } else if (key == "control_depth") {
+                std::istringstream in(val);
+                if (!(in >> p.controlDepth) || !in.eof() || p.controlDepth < 0)
+                    throw CLI::ValidationError("--link-set", "control_depth must be a non-negative integer, got '" + val + "'");
+            } else throw CLI::ValidationError("--link-set", "unknown setting '" + key + "' (latency, bandwidth, depth, control_depth)");
         }
         m.linkOverride[{c, dir}] = p;
     }

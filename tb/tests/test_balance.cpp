@@ -1,12 +1,14 @@
-// Sliding boundaries: the policies' guards on their own, and whole runs under
-// every policy: image identity and conservation at many intervals with
-// randomized links, guards on pathological scenes, a slow node getting a
-// thinner box, and the default settings in the stable region.
+// Sliding boundaries in whole runs under every policy: image identity and
+// conservation at many intervals with randomized links, guards on
+// pathological scenes, a slow node getting a thinner box, the default
+// settings in the stable region, and balancing that never hurts where the
+// paper's rule used to (slow links, spheres everywhere, the view across the
+// axis). The policies' decisions and the protocol on their own:
+// test_policies.cpp.
 #include <random>
 
 #include <gtest/gtest.h>
 
-#include "balancer.h"
 #include "machine.h"
 #include "renderer.h"
 #include "scenes.h"
@@ -15,25 +17,6 @@
 using namespace rt;
 
 namespace {
-
-SlideQuery query(double ownLoad, double otherLoad, bool upper = true) {
-    SlideQuery q;
-    q.own = Box{Vec3(0.0), Vec3(1.0)};
-    q.axis = 0;
-    q.upper = upper;
-    q.ownLoad = ownLoad;
-    q.otherLoad = otherLoad;
-    q.minThickness = 0.1;
-    return q;
-}
-
-BalanceConfig policy(Policy p, double gain = 0.5) {
-    BalanceConfig b;
-    b.policy = p;
-    b.gain = gain;
-    b.deadband = 0.05;
-    return b;
-}
 
 // Every node's box, from a run's result, against the guards.
 void expectGuards(const MachineResult& r, const MachineConfig& c, const Box& world) {
@@ -75,47 +58,6 @@ Scene crowded(double f, int spheres = 400, double radius = 0.03, int axis = 0) {
 
 }  // namespace
 
-// ---- The policies' decisions ----
-
-TEST(Decide, DeadBandAndOnlyTheHeavierGives) {
-    const BalanceConfig b = policy(Policy::Slide);
-    EXPECT_FALSE(decideSlide(b, query(0.54, 0.5)));  // inside the dead band
-    EXPECT_FALSE(decideSlide(b, query(0.5, 0.9)));   // lighter: never gives
-    const auto x = decideSlide(b, query(0.9, 0.5));
-    ASSERT_TRUE(x);
-    EXPECT_NEAR(*x, 1.0 - 0.5 * 0.4 * 1.0, 1e-12);  // upper face moves down by gain x difference x thickness
-    const auto y = decideSlide(b, query(0.9, 0.5, false));
-    ASSERT_TRUE(y);
-    EXPECT_NEAR(*y, 0.2, 1e-12);  // lower face moves up
-}
-
-TEST(Decide, NeverBelowMinimumThicknessEvenAfterGivingOnTheOtherSide) {
-    const BalanceConfig b = policy(Policy::Slide, 10.0);  // a huge step
-    SlideQuery q = query(1.0, 0.0);
-    const auto x = decideSlide(b, q);
-    ASSERT_TRUE(x);
-    EXPECT_NEAR(*x, 0.1, 1e-12);  // clamped: exactly the minimum is left
-    q.own.hi.x = *x;  // the box already gave that much on its upper side
-    q.upper = false;
-    EXPECT_FALSE(decideSlide(b, q));  // nothing left to give on the lower side
-}
-
-TEST(Decide, WorkPolicyShedsFromTheBinsNextToTheBoundary) {
-    BalanceConfig b = policy(Policy::Work, 1.0);
-    SlideQuery q = query(1.0, 0.2);
-    q.histogram = {0, 0, 0, 0, 0, 0, 0, 100, 100, 800};  // work piled at the upper end
-    q.ownBusy = 1000;
-    q.otherBusy = 200;  // shed (1000 - 200) / 2 = 400: half of the top bin
-    const auto x = decideSlide(b, q);
-    ASSERT_TRUE(x);
-    EXPECT_NEAR(*x, 1.0 - 0.1 * 0.5, 1e-12);
-    q.upper = false;  // from the lower end: bins 0-8 go (200 of work), then a quarter of bin 9: 0.925,
-    const auto y = decideSlide(b, q);  // more than the guard allows: clamped to leave the minimum, 0.1
-    ASSERT_TRUE(y);
-    EXPECT_NEAR(*y, 0.9, 1e-12);
-    EXPECT_FALSE(decideSlide(policy(Policy::Median), q));  // static policy: no slides
-}
-
 // ---- Whole runs ----
 
 // The scenes of the whole-run tests: an SPD file, or the crowded procedural scene.
@@ -123,13 +65,14 @@ static Scene balancingScene(const std::string& name) { return name == "procedura
 
 // A 3x3x3 mesh at 40x40 under `p`, with large steps (gain 1): many slides
 // while rays are in flight.
-static MachineConfig slidingMesh(Policy p, Picos interval) {
+static MachineConfig slidingMesh(const std::string& p, Picos interval) {
     MachineConfig c;
     c.dims = {3, 3, 3};
     c.width = c.height = 40;
     c.balance.policy = p;
     c.balance.interval = interval;
     c.balance.gain = 1.0;
+    c.balance.guard = false;  // slides on every link, however slow: these runs are about the handover
     return c;
 }
 
@@ -149,16 +92,16 @@ static void randomLinks(MachineConfig& c, uint64_t seed) {
                     Cell m{x, y, z};
                     m[dirAxis(d)] += dirStep(d);
                     if (m[dirAxis(d)] < 0 || m[dirAxis(d)] > 2) continue;
-                    c.linkOverride[{{x, y, z}, d}] = LinkParams{Picos(1000 + rng() % 3000000), 1e8 * double(1 + rng() % 20), int(1 + rng() % 3)};
+                    { LinkParams lp{Picos(1000 + rng() % 3000000), 1e8 * double(1 + rng() % 20), int(1 + rng() % 3)}; c.linkOverride[{{x, y, z}, d}] = lp; }
                 }
 }
 
 struct Case {
     std::string scene;
-    Policy policy;
+    std::string policy;
     Picos interval;
 };
-void PrintTo(const Case& c, std::ostream* os) { *os << c.scene << " " << policyName(c.policy) << " " << c.interval << "ps"; }
+void PrintTo(const Case& c, std::ostream* os) { *os << c.scene << " " << c.policy << " " << c.interval << "ps"; }
 
 class PolicyIdentity : public testing::TestWithParam<Case> {};
 
@@ -166,7 +109,7 @@ TEST_P(PolicyIdentity, ImageConservationGuardsUnderRandomLinks) {
     const Case& k = GetParam();
     const Scene s = balancingScene(k.scene);
     MachineConfig c = slidingMesh(k.policy, k.interval);
-    randomLinks(c, k.interval + 17 * int(k.policy));
+    randomLinks(c, k.interval + 17 * k.policy.size());
     const MachineResult r = runAndCompare(s, c);
     if (c.balance.dynamic()) {
         EXPECT_GT(slidesIn(r), 0u);
@@ -176,13 +119,13 @@ TEST_P(PolicyIdentity, ImageConservationGuardsUnderRandomLinks) {
 static std::vector<Case> policyCases() {
     std::vector<Case> v;
     for (const char* s : {"balls-3", "procedural"})
-        for (Policy p : {Policy::Slide, Policy::Work, Policy::Median})
+        for (const char* p : {"slide", "work", "quantile", "median"})
             for (Picos iv : {Picos(700000), Picos(3000000), Picos(20000000)}) v.push_back({s, p, iv});
     return v;
 }
 
 INSTANTIATE_TEST_SUITE_P(All, PolicyIdentity, testing::ValuesIn(policyCases()), [](const testing::TestParamInfo<Case>& i) {
-    std::string n = i.param.scene + "_" + policyName(i.param.policy) + "_" + std::to_string(i.param.interval / 1000) + "ns";
+    std::string n = i.param.scene + "_" + i.param.policy + "_" + std::to_string(i.param.interval / 1000) + "ns";
     n.erase(std::remove(n.begin(), n.end(), '-'), n.end());
     return n;
 });
@@ -193,12 +136,12 @@ INSTANTIATE_TEST_SUITE_P(All, PolicyIdentity, testing::ValuesIn(policyCases()), 
 // differ between modes; the image and conservation may not.
 struct Fidelity {
     std::string scene;
-    Policy policy;
+    std::string policy;
     Picos quantum;
     int rayBatch;
 };
 void PrintTo(const Fidelity& f, std::ostream* os) {
-    *os << f.scene << " " << policyName(f.policy) << " q=" << f.quantum << "ps k=" << f.rayBatch;
+    *os << f.scene << " " << f.policy << " q=" << f.quantum << "ps k=" << f.rayBatch;
 }
 
 class FidelityModes : public testing::TestWithParam<Fidelity> {};
@@ -217,7 +160,7 @@ TEST_P(FidelityModes, ImageIdenticalWhileBoundariesSlide) {
 static std::vector<Fidelity> fidelityCases() {
     std::vector<Fidelity> v;
     for (const char* s : {"balls-3", "procedural"})
-        for (Policy p : {Policy::Slide, Policy::Work})
+        for (const char* p : {"slide", "work", "quantile"})
             for (Picos q : {Picos(1000), Picos(5000000), Picos(100000000)})  // 1 ns (the smallest latency), 5 us, 100 us
                 for (int k : {1, 16}) v.push_back({s, p, q, k});
     return v;
@@ -225,13 +168,13 @@ static std::vector<Fidelity> fidelityCases() {
 
 INSTANTIATE_TEST_SUITE_P(All, FidelityModes, testing::ValuesIn(fidelityCases()),
                          [](const testing::TestParamInfo<Fidelity>& i) {
-                             std::string n = i.param.scene + "_" + policyName(i.param.policy) + "_q" +
+                             std::string n = i.param.scene + "_" + i.param.policy + "_q" +
                                              std::to_string(i.param.quantum / 1000) + "ns_k" + std::to_string(i.param.rayBatch);
                              n.erase(std::remove(n.begin(), n.end(), '-'), n.end());
                              return n;
                          });
 
-class Pathological : public testing::TestWithParam<Policy> {
+class Pathological : public testing::TestWithParam<std::string> {
 protected:
     MachineConfig config() const {
         MachineConfig c;
@@ -277,16 +220,17 @@ TEST_P(Pathological, SpheresCentredOnBoundaryPlanes) {
     runAndCompare(s, config());
 }
 
-INSTANTIATE_TEST_SUITE_P(Policies, Pathological, testing::Values(Policy::Slide, Policy::Work, Policy::Median),
-                         [](const testing::TestParamInfo<Policy>& i) { return std::string(policyName(i.param)); });
+INSTANTIATE_TEST_SUITE_P(Policies, Pathological, testing::Values("slide", "work", "quantile", "median"),
+                         [](const testing::TestParamInfo<std::string>& i) { return i.param; });
 
 TEST(Balance, SlowNodeGetsAThinnerBox) {
     const Scene s = crowded(1.0, 1500, 0.015);  // uniform load
     MachineConfig c;
     c.dims = {3, 1, 1};
     c.width = c.height = 64;
-    c.balance.policy = Policy::Work;
+    c.balance.policy = "work";
     c.balance.interval = 5000000;
+    c.balance.guard = false;  // the policy's response on its own
     c.nodeSpeed[{1, 0, 0}] = 0.25;
     const MachineResult r = runAndCompare(s, c);
     const double initial = s.worldBox().extent().x / 3;
@@ -301,7 +245,7 @@ TEST(Balance, DefaultSettingsAreStable) {
     const Scene s = crowded(0.25, 1000, 0.02);
     MachineConfig c;  // default gain, interval, dead band
     c.width = c.height = 128;
-    c.balance.policy = Policy::Slide;
+    c.balance.policy = "slide";
     const MachineResult r = runMachine(s, c);
     const StabilityVerdict v = judgeStability(r.boundaries, r.renderTime, s.worldBox().extent().x / 4);
     EXPECT_EQ(v.overall, Stability::Converged) << v.oscillating << " oscillating, " << v.diverging << " diverging";
@@ -336,8 +280,9 @@ TEST(Balance, ContributionsNeverTrailTheCredit) {
     const Scene s = makeProceduralScene(p);
     MachineConfig c;
     c.width = c.height = 128;
-    c.balance.policy = Policy::Slide;
+    c.balance.policy = "slide";
     c.balance.interval = 1000000;
     c.balance.gain = 0.5;
     runAndCompare(s, c);
 }
+

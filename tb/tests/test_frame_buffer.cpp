@@ -45,13 +45,13 @@ void expectConserved(const MachineResult& r, const Expected& e) {
 
 struct Case {
     int units, n;
-    Policy policy;
+    std::string policy;
 };
-void PrintTo(const Case& c, std::ostream* os) { *os << c.units << " units, N=" << c.n << ", " << policyName(c.policy); }
+void PrintTo(const Case& c, std::ostream* os) { *os << c.units << " units, N=" << c.n << ", " << c.policy; }
 
 // Random link, port, batch and cost settings, fixed by the case.
 MachineConfig randomized(const Case& k) {
-    std::mt19937_64 rng(uint64_t(7919 * k.units + 31 * k.n + int(k.policy)));
+    std::mt19937_64 rng(uint64_t(7919 * k.units + 31 * k.n + uint64_t(k.policy[0])));
     MachineConfig c;
     const int n = k.n;
     c.dims = {n, n, n};
@@ -98,14 +98,14 @@ static std::vector<Case> identityCases() {
     std::vector<Case> v;
     for (int units : {1, 3, 16})
         for (int n = 1; n <= 8; ++n)
-            for (Policy p : {Policy::None, Policy::Slide, Policy::Work, Policy::Median}) v.push_back({units, n, p});
+            for (const char* p : {"none", "slide", "work", "quantile", "median"}) v.push_back({units, n, p});
     return v;
 }
 
 INSTANTIATE_TEST_SUITE_P(All, FrameBufferIdentity, testing::ValuesIn(identityCases()),
                          [](const testing::TestParamInfo<Case>& i) {
                              return std::to_string(i.param.units) + "units_N" + std::to_string(i.param.n) + "_" +
-                                    policyName(i.param.policy);
+                                    i.param.policy;
                          });
 
 // ---- The end of the frame and back-pressure, against closed forms ----

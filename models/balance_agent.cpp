@@ -1,0 +1,159 @@
+#include "balance_agent.h"
+
+#include <algorithm>
+#include <stdexcept>
+
+namespace rt {
+
+BalanceAgent::BalanceAgent(const BalanceConfig& cfg, BalanceHost& host, const Box& world, int index, int count,
+                           bool lower, bool upper, double minThickness)
+    : cfg_(cfg), host_(host), index_(index), count_(count), minThickness_(minThickness), next_(cfg.interval) {
+    const PolicyInfo* p = findPolicy(cfg.policy);
+    if (!p || !p->make) throw std::logic_error("balance agent: '" + cfg.policy + "' is not a dynamic policy");
+    policy_ = p->make();
+    sides_[0].present = lower;
+    sides_[1].present = upper;
+    WorkProfile empty;
+    empty.lo = world.lo[cfg.axis];
+    empty.hi = world.hi[cfg.axis];
+    empty.bins.assign(size_t(std::max(1, cfg.bins * count)), 0.0);
+    for (Side& s : sides_) s.span.profile = s.sentProfile = empty;
+}
+
+void BalanceAgent::recordStep(double where, Picos cost) {
+    for (Side& s : sides_) {
+        if (!s.present) continue;
+        s.span.profile.add(where, double(cost));
+        s.span.stepCost += cost;
+        ++s.span.steps;
+    }
+}
+
+void BalanceAgent::closeInterval(Picos now, Picos busyTotal, Picos waitTotal, uint64_t waiting) {
+    const Picos busy = busyTotal - busyMark_, waited = waitTotal - waitMark_;
+    stats_.intervals.push_back({now, busy, waited});
+    busyMark_ = busyTotal;
+    waitMark_ = waitTotal;
+    lastEnd_ = now;
+    waiting_ = waiting;
+    // The next interval boundary after now (a long step may have spanned several).
+    next_ = (now / cfg_.interval + 1) * cfg_.interval;
+    for (Side& s : sides_) {
+        s.span.busy += busy;
+        s.span.wait += waited;
+        s.span.end = now;
+        s.fresh = true;
+    }
+    for (int i : {0, 1})
+        if (sides_[i].present) advance(i, now);
+}
+
+void BalanceAgent::onReport(int side, const Message& m, Picos now) {
+    const int i = side > 0;
+    Side& s = sides_[i];
+    if (m.interval > s.reported + 1 || m.interval <= s.decided || s.got.count(m.interval))
+        throw std::logic_error("balance agent: report for round " + std::to_string(m.interval) + " out of lockstep");
+    s.got[m.interval] = LoadSample{Picos(m.end), Picos(m.busy), Picos(m.wait), Picos(m.backlog), m.sum};
+    s.neighbourSum = m.sum;
+    advance(i, now);
+}
+
+// Lockstep: report round r once r - 1 is decided (and an interval has closed
+// since the last report), decide r once both reports of r are here. A slide
+// given when deciding r leaves before the report of r + 1 on the same FIFO
+// lane, so the neighbour has the slab before it decides r + 1: the two never
+// give across one boundary at once, and each decides with its box up to date.
+void BalanceAgent::advance(int i, Picos now) {
+    Side& s = sides_[i];
+    for (;;) {
+        if (s.reported == s.decided && s.fresh) {
+            report(i);
+            continue;
+        }
+        if (s.reported > s.decided && s.got.count(s.reported)) {
+            decide(i, now);
+            continue;
+        }
+        return;
+    }
+}
+
+void BalanceAgent::report(int i) {
+    Side& s = sides_[i];
+    LoadSample l;
+    l.end = s.span.end;
+    l.busy = s.span.busy;
+    l.wait = s.span.wait;
+    l.backlog = s.span.steps ? Picos(double(waiting_) * double(s.span.stepCost) / double(s.span.steps)) : 0;
+    // The column's demand from the far end through this node: what the other
+    // side last said, plus this node's own.
+    const Side& other = sides_[1 - i];
+    l.sum = (other.present ? other.neighbourSum : 0.0) + l.demand();
+    s.sent = l;
+    s.sentMeanStep = s.span.steps ? Picos(s.span.stepCost / s.span.steps) : 0;
+    std::swap(s.sentProfile, s.span.profile);
+    s.span.profile.clear();
+    s.span.busy = s.span.wait = s.span.stepCost = 0;
+    s.span.steps = 0;
+    s.fresh = false;
+    ++s.reported;
+    Message m;
+    m.type = MsgType::LoadReport;
+    m.interval = s.reported;
+    m.end = l.end;
+    m.busy = l.busy;
+    m.wait = l.wait;
+    m.backlog = l.backlog;
+    m.sum = l.sum;
+    host_.sendReport(sideOf(i), std::move(m));
+}
+
+void BalanceAgent::decide(int i, Picos now) {
+    Side& s = sides_[i];
+    const LoadSample theirs = s.got.at(s.reported);
+    s.got.erase(s.reported);
+    s.decided = s.reported;
+    ++stats_.decisions;
+    const Picos oldest = std::min(s.sent.end, theirs.end);
+    const double age = double(now - std::min(now, oldest)) / double(cfg_.interval);
+    stats_.ages.push_back(age);
+    SlideQuery q;
+    q.own = host_.box();
+    q.axis = cfg_.axis;
+    q.upper = i == 1;
+    q.mine = s.sent;
+    q.theirs = theirs;
+    q.profile = &s.sentProfile;
+    q.index = index_;
+    q.count = count_;
+    q.minThickness = minThickness_;
+    const std::optional<double> b = policy_->decide(cfg_, q);
+    if (!b) return;
+    if (cfg_.guard) {
+        if (age > cfg_.maxAge) {
+            ++stats_.skippedStale;
+            return;
+        }
+        if (double(host_.hopTime(sideOf(i))) > cfg_.hopRatio * double(s.sentMeanStep)) {
+            ++stats_.skippedLatency;
+            return;
+        }
+        // What the slide returns: the slab's share of this node's work (by
+        // the work recorded there, or its thickness if none was) over the
+        // guard's horizon, and of the work waiting now.
+        const double lo = q.own.lo[q.axis], hi = q.own.hi[q.axis];
+        const double a = q.upper ? *b : lo, z = q.upper ? hi : *b;
+        const double inBox = s.sentProfile.within(lo, hi);
+        const double share = inBox > 0 ? s.sentProfile.within(a, z) / inBox : (z - a) / (hi - lo);
+        const double returns =
+            share * (q.mine.load() * double(cfg_.interval) * cfg_.horizon + double(q.mine.backlog));
+        if (double(host_.slabCost(sideOf(i), *b)) > returns) {
+            ++stats_.skippedCost;
+            return;
+        }
+    }
+    ++stats_.gives;
+    host_.giveSlab(sideOf(i), *b);
+}
+
+}  // namespace rt

@@ -1,0 +1,116 @@
+// The balancing protocol of one node (doc/balancing.md): intervals, rounds
+// of load reports with each column neighbour, the policy's decision, the
+// guard, and the ages of the loads decisions used. The node drives it (at
+// the end of each interval, on each report) and does what it asks through
+// BalanceHost: send a report, give a slab.
+//
+// Rounds. With each neighbour a node runs in lockstep: it sends its report
+// for round r only once it has decided round r - 1, and decides round r
+// once it has both reports of r. A report covers the node's intervals closed
+// since its last report to that neighbour, so when reports take longer than
+// an interval to cross, rounds span several intervals instead of queueing
+// up behind each other: a decision always uses the newest loads.
+//
+// The guard (every policy): no slide
+//  - on loads older than maxAge intervals (slow or saturated links);
+//  - when a ray's hop to the neighbour (latency and wire time) takes longer
+//    than its mean step: a thinner box adds a hop to the rays that cross
+//    it, and when hops dominate, the frame is set by the rays' paths, not
+//    by the nodes' work (measured: doc/balancing.md, "The guard");
+//  - that costs more (handling, grid updates, the slab's time on the link)
+//    than the work it moves off the giver over the next `horizon` intervals
+//    (a load already even, a frame about to end: little work left).
+#pragma once
+#include <array>
+#include <map>
+#include <memory>
+#include <vector>
+
+#include "box.h"
+#include "machine_config.h"
+#include "message.h"
+#include "policy.h"
+
+namespace rt {
+
+// Busy and wait time of one balancing interval, ending at `end`.
+struct IntervalRecord {
+    Picos end, busy, wait;
+};
+
+struct BalanceStats {
+    std::vector<IntervalRecord> intervals;
+    std::vector<double> ages;  // per decision: the age of the older of its two loads, in intervals
+    uint64_t decisions = 0, gives = 0, skippedStale = 0, skippedLatency = 0, skippedCost = 0;
+};
+
+class BalanceHost {
+public:
+    virtual ~BalanceHost() = default;
+    virtual const Box& box() const = 0;
+    // Sends a report to the column neighbour on `side` (-1 lower, +1 upper) and charges it.
+    virtual void sendReport(int side, Message m) = 0;
+    // Gives the slab between the face on `side` and `boundary`, with its objects.
+    virtual void giveSlab(int side, double boundary) = 0;
+    // What giving that slab would cost: handling and grid updates on both
+    // nodes and its time on the link.
+    virtual Picos slabCost(int side, double boundary) const = 0;
+    // How long one ray takes to reach that neighbour: the link's latency and
+    // a ray message's time on the wire.
+    virtual Picos hopTime(int side) const = 0;
+};
+
+class BalanceAgent {
+public:
+    // `index` of `count`: the node's place along its column; `lower`/`upper`:
+    // whether it has a neighbour there.
+    BalanceAgent(const BalanceConfig& cfg, BalanceHost& host, const Box& world, int index, int count, bool lower,
+                 bool upper, double minThickness);
+
+    bool due(Picos now) const { return now >= next_; }
+    Picos nextClose() const { return next_; }
+    // A ray step: its cost, and where along the axis its work happened.
+    void recordStep(double where, Picos cost);
+    // The interval ends at `now`: the node's busy and wait totals, and the
+    // rays and primaries waiting in it.
+    void closeInterval(Picos now, Picos busyTotal, Picos waitTotal, uint64_t waiting);
+    // A neighbour's report arrived (at the node's time `now`).
+    void onReport(int side, const Message& m, Picos now);
+
+    const BalanceStats& stats() const { return stats_; }
+
+private:
+    struct Span {  // since the last report to one side
+        Picos busy = 0, wait = 0, stepCost = 0, end = 0;
+        uint64_t steps = 0;
+        WorkProfile profile;
+    };
+    struct Side {
+        bool present = false;
+        Span span;
+        bool fresh = false;           // an interval closed since the last report
+        int reported = -1, decided = -1;
+        LoadSample sent;              // this round's sample, as reported
+        WorkProfile sentProfile;      // and the work behind it
+        Picos sentMeanStep = 0;       // and its mean cost per ray step
+        std::map<int, LoadSample> got;  // the neighbour's, by round
+        double neighbourSum = 0;      // the newest column sum from that side
+    };
+    void advance(int i, Picos now);
+    void report(int i);
+    void decide(int i, Picos now);
+    static int sideOf(int i) { return i ? +1 : -1; }
+
+    const BalanceConfig& cfg_;
+    BalanceHost& host_;
+    std::unique_ptr<BalancePolicy> policy_;
+    int index_, count_;
+    double minThickness_;
+    Picos next_;
+    Picos busyMark_ = 0, waitMark_ = 0, lastEnd_ = 0;
+    uint64_t waiting_ = 0;
+    std::array<Side, 2> sides_;  // [0]: lower neighbour, [1]: upper
+    BalanceStats stats_;
+};
+
+}  // namespace rt

@@ -1,0 +1,30 @@
+// The balancing policies by name: one line each.
+#include "policy.h"
+
+namespace rt {
+
+std::unique_ptr<BalancePolicy> makeSlidePolicy();
+std::unique_ptr<BalancePolicy> makeWorkPolicy();
+std::unique_ptr<BalancePolicy> makeQuantilePolicy();
+
+const std::vector<PolicyInfo>& policies() {
+    static const std::vector<PolicyInfo> all = {
+        {"none", "boundaries stay where they start", PolicyKind::None, 0.0, nullptr},
+        {"slide", "the paper: the heavier node moves its face by gain x load difference x thickness", PolicyKind::Dynamic,
+         0.25, makeSlidePolicy},
+        {"work", "the heavier node sheds gain x half the busy-time gap from its work next to the boundary",
+         PolicyKind::Dynamic, 0.25, makeWorkPolicy},
+        {"quantile", "each boundary moves gain of the way to its quantile of the column's demand (work done and waiting)",
+         PolicyKind::Dynamic, 0.5, makeQuantilePolicy},
+        {"median", "a static split at the object-median, no messages", PolicyKind::Static, 0.0, nullptr},
+    };
+    return all;
+}
+
+const PolicyInfo* findPolicy(const std::string& name) {
+    for (const PolicyInfo& p : policies())
+        if (name == p.name) return &p;
+    return nullptr;
+}
+
+}  // namespace rt

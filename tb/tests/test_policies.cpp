@@ -1,0 +1,332 @@
+// The balancing protocol on its own: each policy's decisions, the work
+// profile they cut from, the agent's rounds in lockstep with a neighbour,
+// the guard, and the links' control lane, all against values worked out by
+// hand in the tests (no machine run).
+#include <gtest/gtest.h>
+
+#include "balance_agent.h"
+#include "link.h"
+#include "policy.h"
+
+using namespace rt;
+
+namespace {
+
+constexpr Picos us = 1000000;
+
+SlideQuery query(double ownLoad, double otherLoad, bool upper = true) {
+    SlideQuery q;
+    q.own = Box{Vec3(0.0), Vec3(1.0)};
+    q.axis = 0;
+    q.upper = upper;
+    q.mine.busy = Picos(ownLoad * 1000);
+    q.mine.wait = 1000 - q.mine.busy;
+    q.theirs.busy = Picos(otherLoad * 1000);
+    q.theirs.wait = 1000 - q.theirs.busy;
+    q.minThickness = 0.1;
+    return q;
+}
+
+BalanceConfig config(const std::string& p, double gain = 0.5) {
+    BalanceConfig b;
+    b.policy = p;
+    b.gain = gain;
+    b.deadband = 0.05;
+    return b;
+}
+
+std::optional<double> decide(const BalanceConfig& b, const SlideQuery& q) { return findPolicy(b.policy)->make()->decide(b, q); }
+
+WorkProfile profile(std::vector<double> bins) {
+    WorkProfile p;
+    p.lo = 0;
+    p.hi = 1;
+    p.bins = std::move(bins);
+    return p;
+}
+
+}  // namespace
+
+TEST(Registry, EveryPolicyHasANameAndDynamicOnesAMaker) {
+    for (const PolicyInfo& p : policies()) {
+        EXPECT_EQ(findPolicy(p.name), &p);
+        EXPECT_EQ(p.kind == PolicyKind::Dynamic, p.make != nullptr) << p.name;
+    }
+    EXPECT_EQ(findPolicy("nonsense"), nullptr);
+    EXPECT_TRUE(config("quantile").dynamic());
+    EXPECT_FALSE(config("median").dynamic());
+    BalanceConfig b = config("quantile", 0);
+    EXPECT_EQ(b.gainOf(), 0.5);  // the policy's default
+}
+
+TEST(WorkProfile, WithinAndCutByHand) {
+    const WorkProfile p = profile({0, 0, 0, 0, 0, 0, 0, 100, 100, 800});  // bins of 0.1
+    EXPECT_NEAR(p.within(0.0, 1.0), 1000, 1e-9);
+    EXPECT_NEAR(p.within(0.85, 1.0), 50 + 800, 1e-9);  // half of bin 8, all of bin 9
+    EXPECT_NEAR(p.cut(1.0, 0.0, 400, 0), 0.95, 1e-12);  // from the top: half of the top bin
+    EXPECT_NEAR(p.cut(1.0, 0.0, 850, 0), 0.85, 1e-12);  // the top bin and half the next
+    EXPECT_NEAR(p.cut(0.0, 1.0, 250, 0), 0.9 + 0.1 * 50.0 / 800, 1e-12);  // from the bottom: 200 by 0.9, then 50 of 800
+    EXPECT_NEAR(p.cut(0.0, 0.5, 10, 0), 0.5, 1e-12);     // nothing recorded up to the limit: the limit
+    EXPECT_NEAR(profile({0, 0}).cut(0.2, 1.0, 30, 100), 0.5, 1e-12);  // none at all: spread evenly (density 100)
+}
+
+TEST(Slide, DeadBandAndOnlyTheHeavierGives) {
+    const BalanceConfig b = config("slide");
+    EXPECT_FALSE(decide(b, query(0.54, 0.5)));  // inside the dead band
+    EXPECT_FALSE(decide(b, query(0.5, 0.9)));   // lighter: never gives
+    const auto x = decide(b, query(0.9, 0.5));
+    ASSERT_TRUE(x);
+    EXPECT_NEAR(*x, 1.0 - 0.5 * 0.4 * 1.0, 1e-12);  // upper face moves down by gain x difference x thickness
+    const auto y = decide(b, query(0.9, 0.5, false));
+    ASSERT_TRUE(y);
+    EXPECT_NEAR(*y, 0.2, 1e-12);  // lower face moves up
+}
+
+TEST(Slide, NeverBelowMinimumThicknessEvenAfterGivingOnTheOtherSide) {
+    const BalanceConfig b = config("slide", 10.0);  // a huge step
+    SlideQuery q = query(1.0, 0.0);
+    const auto x = decide(b, q);
+    ASSERT_TRUE(x);
+    EXPECT_NEAR(*x, 0.1, 1e-12);  // clamped: exactly the minimum is left
+    q.own.hi.x = *x;  // the box already gave that much on its upper side
+    q.upper = false;
+    EXPECT_FALSE(decide(b, q));  // nothing left to give on the lower side
+}
+
+TEST(Work, ShedsFromTheWorkNextToTheBoundary) {
+    const BalanceConfig b = config("work", 1.0);
+    SlideQuery q = query(1.0, 0.2);
+    const WorkProfile p = profile({0, 0, 0, 0, 0, 0, 0, 100, 100, 800});
+    q.profile = &p;  // busy 1000 against 200: shed (1000 - 200) / 2 = 400, half of the top bin
+    const auto x = decide(b, q);
+    ASSERT_TRUE(x);
+    EXPECT_NEAR(*x, 0.95, 1e-12);
+    q.upper = false;  // from the lower end: 200 by 0.9, then a quarter of the top bin: 0.925,
+    const auto y = decide(b, q);  // more than the minimum thickness allows: clamped at 0.9
+    ASSERT_TRUE(y);
+    EXPECT_NEAR(*y, 0.9, 1e-12);
+}
+
+TEST(Quantile, ExactlyOneSideOfEachBoundaryGivesTowardsTheQuantile) {
+    // A column of 3 with demands 600, 200, 100 (T = 900, T / 3 = 300). The
+    // boundary between nodes 0 and 1 belongs where 300 lies below it: node 0
+    // holds 300 too many and gives gain x 300 of its 600.
+    const BalanceConfig b = config("quantile", 0.5);
+    const WorkProfile even = profile({});
+    SlideQuery q0;  // node 0, its upper face
+    q0.own = Box{Vec3(0.0), Vec3(1.0, 1.0, 1.0)};
+    q0.upper = true;
+    q0.index = 0;
+    q0.count = 3;
+    q0.minThickness = 0.01;
+    q0.mine.busy = 600;
+    q0.mine.sum = 600;          // P: demand from the lowest node through node 0
+    q0.theirs.busy = 200;
+    q0.theirs.sum = 200 + 100;  // S: from the highest node through node 1
+    const auto x = decide(b, q0);
+    ASSERT_TRUE(x);
+    EXPECT_NEAR(*x, 1.0 - 150.0 / 600.0, 1e-12);  // no profile: work taken as even over the box
+    SlideQuery q1 = q0;  // node 1, its lower face: the same two sums, the other way round
+    q1.upper = false;
+    q1.index = 1;
+    q1.own = Box{Vec3(1.0, 0.0, 0.0), Vec3(2.0, 1.0, 1.0)};
+    std::swap(q1.mine, q1.theirs);
+    EXPECT_FALSE(decide(b, q1));
+    // Between nodes 1 and 2 (below: 800 of 900, target 600): node 1 holds 200 too many.
+    SlideQuery q2 = q1;
+    q2.upper = true;
+    q2.mine = LoadSample{0, 200, 0, 0, 800};
+    q2.theirs = LoadSample{0, 100, 0, 0, 100};
+    const auto z = decide(b, q2);
+    ASSERT_TRUE(z);
+    EXPECT_NEAR(*z, 2.0 - 0.5, 1e-12);  // gain 0.5 x 200 = 100 of its 200: half the box
+    q2.mine.sum = 650;  // within the dead band (0.05 x 750 / 3) of its target 500? no: 150 over. Closer:
+    q2.mine.sum = 510;
+    q2.theirs.sum = 250;  // T 760, target 506.7: 3.3 over, inside the dead band of 12.7
+    EXPECT_FALSE(decide(b, q2));
+    (void)even;
+}
+
+// ---- The agent: rounds, lockstep, ages, the guard ----
+
+namespace {
+
+struct FakeHost : BalanceHost {
+    Box b{Vec3(0.0), Vec3(1.0)};
+    std::vector<std::pair<int, Message>> reports;
+    std::vector<std::pair<int, double>> slabs;
+    Picos cost = 0, hop = 0;
+    const Box& box() const override { return b; }
+    void sendReport(int side, Message m) override { reports.push_back({side, std::move(m)}); }
+    void giveSlab(int side, double boundary) override { slabs.push_back({side, boundary}); }
+    Picos slabCost(int, double) const override { return cost; }
+    Picos hopTime(int) const override { return hop; }
+};
+
+BalanceConfig agentConfig() {
+    BalanceConfig b = config("slide", 0.25);
+    b.interval = 20 * us;
+    return b;
+}
+
+}  // namespace
+
+TEST(Agent, OneRoundEachWayAndOnlyTheHeavierGives) {
+    const BalanceConfig cfg = agentConfig();
+    FakeHost ha, hb;
+    hb.b = Box{Vec3(1.0, 0.0, 0.0), Vec3(2.0, 1.0, 1.0)};
+    const Box world{Vec3(0.0), Vec3(2.0, 1.0, 1.0)};
+    BalanceAgent a(cfg, ha, world, 0, 2, false, true, 0.05), b(cfg, hb, world, 1, 2, true, false, 0.05);
+    for (int i = 0; i < 10; ++i) a.recordStep(0.5, 2 * us);  // 20 us of work in 10 steps
+    a.closeInterval(20 * us, 20 * us, 0, 3);                  // busy the whole interval, 3 rays waiting
+    b.closeInterval(20 * us, 5 * us, 15 * us, 0);
+    ASSERT_EQ(ha.reports.size(), 1u);
+    ASSERT_EQ(hb.reports.size(), 1u);
+    EXPECT_EQ(ha.reports[0].first, +1);
+    EXPECT_EQ(ha.reports[0].second.interval, 0);
+    EXPECT_EQ(ha.reports[0].second.busy, 20 * us);
+    EXPECT_EQ(ha.reports[0].second.backlog, 3 * 2 * us);  // 3 waiting at the mean step, 2 us
+    a.onReport(+1, hb.reports[0].second, 21 * us);
+    b.onReport(-1, ha.reports[0].second, 21 * us);
+    ASSERT_EQ(ha.slabs.size(), 1u);  // loads 1.0 and 0.25: a gives 0.25 x 0.75 of its thickness
+    EXPECT_NEAR(ha.slabs[0].second, 1.0 - 0.25 * 0.75, 1e-12);
+    EXPECT_TRUE(hb.slabs.empty());
+    EXPECT_EQ(a.stats().decisions, 1u);
+    EXPECT_NEAR(a.stats().ages[0], 0.05, 1e-12);  // decided 1 us after the loads' end: 0.05 intervals
+    EXPECT_THROW(a.onReport(+1, hb.reports[0].second, 22 * us), std::logic_error);  // round 0 again: out of lockstep
+}
+
+TEST(Agent, SlowReportsMakeLongerRoundsNotAQueue) {
+    // The neighbour's report takes 3 intervals to arrive. Meanwhile a node
+    // closes intervals but sends nothing (round 0 is not decided); once it
+    // decides, its next report covers every interval closed since the last.
+    const BalanceConfig cfg = agentConfig();
+    FakeHost ha, hb;
+    const Box world{Vec3(0.0), Vec3(2.0, 1.0, 1.0)};
+    BalanceAgent a(cfg, ha, world, 0, 2, false, true, 0.05), b(cfg, hb, world, 1, 2, true, false, 0.05);
+    a.closeInterval(20 * us, 10 * us, 10 * us, 0);
+    b.closeInterval(20 * us, 10 * us, 10 * us, 0);
+    a.closeInterval(40 * us, 25 * us, 15 * us, 0);
+    a.closeInterval(60 * us, 40 * us, 20 * us, 0);
+    a.closeInterval(80 * us, 50 * us, 30 * us, 0);
+    EXPECT_EQ(ha.reports.size(), 1u);
+    a.onReport(+1, hb.reports[0].second, 81 * us);
+    ASSERT_EQ(ha.reports.size(), 2u);
+    const Message& r1 = ha.reports[1].second;
+    EXPECT_EQ(r1.interval, 1);
+    EXPECT_EQ(r1.busy, 40 * us);  // intervals 2 to 4: 15 + 15 + 10
+    EXPECT_EQ(r1.wait, 20 * us);
+    EXPECT_EQ(r1.end, 80 * us);
+    EXPECT_NEAR(a.stats().ages[0], 61.0 / 20, 1e-12);  // round 0's loads ended at 20 us
+}
+
+TEST(Agent, GuardStopsStaleCostlyAndLatencyBoundSlides) {
+    const Box world{Vec3(0.0), Vec3(2.0, 1.0, 1.0)};
+    auto run = [&](BalanceConfig cfg, Picos decideAt, Picos cost, Picos hop) {
+        FakeHost ha, hb;
+        ha.cost = cost;
+        ha.hop = hop;
+        BalanceAgent a(cfg, ha, world, 0, 2, false, true, 0.05), b(cfg, hb, world, 1, 2, true, false, 0.05);
+        a.recordStep(0.9, 1 * us);  // mean step 1 us, its work in the slab the policy gives ([0.75, 1])
+        a.closeInterval(20 * us, 20 * us, 0, 0);
+        b.closeInterval(20 * us, 0, 20 * us, 0);
+        a.onReport(+1, hb.reports[0].second, decideAt);
+        return std::make_pair(ha.slabs.size(), a.stats());
+    };
+    const BalanceConfig cfg = agentConfig();
+    EXPECT_EQ(run(cfg, 21 * us, 0, 0).first, 1u);  // fresh, cheap, short hops: gives
+    // Loads 4.05 intervals old (max 4): stale.
+    auto [n1, s1] = run(cfg, 20 * us + 81 * us, 0, 0);
+    EXPECT_EQ(n1, 0u);
+    EXPECT_EQ(s1.skippedStale, 1u);
+    // A hop of 4.1 us against 4 x the mean step of 1 us: latency-bound.
+    auto [n2, s2] = run(cfg, 21 * us, 0, Picos(4.1 * us));
+    EXPECT_EQ(n2, 0u);
+    EXPECT_EQ(s2.skippedLatency, 1u);
+    // The slab holds all the work recorded: it returns load 1 x 20 us x 10
+    // intervals = 200 us.
+    EXPECT_EQ(run(cfg, 21 * us, 199 * us, 0).first, 1u);
+    auto [n3, s3] = run(cfg, 21 * us, 201 * us, 0);
+    EXPECT_EQ(n3, 0u);
+    EXPECT_EQ(s3.skippedCost, 1u);
+    BalanceConfig off = cfg;
+    off.guard = false;
+    EXPECT_EQ(run(off, 20 * us + 200 * us, 1000 * us, 100 * us).first, 1u);
+}
+
+// ---- The control lane (link.h) ----
+
+namespace {
+
+Message rays(int k) {  // 8 + 124 k bytes
+    Message m;
+    m.type = MsgType::Ray;
+    m.rays.resize(size_t(k));
+    return m;
+}
+
+Message report() {  // 8 + 44 bytes
+    Message m;
+    m.type = MsgType::LoadReport;
+    return m;
+}
+
+constexpr Picos ns = 1000;
+
+}  // namespace
+
+TEST(ControlLane, GoesAheadOfWaitingRaysByHand) {
+    // 1 byte/ns, 100 ns latency. Three ray messages of 1,000 bytes at t = 0
+    // take the wire at 0, 1000 and 2000 ns. A load report (52 bytes) sent at
+    // 500 ns goes on when the first leaves (1000), ahead of the other two,
+    // which move back by 52 ns; a ray message sent after it goes after all.
+    LinkParams p{100 * ns, 1e9, 16};
+    p.controlDepth = 2;
+    Link l("l", p);
+    for (int i = 0; i < 3; ++i) l.send(rays(8), 0);
+    l.send(report(), 500 * ns);
+    l.send(rays(8), 600 * ns);
+    Picos a;
+    ASSERT_TRUE(l.peekArrival(a));
+    EXPECT_EQ(a, 1100 * ns);  // the first ray message: 1000 + 100
+    EXPECT_FALSE(l.controlArrivedBy(1151 * ns));
+    EXPECT_TRUE(l.controlArrivedBy(1152 * ns));  // 1000 + 52 + 100
+    EXPECT_EQ(l.consume(1152 * ns).type, MsgType::Ray);  // consume takes the earliest arrival
+    EXPECT_EQ(l.consumeControl(1152 * ns).type, MsgType::LoadReport);
+    EXPECT_THROW(l.consume(2151 * ns), std::logic_error);  // the second: 1052 + 1000 + 100 = 2152
+    EXPECT_EQ(l.consume(2152 * ns).type, MsgType::Ray);
+    EXPECT_THROW(l.consume(3151 * ns), std::logic_error);  // the third: 2052 + 1000 + 100
+    EXPECT_EQ(l.consume(3152 * ns).type, MsgType::Ray);
+    EXPECT_THROW(l.consume(4151 * ns), std::logic_error);  // the one sent after the report: 3052 + 1000 + 100
+    EXPECT_EQ(l.consume(4152 * ns).type, MsgType::Ray);
+}
+
+TEST(ControlLane, WithoutALaneTheReportWaitsBehindTheRays) {
+    LinkParams p{100 * ns, 1e9, 16};
+    p.controlDepth = 0;
+    Link l("l", p);
+    for (int i = 0; i < 3; ++i) l.send(rays(8), 0);
+    l.send(report(), 500 * ns);
+    EXPECT_FALSE(l.controlArrivedBy(1000000 * ns));  // no lane: nothing to take ahead
+    for (Picos t : {1100 * ns, 2100 * ns, 3100 * ns}) EXPECT_EQ(l.consume(t).type, MsgType::Ray);
+    EXPECT_THROW(l.consume(3151 * ns), std::logic_error);  // 3000 + 52 + 100 = 3152
+    EXPECT_EQ(l.consume(3152 * ns).type, MsgType::LoadReport);
+}
+
+TEST(ControlLane, HasItsOwnSlotsAndStaysFifo) {
+    // One control slot: the second report waits until the first is consumed
+    // (at 200 ns) and its slot has travelled back (100 ns later).
+    LinkParams p{100 * ns, 1e9, 16};
+    p.controlDepth = 1;
+    Link l("l", p);
+    Message r1 = report(), r2 = report();
+    r1.interval = 1;
+    r2.interval = 2;
+    l.send(std::move(r1), 0);
+    l.send(std::move(r2), 0);
+    EXPECT_TRUE(l.controlArrivedBy(152 * ns));
+    EXPECT_EQ(l.consumeControl(200 * ns).interval, 1);
+    EXPECT_FALSE(l.controlArrivedBy(451 * ns));  // slot back at 300, on the wire 52, latency 100: 452
+    EXPECT_TRUE(l.controlArrivedBy(452 * ns));
+    EXPECT_EQ(l.consumeControl(452 * ns).interval, 2);
+}
