@@ -21,6 +21,7 @@ BalanceAgent::BalanceAgent(const BalanceConfig& cfg, BalanceHost& host, const Bo
 }
 
 void BalanceAgent::recordStep(double where, Picos cost) {
+    traced_ += cost;
     for (Side& s : sides_) {
         if (!s.present) continue;
         s.span.profile.add(where, double(cost));
@@ -34,12 +35,19 @@ void BalanceAgent::closeInterval(Picos now, Picos busyTotal, Picos waitTotal, ui
     stats_.intervals.push_back({now, busy, waited});
     busyMark_ = busyTotal;
     waitMark_ = waitTotal;
+    // The load's execution time is the time spent tracing in the box; time
+    // handling balancing messages or passing rays through is neither
+    // execution nor wait. A node with no rays of its own to trace reports
+    // load 0, so slides stop when the tracing does, and a ray chasing a slab
+    // that moves back and forth always catches it (doc/balancing.md).
+    const Picos exec = traced_;
+    traced_ = 0;
     lastEnd_ = now;
     waiting_ = waiting;
     // The next interval boundary after now (a long step may have spanned several).
     next_ = (now / cfg_.interval + 1) * cfg_.interval;
     for (Side& s : sides_) {
-        s.span.busy += busy;
+        s.span.busy += exec;
         s.span.wait += waited;
         s.span.end = now;
         s.fresh = true;

@@ -108,6 +108,7 @@ private:
     double minThickness_;
     Picos next_;
     Picos busyMark_ = 0, waitMark_ = 0, lastEnd_ = 0;
+    Picos traced_ = 0;  // time tracing in the box since the last interval closed
     uint64_t waiting_ = 0;
     std::array<Side, 2> sides_;  // [0]: lower neighbour, [1]: upper
     BalanceStats stats_;

@@ -179,17 +179,20 @@ TEST(Agent, OneRoundEachWayAndOnlyTheHeavierGives) {
     BalanceAgent a(cfg, ha, world, 0, 2, false, true, 0.05), b(cfg, hb, world, 1, 2, true, false, 0.05);
     for (int i = 0; i < 10; ++i) a.recordStep(0.5, 2 * us);  // 20 us of work in 10 steps
     a.closeInterval(20 * us, 20 * us, 0, 3);                  // busy the whole interval, 3 rays waiting
-    b.closeInterval(20 * us, 5 * us, 15 * us, 0);
+    b.recordStep(1.5, 5 * us);
+    b.closeInterval(20 * us, 7 * us, 13 * us, 0);  // 2 us of it handling messages: neither execution nor wait
     ASSERT_EQ(ha.reports.size(), 1u);
     ASSERT_EQ(hb.reports.size(), 1u);
     EXPECT_EQ(ha.reports[0].first, +1);
     EXPECT_EQ(ha.reports[0].second.interval, 0);
     EXPECT_EQ(ha.reports[0].second.busy, 20 * us);
     EXPECT_EQ(ha.reports[0].second.backlog, 3 * 2 * us);  // 3 waiting at the mean step, 2 us
+    EXPECT_EQ(hb.reports[0].second.busy, 5 * us);
+    EXPECT_EQ(hb.reports[0].second.wait, 13 * us);
     a.onReport(+1, hb.reports[0].second, 21 * us);
     b.onReport(-1, ha.reports[0].second, 21 * us);
-    ASSERT_EQ(ha.slabs.size(), 1u);  // loads 1.0 and 0.25: a gives 0.25 x 0.75 of its thickness
-    EXPECT_NEAR(ha.slabs[0].second, 1.0 - 0.25 * 0.75, 1e-12);
+    ASSERT_EQ(ha.slabs.size(), 1u);  // loads 1.0 and 5 / 18: a gives 0.25 x (1 - 5 / 18) of its thickness
+    EXPECT_NEAR(ha.slabs[0].second, 1.0 - 0.25 * (1 - 5.0 / 18), 1e-12);
     EXPECT_TRUE(hb.slabs.empty());
     EXPECT_EQ(a.stats().decisions, 1u);
     EXPECT_NEAR(a.stats().ages[0], 0.05, 1e-12);  // decided 1 us after the loads' end: 0.05 intervals
@@ -204,11 +207,15 @@ TEST(Agent, SlowReportsMakeLongerRoundsNotAQueue) {
     FakeHost ha, hb;
     const Box world{Vec3(0.0), Vec3(2.0, 1.0, 1.0)};
     BalanceAgent a(cfg, ha, world, 0, 2, false, true, 0.05), b(cfg, hb, world, 1, 2, true, false, 0.05);
-    a.closeInterval(20 * us, 10 * us, 10 * us, 0);
-    b.closeInterval(20 * us, 10 * us, 10 * us, 0);
-    a.closeInterval(40 * us, 25 * us, 15 * us, 0);
-    a.closeInterval(60 * us, 40 * us, 20 * us, 0);
-    a.closeInterval(80 * us, 50 * us, 30 * us, 0);
+    const auto interval = [](BalanceAgent& n, Picos end, Picos traced, Picos busy, Picos wait) {
+        n.recordStep(0.5, traced);
+        n.closeInterval(end, busy, wait, 0);
+    };
+    interval(a, 20 * us, 10 * us, 10 * us, 10 * us);
+    interval(b, 20 * us, 10 * us, 10 * us, 10 * us);
+    interval(a, 40 * us, 15 * us, 25 * us, 15 * us);
+    interval(a, 60 * us, 15 * us, 40 * us, 20 * us);
+    interval(a, 80 * us, 10 * us, 50 * us, 30 * us);
     EXPECT_EQ(ha.reports.size(), 1u);
     a.onReport(+1, hb.reports[0].second, 81 * us);
     ASSERT_EQ(ha.reports.size(), 2u);
@@ -218,6 +225,25 @@ TEST(Agent, SlowReportsMakeLongerRoundsNotAQueue) {
     EXPECT_EQ(r1.wait, 20 * us);
     EXPECT_EQ(r1.end, 80 * us);
     EXPECT_NEAR(a.stats().ages[0], 61.0 / 20, 1e-12);  // round 0's loads ended at 20 us
+}
+
+TEST(Agent, HandlingMessagesIsNoLoad) {
+    // Busy the whole interval, but only passing rays on and handling
+    // balancing messages: load 0, so nothing moves. (Counting that time as
+    // load kept idle columns sliding slabs back and forth at the end of a
+    // frame, with rays chasing them, and the frame never ended.)
+    const BalanceConfig cfg = agentConfig();
+    FakeHost ha, hb;
+    const Box world{Vec3(0.0), Vec3(2.0, 1.0, 1.0)};
+    BalanceAgent a(cfg, ha, world, 0, 2, false, true, 0.05), b(cfg, hb, world, 1, 2, true, false, 0.05);
+    a.closeInterval(20 * us, 20 * us, 0, 0);
+    b.closeInterval(20 * us, 0, 20 * us, 0);
+    EXPECT_EQ(ha.reports[0].second.busy, 0);
+    a.onReport(+1, hb.reports[0].second, 21 * us);
+    b.onReport(-1, ha.reports[0].second, 21 * us);
+    EXPECT_TRUE(ha.slabs.empty());
+    EXPECT_TRUE(hb.slabs.empty());
+    EXPECT_EQ(a.stats().intervals[0].busy, 20 * us);  // the node's own record keeps every busy picosecond
 }
 
 TEST(Agent, GuardStopsStaleCostlyAndLatencyBoundSlides) {
