@@ -111,6 +111,23 @@ int Machine::columnOf(const Cell& c) const {
 std::vector<std::vector<double>> Machine::initialBoundaries() const {
     const int ax = cfg_.balance.axis, u = (ax + 1) % 3, v = (ax + 2) % 3, n = cfg_.dims[ax];
     std::vector<std::vector<double>> bounds(size_t(cfg_.dims[u] * cfg_.dims[v]), cuts_.planes(ax));
+    if (!cfg_.startBoundaries.empty()) {  // where a previous frame left them
+        if (cfg_.startBoundaries.size() != bounds.size())
+            throw std::invalid_argument("start boundaries: " + std::to_string(cfg_.startBoundaries.size()) +
+                                        " columns, the mesh has " + std::to_string(bounds.size()));
+        for (size_t c = 0; c < bounds.size(); ++c) {
+            const std::vector<double>& inner = cfg_.startBoundaries[c];
+            if (inner.size() != size_t(n - 1))
+                throw std::invalid_argument("start boundaries: column " + std::to_string(c) + " has " +
+                                            std::to_string(inner.size()) + " planes, not " + std::to_string(n - 1));
+            for (int k = 1; k < n; ++k) bounds[c][size_t(k)] = inner[size_t(k - 1)];
+            for (int k = 0; k < n; ++k)  // the guard's minimum thickness, with the rounding of a report's decimals
+                if (!(bounds[c][size_t(k + 1)] - bounds[c][size_t(k)] >= minThickness_ * (1 - 1e-9)))
+                    throw std::invalid_argument("start boundaries: column " + std::to_string(c) + ", box " +
+                                                std::to_string(k) + " is thinner than the minimum thickness");
+        }
+        return bounds;
+    }
     if (cfg_.balance.policy != "median") return bounds;
     const double margin = roundingMargin(world_);
     for (int j = 0; j < cfg_.dims[v]; ++j)

@@ -96,6 +96,12 @@ struct MachineConfig {
     int rayBatch = 1;                  // rays per link message (sent when full or before the node waits)
 
     BalanceConfig balance;
+    // Where each column's boundaries along the progress axis start: per
+    // column (in Machine::columnOf order), its N - 1 inner planes, each box
+    // at least the minimum thickness; empty: the policy's own start (uniform,
+    // or the object medians for `median`). A frame of --frames starts where
+    // the one before ended (--boundaries-from).
+    std::vector<std::vector<double>> startBoundaries;
 
     // Tracing (VCD); empty path: none.
     std::string vcdPath;

@@ -5,6 +5,8 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -68,6 +70,45 @@ std::optional<nlohmann::json> childReport(int argc, char** argv, const std::vect
     }
     std::remove(tmpl);
     return r;
+}
+
+// Each column's inner boundaries where the run of report `r` ended them
+// (its last position in the boundary history), for MachineConfig::
+// startBoundaries. Throws std::runtime_error if the report is of another mesh
+// or axis.
+std::vector<std::vector<double>> lastBoundaries(const nlohmann::json& r, const rt::MachineConfig& m) {
+    const int ax = m.balance.axis, u = (ax + 1) % 3, v = (ax + 2) % 3, n = m.dims[size_t(ax)];
+    try {
+        const auto dims = r.at("config").at("mesh").get<std::array<int, 3>>();
+        const std::string axis = r.at("config").at("balance").at("axis").get<std::string>();
+        if (dims != m.dims || axis != std::string(1, "xyz"[ax]))
+            throw std::runtime_error("its run is of another mesh or progress axis");
+        std::vector<std::vector<double>> b(size_t(m.dims[size_t(u)] * m.dims[size_t(v)]),
+                                           std::vector<double>(size_t(n - 1), std::nan("")));
+        for (const auto& h : r.at("boundaries")) {
+            const auto col = h.at("column").get<std::array<int, 2>>();
+            const int k = h.at("index").get<int>();
+            if (col[0] < 0 || col[0] >= m.dims[size_t(u)] || col[1] < 0 || col[1] >= m.dims[size_t(v)] || k < 1 || k >= n)
+                throw std::runtime_error("a boundary outside the mesh");
+            b[size_t(col[0] + m.dims[size_t(u)] * col[1])][size_t(k - 1)] = h.at("history").back().at(1).get<double>();
+        }
+        for (const auto& c : b)
+            for (double x : c)
+                if (!std::isfinite(x)) throw std::runtime_error("a boundary missing from its history");
+        return b;
+    } catch (const nlohmann::json::exception& e) {
+        throw std::runtime_error(std::string("not an rtsim report (") + e.what() + ")");
+    }
+}
+
+// Writes `j` to a fresh temporary file; its path.
+std::string tempJson(const nlohmann::json& j) {
+    char tmpl[] = "/tmp/rtsim-frame-XXXXXX";
+    const int fd = mkstemp(tmpl);
+    if (fd < 0) throw std::runtime_error("cannot create a temporary file");
+    close(fd);
+    std::ofstream(tmpl) << j.dump() << "\n";
+    return tmpl;
 }
 
 struct Spread {
@@ -143,6 +184,12 @@ void printSummary(const rt::Scene& scene, const rt::RtsimOptions& o, const rt::M
                     rt::formatTime(rt::Picos(c["unbalanced_ns"].get<double>() * 1000)).c_str(),
                     c["ratio"].get<double>(), c["column_bound"].get<double>(), axis);
     }
+    if (report.contains("frames")) {
+        std::printf("  frames          ");
+        for (const auto& f : report["frames"])
+            std::printf(" %s", rt::formatTime(rt::Picos(f["render_time_ns"].get<double>() * 1000)).c_str());
+        std::printf("  (render times; the figures above are the last frame's)\n");
+    }
     std::printf("  wall clock       %.3f s%s\n", r.wallSeconds, o.image.empty() ? "" : ("; image " + o.image).c_str());
 }
 
@@ -172,11 +219,55 @@ int sc_main(int argc, char** argv) {
         std::cerr << "rtsim: error: " << e.what() << "\n";
         return 2;
     }
+    // A frame of a camera path: the eye moved frameIndex steps.
+    if (!o.eyeStep.empty())
+        scene.view.from = scene.view.from + rt::Vec3(o.eyeStep[0], o.eyeStep[1], o.eyeStep[2]) * double(o.frameIndex);
+    try {  // a run that continues another's boundaries
+        if (!o.boundariesFrom.empty()) {
+            std::ifstream f(o.boundariesFrom);
+            nlohmann::json prev;
+            try {
+                prev = nlohmann::json::parse(f);
+            } catch (const std::exception&) {
+                throw std::runtime_error("not JSON");
+            }
+            o.machine.startBoundaries = lastBoundaries(prev, o.machine);
+        }
+    } catch (const std::exception& e) {
+        std::cerr << "rtsim: error: --boundaries-from " << o.boundariesFrom << ": " << e.what() << "\n";
+        return 2;
+    }
     o.machine.showProgress = !o.quiet && isatty(2);
     const bool single = o.machine.dims == std::array<int, 3>{1, 1, 1};
     try {
+        // The frames before the last, one child process each (SystemC
+        // elaborates once per process), in turn: each starts where the one
+        // before left the boundaries (static policies start each frame at
+        // their own positions).
+        nlohmann::json frames = nlohmann::json::array();
+        const bool carry = o.machine.balance.dynamic();
+        for (int k = 0; k + 1 < o.frames; ++k) {
+            std::vector<std::string> extra{"--as-frame", "--frame-index", std::to_string(k)};
+            std::string from;
+            if (carry && k > 0) {  // (frame 1 starts where the user said: --boundaries-from, or the policy's start)
+                from = tempJson(frames.back().at("report"));
+                extra.insert(extra.end(), {"--boundaries-from", from});
+            }
+            const std::optional<nlohmann::json> f = childReport(argc, argv, extra);
+            if (!from.empty()) std::remove(from.c_str());
+            if (!f) throw std::runtime_error("frame " + std::to_string(k + 1) + " of " + std::to_string(o.frames) + " failed");
+            frames.push_back({{"frame", k + 1}, {"render_time_ns", (*f)["render_time_ns"]},
+                              {"slides", (*f)["balance"].value("slides", 0)}, {"report", *f}});
+            if (carry) o.machine.startBoundaries = lastBoundaries(*f, o.machine);
+        }
         const rt::MachineResult r = rt::runMachine(scene, o.machine);
         nlohmann::json report = rt::machineReport(r, o.machine);
+        if (o.frames > 1) {
+            frames.push_back({{"frame", o.frames}, {"render_time_ns", report["render_time_ns"]},
+                              {"slides", report["balance"].value("slides", 0)}});
+            for (auto& f : frames) f.erase("report");
+            report["frames"] = frames;
+        }
         double baselineNs = single ? report["render_time_ns"].get<double>() : -1;
         // The reference runs, in two child processes at once: the 1x1x1 mesh
         // (the speed-up), and the same frame balanced the other way (with the

@@ -168,6 +168,20 @@ void RtsimOptions::addTo(CLI::App& app) {
                  "balancing (or, when balancing, without) that gives the balancing ratio")
         ->group(go);
     app.add_flag("-q,--quiet", quiet, "no summary")->group(go);
+    const std::string gf = "Frames";
+    app.add_option("--frames", frames,
+                   "frames rendered one after another, each starting with the boundaries where the one before ended, "
+                   "as a running machine would; the outputs and the summary are the last frame's, the report lists "
+                   "every frame's render time")
+        ->check(CLI::Range(1, 10000))->capture_default_str()->group(gf);
+    app.add_option("--eye-step", eyeStep, "camera path: the eye moves by x y z (or x,y,z) each frame; the point looked at stays")
+        ->expected(3)->delimiter(',')->group(gf);
+    app.add_option("--boundaries-from", boundariesFrom,
+                   "start each column's boundaries where they ended in this report's run (the same scene, mesh and axis)")
+        ->check(CLI::ExistingFile)->group(gf);
+    app.add_option("--frame-index", frameIndex, "internal: this run is that frame (0-based) of a sequence")
+        ->check(CLI::Range(0, 9999))->group("");
+    app.add_flag("--as-frame", asFrame, "internal: run as an earlier frame of another run's sequence")->group("");
     app.add_flag("--as-baseline", asBaseline, "internal: run as the 1x1x1 baseline of another run")->group("");
     app.add_flag("--as-comparison", asComparison, "internal: run as the balancing comparison of another run")->group("");
     app.set_config("--config", "", "read flags from a file (INI/TOML: name = value, one per line)");
@@ -177,7 +191,9 @@ void RtsimOptions::addTo(CLI::App& app) {
 void RtsimOptions::finish() {
     MachineConfig& m = machine;
     m.dims = {mesh, mesh, mesh};
-    if (asBaseline || asComparison) {  // a reference run of another: no outputs (the caller reads its report)
+    if (frameIndex < 0) frameIndex = frames - 1;  // this process renders the last frame of its sequence
+    if (asBaseline || asFrame) frames = 1;        // the baseline is of the last frame's view; a frame is one frame
+    if (asBaseline || asComparison || asFrame) {  // a reference run of another: no outputs (the caller reads its report)
         traceSpecs_.clear();
         traceWindow_.clear();
         vcd.clear();

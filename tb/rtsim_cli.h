@@ -21,6 +21,13 @@ struct RtsimOptions {
     bool quiet = false;
     bool asBaseline = false;  // internal: this run is the 1x1x1 baseline of another
     bool asComparison = false;  // internal: this run is the balancing comparison of another
+    // Frames (--frames): rendered one after another, each starting with the
+    // boundaries where the one before ended; this process runs the last.
+    int frames = 1;
+    int frameIndex = -1;            // internal (--frame-index): this run is that frame (0-based) of a sequence
+    std::vector<double> eyeStep;    // the camera path: the eye moves this much per frame; empty: still
+    std::string boundariesFrom;     // a report whose last boundaries this run starts from
+    bool asFrame = false;           // internal: an earlier frame of another run's sequence
 
     // Registers every flag on `app`.
     void addTo(CLI::App& app);

@@ -2,7 +2,9 @@
 // of report, image and VCD; timing laws (doubling every cost doubles the
 // render time; on a line of nodes the render time grows with latency by the
 // hop count); waveforms that GTKWave's tools accept; bad configuration.
+#include <algorithm>
 #include <cmath>
+#include <map>
 #include <fstream>
 #include <sstream>
 
@@ -347,4 +349,75 @@ TEST_F(Rtsim, QuantumUpToTheLinkLatencyIsExactToThePicosecond) {
     EXPECT_EQ(slurp(dir_ / "f.png"), slurp(dir_ / "e.png"));
     const double drift = json::parse(slurp(dir_ / "f.json"))["render_time_ns"].get<double>() / exact["render_time_ns"].get<double>();
     EXPECT_NEAR(drift, 1.0, 0.25);
+}
+
+// ---- Frames: the boundaries carried from one frame to the next ----
+
+namespace {
+// Each column's inner boundaries where a report's run ended them, keyed by
+// (column, index); and where it started them.
+std::map<std::pair<std::string, int>, double> boundaryEnds(const json& r, bool last) {
+    std::map<std::pair<std::string, int>, double> m;
+    for (const json& h : r["boundaries"])
+        m[{h["column"].dump(), h["index"].get<int>()}] = (last ? h["history"].back() : h["history"].front())[1].get<double>();
+    return m;
+}
+const char* kSliding = " --spheres 300 --radius 0.03 --size 48x48 --mesh 3 --balance slide --balance-interval 5us"
+                       " --eye=-1.3,0.5,0.5 --look-at=0.5,0.5,0.5 --fov 50";
+}  // namespace
+
+TEST_F(Rtsim, BoundariesFromAReportStartWhereItsRunEnded) {
+    const json a = report(kSliding, "a.json");
+    ASSERT_GT(a["balance"]["slides"].get<int>(), 0);
+    const json b = report(std::string(kSliding) + " --boundaries-from " + (dir_ / "a.json").string(), "b.json");
+    const auto ended = boundaryEnds(a, true), started = boundaryEnds(b, false);
+    ASSERT_EQ(ended.size(), 3u * 3 * 2);
+    EXPECT_EQ(ended, started);
+    // Not where a run starts on its own: the uniform split.
+    EXPECT_NE(boundaryEnds(a, false), started);
+}
+
+TEST_F(Rtsim, FramesCarryTheBoundariesAndEachFrameIsARunFromThePreviousOne) {
+    // Three frames in one command against the same three frames run by hand,
+    // each from the report of the one before: the same render times, and
+    // the last frame's image is the image (the same as without balancing).
+    const json f = report(std::string(kSliding) + " --frames 3", "f.json");
+    ASSERT_EQ(f["frames"].size(), 3u);
+    std::vector<double> byHand;
+    std::string from;
+    for (int k = 0; k < 3; ++k) {
+        const std::string name = "h" + std::to_string(k) + ".json";
+        const json h = report(std::string(kSliding) + from, name);
+        byHand.push_back(h["render_time_ns"].get<double>());
+        from = " --boundaries-from " + (dir_ / name).string();
+    }
+    for (int k = 0; k < 3; ++k) EXPECT_EQ(f["frames"][k]["render_time_ns"].get<double>(), byHand[size_t(k)]) << k;
+    EXPECT_EQ(f["render_time_ns"].get<double>(), byHand[2]);
+    EXPECT_NE(byHand[0], byHand[1]);  // the second frame starts elsewhere
+    ASSERT_EQ(run(std::string(kSliding) + " --frames 3 -q --no-baseline --image " + (dir_ / "f.png").string()).code, 0);
+    ASSERT_EQ(run(std::string(kSliding) + " --balance none -q --no-baseline --image " + (dir_ / "n.png").string()).code, 0);
+    EXPECT_EQ(slurp(dir_ / "f.png"), slurp(dir_ / "n.png"));
+}
+
+TEST_F(Rtsim, ACameraPathMovesTheEyeEachFrame) {
+    // Frame 3 of a path is the view moved two steps: the same image as one
+    // frame rendered from there.
+    const std::string scene = " --spheres 300 --radius 0.03 --size 48x48 --mesh 2 --look-at=0.5,0.5,0.5 -q --no-baseline";
+    ASSERT_EQ(run(scene + " --eye=-1.3,0.5,0.5 --eye-step 0,0.2,0.1 --frames 3 --balance slide --image " +
+                  (dir_ / "p.png").string()).code, 0);
+    ASSERT_EQ(run(scene + " --eye=-1.3,0.9,0.7 --balance none --image " + (dir_ / "q.png").string()).code, 0);
+    ASSERT_EQ(run(scene + " --eye=-1.3,0.5,0.5 --balance none --image " + (dir_ / "r.png").string()).code, 0);
+    EXPECT_EQ(slurp(dir_ / "p.png"), slurp(dir_ / "q.png"));
+    EXPECT_NE(slurp(dir_ / "p.png"), slurp(dir_ / "r.png"));
+}
+
+TEST_F(Rtsim, BoundariesFromAnotherMeshIsBadInput) {
+    report(std::string(kSliding), "a.json");
+    const Outcome o = run(std::string(kSliding) + " --mesh 2 -q --image '' --boundaries-from " + (dir_ / "a.json").string());
+    EXPECT_EQ(o.code, 2);
+    EXPECT_NE(o.err.find("--boundaries-from"), std::string::npos) << o.err;
+    EXPECT_NE(o.err.find("another mesh"), std::string::npos) << o.err;
+    EXPECT_EQ(std::count(o.err.begin(), o.err.end(), '\n'), 1) << o.err;
+    std::ofstream(dir_ / "bad.json") << "{ not json";
+    EXPECT_EQ(run(std::string(kSliding) + " -q --image '' --boundaries-from " + (dir_ / "bad.json").string()).code, 2);
 }
