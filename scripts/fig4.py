@@ -5,7 +5,9 @@ crowd into (1/N .. 1), per mesh size N, for a view along the progress axis
 and one across it. Each panel shows every policy (the static object-median
 split and the dynamic ones), the column bound of the unbalanced run (the best
 any balancer that slides boundaries along one axis could do with its work),
-1/N, and the paper's 0.2.
+1/N, and the paper's 0.2. Each dynamic policy also has its steady-state
+curve: the last of --frames frames of the same view, each starting with the
+boundaries where the one before ended (rtsim --frames).
 
 Runs on a machine preset (--preset: configs/NAME.conf; modern is rtsim's
 defaults) with the project's default balancing settings. Writes
@@ -28,6 +30,7 @@ VIEWS = {
     "across": ["--eye=0.5,-1.6,0.5", "--look-at=0.5,0.5,0.5", "--fov", "40"],
 }
 POLICIES = "median,slide,work"
+DYNAMIC = {"slide", "work", "quantile"}  # policies that move boundaries during a frame
 PAPER = 0.2
 
 
@@ -37,11 +40,15 @@ def main():
     ap.add_argument("--policies", default=POLICIES, help="policies compared with none")
     ap.add_argument("--preset", default="modern", help="configs/PRESET.conf")
     ap.add_argument("--extra", default="", help="more rtsim flags for every run")
+    ap.add_argument("--frames", type=int, default=3,
+                    help="frames of the steady-state curves (the last is plotted; 1: none)")
     driver.add_output_arguments(ap, os.path.join(ROOT, "doc", "balancing.md"))
     driver.add_arguments(ap)
     a = ap.parse_args()
     ns = [int(x) for x in a.n.split(",")]
     policies = a.policies.split(",")
+    if a.frames > 1:  # the steady state of each dynamic policy: "slide@3" is slide's frame 3
+        policies += [f"{p}@{a.frames}" for p in policies if p in DYNAMIC]
     stem = "fig4" if a.preset == "modern" else f"fig4-{a.preset}"
     csv_path = os.path.join(a.out, stem + ".csv")
     if not a.plot_only:
@@ -66,10 +73,11 @@ def sweep(a, ns, policies):
         for n in ns:
             for k in range(1, n + 1):
                 for policy in ["none"] + policies:
+                    name, _, frames = policy.partition("@")
                     points.append({"params": {"view": view, "N": n, "f": round(k / n, 6), "policy": policy},
                                    "args": preset_args(a) + SCENE + cam +
-                                   ["--mesh", n, "--concentration", f"{k / n:.6f}", "--balance", policy] +
-                                   a.extra.split()})
+                                   ["--mesh", n, "--concentration", f"{k / n:.6f}", "--balance", name] +
+                                   (["--frames", frames] if frames else []) + a.extra.split()})
     runs = driver.run(f"fig4-{a.preset}", points, extract, None, a)
     by = {(r["view"], r["N"], r["f"], r["policy"]): r for r in runs}
     rows = []
@@ -118,7 +126,9 @@ def plot(a, rows, ns, policies, path):
             fs = sorted({r["f"] for r in pts})
             for p in policies:
                 ys = [next(r["ratio"] for r in pts if r["f"] == f and r["policy"] == p) for f in fs]
-                ax.plot(fs, ys, marker="o", markersize=3, color=colours.get(p), label=p)
+                name, _, frames = p.partition("@")
+                ax.plot(fs, ys, marker="o" if not frames else "x", markersize=3, color=colours.get(name),
+                        linestyle="--" if frames else "-", label=f"{name}, frame {frames} (steady)" if frames else p)
             bound = [next(r["column_bound"] for r in pts if r["f"] == f) for f in fs]
             ax.plot(fs, bound, "k--", linewidth=1, label="column bound (unbalanced run)")
             ax.axhline(1 / n, color="green", linestyle=":", linewidth=1, label="1/N")

@@ -139,9 +139,10 @@ struct Fidelity {
     std::string policy;
     Picos quantum;
     int rayBatch;
+    int lane = 0;  // control-lane slots on every link (0: one FIFO)
 };
 void PrintTo(const Fidelity& f, std::ostream* os) {
-    *os << f.scene << " " << f.policy << " q=" << f.quantum << "ps k=" << f.rayBatch;
+    *os << f.scene << " " << f.policy << " q=" << f.quantum << "ps k=" << f.rayBatch << " lane=" << f.lane;
 }
 
 class FidelityModes : public testing::TestWithParam<Fidelity> {};
@@ -153,6 +154,7 @@ TEST_P(FidelityModes, ImageIdenticalWhileBoundariesSlide) {
     c.quantum = k.quantum;
     c.rayBatch = k.rayBatch;
     randomLinks(c, 99);
+    for (auto& [where, l] : c.linkOverride) l.controlDepth = k.lane;
     const MachineResult r = runAndCompare(s, c);
     EXPECT_GT(slidesIn(r), 0u);
 }
@@ -163,13 +165,18 @@ static std::vector<Fidelity> fidelityCases() {
         for (const char* p : {"slide", "work", "quantile"})
             for (Picos q : {Picos(1000), Picos(5000000), Picos(100000000)})  // 1 ns (the smallest latency), 5 us, 100 us
                 for (int k : {1, 16}) v.push_back({s, p, q, k});
+    // The control lane: reports, slides and acks overtake rays.
+    for (const char* s : {"balls-3", "procedural"})
+        for (Picos q : {Picos(1000), Picos(5000000)})
+            for (int k : {1, 16}) v.push_back({s, "slide", q, k, 2});
     return v;
 }
 
 INSTANTIATE_TEST_SUITE_P(All, FidelityModes, testing::ValuesIn(fidelityCases()),
                          [](const testing::TestParamInfo<Fidelity>& i) {
                              std::string n = i.param.scene + "_" + i.param.policy + "_q" +
-                                             std::to_string(i.param.quantum / 1000) + "ns_k" + std::to_string(i.param.rayBatch);
+                                             std::to_string(i.param.quantum / 1000) + "ns_k" + std::to_string(i.param.rayBatch) +
+                                             (i.param.lane ? "_lane" + std::to_string(i.param.lane) : "");
                              n.erase(std::remove(n.begin(), n.end(), '-'), n.end());
                              return n;
                          });
