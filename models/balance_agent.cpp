@@ -1,6 +1,7 @@
 #include "balance_agent.h"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 namespace rt {
@@ -52,8 +53,34 @@ void BalanceAgent::closeInterval(Picos now, Picos busyTotal, Picos waitTotal, ui
         s.span.end = now;
         s.fresh = true;
     }
+    if (hold_) return;
     for (int i : {0, 1})
         if (sides_[i].present) advance(i, now);
+}
+
+void BalanceAgent::startAt(double lo, double hi) {
+    hold_ = true;
+    const int ax = cfg_.axis;
+    // Each give leaves the box at least the minimum thick; a target beyond
+    // the box (the boxes ended elsewhere than the targets assumed) is
+    // approached as far as that allows, and the next frame's targets start
+    // from there.
+    const Box& b = host_.box();
+    if (sides_[0].present && std::isfinite(lo) && lo > b.lo[ax]) {
+        const double to = std::min(lo, b.hi[ax] - minThickness_);
+        if (to > b.lo[ax]) {
+            ++stats_.gives;
+            host_.giveSlab(-1, to);
+        }
+    }
+    const Box& c = host_.box();
+    if (sides_[1].present && std::isfinite(hi) && hi < c.hi[ax]) {
+        const double to = std::max(hi, c.lo[ax] + minThickness_);
+        if (to < c.hi[ax]) {
+            ++stats_.gives;
+            host_.giveSlab(+1, to);
+        }
+    }
 }
 
 void BalanceAgent::onReport(int side, const Message& m, Picos now) {

@@ -79,6 +79,13 @@ public:
 
     const BalanceStats& stats() const { return stats_; }
 
+    // `resplit` with a frame before: at the frame's start, move the box's
+    // faces to `lo` and `hi` (NaN: that face stays), each face by the node
+    // that owns the slab between it and its target, and then hold them for
+    // the frame: no reports, no decisions. Both nodes of a face know its
+    // target, so exactly one of them gives.
+    void startAt(double lo, double hi);
+
 private:
     struct Span {  // since the last report to one side
         Picos busy = 0, wait = 0, stepCost = 0, end = 0;
@@ -111,6 +118,7 @@ private:
     Picos traced_ = 0;  // time tracing in the box since the last interval closed
     uint64_t waiting_ = 0;
     std::array<Side, 2> sides_;  // [0]: lower neighbour, [1]: upper
+    bool hold_ = false;          // the boundaries stay for the frame (startAt)
     BalanceStats stats_;
 };
 

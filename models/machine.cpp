@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <sstream>
 #include <stdexcept>
 
@@ -37,6 +38,9 @@ Machine::Machine(sc_core::sc_module_name name, const Scene& scene, const Machine
     const int ax = cfg_.balance.axis;
     minThickness_ = cfg_.balance.minThickness * world_.extent()[ax] / cfg_.dims[ax];
     columnBounds_ = initialBoundaries();
+    if (!cfg_.targetBoundaries.empty() && cfg_.targetBoundaries.size() != columnBounds_.size())
+        throw std::invalid_argument("target boundaries: " + std::to_string(cfg_.targetBoundaries.size()) +
+                                    " columns, the mesh has " + std::to_string(columnBounds_.size()));
     const double margin = roundingMargin(world_);
     // Credit precision: the host's split, a node's split over its primary
     // rays, and one split per ray-tree level (a hit spawns at most L + 2 rays
@@ -59,6 +63,14 @@ Machine::Machine(sc_core::sc_module_name name, const Scene& scene, const Machine
         return new Node(cellName(c).c_str(), c, b, objectsOverlapping(scene_.objects, b, margin), params,
                         cfg_.costsOf(c), cfg_.speedOf(c));
     });
+    if (!cfg_.targetBoundaries.empty())  // resplit: where each node's faces go at the frame's start
+        for (Node& node : nodes_) {
+            const Cell& c = node.cell();
+            const std::vector<double>& t = cfg_.targetBoundaries[size_t(columnOf(c))];
+            if (t.size() != size_t(cfg_.dims[ax] - 1)) throw std::invalid_argument("target boundaries: a column of the wrong size");
+            const double nan = std::nan("");
+            node.setStartTargets(c[ax] > 0 ? t[size_t(c[ax] - 1)] : nan, c[ax] + 1 < cfg_.dims[ax] ? t[size_t(c[ax])] : nan);
+        }
 
     // Links between face neighbours, one per direction, and the frame-buffer ports.
     for (Node& n : nodes_) {

@@ -41,16 +41,18 @@ struct LinkParams {
     // The control lane (link.h): slots of a second virtual channel for load
     // reports, slides and acks, which go on the wire ahead of waiting rays.
     // 0 (the default): no lane; control messages queue with the rays, in one
-    // FIFO. Experimental: with random link settings and no guard a frame has
-    // been seen never to end with the lane on (doc/balancing.md).
+    // FIFO (doc/balancing.md, "The control lane", says why it is off).
     int controlDepth = 0;
 };
 
 // Sliding boundaries (doc/balancing.md). Every column of nodes along the
 // progress axis owns its own boundaries between them. Policies are named
-// (models/policy_registry.cpp): none, slide, work, quantile, median.
+// (models/policy_registry.cpp): none, slide, work, quantile, resplit, median.
 // What `--balance default` selects: the recommended policy (doc/balancing.md).
-constexpr const char* kDefaultPolicy = "slide";
+// `resplit` balances a single frame exactly as `slide` does, and over
+// --frames re-splits each column between frames (0.44 of the unbalanced
+// frame along the axis at N = 4, against slide's 0.50).
+constexpr const char* kDefaultPolicy = "resplit";
 
 struct BalanceConfig {
     std::string policy = "none";
@@ -102,6 +104,11 @@ struct MachineConfig {
     // or the object medians for `median`). A frame of --frames starts where
     // the one before ended (--boundaries-from).
     std::vector<std::vector<double>> startBoundaries;
+    // `resplit`: where each column's inner planes go at the start of the
+    // frame (the quantiles of the frame before's busy time; same layout as
+    // startBoundaries). The nodes move there with slides at time 0 and keep
+    // their boxes for the frame; empty: no frame before (within-frame slides).
+    std::vector<std::vector<double>> targetBoundaries;
 
     // Tracing (VCD); empty path: none.
     std::string vcdPath;

@@ -123,6 +123,7 @@ void Node::run() {
     if (bal_.dynamic())
         balance_ = std::make_unique<BalanceAgent>(bal_, static_cast<BalanceHost&>(*this), world_, cell_[bal_.axis], columnLength_,
                                                   out[sideDir(-1)].size() > 0, out[sideDir(+1)].size() > 0, minThickness_);
+    if (balance_ && startTargets_) balance_->startAt((*startTargets_)[0], (*startTargets_)[1]);
     Work w;
     std::optional<Message> ctl;
     for (;;) {

@@ -90,6 +90,9 @@ public:
     // Setup by the host's job description, before the simulation starts.
     void assignPrimaries(std::vector<uint32_t> pixels, int primaryExp, const Credit& remainder);
     void enableTrace() { trace_ = std::make_unique<NodeTrace>(); }
+    // `resplit` with a frame before: where the box's faces along the axis
+    // go at the frame's start (NaN: that face stays); BalanceAgent::startAt.
+    void setStartTargets(double lo, double hi) { startTargets_ = {lo, hi}; }
     // The frame ended at `end`: the node's busy and wait time up to then
     // (busy + wait = end). A step still running then counts as busy only up
     // to `end`; a node still waiting then waited until then. A node running
@@ -179,6 +182,7 @@ private:
     // Balancing (dynamic policies); made when the process starts, once the
     // node knows which neighbours it has.
     std::unique_ptr<BalanceAgent> balance_;
+    std::optional<std::array<double, 2>> startTargets_;
     int columnLength_;
 
     std::vector<uint32_t> pixels_;

@@ -120,13 +120,19 @@ def sweep(a):
                              "speedup": one / r["render_time_ns"],
                              "balance_gain": none["render_time_ns"] / r["render_time_ns"] if bal != "none" else "",
                              "slides": r["slides"], "link_bytes": r["link_bytes"],
+                             # the 95th percentile age of the loads decisions used, in intervals, and issue
+                             # 11's target for it: 2 intervals plus a load report's time across one link
+                             "age_p95": r["age_p95"],
+                             "age_target": 2 + (value(lat) + 52 / value(bw)) * 1e9 / r["interval_ns"],
                              "version": r["version"], "command": r["command"]})
     return rows
 
 
 def extract(r):
     link_bytes = sum(sum(link["bytes"].values()) for link in r["links"] if not link["to"].startswith("fb"))
-    return {"render_time_ns": r["render_time_ns"], "slides": r["balance"]["slides"], "link_bytes": link_bytes}
+    ages = r["balance"].get("load_age_intervals") or {}
+    return {"render_time_ns": r["render_time_ns"], "slides": r["balance"]["slides"], "link_bytes": link_bytes,
+            "age_p95": ages.get("p95", ""), "interval_ns": r["config"]["balance"]["interval_ns"]}
 
 
 def knee(points, factor, slower_is_larger):

@@ -179,6 +179,8 @@ void RtsimOptions::addTo(CLI::App& app) {
     app.add_option("--boundaries-from", boundariesFrom,
                    "start each column's boundaries where they ended in this report's run (the same scene, mesh and axis)")
         ->check(CLI::ExistingFile)->group(gf);
+    app.add_option("--targets-from", targetsFrom, "internal: resplit's targets for this frame (JSON)")
+        ->check(CLI::ExistingFile)->group("");
     app.add_option("--frame-index", frameIndex, "internal: this run is that frame (0-based) of a sequence")
         ->check(CLI::Range(0, 9999))->group("");
     app.add_flag("--as-frame", asFrame, "internal: run as an earlier frame of another run's sequence")->group("");

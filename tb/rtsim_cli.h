@@ -27,6 +27,7 @@ struct RtsimOptions {
     int frameIndex = -1;            // internal (--frame-index): this run is that frame (0-based) of a sequence
     std::vector<double> eyeStep;    // the camera path: the eye moves this much per frame; empty: still
     std::string boundariesFrom;     // a report whose last boundaries this run starts from
+    std::string targetsFrom;        // internal: resplit's targets for this frame (JSON), from the frame loop
     bool asFrame = false;           // internal: an earlier frame of another run's sequence
 
     // Registers every flag on `app`.

@@ -2,11 +2,14 @@
 // profile they cut from, the agent's rounds in lockstep with a neighbour,
 // the guard, and the links' control lane, all against values worked out by
 // hand in the tests (no machine run).
+#include <cmath>
+
 #include <gtest/gtest.h>
 
 #include "balance_agent.h"
 #include "link.h"
 #include "policy.h"
+#include "resplit.h"
 
 using namespace rt;
 
@@ -158,7 +161,10 @@ struct FakeHost : BalanceHost {
     Picos cost = 0, hop = 0;
     const Box& box() const override { return b; }
     void sendReport(int side, Message m) override { reports.push_back({side, std::move(m)}); }
-    void giveSlab(int side, double boundary) override { slabs.push_back({side, boundary}); }
+    void giveSlab(int side, double boundary) override {  // the box shrinks along x, as a node's does
+        slabs.push_back({side, boundary});
+        (side > 0 ? b.hi : b.lo)[0] = boundary;
+    }
     Picos slabCost(int, double) const override { return cost; }
     Picos hopTime(int) const override { return hop; }
 };
@@ -355,4 +361,72 @@ TEST(ControlLane, HasItsOwnSlotsAndStaysFifo) {
     EXPECT_FALSE(l.controlArrivedBy(451 * ns));  // slot back at 300, on the wire 52, latency 100: 452
     EXPECT_TRUE(l.controlArrivedBy(452 * ns));
     EXPECT_EQ(l.consumeControl(452 * ns).interval, 2);
+}
+
+// ---- resplit: between frames (models/resplit.h) ----
+
+TEST(Resplit, PlanesAtTheQuantilesOfTheBusyTimeByHand) {
+    // Boxes [0,1] [1,2] [2,3] [3,4] with busy 3, 1, 1, 3 (total 8): the
+    // planes where 2, 4 and 6 of it lie below, each box's busy time spread
+    // evenly over it: 2/3 into the first box, the end of the second, 1/3
+    // into the fourth.
+    const std::vector<double> p = resplitPlanes({0, 1, 2, 3, 4}, {3, 1, 1, 3}, 0.1);
+    ASSERT_EQ(p.size(), 3u);
+    EXPECT_NEAR(p[0], 2.0 / 3, 1e-12);
+    EXPECT_NEAR(p[1], 2.0, 1e-12);
+    EXPECT_NEAR(p[2], 3.0 + 1.0 / 3, 1e-12);
+    // All the work in the first box: quarters of it, unless that is thinner
+    // than the minimum, which pushes the planes up from the bottom.
+    const std::vector<double> q = resplitPlanes({0, 1, 2, 3, 4}, {100, 0, 0, 0}, 0.2);
+    EXPECT_NEAR(q[0], 0.25, 1e-12);
+    EXPECT_NEAR(q[1], 0.5, 1e-12);
+    EXPECT_NEAR(q[2], 0.75, 1e-12);
+    const std::vector<double> r = resplitPlanes({0, 1, 2, 3, 4}, {100, 0, 0, 0}, 0.5);
+    EXPECT_NEAR(r[0], 0.5, 1e-12);
+    EXPECT_NEAR(r[1], 1.0, 1e-12);
+    EXPECT_NEAR(r[2], 1.5, 1e-12);
+    // No busy time: the planes stay.
+    EXPECT_EQ(resplitPlanes({0, 1, 2, 3, 4}, {0, 0, 0, 0}, 0.1), (std::vector<double>{1, 2, 3}));
+    EXPECT_THROW(resplitPlanes({0, 1, 2}, {1, 1, 1}, 0.1), std::invalid_argument);
+}
+
+TEST(Resplit, TimeAveragedPosition) {
+    // At 1 for 2 ns, then at 3 for 2 ns.
+    EXPECT_DOUBLE_EQ(timeAveraged({{0, 1}, {2, 3}}, 4), 2.0);
+    // A move after the end does not count.
+    EXPECT_DOUBLE_EQ(timeAveraged({{0, 1}, {2, 3}, {9, 100}}, 4), 2.0);
+    EXPECT_DOUBLE_EQ(timeAveraged({{0, 5}}, 10), 5.0);
+}
+
+TEST(Agent, StartAtMovesEachFaceByItsOwnerAndHolds) {
+    // Boxes [0,1] and [1,2] along x; the face's target 0.6 lies in the lower
+    // box, so the lower node gives [0.6, 1] and the upper one gives nothing.
+    BalanceConfig cfg = agentConfig();
+    cfg.policy = "resplit";
+    FakeHost ha, hb;
+    hb.b = Box{Vec3(1.0, 0.0, 0.0), Vec3(2.0, 1.0, 1.0)};
+    const Box world{Vec3(0.0), Vec3(2.0, 1.0, 1.0)};
+    BalanceAgent a(cfg, ha, world, 0, 2, false, true, 0.05), b(cfg, hb, world, 1, 2, true, false, 0.05);
+    const double nan = std::nan("");
+    a.startAt(nan, 0.6);
+    b.startAt(0.6, nan);
+    ASSERT_EQ(ha.slabs.size(), 1u);
+    EXPECT_EQ(ha.slabs[0], std::make_pair(+1, 0.6));
+    EXPECT_TRUE(hb.slabs.empty());
+    // Held for the frame: intervals close, nothing is reported or decided.
+    for (int i = 1; i <= 3; ++i) {
+        a.recordStep(0.3, 20 * us);
+        a.closeInterval(Picos(i) * 20 * us, Picos(i) * 20 * us, 0, 5);
+        b.closeInterval(Picos(i) * 20 * us, 0, Picos(i) * 20 * us, 0);
+    }
+    EXPECT_TRUE(ha.reports.empty());
+    EXPECT_TRUE(hb.reports.empty());
+    EXPECT_EQ(a.stats().decisions, 0u);
+    // A target beyond the box: the owner gives as far as the minimum thickness allows.
+    FakeHost hc;
+    hc.b = Box{Vec3(1.0, 0.0, 0.0), Vec3(2.0, 1.0, 1.0)};
+    BalanceAgent c(cfg, hc, world, 1, 2, true, false, 0.05);
+    c.startAt(2.5, nan);
+    ASSERT_EQ(hc.slabs.size(), 1u);
+    EXPECT_EQ(hc.slabs[0], std::make_pair(-1, 1.95));
 }

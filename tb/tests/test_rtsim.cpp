@@ -173,7 +173,9 @@ TEST_F(Rtsim, SummaryComparesTheFrameWithAndWithoutBalancing) {
     const double one = report(args + " --mesh 1", "o.json")["render_time_ns"];
     ASSERT_TRUE(m.contains("comparison"));
     const json& c = m["comparison"];
-    EXPECT_EQ(c["balanced_policy"], "slide");  // what --balance default selects
+    EXPECT_EQ(c["balanced_policy"], "resplit");  // what --balance default selects
+    // One frame of resplit is one frame of slide.
+    EXPECT_EQ(report(args + " --balance resplit", "r.json")["render_time_ns"], slide["render_time_ns"]);
     EXPECT_EQ(c["unbalanced_ns"].get<double>(), none);
     EXPECT_EQ(c["balanced_ns"].get<double>(), slide["render_time_ns"].get<double>());
     EXPECT_DOUBLE_EQ(c["ratio"].get<double>(), slide["render_time_ns"].get<double>() / none);
@@ -420,4 +422,31 @@ TEST_F(Rtsim, BoundariesFromAnotherMeshIsBadInput) {
     EXPECT_EQ(std::count(o.err.begin(), o.err.end(), '\n'), 1) << o.err;
     std::ofstream(dir_ / "bad.json") << "{ not json";
     EXPECT_EQ(run(std::string(kSliding) + " -q --image '' --boundaries-from " + (dir_ / "bad.json").string()).code, 2);
+}
+
+TEST_F(Rtsim, ResplitMovesTheBoundariesAtTheStartOfEachFrameAndKeepsTheFastest) {
+    // Frame 1 balances as slide; every later frame starts by moving each
+    // face once, at time 0, to the quantiles of the frame before's busy
+    // time, and holds it. Over eight frames it settles on the fastest split
+    // it has seen, well below the unbalanced frame.
+    const std::string k = std::string(kSliding) + " --balance resplit";
+    const json none = report(std::string(kSliding) + " --balance none", "n.json");
+    const json f = report(k + " --frames 8", "f.json");
+    ASSERT_EQ(f["frames"].size(), 8u);
+    EXPECT_GT(f["frames"][0]["slides"].get<int>(), 18);
+    double fastest = 1e300;
+    for (size_t i = 1; i < 8; ++i) {
+        EXPECT_LE(f["frames"][i]["slides"].get<int>(), 3 * 3 * 2) << i;  // each face of the 3 x 3 columns at most once
+        if (i < 7) fastest = std::min(fastest, f["frames"][i]["render_time_ns"].get<double>());
+    }
+    EXPECT_LE(f["render_time_ns"].get<double>(), fastest);
+    EXPECT_LT(f["render_time_ns"].get<double>(), 0.8 * none["render_time_ns"].get<double>());
+    // The moves of a re-split frame happen at its start.
+    const json g = report(k + " --frames 3", "g.json");
+    ASSERT_GT(g["balance"]["slides"].get<int>(), 0);
+    for (const json& h : g["boundaries"])
+        for (const json& p : h["history"]) EXPECT_LT(p[0].get<double>(), 1000.0) << h.dump();
+    ASSERT_EQ(run(k + " --frames 3 -q --no-baseline --image " + (dir_ / "g.png").string()).code, 0);
+    ASSERT_EQ(run(std::string(kSliding) + " --balance none -q --no-baseline --image " + (dir_ / "n.png").string()).code, 0);
+    EXPECT_EQ(slurp(dir_ / "g.png"), slurp(dir_ / "n.png"));
 }

@@ -1,0 +1,109 @@
+#!/usr/bin/python3
+"""The best static one-axis partition, by search: how fast the frame of the
+Fig. 4 experiment can be with fixed boundaries along the progress axis (the
+same in every column), found by coordinate descent over the planes, each
+candidate a full rtsim run without balancing that starts at those planes
+(--boundaries-from). It is what a balancer that slides boundaries could at
+best settle on, all costs of thin boxes included (rays crossing more boxes,
+their messages), unlike the column bound, which spreads the unbalanced run's
+work. Writes doc/results/partition_search.{csv,md} and its table into
+doc/balancing.md. Run with /usr/bin/python3."""
+import argparse
+import concurrent.futures
+import json
+import os
+import sys
+import tempfile
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import sweep as driver  # noqa: E402
+from fig4 import SCENE, VIEWS  # noqa: E402
+from sweep import RTSIM, ROOT, write_csv  # noqa: E402
+
+
+def args_of(a, n, f):
+    return (["--config", os.path.join(ROOT, "configs", a.preset + ".conf")] + SCENE + VIEWS[a.view] +
+            ["--mesh", n, "--concentration", f"{f:.6f}", "--balance", "none"])
+
+
+def unbalanced(a, n, f):
+    """The frame on the uniform split: (render time in ns, the world's extent along x)."""
+    report, _ = driver.run_rtsim(RTSIM, args_of(a, n, f))
+    boxes = [node["box"] for node in report["nodes"]]
+    return report["render_time_ns"], min(b[0][0] for b in boxes), max(b[1][0] for b in boxes)
+
+
+def run(a, n, f, planes):
+    """Render time (ns) of the frame with every column's inner planes at `planes`."""
+    rep = {"config": {"mesh": [n, n, n], "balance": {"axis": "x"}},
+           "boundaries": [{"column": [i, j], "index": k + 1, "history": [[0, p]]}
+                          for i in range(n) for j in range(n) for k, p in enumerate(planes)]}
+    fd, path = tempfile.mkstemp(suffix=".json")
+    with os.fdopen(fd, "w") as fh:
+        json.dump(rep, fh)
+    try:
+        report, _ = driver.run_rtsim(RTSIM, args_of(a, n, f) + ["--boundaries-from", path])
+        return report["render_time_ns"]
+    finally:
+        os.remove(path)
+
+
+def search(a, n, f, lo, hi, pool):
+    """Coordinate descent from planes spread evenly over the crowded layer:
+    move one plane by +-step while that helps, halve the step when nothing
+    does. Returns (best time, planes, runs)."""
+    min_gap = 0.05 * (hi - lo) / n  # the default minimum thickness
+    planes = [f * k / n for k in range(1, n)]
+    best = run(a, n, f, planes)
+    runs, step = 1, f / n / 2
+    while step >= a.min_step:
+        cands = []
+        for k in range(n - 1):
+            for d in (-step, step):
+                p = list(planes)
+                p[k] = round(p[k] + d, 6)
+                edges = [lo] + p + [hi]
+                if all(edges[i + 1] - edges[i] >= min_gap for i in range(n)):
+                    cands.append(p)
+        times = list(pool.map(lambda p: run(a, n, f, p), cands))
+        runs += len(cands)
+        t, p = min(zip(times, cands), key=lambda x: x[0]) if cands else (best, planes)
+        if t < best:
+            best, planes = t, p
+        else:
+            step /= 2
+    return best, planes, runs
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--n", default="4,5")
+    ap.add_argument("--view", default="along", choices=sorted(VIEWS))
+    ap.add_argument("--preset", default="modern")
+    ap.add_argument("--min-step", type=float, default=0.004, help="stop when the step is below this (world units)")
+    ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
+    driver.add_output_arguments(ap, os.path.join(ROOT, "doc", "balancing.md"))
+    a = ap.parse_args()
+    rows = []
+    with concurrent.futures.ThreadPoolExecutor(a.jobs) as pool:
+        for n in (int(x) for x in a.n.split(",")):
+            f = 1 / n
+            none, lo, hi = unbalanced(a, n, f)
+            t, planes, runs = search(a, n, f, lo, hi, pool)
+            rows.append({"preset": a.preset, "view": a.view, "N": n, "f": round(f, 6), "time_none_ns": none,
+                         "best_ns": t, "ratio": t / none, "planes": " ".join(f"{p:.4f}" for p in planes),
+                         "runs": runs, "version": driver.version()})
+            print(f"N = {n}: {t / 1e3:.1f} us, ratio {t / none:.3f}, planes {planes} ({runs} runs)", file=sys.stderr)
+    stem = "partition_search" if a.preset == "modern" else f"partition_search-{a.preset}"
+    write_csv(os.path.join(a.out, stem + ".csv"), rows)
+    lines = [f"<!-- written by scripts/partition_search.py --preset {a.preset} --view {a.view}; do not edit -->",
+             "| view | N | f | none | best static partition | ratio | its planes along x | runs |",
+             "|---|---:|---:|---:|---:|---:|---|---:|"]
+    for r in rows:
+        lines.append(f"| {r['view']} | {r['N']} | 1/{r['N']} | {r['time_none_ns'] / 1e3:,.1f} us | "
+                     f"{r['best_ns'] / 1e3:,.1f} us | {r['ratio']:.3f} | {r['planes']} | {r['runs']} |")
+    driver.publish_table(lines, os.path.join(a.out, stem + ".md"), a.doc or None, f"partition search {a.preset}")
+
+
+if __name__ == "__main__":
+    main()
