@@ -5,9 +5,10 @@ crowd into (1/N .. 1), per mesh size N, for a view along the progress axis
 and one across it. Each panel shows every policy (the static object-median
 split and the dynamic ones), the column bound of the unbalanced run (the best
 any balancer that slides boundaries along one axis could do with its work),
-1/N, and the paper's 0.2. Each dynamic policy also has its steady-state
-curve: the last of --frames frames of the same view, each starting with the
-boundaries where the one before ended (rtsim --frames).
+1/N, and the paper's 0.2. The --steady policies also have their
+steady-state curves: the last of --frames frames of the same view, each
+starting with the boundaries where the one before ended (rtsim --frames);
+`resplit` re-splits its columns between frames.
 
 Runs on a machine preset (--preset: configs/NAME.conf; modern is rtsim's
 defaults) with the project's default balancing settings. Writes
@@ -30,7 +31,7 @@ VIEWS = {
     "across": ["--eye=0.5,-1.6,0.5", "--look-at=0.5,0.5,0.5", "--fov", "40"],
 }
 POLICIES = "median,slide,work"
-DYNAMIC = {"slide", "work", "quantile"}  # policies that move boundaries during a frame
+STEADY = "slide,resplit"  # their steady state too: "resplit@6" is resplit's frame 6
 PAPER = 0.2
 
 
@@ -40,15 +41,15 @@ def main():
     ap.add_argument("--policies", default=POLICIES, help="policies compared with none")
     ap.add_argument("--preset", default="modern", help="configs/PRESET.conf")
     ap.add_argument("--extra", default="", help="more rtsim flags for every run")
-    ap.add_argument("--frames", type=int, default=3,
-                    help="frames of the steady-state curves (the last is plotted; 1: none)")
+    ap.add_argument("--steady", default=STEADY, help="policies whose steady state is drawn too ('': none)")
+    ap.add_argument("--frames", type=int, default=6, help="frames of the steady-state curves (the last is plotted)")
     driver.add_output_arguments(ap, os.path.join(ROOT, "doc", "balancing.md"))
     driver.add_arguments(ap)
     a = ap.parse_args()
     ns = [int(x) for x in a.n.split(",")]
     policies = a.policies.split(",")
-    if a.frames > 1:  # the steady state of each dynamic policy: "slide@3" is slide's frame 3
-        policies += [f"{p}@{a.frames}" for p in policies if p in DYNAMIC]
+    if a.steady and a.frames > 1:
+        policies += [f"{p}@{a.frames}" for p in a.steady.split(",")]
     stem = "fig4" if a.preset == "modern" else f"fig4-{a.preset}"
     csv_path = os.path.join(a.out, stem + ".csv")
     if not a.plot_only:
@@ -100,6 +101,7 @@ def sweep(a, ns, policies):
                                  # what sliding could reach with the work this run did
                                  "own_column_bound": r["column_bound"] * r["render_time_ns"] / none["render_time_ns"],
                                  "max_over_mean_load": r["max_over_mean_load"], "stability": r["stability"],
+                                 "frames_ns": r["frames_ns"], "settled": r["settled"],
                                  "version": r["version"], "command": r["command"]})
     return rows
 
@@ -109,14 +111,20 @@ def extract(r):
     return {"render_time_ns": r["render_time_ns"], "slides": b["slides"],
             "max_over_mean_load": b["max_over_mean_load"], "stability": b["stability"],
             "column_bound": bd["column"]["fraction"], "perfect_bound": bd["perfect"]["fraction"],
-            "fb_bound": bd["frame_buffer"]["fraction"], "busy_ns": r["totals"]["busy_ns"]}
+            "fb_bound": bd["frame_buffer"]["fraction"], "busy_ns": r["totals"]["busy_ns"],
+            # a sequence of frames (rtsim --frames): each frame's render time, and whether the last two agree
+            # within 1 % (settled)
+            "frames_ns": " ".join(f"{f['render_time_ns']:.0f}" for f in r.get("frames", [])),
+            "settled": (abs(r["frames"][-1]["render_time_ns"] - r["frames"][-2]["render_time_ns"]) <=
+                        0.01 * r["frames"][-2]["render_time_ns"]) if len(r.get("frames", [])) > 1 else ""}
 
 
 def plot(a, rows, ns, policies, path):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    colours = {"median": "#7a7a7a", "slide": "#1f77b4", "work": "#d62728"}
+    colours = {"median": "#7a7a7a", "slide": "#1f77b4", "work": "#d62728", "resplit": "#2a9d55",
+               "quantile": "#9467bd"}
     fig, axes = plt.subplots(len(VIEWS), len(ns), figsize=(2.6 * len(ns) + 1, 2.7 * len(VIEWS) + 0.8),
                              sharey=True, squeeze=False)
     for row, view in enumerate(VIEWS):

@@ -229,13 +229,19 @@ def table(a, rows):
              "| N | latency: +10 % | latency: knee (x2) | latency knee (x2), depth "
              f"{a.deep_depth} | bandwidth: +10 % | bandwidth: knee (x2) |"
              f" knee (x2) with {a.balance}: latency, bandwidth | speed-up, fastest links | balancing gain, fastest"
-             " / default / slowest latency |",
-             "|---|---|---|---|---|---|---|---|---|"]
+             " / default / slowest latency | lowest balancing gain (link) | load age p95, worst against target |",
+             "|---|---|---|---|---|---|---|---|---|---|---|"]
     for n in ns:
         lat = [r for r in rows if r["sweep"] == "latency" and r["N"] == n]
         fastest = min((r for r in lat if r["balance"] == "none"), key=lambda r: r["latency_s"])
         gains = sorted((r for r in lat if r["balance"] != "none"), key=lambda r: r["latency_s"])
         default = next(r for r in gains if r["latency"] == a.default_latency)
+        balanced = [r for r in rows if r["N"] == n and r["balance"] != "none" and r["sweep"] in ("latency", "bandwidth")]
+        low = min(balanced, key=lambda r: r["balance_gain"])
+        aged = [r for r in balanced if r.get("age_p95") not in (None, "")]
+        worst = max(aged, key=lambda r: float(r["age_p95"]) / float(r["age_target"])) if aged else None
+        age = (f"{float(worst['age_p95']):.2f} (target {float(worst['age_target']):.2f}; {worst['latency']}, "
+               f"{worst['bandwidth']})" if worst else "no decisions")
         lines.append(
             f"| {n} | {fmt_latency(knees(rows, 'latency', 'none', n, 1.1))} | "
             f"{fmt_latency(knees(rows, 'latency', 'none', n, 2.0))} | "
@@ -245,7 +251,8 @@ def table(a, rows):
             f"{fmt_latency(knees(rows, 'latency', a.balance, n, 2.0))}, "
             f"{fmt_bandwidth(knees(rows, 'bandwidth', a.balance, n, 2.0))} | "
             f"{fastest['speedup']:.2f} | {gains[0]['balance_gain']:.2f} / {default['balance_gain']:.2f} / "
-            f"{gains[-1]['balance_gain']:.2f} |")
+            f"{gains[-1]['balance_gain']:.2f} | {low['balance_gain']:.3f} ({low['latency']}, {low['bandwidth']}) | "
+            f"{age} |")
     section = "link_sweep table" if a.preset == "modern" else f"link_sweep table {a.preset}"
     driver.publish_table(lines, os.path.join(a.out, a.stem + ".md"), a.doc, section)
 

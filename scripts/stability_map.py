@@ -4,7 +4,11 @@ interval, at two link latencies, on the paper's experiment at rtsim's
 defaults (1,000 spheres crowded into the first quarter of x, 4x4x4 mesh).
 Each point is judged converged, oscillating or diverging from its boundaries'
 movement after the transient (the report's balance.stability, computed by
-models/stability.cpp). Writes doc/results/stability.csv and .png.
+models/stability.cpp). Writes doc/results/stability[-PRESET].csv and .png;
+--preset transputer-1987 maps the 1987 machine (intervals in ms, its link
+latency and 30 times it). `resplit` balances a frame as `slide` does, so
+this map is its within-frame map too; its between-frame behaviour is in
+Fig. 4's steady-state curves.
 Needs python3-matplotlib (bash scripts/setup.sh plots); run with /usr/bin/python3."""
 import argparse
 import csv
@@ -15,18 +19,30 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import sweep as driver  # noqa: E402
 from sweep import ROOT  # noqa: E402
 
-DEFAULT_GAIN, DEFAULT_INTERVAL_US = 0.25, 20  # models/machine_config.h
+DEFAULT_GAIN = 0.25  # models/machine_config.h
+# Per preset: the default interval (us), the swept intervals and latencies.
+PRESETS = {
+    "modern": {"interval_us": 20, "intervals_us": "2,5,10,20,50", "latencies": "100ns,2us"},
+    "transputer-1987": {"interval_us": 34000, "intervals_us": "3400,8500,17000,34000,85000",
+                        "latencies": "1.5us,45us"},
+}
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--gains", default="0.0625,0.125,0.25,0.5,1,2,4")
-    ap.add_argument("--intervals-us", default="2,5,10,20,50")
-    ap.add_argument("--latencies", default="100ns,2us")
+    ap.add_argument("--preset", default="modern", choices=sorted(PRESETS), help="configs/PRESET.conf")
+    ap.add_argument("--intervals-us", help="swept intervals (default: the preset's)")
+    ap.add_argument("--latencies", help="swept link latencies (default: the preset's)")
     ap.add_argument("--policy", default="slide")
     driver.add_output_arguments(ap)
     driver.add_arguments(ap)
     a = ap.parse_args()
+    p = PRESETS[a.preset]
+    a.intervals_us = a.intervals_us or p["intervals_us"]
+    a.latencies = a.latencies or p["latencies"]
+    a.default_interval_us = p["interval_us"]
+    a.stem = "stability" if a.preset == "modern" else f"stability-{a.preset}"
     gains = [float(g) for g in a.gains.split(",")]
     intervals = [float(i) for i in a.intervals_us.split(",")]
     lats = a.latencies.split(",")
@@ -37,9 +53,10 @@ def main():
 
 def sweep(a, gains, intervals, lats):
     points = [{"params": {"latency": lat, "gain": g, "interval_us": iv},
-               "args": ["--balance", a.policy, "--gain", g, "--balance-interval", f"{iv}us", "--link-latency", lat]}
+               "args": ["--config", os.path.join(ROOT, "configs", a.preset + ".conf"), "--balance", a.policy,
+                        "--gain", g, "--balance-interval", f"{iv}us", "--link-latency", lat]}
               for lat in lats for g in gains for iv in intervals]
-    driver.run("stability_map", points, extract, os.path.join(a.out, "stability.csv"), a)
+    driver.run(a.stem, points, extract, os.path.join(a.out, a.stem + ".csv"), a)
 
 
 def extract(r):
@@ -50,7 +67,7 @@ def extract(r):
 
 
 def plot(a, lats):
-    with open(os.path.join(a.out, "stability.csv")) as f:
+    with open(os.path.join(a.out, a.stem + ".csv")) as f:
         rows = [dict(r, gain=float(r["gain"]), interval_us=float(r["interval_us"]),
                      render_time_ns=float(r["render_time_ns"])) for r in csv.DictReader(f)]
     import matplotlib
@@ -59,15 +76,17 @@ def plot(a, lats):
     colour = {"converged": "#2a9d55", "oscillating": "#e9a23b", "diverging": "#d1495b"}
     fig, axes = plt.subplots(1, len(lats), figsize=(5.2 * len(lats), 4.4), sharey=True)
     axes = axes if len(lats) > 1 else [axes]
+    slow = max(r["render_time_ns"] for r in rows) > 1e8  # the 1987 machine's frames last seconds
+    scale, unit = (1e6, "ms") if slow else (1e3, "us")
     for ax, lat in zip(axes, lats):
         for cls, c in colour.items():
             pts = [r for r in rows if r["latency"] == lat and r["stability"] == cls]
             ax.scatter([r["interval_us"] for r in pts], [r["gain"] for r in pts], s=260, c=c, marker="s", label=cls)
         for r in rows:
             if r["latency"] == lat:
-                ax.annotate(f"{r['render_time_ns'] / 1e3:.0f}", (r["interval_us"], r["gain"]), ha="center",
+                ax.annotate(f"{r['render_time_ns'] / scale:.0f}", (r["interval_us"], r["gain"]), ha="center",
                             va="center", fontsize=6, color="white")
-        ax.scatter([DEFAULT_INTERVAL_US], [DEFAULT_GAIN], s=600, facecolors="none", edgecolors="black", linewidths=1.5,
+        ax.scatter([a.default_interval_us], [DEFAULT_GAIN], s=600, facecolors="none", edgecolors="black", linewidths=1.5,
                    label="default")
         ax.set_xscale("log")
         ax.set_yscale("log", base=2)
@@ -77,11 +96,12 @@ def plot(a, lats):
     axes[0].set_ylabel("gain")
     handles, labels = axes[0].get_legend_handles_labels()
     fig.legend(handles, labels, loc="lower center", ncol=4, fontsize=8, markerscale=0.5)
-    fig.suptitle(f"Stability of '{a.policy}' (numbers: render time in us); rtsim default scene, 4x4x4", fontsize=10)
+    fig.suptitle(f"Stability of '{a.policy}', preset {a.preset} (numbers: render time in {unit}); rtsim default scene, "
+                 "4x4x4", fontsize=10)
     fig.tight_layout(rect=(0, 0.08, 1, 1))
-    fig.savefig(os.path.join(a.out, "stability.png"), dpi=110)
+    fig.savefig(os.path.join(a.out, a.stem + ".png"), dpi=110)
     for r in rows:
-        if r["gain"] == DEFAULT_GAIN and r["interval_us"] == DEFAULT_INTERVAL_US:
+        if r["gain"] == DEFAULT_GAIN and r["interval_us"] == a.default_interval_us:
             print(f"default at latency {r['latency']}: {r['stability']}")
 
 
