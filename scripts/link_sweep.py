@@ -56,10 +56,13 @@ def main():
     ap.add_argument("--latencies", help="swept latencies (default: the preset's)")
     ap.add_argument("--bandwidths", help="swept bandwidths (default: the preset's)")
     ap.add_argument("--balance", default="default", help="the balancing policy compared with none")
+    ap.add_argument("--frames", type=int, default=6,
+                    help="its steady state too: the last of this many frames (1: the first frame only)")
     ap.add_argument("--deep-depth", type=int, help="link depth of the repeated latency sweep (default: 4x the preset's)")
     driver.add_output_arguments(ap, os.path.join(ROOT, "doc", "exploration.md"))
     driver.add_arguments(ap)
     a = ap.parse_args()
+    a.steady = f"{a.balance}@{a.frames}" if a.frames > 1 else None
     p = PRESETS[a.preset]
     a.default_latency, a.default_bandwidth, a.default_depth = p["latency"], p["bandwidth"], p["depth"]
     a.latencies = a.latencies or p["latencies"]
@@ -83,7 +86,7 @@ def settings(a):
     one-dimensional sweeps."""
     lats = sorted(set(a.latencies.split(",")) | {a.default_latency}, key=value)  # the default link is in all
     bws = sorted(set(a.bandwidths.split(",")) | {a.default_bandwidth}, key=value)
-    both = ("none", a.balance)
+    both = ("none", a.balance) + ((a.steady,) if a.steady else ())
     return ([("latency", lat, a.default_bandwidth, a.default_depth, both) for lat in lats] +
             [("bandwidth", a.default_latency, bw, a.default_depth, both) for bw in bws] +
             [("latency, deep links", lat, a.default_bandwidth, a.deep_depth, ("none",)) for lat in lats])
@@ -100,8 +103,9 @@ def sweep(a):
             for bal in bals:
                 points.append({"params": {"sweep": swept, "N": n, "balance": bal, "latency": lat, "bandwidth": bw,
                                           "depth": depth},
-                               "args": preset + SCENE + ["--mesh", n, "--balance", bal, "--link-latency", lat,
-                                                         "--link-bandwidth", bw] +
+                               "args": preset + SCENE + ["--mesh", n, "--balance", bal.partition("@")[0],
+                                                         "--link-latency", lat, "--link-bandwidth", bw] +
+                               (["--frames", bal.partition("@")[2]] if "@" in bal else []) +
                                ([] if depth == a.default_depth else ["--link-depth", depth])})
     # (The default link appears in every sweep: the later ones are the same point.)
     unique = list({driver.point_id(p["args"]): p for p in points}.values())
@@ -189,6 +193,11 @@ def plot(a, rows):
                 if bal != "none":
                     axes[row][2].plot(xs, [r["balance_gain"] for r in pts], style, color=colour[n], marker=".",
                                       label=f"N = {n}")
+            if a.steady:  # the steady state's gain: dotted, crosses
+                pts = sorted((r for r in rows if r["sweep"] == swept and r["N"] == n and r["balance"] == a.steady),
+                             key=lambda r: r[key])
+                axes[row][2].plot([r[key] * scale for r in pts], [r["balance_gain"] for r in pts], ":",
+                                  color=colour[n], marker="x", markersize=4)
             if swept == "latency":
                 deep = sorted((r for r in rows if r["sweep"] == "latency, deep links" and r["N"] == n),
                               key=lambda r: r[key])
@@ -212,7 +221,8 @@ def plot(a, rows):
         axes[row][2].set_ylabel(f"balancing gain: time(none) / time({a.balance})")
         axes[row][0].set_title(f"render time against {swept} (x: knee, time doubled)", fontsize=10)
         axes[row][1].set_title(f"speed-up over one node against {swept}", fontsize=10)
-        axes[row][2].set_title(f"balancing gain against {swept}", fontsize=10)
+        axes[row][2].set_title(f"balancing gain against {swept}" +
+                               (f" (dashed: frame 1, dotted: frame {a.frames})" if a.steady else ""), fontsize=10)
     axes[0][0].legend(fontsize=8, title=f"solid: none, dashed: {a.balance};\ndotted: none, depth {a.deep_depth}",
                       title_fontsize=8)
     axes[0][2].legend(fontsize=8)
@@ -229,15 +239,20 @@ def table(a, rows):
              "| N | latency: +10 % | latency: knee (x2) | latency knee (x2), depth "
              f"{a.deep_depth} | bandwidth: +10 % | bandwidth: knee (x2) |"
              f" knee (x2) with {a.balance}: latency, bandwidth | speed-up, fastest links | balancing gain, fastest"
-             " / default / slowest latency | lowest balancing gain (link) | load age p95, worst against target |",
-             "|---|---|---|---|---|---|---|---|---|---|---|"]
+             " / default / slowest latency | lowest balancing gain, frame 1 (link) | lowest balancing gain, frame "
+             f"{a.frames} (link) | load age p95, worst against target |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for n in ns:
         lat = [r for r in rows if r["sweep"] == "latency" and r["N"] == n]
         fastest = min((r for r in lat if r["balance"] == "none"), key=lambda r: r["latency_s"])
-        gains = sorted((r for r in lat if r["balance"] != "none"), key=lambda r: r["latency_s"])
+        gains = sorted((r for r in lat if r["balance"] == a.balance), key=lambda r: r["latency_s"])
         default = next(r for r in gains if r["latency"] == a.default_latency)
-        balanced = [r for r in rows if r["N"] == n and r["balance"] != "none" and r["sweep"] in ("latency", "bandwidth")]
+        balanced = [r for r in rows if r["N"] == n and r["balance"] == a.balance and r["sweep"] in ("latency", "bandwidth")]
         low = min(balanced, key=lambda r: r["balance_gain"])
+        steady = [r for r in rows if r["N"] == n and r["balance"] == a.steady and r["sweep"] in ("latency", "bandwidth")]
+        low_steady = (f"{min(steady, key=lambda r: r['balance_gain'])['balance_gain']:.3f} "
+                      f"({min(steady, key=lambda r: r['balance_gain'])['latency']}, "
+                      f"{min(steady, key=lambda r: r['balance_gain'])['bandwidth']})") if steady else "-"
         aged = [r for r in balanced if r.get("age_p95") not in (None, "")]
         worst = max(aged, key=lambda r: float(r["age_p95"]) / float(r["age_target"])) if aged else None
         age = (f"{float(worst['age_p95']):.2f} (target {float(worst['age_target']):.2f}; {worst['latency']}, "
@@ -252,6 +267,7 @@ def table(a, rows):
             f"{fmt_bandwidth(knees(rows, 'bandwidth', a.balance, n, 2.0))} | "
             f"{fastest['speedup']:.2f} | {gains[0]['balance_gain']:.2f} / {default['balance_gain']:.2f} / "
             f"{gains[-1]['balance_gain']:.2f} | {low['balance_gain']:.3f} ({low['latency']}, {low['bandwidth']}) | "
+            f"{low_steady} | "
             f"{age} |")
     section = "link_sweep table" if a.preset == "modern" else f"link_sweep table {a.preset}"
     driver.publish_table(lines, os.path.join(a.out, a.stem + ".md"), a.doc, section)

@@ -141,37 +141,50 @@ std::vector<std::vector<double>> resplitTargets(const nlohmann::json& r, const r
     }
 }
 
-// `resplit` over a sequence of frames: the next frame's targets. Each frame
+// `resplit` over a sequence of frames: what the next frame does. Each frame
 // re-splits at the quantiles of the one before, as long as that keeps making
-// frames faster; the first re-split frame slower than the fastest so far
-// returns the boundaries to the fastest frame's and holds them from then
-// on. (Equal busy times are not always the fastest frame: across the axis
-// the frame also waits for work to arrive, and re-splitting to equal busy
-// times crept from 825 to 953 us over ten frames.)
+// frames faster:
+//  - the first re-split frame slower than the fastest re-split frame so far
+//    returns the boundaries to that frame's, and they hold from then on
+//    (equal busy times are not always the fastest frame: across the axis the
+//    frame also waits for work to arrive, and re-splitting to equal busy
+//    times crept from 825 to 953 us over ten frames);
+//  - if the first re-split frame is already slower than the first frame,
+//    re-splitting does not pay here (past the links' knee, thinner boxes
+//    cost more link time than they save: 1.3 to 1.8 times the first frame
+//    at 3 us or 100 MB/s), and every later frame is the first one again.
 class ResplitSequence {
 public:
     explicit ResplitSequence(const rt::MachineConfig& m) : m_(m) {}
-    // `r`: the report of frame `frame` (1-based); frame 1 balanced within
-    // itself, every later one ran on re-split boundaries.
-    std::vector<std::vector<double>> next(const nlohmann::json& r, int frame) {
-        if (held_) return *held_;
+    // After frame `frame` (1-based), whose report is `r`: the next frame's
+    // targets, or nothing if the next frame is to be the first one again.
+    std::optional<std::vector<std::vector<double>>> next(const nlohmann::json& r, int frame) {
+        if (again_) return std::nullopt;
+        if (held_) return held_;
         const double t = r.at("render_time_ns").get<double>();
-        if (frame >= 2 && t > bestNs_) {
+        if (frame == 1) {
+            firstNs_ = t;
+            return resplitTargets(r, m_);
+        }
+        if (t > bestNs_) {
             held_ = lastBoundaries(best_, m_);
-            return *held_;
+            return held_;
         }
-        if (frame >= 2) {
-            bestNs_ = t;
-            best_ = r;
+        if (t > firstNs_) {
+            again_ = true;
+            return std::nullopt;
         }
+        bestNs_ = t;
+        best_ = r;
         return resplitTargets(r, m_);
     }
 
 private:
     const rt::MachineConfig& m_;
-    double bestNs_ = 1e300;
+    double firstNs_ = 0, bestNs_ = 1e300;  // the first frame's time; the fastest re-split frame's
     nlohmann::json best_;
     std::optional<std::vector<std::vector<double>>> held_;
+    bool again_ = false;
 };
 
 // Writes `j` to a fresh temporary file; its path.
@@ -269,7 +282,7 @@ void printSummary(const rt::Scene& scene, const rt::RtsimOptions& o, const rt::M
 }  // namespace
 
 int sc_main(int argc, char** argv) {
-    CLI::App app{"rtsim: a SystemC model of the sliding-boundary ray-tracing multicomputer (one frame)"};
+    CLI::App app{"rtsim: a SystemC model of the sliding-boundary ray-tracing multicomputer (one frame, or a sequence with --frames)"};
     rt::RtsimOptions o;
     o.addTo(app);
     try {
@@ -325,14 +338,18 @@ int sc_main(int argc, char** argv) {
         nlohmann::json frames = nlohmann::json::array();
         const bool carry = o.machine.balance.dynamic(), resplit = o.machine.balance.policy == "resplit";
         ResplitSequence sequence(o.machine);
+        const rt::MachineConfig first = o.machine;  // how frame 1 starts
+        bool again = false;                         // resplit: every later frame is the first one again
         for (int k = 0; k + 1 < o.frames; ++k) {
             std::vector<std::string> extra{"--as-frame", "--frame-index", std::to_string(k)};
             std::string from, targets;
-            if (carry && k > 0) {  // (frame 1 starts where the user said: --boundaries-from, or the policy's start)
+            // (Frame 1, and a frame that is the first one again, start where
+            // the user said: --boundaries-from, or the policy's start.)
+            if (carry && k > 0 && !again) {
                 from = tempJson(frames.back().at("report"));
                 extra.insert(extra.end(), {"--boundaries-from", from});
             }
-            if (resplit && k > 0) {
+            if (resplit && k > 0 && !again) {
                 targets = tempJson(o.machine.targetBoundaries);
                 extra.insert(extra.end(), {"--targets-from", targets});
             }
@@ -343,7 +360,16 @@ int sc_main(int argc, char** argv) {
             frames.push_back({{"frame", k + 1}, {"render_time_ns", (*f)["render_time_ns"]},
                               {"slides", (*f)["balance"].value("slides", 0)}, {"report", *f}});
             if (carry) o.machine.startBoundaries = lastBoundaries(*f, o.machine);
-            if (resplit) o.machine.targetBoundaries = sequence.next(*f, k + 1);
+            if (resplit) {
+                const auto next = sequence.next(*f, k + 1);
+                if (next) {
+                    o.machine.targetBoundaries = *next;
+                } else {
+                    again = true;
+                    o.machine.startBoundaries = first.startBoundaries;
+                    o.machine.targetBoundaries = first.targetBoundaries;
+                }
+            }
         }
         const rt::MachineResult r = rt::runMachine(scene, o.machine);
         nlohmann::json report = rt::machineReport(r, o.machine);

@@ -215,6 +215,20 @@ TEST_P(NeverHurts, DefaultPolicyLosesAtMostTwoPercent) {
     EXPECT_LE(r["comparison"]["ratio"].get<double>(), 1 / 0.98) << r["comparison"].dump();
 }
 
+// The same cases in steady state: the fourth frame of the default policy
+// (resplit) against the fourth frame without balancing.
+TEST_P(NeverHurts, DefaultPolicyInSteadyStateLosesAtMostTwoPercent) {
+    const std::string along = " --eye=-1.3,0.5,0.5 --look-at=0.5,0.5,0.5 --fov 50";
+    const std::string flags = std::string(" --size 128x128 --balance default --frames 4 ") + GetParam().flags;
+    const std::string args = (std::string(GetParam().name) == "view_across" ? "" : along) + flags;
+    const Outcome o = run(args + " -q --image '' --report " + (dir_ / "r.json").string());
+    ASSERT_EQ(o.code, 0) << o.err;
+    const json r = json::parse(slurp(dir_ / "r.json"));
+    ASSERT_EQ(r["frames"].size(), 4u);
+    EXPECT_EQ(r["comparison"]["balanced_policy"], "resplit");
+    EXPECT_LE(r["comparison"]["ratio"].get<double>(), 1 / 0.98) << r["comparison"].dump();
+}
+
 INSTANTIATE_TEST_SUITE_P(FailureCases, NeverHurts,
                          testing::Values(Hurt{"links_3us", "--link-latency 3us"},
                                          Hurt{"links_300MBps", "--link-bandwidth 300MB/s"},
@@ -449,4 +463,19 @@ TEST_F(Rtsim, ResplitMovesTheBoundariesAtTheStartOfEachFrameAndKeepsTheFastest) 
     ASSERT_EQ(run(k + " --frames 3 -q --no-baseline --image " + (dir_ / "g.png").string()).code, 0);
     ASSERT_EQ(run(std::string(kSliding) + " --balance none -q --no-baseline --image " + (dir_ / "n.png").string()).code, 0);
     EXPECT_EQ(slurp(dir_ / "g.png"), slurp(dir_ / "n.png"));
+}
+
+TEST_F(Rtsim, ResplitGoesBackToTheFirstFrameWhereReSplittingDoesNotPay) {
+    // Past the links' knee thinner boxes cost more link time than they save:
+    // the re-split second frame is slower than the first, so every later
+    // frame is the first one again, to the picosecond.
+    const std::string k = " --spheres 300 --radius 0.03 --size 48x48 --mesh 3 --balance-interval 5us"
+                          " --link-bandwidth 100MB/s --balance resplit --frames 4";
+    const json f = report(k, "f.json");
+    ASSERT_EQ(f["frames"].size(), 4u);
+    const double first = f["frames"][0]["render_time_ns"].get<double>();
+    EXPECT_GT(f["frames"][1]["render_time_ns"].get<double>(), first);
+    EXPECT_EQ(f["frames"][2]["render_time_ns"].get<double>(), first);
+    EXPECT_EQ(f["frames"][3]["render_time_ns"].get<double>(), first);
+    EXPECT_EQ(f["render_time_ns"].get<double>(), first);
 }

@@ -1,0 +1,81 @@
+#!/usr/bin/python3
+"""Where the paper's rule used to fail, now: the cases of issue 11 (1,000
+spheres, 4x4x4, 256x256, rtsim's default costs; view along the progress
+axis unless said), each rendered without balancing, with `slide` for one
+frame and for --frames frames, and with `resplit` over --frames frames;
+the ratios to the unbalanced frame and the 95th percentile age of the
+loads the first frame's decisions used. Also `resplit`'s sequence of
+--sequence frames along and across the axis. Writes
+doc/results/failure_cases.{csv,md} and the tables into doc/balancing.md.
+Run with /usr/bin/python3."""
+import argparse
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import sweep as driver  # noqa: E402
+from fig4 import VIEWS  # noqa: E402
+from sweep import ROOT, write_csv  # noqa: E402
+
+CASES = {
+    "defaults (100 ns, 1 GB/s), f = 1/4": VIEWS["along"],
+    "links at 3 us": VIEWS["along"] + ["--link-latency", "3us"],
+    "links at 300 MB/s": VIEWS["along"] + ["--link-bandwidth", "300MB/s"],
+    "spheres everywhere (f = 1)": VIEWS["along"] + ["--concentration", "1"],
+    "view across the axis": VIEWS["across"],
+}
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--frames", type=int, default=6)
+    ap.add_argument("--sequence", type=int, default=10, help="frames of the resplit sequences")
+    driver.add_output_arguments(ap, os.path.join(ROOT, "doc", "balancing.md"))
+    driver.add_arguments(ap)
+    a = ap.parse_args()
+    runs = [("none", []), ("slide", []), (f"slide@{a.frames}", ["--frames", a.frames]),
+            (f"resplit@{a.frames}", ["--frames", a.frames])]
+    points = [{"params": {"case": case, "run": name},
+               "args": flags + ["--balance", name.partition("@")[0]] + extra}
+              for case, flags in CASES.items() for name, extra in runs]
+    sequences = {"along": "defaults (100 ns, 1 GB/s), f = 1/4", "across": "view across the axis"}  # view: its case
+    points += [{"params": {"case": f"sequence {view}", "run": "resplit"},
+                "args": CASES[case] + ["--balance", "resplit", "--frames", a.sequence]}
+               for view, case in sequences.items()]
+    got = driver.run("failure_cases", points, extract, None, a)
+    by = {(r["case"], r["run"]): r for r in got}
+    rows, lines = [], [f"<!-- written by scripts/failure_cases.py --frames {a.frames}; do not edit -->",
+                       "| case | none | slide | slide / none | slide, frame " f"{a.frames} | resplit, frame {a.frames}"
+                       " | load age p95 (intervals) |", "|---|---:|---:|---:|---:|---:|---:|"]
+    for case in CASES:
+        none = by[(case, "none")]["render_time_ns"]
+        r = {name: by[(case, name)] for name, _ in runs}
+        rows.append({"case": case, "none_ns": none, **{f"{n}_ns": r[n]["render_time_ns"] for n, _ in runs[1:]},
+                     "age_p95": r["slide"]["age_p95"], "version": r["slide"]["version"]})
+        ratio = {n: r[n]["render_time_ns"] / none for n, _ in runs[1:]}
+        age = r["slide"]["age_p95"]
+        lines.append(f"| {case} | {none / 1e3:,.1f} us | {r['slide']['render_time_ns'] / 1e3:,.1f} us | "
+                     f"{ratio['slide']:.3f} | {ratio[f'slide@{a.frames}']:.3f} | {ratio[f'resplit@{a.frames}']:.3f} | "
+                     f"{'-' if age == '' else f'{age:.2f}'} |")
+    write_csv(os.path.join(a.out, "failure_cases.csv"), rows)
+    driver.publish_table(lines, os.path.join(a.out, "failure_cases.md"), a.doc or None, "failure cases")
+    seq = [f"<!-- written by scripts/failure_cases.py --sequence {a.sequence}; do not edit -->",
+           "| view | none | " + " | ".join(f"frame {k + 1}" for k in range(a.sequence)) + " | last / none |",
+           "|---|---:|" + "---:|" * (a.sequence + 1)]
+    for view in sequences:
+        none = by[(sequences[view], "none")]["render_time_ns"]
+        r = by[(f"sequence {view}", "resplit")]
+        times = [float(t) for t in r["frames_ns"].split()]
+        seq.append(f"| {view} | {none / 1e3:,.1f} | " + " | ".join(f"{t / 1e3:,.1f}" for t in times) +
+                   f" | {times[-1] / none:.3f} |")
+    driver.publish_table(seq, os.path.join(a.out, "resplit_sequences.md"), a.doc or None, "resplit sequences")
+
+
+def extract(r):
+    ages = r["balance"].get("load_age_intervals") or {}
+    return {"render_time_ns": r["render_time_ns"], "age_p95": ages.get("p95", ""),
+            "frames_ns": " ".join(f"{f['render_time_ns']:.0f}" for f in r.get("frames", []))}
+
+
+if __name__ == "__main__":
+    main()
