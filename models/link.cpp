@@ -95,10 +95,12 @@ Picos Link::scheduleControl(Picos ready, Picos transfer) {
     Fifo<Timed>& data = lanes_[kData].buffer;  // in the order they go on the wire
     size_t first = 0;                          // the first data message not started by `ready`
     while (first < data.size() && data[first].start < ready) ++first;
+    if (first < data.size() && data[first].owed) ++first;  // its turn: it goes first (round-robin)
     Picos start = std::max(ready, controlFree_);
     if (first > 0) start = std::max(start, data[first - 1].start + data[first - 1].transfer);  // on the wire then
     controlFree_ = start + transfer;
     Picos end = controlFree_;
+    if (first < data.size() && data[first].ready < end) data[first].owed = true;  // it waits for this one
     for (size_t i = first; i < data.size(); ++i) {
         Timed& d = data[i];
         d.start = std::max(d.ready, end);

@@ -14,7 +14,13 @@
 // travel in a second virtual channel with its own `controlDepth` slots and
 // priority on the wire: a control message goes on the wire as soon as the
 // message being sent when it became ready has left, ahead of every data
-// message not yet started, which moves back behind it. The two lanes share
+// message not yet started, which moves back behind it; except the data
+// message the previous control message went ahead of, which goes first. So
+// while both lanes have messages ready the wire alternates between them
+// (round-robin arbitration, as virtual-channel hardware does): a control
+// message waits for at most one data message beyond the one on the wire,
+// and a stream of control messages cannot starve the rays (a link whose
+// reports alone fill the wire once held a ray back for ever). The two lanes share
 // the wire's bandwidth and latency. The receiver may take a control message
 // ahead of data that arrived before it (Node::takeWork does). This is what
 // link hardware with virtual channels does, and it keeps the balancing's
@@ -131,6 +137,7 @@ private:
         Picos start = 0;     // in a buffer: when it went on the wire
         Picos ready = 0;     // in a buffer: when it could have (sent, and a slot free)
         Picos transfer = 0;  // in a buffer: its time on the wire
+        bool owed = false;   // a data message a control message went ahead of: it goes before the next one
     };
     // One virtual channel: its slots, its backlog and its buffer.
     struct Lane {

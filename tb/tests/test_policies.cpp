@@ -363,6 +363,48 @@ TEST(ControlLane, HasItsOwnSlotsAndStaysFifo) {
     EXPECT_EQ(l.consumeControl(452 * ns).interval, 2);
 }
 
+TEST(ControlLane, TakesTurnsWithTheRaysWhileBothWaitByHand) {
+    // As in GoesAheadOfWaitingRaysByHand, and a second report sent at
+    // 1010 ns, while the first is on the wire and before the ray message it
+    // went ahead of has started: that one goes first (1052 to 2052), then
+    // the report (2052 to 2104), then the third ray message (2104 to 3104).
+    LinkParams p{100 * ns, 1e9, 16};
+    p.controlDepth = 2;
+    Link l("l", p);
+    for (int i = 0; i < 3; ++i) l.send(rays(8), 0);
+    l.send(report(), 500 * ns);
+    l.send(report(), 1010 * ns);
+    EXPECT_EQ(l.consume(1100 * ns).type, MsgType::Ray);
+    EXPECT_EQ(l.consumeControl(1152 * ns).type, MsgType::LoadReport);
+    EXPECT_FALSE(l.controlArrivedBy(2203 * ns));  // the second report: 2052 + 52 + 100
+    EXPECT_THROW(l.consume(2151 * ns), std::logic_error);
+    EXPECT_EQ(l.consume(2152 * ns).type, MsgType::Ray);  // 1052 + 1000 + 100
+    EXPECT_TRUE(l.controlArrivedBy(2204 * ns));
+    EXPECT_EQ(l.consumeControl(2204 * ns).type, MsgType::LoadReport);
+    EXPECT_THROW(l.consume(3203 * ns), std::logic_error);
+    EXPECT_EQ(l.consume(3204 * ns).type, MsgType::Ray);  // 2104 + 1000 + 100
+}
+
+TEST(ControlLane, AStreamOfReportsCannotStarveARay) {
+    // Reports of 52 ns on the wire, sent back to back (0, 40, 92, 144, ...),
+    // and a ray message of 1,000 ns sent at 10 ns. The first report is on
+    // the wire at 0-52; the ray would start at 52, but the second report
+    // (ready at 40) goes ahead of it (52-104); the third finds it owed its
+    // turn, so the ray goes at 104-1104 and arrives at 1204 ns, whatever
+    // follows. (When every report could move it back, it waited for all 200.)
+    LinkParams p{100 * ns, 1e9, 16};
+    p.controlDepth = 1000;
+    Link l("l", p);
+    l.send(report(), 0);
+    l.send(rays(8), 10 * ns);
+    for (int i = 0; i < 200; ++i) l.send(report(), (40 + 52 * Picos(i)) * ns);
+    EXPECT_EQ(l.consumeControl(152 * ns).type, MsgType::LoadReport);  // 0 + 52 + 100
+    EXPECT_EQ(l.consumeControl(204 * ns).type, MsgType::LoadReport);  // 52 + 52 + 100
+    EXPECT_FALSE(l.controlArrivedBy(1255 * ns));  // the third, after the ray: 1104 + 52 + 100
+    EXPECT_THROW(l.consume(1203 * ns), std::logic_error);
+    EXPECT_EQ(l.consume(1204 * ns).type, MsgType::Ray);
+}
+
 // ---- resplit: between frames (models/resplit.h) ----
 
 TEST(Resplit, PlanesAtTheQuantilesOfTheBusyTimeByHand) {
