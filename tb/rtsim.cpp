@@ -77,7 +77,10 @@ std::optional<nlohmann::json> childReport(int argc, char** argv, const std::vect
 // (its last position in the boundary history), for MachineConfig::
 // startBoundaries. Throws std::runtime_error if the report is of another mesh
 // or axis.
-std::vector<std::vector<double>> lastBoundaries(const nlohmann::json& r, const rt::MachineConfig& m) {
+// Each column's inner boundaries where the run of report `r` left them (or,
+// with `atStart`, where they stood when it began).
+std::vector<std::vector<double>> lastBoundaries(const nlohmann::json& r, const rt::MachineConfig& m,
+                                                bool atStart = false) {
     const int ax = m.balance.axis, u = (ax + 1) % 3, v = (ax + 2) % 3, n = m.dims[size_t(ax)];
     try {
         const auto dims = r.at("config").at("mesh").get<std::array<int, 3>>();
@@ -91,7 +94,7 @@ std::vector<std::vector<double>> lastBoundaries(const nlohmann::json& r, const r
             const int k = h.at("index").get<int>();
             if (col[0] < 0 || col[0] >= m.dims[size_t(u)] || col[1] < 0 || col[1] >= m.dims[size_t(v)] || k < 1 || k >= n)
                 throw std::runtime_error("a boundary outside the mesh");
-            b[size_t(col[0] + m.dims[size_t(u)] * col[1])][size_t(k - 1)] = h.at("history").back().at(1).get<double>();
+            b[size_t(col[0] + m.dims[size_t(u)] * col[1])][size_t(k - 1)] = (atStart ? h.at("history").front() : h.at("history").back()).at(1).get<double>();
         }
         for (const auto& c : b)
             for (double x : c)
@@ -153,21 +156,34 @@ std::vector<std::vector<double>> resplitTargets(const nlohmann::json& r, const r
 //  - if neither of the first two re-split frames beats the first frame,
 //    re-splitting does not pay here (past the links' knee thinner boxes
 //    cost more link time than they save: 1.3 to 1.8 times the first frame
-//    at 3 us or 100 MB/s), and every later frame is the first one again.
-//    (Two tries, not one: a first re-split a few per cent slower than the
-//    first frame is often followed by faster ones.)
+//    at 3 us or 100 MB/s). (Two tries, not one: a first re-split a few per
+//    cent slower than the first frame is often followed by faster ones.)
+//    Then one frame holds the split the first frame started from: where
+//    even the first frame's slides lose (1987 links at 360 KB/s: 1.14
+//    times the unbalanced frame), that one wins and is held; otherwise
+//    every later frame is the first one again.
 class ResplitSequence {
 public:
     explicit ResplitSequence(const rt::MachineConfig& m) : m_(m) {}
     // After frame `frame` (1-based), whose report is `r`: the next frame's
     // targets, or nothing if the next frame is to be the first one again.
     std::optional<std::vector<std::vector<double>>> next(const nlohmann::json& r, int frame) {
+        afresh_ = false;
         if (again_) return std::nullopt;
         if (held_) return held_;
         const double t = r.at("render_time_ns").get<double>();
         if (frame == 1) {
             firstNs_ = t;
+            start_ = lastBoundaries(r, m_, true);
             return resplitTargets(r, m_);
+        }
+        if (tryingStart_) {  // the frame just run held the starting split
+            if (t < firstNs_) {
+                held_ = start_;
+                return held_;
+            }
+            again_ = true;
+            return std::nullopt;
         }
         ++resplits_;
         const bool faster = t <= bestNs_;
@@ -177,8 +193,8 @@ public:
         }
         if (bestNs_ > firstNs_) {  // no re-split frame has beaten the first yet
             if (resplits_ >= kTries) {
-                again_ = true;
-                return std::nullopt;
+                tryingStart_ = afresh_ = true;
+                return start_;
             }
             return resplitTargets(r, m_);
         }
@@ -189,14 +205,21 @@ public:
         return resplitTargets(r, m_);
     }
 
+    // Whether the next frame starts where frame 1 did (the starting split's
+    // trial), not where the frame before left the boundaries: in a steady
+    // state the faces would be moved back once, and that frame is to show
+    // the split itself.
+    bool startsAfresh() const { return afresh_; }
+
 private:
     static constexpr int kTries = 2;
     const rt::MachineConfig& m_;
     double firstNs_ = 0, bestNs_ = 1e300;  // the first frame's time; the fastest re-split frame's
     int resplits_ = 0;                     // re-split frames so far
     nlohmann::json best_;
+    std::vector<std::vector<double>> start_;  // where frame 1's boundaries started
     std::optional<std::vector<std::vector<double>>> held_;
-    bool again_ = false;
+    bool tryingStart_ = false, again_ = false, afresh_ = false;
 };
 
 // Writes `j` to a fresh temporary file; its path.
@@ -352,12 +375,14 @@ int sc_main(int argc, char** argv) {
         ResplitSequence sequence(o.machine);
         const rt::MachineConfig first = o.machine;  // how frame 1 starts
         bool again = false;                         // resplit: every later frame is the first one again
+        bool afresh = false;                        // resplit: the next frame starts where frame 1 did
         for (int k = 0; k + 1 < o.frames; ++k) {
             std::vector<std::string> extra{"--as-frame", "--frame-index", std::to_string(k)};
             std::string from, targets;
-            // (Frame 1, and a frame that is the first one again, start where
-            // the user said: --boundaries-from, or the policy's start.)
-            if (carry && k > 0 && !again) {
+            // (Frame 1, a frame that is the first one again and the starting
+            // split's trial start where the user said: --boundaries-from, or
+            // the policy's start.)
+            if (carry && k > 0 && !again && !afresh) {
                 from = tempJson(frames.back().at("report"));
                 extra.insert(extra.end(), {"--boundaries-from", from});
             }
@@ -376,6 +401,8 @@ int sc_main(int argc, char** argv) {
                 const auto next = sequence.next(*f, k + 1);
                 if (next) {
                     o.machine.targetBoundaries = *next;
+                    afresh = sequence.startsAfresh();
+                    if (afresh) o.machine.startBoundaries = first.startBoundaries;
                 } else {
                     again = true;
                     o.machine.startBoundaries = first.startBoundaries;

@@ -467,16 +467,43 @@ TEST_F(Rtsim, ResplitMovesTheBoundariesAtTheStartOfEachFrameAndKeepsTheFastest) 
 
 TEST_F(Rtsim, ResplitGoesBackToTheFirstFrameWhereReSplittingDoesNotPay) {
     // Past the links' knee thinner boxes cost more link time than they save:
-    // neither re-split frame (2 and 3) beats the first, so every later frame
-    // is the first one again, to the picosecond.
+    // neither re-split frame (2 and 3) beats the first, frame 4 holds the
+    // split frame 1 started from (to the picosecond the unbalanced run), and
+    // since the first frame's slides still paid, every later frame is the
+    // first one again, to the picosecond.
     const std::string k = " --spheres 300 --radius 0.03 --size 48x48 --mesh 3 --balance-interval 5us"
-                          " --link-bandwidth 100MB/s --balance resplit --frames 5";
-    const json f = report(k, "f.json");
-    ASSERT_EQ(f["frames"].size(), 5u);
+                          " --link-bandwidth 100MB/s";
+    const json f = report(k + " --balance resplit --frames 6", "f.json");
+    const double none = report(k + " --balance none", "n.json")["render_time_ns"].get<double>();
+    ASSERT_EQ(f["frames"].size(), 6u);
     const double first = f["frames"][0]["render_time_ns"].get<double>();
+    EXPECT_LT(first, none);
     EXPECT_GT(f["frames"][1]["render_time_ns"].get<double>(), first);
     EXPECT_GT(f["frames"][2]["render_time_ns"].get<double>(), first);
-    EXPECT_EQ(f["frames"][3]["render_time_ns"].get<double>(), first);
+    EXPECT_EQ(f["frames"][3]["render_time_ns"].get<double>(), none);
+    EXPECT_EQ(f["frames"][3]["slides"].get<int>(), 0);
     EXPECT_EQ(f["frames"][4]["render_time_ns"].get<double>(), first);
+    EXPECT_EQ(f["frames"][5]["render_time_ns"].get<double>(), first);
     EXPECT_EQ(f["render_time_ns"].get<double>(), first);
+}
+
+TEST_F(Rtsim, ResplitHoldsTheUnbalancedSplitWhereEvenTheFirstFrameLoses) {
+    // At 30 MB/s the first frame's slides lose too (slabs and rays on slow
+    // links): after two re-split frames that lose more, frame 4 holds the
+    // starting split, beats frame 1, and is held: frames 4 to 6 take the
+    // unbalanced run's time to the picosecond, with no slides.
+    const std::string k = " --spheres 300 --radius 0.03 --size 48x48 --mesh 3 --balance-interval 5us"
+                          " --link-bandwidth 30MB/s";
+    const json f = report(k + " --balance resplit --frames 6", "f.json");
+    const double none = report(k + " --balance none", "n.json")["render_time_ns"].get<double>();
+    ASSERT_EQ(f["frames"].size(), 6u);
+    const double first = f["frames"][0]["render_time_ns"].get<double>();
+    EXPECT_GT(first, none);
+    EXPECT_GT(f["frames"][1]["render_time_ns"].get<double>(), first);
+    EXPECT_GT(f["frames"][2]["render_time_ns"].get<double>(), first);
+    for (int i = 3; i < 6; ++i) {
+        EXPECT_EQ(f["frames"][i]["render_time_ns"].get<double>(), none) << "frame " << i + 1;
+        EXPECT_EQ(f["frames"][i]["slides"].get<int>(), 0) << "frame " << i + 1;
+    }
+    EXPECT_EQ(f["render_time_ns"].get<double>(), none);
 }
