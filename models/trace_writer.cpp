@@ -6,6 +6,8 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "output_file.h"
+
 namespace rt {
 namespace {
 
@@ -64,7 +66,8 @@ std::string gtkwPathFor(const std::string& vcdPath) {
 
 void writeVcd(const std::string& path, const std::vector<TracedNode>& nodes,
               const std::vector<TracedBoundary>& boundaries, Picos from, Picos to, Picos renderTime) {
-    std::ofstream f(path);
+    AtomicFile out(path);  // written whole or not at all (output_file.h)
+    std::ofstream f(out.temp());
     if (!f) throw std::runtime_error(path + ": cannot open for writing");
     f << "$version rtsim $end\n$timescale 1ps $end\n$scope module machine $end\n";
     for (size_t n = 0; n < nodes.size(); ++n) {
@@ -137,12 +140,15 @@ void writeVcd(const std::string& path, const std::vector<TracedNode>& nodes,
             f << buf << code(e.signal) << "\n";
         }
     }
+    f.close();
     if (!f) throw std::runtime_error(path + ": write failed");
+    out.commit();
 }
 
 void writeGtkw(const std::string& path, const std::string& vcdPath, const std::vector<TracedNode>& nodes,
                const std::vector<TracedBoundary>& boundaries, Picos from, Picos to) {
-    std::ofstream f(path);
+    AtomicFile out(path);  // written whole or not at all (output_file.h)
+    std::ofstream f(out.temp());
     if (!f) throw std::runtime_error(path + ": cannot open for writing");
     // Signal flags (GTKWave's TR_* bits, hex): 28 binary; 24 decimal;
     // 48020 real, analog step; 8024 integer, analog step; 20000 a blank row
@@ -170,7 +176,9 @@ void writeGtkw(const std::string& path, const std::string& vcdPath, const std::v
               << "@24\nmachine.boundaries." << b.name << ".slides\n";
         f << "@1000200\n-boundaries\n";
     }
+    f.close();
     if (!f) throw std::runtime_error(path + ": write failed");
+    out.commit();
 }
 
 }  // namespace rt

@@ -2,6 +2,7 @@
 //   rtref [SCENE.nff] -o OUT.png [--size WxH] [--stats OUT.json] [--max-depth D] [--threads T]
 // Without a scene file it renders the built-in procedural scene.
 #include <chrono>
+#include <optional>
 #include <fstream>
 #include <iostream>
 
@@ -12,6 +13,7 @@
 #include "counters_json.h"
 #include "renderer.h"
 #include "scene_error.h"
+#include "output_file.h"
 #include "scene_options.h"
 
 namespace {
@@ -59,6 +61,10 @@ int main(int argc, char** argv) {
         return 2;
     }
     try {
+        // Outputs first: a path that cannot be written is found now, not
+        // after the render.
+        rt::checkWritable("--output", out);
+        if (!stats.empty()) rt::checkWritable("--stats", stats);
         const rt::Scene scene = sceneOpt.load();
         rt::RenderOptions ro;
         sceneOpt.imageSize(scene, ro.width, ro.height);
@@ -68,13 +74,21 @@ int main(int argc, char** argv) {
         const rt::Partition whole = rt::Partition::whole(scene);
         const rt::RenderResult r = rt::render(scene, whole, ro);
         const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        rt::writePng(r.image, out);
+        // Written whole or not at all (output_file.h): the image and the
+        // stats to temporary files, renamed once both are written.
+        rt::AtomicFile image(out);
+        rt::writePng(r.image, image.temp());
         const std::string accel = whole.region(size_t(0)).accelerator().describe();
+        std::optional<rt::AtomicFile> statsFile;
         if (!stats.empty()) {
-            std::ofstream f(stats);
+            statsFile.emplace(stats);
+            std::ofstream f(statsFile->temp());
             f << statsJson(scene, r, depth, threads, wall, accel).dump(2) << "\n";
+            f.close();
             if (!f) throw std::runtime_error(stats + ": cannot write stats");
         }
+        image.commit();
+        if (statsFile) statsFile->commit();
         const rt::Counters& c = r.counters;
         std::cout << "rtref: " << scene.name << " (" << scene.objects.size() << " objects, " << accel << ") "
                   << r.image.width << "x" << r.image.height << " -> " << out << "\n"

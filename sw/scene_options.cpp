@@ -1,6 +1,7 @@
 #include "scene_options.h"
 
 #include <charconv>
+#include <cmath>
 #include <sstream>
 
 #include "nff_reader.h"
@@ -17,6 +18,17 @@ void parseSize(const std::string& text, int& width, int& height) {
     if (x == std::string::npos || !num(text.data(), text.data() + x, width) ||
         !num(text.data() + x + 1, text.data() + text.size(), height))
         throw CLI::ValidationError("--size", "expected WxH with W and H in 1..65536, got '" + text + "'");
+}
+
+CLI::Validator finiteNumber() {
+    return CLI::Validator(
+        [](std::string& s) {
+            double v;
+            std::istringstream in(s);
+            if (!(in >> v) || !in.eof() || !std::isfinite(v)) return "expected a finite number, got '" + s + "'";
+            return std::string();
+        },
+        "", "");
 }
 
 namespace {
@@ -61,15 +73,21 @@ void SceneOptions::addTo(CLI::App& app, bool positional) {
         ->check(openClosed(0, 1));
     app.add_option("--axis", axis, "progress axis: the procedural scene's and the balancing's")->group(g)->check(CLI::IsMember({"x", "y", "z"}));
     app.add_option("--seed", p.seed, "procedural: random seed for sphere placement")->group(g);
-    app.add_option("--eye", eye, "procedural: camera position x y z (or x,y,z)")->group(g)->expected(3)->delimiter(',');
+    app.add_option("--eye", eye, "procedural: camera position x y z (or x,y,z)")
+        ->group(g)
+        ->expected(3)
+        ->delimiter(',')
+        ->check(finiteNumber());
     app.add_option("--look-at", lookAt, "procedural: point at the image centre x y z (or x,y,z)")
         ->group(g)
         ->expected(3)
-        ->delimiter(',');
+        ->delimiter(',')
+        ->check(finiteNumber());
     app.add_option("--light", lights, "procedural: a white point light x y z (repeat for more; replaces the defaults)")
         ->group(g)
         ->expected(3)
         ->delimiter(',')
+        ->check(finiteNumber())
         ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
     app.add_option("--fov", p.angle, "procedural: field of view in degrees")->group(g)->check(openClosed(0, 179.9));
 }

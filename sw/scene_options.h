@@ -31,4 +31,8 @@ struct SceneOptions {
 // "WxH" with positive integers; throws CLI::ValidationError otherwise.
 void parseSize(const std::string& text, int& width, int& height);
 
+// Each value a finite number (not nan or inf): for coordinates, which CLI11
+// would otherwise take as they come.
+CLI::Validator finiteNumber();
+
 }  // namespace rt

@@ -22,8 +22,10 @@
 
 #include "machine.h"
 #include "nff_reader.h"
+#include "output_file.h"
 #include "report.h"
 #include "resplit.h"
+#include "trace_writer.h"
 #include "rtsim_cli.h"
 #include "scene_error.h"
 
@@ -334,9 +336,17 @@ int sc_main(int argc, char** argv) {
     }
     rt::Scene scene;
     try {
+        // Outputs first: a path that cannot be written is found now, not
+        // after the run.
+        if (!o.image.empty()) rt::checkWritable("--image", o.image);
+        if (!o.report.empty()) rt::checkWritable("--report", o.report);
+        if (!o.vcd.empty()) {
+            rt::checkWritable("--vcd", o.vcd);
+            rt::checkWritable("--vcd", rt::gtkwPathFor(o.vcd));
+        }
         scene = o.scene.load();
         o.scene.imageSize(scene, o.machine.width, o.machine.height);
-    } catch (const std::exception& e) {  // a bad scene file or --size
+    } catch (const std::exception& e) {  // a bad output path, scene file or --size
         std::cerr << "rtsim: error: " << e.what() << "\n";
         return 2;
     }
@@ -457,15 +467,29 @@ int sc_main(int argc, char** argv) {
                 {"column_bound", unbalanced["bounds"]["column"]["fraction"]},
                 {"perfect_bound", unbalanced["bounds"]["perfect"]["fraction"]}};
         }
-        if (!o.image.empty()) rt::writePng(r.image, o.image);
+        // Written whole or not at all (output_file.h): each to a temporary
+        // file, renamed over its path once all are written.
+        std::optional<rt::AtomicFile> image, reportFile;
+        if (!o.image.empty()) {
+            image.emplace(o.image);
+            rt::writePng(r.image, image->temp());
+        }
         if (!o.report.empty()) {
-            std::ofstream f(o.report);
+            reportFile.emplace(o.report);
+            std::ofstream f(reportFile->temp());
             f << report.dump(2) << "\n";
+            f.close();
             if (!f) throw std::runtime_error(o.report + ": cannot write the report");
         }
+        if (image) image->commit();
+        if (reportFile) reportFile->commit();
         if (!o.quiet) printSummary(scene, o, r, report, baselineNs);
     } catch (const std::exception& e) {
         std::cerr << "rtsim: error: " << e.what() << "\n";
+        if (!o.vcd.empty()) {  // a failed run leaves no waveform that looks like a result
+            std::remove(o.vcd.c_str());
+            std::remove(rt::gtkwPathFor(o.vcd).c_str());
+        }
         return 1;
     }
     return 0;

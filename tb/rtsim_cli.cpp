@@ -2,10 +2,13 @@
 
 #include "policy.h"
 
+#include <filesystem>
 #include <sstream>
 
 namespace rt {
 namespace {
+// A --config file is a few dozen lines; a report echoes one in a few KB.
+constexpr uintmax_t kMaxConfigBytes = 1 << 20;
 
 // "x,y,z" node coordinates.
 Cell parseCell(const std::string& flag, const std::string& s) {
@@ -175,7 +178,7 @@ void RtsimOptions::addTo(CLI::App& app) {
                    "every frame's render time")
         ->check(CLI::Range(1, 10000))->capture_default_str()->group(gf);
     app.add_option("--eye-step", eyeStep, "camera path: the eye moves by x y z (or x,y,z) each frame; the point looked at stays")
-        ->expected(3)->delimiter(',')->group(gf);
+        ->expected(3)->delimiter(',')->check(finiteNumber())->group(gf);
     app.add_option("--boundaries-from", boundariesFrom,
                    "start each column's boundaries where they ended in this report's run (the same scene, mesh and axis)")
         ->check(CLI::ExistingFile)->group(gf);
@@ -186,7 +189,19 @@ void RtsimOptions::addTo(CLI::App& app) {
     app.add_flag("--as-frame", asFrame, "internal: run as an earlier frame of another run's sequence")->group("");
     app.add_flag("--as-baseline", asBaseline, "internal: run as the 1x1x1 baseline of another run")->group("");
     app.add_flag("--as-comparison", asComparison, "internal: run as the balancing comparison of another run")->group("");
-    app.set_config("--config", "", "read flags from a file (INI/TOML: name = value, one per line)");
+    // A regular file of bounded size: CLI11 reads it whole, so /dev/urandom
+    // or a fifo would never end.
+    app.set_config("--config", "", "read flags from a file (INI/TOML: name = value, one per line)")
+        ->check(CLI::Validator(
+            [](std::string& path) {
+                std::error_code ec;
+                if (!std::filesystem::is_regular_file(path, ec)) return "not a regular file: '" + path + "'";
+                const auto size = std::filesystem::file_size(path, ec);
+                if (ec || size > kMaxConfigBytes)
+                    return "'" + path + "' is larger than " + std::to_string(kMaxConfigBytes) + " bytes";
+                return std::string();
+            },
+            "", ""));
     app.allow_config_extras(CLI::config_extras_mode::error);  // a misspelt name is an error, not ignored
 }
 

@@ -1,6 +1,8 @@
 // rtref as a user runs it: outputs, stats JSON, determinism, and a one-line
 // error with exit code 2 for each kind of bad input.
+#include <algorithm>
 #include <fstream>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -50,6 +52,20 @@ TEST_F(Rtref, WritesPngAndStatsMatchingTheLibrary) {
     EXPECT_EQ(j["voxel_steps"], c.voxelSteps);
 }
 
+TEST_F(Rtref, OutputsAreWrittenWholeWithNothingElseBesideThem) {
+    // Each output goes to a temporary file beside it and is renamed at the
+    // end (output_file.h): after the run the folder holds exactly the two.
+    ASSERT_EQ(run("--spheres 50 --size 16x16 -o " + (dir_ / "a.png").string() + " --stats " + (dir_ / "s.json").string())
+                  .code,
+              0);
+    std::vector<std::string> names;
+    for (const auto& e : fs::directory_iterator(dir_))
+        if (e.path().filename() != "stdout" && e.path().filename() != "stderr") names.push_back(e.path().filename());
+    std::sort(names.begin(), names.end());
+    EXPECT_EQ(names, (std::vector<std::string>{"a.png", "s.json"}));
+    EXPECT_EQ(fs::status(dir_ / "a.png").permissions() & fs::perms::others_read, fs::perms::others_read);
+}
+
 TEST_F(Rtref, SameInputsSameBytes) {
     ASSERT_EQ(run(scene("rings-2") + " --size 48x48 -o " + (dir_ / "a.png").string()).code, 0);
     ASSERT_EQ(run(scene("rings-2") + " --size 48x48 --threads 2 -o " + (dir_ / "b.png").string()).code, 0);
@@ -82,6 +98,15 @@ TEST_F(Rtref, BadInputGivesOneLineAndExit2) {
     expectBadNoImage("--axis w" + o, "--axis");
     expectBadNoImage("--eye 1 2" + o, "--eye");
     expectBadNoImage("--light 0,0" + o, "--light");
+    expectBadNoImage("--eye nan,0,0" + o, "--eye");
+    expectBadNoImage("--eye inf,0,0" + o, "--eye");
+    expectBadNoImage("--look-at 0,0,-inf" + o, "--look-at");
+    expectBadNoImage("--light nan,0,0" + o, "--light");
+    // Outputs that cannot be written: found before the render, and the
+    // image is not left behind when the stats cannot be written.
+    expectBad("--size 8x8 -o /nonexistent/x.png", "--output: /nonexistent/x.png: no such folder");
+    expectBad("--size 8x8 -o " + dir_.string(), "is a folder");
+    expectBadNoImage("--size 8x8 --stats /proc/s.json" + o, "--stats: /proc/s.json");
     std::ofstream(dir_ / "bad.nff") << "v\nfrom 0 0 0\nat 0 0 1\nup 0 1 0\nangle 45\nhither 1\nresolution 8 8\ns 0 0 5 q\n";
     expectBadNoImage((dir_ / "bad.nff").string() + o, "bad.nff:8: expected a number for sphere radius, got 'q'");
 }

@@ -285,11 +285,24 @@ TEST_F(Rtsim, BadConfigurationExits2NamingTheFlag) {
     expectBad("--fb-units 0", "--fb-units");
     expectBad("--fb-units 257", "--fb-units");
     expectBad("--balance sometimes", "--balance");
+    expectBad("--eye nan,0,0", "--eye");
+    expectBad("--light 1,nan,1", "--light");
+    expectBad("--eye-step 0,inf,0 --frames 2", "--eye-step");
     std::ofstream(dir_ / "bad.ini") << "mesh = [not closed\n";
     expectBad("--config " + (dir_ / "bad.ini").string(), "");
     std::ofstream(dir_ / "bad2.ini") << "no-such-flag = 3\n";
     expectBad("--config " + (dir_ / "bad2.ini").string(), "no-such-flag");
     expectBad("--config /nonexistent.ini", "/nonexistent.ini");
+    expectBad("--config /dev/urandom", "/dev/urandom");  // read whole, it never ended
+    // Outputs that cannot be written: exit 2 before the run, and nothing
+    // left behind (the image is not written when the report cannot be).
+    expectBad("--image /nonexistent/x.png", "--image: /nonexistent/x.png: no such folder");
+    expectBad("--report " + dir_.string(), "--report: " + dir_.string() + ": is a folder");
+    expectBad("--vcd /proc/x.vcd", "--vcd: /proc/x.vcd");
+    expectBad("--image " + (dir_ / "x.png").string() + " --report /nonexistent/r.json", "--report");
+    EXPECT_FALSE(fs::exists(dir_ / "x.png"));
+    std::ofstream(dir_ / "big.ini") << std::string(2 << 20, '#');
+    expectBad("--config " + (dir_ / "big.ini").string(), "big.ini");
 }
 
 TEST_F(Rtsim, BoundariesInTheWaveformAndTheSummary) {
