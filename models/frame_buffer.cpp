@@ -86,6 +86,7 @@ void FrameBufferUnit::run() {
         Message m = in[best]->consume(now);
         const Picos cost = take(m);
         now += cost;
+        checkSimTime(now, name());
         stats_.busy += cost;
         if (cost) stats_.lastActive = now;
         if (controller()) {

@@ -338,7 +338,13 @@ MachineResult runMachine(const Scene& scene, const MachineConfig& config) {
     sc_core::sc_set_time_resolution(1, sc_core::SC_PS);
     const auto t0 = std::chrono::steady_clock::now();
     Machine machine("machine", scene, config);
-    sc_core::sc_start();
+    try {
+        sc_core::sc_start();
+    } catch (const sc_core::sc_report& e) {
+        // An exception thrown in a process comes out wrapped in a report of
+        // several lines; its own message is the one line to show.
+        throw std::runtime_error(e.get_msg());
+    }
     machine.endFrame();
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     machine.checkConservation();

@@ -340,6 +340,7 @@ void Node::step(Work& w) {
 // leaves at the end of it.
 void Node::chargeAndSend(Picos cost, bool mayWaitForWork) {
     now_ += cost;
+    checkSimTime(now_, name());
     stats_.busy += cost;
     stats_.lastActive = now_;
     for (auto& [d, m] : outbox_) {

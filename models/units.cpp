@@ -1,5 +1,7 @@
 #include "units.h"
 
+#include <stdexcept>
+
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -20,6 +22,12 @@ bool splitNumber(const std::string& text, double& value, std::string& unit) {
 
 }  // namespace
 
+void checkSimTime(Picos t, const char* who) {
+    if (t <= kMaxSimTime) return;
+    throw std::runtime_error(std::string(who) + ": simulated time past " + formatTime(kMaxSimTime) +
+                             " (the picosecond counter would wrap); are the costs or latencies meant to be this large?");
+}
+
 std::optional<Picos> parseTime(const std::string& text) {
     if (text == "0") return Picos(0);  // zero needs no unit
     double v;
@@ -33,7 +41,7 @@ std::optional<Picos> parseTime(const std::string& text) {
     else if (unit == "s") scale = 1e12;
     else return std::nullopt;
     const double ps = v * scale;
-    if (ps > 1.8e19 || std::abs(ps - std::round(ps)) > 1e-6 * std::max(1.0, ps)) return std::nullopt;
+    if (!(ps <= double(kMaxTimeValue)) || std::abs(ps - std::round(ps)) > 1e-6 * std::max(1.0, ps)) return std::nullopt;
     return Picos(std::llround(ps));
 }
 

@@ -11,9 +11,18 @@ namespace rt {
 
 using Picos = uint64_t;
 
+// The picosecond counter (SystemC's and ours) wraps at 2^64 ps, about 213
+// days. Any one time given (a cost, a latency, an interval) is at most
+// kMaxTimeValue, and a run stops with an error once a process's time passes
+// kMaxSimTime, so sums of such values cannot wrap silently.
+constexpr Picos kMaxTimeValue = Picos(1000) * 1000000000000;  // 1,000 s
+constexpr Picos kMaxSimTime = Picos(1) << 62;                  // about 53 days
+// Throws std::runtime_error naming `who` once `t` is past kMaxSimTime.
+void checkSimTime(Picos t, const char* who);
+
 // Parses a non-negative time ("0" may go without a unit); nullopt when
-// malformed (no unit, unknown unit,
-// negative, not finite, or not a whole number of picoseconds).
+// malformed (no unit, unknown unit, negative, not finite, not a whole
+// number of picoseconds) or above kMaxTimeValue.
 std::optional<Picos> parseTime(const std::string& text);
 // Parses a positive, finite rate in bytes per second.
 std::optional<double> parseRate(const std::string& text);

@@ -22,7 +22,8 @@ Cell parseCell(const std::string& flag, const std::string& s) {
 
 Picos timeOf(const std::string& flag, const std::string& s) {
     const auto t = parseTime(s);
-    if (!t) throw CLI::ValidationError(flag, "expected a non-negative time with a unit (ps ns us ms s), got '" + s + "'");
+    if (!t)
+        throw CLI::ValidationError(flag, "expected a non-negative time with a unit (ps ns us ms s), at most 1000 s, got '" + s + "'");
     return *t;
 }
 

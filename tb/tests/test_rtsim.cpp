@@ -294,6 +294,10 @@ TEST_F(Rtsim, BadConfigurationExits2NamingTheFlag) {
     expectBad("--config " + (dir_ / "bad2.ini").string(), "no-such-flag");
     expectBad("--config /nonexistent.ini", "/nonexistent.ini");
     expectBad("--config /dev/urandom", "/dev/urandom");  // read whole, it never ended
+    // Times the picosecond counter cannot hold: 1e6 s once rendered 1.8e16 ns.
+    expectBad("--link-latency 1e6s", "--link-latency");
+    expectBad("--cost-sphere 1000.5s", "--cost-sphere");
+    expectBad("--balance-interval 1e20s", "--balance-interval");
     // Outputs that cannot be written: exit 2 before the run, and nothing
     // left behind (the image is not written when the report cannot be).
     expectBad("--image /nonexistent/x.png", "--image: /nonexistent/x.png: no such folder");
@@ -303,6 +307,20 @@ TEST_F(Rtsim, BadConfigurationExits2NamingTheFlag) {
     EXPECT_FALSE(fs::exists(dir_ / "x.png"));
     std::ofstream(dir_ / "big.ini") << std::string(2 << 20, '#');
     expectBad("--config " + (dir_ / "big.ini").string(), "big.ini");
+}
+
+TEST_F(Rtsim, ARunPastThePicosecondCounterStopsWithAnError) {
+    // Each cost within the limit (1,000 s), but a few thousand sphere tests
+    // of 1,000 s each pass 2^62 ps: one line naming the node, no report.
+    const Outcome o = run(" --size 64x64 --mesh 2 --cost-sphere 1000s --no-baseline --image '' --report " +
+                          (dir_ / "r.json").string());
+    EXPECT_EQ(o.code, 1);
+    EXPECT_EQ(std::count(o.err.begin(), o.err.end(), '\n'), 1) << o.err;
+    EXPECT_NE(o.err.find("simulated time past"), std::string::npos) << o.err;
+    EXPECT_NE(o.err.find("machine.node_"), std::string::npos) << o.err;
+    EXPECT_FALSE(fs::exists(dir_ / "r.json"));
+    EXPECT_EQ(run(" --size 2x2 --mesh 2 --cost-sphere 1000s -q --no-baseline --image ''").code, 0)
+        << "a short run at the same costs stays within the counter";
 }
 
 TEST_F(Rtsim, BoundariesInTheWaveformAndTheSummary) {
