@@ -31,9 +31,31 @@ void BalanceAgent::recordStep(double where, Picos cost) {
     }
 }
 
+void BalanceAgent::recordInterval(const IntervalRecord& r) {
+    pending_.end = r.end;
+    pending_.busy += r.busy;
+    pending_.wait += r.wait;
+    if (++pendingCount_ < stats_.intervalsPerRecord) return;
+    std::vector<IntervalRecord>& v = stats_.intervals;
+    v.push_back(pending_);
+    pending_ = {0, 0, 0};
+    pendingCount_ = 0;
+    if (v.size() < BalanceStats::kMaxIntervalRecords) return;
+    for (size_t i = 0; i < v.size() / 2; ++i)
+        v[i] = {v[2 * i + 1].end, v[2 * i].busy + v[2 * i + 1].busy, v[2 * i].wait + v[2 * i + 1].wait};
+    v.resize(v.size() / 2);
+    stats_.intervalsPerRecord *= 2;
+}
+
+BalanceStats BalanceAgent::finalStats() const {
+    BalanceStats s = stats_;
+    if (pendingCount_) s.intervals.push_back(pending_);
+    return s;
+}
+
 void BalanceAgent::closeInterval(Picos now, Picos busyTotal, Picos waitTotal, uint64_t waiting) {
     const Picos busy = busyTotal - busyMark_, waited = waitTotal - waitMark_;
-    stats_.intervals.push_back({now, busy, waited});
+    recordInterval({now, busy, waited});
     busyMark_ = busyTotal;
     waitMark_ = waitTotal;
     // The load's execution time is the time spent tracing in the box; time

@@ -1,6 +1,7 @@
 #include "machine_config.h"
 
 #include "policy.h"
+#include "units.h"
 
 #include <algorithm>
 #include <cmath>
@@ -88,6 +89,14 @@ void MachineConfig::validate() const {
     const BalanceConfig& b = balance;
     if (b.axis < 0 || b.axis > 2) throw std::invalid_argument("--axis: must be x, y or z");
     if (b.interval == 0) throw std::invalid_argument("--balance-interval: must be positive");
+    // An interval a node cannot honour: every interval wakes every node and
+    // sends a report each way, so one shorter than handling a report (or
+    // than 1 ns) only burns the run's time and memory (1 ps once ran 20 s
+    // and died of bad_alloc).
+    const Picos floor = std::max<Picos>(1000, costs.send + costs.recv);
+    if (b.dynamic() && b.interval < floor)
+        throw std::invalid_argument("--balance-interval: " + formatTime(b.interval) + " is shorter than a node takes to send and take a load report (" +
+                                    formatTime(floor) + ": --cost-send + --cost-recv, at least 1 ns)");
     if (!findPolicy(b.policy)) throw std::invalid_argument("--balance: no policy named '" + b.policy + "'");
     if (!(b.gain >= 0) || !std::isfinite(b.gain)) throw std::invalid_argument("--gain: must be positive (0: the policy's)");
     if (!(b.maxAge >= 0) || !std::isfinite(b.maxAge)) throw std::invalid_argument("--max-age: must be non-negative");

@@ -62,7 +62,7 @@ void Node::checkpoint() {
 }
 
 void Node::endFrame(Picos end) {
-    if (balance_) stats_.balance = balance_->stats();
+    if (balance_) stats_.balance = balance_->finalStats();
     if (stats_.waiting) {
         stats_.waiting = false;
         if (stats_.waitingSince <= end) {  // waiting for input since then

@@ -86,6 +86,7 @@ nlohmann::json machineReport(const MachineResult& r, const MachineConfig& cfg) {
         n["objects_received"] = s.objectsReceived;
         if (!s.balance.intervals.empty()) {
             auto& iv = n["intervals"];
+            iv["intervals_per_record"] = s.balance.intervalsPerRecord;  // > 1: merged to bound the report
             for (const IntervalRecord& x : s.balance.intervals) {
                 iv["end_ns"].push_back(ns(x.end));
                 iv["busy_ns"].push_back(ns(x.busy));

@@ -252,6 +252,39 @@ TEST(Agent, HandlingMessagesIsNoLoad) {
     EXPECT_EQ(a.stats().intervals[0].busy, 20 * us);  // the node's own record keeps every busy picosecond
 }
 
+TEST(Agent, IntervalHistoryStaysBoundedAndKeepsEveryPicosecond) {
+    // 3,000 intervals of 20 us, interval i busy i ps: at 1,024 records they
+    // merge pairwise (512 records of 2), at 2,048 intervals again (512 of
+    // 4), and the last 952 make 238 records of 4: 750 in all, the last
+    // ending with the last interval, and the busy and wait totals kept.
+    const BalanceConfig cfg = agentConfig();
+    FakeHost h;
+    const Box world{Vec3(0.0), Vec3(1.0)};
+    BalanceAgent a(cfg, h, world, 0, 1, false, false, 0.05);  // no neighbours: it only records
+    Picos busy = 0;
+    for (Picos i = 1; i <= 3000; ++i) {
+        busy += i;
+        a.closeInterval(i * 20 * us, busy, i * 20 * us - busy, 0);
+    }
+    const BalanceStats s = a.finalStats();
+    EXPECT_EQ(s.intervalsPerRecord, 4u);
+    ASSERT_EQ(s.intervals.size(), 750u);
+    Picos sumBusy = 0, sumWait = 0;
+    for (const IntervalRecord& r : s.intervals) {
+        sumBusy += r.busy;
+        sumWait += r.wait;
+    }
+    EXPECT_EQ(sumBusy, busy);
+    EXPECT_EQ(sumBusy + sumWait, 3000 * 20 * us);
+    EXPECT_EQ(s.intervals.back().end, 3000 * 20 * us);
+    EXPECT_EQ(s.intervals[0].end, 4 * 20 * us);
+    EXPECT_EQ(s.intervals[0].busy, Picos(1 + 2 + 3 + 4));
+    // One more interval: a last, shorter record.
+    a.closeInterval(3001 * 20 * us, busy + 7, 3001 * 20 * us - busy - 7, 0);
+    ASSERT_EQ(a.finalStats().intervals.size(), 751u);
+    EXPECT_EQ(a.finalStats().intervals.back().busy, 7u);
+}
+
 TEST(Agent, GuardStopsStaleCostlyAndLatencyBoundSlides) {
     const Box world{Vec3(0.0), Vec3(2.0, 1.0, 1.0)};
     auto run = [&](BalanceConfig cfg, Picos decideAt, Picos cost, Picos hop) {

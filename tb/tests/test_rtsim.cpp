@@ -298,6 +298,8 @@ TEST_F(Rtsim, BadConfigurationExits2NamingTheFlag) {
     expectBad("--link-latency 1e6s", "--link-latency");
     expectBad("--cost-sphere 1000.5s", "--cost-sphere");
     expectBad("--balance-interval 1e20s", "--balance-interval");
+    expectBad("--balance slide --balance-interval 1ps", "--balance-interval: 1 ps is shorter");  // ran 20 s, then bad_alloc
+    expectBad("--balance slide --balance-interval 79ns", "--balance-interval");  // cost-send + cost-recv: 80 ns
     // Outputs that cannot be written: exit 2 before the run, and nothing
     // left behind (the image is not written when the report cannot be).
     expectBad("--image /nonexistent/x.png", "--image: /nonexistent/x.png: no such folder");
