@@ -13,6 +13,7 @@
 #include "counters_json.h"
 #include "renderer.h"
 #include "scene_error.h"
+#include "memory_estimate.h"
 #include "output_file.h"
 #include "scene_options.h"
 
@@ -68,6 +69,8 @@ int main(int argc, char** argv) {
         const rt::Scene scene = sceneOpt.load();
         rt::RenderOptions ro;
         sceneOpt.imageSize(scene, ro.width, ro.height);
+        rt::refuseIfTooBig("--size " + std::to_string(ro.width) + "x" + std::to_string(ro.height),
+                           rt::kRtrefBytesPerPixel * ro.width * ro.height);
         ro.maxDepth = depth;
         ro.threads = threads;
         const auto t0 = std::chrono::steady_clock::now();

@@ -21,6 +21,7 @@
 #include <systemc>
 
 #include "machine.h"
+#include "memory_estimate.h"
 #include "nff_reader.h"
 #include "output_file.h"
 #include "report.h"
@@ -346,6 +347,8 @@ int sc_main(int argc, char** argv) {
         }
         scene = o.scene.load();
         o.scene.imageSize(scene, o.machine.width, o.machine.height);
+        rt::refuseIfTooBig("--size " + std::to_string(o.machine.width) + "x" + std::to_string(o.machine.height),
+                           rt::kRtsimBytesPerPixel * o.machine.width * o.machine.height);
     } catch (const std::exception& e) {  // a bad output path, scene file or --size
         std::cerr << "rtsim: error: " << e.what() << "\n";
         return 2;

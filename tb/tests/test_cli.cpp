@@ -105,6 +105,8 @@ TEST_F(Rtref, BadInputGivesOneLineAndExit2) {
     // Outputs that cannot be written: found before the render, and the
     // image is not left behind when the stats cannot be written.
     expectBad("--size 8x8 -o /nonexistent/x.png", "--output: /nonexistent/x.png: no such folder");
+    // 108 GiB at the least: refused up front (it died of bad_alloc naming nothing).
+    expectBadNoImage("--size 65536x65536" + o, "--size 65536x65536: needs at least");
     expectBad("--size 8x8 -o " + dir_.string(), "is a folder");
     expectBadNoImage("--size 8x8 --stats /proc/s.json" + o, "--stats: /proc/s.json");
     std::ofstream(dir_ / "bad.nff") << "v\nfrom 0 0 0\nat 0 0 1\nup 0 1 0\nangle 45\nhither 1\nresolution 8 8\ns 0 0 5 q\n";

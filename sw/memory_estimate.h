@@ -1,0 +1,23 @@
+// A job too big for this machine is refused before it starts, with the
+// estimate, rather than dying of std::bad_alloc half way with a message that
+// names nothing (--size 65536x65536 did).
+#pragma once
+#include <string>
+
+namespace rt {
+
+// Bytes per image pixel, measured (peak resident memory against image size
+// on a sparse scene, 256x256 to 2048x2048): rtref about 27, rtsim about 143
+// (every node's pixel lists, the frame buffer's contributions, the image).
+// A lower bound: scenes with more bounces keep more contributions per pixel.
+constexpr double kRtrefBytesPerPixel = 27;
+constexpr double kRtsimBytesPerPixel = 143;
+
+// The machine's physical memory in bytes (0 if unknown).
+double physicalMemory();
+
+// Throws SceneError ("FLAG: needs about X GiB, this machine has Y GiB") if
+// `bytes` is more than the machine's physical memory.
+void refuseIfTooBig(const std::string& flag, double bytes);
+
+}  // namespace rt
