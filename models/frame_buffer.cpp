@@ -45,6 +45,10 @@ Picos FrameBufferUnit::take(Message& m) {
             return cost_ * received_.back().size();
         case MsgType::Credit:
             if (!controller()) fail("credit sent to a unit other than 0");
+            if (dropCredit_) {  // the planted lost credit
+                dropCredit_ = false;
+                return 0;
+            }
             ++stats_.creditMessages;
             credit_.add(m.credit);
             for (const auto& [u, n] : m.unitCounts) expected_.at(u) += n;

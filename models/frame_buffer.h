@@ -74,6 +74,10 @@ public:
     bool controller() const { return index_ == 0; }
     // Unit 0: the frame is done (the returned credit is exactly 1), and when.
     bool done() const { return done_; }
+    // Unit 0: the share of the frame's credit returned so far (for the
+    // watchdog's message).
+    double creditReturned() const { return credit_.value(); }
+    void dropFirstCredit() { dropCredit_ = true; }  // test only (MachineConfig::faultDropFirstCredit)
     Picos renderTime() const { return renderTime_; }
 
 private:
@@ -101,6 +105,7 @@ private:
     ArrivalQueue inputOrder_;
     FrameBufferStats stats_;
     bool done_ = false;
+    bool dropCredit_ = false;
     Picos renderTime_ = 0;
 };
 

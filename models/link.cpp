@@ -41,6 +41,7 @@ void Link::send(Message m, Picos t) {
     ++stats_.messages[type];
     stats_.bytes[type] += m.bytes();
     ++inFlight_[type];
+    if (progress_ && !isControl(m.type)) progress_->mark(t);  // work moves; load reports alone are no progress
     const int lane = laneOf(m.type);
     Lane& l = lanes_[lane];
     if (l.backlog.empty() && l.slotFree_()) {

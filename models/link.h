@@ -45,6 +45,7 @@
 #include "fifo.h"
 #include "machine_config.h"
 #include "message.h"
+#include "progress.h"
 
 namespace rt {
 
@@ -98,6 +99,9 @@ public:
     // taking it (ahead of data that arrived earlier).
     virtual bool controlArrivedBy(Picos t) const = 0;
     virtual Message consumeControl(Picos t) = 0;
+    // Rays, contributions and credit sent on it and not yet consumed
+    // (balancing messages not counted): for the watchdog's message.
+    virtual uint64_t workInFlight() const = 0;
 };
 
 // Load reports, slides and acks: what the control lane carries.
@@ -123,9 +127,16 @@ public:
 
     const LinkParams& params() const override { return params_; }
     const LinkStats& stats() const { return stats_; }
+    void setProgress(Progress* p) { progress_ = p; }
     size_t backlog() const { return lanes_[0].backlog.size() + lanes_[1].backlog.size(); }
     // Messages of this type sent and not yet consumed.
     uint64_t inFlight(MsgType t) const { return inFlight_[int(t)]; }
+    uint64_t workInFlight() const override {
+        uint64_t n = 0;
+        for (int t = 0; t < kMsgTypes; ++t)
+            if (!isControl(MsgType(t))) n += inFlight_[size_t(t)];
+        return n;
+    }
     size_t arrivedBy(Picos t) const override;
     size_t unconsumed() const override { return lanes_[0].buffer.size() + lanes_[1].buffer.size(); }
     const std::string& name() const { return name_; }
@@ -168,6 +179,7 @@ private:
     Picos wireFree_ = 0;     // the end of the last transmission scheduled
     Picos controlFree_ = 0;  // the end of the last control transmission
     ArrivalListener* listener_ = nullptr;
+    Progress* progress_ = nullptr;  // the watchdog's (machine.h)
     int listenerPort_ = 0;
     LinkStats stats_;
     std::array<uint64_t, kMsgTypes> inFlight_{};

@@ -107,6 +107,11 @@ Machine::Machine(sc_core::sc_module_name name, const Scene& scene, const Machine
         units_[0].toUnits.bind(*unitLinks_.back());
         units_[size_t(u)].in.bind(*unitLinks_.back());
     }
+    for (auto& l : links_) l->setProgress(&progress_);
+    for (auto& l : unitLinks_) l->setProgress(&progress_);
+    for (Node& n : nodes_) n.setProgress(&progress_);
+    if (cfg_.faultDropFirstCredit) units_[0].dropFirstCredit();
+    SC_THREAD(watch);
     for (const Cell& c : cfg_.traceNodes) nodes_[nodeIndex(c)].enableTrace();
     if (!cfg_.vcdPath.empty() && cfg_.traceNodes.empty())
         for (Node& n : nodes_) n.enableTrace();
@@ -114,6 +119,57 @@ Machine::Machine(sc_core::sc_module_name name, const Scene& scene, const Machine
 }
 
 Machine::~Machine() = default;
+
+// The watchdog: wakes every span of simulated time, or every millisecond
+// (or a thousandth of the span, if longer) if that is sooner, so at most a
+// few times in most frames and often enough to see the wall clock; and stops a run in which nothing moved for a whole
+// span, or that has run past the wall-clock limit. Stopping it: a
+// stuck run with balancing never ends by itself (the nodes keep waking for
+// their intervals), and without balancing it ends only with the kernel out
+// of events.
+void Machine::watch() {
+    const Picos span = cfg_.watchdogSpanOrDefault(scene_.objects.size());
+    const Picos period = std::min<Picos>(span, std::max<Picos>(1000000000, span / 1000));
+    const auto start = std::chrono::steady_clock::now();
+    for (;;) {
+        wait(sc_core::sc_time::from_value(period));
+        if (controller().done()) return;
+        const Picos now = sc_core::sc_time_stamp().value();
+        const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        std::ostringstream why;
+        if (now >= progress_.last + span) {
+            why << "no ray, contribution or credit moved for " << formatTime(now - progress_.last)
+                << " of simulated time (since " << formatTime(progress_.last) << ")";
+        } else if (cfg_.watchdogWall > 0 && wall > cfg_.watchdogWall) {
+            why << "the wall-clock limit of " << cfg_.watchdogWall << " s was reached at " << formatTime(now)
+                << " of simulated time";
+        } else {
+            continue;
+        }
+        stalledAt_ = now;
+        stall_ = why.str() + "; " + whoHolds();
+        sc_core::sc_stop();
+        return;
+    }
+}
+
+// Which nodes still hold work or credit, and how much credit unit 0 lacks:
+// where to look when a frame does not end.
+std::string Machine::whoHolds() const {
+    std::ostringstream s;
+    int listed = 0, more = 0;
+    for (const Node& n : nodes_) {
+        const std::string h = n.holding();
+        if (h.empty()) continue;
+        if (listed < 6) s << (listed ? "; " : "") << cellName(n.cell()) << ": " << h;
+        else ++more;
+        ++listed;
+    }
+    if (!listed) s << "no node holds work or credit";
+    if (more) s << "; and " << more << " more nodes";
+    s << "; unit 0 has " << controller().creditReturned() << " of the frame's credit back";
+    return s.str();
+}
 
 int Machine::columnOf(const Cell& c) const {
     const int ax = cfg_.balance.axis, u = (ax + 1) % 3, v = (ax + 2) % 3;
@@ -219,6 +275,7 @@ void Machine::assignPrimaryRays() {
 }
 
 void Machine::checkConservation() const {
+    if (!stall_.empty()) return;  // an incomplete run: nothing to conserve yet
     uint64_t created = primaryMisses_, terminated = primaryMisses_, sent = primaryMisses_;
     for (const Node& n : nodes_) {
         created += n.stats().raysCreated;
@@ -276,7 +333,8 @@ MachineResult Machine::collect(double wallSeconds) {
     MachineResult r;
     r.image = assembleImage(units_, width_, height_);
     for (const FrameBufferUnit& u : units_) r.frameBuffer.push_back({u.stats()});
-    r.renderTime = controller().renderTime();
+    r.renderTime = stall_.empty() ? controller().renderTime() : stalledAt_;
+    r.incomplete = stall_;
     for (const Node& n : nodes_) {
         r.nodes.push_back(n.stats());
         r.cells.push_back(n.cell());
@@ -329,8 +387,8 @@ void Machine::writeTraces(const std::string& vcdPath) const {
             bounds.push_back({"col_" + std::to_string(h.column[0]) + "_" + std::to_string(h.column[1]) + "_b" +
                                   std::to_string(h.index),
                               h.positions});
-    const Picos end = controller().renderTime(), to = std::min(cfg_.traceTo, end);
-    writeVcd(vcdPath, traced, bounds, cfg_.traceFrom, to, end);
+    const Picos end = stall_.empty() ? controller().renderTime() : stalledAt_, to = std::min(cfg_.traceTo, end);
+    writeVcd(vcdPath, traced, bounds, cfg_.traceFrom, to, end, stall_);
     writeGtkw(gtkwPathFor(vcdPath), vcdPath, traced, bounds, cfg_.traceFrom, to);
 }
 

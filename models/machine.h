@@ -53,16 +53,21 @@ struct MachineResult {
     Box worldBox;
     uint64_t deltaCycles = 0;
     double wallSeconds = 0;
+    // Empty for a run that ended; otherwise why the watchdog stopped it
+    // (renderTime is then when it stopped, and every figure is up to then).
+    std::string incomplete;
 };
 
 class Machine : public sc_core::sc_module {
 public:
+    SC_HAS_PROCESS(Machine);
     Machine(sc_core::sc_module_name name, const Scene& scene, const MachineConfig& config);
     ~Machine() override;
 
     MachineResult collect(double wallSeconds);
     void endFrame() {
-        for (Node& n : nodes_) n.endFrame(controller().renderTime());
+        const Picos end = stall_.empty() ? controller().renderTime() : stalledAt_;
+        for (Node& n : nodes_) n.endFrame(end);
     }
     // Checks the conservation laws at the end of a run; throws
     // std::runtime_error naming the first one broken.
@@ -98,6 +103,14 @@ private:
     std::vector<LinkReport> linkInfo_;  // the report's links
     std::vector<size_t> reportOf_;      // per link in links_: its entry in linkInfo_
     uint64_t primaryMisses_ = 0;
+
+    // The watchdog (MachineConfig::watchdogSpan): progress marked by the
+    // nodes and links, and why and when it stopped the run (empty: it did not).
+    void watch();
+    std::string whoHolds() const;
+    Progress progress_;
+    std::string stall_;
+    Picos stalledAt_ = 0;
 };
 
 // Elaborates the machine, runs one frame, checks conservation, writes the

@@ -1,5 +1,6 @@
 #include "machine_config.h"
 
+#include "message.h"
 #include "policy.h"
 #include "units.h"
 
@@ -51,6 +52,31 @@ static void checkLink(const LinkParams& l, const std::string& flag) {
         throw std::invalid_argument(flag + ": bandwidth must be positive and finite");
     if (l.depth < 1 || l.depth > 1000000) throw std::invalid_argument(flag + ": depth must be in 1..1000000");
     if (l.controlDepth < 0 || l.controlDepth > 1000000) throw std::invalid_argument(flag + ": control depth must be in 0..1000000");
+}
+
+Picos MachineConfig::watchdogSpanOrDefault(size_t objects) const {
+    if (watchdogSpan) return watchdogSpan;
+    // 1,000 times the longest single thing a running frame waits for: a
+    // message's latency and time on the wire (the largest message: a full
+    // batch of rays or of contributions), a unit's work on one, a node's step
+    // (at worst every object tested once, at the slowest node's speed).
+    const double bytes = std::max(kHeaderBytes + double(rayBatch) * kRayBytes, kHeaderBytes + double(fbBatch) * kContributionBytes);
+    double longest = double(hostCost) * fbBatch;
+    auto link = [&](const LinkParams& l) { longest = std::max(longest, double(l.latency) + bytes * 1e12 / l.bandwidth); };
+    link(this->link);
+    link(fbPort);
+    for (const auto& [where, l] : linkOverride) link(l);
+    double slowest = speed;
+    for (const auto& [cell, f] : nodeSpeed) slowest = std::min(slowest, f);
+    auto step = [&](const Costs& c) {
+        const Picos test = *std::max_element(c.test.begin(), c.test.end());
+        const double t = double(objects) * double(test) + double(c.rayGen + c.shade + c.send + c.recv);
+        longest = std::max(longest, t / slowest);
+    };
+    step(costs);
+    for (const auto& [cell, c] : nodeCosts) step(c);
+    const double span = std::max(1e8, 1000 * longest);  // at least 100 us
+    return span >= double(kMaxSimTime / 4) ? kMaxSimTime / 4 : Picos(span);
 }
 
 void MachineConfig::validate() const {

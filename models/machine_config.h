@@ -124,6 +124,18 @@ struct MachineConfig {
 
     bool showProgress = false;
 
+    // The watchdog (machine.h): a run in which no ray, contribution or
+    // credit moves for watchdogSpan of simulated time (0: the larger of
+    // 100 us and 1,000 times the largest cost, latency or ray message's wire
+    // time: nothing in a running frame waits that long),
+    // or that runs longer than watchdogWall seconds of wall-clock time (0:
+    // no limit), stops as incomplete.
+    Picos watchdogSpan = 0;
+    double watchdogWall = 0;
+    // Test only: unit 0 drops the first credit message it takes, so the
+    // frame never completes (the watchdog's planted bug).
+    bool faultDropFirstCredit = false;
+
     int nodeCount() const { return dims[0] * dims[1] * dims[2]; }
     double speedOf(const Cell& c) const;
     const Costs& costsOf(const Cell& c) const;
@@ -131,6 +143,9 @@ struct MachineConfig {
     // The lookahead: the smallest latency of any link or frame-buffer port. A
     // quantum up to this is still exact.
     Picos lookahead() const;
+    // The watchdog's span: watchdogSpan, or its default for a scene of
+    // `objects` objects.
+    Picos watchdogSpanOrDefault(size_t objects) const;
     // Throws std::invalid_argument("--flag: what") for the first bad value.
     void validate() const;
 };

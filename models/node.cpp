@@ -104,6 +104,25 @@ void Node::endFrame(Picos end) {
     throw std::logic_error(std::string(name()) + ": local time past the end of the frame, but no checkpoint after it");
 }
 
+std::string Node::holding() const {
+    std::string s;
+    auto add = [&](uint64_t n, const char* what) {
+        if (!n) return;
+        s += (s.empty() ? "" : ", ") + std::to_string(n) + " " + what;
+    };
+    add(ownWork() + (pixels_.size() - nextPixel_), "rays in hand");
+    uint64_t coming = 0;
+    for (int d = 0; d < kDirs; ++d)
+        if (in[d].size()) coming += in[d]->workInFlight();
+    add(coming, "ray messages on their way to it");
+    uint64_t batched = 0;
+    for (const std::vector<RayItem>& b : outRays_) batched += b.size();
+    add(batched, "rays in partial batches");
+    add(pendingCount_, "contributions");
+    if (!credit_.isZero()) s += std::string(s.empty() ? "" : ", ") + "credit";
+    return s;
+}
+
 size_t Node::queueDepth(Picos at) const {
     // Counted in simulated time (messages that have arrived by `at`), so the
     // same in every exact mode.
@@ -289,6 +308,7 @@ void Node::terminate(const Work& w, std::vector<RayJob>& spawned) {
 }
 
 void Node::step(Work& w) {
+    if (progress_) progress_->mark(now_);
     const Counters before = stats_.counters;
     traceState(true, false);
     // Scratch lists kept between steps, so a step allocates nothing.

@@ -16,6 +16,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include <systemc>
@@ -90,6 +91,11 @@ public:
     // Setup by the host's job description, before the simulation starts.
     void assignPrimaries(std::vector<uint32_t> pixels, int primaryExp, const Credit& remainder);
     void enableTrace() { trace_ = std::make_unique<NodeTrace>(); }
+    void setProgress(Progress* p) { progress_ = p; }
+    // What the node still holds (rays in hand or in its input links, rays
+    // in partial batches, contributions, credit), for the watchdog's
+    // message; empty if nothing.
+    std::string holding() const;
     // `resplit` with a frame before: where the box's faces along the axis
     // go at the frame's start (NaN: that face stays); BalanceAgent::startAt.
     void setStartTargets(double lo, double hi) { startTargets_ = {lo, hi}; }
@@ -182,6 +188,7 @@ private:
     // Balancing (dynamic policies); made when the process starts, once the
     // node knows which neighbours it has.
     std::unique_ptr<BalanceAgent> balance_;
+    Progress* progress_ = nullptr;  // the watchdog's (machine.h)
     std::optional<std::array<double, 2>> startTargets_;
     int columnLength_;
 

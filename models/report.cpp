@@ -54,6 +54,7 @@ nlohmann::json machineReport(const MachineResult& r, const MachineConfig& cfg) {
                     {"guard_horizon_intervals", bc.horizon}, {"guard_hop_steps", bc.hopRatio}};
 
     j["render_time_ns"] = ns(r.renderTime);
+    if (!r.incomplete.empty()) j["incomplete"] = r.incomplete;  // stopped by the watchdog: every figure up to then
     j["wall_s"] = r.wallSeconds;
 
     Picos busyTotal = 0;

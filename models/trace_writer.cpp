@@ -65,11 +65,14 @@ std::string gtkwPathFor(const std::string& vcdPath) {
 }
 
 void writeVcd(const std::string& path, const std::vector<TracedNode>& nodes,
-              const std::vector<TracedBoundary>& boundaries, Picos from, Picos to, Picos renderTime) {
+              const std::vector<TracedBoundary>& boundaries, Picos from, Picos to, Picos renderTime,
+              const std::string& incomplete) {
     AtomicFile out(path);  // written whole or not at all (output_file.h)
     std::ofstream f(out.temp());
     if (!f) throw std::runtime_error(path + ": cannot open for writing");
-    f << "$version rtsim $end\n$timescale 1ps $end\n$scope module machine $end\n";
+    f << "$version rtsim $end\n";
+    if (!incomplete.empty()) f << "$comment incomplete: " << incomplete << " $end\n";
+    f << "$timescale 1ps $end\n$scope module machine $end\n";
     for (size_t n = 0; n < nodes.size(); ++n) {
         f << "$scope module " << nodes[n].name << " $end\n"
           << "$var wire 1 " << code(4 * n) << " busy $end\n"

@@ -29,7 +29,8 @@ struct TracedBoundary {
 // (integer), for times in [from, to].
 // Per boundary: `position` (real) and `slides` (integer, counts the moves).
 void writeVcd(const std::string& path, const std::vector<TracedNode>& nodes,
-              const std::vector<TracedBoundary>& boundaries, Picos from, Picos to, Picos renderTime);
+              const std::vector<TracedBoundary>& boundaries, Picos from, Picos to, Picos renderTime,
+              const std::string& incomplete = "");  // non-empty: why the run stopped early ($comment)
 // A .gtkw save file that groups each node's signals, so GTKWave opens
 // straight to them: gtkwave -a FILE.gtkw (or gtkwave FILE.vcd FILE.gtkw).
 // [from, to] is the traced window, which it opens zoomed to.

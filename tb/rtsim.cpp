@@ -431,6 +431,15 @@ int sc_main(int argc, char** argv) {
             for (auto& f : frames) f.erase("report");
             report["frames"] = frames;
         }
+        if (!r.incomplete.empty()) {  // the watchdog stopped it: the report so far (the VCD is written), exit 3
+            if (!o.report.empty()) {
+                rt::AtomicFile f(o.report);
+                std::ofstream(f.temp()) << report.dump(2) << "\n";
+                f.commit();
+            }
+            std::cerr << "rtsim: error: watchdog: " << r.incomplete << "\n";
+            return 3;
+        }
         double baselineNs = single ? report["render_time_ns"].get<double>() : -1;
         // The reference runs, in two child processes at once: the 1x1x1 mesh
         // (the speed-up), and the same frame balanced the other way (with the

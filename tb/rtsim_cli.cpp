@@ -162,6 +162,14 @@ void RtsimOptions::addTo(CLI::App& app) {
     app.add_option("--bins", b.bins, "work profile: bins per box thickness along the axis")->check(CLI::Range(1, 4096))->capture_default_str()->group(gb);
     addTime(app, "--cost-rebuild", b.rebuildCost, "updating a node's grid, per object moved in or out", gb);
 
+    addTime(app, "--watchdog", m.watchdogSpan,
+            "stop a run in which no ray, contribution or credit moves for this long in simulated time (exit 3, the "
+            "report and VCD so far marked incomplete); 0: the larger of 100 us and 1,000 times the largest cost, "
+            "latency or ray wire time",
+            go);
+    app.add_option("--watchdog-wall", m.watchdogWall, "also stop it after this many seconds of wall-clock time (0: no limit)")
+        ->check(CLI::Range(0.0, 1e9))->capture_default_str()->group(go);
+    app.add_flag("--fault-drop-credit", m.faultDropFirstCredit, "test only: unit 0 loses the first credit it takes")->group("");
     app.add_option("--image", image, "output PNG")->capture_default_str()->group(go);
     app.add_option("--report", report, "JSON report")->group(go);
     app.add_option("--vcd", vcd, "VCD waveform (a .gtkw save file is written beside it)")->group(go);

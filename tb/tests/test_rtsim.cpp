@@ -326,6 +326,66 @@ TEST_F(Rtsim, ARunPastThePicosecondCounterStopsWithAnError) {
         << "a short run at the same costs stays within the counter";
 }
 
+namespace {
+// rtsim under `timeout`: a run the watchdog fails to stop fails the test in
+// a minute instead of hanging the suite.
+class RtsimTimed : public CommandTest {
+protected:
+    RtsimTimed() : CommandTest(std::string("timeout 60 ") + RTSIM_EXE) {}
+};
+}  // namespace
+
+TEST_F(RtsimTimed, WatchdogTurnsALostCreditIntoExit3UnderEveryPolicy) {
+    // Unit 0 loses the first credit it takes: the frame can never complete.
+    // With balancing the nodes keep waking for their intervals and the run
+    // never ended; without, it ended with "frame never completed" (exit 1).
+    for (const char* p : {"none", "slide", "work", "quantile", "resplit", "median"}) {
+        SCOPED_TRACE(p);
+        const fs::path report = dir_ / (std::string(p) + ".json"), vcd = dir_ / (std::string(p) + ".vcd"),
+                       image = dir_ / (std::string(p) + ".png");
+        const Outcome o = run(std::string(kSmall) + " --mesh 3 --balance " + p +
+                              " --fault-drop-credit --no-baseline -q --report " + report.string() + " --vcd " +
+                              vcd.string() + " --image " + image.string());
+        EXPECT_EQ(o.code, 3) << o.err;
+        EXPECT_EQ(std::count(o.err.begin(), o.err.end(), '\n'), 1) << o.err;
+        EXPECT_EQ(o.err.rfind("rtsim: error: watchdog: no ray, contribution or credit moved for ", 0), 0u) << o.err;
+        EXPECT_NE(o.err.find("unit 0 has 0.9"), std::string::npos) << o.err;
+        ASSERT_TRUE(fs::exists(report));
+        const json r = json::parse(slurp(report));
+        ASSERT_TRUE(r.contains("incomplete"));
+        EXPECT_NE(r["incomplete"].get<std::string>().find("no ray, contribution or credit moved"), std::string::npos);
+        EXPECT_NE(slurp(vcd).find("$comment incomplete: "), std::string::npos);
+        EXPECT_FALSE(fs::exists(image));  // no image from a frame that did not end
+    }
+    // The same run without the lost credit ends and says nothing of the kind.
+    const Outcome ok = run(std::string(kSmall) + " --mesh 3 --balance slide --no-baseline -q --image '' --report " +
+                           (dir_ / "ok.json").string());
+    ASSERT_EQ(ok.code, 0) << ok.err;
+    EXPECT_FALSE(json::parse(slurp(dir_ / "ok.json")).contains("incomplete"));
+}
+
+TEST_F(RtsimTimed, WatchdogSpanAndWallClockLimit) {
+    // The span as given: stopped at the first check at least a span after
+    // the last progress (checks every span up to 1 ms).
+    const Outcome s = run(std::string(kSmall) + " --mesh 2 --fault-drop-credit --watchdog 50us --no-baseline -q --image ''");
+    EXPECT_EQ(s.code, 3) << s.err;
+    const size_t at = s.err.find("moved for ");
+    ASSERT_NE(at, std::string::npos) << s.err;
+    std::istringstream moved(s.err.substr(at + 10));
+    double quiet = 0;
+    std::string unit;
+    moved >> quiet >> unit;
+    EXPECT_EQ(unit, "us") << s.err;
+    EXPECT_GE(quiet, 50.0) << s.err;  // a span, and less than two
+    EXPECT_LT(quiet, 100.0) << s.err;
+    // A span no run would reach (1,000 s, balancing waking the nodes every
+    // 20 us of it): the wall-clock limit stops it.
+    const Outcome w = run(std::string(kSmall) + " --mesh 2 --balance slide --fault-drop-credit --watchdog 1000s"
+                                                " --watchdog-wall 0.5 --no-baseline -q --image ''");
+    EXPECT_EQ(w.code, 3) << w.err;
+    EXPECT_NE(w.err.find("the wall-clock limit of 0.5 s was reached"), std::string::npos) << w.err;
+}
+
 TEST_F(Rtsim, BoundariesInTheWaveformAndTheSummary) {
     const std::string vcd = (dir_ / "b.vcd").string();
     const Outcome o = run(std::string(kSmall) + " --mesh 2 --balance slide --gain 1 --balance-interval 2us --no-baseline"
