@@ -27,6 +27,7 @@ void FrameBufferUnit::finish(Picos now) {
     done_ = true;
     renderTime_ = now;
     if (progress_) std::fprintf(stderr, "\r%-60s\r", "");
+    if (onFinish_) onFinish_();
     sc_core::sc_stop();
 }
 

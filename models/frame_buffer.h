@@ -17,6 +17,7 @@
 //     complete, and the machine itself knows it.
 #pragma once
 #include <deque>
+#include <functional>
 #include <optional>
 #include <vector>
 
@@ -77,7 +78,10 @@ public:
     // Unit 0: the share of the frame's credit returned so far (for the
     // watchdog's message).
     double creditReturned() const { return credit_.value(); }
-    void dropFirstCredit() { dropCredit_ = true; }  // test only (MachineConfig::faultDropFirstCredit)
+    void dropFirstCredit() { dropCredit_ = true; }
+    // Unit 0: called in its process when the frame is done, before the
+    // simulation stops (the machine ends its other processes).
+    void onFinish(std::function<void()> f) { onFinish_ = std::move(f); }  // test only (MachineConfig::faultDropFirstCredit)
     Picos renderTime() const { return renderTime_; }
 
 private:
@@ -106,6 +110,7 @@ private:
     FrameBufferStats stats_;
     bool done_ = false;
     bool dropCredit_ = false;
+    std::function<void()> onFinish_;
     Picos renderTime_ = 0;
 };
 

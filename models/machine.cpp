@@ -111,6 +111,7 @@ Machine::Machine(sc_core::sc_module_name name, const Scene& scene, const Machine
     for (auto& l : unitLinks_) l->setProgress(&progress_);
     for (Node& n : nodes_) n.setProgress(&progress_);
     if (cfg_.faultDropFirstCredit) units_[0].dropFirstCredit();
+    units_[0].onFinish([this] { endProcesses(); });
     SC_THREAD(watch);
     for (const Cell& c : cfg_.traceNodes) nodes_[nodeIndex(c)].enableTrace();
     if (!cfg_.vcdPath.empty() && cfg_.traceNodes.empty())
@@ -148,9 +149,28 @@ void Machine::watch() {
         }
         stalledAt_ = now;
         stall_ = why.str() + "; " + whoHolds();
+        endProcesses();
         sc_core::sc_stop();
         return;
     }
+}
+
+// Ends every process but the caller's, from within the simulation: each
+// one suspended in a wait is resumed with SystemC's unwinding exception, so
+// what its stack holds (a slab being given, a message being handled) is
+// freed. A thread left suspended when the simulation stops is never
+// unwound, and LeakSanitizer found those objects lost.
+void Machine::endProcesses() {
+    const sc_core::sc_process_handle self = sc_core::sc_get_current_process_handle();
+    auto end = [&](const sc_core::sc_object& module) {
+        for (sc_core::sc_object* child : module.get_child_objects()) {
+            sc_core::sc_process_handle h(child);
+            if (h.valid() && h != self && !h.terminated()) h.kill();
+        }
+    };
+    for (const Node& n : nodes_) end(n);
+    for (const FrameBufferUnit& u : units_) end(u);
+    end(*this);  // the watchdog
 }
 
 // Which nodes still hold work or credit, and how much credit unit 0 lacks:

@@ -108,6 +108,7 @@ private:
     // nodes and links, and why and when it stopped the run (empty: it did not).
     void watch();
     std::string whoHolds() const;
+    void endProcesses();
     Progress progress_;
     std::string stall_;
     Picos stalledAt_ = 0;
