@@ -151,6 +151,7 @@ nlohmann::json machineReport(const MachineResult& r, const MachineConfig& cfg) {
     // Balancing: every boundary's history, the number of slides, and how
     // even the loads are (max / mean) over the whole frame.
     size_t slides = 0;
+    j["boundaries"] = nlohmann::json::array();  // empty, not missing, with one node along the axis
     for (const BoundaryHistory& h : r.boundaries) {
         slides += h.positions.size() - 1;
         nlohmann::json bj;

@@ -19,6 +19,8 @@ packages=(
 
 # `setup.sh plots`: also what the sweep and chart scripts need.
 if [ "${1:-}" = "plots" ]; then packages+=(python3-matplotlib python3-numpy); fi
+# `setup.sh fuzz`: clang and its libFuzzer, for scripts/fuzz.sh.
+if [ "${1:-}" = "fuzz" ]; then packages+=(clang libclang-rt-14-dev); fi
 
 missing=()
 for p in "${packages[@]}"; do

@@ -178,6 +178,8 @@ private:
         return t;
     }
 
+    static constexpr double kMaxMagnitude = 1e9;
+
     static bool parseDouble(const std::string& s, double& v) {
         const char* begin = s.data();
         const char* end = begin + s.size();
@@ -191,6 +193,11 @@ private:
         double v;
         if (!parseDouble(t.text, v)) fail("expected a number for " + what + ", got '" + t.text + "'");
         if (!std::isfinite(v)) fail("expected a finite number for " + what + ", got '" + t.text + "'");
+        // Far beyond any scene, and far enough from overflow that boxes and
+        // grids built from it stay exact: a sphere of radius 1e98 made the
+        // world box's planes collapse (found by scripts/fuzz.sh).
+        if (std::abs(v) > kMaxMagnitude)
+            fail("expected a number of magnitude at most 1e9 for " + what + ", got '" + t.text + "'");
         return v;
     }
 

@@ -154,6 +154,13 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"TrailingGarbageInNumber", H("s 0 0 0 1x\n"), "bad.nff:11: expected a number for sphere radius"},
         BadCase{"NaN", H("s 0 0 nan 1\n"), "bad.nff:11: expected a finite number"},
         BadCase{"Infinity", H("l inf 0 0\n"), "bad.nff:11: expected a finite number"},
+        BadCase{"HugeRadius", H("s 0 0 0 2e9\n"), "bad.nff:11: expected a number of magnitude at most 1e9 for sphere radius"},
+        // scripts/fuzz.sh's finding, as it found it: a centre at 1.1e98 made
+        // the world box's grid planes collapse (an uncaught exception).
+        BadCase{"FuzzHugeCentre",
+                "b 0.078 0.361 0.753\nv\nfrom 2.1 1.3 1.7\nat 0 0 0\nup 0 0 1\nangle 22\nhither 0.01\n"
+                "resolution 512 512\nl 4 3 2\nl 1 -0.544331 0.16666725667\ns 5.471405 -7045.041 1.11022e098 -1.4",
+                "bad.nff:11: expected a number of magnitude at most 1e9 for sphere centre"},
         BadCase{"PolygonTwoVertices", H("p 2\n0 0 0\n1 0 0\n"), "bad.nff:11: polygon needs at least 3 vertices"},
         BadCase{"PolygonCollinear", H("p 3\n0 0 0\n1 1 1\n2 2 2\n"), "bad.nff:11: polygon vertices are collinear"},
         BadCase{"PolygonShort", H("p 3\n0 0 0\n1 0 0\n"), "expected vertex 3 of 'p', got end of file"},

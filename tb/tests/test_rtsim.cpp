@@ -559,6 +559,17 @@ TEST_F(Rtsim, ResplitMovesTheBoundariesAtTheStartOfEachFrameAndKeepsTheFastest) 
     EXPECT_EQ(slurp(dir_ / "g.png"), slurp(dir_ / "n.png"));
 }
 
+TEST_F(Rtsim, FramesWithOneNodeAlongTheBalancingAxis) {
+    // No boundaries to carry from frame to frame: found by scripts/stress.py
+    // (the report had no "boundaries" and the frame loop stopped, exit 1).
+    for (const char* p : {"slide", "resplit", "quantile"}) {
+        SCOPED_TRACE(p);
+        const json r = report(std::string(kSmall) + " --mesh-dims 2x1x2 --axis y --frames 2 --balance " + p);
+        EXPECT_EQ(r["frames"].size(), 2u);
+        EXPECT_TRUE(r["boundaries"].empty());
+    }
+}
+
 TEST_F(Rtsim, ResplitGoesBackToTheFirstFrameWhereReSplittingDoesNotPay) {
     // Past the links' knee thinner boxes cost more link time than they save:
     // neither re-split frame (2 and 3) beats the first, frame 4 holds the
