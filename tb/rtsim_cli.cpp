@@ -7,8 +7,23 @@
 
 namespace rt {
 namespace {
-// A --config file is a few dozen lines; a report echoes one in a few KB.
-constexpr uintmax_t kMaxConfigBytes = 1 << 20;
+// A --config file is a few dozen lines; a report, with the per-interval
+// history bounded, a few MB.
+constexpr uintmax_t kMaxConfigBytes = 1 << 20, kMaxReportBytes = uintmax_t(1) << 30;
+
+// A regular file of at most `limit` bytes: files read whole (a fifo or
+// /dev/urandom would never end).
+CLI::Validator regularFileAtMost(uintmax_t limit) {
+    return CLI::Validator(
+        [limit](std::string& path) {
+            std::error_code ec;
+            if (!std::filesystem::is_regular_file(path, ec)) return "not a regular file: '" + path + "'";
+            const auto size = std::filesystem::file_size(path, ec);
+            if (ec || size > limit) return "'" + path + "' is larger than " + std::to_string(limit) + " bytes";
+            return std::string();
+        },
+        "", "");
+}
 
 // "x,y,z" node coordinates.
 Cell parseCell(const std::string& flag, const std::string& s) {
@@ -190,7 +205,7 @@ void RtsimOptions::addTo(CLI::App& app) {
         ->expected(3)->delimiter(',')->check(finiteNumber())->group(gf);
     app.add_option("--boundaries-from", boundariesFrom,
                    "start each column's boundaries where they ended in this report's run (the same scene, mesh and axis)")
-        ->check(CLI::ExistingFile)->group(gf);
+        ->check(regularFileAtMost(kMaxReportBytes))->group(gf);
     app.add_option("--targets-from", targetsFrom, "internal: resplit's targets for this frame (JSON)")
         ->check(CLI::ExistingFile)->group("");
     app.add_option("--frame-index", frameIndex, "internal: this run is that frame (0-based) of a sequence")
@@ -201,16 +216,7 @@ void RtsimOptions::addTo(CLI::App& app) {
     // A regular file of bounded size: CLI11 reads it whole, so /dev/urandom
     // or a fifo would never end.
     app.set_config("--config", "", "read flags from a file (INI/TOML: name = value, one per line)")
-        ->check(CLI::Validator(
-            [](std::string& path) {
-                std::error_code ec;
-                if (!std::filesystem::is_regular_file(path, ec)) return "not a regular file: '" + path + "'";
-                const auto size = std::filesystem::file_size(path, ec);
-                if (ec || size > kMaxConfigBytes)
-                    return "'" + path + "' is larger than " + std::to_string(kMaxConfigBytes) + " bytes";
-                return std::string();
-            },
-            "", ""));
+        ->check(regularFileAtMost(kMaxConfigBytes));
     app.allow_config_extras(CLI::config_extras_mode::error);  // a misspelt name is an error, not ignored
 }
 

@@ -294,6 +294,7 @@ TEST_F(Rtsim, BadConfigurationExits2NamingTheFlag) {
     expectBad("--config " + (dir_ / "bad2.ini").string(), "no-such-flag");
     expectBad("--config /nonexistent.ini", "/nonexistent.ini");
     expectBad("--config /dev/urandom", "/dev/urandom");  // read whole, it never ended
+    expectBad("--boundaries-from /dev/urandom", "--boundaries-from: not a regular file");
     expectBad("--size 65536x65536", "--size 65536x65536: needs at least");  // was bad_alloc, naming nothing
     // Times the picosecond counter cannot hold: 1e6 s once rendered 1.8e16 ns.
     expectBad("--link-latency 1e6s", "--link-latency");
