@@ -87,6 +87,13 @@ def without_wall(report):
 
 def check(index, scene, args, rtsim, rtref, tmp):
     """'' if the configuration passes, else what failed."""
+    try:
+        return run_and_compare(index, scene, args, rtsim, rtref, tmp)
+    except OSError as e:  # a program that cannot be run (replaced by a build meanwhile, say)
+        return f"could not run: {e}"
+
+
+def run_and_compare(index, scene, args, rtsim, rtref, tmp):
     d = os.path.join(tmp, str(index))
     os.makedirs(d)
     ref = subprocess.run([rtref] + scene + ["-o", os.path.join(d, "ref.png")], capture_output=True, text=True)
