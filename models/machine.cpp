@@ -123,8 +123,9 @@ Machine::~Machine() = default;
 
 // The watchdog: wakes every span of simulated time, or every millisecond
 // (or a thousandth of the span, if longer) if that is sooner, so at most a
-// few times in most frames and often enough to see the wall clock; and stops a run in which nothing moved for a whole
-// span, or that has run past the wall-clock limit. Stopping it: a
+// few times in most frames and often enough to see the wall clock; and
+// stops a run in which nothing moved for a whole span, or that has run past
+// the wall-clock limit. Stopping it: a
 // stuck run with balancing never ends by itself (the nodes keep waking for
 // their intervals), and without balancing it ends only with the kernel out
 // of events.
@@ -353,7 +354,7 @@ MachineResult Machine::collect(double wallSeconds) {
     MachineResult r;
     r.image = assembleImage(units_, width_, height_);
     for (const FrameBufferUnit& u : units_) r.frameBuffer.push_back({u.stats()});
-    r.renderTime = stall_.empty() ? controller().renderTime() : stalledAt_;
+    r.renderTime = frameEnd();
     r.incomplete = stall_;
     for (const Node& n : nodes_) {
         r.nodes.push_back(n.stats());
@@ -407,7 +408,7 @@ void Machine::writeTraces(const std::string& vcdPath) const {
             bounds.push_back({"col_" + std::to_string(h.column[0]) + "_" + std::to_string(h.column[1]) + "_b" +
                                   std::to_string(h.index),
                               h.positions});
-    const Picos end = stall_.empty() ? controller().renderTime() : stalledAt_, to = std::min(cfg_.traceTo, end);
+    const Picos end = frameEnd(), to = std::min(cfg_.traceTo, end);
     writeVcd(vcdPath, traced, bounds, cfg_.traceFrom, to, end, stall_);
     writeGtkw(gtkwPathFor(vcdPath), vcdPath, traced, bounds, cfg_.traceFrom, to);
 }

@@ -66,8 +66,7 @@ public:
 
     MachineResult collect(double wallSeconds);
     void endFrame() {
-        const Picos end = stall_.empty() ? controller().renderTime() : stalledAt_;
-        for (Node& n : nodes_) n.endFrame(end);
+        for (Node& n : nodes_) n.endFrame(frameEnd());
     }
     // Checks the conservation laws at the end of a run; throws
     // std::runtime_error naming the first one broken.
@@ -109,6 +108,8 @@ private:
     void watch();
     std::string whoHolds() const;
     void endProcesses();
+    // When the frame ended, or when the watchdog stopped it.
+    Picos frameEnd() const { return stall_.empty() ? controller().renderTime() : stalledAt_; }
     Progress progress_;
     std::string stall_;
     Picos stalledAt_ = 0;

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <stdexcept>
 #include <vector>
 
@@ -54,6 +55,13 @@ AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
     int err = 0;
     temp_ = makeTemp(path_, err);
     if (temp_.empty()) throw std::runtime_error(path_ + ": cannot create a file beside it (" + std::strerror(err) + ")");
+}
+
+void AtomicFile::write(const std::string& text) const {
+    std::ofstream f(temp_, std::ios::binary);
+    f << text;
+    f.close();
+    if (!f) throw std::runtime_error(path_ + ": cannot write");
 }
 
 AtomicFile::~AtomicFile() {

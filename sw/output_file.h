@@ -24,6 +24,9 @@ public:
 
     // Where to write: a fresh file in the same folder as the path.
     const std::string& temp() const { return temp_; }
+    // Writes `text` to the temporary file (throws, naming the path, if it
+    // cannot).
+    void write(const std::string& text) const;
     // Renames the temporary file over the path (throws on failure).
     void commit();
 

@@ -85,10 +85,7 @@ int main(int argc, char** argv) {
         std::optional<rt::AtomicFile> statsFile;
         if (!stats.empty()) {
             statsFile.emplace(stats);
-            std::ofstream f(statsFile->temp());
-            f << statsJson(scene, r, depth, threads, wall, accel).dump(2) << "\n";
-            f.close();
-            if (!f) throw std::runtime_error(stats + ": cannot write stats");
+            statsFile->write(statsJson(scene, r, depth, threads, wall, accel).dump(2) + "\n");
         }
         image.commit();
         if (statsFile) statsFile->commit();

@@ -77,11 +77,10 @@ std::optional<nlohmann::json> childReport(int argc, char** argv, const std::vect
 }
 
 // Each column's inner boundaries where the run of report `r` ended them
-// (its last position in the boundary history), for MachineConfig::
-// startBoundaries. Throws std::runtime_error if the report is of another mesh
-// or axis.
-// Each column's inner boundaries where the run of report `r` left them (or,
-// with `atStart`, where they stood when it began).
+// (their last positions in the boundary histories), for MachineConfig::
+// startBoundaries; with `atStart`, where they stood when it began (the
+// first positions). Throws std::runtime_error if the report is of another
+// mesh or axis.
 std::vector<std::vector<double>> lastBoundaries(const nlohmann::json& r, const rt::MachineConfig& m,
                                                 bool atStart = false) {
     const int ax = m.balance.axis, u = (ax + 1) % 3, v = (ax + 2) % 3, n = m.dims[size_t(ax)];
@@ -97,7 +96,9 @@ std::vector<std::vector<double>> lastBoundaries(const nlohmann::json& r, const r
             const int k = h.at("index").get<int>();
             if (col[0] < 0 || col[0] >= m.dims[size_t(u)] || col[1] < 0 || col[1] >= m.dims[size_t(v)] || k < 1 || k >= n)
                 throw std::runtime_error("a boundary outside the mesh");
-            b[size_t(col[0] + m.dims[size_t(u)] * col[1])][size_t(k - 1)] = (atStart ? h.at("history").front() : h.at("history").back()).at(1).get<double>();
+            const auto& history = h.at("history");
+            b[size_t(col[0] + m.dims[size_t(u)] * col[1])][size_t(k - 1)] =
+                (atStart ? history.front() : history.back()).at(1).get<double>();
         }
         for (const auto& c : b)
             for (double x : c)
@@ -434,7 +435,7 @@ int sc_main(int argc, char** argv) {
         if (!r.incomplete.empty()) {  // the watchdog stopped it: the report so far (the VCD is written), exit 3
             if (!o.report.empty()) {
                 rt::AtomicFile f(o.report);
-                std::ofstream(f.temp()) << report.dump(2) << "\n";
+                f.write(report.dump(2) + "\n");
                 f.commit();
             }
             std::cerr << "rtsim: error: watchdog: " << r.incomplete << "\n";
@@ -488,10 +489,7 @@ int sc_main(int argc, char** argv) {
         }
         if (!o.report.empty()) {
             reportFile.emplace(o.report);
-            std::ofstream f(reportFile->temp());
-            f << report.dump(2) << "\n";
-            f.close();
-            if (!f) throw std::runtime_error(o.report + ": cannot write the report");
+            reportFile->write(report.dump(2) + "\n");
         }
         if (image) image->commit();
         if (reportFile) reportFile->commit();

@@ -338,6 +338,14 @@ Message report() {  // 8 + 44 bytes
 
 constexpr Picos ns = 1000;
 
+// The links of these hand calculations: 1 byte per ns, 100 ns latency, 16
+// data slots, and `lane` control slots.
+LinkParams oneBytePerNs(int lane) {
+    LinkParams p{100 * ns, 1e9, 16};
+    p.controlDepth = lane;
+    return p;
+}
+
 }  // namespace
 
 TEST(ControlLane, GoesAheadOfWaitingRaysByHand) {
@@ -345,9 +353,7 @@ TEST(ControlLane, GoesAheadOfWaitingRaysByHand) {
     // take the wire at 0, 1000 and 2000 ns. A load report (52 bytes) sent at
     // 500 ns goes on when the first leaves (1000), ahead of the other two,
     // which move back by 52 ns; a ray message sent after it goes after all.
-    LinkParams p{100 * ns, 1e9, 16};
-    p.controlDepth = 2;
-    Link l("l", p);
+    Link l("l", oneBytePerNs(2));
     for (int i = 0; i < 3; ++i) l.send(rays(8), 0);
     l.send(report(), 500 * ns);
     l.send(rays(8), 600 * ns);
@@ -367,9 +373,7 @@ TEST(ControlLane, GoesAheadOfWaitingRaysByHand) {
 }
 
 TEST(ControlLane, WithoutALaneTheReportWaitsBehindTheRays) {
-    LinkParams p{100 * ns, 1e9, 16};
-    p.controlDepth = 0;
-    Link l("l", p);
+    Link l("l", oneBytePerNs(0));
     for (int i = 0; i < 3; ++i) l.send(rays(8), 0);
     l.send(report(), 500 * ns);
     EXPECT_FALSE(l.controlArrivedBy(1000000 * ns));  // no lane: nothing to take ahead
@@ -381,9 +385,7 @@ TEST(ControlLane, WithoutALaneTheReportWaitsBehindTheRays) {
 TEST(ControlLane, HasItsOwnSlotsAndStaysFifo) {
     // One control slot: the second report waits until the first is consumed
     // (at 200 ns) and its slot has travelled back (100 ns later).
-    LinkParams p{100 * ns, 1e9, 16};
-    p.controlDepth = 1;
-    Link l("l", p);
+    Link l("l", oneBytePerNs(1));
     Message r1 = report(), r2 = report();
     r1.interval = 1;
     r2.interval = 2;
@@ -401,9 +403,7 @@ TEST(ControlLane, TakesTurnsWithTheRaysWhileBothWaitByHand) {
     // 1010 ns, while the first is on the wire and before the ray message it
     // went ahead of has started: that one goes first (1052 to 2052), then
     // the report (2052 to 2104), then the third ray message (2104 to 3104).
-    LinkParams p{100 * ns, 1e9, 16};
-    p.controlDepth = 2;
-    Link l("l", p);
+    Link l("l", oneBytePerNs(2));
     for (int i = 0; i < 3; ++i) l.send(rays(8), 0);
     l.send(report(), 500 * ns);
     l.send(report(), 1010 * ns);
@@ -425,9 +425,7 @@ TEST(ControlLane, AStreamOfReportsCannotStarveARay) {
     // (ready at 40) goes ahead of it (52-104); the third finds it owed its
     // turn, so the ray goes at 104-1104 and arrives at 1204 ns, whatever
     // follows. (When every report could move it back, it waited for all 200.)
-    LinkParams p{100 * ns, 1e9, 16};
-    p.controlDepth = 1000;
-    Link l("l", p);
+    Link l("l", oneBytePerNs(1000));
     l.send(report(), 0);
     l.send(rays(8), 10 * ns);
     for (int i = 0; i < 200; ++i) l.send(report(), (40 + 52 * Picos(i)) * ns);
