@@ -67,15 +67,35 @@ void Link::startWaiting(int lane) {
     while (!l.backlog.empty() && l.slotFree_()) {
         const Picos slot = takeSlot(l);
         Timed& w = l.backlog.front();
+        if (params_.outDepth > 0) {  // a sender blocked on the full buffer has room from then
+            const Picos room = std::max(w.t, slot), k = sc_core::sc_time_stamp().value();
+            room_.notify(sc_core::sc_time::from_value(room > k ? room - k : 0));
+        }
         putOnWire(lane, w.t, std::move(w.m), slot);
         l.backlog.pop_front();
     }
+}
+
+Picos Link::roomAt(MsgType type, Picos t) {
+    if (params_.outDepth <= 0) return t;
+    Lane& l = lanes_[laneOf(type)];
+    while (!l.leaving.empty() && l.leaving.front() <= t) l.leaving.pop_front();
+    // Held at `t`: the backlog, and those that leave it later than `t`
+    // (in the order they leave: slots come back in order).
+    const size_t held = l.backlog.size() + l.leaving.size(), cap = size_t(params_.outDepth);
+    if (held < cap) return t;
+    const size_t mustLeave = held - cap + 1;
+    return l.leaving.size() >= mustLeave ? l.leaving[mustLeave - 1] : kRoomUnknown;
 }
 
 void Link::putOnWire(int lane, Picos sent, Message&& m, Picos slot) {
     Lane& l = lanes_[lane];
     const Picos transfer = transferTime(m.bytes());
     const Picos ready = std::max(sent, slot);
+    // Until its slot is free it is in the sender's output buffer. (With a
+    // quantum the slot may be known before the message is sent, when the
+    // receiver runs ahead: it waits all the same, without a backlog.)
+    if (params_.outDepth > 0 && ready > sent) l.leaving.push_back(ready);
     Picos start;
     if (lane == kData) {
         start = std::max(ready, wireFree_);

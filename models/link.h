@@ -7,8 +7,14 @@
 // latency later. The link holds at most `depth` messages that the receiver
 // has not consumed; a consumed message's slot comes back to the sender one
 // latency later (credit-based flow control). Messages that find no slot wait
-// in the sender's own memory (the link's backlog), so a sender never blocks:
-// back-pressure delays messages but cannot deadlock the machine.
+// in the sender's own memory (the link's backlog, its output buffer). By
+// default that buffer is unbounded and a sender never blocks: back-pressure
+// delays messages but cannot deadlock the machine. With an output depth
+// (LinkParams::outDepth, --link-out-depth), a buffer holds at most that many
+// messages per lane, and a sender that finds it full blocks until a message
+// leaves it for a slot (roomAt, roomEvent; Node::sendOrBlock charges the
+// blocked time). Then two nodes that fill each other's links can deadlock
+// (doc/machine.md, "Finite output buffers").
 //
 // The control lane. Load reports, slides and acks (the balancing protocol)
 // travel in a second virtual channel with its own `controlDepth` slots and
@@ -73,6 +79,14 @@ public:
     // Sends at the sender's time `t` (its local time, >= the kernel's).
     virtual void send(Message m, Picos t) = 0;
     virtual const LinkParams& params() const = 0;
+    // When a message of type `type` sent at `t` or later finds room in the
+    // output buffer: `t` if it has room then; a later time if that is known
+    // already (a message leaves for a slot then); kRoomUnknown if it waits
+    // for the receiver to consume (roomEvent() tells when that happened).
+    // The sender's times must not decrease from one call to the next.
+    static constexpr Picos kRoomUnknown = ~Picos(0);
+    virtual Picos roomAt(MsgType type, Picos t) = 0;
+    virtual const sc_core::sc_event& roomEvent() const = 0;
 };
 
 // Told by a link when its oldest unconsumed message changes: a message lands
@@ -116,6 +130,8 @@ public:
     Link(std::string name, const LinkParams& params);
 
     void send(Message m, Picos t) override;
+    Picos roomAt(MsgType type, Picos t) override;
+    const sc_core::sc_event& roomEvent() const override { return room_; }
     bool peekArrival(Picos& arrival) const override;
     Message consume(Picos t) override;
     bool controlArrivedBy(Picos t) const override;
@@ -159,6 +175,9 @@ private:
         // For the high-water marks: when the messages that waited for the
         // wire started, and when the last messages were consumed.
         Fifo<Picos> waitedUntil, consumedAt;
+        // With an output depth: when the messages that left the backlog
+        // (given a slot) leave the sender's buffer, from the sender's time on.
+        Fifo<Picos> leaving;
         bool slotFree_() const { return unusedSlots > 0 || !slotFree.empty(); }
     };
     static constexpr int kData = 0, kControl = 1;
@@ -183,6 +202,7 @@ private:
     int listenerPort_ = 0;
     LinkStats stats_;
     std::array<uint64_t, kMsgTypes> inFlight_{};
+    sc_core::sc_event room_;  // a message left a full output buffer's backlog (outDepth > 0)
 };
 
 }  // namespace rt

@@ -52,6 +52,7 @@ static void checkLink(const LinkParams& l, const std::string& flag) {
         throw std::invalid_argument(flag + ": bandwidth must be positive and finite");
     if (l.depth < 1 || l.depth > 1000000) throw std::invalid_argument(flag + ": depth must be in 1..1000000");
     if (l.controlDepth < 0 || l.controlDepth > 1000000) throw std::invalid_argument(flag + ": control depth must be in 0..1000000");
+    if (l.outDepth < 0 || l.outDepth > 1000000) throw std::invalid_argument(flag + ": output depth must be in 0..1000000");
 }
 
 Picos MachineConfig::watchdogSpanOrDefault(size_t objects) const {

@@ -43,6 +43,11 @@ struct LinkParams {
     // 0 (the default): no lane; control messages queue with the rays, in one
     // FIFO (doc/balancing.md, "The control lane", says why it is off).
     int controlDepth = 0;
+    // The sender's output buffer (link.h): messages sent and still waiting
+    // for a flow-control slot, per lane. A node whose buffer is full blocks
+    // until the receiver frees a slot. 0 (the default): unbounded, a sender
+    // never blocks.
+    int outDepth = 0;
 };
 
 // Sliding boundaries (doc/balancing.md). Every column of nodes along the

@@ -63,6 +63,12 @@ void Node::checkpoint() {
 
 void Node::endFrame(Picos end) {
     if (balance_) stats_.balance = balance_->finalStats();
+    if (stats_.blocking && stats_.blockedSince <= end) {  // blocked on a full output since then
+        stats_.blocking = false;
+        stats_.blocked += end - stats_.blockedSince;
+        stats_.wait += end - stats_.blockedSince;
+        return;
+    }
     if (stats_.waiting) {
         stats_.waiting = false;
         if (stats_.waitingSince <= end) {  // waiting for input since then
@@ -120,6 +126,10 @@ std::string Node::holding() const {
     add(batched, "rays in partial batches");
     add(pendingCount_, "contributions");
     if (!credit_.isZero()) s += std::string(s.empty() ? "" : ", ") + "credit";
+    if (stats_.blocking)
+        s += std::string(s.empty() ? "" : ", ") + "blocked on its full output to " +
+             (stats_.blockedOn >= kDirs ? "frame-buffer unit " + std::to_string(stats_.blockedOn - kDirs)
+                                        : std::string(dirName(stats_.blockedOn)));
     return s;
 }
 
@@ -363,13 +373,15 @@ void Node::chargeAndSend(Picos cost, bool mayWaitForWork) {
     checkSimTime(now_, name());
     stats_.busy += cost;
     stats_.lastActive = now_;
-    for (auto& [d, m] : outbox_) {
-        if (d >= kDirs) fb[d - kDirs]->send(std::move(m), now_);
-        else out[d]->send(std::move(m), now_);
-    }
+    checkpoint();
+    Picos blocked = 0;
+    for (auto& [d, m] : outbox_) blocked += sendOrBlock(d, std::move(m));
     stats_.messagesSent += outbox_.size();
     outbox_.clear();
-    checkpoint();
+    if (blocked) {  // the step, then the wait: each between two checkpoints (endFrame)
+        checkpoint();
+        cost += blocked;
+    }
     // A step that leaves the node with nothing to do and must let the kernel
     // catch up anyway goes straight into waiting for input, which includes
     // the catching up: one kernel wait instead of two. The node takes its
@@ -377,6 +389,36 @@ void Node::chargeAndSend(Picos cost, bool mayWaitForWork) {
     if (!time_.mustSync(now_, cost)) return;
     if (mayWaitForWork && nothingToDo()) waitForWork();
     else time_.syncTo(now_);
+}
+
+// A full output buffer blocks the node (link.h): no step, no input taken,
+// until the link has room; the time is wait, and counted as blocked.
+Picos Node::sendOrBlock(int d, Message&& m) {
+    LinkSendIf& link = d >= kDirs ? *fb[d - kDirs] : *out[d].operator->();
+    const Picos from = now_;
+    for (Picos room; (room = link.roomAt(m.type, now_)) != now_;) {
+        if (!stats_.blocking) {
+            stats_.blocking = true;
+            stats_.blockedSince = now_;
+            stats_.blockedOn = d;
+            traceState(false, true);
+        }
+        if (room != LinkSendIf::kRoomUnknown) {
+            now_ = room;  // known: a message leaves for a slot then
+        } else {
+            sc_core::wait(link.roomEvent());  // until the receiver consumes
+            now_ = std::max(now_, Picos(sc_core::sc_time_stamp().value()));
+        }
+    }
+    const Picos blocked = now_ - from;
+    if (stats_.blocking) {
+        stats_.blocking = false;
+        stats_.blocked += blocked;
+        stats_.wait += blocked;
+        traceState(true, false);
+    }
+    link.send(std::move(m), now_);
+    return blocked;
 }
 
 // Where a ray is forwarded: into the batch for its direction, which leaves

@@ -57,6 +57,11 @@ struct NodeStats {
     Picos lastActive = 0;          // end of the last busy step
     bool waiting = false;          // waiting for work when the frame ended
     Picos waitingSince = 0;
+    // Blocked on a full output buffer (--link-out-depth): part of `wait`.
+    Picos blocked = 0;
+    bool blocking = false;         // blocked when the frame ended
+    Picos blockedSince = 0;
+    int blockedOn = -1;            // the output it was blocked on (a direction, or kDirs + unit)
     std::vector<SlideEvent> slides;        // slabs given
     uint64_t slidesTaken = 0, acks = 0;
     uint64_t objectsSent = 0, objectsReceived = 0;
@@ -142,6 +147,9 @@ private:
     // and lets the kernel catch up as the quantum asks (with a ray step that
     // leaves nothing to do, by waiting for work at once: mayWaitForWork).
     void chargeAndSend(Picos cost, bool mayWaitForWork = false);
+    // Sends on output `d` (a direction, or kDirs + a frame-buffer unit),
+    // first waiting while its output buffer is full; returns the time blocked.
+    Picos sendOrBlock(int d, Message&& m);
     void waitForWork();
     bool nothingToDo() const;
     bool owesFrameBuffer() const { return pendingCount_ || !credit_.isZero(); }  // contributions or credit not yet sent

@@ -20,7 +20,8 @@ nlohmann::json linkJson(const LinkParams& l) {
     return {{"latency_ns", ns(l.latency)},
             {"bandwidth_bytes_per_s", l.bandwidth},
             {"depth", l.depth},
-            {"control_depth", l.controlDepth}};
+            {"control_depth", l.controlDepth},
+            {"out_depth", l.outDepth}};
 }
 
 }  // namespace
@@ -57,10 +58,11 @@ nlohmann::json machineReport(const MachineResult& r, const MachineConfig& cfg) {
     if (!r.incomplete.empty()) j["incomplete"] = r.incomplete;  // stopped by the watchdog: every figure up to then
     j["wall_s"] = r.wallSeconds;
 
-    Picos busyTotal = 0;
+    Picos busyTotal = 0, blockedTotal = 0;
     for (size_t i = 0; i < r.nodes.size(); ++i) {
         const NodeStats& s = r.nodes[i];
         busyTotal += s.busy;
+        blockedTotal += s.blocked;
         nlohmann::json n;
         n["node"] = cellJson(r.cells[i]);
         n["box"] = {{r.boxes[i].lo.x, r.boxes[i].lo.y, r.boxes[i].lo.z}, {r.boxes[i].hi.x, r.boxes[i].hi.y, r.boxes[i].hi.z}};
@@ -69,6 +71,7 @@ nlohmann::json machineReport(const MachineResult& r, const MachineConfig& cfg) {
         // busy + wait = render time (checked at the end of every run).
         const Picos wait = s.wait;
         n["wait_ns"] = ns(wait);
+        n["blocked_ns"] = ns(s.blocked);  // of the wait: on a full output buffer (--link-out-depth)
         n["load"] = s.busy + wait ? double(s.busy) / double(s.busy + wait) : 0.0;
         n["rays_traced"] = s.raysTraced;
         n["rays_generated"] = s.raysGenerated;
@@ -119,6 +122,7 @@ nlohmann::json machineReport(const MachineResult& r, const MachineConfig& cfg) {
         j["totals"]["bytes"][msgTypeName(MsgType(t))] = bytes[t];
     }
     j["totals"]["busy_ns"] = ns(busyTotal);
+    j["totals"]["blocked_ns"] = ns(blockedTotal);
     j["totals"]["primary_misses"] = r.primaryMisses;
     // The bounds (bounds.h).
     const Bounds bd = renderTimeBounds(r, cfg);

@@ -274,6 +274,7 @@ void printSummary(const rt::Scene& scene, const rt::RtsimOptions& o, const rt::M
     };
     pr("busy per node", "busy_ns", true);
     pr("wait per node", "wait_ns", true);
+    if (report["totals"]["blocked_ns"].get<double>() > 0) pr("  of it blocked", "blocked_ns", true);  // full output buffers
     pr("load per node", "load", false);
     const auto& fb = report["frame_buffer"];
     std::printf("  frame buffer     %zu unit%s, busiest %s busy (%.1f %% of the render time)\n", fb["units"].size(),

@@ -125,7 +125,11 @@ void RtsimOptions::addTo(CLI::App& app) {
     app.add_option("--link-control-depth", m.link.controlDepth,
                    "slots of the links' control lane (load reports, slides, acks ahead of rays); 0: no lane, one FIFO")
         ->check(CLI::Range(0, 1000000))->capture_default_str()->group(gl);
-    app.add_option("--link-set", linkSpecs_, "one link: x,y,z,DIR:latency=T,bandwidth=R,depth=N (DIR +x -x +y -y +z -z; any subset; repeatable)")
+    app.add_option("--link-out-depth", m.link.outDepth,
+                   "messages a sender's output buffer holds per link and lane while they wait for a slot; a node whose "
+                   "buffer is full blocks (charged as wait, reported as blocked); 0: unbounded, senders never block")
+        ->check(CLI::Range(0, 1000000))->capture_default_str()->group(gl);
+    app.add_option("--link-set", linkSpecs_, "one link: x,y,z,DIR:latency=T,bandwidth=R,depth=N,control_depth=N,out_depth=N (DIR +x -x +y -y +z -z; any subset; repeatable)")
         ->group(gl);
     app.add_option("--fb-units", m.fbUnits,
                    "frame-buffer units, pixel-interleaved (pixel p in unit p mod K), each with a port from every node; "
@@ -135,6 +139,9 @@ void RtsimOptions::addTo(CLI::App& app) {
     app.add_option_function<std::string>("--fb-bandwidth", [&m](const std::string& s) { m.fbPort.bandwidth = rateOf("--fb-bandwidth", s); }, "frame-buffer port bandwidth")
         ->default_str("1GB/s")->group(gl);
     app.add_option("--fb-depth", m.fbPort.depth, "messages a frame-buffer port holds")->check(CLI::Range(1, 1000000))->capture_default_str()->group(gl);
+    app.add_option("--fb-out-depth", m.fbPort.outDepth,
+                   "messages a node's output buffer holds per frame-buffer port; a node whose buffer is full blocks; 0: unbounded")
+        ->check(CLI::Range(0, 1000000))->capture_default_str()->group(gl);
     app.add_option("--ray-batch", m.rayBatch, "rays per link message (sent when full or before a node waits)")
         ->check(CLI::Range(1, 65536))->capture_default_str()->group(gl);
     app.add_option("--fb-batch", m.fbBatch, "contributions per frame-buffer message")->check(CLI::Range(1, 65536))->capture_default_str()->group(gl);
@@ -288,7 +295,11 @@ void RtsimOptions::finish() {
                 std::istringstream in(val);
                 if (!(in >> p.controlDepth) || !in.eof() || p.controlDepth < 0)
                     throw CLI::ValidationError("--link-set", "control_depth must be a non-negative integer, got '" + val + "'");
-            } else throw CLI::ValidationError("--link-set", "unknown setting '" + key + "' (latency, bandwidth, depth, control_depth)");
+            } else if (key == "out_depth") {
+                std::istringstream in(val);
+                if (!(in >> p.outDepth) || !in.eof() || p.outDepth < 0)
+                    throw CLI::ValidationError("--link-set", "out_depth must be a non-negative integer, got '" + val + "'");
+            } else throw CLI::ValidationError("--link-set", "unknown setting '" + key + "' (latency, bandwidth, depth, control_depth, out_depth)");
         }
         m.linkOverride[{c, dir}] = p;
     }

@@ -1,0 +1,244 @@
+#!/usr/bin/python3
+"""Planted timing bugs: does the test suite notice?
+
+Each mutant below is one small, plausible timing bug in models/ (a link's
+slot returned at the wrong time, serialisation dropped, a cost not charged,
+an override ignored, a message's size wrong). The script copies the tracked
+sources to a work directory, checks that the suite passes there unchanged,
+then plants the mutants one at a time, rebuilds, runs the suite and
+reports which tests failed. A mutant the suite misses is a cost the tests
+cannot see; the script exits 1 if there is any.
+
+  /usr/bin/python3 scripts/mutate.py            # every mutant; table to doc/results/mutate.md
+  /usr/bin/python3 scripts/mutate.py --doc      # also into doc/robustness.md
+  /usr/bin/python3 scripts/mutate.py --only fb-cost-dropped,no-latency
+"""
+import argparse
+import os
+import shutil
+import subprocess
+import sys
+import time
+import xml.etree.ElementTree as ET
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from sweep import publish_table  # noqa: E402
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+# The timing oracles' tests (tb/tests/test_timing.cpp): the table says
+# whether the rest of the suite would have caught each bug without them.
+ORACLES = ("LinkOracle", "RayAcrossEmptyNodes", "FrameBufferOracle", "SlideOracle")
+
+# (name, file, exact text (found exactly once), replacement, what the bug is)
+MUTANTS = [
+    ("slot-back-at-once", "models/link.cpp",
+     "l.slotFree.push_back(t + params_.latency);", "l.slotFree.push_back(t);",
+     "a consumed message's flow-control slot is free at once, not one latency later"),
+    ("slot-back-late", "models/link.cpp",
+     "l.slotFree.push_back(t + params_.latency);", "l.slotFree.push_back(t + 2 * params_.latency);",
+     "the slot comes back two latencies after the message is consumed"),
+    ("slot-never-waited-for", "models/link.cpp",
+     "const Picos ready = std::max(sent, slot);", "const Picos ready = sent + 0 * slot;",
+     "a message waiting for a slot goes on the wire as if one were free"),
+    ("wire-overlap", "models/link.cpp",
+     "wireFree_ = start + transfer;", "wireFree_ = start;",
+     "serialisation dropped: messages overlap on the wire"),
+    ("no-transfer-time", "models/link.cpp",
+     "const Picos arrival = start + transfer + params_.latency;", "const Picos arrival = start + 0 * transfer + params_.latency;",
+     "a message arrives one latency after it starts, whatever its size"),
+    ("no-latency", "models/link.cpp",
+     "const Picos arrival = start + transfer + params_.latency;", "const Picos arrival = start + transfer;",
+     "the link's latency is not added"),
+    ("bandwidth-in-bits", "models/link.cpp",
+     "std::ceil(double(bytes) * 1e12 / params_.bandwidth)", "std::ceil(double(bytes) * 1e12 / (8 * params_.bandwidth))",
+     "the bandwidth read as bits per second: transfers 8 times too short"),
+    ("no-send-cost", "models/node.cpp",
+     "Picos ps = sends * costs_.send + ", "Picos ps = 0 * sends * costs_.send + ",
+     "handling an outgoing message costs nothing"),
+    ("no-recv-cost", "models/node.cpp",
+     "recvs * costs_.recv + generated", "0 * recvs * costs_.recv + generated",
+     "handling an incoming message costs nothing"),
+    ("no-raygen-cost", "models/node.cpp",
+     "generated * costs_.rayGen;", "0 * generated * costs_.rayGen;",
+     "generating a primary ray costs nothing"),
+    ("no-sphere-test-cost", "models/node.cpp",
+     "ps += (c.tests[k] - before.tests[k]) * costs_.test[k];",
+     "ps += (k == 0 ? 0 : (c.tests[k] - before.tests[k]) * costs_.test[k]);",
+     "a sphere intersection test costs nothing"),
+    ("no-cone-test-cost", "models/node.cpp",
+     "ps += (c.tests[k] - before.tests[k]) * costs_.test[k];",
+     "ps += (k == 2 ? 0 : (c.tests[k] - before.tests[k]) * costs_.test[k]);",
+     "a cone (cylinder) intersection test costs nothing"),
+    ("no-voxel-step-cost", "models/node.cpp",
+     "ps += (c.voxelSteps - before.voxelSteps) * costs_.voxelStep;", "ps += 0 * costs_.voxelStep;",
+     "a 3D-DDA voxel step costs nothing"),
+    ("no-shade-cost", "models/node.cpp",
+     "ps += (c.shadings - before.shadings) * costs_.shade;", "ps += 0 * costs_.shade;",
+     "shading a hit costs nothing"),
+    ("speed-ignored", "models/node.cpp",
+     "if (speed_ == 1.0) return ps;", "if (speed_ > 0) return ps;",
+     "a node's speed factor is ignored"),
+    ("rebuild-cost-dropped", "models/node.cpp",
+     "Picos(std::llround(double(movedObjects * bal_.rebuildCost) / speed_));",
+     "Picos(std::llround(double(0 * movedObjects * bal_.rebuildCost) / speed_));",
+     "a slide's grid update costs nothing per object moved"),
+    ("ack-recv-free", "models/node.cpp",
+     "++stats_.acks;\n        finishControlStep(stats_.counters, 1, 0);",
+     "++stats_.acks;\n        finishControlStep(stats_.counters, 0, 0);",
+     "handling a slide's acknowledgement costs nothing"),
+    ("slab-recv-free", "models/node.cpp",
+     "finishControlStep(stats_.counters, 1, moved);", "finishControlStep(stats_.counters, 0, moved);",
+     "taking a slide's message costs nothing"),
+    ("fb-cost-dropped", "models/frame_buffer.cpp",
+     "return cost_ * received_.back().size();", "return 0 * cost_ * received_.back().size();",
+     "the frame buffer accumulates contributions for free"),
+    ("fb-cost-per-message", "models/frame_buffer.cpp",
+     "return cost_ * received_.back().size();", "return cost_ + 0 * received_.back().size();",
+     "the frame buffer charges per message, not per contribution"),
+    ("fb-time-not-advanced", "models/frame_buffer.cpp",
+     "        now += cost;\n", "        now += 0 * cost;\n",
+     "the frame buffer counts its busy time but does not spend it"),
+    ("ray-batch-as-one-ray", "models/message.h",
+     "kHeaderBytes + uint32_t(rays.size()) * kRayBytes;", "kHeaderBytes + 0 * uint32_t(rays.size()) + kRayBytes;",
+     "a batch of rays is as many bytes on the wire as one ray"),
+    ("contribution-batch-as-one", "models/message.h",
+     "kHeaderBytes + uint32_t(contributions.size()) * kContributionBytes;",
+     "kHeaderBytes + 0 * uint32_t(contributions.size()) + kContributionBytes;",
+     "a batch of contributions is as many bytes as one"),
+    ("slide-objects-weightless", "models/message.h",
+     "for (const Shape& s : objects) b += objectBytes(s);", "for (const Shape& s : objects) b += 0 * objectBytes(s);",
+     "a slide's objects add no bytes to its message"),
+    ("link-override-ignored", "models/machine_config.cpp",
+     "return it == linkOverride.end() ? link : it->second;", "return it == linkOverride.end() ? link : link;",
+     "per-link overrides are ignored"),
+    ("node-speed-override-ignored", "models/machine_config.cpp",
+     "return it == nodeSpeed.end() ? speed : it->second;", "return it == nodeSpeed.end() ? speed : speed;",
+     "per-node speeds are ignored"),
+    ("node-costs-override-ignored", "models/machine_config.cpp",
+     "return it == nodeCosts.end() ? costs : it->second;", "return it == nodeCosts.end() ? costs : costs;",
+     "per-node cost sets are ignored"),
+]
+
+
+def run(cmd, cwd, log):
+    with open(log, "a") as f:
+        f.write("$ " + " ".join(cmd) + "\n")
+        f.flush()
+        return subprocess.run(cmd, cwd=cwd, stdout=f, stderr=subprocess.STDOUT).returncode
+
+
+def failed_tests(junit):
+    """Names of the tests that did not pass, from ctest's JUnit output."""
+    if not os.path.exists(junit):
+        return ["(no test results)"]
+    out = []
+    for case in ET.parse(junit).getroot().iter("testcase"):
+        if case.get("status") not in (None, "run") or case.find("failure") is not None:
+            out.append(case.get("name"))
+    return out
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--work", default="/tmp/rtsim-mutate", help="work directory (sources, build, logs)")
+    ap.add_argument("--only", default="", help="comma-separated mutant names")
+    ap.add_argument("--jobs", type=int, default=os.cpu_count() or 2)
+    ap.add_argument("--doc", action="store_true", help="also put the table into doc/robustness.md")
+    ap.add_argument("--list", action="store_true", help="list the mutants and exit")
+    args = ap.parse_args()
+    if args.list:
+        for name, path, _, _, what in MUTANTS:
+            print(f"{name:30s} {path:28s} {what}")
+        return 0
+    chosen = [m for m in MUTANTS if not args.only or m[0] in args.only.split(",")]
+    unknown = set(filter(None, args.only.split(","))) - {m[0] for m in MUTANTS}
+    if unknown:
+        print(f"mutate.py: unknown mutant(s): {', '.join(sorted(unknown))}", file=sys.stderr)
+        return 2
+
+    src, build, log = (os.path.join(args.work, d) for d in ("src", "build", "log.txt"))
+    os.makedirs(args.work, exist_ok=True)
+    if os.path.exists(src):
+        shutil.rmtree(src)
+    files = subprocess.run(["git", "ls-files", "-z"], cwd=ROOT, check=True, capture_output=True).stdout.split(b"\0")
+    for f in filter(None, files):
+        rel = f.decode()
+        os.makedirs(os.path.dirname(os.path.join(src, rel)) or src, exist_ok=True)
+        shutil.copy2(os.path.join(ROOT, rel), os.path.join(src, rel))
+    # A repository of its own, so the build and the sweeps see a version.
+    git = ["git", "-c", "user.name=mutate", "-c", "user.email=mutate@localhost"]
+    for cmd in (["init", "-q"], ["add", "-A"], ["commit", "-q", "-m", "mutate.py: the sources under test"]):
+        subprocess.run(git + cmd, cwd=src, check=True, capture_output=True)
+    open(log, "w").close()
+    # The sources find the scenes beside them (../shared), as in a clone.
+    shared = os.path.join(args.work, "shared")
+    if not os.path.exists(shared):
+        os.symlink(os.path.realpath(os.path.join(ROOT, "..", "shared")), shared)
+    if run(["cmake", "-S", src, "-B", build, "-DCMAKE_BUILD_TYPE=Release"], src, log):
+        print(f"mutate.py: cmake failed (see {log})", file=sys.stderr)
+        return 1
+
+    def suite():
+        """Builds and runs the suite; the failing tests (None: did not build)."""
+        if run(["cmake", "--build", build, "-j", str(args.jobs)], src, log):
+            return None
+        junit = os.path.join(args.work, "junit.xml")
+        if os.path.exists(junit):
+            os.remove(junit)
+        run(["ctest", "-j", str(args.jobs), "--timeout", "120", "--output-junit", junit], build, log)
+        return failed_tests(junit)
+
+    t0 = time.time()
+    base = suite()
+    if base is None or base:
+        print(f"mutate.py: the unmutated suite does not pass ({base}); see {log}", file=sys.stderr)
+        return 1
+    rows, missed = [], []
+    for name, path, old, new, what in chosen:
+        p = os.path.join(src, path)
+        with open(p) as f:
+            text = f.read()
+        if text.count(old) != 1:
+            print(f"mutate.py: {name}: the text to change occurs {text.count(old)} times in {path}", file=sys.stderr)
+            return 1
+        with open(p, "w") as f:
+            f.write(text.replace(old, new))
+        try:
+            failed = suite()
+        finally:
+            with open(p, "w") as f:
+                f.write(text)
+        if failed is None:
+            verdict, detail = "did not build", ""
+            missed.append(name)
+        elif failed:
+            verdict = f"caught by {len(failed)}"
+            detail = ", ".join(sorted(failed)[:3]) + (", ..." if len(failed) > 3 else "")
+        else:
+            verdict, detail = "**missed**", ""
+            missed.append(name)
+        others = [t for t in failed or [] if not any(o in t for o in ORACLES)]
+        without = f"{len(others)}" if others else "**0: missed**"
+        print(f"{name}: {verdict}; without the oracles {len(others)}; {detail}", flush=True)
+        rows.append(f"| `{name}` | {what} | {verdict} | {without} | {detail} |")
+    suite()  # leave the work build unmutated
+    lines = [
+        "<!-- written by scripts/mutate.py -->",
+        f"{len(chosen) - len(missed)} of {len(chosen)} planted timing bugs caught by the suite "
+        f"({(time.time() - t0) / 60:.0f} minutes on {args.jobs} jobs).",
+        "",
+        "| mutant | the planted bug | tests failing | of them not timing oracles | some of them |",
+        "|---|---|---|---|---|",
+    ] + rows
+    results = os.path.join(ROOT, "doc", "results")
+    os.makedirs(results, exist_ok=True)
+    publish_table(lines, os.path.join(results, "mutate.md"),
+                  os.path.join(ROOT, "doc", "robustness.md") if args.doc else None, "mutate")
+    if missed:
+        print(f"mutate.py: missed: {', '.join(missed)}", file=sys.stderr)
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

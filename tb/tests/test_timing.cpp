@@ -1,0 +1,400 @@
+// Timing oracles: every expected time here is written by hand (or from a
+// closed form) in the test, from the link's and the costs' definitions in
+// doc/machine.md, never taken from another run of the model. They are what
+// catches a cost that is never charged (scripts/mutate.py plants such bugs
+// and reports which the suite misses).
+//
+// - a link saturated by one sender: the closed form of its arrivals and
+//   throughput min(bandwidth / size, depth / round trip);
+// - message sizes on the wire, by hand, for batches of rays and
+//   contributions and for a slide with its objects;
+// - one ray crossing k empty nodes: receive, step and send costs per node,
+//   serialisation and latency per hop, with a per-link override, a node's
+//   own cost set and a slow node on the way, to the frame's end;
+// - the frame buffer as the bottleneck, fed by two nodes at once;
+// - one slide: its objects' bytes over the link, the grid updates on both
+//   sides, and the acknowledgement's way back.
+#include <cmath>
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+#include "link.h"
+#include "machine.h"
+#include "nff_reader.h"
+
+using namespace rt;
+
+namespace {
+
+// Time on the wire by hand: bytes at the bandwidth, rounded up to the
+// picosecond (doc/machine.md, "Links").
+Picos wire(uint64_t bytes, double bandwidth) { return Picos(std::ceil(double(bytes) * 1e12 / bandwidth)); }
+
+// Wire sizes by hand (doc/machine.md, "Messages"): an 8-byte header; a ray is
+// 13 doubles (origin, direction, t0, tEnd, weight) plus pixel 4, path 8,
+// slot 4, depth 1, kind 1 and credit exponent 2; a contribution pixel 4,
+// path 8, slot 4 and three doubles; a sphere id 4, material 4, kind 1,
+// centre and radius 4 doubles and a flag 1; a slide the boundary 8 and a
+// count 4 before its objects; an ack the boundary.
+constexpr uint64_t kHeader = 8, kRay = 13 * 8 + 4 + 8 + 4 + 1 + 1 + 2, kContribution = 4 + 8 + 4 + 3 * 8;
+constexpr uint64_t kSphere = 4 + 4 + 1 + 4 * 8 + 1, kSlideHead = 8 + 4, kAck = 8;
+
+Message rays(size_t n) {
+    Message m;
+    m.type = MsgType::Ray;
+    m.rays.resize(n);
+    return m;
+}
+
+Scene sceneFrom(const std::string& name, const std::string& nff) {
+    const std::string path = testing::TempDir() + name + ".nff";
+    std::ofstream(path) << nff;
+    return readNff(path);
+}
+
+// A node's busy time by hand from its operation counts: each count times its
+// cost, plus `extra` (grid updates), at the node's speed (one step: one
+// rounding).
+Picos reckon(const NodeStats& n, const Costs& c, double speed, Picos extra = 0) {
+    const Counters& k = n.counters;
+    const Picos ps = k.tests[0] * c.test[0] + k.tests[1] * c.test[1] + k.tests[2] * c.test[2] +
+                     k.voxelSteps * c.voxelStep + n.raysGenerated * c.rayGen + k.shadings * c.shade +
+                     n.messagesSent * c.send + n.messagesReceived * c.recv + extra;
+    return Picos(std::llround(double(ps) / speed));
+}
+
+}  // namespace
+
+// ---- One link, driven by hand: a sender that sends everything at time 0,
+// a receiver that takes each message the moment it arrives.
+
+struct Saturated {
+    int depth;
+    Picos latency;
+    double bandwidth;
+};
+void PrintTo(const Saturated& s, std::ostream* os) {
+    *os << "depth " << s.depth << ", " << s.latency << " ps, " << s.bandwidth << " B/s";
+}
+
+class LinkOracle : public testing::TestWithParam<Saturated> {};
+
+// Message k starts on the wire when the wire is free and a slot is: the
+// first `depth` at once, one after another; each later one when the slot of
+// message k - depth comes back (consumed at its arrival, back one latency
+// later: T + 2L after it started) or the wire frees, whichever is later.
+// Solved: start(k) = floor(k / D) * max(T + 2L, D T) + (k mod D) T, arrival
+// = start + T + L. Throughput: min(1 / T, D / (T + 2L)) messages per second.
+TEST_P(LinkOracle, SaturatedLinkFollowsTheClosedForm) {
+    const Saturated& s = GetParam();
+    Link link("l", LinkParams{s.latency, s.bandwidth, s.depth});
+    const int messages = 5 * s.depth + 7;
+    for (int k = 0; k < messages; ++k) link.send(rays(1), 0);
+    const Picos T = wire(kHeader + kRay, s.bandwidth), L = s.latency, D = Picos(s.depth);
+    const Picos period = std::max(T + 2 * L, D * T);  // of each group of D messages
+    std::vector<Picos> arrivals;
+    for (int k = 0; k < messages; ++k) {
+        Picos a;
+        ASSERT_TRUE(link.peekArrival(a));
+        const Picos start = Picos(k) / D * period + Picos(k) % D * T;
+        EXPECT_EQ(a, start + T + L) << "message " << k;
+        link.consume(a);
+        arrivals.push_back(a);
+    }
+    // The throughput over whole groups, against min(bandwidth / size, depth / round trip).
+    const double span = double(arrivals[size_t(5 * s.depth)] - arrivals[0]) * 1e-12;
+    const double measured = 5.0 * s.depth / span;
+    const double bound = std::min(s.bandwidth / double(kHeader + kRay), double(s.depth) / (double(T + 2 * L) * 1e-12));
+    EXPECT_NEAR(measured / bound, 1.0, 1e-6);
+    EXPECT_EQ(link.stats().bytes[int(MsgType::Ray)], uint64_t(messages) * (kHeader + kRay));
+}
+
+INSTANTIATE_TEST_SUITE_P(Shapes, LinkOracle,
+                         testing::Values(Saturated{1, 100000, 1e9}, Saturated{1, 1000, 1e9}, Saturated{2, 100000, 1e9},
+                                         Saturated{2, 3000000, 1e8}, Saturated{16, 100000, 1e9},
+                                         Saturated{16, 10000000, 1e10}, Saturated{16, 1000, 1e8}),
+                         [](const testing::TestParamInfo<Saturated>& i) {
+                             return "depth" + std::to_string(i.param.depth) + "_lat" + std::to_string(i.param.latency) +
+                                    "ps_bw" + std::to_string(int(std::log10(i.param.bandwidth)));
+                         });
+
+// A sender slower than the link: nothing queues; each message arrives its
+// own wire time and one latency after it was sent.
+TEST(LinkOracleBy, HandPacedSenderNeverQueues) {
+    Link link("l", LinkParams{250000, 2e9, 1});
+    const Picos T = wire(kHeader + kRay, 2e9);  // 66 ns
+    for (int k = 0; k < 10; ++k) {
+        const Picos sent = Picos(k) * 1000000;  // every microsecond: the slot is back after 566 ns
+        link.send(rays(1), sent);
+        Picos a;
+        ASSERT_TRUE(link.peekArrival(a));
+        EXPECT_EQ(a, sent + T + 250000);
+        link.consume(a);
+    }
+}
+
+// Sizes by hand: a batch of rays, a batch of contributions and a slide with
+// its objects each cross in their bytes' time, back to back.
+TEST(LinkOracleBy, MessagesWeighWhatTheyCarry) {
+    const double bw = 1e9;  // one byte per ns
+    Link link("l", LinkParams{0, bw, 16});
+    Message c;
+    c.type = MsgType::Contributions;
+    c.contributions.resize(9);
+    Message s;
+    s.type = MsgType::Slide;
+    for (int i = 0; i < 3; ++i) s.objects.push_back(Shape{Sphere{Vec3(0.0), 1.0, false}, 0, uint32_t(i)});
+    Message a;
+    a.type = MsgType::Ack;
+    link.send(rays(5), 0);
+    link.send(std::move(c), 0);
+    link.send(std::move(s), 0);
+    link.send(std::move(a), 0);
+    Picos end = 0;
+    for (uint64_t bytes : {kHeader + 5 * kRay, kHeader + 9 * kContribution, kHeader + kSlideHead + 3 * kSphere, kHeader + kAck}) {
+        end += wire(bytes, bw);
+        Picos t;
+        ASSERT_TRUE(link.peekArrival(t));
+        EXPECT_EQ(t, end) << bytes << " bytes";
+        link.consume(t);
+    }
+}
+
+// ---- The machine, with expected times written out hop by hop.
+
+// One primary ray from the eye at -x crosses a line of N nodes to a sphere in
+// the last: nodes 1 .. N-2 are empty and do one step each (receive, 3D-DDA
+// through the box, send). Each hop adds the message's wire time and the
+// link's latency. The link out of node 0 is overridden, node 1 has its own
+// cost set and node 2 half the speed, so each of those terms shows.
+class RayAcrossEmptyNodes : public testing::TestWithParam<int> {};
+
+TEST_P(RayAcrossEmptyNodes, EveryHopCostsWhatItShould) {
+    const int n = GetParam();
+    // Sphere A (off the ray's line) and sphere B stretch the world along x
+    // from -0.1 to 11; B (x 9 .. 11) lies in the last node for N <= 5. The
+    // light is off to -y: the shadow ray leaves the world in B's node.
+    const Scene scene = sceneFrom("line", R"(b 0 0 0
+v
+from -5 0 0
+at 10 0 0
+up 0 0 1
+angle 10
+hither 0.01
+resolution 1 1
+l 5 -30 0
+f 1 1 1 1 0 0 0 1
+s 0 4 0 0.1
+s 10 0 0 1
+)");
+    MachineConfig c;
+    c.dims = {n, 1, 1};
+    c.width = c.height = 1;
+    c.costs.test = {7000, 11000, 13000};
+    c.costs.voxelStep = 3000;
+    c.costs.rayGen = 17000;
+    c.costs.shade = 19000;
+    c.costs.send = 23000;
+    c.costs.recv = 29000;
+    c.link = LinkParams{500000, 1e9, 4};
+    c.linkOverride[{{0, 0, 0}, PosX}] = LinkParams{1300000, 2e8, 4};
+    Costs own = c.costs;
+    own.recv = 31000;
+    own.send = 37000;
+    own.voxelStep = 5000;
+    c.nodeCosts[{1, 0, 0}] = own;
+    if (n > 2) c.nodeSpeed[{2, 0, 0}] = 0.5;
+    c.fbUnits = 1;
+    c.fbPort = LinkParams{700000, 1e9, 16};
+    c.hostCost = 5000;
+    const MachineResult r = runMachine(scene, c);
+    ASSERT_EQ(r.nodes.size(), size_t(n));
+    auto costs = [&](int i) { return i == 1 ? own : c.costs; };
+    auto speed = [&](int i) { return i == 2 ? 0.5 : 1.0; };
+
+    // Node 0: generates the ray and sends it on, in one step.
+    const NodeStats& first = r.nodes[0];
+    EXPECT_EQ(first.raysGenerated, 1u);
+    EXPECT_EQ(first.messagesSent, 1u);
+    EXPECT_EQ(first.busy, reckon(first, c.costs, 1.0));
+    EXPECT_EQ(first.lastActive, first.busy);
+    Picos sent = first.lastActive;
+    const Picos rayWire = wire(kHeader + kRay, 1e9);
+    Picos arrival = sent + wire(kHeader + kRay, 2e8) + 1300000;  // over the overridden link
+    for (int i = 1; i + 1 < n; ++i) {  // the empty nodes
+        const NodeStats& s = r.nodes[size_t(i)];
+        EXPECT_EQ(r.objectsPerNode[size_t(i)], 0u);
+        EXPECT_EQ(s.messagesReceived, 1u);
+        EXPECT_EQ(s.messagesSent, 1u);
+        EXPECT_GT(s.counters.voxelSteps, 0u);
+        const Picos by = Picos(std::llround(double(costs(i).recv + s.counters.voxelSteps * costs(i).voxelStep + costs(i).send) / speed(i)));
+        EXPECT_EQ(s.busy, by) << "node " << i;
+        EXPECT_EQ(s.lastActive, arrival + by) << "node " << i;
+        arrival = s.lastActive + rayWire + 500000;
+    }
+    // The last node: the ray and its shadow ray back to back, then the
+    // frame buffer's share: the contributions and the credit, in one step.
+    const NodeStats& last = r.nodes[size_t(n - 1)];
+    EXPECT_GT(last.counters.tests[0], 0u);
+    EXPECT_EQ(last.counters.shadings, 1u);
+    EXPECT_EQ(last.busy, reckon(last, costs(n - 1), speed(n - 1)));
+    EXPECT_EQ(last.lastActive, arrival + last.busy);
+    uint64_t creditBytes = 0;
+    for (const LinkReport& l : r.links)
+        if (l.dir < 0 && l.from == r.cells.back()) {
+            EXPECT_EQ(l.stats.messages[int(MsgType::Contributions)], 1u);
+            EXPECT_EQ(l.stats.messages[int(MsgType::Credit)], 1u);
+            creditBytes = l.stats.bytes[int(MsgType::Credit)];
+        }
+    ASSERT_GT(creditBytes, 0u);
+    const uint64_t k = last.contributionsSent;
+    ASSERT_GT(k, 0u);
+    const Picos contributionsIn = last.lastActive + wire(kHeader + k * kContribution, 1e9) + 700000;
+    const Picos creditIn = contributionsIn + wire(creditBytes, 1e9);  // behind it on the port's wire
+    EXPECT_EQ(r.frameBuffer[0].stats.busy, Picos(k) * 5000);
+    EXPECT_EQ(r.renderTime, std::max(creditIn, contributionsIn + Picos(k) * 5000));
+}
+
+INSTANTIATE_TEST_SUITE_P(Nodes, RayAcrossEmptyNodes, testing::Values(2, 3, 4, 5),
+                         [](const testing::TestParamInfo<int>& i) { return "N" + std::to_string(i.param); });
+
+// The frame buffer as the bottleneck: two nodes each send two batches of 4
+// contributions (16 rays that miss everything) into one host that takes
+// 10 us per contribution. The host is busy without a break from the first
+// batch's arrival: the frame takes that arrival plus 16 x 10 us, whoever
+// sent what.
+TEST(FrameBufferOracle, TwoSendersIntoOneSlowHost) {
+    const Scene scene = sceneFrom("corners", R"(b 0 0 0
+v
+from 5 5 -20
+at 5 5 5
+up 0 1 0
+angle 4
+hither 0.01
+resolution 4 4
+l 5 5 -30
+f 1 1 1 1 0 0 0 1
+s 0.5 0.5 0.5 0.5
+s 9.5 9.5 9.5 0.5
+)");
+    MachineConfig c;
+    c.dims = {2, 1, 1};
+    c.costs.test = {0, 0, 0};
+    c.costs.voxelStep = 0;
+    c.costs.rayGen = 100000;
+    c.costs.send = 50000;
+    c.fbUnits = 1;
+    c.fbBatch = 4;
+    c.fbPort = LinkParams{200000, 1e8, 16};
+    c.hostCost = 10000000;
+    const MachineResult r = runMachine(scene, c);
+    for (const NodeStats& s : r.nodes) {
+        EXPECT_EQ(s.raysGenerated, 8u);
+        EXPECT_EQ(s.contributionsSent, 8u);
+        EXPECT_EQ(s.counters.shadings, 0u);
+    }
+    // Each node's fourth step fills a batch: 4 ray generations and a send.
+    const Picos firstIn = 4 * 100000 + 50000 + wire(kHeader + 4 * kContribution, 1e8) + 200000;
+    EXPECT_EQ(r.frameBuffer[0].stats.contributions, 16u);
+    EXPECT_EQ(r.frameBuffer[0].stats.contributionMessages, 4u);
+    EXPECT_EQ(r.frameBuffer[0].stats.busy, 16 * Picos(10000000));
+    EXPECT_EQ(r.renderTime, firstIn + 16 * Picos(10000000));
+}
+
+// One slide at time 0 (resplit's start: the boundary from the middle to one
+// unit further): node 1 gives node 0 the slab with its 3 spheres. Node 0
+// has nothing else to do, so its only step is taking the slab; node 1 has
+// finished its ray by the time the ack comes back.
+TEST(SlideOracle, ObjectsBytesRebuildAndAck) {
+    const Scene scene = sceneFrom("slab", R"(b 0 0 0
+v
+from 30 5 5
+at 8 5 5
+up 0 0 1
+angle 10
+hither 0.01
+resolution 1 1
+l 8 5 40
+f 1 1 1 1 0 0 0 1
+s 0.5 0.5 0.5 0.5
+s 9.5 9.5 9.5 0.5
+s 8 5 5 1
+s 5.5 8 2 0.1
+s 5.5 8 5 0.1
+s 5.3 2 8 0.1
+)");
+    MachineConfig c;
+    c.dims = {2, 1, 1};
+    c.width = c.height = 1;
+    c.costs.send = 23000;
+    c.costs.recv = 29000;
+    c.link = LinkParams{300000, 5e8, 4};
+    c.fbUnits = 1;
+    c.fbPort = LinkParams{5000000, 1e9, 16};  // the frame outlasts the ack
+    c.balance.policy = "resplit";
+    c.balance.interval = 1000000000;  // no load report within the frame
+    c.balance.rebuildCost = 70000;
+    const Box w = scene.worldBox();
+    const double middle = 0.5 * (w.lo[0] + w.hi[0]);
+    c.targetBoundaries = {{middle + 1}};
+    const MachineResult r = runMachine(scene, c);
+    const NodeStats &taker = r.nodes[0], &giver = r.nodes[1];
+    ASSERT_EQ(giver.slides.size(), 1u);
+    EXPECT_EQ(giver.slides[0].t, 0u);
+    EXPECT_EQ(giver.objectsSent, 3u);
+    EXPECT_EQ(taker.objectsReceived, 3u);
+    // The giver's step: the send and 3 objects out of its grid.
+    const Picos give = 23000 + 3 * 70000;
+    const Picos slideIn = give + wire(kHeader + kSlideHead + 3 * kSphere, 5e8) + 300000;
+    // The taker's: receive, 3 objects into its grid, send the ack.
+    const Picos take = 29000 + 3 * 70000 + 23000;
+    EXPECT_EQ(taker.busy, take);
+    EXPECT_EQ(taker.lastActive, slideIn + take);
+    // The ack's way back, and the giver's receive.
+    EXPECT_EQ(giver.acks, 1u);
+    const Picos ackIn = taker.lastActive + wire(kHeader + kAck, 5e8) + 300000;
+    EXPECT_EQ(giver.lastActive, ackIn + 29000);
+    EXPECT_EQ(giver.busy, reckon(giver, c.costs, 1.0, 3 * 70000));
+}
+
+// The same two senders with one-message ports and one-message output
+// buffers (--fb-depth 1 --fb-out-depth 1): each node's second batch waits
+// in its buffer for the first one's slot, and its credit, ready at 950 ns,
+// finds the buffer full. Node 0's slot comes back one latency after the
+// host takes its first batch (at the first arrival); node 1's after the
+// host has also accumulated node 0's 4 contributions. That is each node's
+// blocked time; the host stays the bottleneck, so the frame is as long.
+TEST(FrameBufferOracle, FullOutputBufferBlocksTheSender) {
+    const Scene scene = sceneFrom("corners", R"(b 0 0 0
+v
+from 5 5 -20
+at 5 5 5
+up 0 1 0
+angle 4
+hither 0.01
+resolution 4 4
+l 5 5 -30
+f 1 1 1 1 0 0 0 1
+s 0.5 0.5 0.5 0.5
+s 9.5 9.5 9.5 0.5
+)");
+    MachineConfig c;
+    c.dims = {2, 1, 1};
+    c.costs.test = {0, 0, 0};
+    c.costs.voxelStep = 0;
+    c.costs.rayGen = 100000;
+    c.costs.send = 50000;
+    c.fbUnits = 1;
+    c.fbBatch = 4;
+    c.fbPort = LinkParams{200000, 1e8, 1};
+    c.fbPort.outDepth = 1;
+    c.hostCost = 10000000;
+    const MachineResult r = runMachine(scene, c);
+    const Picos firstIn = 4 * 100000 + 50000 + wire(kHeader + 4 * kContribution, 1e8) + 200000;
+    const Picos creditReady = 8 * 100000 + 3 * 50000;  // 8 generations, two batches and the credit sent
+    EXPECT_EQ(r.nodes[0].blocked, firstIn + 200000 - creditReady);
+    EXPECT_EQ(r.nodes[1].blocked, firstIn + 4 * Picos(10000000) + 200000 - creditReady);
+    for (const NodeStats& s : r.nodes) EXPECT_EQ(s.busy + s.wait, r.renderTime);
+    EXPECT_EQ(r.renderTime, firstIn + 16 * Picos(10000000));
+}
