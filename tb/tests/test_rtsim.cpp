@@ -222,6 +222,38 @@ TEST_F(Rtsim, DefaultRunPrintsSummaryWithSpeedup) {
         EXPECT_NE(o.out.find(s), std::string::npos) << s << "\n" << o.out;
 }
 
+// The speed-up's baseline (the same frame on one node, run by rtsim as a
+// child) against a computation of its own: one node does every operation
+// rtref counts for the frame, at the costs given, and sends its
+// contributions in full batches of 32, then the last part batch and its
+// credit in one step; with one host that costs nothing per contribution
+// and a port of 1 ps per message, the frame ends one latency and two wire
+// picoseconds after that last step.
+TEST_F(Rtsim, TheSpeedupsBaselineIsTheOneNodeFrameByHand) {
+    const std::string scene = " --spheres 200 --radius 0.04 --concentration 0.5 --size 32x32";  // (rtsim: f = 1/N unless given)
+    ASSERT_EQ(std::system((std::string(RTREF_EXE) + scene + " -o " + (dir_ / "ref.png").string() + " --stats " +
+                           (dir_ / "ref.json").string() + " >/dev/null")
+                              .c_str()),
+              0);
+    const json ref = json::parse(slurp(dir_ / "ref.json"));
+    const Outcome o = run(scene + " --mesh 3 --fb-units 1 --cost-host 0 --fb-latency 300ns --fb-bandwidth 1000TB/s"
+                                  " --cost-sphere 11ns --cost-voxel 3ns --cost-raygen 17ns --cost-shade 19ns --cost-send 23ns"
+                                  " --image '' --report " + (dir_ / "r.json").string());
+    ASSERT_EQ(o.code, 0) << o.err;
+    const json r = json::parse(slurp(dir_ / "r.json"));
+    const uint64_t misses = r["totals"]["primary_misses"];  // filled in by the host, at no cost
+    const uint64_t primaries = ref["primary_rays"].get<uint64_t>() - misses;
+    const uint64_t contributions = ref["contributions"].get<uint64_t>() - misses;
+    ASSERT_NE(contributions % 32, 0u);  // a part batch at the end
+    const uint64_t messages = contributions / 32 + 1 + 1;
+    const double last = 11.0 * ref["intersection_tests_by_primitive"]["sphere"].get<double>() +
+                        3.0 * ref["voxel_steps"].get<double>() + 17.0 * double(primaries) +
+                        19.0 * ref["shadings"].get<double>() + 23.0 * double(messages);
+    const double expected = last + 300.0 + 0.002;
+    EXPECT_DOUBLE_EQ(r["baseline"]["render_time_ns"].get<double>(), expected);
+    EXPECT_DOUBLE_EQ(r["baseline"]["speedup"].get<double>(), expected / r["render_time_ns"].get<double>());
+}
+
 // The main job's comparison: the same frame balanced and not, each checked
 // against a run of its own, and the speed-up against a run on one node.
 TEST_F(Rtsim, SummaryComparesTheFrameWithAndWithoutBalancing) {
