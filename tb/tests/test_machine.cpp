@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include "busy_by_hand.h"
 #include "machine.h"
 #include "renderer.h"
 #include "scenes.h"
@@ -170,11 +171,7 @@ TEST(Timing, SlowNodeTakesLonger) {
     c.speed = 0.5;
     const MachineResult r = runMachine(s, c);
     const NodeStats& n = r.nodes[0];
-    const Counters& k = n.counters;
-    const Costs& d = c.costs;
-    const Picos atSpeed1 = k.tests[0] * d.test[0] + k.tests[1] * d.test[1] + k.tests[2] * d.test[2] +
-                           k.voxelSteps * d.voxelStep + n.raysGenerated * d.rayGen + k.shadings * d.shade +
-                           n.messagesSent * d.send + n.messagesReceived * d.recv;
+    const Picos atSpeed1 = test::busyByHand(n, c.costs, 1.0);
     // Each step is rounded to the picosecond on its own.
     EXPECT_NEAR(double(n.busy), 2.0 * double(atSpeed1), double(n.counters.rays()));
 }

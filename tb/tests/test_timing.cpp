@@ -19,6 +19,7 @@
 
 #include <gtest/gtest.h>
 
+#include "busy_by_hand.h"
 #include "link.h"
 #include "machine.h"
 #include "nff_reader.h"
@@ -53,15 +54,34 @@ Scene sceneFrom(const std::string& name, const std::string& nff) {
     return readNff(path);
 }
 
-// A node's busy time by hand from its operation counts: each count times its
-// cost, plus `extra` (grid updates), at the node's speed (one step: one
-// rounding).
-Picos reckon(const NodeStats& n, const Costs& c, double speed, Picos extra = 0) {
-    const Counters& k = n.counters;
-    const Picos ps = k.tests[0] * c.test[0] + k.tests[1] * c.test[1] + k.tests[2] * c.test[2] +
-                     k.voxelSteps * c.voxelStep + n.raysGenerated * c.rayGen + k.shadings * c.shade +
-                     n.messagesSent * c.send + n.messagesReceived * c.recv + extra;
-    return Picos(std::llround(double(ps) / speed));
+// Two nodes, 8 pixels each, whose rays miss everything (16 contributions),
+// into one host at 10 us per contribution over `port`: 100 ns per ray
+// generated, 50 ns per message sent, batches of 4, nothing else costs.
+MachineResult missesIntoOneSlowHost(const LinkParams& port) {
+    static const Scene scene = sceneFrom("corners", R"(b 0 0 0
+v
+from 5 5 -20
+at 5 5 5
+up 0 1 0
+angle 4
+hither 0.01
+resolution 4 4
+l 5 5 -30
+f 1 1 1 1 0 0 0 1
+s 0.5 0.5 0.5 0.5
+s 9.5 9.5 9.5 0.5
+)");
+    MachineConfig c;
+    c.dims = {2, 1, 1};
+    c.costs.test = {0, 0, 0};
+    c.costs.voxelStep = 0;
+    c.costs.rayGen = 100000;
+    c.costs.send = 50000;
+    c.fbUnits = 1;
+    c.fbBatch = 4;
+    c.fbPort = port;
+    c.hostCost = 10000000;
+    return runMachine(scene, c);
 }
 
 }  // namespace
@@ -217,7 +237,7 @@ s 10 0 0 1
     const NodeStats& first = r.nodes[0];
     EXPECT_EQ(first.raysGenerated, 1u);
     EXPECT_EQ(first.messagesSent, 1u);
-    EXPECT_EQ(first.busy, reckon(first, c.costs, 1.0));
+    EXPECT_EQ(first.busy, test::busyByHand(first, c.costs, 1.0));
     EXPECT_EQ(first.lastActive, first.busy);
     Picos sent = first.lastActive;
     const Picos rayWire = wire(kHeader + kRay, 1e9);
@@ -238,7 +258,7 @@ s 10 0 0 1
     const NodeStats& last = r.nodes[size_t(n - 1)];
     EXPECT_GT(last.counters.tests[0], 0u);
     EXPECT_EQ(last.counters.shadings, 1u);
-    EXPECT_EQ(last.busy, reckon(last, costs(n - 1), speed(n - 1)));
+    EXPECT_EQ(last.busy, test::busyByHand(last, costs(n - 1), speed(n - 1)));
     EXPECT_EQ(last.lastActive, arrival + last.busy);
     uint64_t creditBytes = 0;
     for (const LinkReport& l : r.links)
@@ -265,30 +285,7 @@ INSTANTIATE_TEST_SUITE_P(Nodes, RayAcrossEmptyNodes, testing::Values(2, 3, 4, 5)
 // batch's arrival: the frame takes that arrival plus 16 x 10 us, whoever
 // sent what.
 TEST(FrameBufferOracle, TwoSendersIntoOneSlowHost) {
-    const Scene scene = sceneFrom("corners", R"(b 0 0 0
-v
-from 5 5 -20
-at 5 5 5
-up 0 1 0
-angle 4
-hither 0.01
-resolution 4 4
-l 5 5 -30
-f 1 1 1 1 0 0 0 1
-s 0.5 0.5 0.5 0.5
-s 9.5 9.5 9.5 0.5
-)");
-    MachineConfig c;
-    c.dims = {2, 1, 1};
-    c.costs.test = {0, 0, 0};
-    c.costs.voxelStep = 0;
-    c.costs.rayGen = 100000;
-    c.costs.send = 50000;
-    c.fbUnits = 1;
-    c.fbBatch = 4;
-    c.fbPort = LinkParams{200000, 1e8, 16};
-    c.hostCost = 10000000;
-    const MachineResult r = runMachine(scene, c);
+    const MachineResult r = missesIntoOneSlowHost(LinkParams{200000, 1e8, 16});
     for (const NodeStats& s : r.nodes) {
         EXPECT_EQ(s.raysGenerated, 8u);
         EXPECT_EQ(s.contributionsSent, 8u);
@@ -355,7 +352,7 @@ s 5.3 2 8 0.1
     EXPECT_EQ(giver.acks, 1u);
     const Picos ackIn = taker.lastActive + wire(kHeader + kAck, 5e8) + 300000;
     EXPECT_EQ(giver.lastActive, ackIn + 29000);
-    EXPECT_EQ(giver.busy, reckon(giver, c.costs, 1.0, 3 * 70000));
+    EXPECT_EQ(giver.busy, test::busyByHand(giver, c.costs, 1.0, 3 * 70000));
 }
 
 // The same two senders with one-message ports and one-message output
@@ -366,31 +363,9 @@ s 5.3 2 8 0.1
 // host has also accumulated node 0's 4 contributions. That is each node's
 // blocked time; the host stays the bottleneck, so the frame is as long.
 TEST(FrameBufferOracle, FullOutputBufferBlocksTheSender) {
-    const Scene scene = sceneFrom("corners", R"(b 0 0 0
-v
-from 5 5 -20
-at 5 5 5
-up 0 1 0
-angle 4
-hither 0.01
-resolution 4 4
-l 5 5 -30
-f 1 1 1 1 0 0 0 1
-s 0.5 0.5 0.5 0.5
-s 9.5 9.5 9.5 0.5
-)");
-    MachineConfig c;
-    c.dims = {2, 1, 1};
-    c.costs.test = {0, 0, 0};
-    c.costs.voxelStep = 0;
-    c.costs.rayGen = 100000;
-    c.costs.send = 50000;
-    c.fbUnits = 1;
-    c.fbBatch = 4;
-    c.fbPort = LinkParams{200000, 1e8, 1};
-    c.fbPort.outDepth = 1;
-    c.hostCost = 10000000;
-    const MachineResult r = runMachine(scene, c);
+    LinkParams port{200000, 1e8, 1};
+    port.outDepth = 1;
+    const MachineResult r = missesIntoOneSlowHost(port);
     const Picos firstIn = 4 * 100000 + 50000 + wire(kHeader + 4 * kContribution, 1e8) + 200000;
     const Picos creditReady = 8 * 100000 + 3 * 50000;  // 8 generations, two batches and the credit sent
     EXPECT_EQ(r.nodes[0].blocked, firstIn + 200000 - creditReady);
