@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "box.h"
+#include "age_histogram.h"
 #include "machine_config.h"
 #include "message.h"
 #include "policy.h"
@@ -47,7 +48,7 @@ struct BalanceStats {
     static constexpr size_t kMaxIntervalRecords = 1024;
     std::vector<IntervalRecord> intervals;
     uint64_t intervalsPerRecord = 1;
-    std::vector<double> ages;  // per decision: the age of the older of its two loads, in intervals
+    AgeHistogram ages;  // per decision: the age of the older of its two loads, in intervals
     uint64_t decisions = 0, gives = 0, skippedStale = 0, skippedLatency = 0, skippedCost = 0;
 };
 

@@ -180,24 +180,22 @@ nlohmann::json machineReport(const MachineResult& r, const MachineConfig& cfg) {
     // The decisions, what the guard stopped, and how old the loads they used
     // were (the older of the two, in intervals).
     uint64_t decisions = 0, gives = 0, stale = 0, latency = 0, costly = 0;
-    std::vector<double> ages;
+    AgeHistogram ages;
     for (const NodeStats& s : r.nodes) {
         decisions += s.balance.decisions;
         gives += s.balance.gives;
         stale += s.balance.skippedStale;
         latency += s.balance.skippedLatency;
         costly += s.balance.skippedCost;
-        ages.insert(ages.end(), s.balance.ages.begin(), s.balance.ages.end());
+        ages.merge(s.balance.ages);
     }
     j["balance"]["decisions"] = decisions;
     j["balance"]["guard_stale"] = stale;
     j["balance"]["guard_latency"] = latency;
     j["balance"]["guard_cost"] = costly;
-    if (!ages.empty()) {
-        std::sort(ages.begin(), ages.end());
-        const auto pct = [&](double p) { return ages[std::min(ages.size() - 1, size_t(p * double(ages.size())))]; };
-        j["balance"]["load_age_intervals"] = {{"median", pct(0.5)}, {"p95", pct(0.95)}, {"max", ages.back()}};
-    }
+    if (ages.count() > 0)
+        j["balance"]["load_age_intervals"] = {
+            {"median", ages.percentile(0.5)}, {"p95", ages.percentile(0.95)}, {"max", ages.max()}};
     return j;
 }
 

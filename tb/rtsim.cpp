@@ -1,7 +1,9 @@
 // rtsim: the machine, one frame. With no arguments it runs the paper's
 // concentrated-spheres scene on a 4 x 4 x 4 mesh and prints a summary.
 // Exit codes: 0 done, 2 bad input (one line naming the flag or file), 1 a
-// failed run (a conservation law broken, a SystemC error).
+// failed run (a conservation law broken, a SystemC error), 3 stopped by the
+// watchdog (in any frame of a --frames sequence; the report so far is written).
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -49,31 +51,43 @@ std::string shellQuote(const std::string& s) {
 }
 
 // The same command in a child process (SystemC elaborates once per
-// process) with `extra` flags after the user's: its report, or nothing if it
-// failed.
-std::optional<nlohmann::json> childReport(int argc, char** argv, const std::vector<std::string>& extra) {
+// process) with `extra` flags after the user's: how it exited, and its
+// report if it wrote one (a run the watchdog stopped writes its report so
+// far and exits 3).
+struct ChildRun {
+    int exitCode = -1;  // -1: it did not exit by itself (or could not start)
+    std::optional<nlohmann::json> report;
+    explicit operator bool() const { return exitCode == 0 && report.has_value(); }
+};
+
+ChildRun runChild(int argc, char** argv, const std::vector<std::string>& extra) {
+    ChildRun run;
     char tmpl[] = "/tmp/rtsim-child-XXXXXX";
     const int fd = mkstemp(tmpl);
-    if (fd < 0) return std::nullopt;
+    if (fd < 0) return run;
     close(fd);
     char self[4096];
     const ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);
-    if (n <= 0) return std::nullopt;
+    if (n <= 0) {
+        std::remove(tmpl);
+        return run;
+    }
     self[n] = 0;
     std::string cmd = shellQuote(self);
     for (int i = 1; i < argc; ++i) cmd += " " + shellQuote(argv[i]);
     for (const std::string& e : extra) cmd += " " + shellQuote(e);
     cmd += " --report " + shellQuote(tmpl) + " </dev/null >/dev/null";
-    std::optional<nlohmann::json> r;
-    if (std::system(cmd.c_str()) == 0) {
+    const int status = std::system(cmd.c_str());
+    if (status != -1 && WIFEXITED(status)) run.exitCode = WEXITSTATUS(status);
+    if (run.exitCode == 0 || run.exitCode == 3) {
         std::ifstream f(tmpl);
         try {
-            r = nlohmann::json::parse(f);
+            run.report = nlohmann::json::parse(f);
         } catch (const std::exception&) {
         }
     }
     std::remove(tmpl);
-    return r;
+    return run;
 }
 
 // Each column's inner boundaries where the run of report `r` ended them
@@ -405,10 +419,30 @@ int sc_main(int argc, char** argv) {
                 targets = tempJson(o.machine.targetBoundaries);
                 extra.insert(extra.end(), {"--targets-from", targets});
             }
-            const std::optional<nlohmann::json> f = childReport(argc, argv, extra);
+            const ChildRun child = runChild(argc, argv, extra);
             if (!from.empty()) std::remove(from.c_str());
             if (!targets.empty()) std::remove(targets.c_str());
-            if (!f) throw std::runtime_error("frame " + std::to_string(k + 1) + " of " + std::to_string(o.frames) + " failed");
+            const std::string which = "frame " + std::to_string(k + 1) + " of " + std::to_string(o.frames);
+            if (child.exitCode == 3 && child.report) {
+                // The watchdog stopped an earlier frame (the child said why on
+                // stderr): its report so far, with the frames before it, and
+                // exit 3 as for the last frame. No image, no VCD (those are of
+                // the last frame).
+                nlohmann::json report = *child.report;
+                for (auto& f : frames) f.erase("report");
+                frames.push_back({{"frame", k + 1}, {"render_time_ns", report["render_time_ns"]},
+                                  {"slides", report["balance"].value("slides", 0)}, {"incomplete", true}});
+                report["frames"] = frames;
+                report["incomplete"] = which + ": " + report.value("incomplete", std::string());
+                if (!o.report.empty()) {
+                    rt::AtomicFile out(o.report);
+                    out.write(report.dump(2) + "\n");
+                    out.commit();
+                }
+                return 3;
+            }
+            if (!child) throw std::runtime_error(which + " failed");
+            const std::optional<nlohmann::json>& f = child.report;
             frames.push_back({{"frame", k + 1}, {"render_time_ns", (*f)["render_time_ns"]},
                               {"slides", (*f)["balance"].value("slides", 0)}, {"report", *f}});
             if (carry) o.machine.startBoundaries = lastBoundaries(*f, o.machine);
@@ -451,10 +485,14 @@ int sc_main(int argc, char** argv) {
         std::optional<nlohmann::json> base, other;
         const auto t0 = std::chrono::steady_clock::now();
         std::thread baseRun, otherRun;
-        if (o.baseline && !single) baseRun = std::thread([&] { base = childReport(argc, argv, {"--as-baseline"}); });
+        if (o.baseline && !single) baseRun = std::thread([&] {
+                const ChildRun c = runChild(argc, argv, {"--as-baseline"});
+                if (c) base = c.report;
+            });
         if (compare)
             otherRun = std::thread([&] {
-                other = childReport(argc, argv, {"--as-comparison", "--balance", policy == "none" ? "default" : "none"});
+                const ChildRun c = runChild(argc, argv, {"--as-comparison", "--balance", policy == "none" ? "default" : "none"});
+                if (c) other = c.report;
             });
         if (baseRun.joinable()) baseRun.join();
         if (otherRun.joinable()) otherRun.join();

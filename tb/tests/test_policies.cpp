@@ -2,7 +2,9 @@
 // profile they cut from, the agent's rounds in lockstep with a neighbour,
 // the guard, and the links' control lane, all against values worked out by
 // hand in the tests (no machine run).
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -201,7 +203,8 @@ TEST(Agent, OneRoundEachWayAndOnlyTheHeavierGives) {
     EXPECT_NEAR(ha.slabs[0].second, 1.0 - 0.25 * (1 - 5.0 / 18), 1e-12);
     EXPECT_TRUE(hb.slabs.empty());
     EXPECT_EQ(a.stats().decisions, 1u);
-    EXPECT_NEAR(a.stats().ages[0], 0.05, 1e-12);  // decided 1 us after the loads' end: 0.05 intervals
+    EXPECT_EQ(a.stats().ages.count(), 1u);
+    EXPECT_NEAR(a.stats().ages.max(), 0.05, 1e-12);  // decided 1 us after the loads' end: 0.05 intervals
     EXPECT_THROW(a.onReport(+1, hb.reports[0].second, 22 * us), std::logic_error);  // round 0 again: out of lockstep
 }
 
@@ -230,7 +233,7 @@ TEST(Agent, SlowReportsMakeLongerRoundsNotAQueue) {
     EXPECT_EQ(r1.busy, 40 * us);  // intervals 2 to 4: 15 + 15 + 10
     EXPECT_EQ(r1.wait, 20 * us);
     EXPECT_EQ(r1.end, 80 * us);
-    EXPECT_NEAR(a.stats().ages[0], 61.0 / 20, 1e-12);  // round 0's loads ended at 20 us
+    EXPECT_NEAR(a.stats().ages.max(), 61.0 / 20, 1e-12);  // round 0's loads ended at 20 us
 }
 
 TEST(Agent, HandlingMessagesIsNoLoad) {
@@ -283,6 +286,36 @@ TEST(Agent, IntervalHistoryStaysBoundedAndKeepsEveryPicosecond) {
     a.closeInterval(3001 * 20 * us, busy + 7, 3001 * 20 * us - busy - 7, 0);
     ASSERT_EQ(a.finalStats().intervals.size(), 751u);
     EXPECT_EQ(a.finalStats().intervals.back().busy, 7u);
+}
+
+TEST(AgeHistogram, PercentilesWithinHalfABinAndMemoryBoundedByTheRange) {
+    // 10^6 decisions with ages spread over [0, 4) intervals: the exact
+    // percentiles (sorted list) against the histogram's, and the bins it
+    // holds (at most 4 x 1,024 + 1, not 10^6). Merging two halves gives
+    // the same figures as one histogram of all.
+    std::vector<double> all;
+    AgeHistogram one, lo, hi;
+    uint64_t x = 12345;
+    for (int i = 0; i < 1000000; ++i) {
+        x = x * 6364136223846793005ULL + 1442695040888963407ULL;  // (a fixed LCG: same ages every run)
+        const double age = 4.0 * double(x >> 11) / double(1ULL << 53);
+        all.push_back(age);
+        one.add(age);
+        (i % 2 ? hi : lo).add(age);
+    }
+    std::sort(all.begin(), all.end());
+    lo.merge(hi);
+    EXPECT_EQ(one.count(), all.size());
+    EXPECT_LE(one.bins(), 4u * 1024 + 1);
+    EXPECT_EQ(one.max(), all.back());
+    for (double p : {0.0, 0.25, 0.5, 0.95, 0.999}) {
+        SCOPED_TRACE(p);
+        const double exact = all[size_t(p * double(all.size()))];
+        EXPECT_NEAR(one.percentile(p), exact, 0.5 / 1024 + 1e-12);
+        EXPECT_EQ(lo.percentile(p), one.percentile(p));
+    }
+    EXPECT_EQ(lo.max(), one.max());
+    EXPECT_EQ(AgeHistogram().percentile(0.5), 0.0);
 }
 
 TEST(Agent, GuardStopsStaleCostlyAndLatencyBoundSlides) {

@@ -463,6 +463,23 @@ TEST_F(RtsimTimed, WatchdogTurnsALostCreditIntoExit3UnderEveryPolicy) {
     EXPECT_FALSE(json::parse(slurp(dir_ / "ok.json")).contains("incomplete"));
 }
 
+// An earlier frame of a --frames sequence runs in a child process; the
+// watchdog stopping it stops the sequence with exit 3 too (it was exit 1,
+// "frame 1 of 3 failed"), with that frame's report so far.
+TEST_F(RtsimTimed, WatchdogInAnEarlierFrameStopsTheSequenceWithExit3) {
+    const fs::path report = dir_ / "frames.json";
+    const Outcome o = run(std::string(kSmall) + " --mesh 3 --frames 3 --balance slide --fault-drop-credit"
+                                                " --no-baseline -q --image '' --report " + report.string());
+    EXPECT_EQ(o.code, 3) << o.err;
+    EXPECT_EQ(std::count(o.err.begin(), o.err.end(), '\n'), 1) << o.err;
+    EXPECT_EQ(o.err.rfind("rtsim: error: watchdog: no ray, contribution or credit moved", 0), 0u) << o.err;
+    ASSERT_TRUE(fs::exists(report));
+    const json r = json::parse(slurp(report));
+    EXPECT_EQ(r.value("incomplete", std::string()).rfind("frame 1 of 3: no ray, contribution or credit moved", 0), 0u);
+    ASSERT_EQ(r["frames"].size(), 1u);
+    EXPECT_TRUE(r["frames"][0].value("incomplete", false));
+}
+
 TEST_F(RtsimTimed, WatchdogSpanAndWallClockLimit) {
     // The span as given: stopped at the first check at least a span after
     // the last progress (checks every span up to 1 ms).
@@ -582,7 +599,9 @@ void RtsimQuantum::expectExactUpToTheLookahead(const std::string& extra) {
         const json r = json::parse(slurp(dir_ / "q.json"));
         EXPECT_EQ(r["render_time_ns"], exact["render_time_ns"]);
         for (size_t i = 0; i < r["nodes"].size(); ++i) EXPECT_EQ(r["nodes"][i]["busy_ns"], exact["nodes"][i]["busy_ns"]);
-        if (!extra.empty()) EXPECT_GT(exact["totals"]["blocked_ns"].get<double>(), 0.0);  // (compared below with the rest)
+        if (!extra.empty()) {
+            EXPECT_GT(exact["totals"]["blocked_ns"].get<double>(), 0.0);  // (compared below with the rest)
+        }
         // Link high-water marks are kept in simulated time, so decoupling
         // does not change them either.
         size_t waited = 0;
@@ -621,7 +640,9 @@ void RtsimQuantum::expectExactUpToTheLookahead(const std::string& extra) {
     const double drift = json::parse(slurp(dir_ / "f.json"))["render_time_ns"].get<double>() / exact["render_time_ns"].get<double>();
     // (Blocking drifts much further: a node ahead of the kernel sends, and
     // so blocks, at its local time; 1.84 here, on a 36 us frame. doc/machine.md.)
-    if (extra.empty()) EXPECT_NEAR(drift, 1.0, 0.25);
+    if (extra.empty()) {
+        EXPECT_NEAR(drift, 1.0, 0.25);
+    }
 }
 
 // ---- Frames: the boundaries carried from one frame to the next ----
