@@ -173,7 +173,7 @@ void BalanceAgent::decide(int i, Picos now) {
     ++stats_.decisions;
     const Picos oldest = std::min(s.sent.end, theirs.end);
     const double age = double(now - std::min(now, oldest)) / double(cfg_.interval);
-    stats_.ages.add(age);
+    stats_.ages.add(uint64_t(std::llround(age * BalanceStats::kAgeUnits)));
     SlideQuery q;
     q.own = host_.box();
     q.axis = cfg_.axis;

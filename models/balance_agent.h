@@ -27,7 +27,7 @@
 #include <vector>
 
 #include "box.h"
-#include "age_histogram.h"
+#include "histogram.h"
 #include "machine_config.h"
 #include "message.h"
 #include "policy.h"
@@ -48,7 +48,9 @@ struct BalanceStats {
     static constexpr size_t kMaxIntervalRecords = 1024;
     std::vector<IntervalRecord> intervals;
     uint64_t intervalsPerRecord = 1;
-    AgeHistogram ages;  // per decision: the age of the older of its two loads, in intervals
+    // Per decision: the age of the older of its two loads, in 1/kAgeUnits of an interval.
+    static constexpr double kAgeUnits = 1024;
+    Histogram ages;
     uint64_t decisions = 0, gives = 0, skippedStale = 0, skippedLatency = 0, skippedCost = 0;
 };
 

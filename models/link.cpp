@@ -108,7 +108,8 @@ void Link::putOnWire(int lane, Picos sent, Message&& m, Picos slot) {
     while (!l.waitedUntil.empty() && l.waitedUntil.front() <= sent) l.waitedUntil.pop_front();
     if (start > sent) l.waitedUntil.push_back(start);
     stats_.backlogHighWater = std::max(stats_.backlogHighWater, l.waitedUntil.size());
-    l.buffer.push_back({arrival, std::move(m), start, ready, transfer});
+    stats_.wire[size_t(m.type)] += transfer;
+    l.buffer.push_back({arrival, std::move(m), sent, start, ready, transfer});
     if (listener_ && l.buffer.size() == 1) listener_->headChanged(listenerPort_);
 }
 
@@ -168,6 +169,11 @@ Message Link::take(int lane, Picos t) {
     while (!l.consumedAt.empty() && l.consumedAt.front() <= l.buffer.front().start) l.consumedAt.pop_front();
     l.consumedAt.push_back(t);
     stats_.bufferHighWater = std::max(stats_.bufferHighWater, l.consumedAt.size());
+    const Timed& head = l.buffer.front();
+    stats_.slotWait += head.ready - head.sent;
+    stats_.wireWait += head.start - head.ready;
+    ++stats_.consumed;
+    (isControl(head.m.type) ? stats_.controlLatency : stats_.latency).add(t - head.sent);
     Message m = std::move(l.buffer.front().m);
     l.buffer.pop_front();
     --inFlight_[int(m.type)];

@@ -49,6 +49,7 @@
 #include <systemc>
 
 #include "fifo.h"
+#include "histogram.h"
 #include "machine_config.h"
 #include "message.h"
 #include "progress.h"
@@ -57,19 +58,40 @@ namespace rt {
 
 struct LinkStats {
     std::array<uint64_t, kMsgTypes> messages{}, bytes{};
+    std::array<Picos, kMsgTypes> wire{};  // time on the wire, by type (the wire's busy time: their sum)
+    // Of the messages consumed: time from being sent to having a slot (in
+    // the sender's backlog, its output buffer), from having a slot to
+    // starting on the wire (behind other messages), and from being sent to
+    // being consumed (its latency as the receiver sees it), for rays,
+    // contributions and credit, and for balancing messages (isControl).
+    Picos slotWait = 0, wireWait = 0;
+    uint64_t consumed = 0;
+    Histogram latency, controlLatency;
     // High-water marks in simulated time (so the same in every exact mode,
     // whatever order the kernel runs the processes in):
     size_t backlogHighWater = 0;  // messages sent and not yet on the wire, at once
     size_t bufferHighWater = 0;   // messages on the wire or arrived and not consumed, at once
+    Picos wireBusy() const {
+        Picos b = 0;
+        for (Picos w : wire) b += w;
+        return b;
+    }
 };
 
-// Adds one channel's figures to a port's: counts summed, high-water marks the
-// larger of the two (each channel has its own slots).
+// Adds one channel's figures to a port's: counts, times and distributions
+// summed, high-water marks the larger of the two (each channel has its own
+// slots).
 inline void mergeChannel(LinkStats& into, const LinkStats& s) {
     for (size_t t = 0; t < s.messages.size(); ++t) {
         into.messages[t] += s.messages[t];
         into.bytes[t] += s.bytes[t];
+        into.wire[t] += s.wire[t];
     }
+    into.slotWait += s.slotWait;
+    into.wireWait += s.wireWait;
+    into.consumed += s.consumed;
+    into.latency.merge(s.latency);
+    into.controlLatency.merge(s.controlLatency);
     into.backlogHighWater = std::max(into.backlogHighWater, s.backlogHighWater);
     into.bufferHighWater = std::max(into.bufferHighWater, s.bufferHighWater);
 }
@@ -161,6 +183,7 @@ private:
     struct Timed {
         Picos t;
         Message m;
+        Picos sent = 0;      // in a buffer: when the sender sent it
         Picos start = 0;     // in a buffer: when it went on the wire
         Picos ready = 0;     // in a buffer: when it could have (sent, and a slot free)
         Picos transfer = 0;  // in a buffer: its time on the wire

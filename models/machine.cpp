@@ -85,7 +85,7 @@ Machine::Machine(sc_core::sc_module_name name, const Scene& scene, const Machine
             meshLinks_[{nodeIndex(c), d}] = links_.back().get();
             nodes_[nodeIndex(m)].in[opposite(d)].bind(*links_.back());
             reportOf_.push_back(linkInfo_.size());
-            linkInfo_.push_back({lname, c, d, links_.back()->params(), {}});
+            linkInfo_.push_back({lname, c, d, links_.back()->params(), 1, {}});
         }
         // Its port to the frame buffer: a channel to each unit, reported as one.
         const std::string fname = cellName(c) + "_fb";
@@ -95,7 +95,7 @@ Machine::Machine(sc_core::sc_module_name name, const Scene& scene, const Machine
             units_[size_t(u)].in.bind(*links_.back());   // the unit's binding for this node (nodes in order)
             reportOf_.push_back(linkInfo_.size());
         }
-        linkInfo_.push_back({fname, c, -1, cfg_.fbPort, {}});
+        linkInfo_.push_back({fname, c, -1, cfg_.fbPort, k, {}});
     }
     // Unit 0 and each other unit: a port each way, for the end-of-frame check.
     for (int u = 1; u < k; ++u) {

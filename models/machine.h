@@ -25,6 +25,7 @@ struct LinkReport {
     Cell from;
     int dir;  // -1: the node's frame-buffer port
     LinkParams params;
+    int channels = 1;  // wires merged into it: a frame-buffer port has one per unit
     LinkStats stats;
 };
 

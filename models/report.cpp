@@ -1,5 +1,8 @@
 #include "report.h"
 
+#include <algorithm>
+#include <vector>
+
 #include "bounds.h"
 #include "counters_json.h"
 #include "stability.h"
@@ -22,6 +25,12 @@ nlohmann::json linkJson(const LinkParams& l) {
             {"depth", l.depth},
             {"control_depth", l.controlDepth},
             {"out_depth", l.outDepth}};
+}
+
+// Latencies in ps: p50, p95 and max in ns (histogram.h: exact for a few
+// distinct values, within 0.8 % beyond).
+nlohmann::json percentilesJson(const Histogram& h) {
+    return {{"p50", h.percentile(0.5) / 1000.0}, {"p95", h.percentile(0.95) / 1000.0}, {"max", ns(Picos(h.max()))}};
 }
 
 }  // namespace
@@ -100,6 +109,7 @@ nlohmann::json machineReport(const MachineResult& r, const MachineConfig& cfg) {
         j["nodes"].push_back(n);
     }
     std::array<uint64_t, kMsgTypes> msgs{}, bytes{};
+    std::vector<std::pair<double, size_t>> busiest;  // (utilisation, index)
     for (const LinkReport& l : r.links) {
         nlohmann::json lj;
         lj["name"] = l.name;
@@ -113,10 +123,30 @@ nlohmann::json machineReport(const MachineResult& r, const MachineConfig& cfg) {
             msgs[t] += l.stats.messages[t];
             bytes[t] += l.stats.bytes[t];
         }
+        // The wire: its busy time by type and over the frame (a port's
+        // channels are wires side by side: their busy time over the frame's
+        // as many).
+        const Picos busy = l.stats.wireBusy();
+        for (int t = 0; t < kMsgTypes; ++t) lj["wire_ns"][msgTypeName(MsgType(t))] = ns(l.stats.wire[size_t(t)]);
+        lj["wire_busy_ns"] = ns(busy);
+        lj["channels"] = l.channels;
+        const double util = r.renderTime ? double(busy) / (double(r.renderTime) * l.channels) : 0.0;
+        lj["utilisation"] = util;
+        busiest.push_back({util, j["links"].size()});
+        lj["consumed"] = l.stats.consumed;
+        lj["slot_wait_ns"] = ns(l.stats.slotWait);
+        lj["wire_wait_ns"] = ns(l.stats.wireWait);
+        if (l.stats.latency.count()) lj["latency_ns"] = percentilesJson(l.stats.latency);
+        if (l.stats.controlLatency.count()) lj["control_latency_ns"] = percentilesJson(l.stats.controlLatency);
         lj["backlog_high_water"] = l.stats.backlogHighWater;
         lj["buffer_high_water"] = l.stats.bufferHighWater;
         j["links"].push_back(lj);
     }
+    // The three busiest wires (ties: the first in the list).
+    std::stable_sort(busiest.begin(), busiest.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+    j["busiest_links"] = nlohmann::json::array();
+    for (size_t i = 0; i < std::min<size_t>(3, busiest.size()); ++i)
+        j["busiest_links"].push_back({{"name", j["links"][busiest[i].second]["name"]}, {"utilisation", busiest[i].first}});
     for (int t = 0; t < kMsgTypes; ++t) {
         j["totals"]["messages"][msgTypeName(MsgType(t))] = msgs[t];
         j["totals"]["bytes"][msgTypeName(MsgType(t))] = bytes[t];
@@ -180,7 +210,7 @@ nlohmann::json machineReport(const MachineResult& r, const MachineConfig& cfg) {
     // The decisions, what the guard stopped, and how old the loads they used
     // were (the older of the two, in intervals).
     uint64_t decisions = 0, gives = 0, stale = 0, latency = 0, costly = 0;
-    AgeHistogram ages;
+    Histogram ages;
     for (const NodeStats& s : r.nodes) {
         decisions += s.balance.decisions;
         gives += s.balance.gives;
@@ -195,7 +225,9 @@ nlohmann::json machineReport(const MachineResult& r, const MachineConfig& cfg) {
     j["balance"]["guard_cost"] = costly;
     if (ages.count() > 0)
         j["balance"]["load_age_intervals"] = {
-            {"median", ages.percentile(0.5)}, {"p95", ages.percentile(0.95)}, {"max", ages.max()}};
+            {"median", ages.percentile(0.5) / BalanceStats::kAgeUnits},
+            {"p95", ages.percentile(0.95) / BalanceStats::kAgeUnits},
+            {"max", double(ages.max()) / BalanceStats::kAgeUnits}};
     return j;
 }
 

@@ -301,6 +301,12 @@ void printSummary(const rt::Scene& scene, const rt::RtsimOptions& o, const rt::M
                 (unsigned long long)t["messages"]["credit"].get<uint64_t>(),
                 double(t["bytes"]["ray"].get<uint64_t>() + t["bytes"]["contributions"].get<uint64_t>() +
                        t["bytes"]["credit"].get<uint64_t>()) / 1e6);
+    if (!report["busiest_links"].empty()) {  // where the wires are busiest: the hot links
+        std::printf("  busiest links   ");
+        for (const auto& l : report["busiest_links"])
+            std::printf(" %s %.1f %%", l["name"].get<std::string>().c_str(), 100.0 * l["utilisation"].get<double>());
+        std::printf("  (wire busy, of the render time)\n");
+    }
     const char axis = "xyz"[o.machine.balance.axis];
     if (o.machine.balance.policy != "none") {
         std::printf("  balancing        %s along %c: %zu slides; max / mean load %.2f; boundaries %s\n",

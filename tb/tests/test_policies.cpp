@@ -204,7 +204,7 @@ TEST(Agent, OneRoundEachWayAndOnlyTheHeavierGives) {
     EXPECT_TRUE(hb.slabs.empty());
     EXPECT_EQ(a.stats().decisions, 1u);
     EXPECT_EQ(a.stats().ages.count(), 1u);
-    EXPECT_NEAR(a.stats().ages.max(), 0.05, 1e-12);  // decided 1 us after the loads' end: 0.05 intervals
+    EXPECT_EQ(a.stats().ages.max(), 51u);  // decided 1 us after the loads' end: 0.05 intervals, 51.2 / 1024
     EXPECT_THROW(a.onReport(+1, hb.reports[0].second, 22 * us), std::logic_error);  // round 0 again: out of lockstep
 }
 
@@ -233,7 +233,7 @@ TEST(Agent, SlowReportsMakeLongerRoundsNotAQueue) {
     EXPECT_EQ(r1.busy, 40 * us);  // intervals 2 to 4: 15 + 15 + 10
     EXPECT_EQ(r1.wait, 20 * us);
     EXPECT_EQ(r1.end, 80 * us);
-    EXPECT_NEAR(a.stats().ages.max(), 61.0 / 20, 1e-12);  // round 0's loads ended at 20 us
+    EXPECT_EQ(a.stats().ages.max(), 3123u);  // round 0's loads ended at 20 us: 61 / 20 intervals, 3123.2 / 1024
 }
 
 TEST(Agent, HandlingMessagesIsNoLoad) {
@@ -288,34 +288,43 @@ TEST(Agent, IntervalHistoryStaysBoundedAndKeepsEveryPicosecond) {
     EXPECT_EQ(a.finalStats().intervals.back().busy, 7u);
 }
 
-TEST(AgeHistogram, PercentilesWithinHalfABinAndMemoryBoundedByTheRange) {
-    // 10^6 decisions with ages spread over [0, 4) intervals: the exact
-    // percentiles (sorted list) against the histogram's, and the bins it
-    // holds (at most 4 x 1,024 + 1, not 10^6). Merging two halves gives
-    // the same figures as one histogram of all.
-    std::vector<double> all;
-    AgeHistogram one, lo, hi;
+TEST(Histogram, ExactForFewValuesThenWithinHalfABinAndBoundedByTheRange) {
+    // Few distinct values: the percentiles are the values by rank.
+    Histogram few;
+    for (uint64_t v : {700, 100, 300, 300, 500, 900, 100, 300, 1000000, 300}) few.add(v);
+    // sorted: 100 100 300 300 300 300 500 700 900 1000000
+    EXPECT_EQ(few.percentile(0.0), 100.0);
+    EXPECT_EQ(few.percentile(0.5), 300.0);  // rank 5
+    EXPECT_EQ(few.percentile(0.65), 500.0);  // rank 6
+    EXPECT_EQ(few.percentile(0.95), 1000000.0);  // rank 9
+    EXPECT_EQ(few.max(), 1000000u);
+    // 10^6 values spread over [1, 2^20): the percentiles of the sorted list
+    // against the histogram's (within half a bin: 1/128), the bins it holds
+    // (64 per octave, not 10^6), and two halves merged as one.
+    std::vector<uint64_t> all;
+    Histogram one, lo, hi;
     uint64_t x = 12345;
     for (int i = 0; i < 1000000; ++i) {
-        x = x * 6364136223846793005ULL + 1442695040888963407ULL;  // (a fixed LCG: same ages every run)
-        const double age = 4.0 * double(x >> 11) / double(1ULL << 53);
-        all.push_back(age);
-        one.add(age);
-        (i % 2 ? hi : lo).add(age);
+        x = x * 6364136223846793005ULL + 1442695040888963407ULL;  // (a fixed LCG: the same values every run)
+        const uint64_t v = 1 + (x >> 44);
+        all.push_back(v);
+        one.add(v);
+        (i % 2 ? hi : lo).add(v);
     }
     std::sort(all.begin(), all.end());
     lo.merge(hi);
     EXPECT_EQ(one.count(), all.size());
-    EXPECT_LE(one.bins(), 4u * 1024 + 1);
+    EXPECT_EQ(lo.count(), all.size());
+    EXPECT_LE(one.bins(), 20u * 64 + 64);
     EXPECT_EQ(one.max(), all.back());
-    for (double p : {0.0, 0.25, 0.5, 0.95, 0.999}) {
+    EXPECT_EQ(lo.max(), one.max());
+    for (double p : {0.0, 0.01, 0.25, 0.5, 0.95, 0.999}) {
         SCOPED_TRACE(p);
-        const double exact = all[size_t(p * double(all.size()))];
-        EXPECT_NEAR(one.percentile(p), exact, 0.5 / 1024 + 1e-12);
+        const double exact = double(all[size_t(p * double(all.size()))]);
+        EXPECT_NEAR(one.percentile(p), exact, exact / 128 + 0.5);
         EXPECT_EQ(lo.percentile(p), one.percentile(p));
     }
-    EXPECT_EQ(lo.max(), one.max());
-    EXPECT_EQ(AgeHistogram().percentile(0.5), 0.0);
+    EXPECT_EQ(Histogram().percentile(0.5), 0.0);
 }
 
 TEST(Agent, GuardStopsStaleCostlyAndLatencyBoundSlides) {
