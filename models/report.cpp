@@ -35,11 +35,10 @@ nlohmann::json percentilesJson(const Histogram& h) {
 
 }  // namespace
 
-nlohmann::json machineReport(const MachineResult& r, const MachineConfig& cfg) {
-    nlohmann::json j;
-    auto& c = j["config"];
+nlohmann::json machineConfigJson(const MachineConfig& cfg, int width, int height) {
+    nlohmann::json c;
     c["mesh"] = {cfg.dims[0], cfg.dims[1], cfg.dims[2]};
-    c["image"] = {r.image.width, r.image.height};
+    c["image"] = {width, height};
     c["max_depth"] = cfg.maxDepth;
     c["costs"] = costsJson(cfg.costs);
     c["speed"] = cfg.speed;
@@ -62,6 +61,19 @@ nlohmann::json machineReport(const MachineResult& r, const MachineConfig& cfg) {
                     {"bins", bc.bins},                   {"rebuild_cost_ns", ns(bc.rebuildCost)},
                     {"guard", bc.guard},                 {"max_age_intervals", bc.maxAge},
                     {"guard_horizon_intervals", bc.horizon}, {"guard_hop_steps", bc.hopRatio}};
+    c["watchdog"] = {{"span_ns", ns(cfg.watchdogSpan)}, {"wall_s", cfg.watchdogWall}};
+    auto& tr = c["trace"];
+    tr["nodes"] = nlohmann::json::array();
+    for (const Cell& n : cfg.traceNodes) tr["nodes"].push_back(cellJson(n));
+    tr["window_ns"] = cfg.traceTo == ~Picos(0) ? nlohmann::json{ns(cfg.traceFrom), nullptr}  // (to the end)
+                                                : nlohmann::json{ns(cfg.traceFrom), ns(cfg.traceTo)};
+    return c;
+}
+
+nlohmann::json machineReport(const MachineResult& r, const MachineConfig& cfg) {
+    nlohmann::json j;
+    const BalanceConfig& bc = cfg.balance;
+    j["config"] = machineConfigJson(cfg, r.image.width, r.image.height);
 
     j["render_time_ns"] = ns(r.renderTime);
     if (!r.incomplete.empty()) j["incomplete"] = r.incomplete;  // stopped by the watchdog: every figure up to then

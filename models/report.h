@@ -10,5 +10,8 @@
 namespace rt {
 
 nlohmann::json machineReport(const MachineResult& r, const MachineConfig& config);
+// Its `config`: every machine setting, as the run used it, for an image of
+// width x height.
+nlohmann::json machineConfigJson(const MachineConfig& config, int width, int height);
 
 }  // namespace rt

@@ -11,6 +11,7 @@ packages=(
   libcli11-dev        # command lines
   nlohmann-json3-dev  # reports and stats
   libpng-dev          # images
+  libssl-dev          # SHA-256 of a report's scene file (tb/rerun.cpp)
   libgtest-dev        # tests
   gtkwave             # vcd2fst checks the VCD; gtkwave views it
   python3             # scripts (Debian's /usr/bin/python3)

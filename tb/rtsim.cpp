@@ -3,20 +3,23 @@
 // Exit codes: 0 done, 2 bad input (one line naming the flag or file), 1 a
 // failed run (a conservation law broken, a SystemC error), 3 stopped by the
 // watchdog (in any frame of a --frames sequence; the report so far is written).
+#include <fcntl.h>
+#include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <array>
 #include <cmath>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <optional>
 #include <sstream>
-#include <thread>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -29,7 +32,9 @@
 #include "report.h"
 #include "resplit.h"
 #include "trace_writer.h"
+#include "rerun.h"
 #include "rtsim_cli.h"
+#include "version.h"
 #include "scene_error.h"
 
 // The allocator: jemalloc, told to back the heap with transparent huge
@@ -44,51 +49,73 @@ const char* malloc_conf = "thp:always,metadata_thp:always";
 
 namespace {
 
-std::string shellQuote(const std::string& s) {
-    std::string q = "'";
-    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-    return q + "'";
-}
-
 // The same command in a child process (SystemC elaborates once per
-// process) with `extra` flags after the user's: how it exited, and its
-// report if it wrote one (a run the watchdog stopped writes its report so
-// far and exits 3).
-struct ChildRun {
-    int exitCode = -1;  // -1: it did not exit by itself (or could not start)
-    std::optional<nlohmann::json> report;
-    explicit operator bool() const { return exitCode == 0 && report.has_value(); }
-};
-
-ChildRun runChild(int argc, char** argv, const std::vector<std::string>& extra) {
-    ChildRun run;
-    char tmpl[] = "/tmp/rtsim-child-XXXXXX";
-    const int fd = mkstemp(tmpl);
-    if (fd < 0) return run;
-    close(fd);
-    char self[4096];
-    const ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);
-    if (n <= 0) {
-        std::remove(tmpl);
-        return run;
+// process) with `extra` flags after the user's, started with posix_spawn
+// (no shell, no thread: two run at once by starting both, then waiting):
+// how it exited, and its report if it wrote one (a run the watchdog stopped
+// writes its report so far and exits 3).
+class Child {
+public:
+    Child(int argc, char** argv, const std::vector<std::string>& extra) {
+        char tmpl[] = "/tmp/rtsim-child-XXXXXX";
+        const int fd = mkstemp(tmpl);
+        if (fd < 0) return;
+        close(fd);
+        report_ = tmpl;
+        std::vector<std::string> args(argv, argv + argc);
+        args.insert(args.end(), extra.begin(), extra.end());
+        args.insert(args.end(), {"--report", report_});
+        std::vector<char*> av;
+        for (std::string& a : args) av.push_back(a.data());
+        av.push_back(nullptr);
+        posix_spawn_file_actions_t io;
+        posix_spawn_file_actions_init(&io);
+        posix_spawn_file_actions_addopen(&io, 0, "/dev/null", O_RDONLY, 0);
+        posix_spawn_file_actions_addopen(&io, 1, "/dev/null", O_WRONLY, 0);  // (stderr: the user's)
+        if (posix_spawn(&pid_, "/proc/self/exe", &io, nullptr, av.data(), environ) != 0) pid_ = -1;
+        posix_spawn_file_actions_destroy(&io);
     }
-    self[n] = 0;
-    std::string cmd = shellQuote(self);
-    for (int i = 1; i < argc; ++i) cmd += " " + shellQuote(argv[i]);
-    for (const std::string& e : extra) cmd += " " + shellQuote(e);
-    cmd += " --report " + shellQuote(tmpl) + " </dev/null >/dev/null";
-    const int status = std::system(cmd.c_str());
-    if (status != -1 && WIFEXITED(status)) run.exitCode = WEXITSTATUS(status);
-    if (run.exitCode == 0 || run.exitCode == 3) {
-        std::ifstream f(tmpl);
-        try {
-            run.report = nlohmann::json::parse(f);
-        } catch (const std::exception&) {
+    Child(const Child&) = delete;
+    Child& operator=(const Child&) = delete;
+    ~Child() {
+        if (pid_ > 0) wait();
+        if (!report_.empty()) std::remove(report_.c_str());
+    }
+    // Waits for it: its exit code (-1: it did not exit by itself, or did not start).
+    int wait() {
+        if (pid_ > 0) {
+            int status = 0;
+            while (waitpid(pid_, &status, 0) < 0 && errno == EINTR) {
+            }
+            exitCode_ = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+            pid_ = -1;
+            if (exitCode_ == 0 || exitCode_ == 3) {
+                std::ifstream f(report_);
+                try {
+                    result_ = nlohmann::json::parse(f);
+                } catch (const std::exception&) {
+                }
+            }
         }
+        return exitCode_;
     }
-    std::remove(tmpl);
-    return run;
-}
+    // Its report, if it ended normally and wrote one.
+    std::optional<nlohmann::json> report() {
+        wait();
+        return exitCode_ == 0 ? result_ : std::nullopt;
+    }
+    // Its report so far, if the watchdog stopped it (exit 3).
+    std::optional<nlohmann::json> stoppedReport() {
+        wait();
+        return exitCode_ == 3 ? result_ : std::nullopt;
+    }
+
+private:
+    pid_t pid_ = -1;
+    int exitCode_ = -1;
+    std::string report_;
+    std::optional<nlohmann::json> result_;
+};
 
 // Each column's inner boundaries where the run of report `r` ended them
 // (their last positions in the boundary histories), for MachineConfig::
@@ -339,14 +366,65 @@ void printSummary(const rt::Scene& scene, const rt::RtsimOptions& o, const rt::M
     std::printf("  wall clock       %.3f s%s\n", r.wallSeconds, o.image.empty() ? "" : ("; image " + o.image).c_str());
 }
 
+// The settings the machine's config does not hold: the scene (its file
+// and SHA-256, or the procedural parameters), the camera and lights as this
+// frame sees them, the frame sequence and the version.
+void runSettings(nlohmann::json& c, const rt::RtsimOptions& o, const rt::Scene& scene) {
+    auto vec = [](const rt::Vec3& v) { return nlohmann::json{v.x, v.y, v.z}; };
+    auto& s = c["scene"];
+    s["objects"] = scene.objects.size();
+    if (!o.scene.file.empty()) {
+        s["file"] = std::filesystem::absolute(o.scene.file).lexically_normal().string();
+        s["sha256"] = rt::sha256OfFile(o.scene.file);
+    } else {
+        const rt::ProceduralParams& p = o.scene.procedural;
+        s["procedural"] = {{"spheres", p.spheres}, {"radius", p.radius}, {"concentration", p.concentration},
+                           {"seed", p.seed}};
+    }
+    s["axis"] = o.scene.axis;
+    c["camera"] = {{"eye", vec(scene.view.from)}, {"look_at", vec(scene.view.at)}, {"up", vec(scene.view.up)},
+                   {"fov_deg", scene.view.angle}};
+    for (const rt::Light& l : scene.lights) c["lights"].push_back({{"position", vec(l.position)}, {"colour", vec(l.colour)}});
+    c["frames"] = {{"count", o.frames}, {"index", o.frameIndex}, {"eye_step", o.eyeStep}};
+    if (!o.boundariesFrom.empty())
+        c["frames"]["boundaries_from"] = std::filesystem::absolute(o.boundariesFrom).lexically_normal().string();
+}
+
+// The first setting where two configs differ, as "PATH: A there, B here";
+// empty if none does.
+std::string firstDifference(const nlohmann::json& there, const nlohmann::json& here) {
+    for (const nlohmann::json& op : nlohmann::json::diff(there, here)) {
+        const std::string path = op["path"].get<std::string>();
+        const nlohmann::json a = there.contains(nlohmann::json::json_pointer(path)) ? there[nlohmann::json::json_pointer(path)] : nlohmann::json();
+        const nlohmann::json b = here.contains(nlohmann::json::json_pointer(path)) ? here[nlohmann::json::json_pointer(path)] : nlohmann::json();
+        return path + ": " + a.dump() + " there, " + b.dump() + " here";
+    }
+    return "";
+}
+
 }  // namespace
 
 int sc_main(int argc, char** argv) {
     CLI::App app{"rtsim: a SystemC model of the sliding-boundary ray-tracing multicomputer (one frame, or a sequence with --frames)"};
     rt::RtsimOptions o;
     o.addTo(app);
+    std::optional<rt::Rerun> rerun;  // --rerun REPORT.json: its flags, then those given after (rerun.h)
     try {
-        app.parse(argc, argv);
+        rerun = rt::prepareRerun(argc, argv);
+    } catch (const std::exception& e) {
+        std::cerr << "rtsim: error: " << e.what() << "\n";
+        return 2;
+    }
+    try {
+        if (rerun) {
+            std::vector<std::string> args{argv[0]};
+            args.insert(args.end(), rerun->args.begin(), rerun->args.end());
+            std::vector<char*> av;
+            for (std::string& a : args) av.push_back(a.data());
+            app.parse(int(av.size()), av.data());
+        } else {
+            app.parse(argc, argv);
+        }
         o.finish();
     } catch (const CLI::CallForHelp& e) {
         return app.exit(e);
@@ -378,6 +456,22 @@ int sc_main(int argc, char** argv) {
     // A frame of a camera path: the eye moved frameIndex steps.
     if (!o.eyeStep.empty())
         scene.view.from = scene.view.from + rt::Vec3(o.eyeStep[0], o.eyeStep[1], o.eyeStep[2]) * double(o.frameIndex);
+    // Every setting as this run uses it (the report's `config`); a rerun
+    // without flags of its own must arrive at the report's.
+    nlohmann::json config = rt::machineConfigJson(o.machine, o.machine.width, o.machine.height);
+    try {
+        runSettings(config, o, scene);
+    } catch (const std::exception& e) {
+        std::cerr << "rtsim: error: " << e.what() << "\n";
+        return 2;
+    }
+    if (rerun && !rerun->overrides && !o.asBaseline && !o.asComparison && !o.asFrame) {  // (a reference run differs by design)
+        const std::string differs = firstDifference(rerun->report["config"], config);
+        if (!differs.empty()) {
+            std::cerr << "rtsim: error: --rerun: this build arrives at other settings than the report's: " << differs << "\n";
+            return 2;
+        }
+    }
     try {  // a run that continues another's boundaries
         if (!o.boundariesFrom.empty()) {
             std::ifstream f(o.boundariesFrom);
@@ -425,16 +519,17 @@ int sc_main(int argc, char** argv) {
                 targets = tempJson(o.machine.targetBoundaries);
                 extra.insert(extra.end(), {"--targets-from", targets});
             }
-            const ChildRun child = runChild(argc, argv, extra);
+            Child child(argc, argv, extra);
+            const std::optional<nlohmann::json> f = child.report(), stopped = child.stoppedReport();
             if (!from.empty()) std::remove(from.c_str());
             if (!targets.empty()) std::remove(targets.c_str());
             const std::string which = "frame " + std::to_string(k + 1) + " of " + std::to_string(o.frames);
-            if (child.exitCode == 3 && child.report) {
+            if (stopped) {
                 // The watchdog stopped an earlier frame (the child said why on
                 // stderr): its report so far, with the frames before it, and
                 // exit 3 as for the last frame. No image, no VCD (those are of
                 // the last frame).
-                nlohmann::json report = *child.report;
+                nlohmann::json report = *stopped;
                 for (auto& f : frames) f.erase("report");
                 frames.push_back({{"frame", k + 1}, {"render_time_ns", report["render_time_ns"]},
                                   {"slides", report["balance"].value("slides", 0)}, {"incomplete", true}});
@@ -447,8 +542,7 @@ int sc_main(int argc, char** argv) {
                 }
                 return 3;
             }
-            if (!child) throw std::runtime_error(which + " failed");
-            const std::optional<nlohmann::json>& f = child.report;
+            if (!f) throw std::runtime_error(which + " failed");
             frames.push_back({{"frame", k + 1}, {"render_time_ns", (*f)["render_time_ns"]},
                               {"slides", (*f)["balance"].value("slides", 0)}, {"report", *f}});
             if (carry) o.machine.startBoundaries = lastBoundaries(*f, o.machine);
@@ -467,6 +561,9 @@ int sc_main(int argc, char** argv) {
         }
         const rt::MachineResult r = rt::runMachine(scene, o.machine);
         nlohmann::json report = rt::machineReport(r, o.machine);
+        report["config"] = config;
+        report["rerun"] = {{"flags", rt::flagsGiven(app)}, {"version", RTSIM_VERSION}};
+        if (rerun) report["rerun"]["of"] = rerun->report["rerun"];  // what it reran
         if (o.frames > 1) {
             frames.push_back({{"frame", o.frames}, {"render_time_ns", report["render_time_ns"]},
                               {"slides", report["balance"].value("slides", 0)}});
@@ -490,18 +587,13 @@ int sc_main(int argc, char** argv) {
         const bool compare = o.baseline && o.machine.dims[size_t(o.machine.balance.axis)] > 1;
         std::optional<nlohmann::json> base, other;
         const auto t0 = std::chrono::steady_clock::now();
-        std::thread baseRun, otherRun;
-        if (o.baseline && !single) baseRun = std::thread([&] {
-                const ChildRun c = runChild(argc, argv, {"--as-baseline"});
-                if (c) base = c.report;
-            });
+        std::optional<Child> baseRun, otherRun;
+        if (o.baseline && !single) baseRun.emplace(argc, argv, std::vector<std::string>{"--as-baseline"});
         if (compare)
-            otherRun = std::thread([&] {
-                const ChildRun c = runChild(argc, argv, {"--as-comparison", "--balance", policy == "none" ? "default" : "none"});
-                if (c) other = c.report;
-            });
-        if (baseRun.joinable()) baseRun.join();
-        if (otherRun.joinable()) otherRun.join();
+            otherRun.emplace(argc, argv,
+                             std::vector<std::string>{"--as-comparison", "--balance", policy == "none" ? "default" : "none"});
+        if (baseRun) base = baseRun->report();
+        if (otherRun) other = otherRun->report();
         if (o.baseline && !single) {
             report["baseline"]["wall_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
             if (base) baselineNs = (*base)["render_time_ns"].get<double>();

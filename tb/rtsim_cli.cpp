@@ -169,7 +169,10 @@ void RtsimOptions::addTo(CLI::App& app) {
         ->check(CLI::Range(0.0, 0.999))->capture_default_str()->group(gb);
     app.add_option("--min-thickness", b.minThickness, "guard: a box keeps at least this fraction of its initial thickness")
         ->check(CLI::Range(1e-6, 1.0))->capture_default_str()->group(gb);
-    app.add_flag("!--no-guard", b.guard,
+    // (Plain flags, not CLI11's negated ones: a report's echo of the flags
+    // given (rerun.h) writes a negated flag's stored value, which reads back
+    // inverted.)
+    app.add_flag("--no-guard", noGuard_,
                  "no guard: slide on loads however old, and whatever the slide costs against the work it moves")
         ->group(gb);
     app.add_option("--max-age", b.maxAge, "guard: no slide on loads older than this many intervals")
@@ -193,11 +196,15 @@ void RtsimOptions::addTo(CLI::App& app) {
         ->check(CLI::Range(0.0, 1e9))->capture_default_str()->group(go);
     app.add_flag("--fault-drop-credit", m.faultDropFirstCredit, "test only: unit 0 loses the first credit it takes")->group("");
     app.add_option("--image", image, "output PNG")->capture_default_str()->group(go);
-    app.add_option("--report", report, "JSON report")->group(go);
+    app.add_option("--report", report, "JSON report (with the flags given: --rerun runs it again)")->group(go);
+    // (Read before parsing, tb/rerun.h; here for --help.)
+    app.add_option("--rerun", rerun_, "run a report's run again: its flags, then any given after it (a what-if); "
+                                      "without any, checks that it arrives at the report's settings")
+        ->group(go);
     app.add_option("--vcd", vcd, "VCD waveform (a .gtkw save file is written beside it)")->group(go);
     app.add_option("--trace-nodes", traceSpecs_, "nodes to trace in the VCD: x,y,z (repeatable; default all)")->group(go);
     app.add_option("--trace-window", traceWindow_, "time window of the VCD: FROM,TO (e.g. 0,50us)")->group(go);
-    app.add_flag("!--no-baseline", baseline,
+    app.add_flag("--no-baseline", noBaseline_,
                  "skip the reference runs: the 1x1x1 mesh that gives the speed-up, and the same frame with the default "
                  "balancing (or, when balancing, without) that gives the balancing ratio")
         ->group(go);
@@ -229,6 +236,8 @@ void RtsimOptions::addTo(CLI::App& app) {
 
 void RtsimOptions::finish() {
     MachineConfig& m = machine;
+    if (noGuard_) m.balance.guard = false;
+    if (noBaseline_) baseline = false;
     m.dims = {mesh, mesh, mesh};
     if (frameIndex < 0) frameIndex = frames - 1;  // this process renders the last frame of its sequence
     if (asBaseline || asFrame) frames = 1;        // the baseline is of the last frame's view; a frame is one frame

@@ -39,6 +39,8 @@ struct RtsimOptions {
 private:
     std::vector<std::string> nodeCostSpecs_, linkSpecs_, traceSpecs_;
     std::string traceWindow_;
+    bool noGuard_ = false, noBaseline_ = false;
+    std::string rerun_;  // --rerun: handled before parsing (rerun.h)
     std::string quantum_ = "lookahead";  // --quantum: a time, or the lookahead
 };
 

@@ -53,9 +53,11 @@ protected:
     }
     void TearDown() override { fs::remove_all(dir_); }
 
-    Outcome run(const std::string& args) {
+    // The program with `args`, in the folder `cwd` if given.
+    Outcome run(const std::string& args, const fs::path& cwd = {}) {
         const fs::path out = dir_ / "stdout", err = dir_ / "stderr";
-        const std::string cmd = exe_ + " " + args + " >" + out.string() + " 2>" + err.string();
+        const std::string cd = cwd.empty() ? "" : "cd '" + cwd.string() + "' && ";
+        const std::string cmd = cd + exe_ + " " + args + " >" + out.string() + " 2>" + err.string();
         const int status = std::system(cmd.c_str());
         return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(out), withoutSanitizerNoise(slurp(err))};
     }

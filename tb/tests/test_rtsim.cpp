@@ -345,6 +345,8 @@ TEST_F(Rtsim, PresetsAreValidAndModernIsTheDefault) {
     json b = report(std::string(kSmall) + " --mesh 2", "b.json");
     a.erase("wall_s");
     b.erase("wall_s");
+    a.erase("rerun");  // (the flags given differ: that is the point)
+    b.erase("rerun");
     EXPECT_TRUE(a == b) << json::diff(b, a).dump().substr(0, 800);
     const json t = report(std::string(kSmall) + " --mesh 2 --config " RT_CONFIG_DIR "/transputer-1987.conf", "t.json");
     EXPECT_EQ(t["config"]["costs"]["test_sphere_ns"].get<double>(), 17000.0);
@@ -619,6 +621,7 @@ void RtsimQuantum::expectExactUpToTheLookahead(const std::string& extra) {
             j->erase("kernel");
             j->erase("wall_s");
             j->erase("config");
+            j->erase("rerun");
         }
         EXPECT_TRUE(a == b) << json::diff(b, a).dump().substr(0, 800);
         // And the waveforms: every node's busy, wait and queue changes at the
@@ -803,4 +806,58 @@ TEST_F(Rtsim, ResplitHoldsTheUnbalancedSplitWhereEvenTheFirstFrameLoses) {
         EXPECT_EQ(f.slides[size_t(i)], 0) << "frame " << i + 1;
     }
     EXPECT_EQ(f.last, f.none);
+}
+
+// A report reruns its run (tb/rerun.h): the flags it records, from another
+// folder, give the same report (wall-clock figures and the rerun's own
+// record aside) and the same image; flags given after --rerun change what
+// they name; an edited scene file, or a report without flags, is refused.
+TEST_F(Rtsim, AReportRerunsToTheSameRun) {
+    const fs::path scene = dir_ / "scene.nff", elsewhere = dir_ / "elsewhere";
+    fs::copy_file(fs::path(RT_SCENE_DIR) / "balls-1.nff", scene);
+    std::ofstream(dir_ / "more.conf") << "link-depth = 3\nnode-speed = [\"1,0,0=0.5\"]\n";
+    fs::create_directories(elsewhere);
+    struct Case {
+        const char* name;
+        std::string args;
+    };
+    const std::vector<Case> cases{
+        {"file", "--scene scene.nff --size 24x24 --mesh-dims 3x2x1 --balance slide --no-guard --gain 0.4"
+                 " --link-set 0,0,0,+x:latency=1us,bandwidth=200MB/s --node-cost 1,1,0:sphere=30ns --frames 2"},
+        {"procedural", std::string(kSmall) + " --mesh 2 --concentration 0.5 --seed 9 --light 1,2,3 --light 0,-2,1"
+                       " --eye 0.5,-2,0.6 --cost-recv 70ns --quantum 0 --ray-batch 4 --fb-units 3 --config more.conf"},
+    };
+    for (const Case& c : cases) {
+        SCOPED_TRACE(c.name);
+        const std::string name = c.name;
+        const Outcome o = run(c.args + " -q --image " + name + ".png --report " + name + ".json", dir_);
+        ASSERT_EQ(o.code, 0) << o.err;
+        const Outcome again = run("--rerun ../" + name + ".json -q --image again.png --report again.json", elsewhere);
+        ASSERT_EQ(again.code, 0) << again.err;
+        EXPECT_EQ(slurp(dir_ / (name + ".png")), slurp(elsewhere / "again.png"));
+        json a = json::parse(slurp(dir_ / (name + ".json"))), b = json::parse(slurp(elsewhere / "again.json"));
+        EXPECT_EQ(b["rerun"]["of"], a["rerun"]);
+        EXPECT_EQ(b["rerun"]["flags"], a["rerun"]["flags"]);
+        a.erase("rerun");
+        b.erase("rerun");
+        dropWall(a);
+        dropWall(b);
+        EXPECT_EQ(a["render_time_ns"], b["render_time_ns"]);
+        EXPECT_EQ(a, b);
+        // A flag after --rerun changes what it names, and nothing is refused.
+        const Outcome what = run("--rerun ../" + name + ".json --link-latency 777ns -q --image '' --report what.json", elsewhere);
+        ASSERT_EQ(what.code, 0) << what.err;
+        const json w = json::parse(slurp(elsewhere / "what.json"));
+        EXPECT_EQ(w["config"]["link"]["latency_ns"], 777.0);
+        EXPECT_EQ(w["config"]["mesh"], a["config"]["mesh"]);
+        EXPECT_NE(w["render_time_ns"], a["render_time_ns"]);
+    }
+    // The scene file edited since: refused, naming it.
+    std::ofstream(scene, std::ios::app) << "s 0 0 0 0.1\n";
+    expectBad("--rerun " + (dir_ / "file.json").string(), "scene.nff has changed since");
+    // Not a report with flags.
+    std::ofstream(dir_ / "old.json") << "{\"config\": {}}";
+    expectBad("--rerun " + (dir_ / "old.json").string(), "no rerun.flags");
+    expectBad("--rerun " + (dir_ / "file.png").string(), "not a JSON report");
+    expectBad("--rerun " + (dir_ / "file.json").string() + " --config " + (dir_ / "more.conf").string(), "cannot be combined");
 }
