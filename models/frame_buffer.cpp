@@ -90,6 +90,14 @@ void FrameBufferUnit::run() {
         }
         Message m = in[best]->consume(now);
         const Picos cost = take(m);
+        if (trace_.vcd) {
+            if (cost) {
+                trace_.vcd->set(now, trace_.busy, 1);
+                trace_.vcd->set(now + cost, trace_.busy, 0);
+            }
+            trace_.vcd->set(now + cost, trace_.contributions, int64_t(stats_.contributions));
+            if (trace_.credit >= 0) trace_.vcd->setReal(now + cost, trace_.credit, credit_.value());
+        }
         now += cost;
         checkSimTime(now, name());
         stats_.busy += cost;

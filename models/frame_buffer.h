@@ -25,6 +25,7 @@
 
 #include "arrival_queue.h"
 #include "credit.h"
+#include "vcd_stream.h"
 #include "image.h"
 #include "link.h"
 #include "time_keeper.h"
@@ -79,6 +80,13 @@ public:
     // watchdog's message).
     double creditReturned() const { return credit_.value(); }
     void dropFirstCredit() { dropCredit_ = true; }
+    // Its signals in the VCD: busy accumulating, contributions so far and
+    // (unit 0) the share of the frame's credit back.
+    struct Trace {
+        VcdStream* vcd = nullptr;
+        int busy = -1, contributions = -1, credit = -1;
+    };
+    void enableTrace(const Trace& t) { trace_ = t; }
     // Unit 0: called in its process when the frame is done, before the
     // simulation stops (the machine ends its other processes).
     void onFinish(std::function<void()> f) { onFinish_ = std::move(f); }  // test only (MachineConfig::faultDropFirstCredit)
@@ -112,6 +120,7 @@ private:
     bool dropCredit_ = false;
     std::function<void()> onFinish_;
     Picos renderTime_ = 0;
+    Trace trace_;
 };
 
 // The image the units hold: each pixel the sum of its contributions in

@@ -174,6 +174,15 @@ Message Link::take(int lane, Picos t) {
     stats_.wireWait += head.start - head.ready;
     ++stats_.consumed;
     (isControl(head.m.type) ? stats_.controlLatency : stats_.latency).add(t - head.sent);
+    if (trace_.vcd) {
+        VcdStream& v = *trace_.vcd;
+        v.step(head.sent, trace_.backlog, 1);
+        v.step(head.start, trace_.backlog, -1);
+        v.step(head.start, trace_.wire, 1);
+        v.step(head.start + head.transfer, trace_.wire, -1);
+        v.step(head.start, trace_.buffered, 1);
+        v.step(t, trace_.buffered, -1);
+    }
     Message m = std::move(l.buffer.front().m);
     l.buffer.pop_front();
     --inFlight_[int(m.type)];

@@ -53,6 +53,7 @@
 #include "machine_config.h"
 #include "message.h"
 #include "progress.h"
+#include "vcd_stream.h"
 
 namespace rt {
 
@@ -140,6 +141,15 @@ public:
     virtual uint64_t workInFlight() const = 0;
 };
 
+// A link's signals in the VCD: the wire busy (a bit; a frame-buffer port's
+// channels share one count), messages buffered (on the wire or arrived, not
+// consumed) and the backlog (sent, not yet on the wire). Each message's
+// changes are recorded when it is consumed, when all its times are final.
+struct LinkTrace {
+    VcdStream* vcd = nullptr;
+    int wire = -1, buffered = -1, backlog = -1;
+};
+
 // Load reports, slides and acks: what the control lane carries.
 inline bool isControl(MsgType t) { return t == MsgType::LoadReport || t == MsgType::Slide || t == MsgType::Ack; }
 
@@ -166,6 +176,18 @@ public:
     const LinkParams& params() const override { return params_; }
     const LinkStats& stats() const { return stats_; }
     void setProgress(Progress* p) { progress_ = p; }
+    void setTrace(const LinkTrace& t) { trace_ = t; }
+    bool traced() const { return trace_.vcd != nullptr; }
+    // When the oldest message not yet consumed was sent (~0 if none): no
+    // change this link records later is earlier (VcdStream's horizon).
+    Picos oldestSent() const {
+        Picos t = ~Picos(0);
+        for (const Lane& l : lanes_) {
+            if (!l.backlog.empty()) t = std::min(t, l.backlog.front().t);
+            if (!l.buffer.empty()) t = std::min(t, l.buffer.front().sent);
+        }
+        return t;
+    }
     size_t backlog() const { return lanes_[0].backlog.size() + lanes_[1].backlog.size(); }
     // Messages of this type sent and not yet consumed.
     uint64_t inFlight(MsgType t) const { return inFlight_[int(t)]; }
@@ -225,6 +247,7 @@ private:
     int listenerPort_ = 0;
     LinkStats stats_;
     std::array<uint64_t, kMsgTypes> inFlight_{};
+    LinkTrace trace_;
     sc_core::sc_event room_;  // a message left a full output buffer's backlog (outDepth > 0)
 };
 

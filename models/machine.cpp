@@ -3,16 +3,23 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <set>
 #include <sstream>
 #include <stdexcept>
 
 #include "trace_writer.h"
 
 namespace rt {
+
+volatile std::sig_atomic_t stopSignal = 0;
+
 namespace {
 
 int imageWidth(const Scene& s, const MachineConfig& c) { return c.width ? c.width : s.view.width; }
 int imageHeight(const Scene& s, const MachineConfig& c) { return c.height ? c.height : s.view.height; }
+
+// A link's name after its node's: "px", "mz", ...
+std::string linkSuffix(int d) { return std::string(d % 2 ? "m" : "p") + "xyz"[dirAxis(d)]; }
 
 std::string cellName(const Cell& c) {
     std::ostringstream s;
@@ -79,7 +86,7 @@ Machine::Machine(sc_core::sc_module_name name, const Scene& scene, const Machine
             Cell m = c;
             m[dirAxis(d)] += dirStep(d);
             if (m[dirAxis(d)] < 0 || m[dirAxis(d)] >= cfg_.dims[dirAxis(d)]) continue;
-            const std::string lname = cellName(c) + "_" + (d % 2 ? "m" : "p") + "xyz"[dirAxis(d)];
+            const std::string lname = cellName(c) + "_" + linkSuffix(d);
             links_.push_back(std::make_unique<Link>(lname, cfg_.linkOf(c, d)));
             n.out[d].bind(*links_.back());
             meshLinks_[{nodeIndex(c), d}] = links_.back().get();
@@ -113,9 +120,7 @@ Machine::Machine(sc_core::sc_module_name name, const Scene& scene, const Machine
     if (cfg_.faultDropFirstCredit) units_[0].dropFirstCredit();
     units_[0].onFinish([this] { endProcesses(); });
     SC_THREAD(watch);
-    for (const Cell& c : cfg_.traceNodes) nodes_[nodeIndex(c)].enableTrace();
-    if (!cfg_.vcdPath.empty() && cfg_.traceNodes.empty())
-        for (Node& n : nodes_) n.enableTrace();
+    if (!cfg_.vcdPath.empty()) setupTraces();
     assignPrimaryRays();
 }
 
@@ -136,10 +141,13 @@ void Machine::watch() {
     for (;;) {
         wait(sc_core::sc_time::from_value(period));
         if (controller().done()) return;
+        if (vcd_) vcd_->flush(traceHorizon());  // the waveform so far, on disk
         const Picos now = sc_core::sc_time_stamp().value();
         const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         std::ostringstream why;
-        if (now >= progress_.last + span) {
+        if (stopSignal) {
+            why << "interrupted by signal " << int(stopSignal) << " at " << formatTime(now) << " of simulated time";
+        } else if (now >= progress_.last + span) {
             why << "no ray, contribution or credit moved for " << formatTime(now - progress_.last)
                 << " of simulated time (since " << formatTime(progress_.last) << ")";
         } else if (cfg_.watchdogWall > 0 && wall > cfg_.watchdogWall) {
@@ -398,19 +406,94 @@ std::vector<BoundaryHistory> Machine::boundaryHistories() const {
     return out;
 }
 
-void Machine::writeTraces(const std::string& vcdPath) const {
-    std::vector<TracedNode> traced;
-    for (const Node& n : nodes_)
-        if (n.trace()) traced.push_back({cellName(n.cell()), n.trace()});
-    std::vector<TracedBoundary> bounds;
-    if (cfg_.balance.policy != "none")
-        for (const BoundaryHistory& h : boundaryHistories())
-            bounds.push_back({"col_" + std::to_string(h.column[0]) + "_" + std::to_string(h.column[1]) + "_b" +
-                                  std::to_string(h.index),
-                              h.positions});
-    const Picos end = frameEnd(), to = std::min(cfg_.traceTo, end);
-    writeVcd(vcdPath, traced, bounds, cfg_.traceFrom, to, end, stall_);
-    writeGtkw(gtkwPathFor(vcdPath), vcdPath, traced, bounds, cfg_.traceFrom, to);
+// The VCD's signals: per traced node (all, unless --trace-nodes) busy,
+// wait, queue and load, and under it its traced links (its own, and those
+// --trace-links names); the frame-buffer units; every boundary when
+// balancing. The header is written now, the changes as the run goes.
+void Machine::setupTraces() {
+    using K = VcdStream::Kind;
+    vcd_ = std::make_unique<VcdStream>();
+    VcdStream& v = *vcd_;
+    std::vector<bool> tracedNode(nodes_.size(), cfg_.traceNodes.empty());
+    for (const Cell& c : cfg_.traceNodes) tracedNode[nodeIndex(c)] = true;
+    std::set<std::pair<size_t, int>> links;  // (node, direction; kDirs: its frame-buffer port)
+    for (size_t i = 0; i < nodes_.size(); ++i)
+        if (tracedNode[i])
+            for (int d = 0; d <= kDirs; ++d) links.insert({i, d});
+    for (const auto& [c, d] : cfg_.traceLinks)
+        for (int e = 0; e <= kDirs; ++e)
+            if (d < 0 || d == e) links.insert({nodeIndex(c), e});
+    std::vector<NodeTrace> traces(nodes_.size());
+    for (size_t i = 0; i < nodes_.size(); ++i) {
+        const std::string name = cellName(nodes_[i].cell());
+        NodeTrace& t = traces[i];
+        t.vcd = &v;
+        if (tracedNode[i]) {
+            t.busy = v.declare(name, "busy", K::Bit);
+            t.wait = v.declare(name, "wait", K::Bit);
+            t.queue = v.declare(name, "queue", K::Integer);
+            v.declareLoad(name, t.busy, t.wait);
+        }
+        for (int d = 0; d <= kDirs; ++d) {
+            if (!links.count({i, d})) continue;
+            const bool fb = d == kDirs;
+            if (!fb && !meshLinks_.count({i, d})) continue;  // a mesh face
+            const std::string scope = name + "." + (fb ? std::string("fb") : linkSuffix(d));
+            LinkTrace lt{&v, v.declare(scope, "wire", fb ? K::Integer : K::Bit), v.declare(scope, "buffered", K::Integer),
+                         v.declare(scope, "backlog", K::Integer)};
+            if (fb) {
+                for (size_t j = 0; j < links_.size(); ++j)  // the port's channels, one per unit
+                    if (linkInfo_[reportOf_[j]].dir < 0 && linkInfo_[reportOf_[j]].from == nodes_[i].cell()) {
+                        links_[j]->setTrace(lt);
+                        tracedLinks_.push_back(links_[j].get());
+                    }
+            } else {
+                Link* l = meshLinks_.at({i, d});
+                l->setTrace(lt);
+                tracedLinks_.push_back(l);
+            }
+        }
+    }
+    for (size_t u = 0; u < units_.size(); ++u) {
+        const std::string scope = "frame_buffer.unit_" + std::to_string(u);
+        FrameBufferUnit::Trace t{&v, v.declare(scope, "busy", K::Bit), v.declare(scope, "contributions", K::Integer)};
+        if (u == 0) t.credit = v.declare(scope, "credit", K::Real);  // the share of the frame's credit back
+        units_[u].enableTrace(t);
+    }
+    if (cfg_.balance.policy != "none")  // each boundary: its position and slides, moved by the node giving
+        for (const BoundaryHistory& h : boundaryHistories()) {
+            const std::string scope = "boundaries.col_" + std::to_string(h.column[0]) + "_" +
+                                      std::to_string(h.column[1]) + "_b" + std::to_string(h.index);
+            const int pos = v.declare(scope, "position", K::Real), slides = v.declare(scope, "slides", K::Integer);
+            v.setReal(0, pos, h.positions[0].second);
+            const int ax = cfg_.balance.axis, a = (ax + 1) % 3, b = (ax + 2) % 3;
+            Cell below{}, above{};
+            below[a] = above[a] = h.column[0];
+            below[b] = above[b] = h.column[1];
+            below[ax] = h.index - 1;
+            above[ax] = h.index;
+            traces[nodeIndex(below)].position[1] = traces[nodeIndex(above)].position[0] = pos;
+            traces[nodeIndex(below)].slides[1] = traces[nodeIndex(above)].slides[0] = slides;
+        }
+    for (size_t i = 0; i < nodes_.size(); ++i) nodes_[i].enableTrace(traces[i]);
+    v.setHorizon([this] { return traceHorizon(); });
+    v.open(cfg_.vcdPath, cfg_.traceFrom, cfg_.traceTo);
+}
+
+// Every change before this time is recorded: processes record at their
+// own time, never behind the kernel's, and a traced link records a message
+// when it is consumed, at times from its sending on.
+Picos Machine::traceHorizon() const {
+    Picos h = sc_core::sc_time_stamp().value();
+    for (const Link* l : tracedLinks_) h = std::min(h, l->oldestSent());
+    return h;
+}
+
+void Machine::closeTraces() {
+    if (!vcd_) return;
+    const Picos end = frameEnd();
+    vcd_->close(end, stall_.empty() ? "" : "incomplete: " + stall_);
+    writeGtkw(gtkwPathFor(cfg_.vcdPath), cfg_.vcdPath, *vcd_, cfg_.traceFrom, std::min(cfg_.traceTo, end));
 }
 
 MachineResult runMachine(const Scene& scene, const MachineConfig& config) {
@@ -427,7 +510,7 @@ MachineResult runMachine(const Scene& scene, const MachineConfig& config) {
     machine.endFrame();
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     machine.checkConservation();
-    if (!config.vcdPath.empty()) machine.writeTraces(config.vcdPath);
+    machine.closeTraces();
     return machine.collect(wall);
 }
 

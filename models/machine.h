@@ -4,6 +4,7 @@
 // runMachine() elaborates, simulates one frame and returns the image and
 // every statistic.
 #pragma once
+#include <csignal>
 #include <map>
 #include <memory>
 #include <string>
@@ -14,6 +15,7 @@
 #include "frame_buffer.h"
 #include "lattice.h"
 #include "node.h"
+#include "vcd_stream.h"
 
 namespace rt {
 
@@ -72,7 +74,8 @@ public:
     // Checks the conservation laws at the end of a run; throws
     // std::runtime_error naming the first one broken.
     void checkConservation() const;
-    void writeTraces(const std::string& vcdPath) const;
+    // Ends the VCD (if any) at the frame's end and writes its .gtkw.
+    void closeTraces();
 
     size_t nodeIndex(const Cell& c) const { return (size_t(c[2]) * cfg_.dims[1] + c[1]) * cfg_.dims[0] + c[0]; }
 
@@ -84,6 +87,13 @@ private:
     int columnOf(const Cell& c) const;
     std::vector<BoundaryHistory> boundaryHistories() const;
     const FrameBufferUnit& controller() const { return units_[0]; }  // unit 0 ends the frame
+
+    // Tracing: the VCD, written as the run goes (vcd_stream.h), and the
+    // links that record into it.
+    void setupTraces();
+    Picos traceHorizon() const;
+    std::unique_ptr<VcdStream> vcd_;
+    std::vector<const Link*> tracedLinks_;
 
     const Scene& scene_;
     MachineConfig cfg_;
@@ -115,6 +125,12 @@ private:
     std::string stall_;
     Picos stalledAt_ = 0;
 };
+
+// A signal (SIGINT, SIGTERM) asks the running machine to stop: the watchdog
+// sees it at its next wake and stops the run as it would a stuck one, with
+// the report and VCD so far ("interrupted by signal N"). Set from a signal
+// handler (tb/rtsim.cpp), hence a plain global.
+extern volatile std::sig_atomic_t stopSignal;
 
 // Elaborates the machine, runs one frame, checks conservation, writes the
 // VCD (and .gtkw) if configured. Call once per process (SystemC elaborates

@@ -112,6 +112,16 @@ void MachineConfig::validate() const {
     for (const Cell& c : traceNodes)
         for (int a = 0; a < 3; ++a)
             if (c[a] < 0 || c[a] >= dims[a]) throw std::invalid_argument("--trace-nodes: node outside the mesh");
+    for (const auto& [c, d] : traceLinks) {
+        for (int a = 0; a < 3; ++a)
+            if (c[a] < 0 || c[a] >= dims[a]) throw std::invalid_argument("--trace-links: node outside the mesh");
+        if (d >= 0 && d < kDirs) {
+            Cell n = c;
+            n[dirAxis(d)] += dirStep(d);
+            if (n[dirAxis(d)] < 0 || n[dirAxis(d)] >= dims[dirAxis(d)])
+                throw std::invalid_argument("--trace-links: no link in that direction (mesh face)");
+        }
+    }
     if (traceFrom > traceTo) throw std::invalid_argument("--trace-window: start after end");
     const BalanceConfig& b = balance;
     if (b.axis < 0 || b.axis > 2) throw std::invalid_argument("--axis: must be x, y or z");

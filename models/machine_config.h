@@ -118,6 +118,9 @@ struct MachineConfig {
     // Tracing (VCD); empty path: none.
     std::string vcdPath;
     std::vector<Cell> traceNodes;      // empty: every node
+    // Links traced besides the traced nodes' own: (node, direction), the
+    // direction kDirs for its frame-buffer port, -1 for all of them.
+    std::vector<std::pair<Cell, int>> traceLinks;
     Picos traceFrom = 0, traceTo = ~Picos(0);
 
     // Temporal decoupling (TLM-2.0 style): a process may run this far ahead of

@@ -140,10 +140,10 @@ size_t Node::queueDepth(Picos at) const {
 }
 
 void Node::traceState(bool busy, bool waiting) {
-    if (!trace_) return;
-    NodeTrace::record(trace_->busy, now_, busy);
-    NodeTrace::record(trace_->wait, now_, waiting);
-    NodeTrace::record(trace_->queue, now_, int64_t(queueDepth(now_)));
+    if (trace_.busy < 0) return;
+    trace_.vcd->set(now_, trace_.busy, busy);
+    trace_.vcd->set(now_, trace_.wait, waiting);
+    trace_.vcd->set(now_, trace_.queue, int64_t(queueDepth(now_)));
 }
 
 void Node::run() {
@@ -605,6 +605,11 @@ void Node::giveSlab(int side, double boundary) {
         if (overlapsBox(s, own, margin_)) keep.push_back(s);
     }
     stats_.slides.push_back({now_, side, boundary, m.objects.size()});
+    const size_t face = side > 0 ? 1 : 0;
+    if (trace_.position[face] >= 0) {  // the boundary's signals, if traced
+        trace_.vcd->setReal(now_, trace_.position[face], boundary);
+        trace_.vcd->step(now_, trace_.slides[face], 1);
+    }
     stats_.objectsSent += m.objects.size();
     outbox_.push_back({sideDir(side), std::move(m)});
     const size_t moved = stats_.slides.back().objects;

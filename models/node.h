@@ -95,7 +95,8 @@ public:
 
     // Setup by the host's job description, before the simulation starts.
     void assignPrimaries(std::vector<uint32_t> pixels, int primaryExp, const Credit& remainder);
-    void enableTrace() { trace_ = std::make_unique<NodeTrace>(); }
+    // Its signals in the VCD (busy, wait, queue; boundaries it moves).
+    void enableTrace(const NodeTrace& t) { trace_ = t; }
     void setProgress(Progress* p) { progress_ = p; }
     // What the node still holds (rays in hand or in its input links, rays
     // in partial batches, contributions, credit), for the watchdog's
@@ -114,7 +115,7 @@ public:
     const Cell& cell() const { return cell_; }
     const Region& region() const { return *region_; }
     const NodeStats& stats() const { return stats_; }
-    const NodeTrace* trace() const { return trace_.get(); }
+    bool traced() const { return trace_.busy >= 0; }
 
 private:
     struct Work {
@@ -226,7 +227,7 @@ private:
     std::vector<RayJob> spawned_;              // step(): rays a step spawned
     std::vector<Contribution> contributions_;  // step(): contributions a step made
     NodeStats stats_;
-    std::unique_ptr<NodeTrace> trace_;
+    NodeTrace trace_;  // (signals -1: not traced)
 };
 
 }  // namespace rt

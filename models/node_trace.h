@@ -1,29 +1,20 @@
-// What the VCD shows of one node: value changes of busy, wait and queue
-// depth, recorded only for traced nodes (tracing is switched on per node).
+// What the VCD shows of one node (tracing is switched on per node): its
+// busy and wait bits, its queue depth, and the position and slide count of
+// the boundaries it gives slabs across. The node records each change at its
+// own time into the machine's VcdStream (vcd_stream.h).
 #pragma once
-#include <cstdint>
-#include <vector>
+#include <array>
 
-#include "units.h"
+#include "vcd_stream.h"
 
 namespace rt {
 
-struct Change {
-    Picos t;
-    int64_t v;
-};
-
 struct NodeTrace {
-    std::vector<Change> busy, wait, queue;
-    static void record(std::vector<Change>& s, Picos t, int64_t v) {
-        if (!s.empty() && s.back().v == v) return;
-        if (!s.empty() && s.back().t == t) {  // several changes at one instant: the last one stands
-            s.back().v = v;
-            if (s.size() >= 2 && s[s.size() - 2].v == v) s.pop_back();
-            return;
-        }
-        s.push_back({t, v});
-    }
+    VcdStream* vcd = nullptr;
+    int busy = -1, wait = -1, queue = -1;
+    // Per side (0: lower, 1: upper face along the balancing axis): the
+    // boundary's signals, -1 if it has none.
+    std::array<int, 2> position{-1, -1}, slides{-1, -1};
 };
 
 }  // namespace rt

@@ -65,6 +65,9 @@ nlohmann::json machineConfigJson(const MachineConfig& cfg, int width, int height
     auto& tr = c["trace"];
     tr["nodes"] = nlohmann::json::array();
     for (const Cell& n : cfg.traceNodes) tr["nodes"].push_back(cellJson(n));
+    tr["links"] = nlohmann::json::array();
+    for (const auto& [n, d] : cfg.traceLinks)
+        tr["links"].push_back({{"node", cellJson(n)}, {"dir", d < 0 ? "all" : d == kDirs ? "fb" : dirName(d)}});
     tr["window_ns"] = cfg.traceTo == ~Picos(0) ? nlohmann::json{ns(cfg.traceFrom), nullptr}  // (to the end)
                                                 : nlohmann::json{ns(cfg.traceFrom), ns(cfg.traceTo)};
     return c;

@@ -4,6 +4,7 @@
 // failed run (a conservation law broken, a SystemC error), 3 stopped by the
 // watchdog (in any frame of a --frames sequence; the report so far is written).
 #include <fcntl.h>
+#include <signal.h>
 #include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -576,6 +577,10 @@ int sc_main(int argc, char** argv) {
                 f.write(report.dump(2) + "\n");
                 f.commit();
             }
+            if (rt::stopSignal) {  // Ctrl-C or kill: as a shell reports a signal, 128 + its number
+                std::cerr << "rtsim: " << r.incomplete << "\n";
+                return 128 + int(rt::stopSignal);
+            }
             std::cerr << "rtsim: error: watchdog: " << r.incomplete << "\n";
             return 3;
         }
@@ -642,8 +647,17 @@ int sc_main(int argc, char** argv) {
     return 0;
 }
 
+extern "C" void onStopSignal(int sig) { rt::stopSignal = sig; }
+
 int main(int argc, char** argv) {
     setenv("SYSTEMC_DISABLE_COPYRIGHT_MESSAGE", "1", 0);
+    // Ctrl-C (or SIGTERM) stops the run at the watchdog's next wake, with
+    // the report and VCD so far; a second one ends it at once.
+    struct sigaction stop {};
+    stop.sa_handler = onStopSignal;
+    stop.sa_flags = SA_RESETHAND;
+    sigaction(SIGINT, &stop, nullptr);
+    sigaction(SIGTERM, &stop, nullptr);
     // A SystemC warning is a failed run, not a line to scroll past.
     sc_core::sc_report_handler::set_actions(sc_core::SC_WARNING, sc_core::SC_DISPLAY | sc_core::SC_THROW);
     // The host ends the frame with sc_stop(); that is not news.

@@ -2,6 +2,7 @@
 
 #include "policy.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <sstream>
 
@@ -203,6 +204,10 @@ void RtsimOptions::addTo(CLI::App& app) {
         ->group(go);
     app.add_option("--vcd", vcd, "VCD waveform (a .gtkw save file is written beside it)")->group(go);
     app.add_option("--trace-nodes", traceSpecs_, "nodes to trace in the VCD: x,y,z (repeatable; default all)")->group(go);
+    app.add_option("--trace-links", traceLinkSpecs_,
+                   "links to trace in the VCD besides the traced nodes' own: x,y,z (all of the node's), x,y,z,DIR "
+                   "(DIR +x -x +y -y +z -z) or x,y,z,fb (its frame-buffer port) (repeatable)")
+        ->group(go);
     app.add_option("--trace-window", traceWindow_, "time window of the VCD: FROM,TO (e.g. 0,50us)")->group(go);
     app.add_flag("--no-baseline", noBaseline_,
                  "skip the reference runs: the 1x1x1 mesh that gives the speed-up, and the same frame with the default "
@@ -313,6 +318,21 @@ void RtsimOptions::finish() {
         m.linkOverride[{c, dir}] = p;
     }
     for (const std::string& s : traceSpecs_) m.traceNodes.push_back(parseCell("--trace-nodes", s));
+    for (const std::string& s : traceLinkSpecs_) {  // x,y,z[,DIR|fb]
+        const size_t commas = size_t(std::count(s.begin(), s.end(), ','));
+        if (commas == 2) {
+            m.traceLinks.push_back({parseCell("--trace-links", s), -1});
+            continue;
+        }
+        const size_t last = s.find_last_of(',');
+        const std::string dirText = s.substr(last + 1);
+        int dir = dirText == "fb" ? kDirs : -1;
+        for (int d = 0; d < kDirs; ++d)
+            if (dirText == dirName(d)) dir = d;
+        if (commas != 3 || dir < 0)
+            throw CLI::ValidationError("--trace-links", "expected x,y,z or x,y,z,DIR with DIR one of +x -x +y -y +z -z fb, got '" + s + "'");
+        m.traceLinks.push_back({parseCell("--trace-links", s.substr(0, last)), dir});
+    }
     if (!traceWindow_.empty()) {
         const size_t comma = traceWindow_.find(',');
         if (comma == std::string::npos) throw CLI::ValidationError("--trace-window", "expected FROM,TO, got '" + traceWindow_ + "'");

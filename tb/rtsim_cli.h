@@ -37,7 +37,7 @@ struct RtsimOptions {
     void finish();
 
 private:
-    std::vector<std::string> nodeCostSpecs_, linkSpecs_, traceSpecs_;
+    std::vector<std::string> nodeCostSpecs_, linkSpecs_, traceSpecs_, traceLinkSpecs_;
     std::string traceWindow_;
     bool noGuard_ = false, noBaseline_ = false;
     std::string rerun_;  // --rerun: handled before parsing (rerun.h)

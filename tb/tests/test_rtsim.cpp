@@ -143,51 +143,70 @@ TEST_F(Rtsim, WaveformsConvertAndGroupPerNode) {
 // accounting: each node's busy and wait signals, integrated over the frame
 // from the VCD's value changes, give the report's busy and wait times to
 // the picosecond; with balancing steps and with nodes blocked on full
-// output buffers too.
+// output buffers too. Each link's `wire` integrates to its wire busy time,
+// and its `backlog` (messages sent, not yet on the wire) to the time its
+// messages waited for a slot and for the wire.
 TEST_F(Rtsim, BusyAndWaitIntegratedFromTheVcdAreTheReports) {
     for (const char* extra : {"", " --balance slide --balance-interval 2us", " --fb-units 2 --fb-depth 1 --fb-out-depth 1"}) {
         SCOPED_TRACE(extra);
         const fs::path vcd = dir_ / "i.vcd", rep = dir_ / "i.json";
-        const Outcome o = run(std::string(kSmall) + " --mesh 2 --no-baseline -q --image '' --vcd " + vcd.string() +
-                              " --report " + rep.string() + extra);
+        const Outcome o = run(std::string(kSmall) + " --mesh 2 --link-depth 2 --no-baseline -q --image '' --vcd " +
+                              vcd.string() + " --report " + rep.string() + extra);
         ASSERT_EQ(o.code, 0) << o.err;
         const json r = json::parse(slurp(rep));
         const auto end = uint64_t(std::llround(r["render_time_ns"].get<double>() * 1000));
-        std::map<std::string, std::pair<std::string, std::string>> signal;  // code -> (node, busy|wait)
-        std::map<std::string, uint64_t> high, since;                       // code -> time high, high since
+        // Every bit and integer signal: its scope below `machine` joined
+        // with '_' (node_0_0_0, node_0_0_0_px) and name; its integral.
+        std::map<std::string, std::pair<std::string, std::string>> signal;  // code -> (scope, name)
+        std::map<std::string, uint64_t> value, since, integral;
         std::istringstream in(slurp(vcd));
-        std::string line, scope;
+        std::string line;
+        std::vector<std::string> scopes;
         uint64_t now = 0;
+        auto change = [&](const std::string& code, uint64_t v) {
+            if (!signal.count(code)) return;
+            integral[code] += value[code] * (now - since[code]);
+            value[code] = v;
+            since[code] = now;
+        };
         while (std::getline(in, line)) {
             std::istringstream w(line);
             std::string a, b, c, d, e;
             w >> a >> b >> c >> d >> e;
-            if (a == "$scope") scope = c;
-            else if (a == "$var" && b == "wire" && (e == "busy" || e == "wait")) signal[d] = {scope, e};
-            else if (!line.empty() && line[0] == '#') now = std::stoull(line.substr(1));
-            else if (!line.empty() && (line[0] == '0' || line[0] == '1') && signal.count(line.substr(1))) {
-                const std::string code = line.substr(1);
-                if (line[0] == '1' && !since.count(code)) since[code] = now;
-                if (line[0] == '0' && since.count(code)) {
-                    high[code] += now - since[code];
-                    since.erase(code);
-                }
-            }
+            if (a == "$scope") scopes.push_back(c);
+            else if (a == "$upscope") scopes.pop_back();
+            else if (a == "$var" && (b == "wire" || b == "integer")) {
+                std::string path;
+                for (size_t k = 1; k < scopes.size(); ++k) path += (k > 1 ? "_" : "") + scopes[k];
+                signal[d] = {path, e};
+            } else if (!line.empty() && line[0] == '#') now = std::stoull(line.substr(1));
+            else if (!line.empty() && (line[0] == '0' || line[0] == '1')) change(line.substr(1), uint64_t(line[0] - '0'));
+            else if (!line.empty() && line[0] == 'b') change(b, std::stoull(a.substr(1), nullptr, 2));
         }
-        ASSERT_EQ(signal.size(), 2 * r["nodes"].size());
-        for (const auto& [code, t] : since) high[code] += end - t;  // still high at the end
+        now = end;
+        for (const auto& [code, v] : value) change(code, v);  // to the end
+        std::map<std::pair<std::string, std::string>, uint64_t> by;  // (scope, name) -> integral
+        for (const auto& [code, what] : signal) by[what] = integral[code];
+        auto at = [&](const std::string& scope, const std::string& name) { return by.count(std::make_pair(scope, name)) ? by[std::make_pair(scope, name)] : ~uint64_t(0); };
         size_t checked = 0;
         for (const json& n : r["nodes"]) {
             const std::string name = "node_" + std::to_string(n["node"][0].get<int>()) + "_" +
                                      std::to_string(n["node"][1].get<int>()) + "_" + std::to_string(n["node"][2].get<int>());
-            for (const auto& [code, what] : signal)
-                if (what.first == name) {
-                    const double reported = n[what.second + "_ns"].get<double>() * 1000;
-                    EXPECT_EQ(high[code], uint64_t(std::llround(reported))) << name << " " << what.second;
-                    ++checked;
-                }
+            for (const char* k : {"busy", "wait"}) {
+                EXPECT_EQ(at(name, k), uint64_t(std::llround(n[std::string(k) + "_ns"].get<double>() * 1000))) << name << " " << k;
+                ++checked;
+            }
         }
         EXPECT_EQ(checked, 2 * r["nodes"].size());
+        uint64_t waited = 0;
+        for (const json& l : r["links"]) {
+            const std::string name = l["name"];
+            EXPECT_EQ(at(name, "wire"), uint64_t(std::llround(l["wire_busy_ns"].get<double>() * 1000))) << name;
+            const double w = l["slot_wait_ns"].get<double>() + l["wire_wait_ns"].get<double>();
+            EXPECT_EQ(at(name, "backlog"), uint64_t(std::llround(w * 1000))) << name;
+            waited += at(name, "backlog");
+        }
+        EXPECT_GT(waited, 0u);  // (depth-2 links: messages did wait)
     }
 }
 
@@ -480,6 +499,42 @@ TEST_F(RtsimTimed, WatchdogInAnEarlierFrameStopsTheSequenceWithExit3) {
     EXPECT_EQ(r.value("incomplete", std::string()).rfind("frame 1 of 3: no ray, contribution or credit moved", 0), 0u);
     ASSERT_EQ(r["frames"].size(), 1u);
     EXPECT_TRUE(r["frames"][0].value("incomplete", false));
+}
+
+// The VCD is written as the run goes: a run killed outright leaves one
+// that vcd2fst accepts (up to the last flush); Ctrl-C stops the run like
+// the watchdog (exit 128 + 2, the report and the VCD so far, marked).
+TEST_F(RtsimTimed, AKilledOrInterruptedRunLeavesAValidVcd) {
+    const std::string job = " --scene " + scene("balls-4") + " --mesh 4 --size 256x256 --no-baseline -q --image " +
+                            (dir_ / "never.png").string();
+    for (const char* sig : {"KILL", "INT"}) {
+        SCOPED_TRACE(sig);
+        const fs::path vcd = dir_ / (std::string(sig) + ".vcd"), rep = dir_ / (std::string(sig) + ".json");
+        // Signalled once the VCD has value changes on disk (however fast
+        // this build runs), within a minute.
+        const std::string cmd = "bash -c '" + std::string(RTSIM_EXE) + job + " --vcd " + vcd.string() + " --report " +
+                                rep.string() + " 2>" + (dir_ / "err").string() + " & p=$!; for i in $(seq 1200); do "
+                                "[ $(stat -c %s " + vcd.string() + " 2>/dev/null || echo 0) -gt 200000 ] && break; sleep 0.05; done; "
+                                "kill -" + sig + " $p; wait $p'";
+        const int status = std::system(cmd.c_str());
+        const int code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+        ASSERT_TRUE(fs::exists(vcd));
+        const std::string text = slurp(vcd);
+        EXPECT_NE(text.find("$enddefinitions $end"), std::string::npos);
+        EXPECT_NE(text.find("\n#"), std::string::npos);  // value changes, not just the header
+        const std::string conv = "vcd2fst " + vcd.string() + " " + (dir_ / "x.fst").string() + " >" + (dir_ / "v2f").string() + " 2>&1";
+        EXPECT_EQ(std::system(conv.c_str()), 0) << slurp(dir_ / "v2f");
+        if (std::string(sig) == "INT") {
+            EXPECT_EQ(code, 130) << slurp(dir_ / "err");
+            EXPECT_NE(text.find("$comment incomplete: interrupted by signal 2"), std::string::npos);
+            ASSERT_TRUE(fs::exists(rep));
+            EXPECT_EQ(json::parse(slurp(rep)).value("incomplete", "").rfind("interrupted by signal 2", 0), 0u);
+        } else {
+            EXPECT_EQ(code, 128 + 9);  // (the shell's code for a process killed by SIGKILL)
+            EXPECT_FALSE(fs::exists(rep));
+        }
+        EXPECT_FALSE(fs::exists(dir_ / "never.png"));
+    }
 }
 
 TEST_F(RtsimTimed, WatchdogSpanAndWallClockLimit) {
