@@ -57,6 +57,9 @@ def main():
     ap.add_argument("--growth", default="1,2,3,4,5,6,7,8", help="mesh sizes for the growth table ('' to skip)")
     ap.add_argument("--growth-runs", type=int, default=3)
     ap.add_argument("--big-runs", type=int, default=3, help="runs of the 16x16x16 mesh on balls-5 (0 to skip)")
+    ap.add_argument("--tracing-runs", type=int, default=3,
+                    help="runs of each tracing case (0 to skip); --tracing-only: only those")
+    ap.add_argument("--tracing-only", action="store_true")
     ap.add_argument("--doc", action="store_true")
     a = ap.parse_args()
     build = os.path.join(ROOT, "build")
@@ -74,6 +77,10 @@ def main():
         with open(os.path.join(tmp, x), "rb") as f, open(os.path.join(tmp, y), "rb") as g:
             return f.read() == g.read()
 
+    if a.tracing_runs:
+        tracing(a, tmp, rtsim, report)
+    if a.tracing_only:
+        return
     name = os.path.splitext(os.path.basename(a.scene))[0]
     modes = "| mode | flags | rtsim wall | rtref wall | rtsim / rtref | render time | error vs exact | image = rtref |\n" \
             "|---|---|---:|---:|---:|---:|---:|---|\n"
@@ -157,6 +164,44 @@ def main():
         os.makedirs(os.path.join(ROOT, "doc", "benchmarks"), exist_ok=True)
         with open(os.path.join(ROOT, "doc", "benchmarks", "rtsim.md"), "w") as f:
             f.write("# rtsim benchmark\n\nWritten by `scripts/bench_rtsim.py --doc`; do not edit by hand.\n\n" + out)
+
+
+def tracing(a, tmp, rtsim, report):
+    """What the VCD costs (vcd_stream.h: written as the run goes): wall time
+    and peak memory without it, tracing one node and its links, and tracing
+    every node and link; alternated run by run, medians; on the default job
+    and on the 16x16x16 mesh (balls-5 at 256x256, every one of its 4,096
+    nodes traced). Into doc/machine.md's "tracing overhead" section."""
+    vcd = os.path.join(tmp, "t.vcd")
+    spd5 = os.path.join(os.path.dirname(a.scene), "balls-5.nff")
+    jobs = [(f"{os.path.splitext(os.path.basename(a.scene))[0]} at {a.size}, N = {a.mesh}", a.mesh, None, None),
+            ("balls-5 at 256x256, N = 16", 16, spd5, "256x256")]
+    cases = [("no VCD", []), ("one node and its links (`--trace-nodes 0,0,0`)", ["--vcd", vcd, "--trace-nodes", "0,0,0"]),
+             ("every node and link", ["--vcd", vcd])]
+    rows = ["| job | tracing | wall (median) | wall / untraced | peak memory | VCD size |", "|---|---|---:|---:|---:|---:|"]
+    for job, n, scene, size in jobs:
+        walls = {c: [] for c, _ in cases}
+        mems = {c: [] for c, _ in cases}
+        sizes = {}
+        for i in range(a.tracing_runs):
+            for label, flags in cases:
+                w, m = timed(rtsim(n, flags, scene, size))
+                walls[label].append(w)
+                mems[label].append(m)
+                sizes[label] = os.path.getsize(vcd) if flags else 0
+                if flags:
+                    os.remove(vcd)
+                print(f"tracing, {job}, {label}, run {i + 1}: {w:.2f} s, {m:.0f} MiB", file=sys.stderr)
+        base = statistics.median(walls[cases[0][0]])
+        for label, _ in cases:
+            w = statistics.median(walls[label])
+            rows.append(f"| {job} | {label} | {w:.2f} s | {w / base:.2f} | {max(mems[label]):.0f} MiB | "
+                        f"{sizes[label] / 2 ** 20:.1f} MiB |")
+    rows.append(f"\n{a.tracing_runs} runs of each, alternated; {machine()}; {version()}.")
+    text = "\n".join(rows)
+    print(text)
+    if a.doc:
+        update_doc_section(os.path.join(ROOT, "doc", "machine.md"), "tracing overhead", text)
 
 
 def targets(ratio_of, big):

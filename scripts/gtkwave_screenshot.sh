@@ -1,7 +1,10 @@
 #!/usr/bin/env bash
 # Runs a 2x2x2 machine on the procedural scene, writes its waveform and save
 # file to waveforms/example-2x2x2.{vcd,gtkw}, opens them in GTKWave on a
-# virtual display (Xvfb) and saves a screenshot to doc/images/gtkwave-2x2x2.png.
+# virtual display (Xvfb) and saves a screenshot to doc/images/gtkwave-2x2x2.png;
+# then the same with links of 20 MB/s, node 1,0,0 and its links traced:
+# its +y link saturated (waveforms/saturated-link.*,
+# doc/images/gtkwave-saturated-link.png).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 need=()
@@ -15,13 +18,22 @@ fi
 cd "$root/waveforms"
 "$root/build/rtsim" --mesh 2 --size 96x96 --concentration 0.5 --no-baseline -q --image '' \
   --vcd example-2x2x2.vcd
+"$root/build/rtsim" --mesh 2 --size 96x96 --concentration 0.5 --link-bandwidth 20MB/s --no-baseline -q --image '' \
+  --trace-nodes 1,0,0 --trace-window 0,2ms --vcd saturated-link.vcd
 display=:97
 Xvfb $display -screen 0 1400x900x24 >/dev/null 2>&1 &
 xvfb=$!
+gw=
 trap 'kill $gw $xvfb 2>/dev/null || true' EXIT
 sleep 1
-DISPLAY=$display gtkwave -a example-2x2x2.gtkw >/dev/null 2>&1 &
-gw=$!
-sleep 6
-DISPLAY=$display xwd -root -silent | convert xwd:- "$root/doc/images/gtkwave-2x2x2.png"
-echo "wrote doc/images/gtkwave-2x2x2.png"
+shot() {  # shot NAME.gtkw OUT.png
+  DISPLAY=$display gtkwave -a "$1" >/dev/null 2>&1 &
+  gw=$!
+  sleep 6
+  DISPLAY=$display xwd -root -silent | convert xwd:- "$2"
+  kill $gw 2>/dev/null || true
+  wait $gw 2>/dev/null || true
+  echo "wrote ${2#$root/}"
+}
+shot example-2x2x2.gtkw "$root/doc/images/gtkwave-2x2x2.png"
+shot saturated-link.gtkw "$root/doc/images/gtkwave-saturated-link.png"

@@ -16,10 +16,11 @@ packages=(
   gtkwave             # vcd2fst checks the VCD; gtkwave views it
   python3             # scripts (Debian's /usr/bin/python3)
   python3-distributed # the sweep driver's Dask submission (and its test)
+  python3-matplotlib  # rtsim --map (scripts/mesh_map.py) and its test
 )
 
 # `setup.sh plots`: also what the sweep and chart scripts need.
-if [ "${1:-}" = "plots" ]; then packages+=(python3-matplotlib python3-numpy); fi
+if [ "${1:-}" = "plots" ]; then packages+=(python3-numpy); fi
 # `setup.sh fuzz`: clang and its libFuzzer, for scripts/fuzz.sh.
 if [ "${1:-}" = "fuzz" ]; then packages+=(clang libclang-rt-14-dev); fi
 

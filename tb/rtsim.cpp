@@ -367,6 +367,33 @@ void printSummary(const rt::Scene& scene, const rt::RtsimOptions& o, const rt::M
     std::printf("  wall clock       %.3f s%s\n", r.wallSeconds, o.image.empty() ? "" : ("; image " + o.image).c_str());
 }
 
+// --map: scripts/mesh_map.py draws the run's report (written to a
+// temporary file if the run writes none).
+void drawMap(const std::string& reportText, const std::string& reportPath, const std::string& out) {
+    std::string path = reportPath;
+    if (path.empty()) {
+        char tmpl[] = "/tmp/rtsim-map-XXXXXX";
+        const int fd = mkstemp(tmpl);
+        if (fd < 0) throw std::runtime_error("--map: cannot create a temporary file");
+        close(fd);
+        path = tmpl;
+        std::ofstream(path) << reportText;
+    }
+    std::vector<std::string> args{"/usr/bin/python3", std::string(RT_SCRIPTS_DIR) + "/mesh_map.py", path, "-o", out};
+    std::vector<char*> av;
+    for (std::string& a : args) av.push_back(a.data());
+    av.push_back(nullptr);
+    pid_t pid = -1;
+    int status = -1;
+    if (posix_spawn(&pid, av[0], nullptr, nullptr, av.data(), environ) == 0)
+        while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+        }
+    if (reportPath.empty()) std::remove(path.c_str());
+    if (pid < 0 || !WIFEXITED(status) || WEXITSTATUS(status) != 0)
+        throw std::runtime_error("--map: scripts/mesh_map.py failed (it needs /usr/bin/python3 and python3-matplotlib: "
+                                 "scripts/setup.sh plots)");
+}
+
 // The settings the machine's config does not hold: the scene (its file
 // and SHA-256, or the procedural parameters), the camera and lights as this
 // frame sees them, the frame sequence and the version.
@@ -442,6 +469,7 @@ int sc_main(int argc, char** argv) {
         // after the run.
         if (!o.image.empty()) rt::checkWritable("--image", o.image);
         if (!o.report.empty()) rt::checkWritable("--report", o.report);
+        if (!o.map.empty()) rt::checkWritable("--map", o.map);
         if (!o.vcd.empty()) {
             rt::checkWritable("--vcd", o.vcd);
             rt::checkWritable("--vcd", rt::gtkwPathFor(o.vcd));
@@ -635,6 +663,7 @@ int sc_main(int argc, char** argv) {
         }
         if (image) image->commit();
         if (reportFile) reportFile->commit();
+        if (!o.map.empty()) drawMap(o.report.empty() ? report.dump() : std::string(), o.report, o.map);
         if (!o.quiet) printSummary(scene, o, r, report, baselineNs);
     } catch (const std::exception& e) {
         std::cerr << "rtsim: error: " << e.what() << "\n";

@@ -202,6 +202,9 @@ void RtsimOptions::addTo(CLI::App& app) {
     app.add_option("--rerun", rerun_, "run a report's run again: its flags, then any given after it (a what-if); "
                                       "without any, checks that it arrives at the report's settings")
         ->group(go);
+    app.add_option("--map", map, "a picture of the mesh for this run (PNG: loads, link utilisation, boundaries; "
+                                 "scripts/mesh_map.py, with Debian's python3-matplotlib)")
+        ->group(go);
     app.add_option("--vcd", vcd, "VCD waveform (a .gtkw save file is written beside it)")->group(go);
     app.add_option("--trace-nodes", traceSpecs_, "nodes to trace in the VCD: x,y,z (repeatable; default all)")->group(go);
     app.add_option("--trace-links", traceLinkSpecs_,
@@ -250,6 +253,7 @@ void RtsimOptions::finish() {
         traceSpecs_.clear();
         traceWindow_.clear();
         vcd.clear();
+        map.clear();
         image.clear();
         baseline = false;
         quiet = true;

@@ -16,7 +16,7 @@ struct RtsimOptions {
     MachineConfig machine;
     int mesh = 4;
     std::string meshDims;  // "XxYxZ", overrides --mesh
-    std::string image = "rtsim.png", report, vcd;
+    std::string image = "rtsim.png", report, vcd, map;
     bool baseline = true;  // also run a 1x1x1 mesh for the speed-up
     bool quiet = false;
     bool asBaseline = false;  // internal: this run is the 1x1x1 baseline of another
