@@ -40,7 +40,7 @@ std::string makeTemp(const std::string& path, int& err) {
 }  // namespace
 
 void checkWritable(const std::string& flag, const std::string& path) {
-    auto bad = [&](const std::string& why) { throw SceneError(flag + ": " + path + ": " + why); };
+    auto bad = [&](const std::string& why) { throw OutputError(flag + ": " + path + ": " + why); };
     std::error_code ec;
     if (fs::is_directory(path, ec)) bad("is a folder");
     const std::string folder = folderOf(path);

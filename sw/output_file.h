@@ -12,7 +12,12 @@
 
 namespace rt {
 
-// Throws SceneError ("FLAG: PATH: why") unless `path` can be written.
+// Bad input about an output (exit 2, as a scene error is).
+struct OutputError : SceneError {
+    using SceneError::SceneError;
+};
+
+// Throws OutputError ("FLAG: PATH: why") unless `path` can be written.
 void checkWritable(const std::string& flag, const std::string& path);
 
 class AtomicFile {

@@ -15,13 +15,16 @@ namespace {
 // Not part of what a run computes: where it writes, and the flags the
 // parent process gives its reference runs.
 bool isOutput(const std::string& name) {
-    for (const char* o : {"image", "report", "vcd", "quiet", "map", "config", "rerun", "as-frame", "as-baseline",
+    for (const char* o : {"image", "report", "vcd", "quiet", "verbose", "map", "config", "rerun", "as-frame", "as-baseline",
                           "as-comparison", "frame-index", "targets-from"})
         if (name == o) return true;
     return false;
 }
 
-bool takesNoValue(const std::string& arg) { return arg == "-q" || arg == "--quiet"; }
+bool takesNoValue(const std::string& arg) {
+    return arg == "-q" || arg == "--quiet" || arg == "--verbose" || (arg.size() >= 2 && arg[0] == '-' && arg[1] == 'v' &&
+                                                                     arg.find_first_not_of('v', 1) == std::string::npos);
+}
 
 }  // namespace
 

@@ -33,6 +33,7 @@
 #include "report.h"
 #include "resplit.h"
 #include "trace_writer.h"
+#include "messages.h"
 #include "rerun.h"
 #include "rtsim_cli.h"
 #include "version.h"
@@ -437,10 +438,19 @@ int sc_main(int argc, char** argv) {
     rt::RtsimOptions o;
     o.addTo(app);
     std::optional<rt::Rerun> rerun;  // --rerun REPORT.json: its flags, then those given after (rerun.h)
+    // (The level --verbose gives, before parsing: a bad flag says its ID too.)
+    int verbose = 0;
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        if (a == "--verbose") ++verbose;
+        else if (a.size() >= 2 && a[0] == '-' && a[1] == 'v' && a.find_first_not_of('v', 1) == std::string::npos)
+            verbose += int(a.size()) - 1;
+    }
+    rt::msg::install(verbose);
     try {
         rerun = rt::prepareRerun(argc, argv);
     } catch (const std::exception& e) {
-        std::cerr << "rtsim: error: " << e.what() << "\n";
+        rt::msg::error(rt::msg::kConfig, e.what());
         return 2;
     }
     try {
@@ -454,13 +464,14 @@ int sc_main(int argc, char** argv) {
             app.parse(argc, argv);
         }
         o.finish();
+        rt::msg::install(o.verbose);  // (0 in a reference run)
     } catch (const CLI::CallForHelp& e) {
         return app.exit(e);
     } catch (const CLI::FileError& e) {
-        std::cerr << "rtsim: error: --config: " << e.what() << "\n";
+        rt::msg::error(rt::msg::kConfig, std::string("--config: ") + e.what());
         return 2;
     } catch (const CLI::ParseError& e) {
-        std::cerr << "rtsim: error: " << e.what() << "\n";
+        rt::msg::error(rt::msg::kConfig, e.what());
         return 2;
     }
     rt::Scene scene;
@@ -476,10 +487,20 @@ int sc_main(int argc, char** argv) {
         }
         scene = o.scene.load();
         o.scene.imageSize(scene, o.machine.width, o.machine.height);
-        rt::refuseIfTooBig("--size " + std::to_string(o.machine.width) + "x" + std::to_string(o.machine.height),
-                           rt::kRtsimBytesPerPixel * o.machine.width * o.machine.height);
-    } catch (const std::exception& e) {  // a bad output path, scene file or --size
-        std::cerr << "rtsim: error: " << e.what() << "\n";
+        try {
+            rt::refuseIfTooBig("--size " + std::to_string(o.machine.width) + "x" + std::to_string(o.machine.height),
+                               rt::kRtsimBytesPerPixel * o.machine.width * o.machine.height);
+        } catch (const rt::SceneError& e) {
+            throw std::invalid_argument(e.what());  // (a flag's value, not the scene)
+        }
+    } catch (const rt::OutputError& e) {
+        rt::msg::error(rt::msg::kOutput, e.what());
+        return 2;
+    } catch (const rt::SceneError& e) {
+        rt::msg::error(rt::msg::kScene, e.what());
+        return 2;
+    } catch (const std::exception& e) {  // --size
+        rt::msg::error(rt::msg::kConfig, e.what());
         return 2;
     }
     // A frame of a camera path: the eye moved frameIndex steps.
@@ -491,13 +512,13 @@ int sc_main(int argc, char** argv) {
     try {
         runSettings(config, o, scene);
     } catch (const std::exception& e) {
-        std::cerr << "rtsim: error: " << e.what() << "\n";
+        rt::msg::error(rt::msg::kScene, e.what());
         return 2;
     }
     if (rerun && !rerun->overrides && !o.asBaseline && !o.asComparison && !o.asFrame) {  // (a reference run differs by design)
         const std::string differs = firstDifference(rerun->report["config"], config);
         if (!differs.empty()) {
-            std::cerr << "rtsim: error: --rerun: this build arrives at other settings than the report's: " << differs << "\n";
+            rt::msg::error(rt::msg::kConfig, "--rerun: this build arrives at other settings than the report's: " + differs);
             return 2;
         }
     }
@@ -518,9 +539,16 @@ int sc_main(int argc, char** argv) {
             o.machine.targetBoundaries = nlohmann::json::parse(f).get<std::vector<std::vector<double>>>();
         }
     } catch (const std::exception& e) {
-        std::cerr << "rtsim: error: --boundaries-from " << o.boundariesFrom << ": " << e.what() << "\n";
+        rt::msg::error(rt::msg::kConfig, "--boundaries-from " + o.boundariesFrom + ": " + e.what());
         return 2;
     }
+    if (rerun)
+        rt::msg::info("running again the flags of a report written by " +
+                      rerun->report["rerun"].value("version", std::string("an unknown build")) + " (this is " RTSIM_VERSION ")" +
+                      (rerun->overrides ? ", with the flags given after --rerun on top" : ""));
+    rt::msg::info("quantum " + rt::formatTime(o.machine.quantum) + " (lookahead " + rt::formatTime(o.machine.lookahead()) +
+                  "); watchdog after " + rt::formatTime(o.machine.watchdogSpanOrDefault(scene.objects.size())) +
+                  " of simulated time without progress");
     o.machine.showProgress = !o.quiet && isatty(2);
     const bool single = o.machine.dims == std::array<int, 3>{1, 1, 1};
     try {
@@ -606,10 +634,10 @@ int sc_main(int argc, char** argv) {
                 f.commit();
             }
             if (rt::stopSignal) {  // Ctrl-C or kill: as a shell reports a signal, 128 + its number
-                std::cerr << "rtsim: " << r.incomplete << "\n";
+                rt::msg::note(rt::msg::kSignal, r.incomplete);
                 return 128 + int(rt::stopSignal);
             }
-            std::cerr << "rtsim: error: watchdog: " << r.incomplete << "\n";
+            rt::msg::error(rt::msg::kWatchdog, "watchdog: " + r.incomplete);
             return 3;
         }
         double baselineNs = single ? report["render_time_ns"].get<double>() : -1;
@@ -621,6 +649,7 @@ int sc_main(int argc, char** argv) {
         std::optional<nlohmann::json> base, other;
         const auto t0 = std::chrono::steady_clock::now();
         std::optional<Child> baseRun, otherRun;
+        if (o.baseline && !single) rt::msg::info("reference runs: the 1x1x1 baseline" + std::string(compare ? " and the balancing comparison" : "") + ", in child processes");
         if (o.baseline && !single) baseRun.emplace(argc, argv, std::vector<std::string>{"--as-baseline"});
         if (compare)
             otherRun.emplace(argc, argv,
@@ -630,13 +659,13 @@ int sc_main(int argc, char** argv) {
         if (o.baseline && !single) {
             report["baseline"]["wall_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
             if (base) baselineNs = (*base)["render_time_ns"].get<double>();
-            else std::cerr << "rtsim: warning: the 1x1x1 baseline run failed; no speed-up\n";
+            else rt::msg::warning(rt::msg::kReference, "the 1x1x1 baseline run failed; no speed-up");
         }
         if (baselineNs > 0) {
             report["baseline"]["render_time_ns"] = baselineNs;
             report["baseline"]["speedup"] = baselineNs / report["render_time_ns"].get<double>();
         }
-        if (compare && !other) std::cerr << "rtsim: warning: the balancing comparison run failed; no ratio\n";
+        if (compare && !other) rt::msg::warning(rt::msg::kReference, "the balancing comparison run failed; no ratio");
         if (other) {
             const nlohmann::json& balanced = policy == "none" ? *other : report;
             const nlohmann::json& unbalanced = policy == "none" ? report : *other;
@@ -666,7 +695,7 @@ int sc_main(int argc, char** argv) {
         if (!o.map.empty()) drawMap(o.report.empty() ? report.dump() : std::string(), o.report, o.map);
         if (!o.quiet) printSummary(scene, o, r, report, baselineNs);
     } catch (const std::exception& e) {
-        std::cerr << "rtsim: error: " << e.what() << "\n";
+        rt::msg::error(rt::msg::kRun, e.what());
         if (!o.vcd.empty()) {  // a failed run leaves no waveform that looks like a result
             std::remove(o.vcd.c_str());
             std::remove(rt::gtkwPathFor(o.vcd).c_str());

@@ -217,6 +217,10 @@ void RtsimOptions::addTo(CLI::App& app) {
                  "balancing (or, when balancing, without) that gives the balancing ratio")
         ->group(go);
     app.add_flag("-q,--quiet", quiet, "no summary")->group(go);
+    app.add_flag("-v,--verbose", verbose,
+                 "say more on stderr: -v what rtsim does and each message's SystemC report ID (rtsim/config, "
+                 "rtsim/scene, ...); -vv also SystemC's own information")
+        ->group(go);
     const std::string gf = "Frames";
     app.add_option("--frames", frames,
                    "frames rendered one after another, each starting with the boundaries where the one before ended, "
@@ -257,6 +261,7 @@ void RtsimOptions::finish() {
         image.clear();
         baseline = false;
         quiet = true;
+        verbose = 0;  // (the parent says what it does)
     }
     if (asBaseline) {  // one node with the global costs: no per-node or per-link settings
         meshDims = "1x1x1";

@@ -19,6 +19,7 @@ struct RtsimOptions {
     std::string image = "rtsim.png", report, vcd, map;
     bool baseline = true;  // also run a 1x1x1 mesh for the speed-up
     bool quiet = false;
+    int verbose = 0;  // -v, -vv (tb/messages.h)
     bool asBaseline = false;  // internal: this run is the 1x1x1 baseline of another
     bool asComparison = false;  // internal: this run is the balancing comparison of another
     // Frames (--frames): rendered one after another, each starting with the

@@ -916,3 +916,41 @@ TEST_F(Rtsim, AReportRerunsToTheSameRun) {
     expectBad("--rerun " + (dir_ / "file.png").string(), "not a JSON report");
     expectBad("--rerun " + (dir_ / "file.json").string() + " --config " + (dir_ / "more.conf").string(), "cannot be combined");
 }
+
+// Messages go through SystemC's reporting with an ID per kind
+// (tb/messages.h): with --verbose each line names its ID, and rtsim says
+// what it does; without, the same one line and exit code as ever.
+TEST_F(Rtsim, MessagesCarryTheirSystemCReportIds) {
+    struct Case {
+        std::string args;
+        int code;
+        const char* id;
+    };
+    std::ofstream(dir_ / "bad.nff") << "v\nfrom 0 0 nope\n";
+    const std::vector<Case> cases{
+        {"--scene " + (dir_ / "bad.nff").string(), 2, "rtsim/scene"},
+        {"--scene " + (dir_ / "none.nff").string(), 2, "rtsim/config"},  // (a flag naming no file)
+        {std::string(kSmall) + " --image /nonexistent/x.png", 2, "rtsim/output"},
+        {"--mesh 0", 2, "rtsim/config"},
+        {"--rerun " + (dir_ / "none.json").string(), 2, "rtsim/config"},
+        {std::string(kSmall) + " --mesh 2 --fault-drop-credit --no-baseline -q --image ''", 3, "rtsim/watchdog"},
+    };
+    for (const Case& c : cases) {
+        SCOPED_TRACE(c.args);
+        const Outcome plain = run(c.args);
+        EXPECT_EQ(plain.code, c.code) << plain.err;
+        EXPECT_EQ(std::count(plain.err.begin(), plain.err.end(), '\n'), 1) << plain.err;
+        EXPECT_EQ(plain.err.rfind("rtsim: error: ", 0), 0u) << plain.err;
+        EXPECT_EQ(plain.err.find("[rtsim/"), std::string::npos) << plain.err;
+        const Outcome v = run(c.args + " -v");
+        EXPECT_EQ(v.code, c.code) << v.err;
+        const std::string last = v.err.substr(v.err.rfind('\n', v.err.size() - 2) == std::string::npos ? 0 : v.err.rfind('\n', v.err.size() - 2) + 1);
+        EXPECT_NE(last.find(std::string(" [") + c.id + "]\n"), std::string::npos) << v.err;
+    }
+    // What rtsim does, with -v only.
+    const Outcome ok = run(std::string(kSmall) + " --mesh 2 --no-baseline -q --image '' -v");
+    ASSERT_EQ(ok.code, 0) << ok.err;
+    EXPECT_NE(ok.err.find("rtsim: quantum 100 ns (lookahead 100 ns); watchdog after "), std::string::npos) << ok.err;
+    EXPECT_NE(ok.err.find("[rtsim/info]"), std::string::npos) << ok.err;
+    EXPECT_EQ(run(std::string(kSmall) + " --mesh 2 --no-baseline -q --image ''").err, "");
+}
