@@ -36,8 +36,24 @@ Picos Link::transferTime(uint32_t bytes) const {
     return std::max<Picos>(1, Picos(ps));
 }
 
+// A message's changes on the link's signals, each recorded at a time no
+// earlier than the kernel's (VcdStream's horizon): sent (by the sender, at
+// its time), on the wire (when its slot is free: at or after the receiver
+// consumed the message before it), consumed (by the receiver, at its time).
+// With a control lane a data message's start may still move when a control
+// message goes ahead: then all but its consumption are recorded when it is
+// consumed (and the horizon waits for the link's oldest message).
+void Link::traceStart(Picos start, Picos transfer) {
+    VcdStream& v = *trace_.vcd;
+    v.step(start, trace_.backlog, -1);
+    v.step(start, trace_.wire, 1);
+    v.step(start + transfer, trace_.wire, -1);
+    v.step(start, trace_.buffered, 1);
+}
+
 void Link::send(Message m, Picos t) {
     const int type = int(m.type);
+    if (trace_.vcd && params_.controlDepth == 0) trace_.vcd->step(t, trace_.backlog, 1);
     ++stats_.messages[type];
     stats_.bytes[type] += m.bytes();
     ++inFlight_[type];
@@ -109,6 +125,7 @@ void Link::putOnWire(int lane, Picos sent, Message&& m, Picos slot) {
     if (start > sent) l.waitedUntil.push_back(start);
     stats_.backlogHighWater = std::max(stats_.backlogHighWater, l.waitedUntil.size());
     stats_.wire[size_t(m.type)] += transfer;
+    if (trace_.vcd && params_.controlDepth == 0) traceStart(start, transfer);
     l.buffer.push_back({arrival, std::move(m), sent, start, ready, transfer});
     if (listener_ && l.buffer.size() == 1) listener_->headChanged(listenerPort_);
 }
@@ -176,11 +193,10 @@ Message Link::take(int lane, Picos t) {
     (isControl(head.m.type) ? stats_.controlLatency : stats_.latency).add(t - head.sent);
     if (trace_.vcd) {
         VcdStream& v = *trace_.vcd;
-        v.step(head.sent, trace_.backlog, 1);
-        v.step(head.start, trace_.backlog, -1);
-        v.step(head.start, trace_.wire, 1);
-        v.step(head.start + head.transfer, trace_.wire, -1);
-        v.step(head.start, trace_.buffered, 1);
+        if (params_.controlDepth > 0) {  // (its start may have moved: recorded now, when final)
+            v.step(head.sent, trace_.backlog, 1);
+            traceStart(head.start, head.transfer);
+        }
         v.step(t, trace_.buffered, -1);
     }
     Message m = std::move(l.buffer.front().m);

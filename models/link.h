@@ -143,8 +143,8 @@ public:
 
 // A link's signals in the VCD: the wire busy (a bit; a frame-buffer port's
 // channels share one count), messages buffered (on the wire or arrived, not
-// consumed) and the backlog (sent, not yet on the wire). Each message's
-// changes are recorded when it is consumed, when all its times are final.
+// consumed) and the backlog (sent, not yet on the wire); Link::traceStart
+// says when each change is recorded.
 struct LinkTrace {
     VcdStream* vcd = nullptr;
     int wire = -1, buffered = -1, backlog = -1;
@@ -178,6 +178,9 @@ public:
     void setProgress(Progress* p) { progress_ = p; }
     void setTrace(const LinkTrace& t) { trace_ = t; }
     bool traced() const { return trace_.vcd != nullptr; }
+    // Whether changes it records later may be earlier than the kernel's time
+    // (with a control lane: Link::traceStart).
+    bool tracesLate() const { return trace_.vcd && params_.controlDepth > 0; }
     // When the oldest message not yet consumed was sent (~0 if none): no
     // change this link records later is earlier (VcdStream's horizon).
     Picos oldestSent() const {
@@ -236,6 +239,7 @@ private:
     Picos scheduleControl(Picos ready, Picos transfer);
     Message take(int lane, Picos t);
     Picos transferTime(uint32_t bytes) const;
+    void traceStart(Picos start, Picos transfer);  // (trace_ set)
 
     std::string name_;
     LinkParams params_;

@@ -481,11 +481,13 @@ void Machine::setupTraces() {
 }
 
 // Every change before this time is recorded: processes record at their
-// own time, never behind the kernel's, and a traced link records a message
-// when it is consumed, at times from its sending on.
+// own time, never behind the kernel's, and so do links, except those with
+// a control lane, which record a message when it is consumed, at times
+// from its sending on (Link::traceStart).
 Picos Machine::traceHorizon() const {
     Picos h = sc_core::sc_time_stamp().value();
-    for (const Link* l : tracedLinks_) h = std::min(h, l->oldestSent());
+    for (const Link* l : tracedLinks_)
+        if (l->tracesLate()) h = std::min(h, l->oldestSent());
     return h;
 }
 

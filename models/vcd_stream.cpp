@@ -61,6 +61,8 @@ void VcdStream::open(const std::string& path, Picos from, Picos to) {
     to_ = to;
     windowEnd_ = loadWindowAfter(0);
     Scope root;
+    codes_.clear();
+    for (size_t i = 0; i < signals_.size(); ++i) codes_.push_back(code(i));
     for (size_t i = 0; i < signals_.size(); ++i) {
         Scope* s = &root;
         const std::string& path = signals_[i].scope;
@@ -130,24 +132,33 @@ void VcdStream::stamp(Picos t) {
 
 void VcdStream::show(Signal& s, Picos t) {
     (void)t;
-    const size_t i = size_t(&s - signals_.data());
+    const std::string& c = codes_[size_t(&s - signals_.data())];
     if (s.kind == Kind::Real) {
         if (s.shown && s.rv == s.shownR) return;
         char b[40];
-        std::snprintf(b, sizeof b, "r%.6g ", s.rv);
-        buf_ += b + code(i) + "\n";
+        const int n = std::snprintf(b, sizeof b, "r%.6g ", s.rv);
+        buf_.append(b, size_t(n));
         s.shownR = s.rv;
     } else {
         if (s.shown && s.iv == s.shownI) return;
         if (s.kind == Kind::Bit) {
-            buf_ += (s.iv ? "1" : "0") + code(i) + "\n";
+            buf_ += s.iv ? '1' : '0';
         } else {
-            std::string bits;
-            for (uint32_t v = uint32_t(s.iv); v; v >>= 1) bits.insert(bits.begin(), char('0' + (v & 1)));
-            buf_ += "b" + (bits.empty() ? std::string("0") : bits) + " " + code(i) + "\n";
+            char b[40];
+            char* p = b + sizeof b;
+            *--p = ' ';
+            uint32_t v = uint32_t(s.iv);
+            do {
+                *--p = char('0' + (v & 1));
+                v >>= 1;
+            } while (v);
+            *--p = 'b';
+            buf_.append(p, size_t(b + sizeof b - p));
         }
         s.shownI = s.iv;
     }
+    buf_ += c;
+    buf_ += '\n';
     s.shown = true;
 }
 

@@ -101,6 +101,7 @@ private:
     void writeOut(bool force);
 
     std::vector<Signal> signals_;
+    std::vector<std::string> codes_;  // each signal's VCD identifier
     std::vector<Load> loads_;
     std::vector<Change> pending_;
     std::function<Picos()> horizon_;
