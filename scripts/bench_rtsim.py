@@ -170,12 +170,12 @@ def tracing(a, tmp, rtsim, report):
     """What the VCD costs (vcd_stream.h: written as the run goes): wall time
     and peak memory without it, tracing one node and its links, and tracing
     every node and link; alternated run by run, medians; on the default job
-    and on the 16x16x16 mesh (balls-5 at 256x256, every one of its 4,096
+    and on the 16x16x16 mesh (balls-5 at 128x128, every one of its 4,096
     nodes traced). Into doc/machine.md's "tracing overhead" section."""
     vcd = os.path.join(tmp, "t.vcd")
     spd5 = os.path.join(os.path.dirname(a.scene), "balls-5.nff")
     jobs = [(f"{os.path.splitext(os.path.basename(a.scene))[0]} at {a.size}, N = {a.mesh}", a.mesh, None, None),
-            ("balls-5 at 256x256, N = 16", 16, spd5, "256x256")]
+            ("balls-5 at 128x128, N = 16", 16, spd5, "128x128")]
     cases = [("no VCD", []), ("one node and its links (`--trace-nodes 0,0,0`)", ["--vcd", vcd, "--trace-nodes", "0,0,0"]),
              ("every node and link", ["--vcd", vcd])]
     rows = ["| job | tracing | wall (median) | wall / untraced | peak memory | VCD size |", "|---|---|---:|---:|---:|---:|"]

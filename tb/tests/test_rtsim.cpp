@@ -147,7 +147,8 @@ TEST_F(Rtsim, WaveformsConvertAndGroupPerNode) {
 // and its `backlog` (messages sent, not yet on the wire) to the time its
 // messages waited for a slot and for the wire.
 TEST_F(Rtsim, BusyAndWaitIntegratedFromTheVcdAreTheReports) {
-    for (const char* extra : {"", " --balance slide --balance-interval 2us", " --fb-units 2 --fb-depth 1 --fb-out-depth 1"}) {
+    for (const char* extra : {"", " --balance slide --balance-interval 2us", " --fb-units 2 --fb-depth 1 --fb-out-depth 1",
+                              " --balance slide --balance-interval 2us --link-control-depth 2"}) {  // (links recording late)
         SCOPED_TRACE(extra);
         const fs::path vcd = dir_ / "i.vcd", rep = dir_ / "i.json";
         const Outcome o = run(std::string(kSmall) + " --mesh 2 --link-depth 2 --no-baseline -q --image '' --vcd " +
