@@ -238,7 +238,7 @@ TEST_F(Rtsim, TraceSubsetAndWindow) {
 TEST_F(Rtsim, DefaultRunPrintsSummaryWithSpeedup) {
     ASSERT_EQ(run("--spheres 100 --size 24x24 --image " + (dir_ / "d.png").string()).code, 0);
     const Outcome o = run("--spheres 100 --size 24x24 --image " + (dir_ / "d.png").string());
-    for (const char* s : {"4x4x4 mesh", "render time", "speed-up", "busy per node", "wait per node", "messages", "wall clock"})
+    for (const char* s : {"4x4x4 mesh", "render time", "speed-up", "busy per node", "wait per node", "messages", "busiest links", "wall clock"})
         EXPECT_NE(o.out.find(s), std::string::npos) << s << "\n" << o.out;
 }
 
@@ -401,6 +401,11 @@ TEST_F(Rtsim, BadConfigurationExits2NamingTheFlag) {
     expectBad("--node-speed 0,0,0=-1", "--node-speed");
     expectBad("--link-set 3,3,3,+x:latency=1us", "--link-set");
     expectBad("--trace-window 5us", "--trace-window");
+    expectBad("--trace-links 1,1", "--trace-links");
+    expectBad("--trace-links 0,0,0,+w", "--trace-links");
+    expectBad("--mesh 2 --trace-links 5,0,0", "--trace-links: node outside the mesh");
+    expectBad("--mesh 2 --trace-links 1,0,0,+x", "--trace-links: no link in that direction");
+    expectBad("--map /nonexistent/m.png", "--map: /nonexistent/m.png");
     expectBad("--quantum soon", "--quantum");
     expectBad("--fb-units 0", "--fb-units");
     expectBad("--fb-units 257", "--fb-units");
