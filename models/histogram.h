@@ -25,9 +25,14 @@ public:
 
     void add(uint64_t v, uint64_t n = 1) {
         const uint64_t key = coarse_ ? binOf(v) : v;
-        auto it = std::lower_bound(bins_.begin(), bins_.end(), key, [](const auto& b, uint64_t k) { return b.first < k; });
-        if (it != bins_.end() && it->first == key) it->second += n;
-        else bins_.insert(it, {key, n});
+        if (last_ < bins_.size() && bins_[last_].first == key) {  // (a link's messages often take the same time)
+            bins_[last_].second += n;
+        } else {
+            auto it = std::lower_bound(bins_.begin(), bins_.end(), key, [](const auto& b, uint64_t k) { return b.first < k; });
+            if (it != bins_.end() && it->first == key) it->second += n;
+            else it = bins_.insert(it, {key, n});
+            last_ = size_t(it - bins_.begin());
+        }
         count_ += n;
         max_ = std::max(max_, v);
         if (!coarse_ && bins_.size() > kExact) coarsen();
@@ -55,8 +60,7 @@ public:
 private:
     // The bin of v: v with all but its kBits + 1 leading bits cleared.
     static uint64_t width(uint64_t v) {
-        int msb = 63;
-        while (msb > 0 && !(v >> msb)) --msb;
+        const int msb = v ? 63 - __builtin_clzll(v) : 0;  // (once per message: no loop)
         return uint64_t(1) << std::max(0, msb - kBits);
     }
     static uint64_t binOf(uint64_t v) { return v & ~(width(v) - 1); }
@@ -64,6 +68,7 @@ private:
         coarse_ = true;
         std::vector<std::pair<uint64_t, uint64_t>> old;
         old.swap(bins_);
+        last_ = ~size_t(0);
         count_ = 0;
         const uint64_t m = max_;
         for (const auto& [v, n] : old) add(v, n);
@@ -72,6 +77,7 @@ private:
 
     std::vector<std::pair<uint64_t, uint64_t>> bins_;  // (value or bin, count), sorted
     uint64_t count_ = 0, max_ = 0;
+    size_t last_ = ~size_t(0);  // the bin the last value went to
     bool coarse_ = false;
 };
 

@@ -117,6 +117,20 @@ MUTANTS = [
     ("node-costs-override-ignored", "models/machine_config.cpp",
      "return it == nodeCosts.end() ? costs : it->second;", "return it == nodeCosts.end() ? costs : costs;",
      "per-node cost sets are ignored"),
+    # The links' own figures in the report (issue 13): what a user reads to
+    # find the hot link.
+    ("link-latency-from-ready", "models/link.cpp",
+     ".add(t - head.sent);", ".add(t - head.ready);",
+     "a message's latency counted from when it had a slot, not from when it was sent"),
+    ("link-slot-wait-to-start", "models/link.cpp",
+     "stats_.slotWait += head.ready - head.sent;", "stats_.slotWait += head.start - head.sent;",
+     "the time waiting for the wire counted as waiting for a slot too"),
+    ("link-wire-busy-without-headers", "models/link.cpp",
+     "stats_.wire[size_t(m.type)] += transfer;", "stats_.wire[size_t(m.type)] += transferTime(m.bytes() - 8);",
+     "a link's busy time leaves out each message's header"),
+    ("vcd-wire-held-late", "models/link.cpp",
+     "v.step(start + transfer, trace_.wire, -1);", "v.step(start + transfer + 1, trace_.wire, -1);",
+     "the VCD shows the wire busy 1 ps longer than it was"),
 ]
 
 
