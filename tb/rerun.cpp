@@ -1,7 +1,8 @@
 #include "rerun.h"
 
+#include "subprocess.h"
+
 #include <openssl/evp.h>
-#include <unistd.h>
 
 #include <cstdio>
 #include <filesystem>
@@ -130,12 +131,7 @@ std::optional<Rerun> prepareRerun(int argc, char** argv) {
             throw std::invalid_argument("--rerun: the scene " + file + " has changed since " + path + " was written (sha256 " +
                                         now.substr(0, 12) + "..., was " + scene["sha256"].get<std::string>().substr(0, 12) + "...)");
     }
-    char tmpl[] = "/tmp/rtsim-rerun-XXXXXX";
-    const int fd = mkstemp(tmpl);
-    if (fd < 0) throw std::runtime_error("--rerun: cannot create a temporary file");
-    close(fd);
-    r.configPath = tmpl;
-    std::ofstream(r.configPath) << r.report["rerun"]["flags"].get<std::string>();
+    r.configPath = makeTempFile("rtsim-rerun", r.report["rerun"]["flags"].get<std::string>());
     r.args = {"--config", r.configPath};
     for (size_t i = 0; i < rest.size(); ++i) {
         r.args.push_back(rest[i]);

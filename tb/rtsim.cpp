@@ -3,14 +3,10 @@
 // Exit codes: 0 done, 2 bad input (one line naming the flag or file), 1 a
 // failed run (a conservation law broken, a SystemC error), 3 stopped by the
 // watchdog (in any frame of a --frames sequence; the report so far is written).
-#include <fcntl.h>
 #include <signal.h>
-#include <spawn.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
-#include <cerrno>
 #include <array>
 #include <cmath>
 #include <chrono>
@@ -36,6 +32,7 @@
 #include "messages.h"
 #include "rerun.h"
 #include "rtsim_cli.h"
+#include "subprocess.h"
 #include "version.h"
 #include "scene_error.h"
 
@@ -50,74 +47,6 @@ const char* malloc_conf = "thp:always,metadata_thp:always";
 }
 
 namespace {
-
-// The same command in a child process (SystemC elaborates once per
-// process) with `extra` flags after the user's, started with posix_spawn
-// (no shell, no thread: two run at once by starting both, then waiting):
-// how it exited, and its report if it wrote one (a run the watchdog stopped
-// writes its report so far and exits 3).
-class Child {
-public:
-    Child(int argc, char** argv, const std::vector<std::string>& extra) {
-        char tmpl[] = "/tmp/rtsim-child-XXXXXX";
-        const int fd = mkstemp(tmpl);
-        if (fd < 0) return;
-        close(fd);
-        report_ = tmpl;
-        std::vector<std::string> args(argv, argv + argc);
-        args.insert(args.end(), extra.begin(), extra.end());
-        args.insert(args.end(), {"--report", report_});
-        std::vector<char*> av;
-        for (std::string& a : args) av.push_back(a.data());
-        av.push_back(nullptr);
-        posix_spawn_file_actions_t io;
-        posix_spawn_file_actions_init(&io);
-        posix_spawn_file_actions_addopen(&io, 0, "/dev/null", O_RDONLY, 0);
-        posix_spawn_file_actions_addopen(&io, 1, "/dev/null", O_WRONLY, 0);  // (stderr: the user's)
-        if (posix_spawn(&pid_, "/proc/self/exe", &io, nullptr, av.data(), environ) != 0) pid_ = -1;
-        posix_spawn_file_actions_destroy(&io);
-    }
-    Child(const Child&) = delete;
-    Child& operator=(const Child&) = delete;
-    ~Child() {
-        if (pid_ > 0) wait();
-        if (!report_.empty()) std::remove(report_.c_str());
-    }
-    // Waits for it: its exit code (-1: it did not exit by itself, or did not start).
-    int wait() {
-        if (pid_ > 0) {
-            int status = 0;
-            while (waitpid(pid_, &status, 0) < 0 && errno == EINTR) {
-            }
-            exitCode_ = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-            pid_ = -1;
-            if (exitCode_ == 0 || exitCode_ == 3) {
-                std::ifstream f(report_);
-                try {
-                    result_ = nlohmann::json::parse(f);
-                } catch (const std::exception&) {
-                }
-            }
-        }
-        return exitCode_;
-    }
-    // Its report, if it ended normally and wrote one.
-    std::optional<nlohmann::json> report() {
-        wait();
-        return exitCode_ == 0 ? result_ : std::nullopt;
-    }
-    // Its report so far, if the watchdog stopped it (exit 3).
-    std::optional<nlohmann::json> stoppedReport() {
-        wait();
-        return exitCode_ == 3 ? result_ : std::nullopt;
-    }
-
-private:
-    pid_t pid_ = -1;
-    int exitCode_ = -1;
-    std::string report_;
-    std::optional<nlohmann::json> result_;
-};
 
 // Each column's inner boundaries where the run of report `r` ended them
 // (their last positions in the boundary histories), for MachineConfig::
@@ -270,14 +199,7 @@ private:
 };
 
 // Writes `j` to a fresh temporary file; its path.
-std::string tempJson(const nlohmann::json& j) {
-    char tmpl[] = "/tmp/rtsim-frame-XXXXXX";
-    const int fd = mkstemp(tmpl);
-    if (fd < 0) throw std::runtime_error("cannot create a temporary file");
-    close(fd);
-    std::ofstream(tmpl) << j.dump() << "\n";
-    return tmpl;
-}
+std::string tempJson(const nlohmann::json& j) { return rt::makeTempFile("rtsim-frame", j.dump() + "\n"); }
 
 struct Spread {
     double min, mean, max;
@@ -371,28 +293,13 @@ void printSummary(const rt::Scene& scene, const rt::RtsimOptions& o, const rt::M
 // --map: scripts/mesh_map.py draws the run's report (written to a
 // temporary file if the run writes none).
 void drawMap(const std::string& reportText, const std::string& reportPath, const std::string& out) {
-    std::string path = reportPath;
-    if (path.empty()) {
-        char tmpl[] = "/tmp/rtsim-map-XXXXXX";
-        const int fd = mkstemp(tmpl);
-        if (fd < 0) throw std::runtime_error("--map: cannot create a temporary file");
-        close(fd);
-        path = tmpl;
-        std::ofstream(path) << reportText;
-    }
-    std::vector<std::string> args{"/usr/bin/python3", std::string(RT_SCRIPTS_DIR) + "/mesh_map.py", path, "-o", out};
-    std::vector<char*> av;
-    for (std::string& a : args) av.push_back(a.data());
-    av.push_back(nullptr);
-    pid_t pid = -1;
-    int status = -1;
-    if (posix_spawn(&pid, av[0], nullptr, nullptr, av.data(), environ) == 0)
-        while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-        }
+    const std::string path = reportPath.empty() ? rt::makeTempFile("rtsim-map", reportText) : reportPath;
+    const int code = rt::waitExit(
+        rt::spawn({"/usr/bin/python3", std::string(RT_SCRIPTS_DIR) + "/mesh_map.py", path, "-o", out}, true));
     if (reportPath.empty()) std::remove(path.c_str());
-    if (pid < 0 || !WIFEXITED(status) || WEXITSTATUS(status) != 0)
+    if (code != 0)
         throw std::runtime_error("--map: scripts/mesh_map.py failed (it needs /usr/bin/python3 and python3-matplotlib: "
-                                 "scripts/setup.sh plots)");
+                                 "scripts/setup.sh)");
 }
 
 // The settings the machine's config does not hold: the scene (its file
@@ -576,7 +483,7 @@ int sc_main(int argc, char** argv) {
                 targets = tempJson(o.machine.targetBoundaries);
                 extra.insert(extra.end(), {"--targets-from", targets});
             }
-            Child child(argc, argv, extra);
+            rt::Child child(argc, argv, extra);
             const std::optional<nlohmann::json> f = child.report(), stopped = child.stoppedReport();
             if (!from.empty()) std::remove(from.c_str());
             if (!targets.empty()) std::remove(targets.c_str());
@@ -648,7 +555,7 @@ int sc_main(int argc, char** argv) {
         const bool compare = o.baseline && o.machine.dims[size_t(o.machine.balance.axis)] > 1;
         std::optional<nlohmann::json> base, other;
         const auto t0 = std::chrono::steady_clock::now();
-        std::optional<Child> baseRun, otherRun;
+        std::optional<rt::Child> baseRun, otherRun;
         if (o.baseline && !single) rt::msg::info("reference runs: the 1x1x1 baseline" + std::string(compare ? " and the balancing comparison" : "") + ", in child processes");
         if (o.baseline && !single) baseRun.emplace(argc, argv, std::vector<std::string>{"--as-baseline"});
         if (compare)
