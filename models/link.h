@@ -177,7 +177,6 @@ public:
     const LinkStats& stats() const { return stats_; }
     void setProgress(Progress* p) { progress_ = p; }
     void setTrace(const LinkTrace& t) { trace_ = t; }
-    bool traced() const { return trace_.vcd != nullptr; }
     // Whether changes it records later may be earlier than the kernel's time
     // (with a control lane: Link::traceStart).
     bool tracesLate() const { return trace_.vcd && params_.controlDepth > 0; }

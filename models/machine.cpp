@@ -424,6 +424,7 @@ void Machine::setupTraces() {
         for (int e = 0; e <= kDirs; ++e)
             if (d < 0 || d == e) links.insert({nodeIndex(c), e});
     std::vector<NodeTrace> traces(nodes_.size());
+    std::vector<LinkTrace> fbTraces(nodes_.size());  // each traced frame-buffer port's signals
     for (size_t i = 0; i < nodes_.size(); ++i) {
         const std::string name = cellName(nodes_[i].cell());
         NodeTrace& t = traces[i];
@@ -442,17 +443,21 @@ void Machine::setupTraces() {
             LinkTrace lt{&v, v.declare(scope, "wire", fb ? K::Integer : K::Bit), v.declare(scope, "buffered", K::Integer),
                          v.declare(scope, "backlog", K::Integer)};
             if (fb) {
-                for (size_t j = 0; j < links_.size(); ++j)  // the port's channels, one per unit
-                    if (linkInfo_[reportOf_[j]].dir < 0 && linkInfo_[reportOf_[j]].from == nodes_[i].cell()) {
-                        links_[j]->setTrace(lt);
-                        tracedLinks_.push_back(links_[j].get());
-                    }
+                fbTraces[i] = lt;  // (its channels below)
             } else {
                 Link* l = meshLinks_.at({i, d});
                 l->setTrace(lt);
                 tracedLinks_.push_back(l);
             }
         }
+    }
+    for (size_t j = 0; j < links_.size(); ++j) {  // a traced port's channels, one per unit, share its signals
+        const LinkReport& info = linkInfo_[reportOf_[j]];
+        if (info.dir >= 0) continue;
+        const LinkTrace& lt = fbTraces[nodeIndex(info.from)];
+        if (!lt.vcd) continue;
+        links_[j]->setTrace(lt);
+        tracedLinks_.push_back(links_[j].get());
     }
     for (size_t u = 0; u < units_.size(); ++u) {
         const std::string scope = "frame_buffer.unit_" + std::to_string(u);

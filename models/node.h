@@ -115,7 +115,6 @@ public:
     const Cell& cell() const { return cell_; }
     const Region& region() const { return *region_; }
     const NodeStats& stats() const { return stats_; }
-    bool traced() const { return trace_.busy >= 0; }
 
 private:
     struct Work {

@@ -123,12 +123,7 @@ TEST(Timing, OneNodeTimeIsCountsTimesCosts) {
     MachineConfig c;
     c.dims = {1, 1, 1};
     c.width = c.height = 40;
-    c.costs.test = {7000, 11000, 13000};
-    c.costs.voxelStep = 3000;
-    c.costs.rayGen = 17000;
-    c.costs.shade = 19000;
-    c.costs.send = 23000;
-    c.costs.recv = 29000;
+    c.costs = test::distinctCosts();
     c.fbPort = LinkParams{500000, 1e12, 16};  // 1 byte per ps
     c.fbUnits = 1;  // the single host: the credit's last message ends the frame
     c.hostCost = 0;

@@ -284,12 +284,7 @@ s 10 0 0 1
     MachineConfig c;
     c.dims = {n, 1, 1};
     c.width = c.height = 1;
-    c.costs.test = {7000, 11000, 13000};
-    c.costs.voxelStep = 3000;
-    c.costs.rayGen = 17000;
-    c.costs.shade = 19000;
-    c.costs.send = 23000;
-    c.costs.recv = 29000;
+    c.costs = test::distinctCosts();
     c.link = LinkParams{500000, 1e9, 4};
     c.linkOverride[{{0, 0, 0}, PosX}] = LinkParams{1300000, 2e8, 4};
     Costs own = c.costs;
