@@ -4,11 +4,12 @@
 // run independent of the order in which the kernel runs processes.
 //
 // The links tell the queue when their oldest unconsumed message changes (a
-// message lands in an empty link, or the oldest is consumed), and the queue
-// keeps a min-heap of (arrival, port). Entries are checked against the link
-// when they reach the top and dropped if the link's head has moved on, so a
-// choice costs O(log ports) instead of a scan of every port: the host has one
-// port per node (4,096 on a 16x16x16 mesh).
+// message lands in an empty link, the oldest is consumed, or a control
+// message goes ahead), with its arrival, and the queue keeps each port's head
+// and a min-heap of (arrival, port). Entries are checked against the port's
+// head when they reach the top and dropped if it has moved on, so a choice
+// costs O(log ports) instead of a scan of every port (the host has one port
+// per node: 4,096 on a 16x16x16 mesh), and touches no link.
 //
 // It also wakes its process: a process with nothing to do waits until its
 // next known arrival (waitForInput), and only a message that lands in an
@@ -44,11 +45,11 @@ public:
         listen(std::move(links));
     }
 
-    void headChanged(int port) override {
-        Picos a;
-        if (!links_[port]->peekArrival(a)) return;
-        heap_.push({a, port});
-        const Picos w = std::max(a, notBefore_);
+    void headChanged(int port, Picos arrival) override {
+        head_[size_t(port)] = arrival;
+        if (arrival == kNone) return;
+        heap_.push({arrival, port});
+        const Picos w = std::max(arrival, notBefore_);
         if (waiting_ && w < wakeAt_) {  // sooner than the waiting process expects
             wakeAt_ = w;
             arrived_.notify(sc_core::sc_time::from_value(w - sc_core::sc_time_stamp().value()));
@@ -81,8 +82,7 @@ public:
     int oldest(Picos now, Picos& next) {
         while (!heap_.empty()) {
             const Entry& e = heap_.top();
-            Picos a;
-            if (links_[e.port]->peekArrival(a) && a == e.arrival) break;
+            if (head_[size_t(e.port)] == e.arrival) break;
             heap_.pop();  // that message has been consumed
         }
         if (heap_.empty()) {
@@ -112,11 +112,9 @@ public:
 private:
     void listen(std::vector<LinkRecvIf*> links) {
         links_ = std::move(links);
-        for (size_t i = 0; i < links_.size(); ++i) {
-            if (!links_[i]) continue;
-            links_[i]->setListener(this, int(i));
-            headChanged(int(i));
-        }
+        head_.assign(links_.size(), kNone);
+        for (size_t i = 0; i < links_.size(); ++i)
+            if (links_[i]) links_[i]->setListener(this, int(i));  // (it tells the head it has now)
     }
 
     struct Entry {
@@ -124,7 +122,9 @@ private:
         int port;
         bool operator>(const Entry& o) const { return arrival != o.arrival ? arrival > o.arrival : port > o.port; }
     };
+    static constexpr Picos kNone = ~Picos(0);
     std::vector<LinkRecvIf*> links_;
+    std::vector<Picos> head_;  // each port's oldest unconsumed arrival, as its link last said (kNone: empty)
     std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> heap_;
     sc_core::sc_event arrived_;  // wakes the waiting process
     bool waiting_ = false;

@@ -127,7 +127,7 @@ void Link::putOnWire(int lane, Picos sent, Message&& m, Picos slot) {
     stats_.wire[size_t(m.type)] += transfer;
     if (trace_.vcd && params_.controlDepth == 0) traceStart(start, transfer);
     l.buffer.push_back({arrival, std::move(m), sent, start, ready, transfer});
-    if (listener_ && l.buffer.size() == 1) listener_->headChanged(listenerPort_);
+    if (l.buffer.size() == 1) headChanged();
 }
 
 Picos Link::scheduleControl(Picos ready, Picos transfer) {
@@ -147,15 +147,13 @@ Picos Link::scheduleControl(Picos ready, Picos transfer) {
         d.t = end + params_.latency;
     }
     wireFree_ = std::max(wireFree_, end);
-    if (listener_ && first == 0 && !data.empty()) listener_->headChanged(listenerPort_);  // the data head moved
+    if (first == 0 && !data.empty()) headChanged();  // the data head moved
     return start;
 }
 
 bool Link::peekArrival(Picos& arrival) const {
-    const Fifo<Timed>&d = lanes_[kData].buffer, &c = lanes_[kControl].buffer;
-    if (d.empty() && c.empty()) return false;
-    arrival = d.empty() ? c.front().t : c.empty() ? d.front().t : std::min(d.front().t, c.front().t);
-    return true;
+    arrival = headArrival();
+    return arrival != ~Picos(0);
 }
 
 size_t Link::arrivedBy(Picos t) const {
@@ -203,7 +201,7 @@ Message Link::take(int lane, Picos t) {
     l.buffer.pop_front();
     --inFlight_[int(m.type)];
     l.slotFree.push_back(t + params_.latency);  // the credit travels back
-    if (listener_ && unconsumed()) listener_->headChanged(listenerPort_);
+    headChanged();
     startWaiting(lane);
     return m;
 }

@@ -113,11 +113,12 @@ public:
 };
 
 // Told by a link when its oldest unconsumed message changes: a message lands
-// in an empty link, or the oldest is consumed (arrival_queue.h).
+// in an empty link, the oldest is consumed, or a control message goes ahead;
+// `arrival` is the new oldest one's arrival, ~0 if none (arrival_queue.h).
 class ArrivalListener {
 public:
     virtual ~ArrivalListener() = default;
-    virtual void headChanged(int port) = 0;
+    virtual void headChanged(int port, Picos arrival) = 0;
 };
 
 class LinkRecvIf : public virtual sc_core::sc_interface {
@@ -126,7 +127,8 @@ public:
     virtual bool peekArrival(Picos& arrival) const = 0;
     // Takes the oldest message; it must have arrived by `t`.
     virtual Message consume(Picos t) = 0;
-    // Tells `l` (as its input `port`) whenever the oldest message changes.
+    // Tells `l` (as its input `port`) whenever the oldest message changes,
+    // and at once what it is now.
     virtual void setListener(ArrivalListener* l, int port) = 0;
     // Messages that have arrived by `t` and are not yet consumed.
     virtual size_t arrivedBy(Picos t) const = 0;
@@ -171,6 +173,7 @@ public:
     void setListener(ArrivalListener* l, int port) override {
         listener_ = l;
         listenerPort_ = port;
+        headChanged();
     }
 
     const LinkParams& params() const override { return params_; }
@@ -238,6 +241,14 @@ private:
     Picos scheduleControl(Picos ready, Picos transfer);
     Message take(int lane, Picos t);
     Picos transferTime(uint32_t bytes) const;
+    // The oldest unconsumed message's arrival (~0 if none), and telling the listener.
+    Picos headArrival() const {
+        const Fifo<Timed>&d = lanes_[kData].buffer, &c = lanes_[kControl].buffer;
+        return std::min(d.empty() ? ~Picos(0) : d.front().t, c.empty() ? ~Picos(0) : c.front().t);
+    }
+    void headChanged() {
+        if (listener_) listener_->headChanged(listenerPort_, headArrival());
+    }
     void traceStart(Picos start, Picos transfer);  // (trace_ set)
 
     std::string name_;

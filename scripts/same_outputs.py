@@ -1,0 +1,107 @@
+#!/usr/bin/python3
+"""Records what a build of rtsim writes for a fixed set of runs (reports,
+images, VCDs), or checks that a build writes the same bytes as a recorded set.
+Used around every speed change (issue 14): a faster simulator must compute
+the same machine, so every exact mode must give byte-identical outputs.
+
+  scripts/same_outputs.py --record DIR [--build build]
+  scripts/same_outputs.py --compare DIR [--build build]
+
+The runs: the benchmark run (balls-4 at 512x512, N = 4) in the default
+lookahead mode and in lockstep (--quantum 0); a 10 us quantum (approximate,
+but deterministic: it must not change either); fully traced runs with a VCD,
+with and without balancing; balancing with the control lane; finite output
+buffers (senders block); a frame sequence under resplit. Reports are compared
+without the fields that measure the host, not the machine: wall_s,
+rerun.version and kernel.delta_cycles (how many delta cycles the SystemC
+kernel ran depends on how processes wait, not on what the machine does).
+Standard library only; run with /usr/bin/python3.
+"""
+import argparse
+import json
+import os
+import subprocess
+import sys
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+SPD = os.path.join(os.path.dirname(ROOT), "shared", "scenes", "spd")
+
+# (name, flags, files it writes besides the report and image)
+RUNS = [
+    ("bench-lookahead", ["--scene", "balls-4", "--size", "512x512", "--mesh", "4"], []),
+    ("bench-lockstep", ["--scene", "balls-4", "--size", "512x512", "--mesh", "4", "--quantum", "0"], []),
+    ("bench-10us", ["--scene", "balls-4", "--size", "512x512", "--mesh", "4", "--quantum", "10us"], []),
+    ("traced", ["--scene", "balls-4", "--size", "128x128", "--mesh", "3", "--vcd", "{out}.vcd"], ["vcd", "gtkw"]),
+    ("traced-lockstep", ["--scene", "balls-4", "--size", "128x128", "--mesh", "3", "--quantum", "0",
+                         "--vcd", "{out}.vcd"], ["vcd"]),
+    ("slide-traced", ["--spheres", "1000", "--size", "128x128", "--mesh", "4", "--balance", "slide",
+                      "--balance-interval", "5us", "--vcd", "{out}.vcd"], ["vcd"]),
+    ("slide-lane", ["--spheres", "1000", "--size", "128x128", "--mesh", "4", "--balance", "quantile",
+                    "--balance-interval", "5us", "--link-control-depth", "2", "--vcd", "{out}.vcd"], ["vcd"]),
+    ("out-depth", ["--scene", "balls-4", "--size", "128x128", "--mesh", "4", "--link-out-depth", "2000",
+                   "--fb-out-depth", "1", "--fb-depth", "1", "--vcd", "{out}.vcd"], ["vcd"]),
+    ("out-depth-lockstep", ["--scene", "balls-4", "--size", "128x128", "--mesh", "4", "--link-out-depth", "2000",
+                            "--fb-out-depth", "1", "--fb-depth", "1", "--quantum", "0"], []),
+    ("resplit-frames", ["--spheres", "1000", "--size", "128x128", "--mesh", "4", "--balance", "resplit",
+                        "--frames", "3", "--ray-batch", "4", "--fb-units", "3"], []),
+]
+
+HOST_FIELDS = [("wall_s",), ("rerun", "version"), ("kernel", "delta_cycles")]
+
+
+def run(build, out_dir, name, flags):
+    out = os.path.join(out_dir, name)
+    args = [a.format(out=out) for a in flags]
+    if "--scene" in args:
+        i = args.index("--scene") + 1
+        args[i] = os.path.join(SPD, args[i] + ".nff")
+    cmd = [os.path.join(build, "rtsim"), "-q", "--no-baseline", "--image", out + ".png", "--report", out + ".json"] + args
+    p = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    if p.returncode != 0:
+        sys.exit(f"same_outputs: {name} failed ({p.returncode}): {p.stderr.strip()}")
+    with open(out + ".json") as f:
+        report = json.load(f)
+    for path in HOST_FIELDS:
+        d = report
+        for k in path[:-1]:
+            d = d.get(k, {})
+        d.pop(path[-1], None)
+    with open(out + ".json", "w") as f:
+        json.dump(report, f, indent=1, sort_keys=True)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    g = ap.add_mutually_exclusive_group(required=True)
+    g.add_argument("--record", metavar="DIR")
+    g.add_argument("--compare", metavar="DIR")
+    ap.add_argument("--build", default=os.path.join(ROOT, "build"))
+    ap.add_argument("--only", nargs="*", help="run names (default: all)")
+    a = ap.parse_args()
+    runs = [r for r in RUNS if not a.only or r[0] in a.only]
+    if a.record:
+        os.makedirs(a.record, exist_ok=True)
+        for name, flags, _ in runs:
+            run(a.build, a.record, name, flags)
+            print(f"recorded {name}")
+        return
+    new = a.compare.rstrip("/") + ".new"
+    os.makedirs(new, exist_ok=True)
+    differ = 0
+    for name, flags, extra in runs:
+        run(a.build, new, name, flags)
+        for ext in ["json", "png"] + extra:
+            x, y = os.path.join(a.compare, f"{name}.{ext}"), os.path.join(new, f"{name}.{ext}")
+            with open(x, "rb") as f, open(y, "rb") as g:
+                same = f.read() == g.read()
+            if not same and ext == "gtkw":  # it names the VCD's path, which differs by folder
+                with open(x) as f, open(y) as g:
+                    same = f.read().replace(a.compare.rstrip("/"), "") == g.read().replace(new, "")
+            print(f"{name}.{ext}: {'same' if same else 'DIFFERENT'}")
+            differ += not same
+    print(f"{differ} files differ" if differ else "all the same")
+    sys.exit(1 if differ else 0)
+
+
+if __name__ == "__main__":
+    main()
