@@ -56,25 +56,28 @@ public:
         }
     }
 
-    // In the calling process, at local time `now` (at or ahead of the
-    // kernel's): waits until the kernel reaches `now` if a message has
-    // arrived by then, otherwise until the next message arrives or
-    // `deadline`, whichever is first. One wait, however far ahead `now` is:
-    // the process looks at its input only once the kernel is there, so
-    // nothing that arrives by then can be missed.
-    void waitForInput(Picos now, Picos deadline = ~Picos(0)) {
+    // In the calling (method) process, at local time `now` (at or ahead of
+    // the kernel's): if a message has arrived by `now`, whether the kernel
+    // must still catch up with `now`; otherwise, until the next message
+    // arrives or `deadline`, whichever is first. Arms the process's next
+    // activation for then and returns true, or returns false if no wait is
+    // needed. One wait, however far ahead `now` is: the process looks at its
+    // input only once the kernel is there, so nothing that arrives by then
+    // can be missed. The process calls woke() when it runs again.
+    bool waitForInput(Picos now, Picos deadline = ~Picos(0)) {
         Picos next;
         oldest(now, next);
         next = std::max(now, std::min(next, deadline));
         const Picos k = sc_core::sc_time_stamp().value();
-        if (next <= k) return;
+        if (next <= k) return false;
         waiting_ = true;
         notBefore_ = now;
         wakeAt_ = next;
-        if (next != ~Picos(0)) sc_core::wait(sc_core::sc_time::from_value(next - k), arrived_);
-        else sc_core::wait(arrived_);
-        waiting_ = false;
+        if (next != ~Picos(0)) sc_core::next_trigger(sc_core::sc_time::from_value(next - k), arrived_);
+        else sc_core::next_trigger(arrived_);
+        return true;
     }
+    void woke() { waiting_ = false; }
 
     // The port whose oldest message has arrived by `now` and arrived first
     // (ties to the lower port), or -1; `next` gets the earliest arrival of any

@@ -82,26 +82,53 @@ void BalanceAgent::closeInterval(Picos now, Picos busyTotal, Picos waitTotal, ui
 
 void BalanceAgent::startAt(double lo, double hi) {
     hold_ = true;
+    startTo_[0] = lo;
+    startTo_[1] = hi;
+    startLo_ = sides_[0].present && std::isfinite(lo);
+    startHi_ = sides_[1].present && std::isfinite(hi);
+}
+
+// Each give leaves the box at least the minimum thick; a target beyond the
+// box (the boxes ended elsewhere than the targets assumed) is approached as
+// far as that allows, and the next frame's targets start from there. The
+// upper face is judged on the box as the lower face's give left it.
+void BalanceAgent::giveToStartTarget() {
     const int ax = cfg_.axis;
-    // Each give leaves the box at least the minimum thick; a target beyond
-    // the box (the boxes ended elsewhere than the targets assumed) is
-    // approached as far as that allows, and the next frame's targets start
-    // from there.
     const Box& b = host_.box();
-    if (sides_[0].present && std::isfinite(lo) && lo > b.lo[ax]) {
-        const double to = std::min(lo, b.hi[ax] - minThickness_);
-        if (to > b.lo[ax]) {
-            ++stats_.gives;
-            host_.giveSlab(-1, to);
+    if (startLo_) {
+        startLo_ = false;
+        const double lo = startTo_[0];
+        if (lo > b.lo[ax]) {
+            const double to = std::min(lo, b.hi[ax] - minThickness_);
+            if (to > b.lo[ax]) {
+                ++stats_.gives;
+                host_.giveSlab(-1, to);
+                return;
+            }
         }
     }
-    const Box& c = host_.box();
-    if (sides_[1].present && std::isfinite(hi) && hi < c.hi[ax]) {
-        const double to = std::max(hi, c.lo[ax] + minThickness_);
-        if (to < c.hi[ax]) {
-            ++stats_.gives;
-            host_.giveSlab(+1, to);
+    if (startHi_) {
+        startHi_ = false;
+        const double hi = startTo_[1];
+        if (hi < b.hi[ax]) {
+            const double to = std::max(hi, b.lo[ax] + minThickness_);
+            if (to < b.hi[ax]) {
+                ++stats_.gives;
+                host_.giveSlab(+1, to);
+            }
         }
+    }
+}
+
+void BalanceAgent::act() {
+    if (startLo_ || startHi_) {
+        giveToStartTarget();
+        return;
+    }
+    for (int i : {0, 1}) {
+        if (!advancing_[i]) continue;
+        if (advanceStep(i)) return;
+        advancing_[i] = false;
     }
 }
 
@@ -120,19 +147,24 @@ void BalanceAgent::onReport(int side, const Message& m, Picos now) {
 // given when deciding r leaves before the report of r + 1 on the same FIFO
 // lane, so the neighbour has the slab before it decides r + 1: the two never
 // give across one boundary at once, and each decides with its box up to date.
+// A decision uses the time of the report or interval that made it due.
 void BalanceAgent::advance(int i, Picos now) {
+    if (advancing_[i]) throw std::logic_error("balance agent: a side advanced again before its actions were taken");
+    advancing_[i] = true;
+    advanceAt_[i] = now;
+}
+
+bool BalanceAgent::advanceStep(int i) {
     Side& s = sides_[i];
-    for (;;) {
-        if (s.reported == s.decided && s.fresh) {
-            report(i);
-            continue;
-        }
-        if (s.reported > s.decided && s.got.count(s.reported)) {
-            decide(i, now);
-            continue;
-        }
-        return;
+    if (s.reported == s.decided && s.fresh) {
+        report(i);
+        return true;
     }
+    if (s.reported > s.decided && s.got.count(s.reported)) {
+        decide(i, advanceAt_[i]);
+        return true;
+    }
+    return false;
 }
 
 void BalanceAgent::report(int i) {

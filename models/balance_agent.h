@@ -87,6 +87,15 @@ public:
     // A neighbour's report arrived (at the node's time `now`).
     void onReport(int side, const Message& m, Picos now);
 
+    // What closeInterval, onReport and startAt make due (reports to send,
+    // rounds to decide, slabs to give) is done one host call at a time: the
+    // node calls act() while pending(), and between two calls lets the
+    // kernel catch up as after any step it takes (the node is a method
+    // process: it cannot wait in the middle of an action). Each side's
+    // actions run in lockstep order, the lower side's first.
+    bool pending() const { return startLo_ || startHi_ || advancing_[0] || advancing_[1]; }
+    void act();
+
     const BalanceStats& stats() const { return stats_; }
     // At the frame's end: the stats with the intervals not yet making up a
     // whole record (after merging) as one last, shorter record.
@@ -116,7 +125,9 @@ private:
         std::map<int, LoadSample> got;  // the neighbour's, by round
         double neighbourSum = 0;      // the newest column sum from that side
     };
-    void advance(int i, Picos now);
+    void advance(int i, Picos now);  // marks side i's lockstep to be advanced (act)
+    bool advanceStep(int i);         // one step of it; false if nothing is due
+    void giveToStartTarget();        // the next face startAt moves (act)
     void report(int i);
     void decide(int i, Picos now);
     static int sideOf(int i) { return i ? +1 : -1; }
@@ -132,6 +143,12 @@ private:
     uint64_t waiting_ = 0;
     std::array<Side, 2> sides_;  // [0]: lower neighbour, [1]: upper
     bool hold_ = false;          // the boundaries stay for the frame (startAt)
+    // Due for act(): the faces startAt moves, and the sides whose lockstep
+    // advances, from the time of the report or interval that made them due.
+    bool startLo_ = false, startHi_ = false;
+    double startTo_[2] = {0, 0};
+    std::array<bool, 2> advancing_{};
+    std::array<Picos, 2> advanceAt_{};
     void recordInterval(const IntervalRecord& r);
     BalanceStats stats_;
     IntervalRecord pending_{0, 0, 0};  // intervals closed since the last record

@@ -20,7 +20,7 @@ FrameBufferUnit::FrameBufferUnit(sc_core::sc_module_name name, int index, int un
       time_(quantum),
       credit_(maxExp),
       expected_(size_t(index == 0 ? units : 0), 0) {
-    SC_THREAD(run);
+    SC_METHOD(run);
 }
 
 void FrameBufferUnit::finish(Picos now) {
@@ -68,40 +68,53 @@ Picos FrameBufferUnit::take(Message& m) {
     return 0;
 }
 
+// One activation of the unit's method process: it takes its input until it
+// must let the kernel catch up (after a step) or wait for input, and arms its
+// next activation for then.
 void FrameBufferUnit::run() {
-    inputOrder_.listen(in);
-    Picos now = sc_core::sc_time_stamp().value();
-    auto lastPrint = std::chrono::steady_clock::now();
-    if (controller() && credit_.isOne()) {  // nothing to trace at all
-        finish(now);
-        return;
+    if (!started_) {
+        started_ = true;
+        inputOrder_.listen(in);
+        now_ = sc_core::sc_time_stamp().value();
+        lastPrint_ = std::chrono::steady_clock::now();
+        if (controller() && credit_.isOne()) {  // nothing to trace at all
+            finish(now_);
+            return;
+        }
+    } else if (waiting_) {
+        waiting_ = false;
+        inputOrder_.woke();
+        now_ = sc_core::sc_time_stamp().value();
     }
     for (;;) {
         Picos next;
-        const int best = inputOrder_.oldest(now, next);  // ties go to the lower port: nodes, then units
+        const int best = inputOrder_.oldest(now_, next);  // ties go to the lower port: nodes, then units
         if (best < 0) {
             if (time_.mayIdleUntil(next)) {  // the next arrival is known and within the quantum
-                now = next;
+                now_ = next;
                 continue;
             }
-            inputOrder_.waitForInput(now);  // also lets the kernel catch up with `now`
-            now = sc_core::sc_time_stamp().value();
+            if (inputOrder_.waitForInput(now_)) {  // also lets the kernel catch up with `now_`
+                waiting_ = true;
+                return;
+            }
+            now_ = sc_core::sc_time_stamp().value();
             continue;
         }
-        Message m = in[best]->consume(now);
+        Message m = in[best]->consume(now_);
         const Picos cost = take(m);
         if (trace_.vcd) {
             if (cost) {
-                trace_.vcd->set(now, trace_.busy, 1);
-                trace_.vcd->set(now + cost, trace_.busy, 0);
+                trace_.vcd->set(now_, trace_.busy, 1);
+                trace_.vcd->set(now_ + cost, trace_.busy, 0);
             }
-            trace_.vcd->set(now + cost, trace_.contributions, int64_t(stats_.contributions));
-            if (trace_.credit >= 0) trace_.vcd->setReal(now + cost, trace_.credit, credit_.value());
+            trace_.vcd->set(now_ + cost, trace_.contributions, int64_t(stats_.contributions));
+            if (trace_.credit >= 0) trace_.vcd->setReal(now_ + cost, trace_.credit, credit_.value());
         }
-        now += cost;
-        checkSimTime(now, name());
+        now_ += cost;
+        checkSimTime(now_, name());
         stats_.busy += cost;
-        if (cost) stats_.lastActive = now;
+        if (cost) stats_.lastActive = now_;
         if (controller()) {
             if (awaiting_ < 0 && credit_.isOne()) {  // every contribution sent: check the other units have them
                 awaiting_ = units_ - 1;
@@ -109,27 +122,30 @@ void FrameBufferUnit::run() {
                     Message e;
                     e.type = MsgType::FbExpect;
                     e.count = expected_[size_t(u)];
-                    toUnits[u - 1]->send(std::move(e), now);
+                    toUnits[u - 1]->send(std::move(e), now_);
                 }
             }
             if (awaiting_ == 0) {
-                finish(now);
+                finish(now_);
                 return;
             }
         } else if (expect_ && stats_.contributions >= *expect_) {  // all accumulated: say so, once
             if (stats_.contributions > *expect_) throw std::logic_error(std::string(name()) + ": more contributions than sent");
             Message d;
             d.type = MsgType::FbDone;
-            toController->send(std::move(d), now);
+            toController->send(std::move(d), now_);
             expect_.reset();
         }
-        time_.afterStep(now, cost);
         if (progress_) {
             const auto t = std::chrono::steady_clock::now();
-            if (t - lastPrint > std::chrono::milliseconds(500)) {
-                lastPrint = t;
+            if (t - lastPrint_ > std::chrono::milliseconds(500)) {
+                lastPrint_ = t;
                 std::fprintf(stderr, "\rrtsim: %5.1f%% of the frame's rays done", 100.0 * credit_.value());
             }
+        }
+        if (time_.mustSync(now_, cost)) {
+            time_.syncTo(now_);
+            return;
         }
     }
 }

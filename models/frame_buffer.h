@@ -16,6 +16,7 @@
 //     that many. The render time is when the last answer is in: the image is
 //     complete, and the machine itself knows it.
 #pragma once
+#include <chrono>
 #include <deque>
 #include <functional>
 #include <optional>
@@ -93,7 +94,7 @@ public:
     Picos renderTime() const { return renderTime_; }
 
 private:
-    void run();
+    void run();  // the method process: one activation
     // Takes one message; returns the time it costs.
     Picos take(Message& m);
     void finish(Picos now);
@@ -121,6 +122,10 @@ private:
     std::function<void()> onFinish_;
     Picos renderTime_ = 0;
     Trace trace_;
+    // The process's state between activations.
+    bool started_ = false, waiting_ = false;  // waiting: for input (ArrivalQueue::waitForInput)
+    Picos now_ = 0;                           // its local time
+    std::chrono::steady_clock::time_point lastPrint_;
 };
 
 // The image the units hold: each pixel the sum of its contributions in

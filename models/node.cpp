@@ -29,7 +29,7 @@ Node::Node(sc_core::sc_module_name name, const Cell& cell, const Box& box, std::
       pending_(size_t(params.fbUnits)),
       sentSince_(size_t(params.fbUnits), 0) {
     rebuild(box, std::move(objects));
-    SC_THREAD(run);
+    SC_METHOD(run);
 }
 
 void Node::rebuild(const Box& box, std::vector<Shape> objects) {
@@ -146,38 +146,81 @@ void Node::traceState(bool busy, bool waiting) {
     trace_.vcd->set(now_, trace_.queue, int64_t(queueDepth(now_)));
 }
 
+// The node's process: a method process, run by the kernel whenever the node
+// has let it catch up (after a step) or its input has come. Each activation
+// first finishes what the last one stopped at (a wait for input, or for
+// room in an output buffer), then runs the node's loop until the node must
+// wait again; the waits are where the thread version of this loop called
+// wait(), so the machine's timing is the same (doc/machine.md, "Local time
+// and temporal decoupling").
 void Node::run() {
+    suspended_ = false;
+    switch (resume_) {
+        case Resume::Start: start(); break;
+        case Resume::Synced: break;
+        case Resume::Input:
+            inputOrder_.woke();
+            now_ = sc_core::sc_time_stamp().value();
+            endWait();
+            break;
+        case Resume::Room:
+            now_ = std::max(now_, Picos(sc_core::sc_time_stamp().value()));
+            if (sendOutbox()) endSend();
+            break;
+    }
+    while (!suspended_) proceed();
+}
+
+void Node::suspend(Resume r) {
+    suspended_ = true;
+    resume_ = r;
+}
+
+void Node::start() {
     inputOrder_.listen(in);
     now_ = sc_core::sc_time_stamp().value();
     if (bal_.dynamic())
         balance_ = std::make_unique<BalanceAgent>(bal_, static_cast<BalanceHost&>(*this), world_, cell_[bal_.axis], columnLength_,
                                                   out[sideDir(-1)].size() > 0, out[sideDir(+1)].size() > 0, minThickness_);
     if (balance_ && startTargets_) balance_->startAt((*startTargets_)[0], (*startTargets_)[1]);
+}
+
+// One turn of the node's loop: a balancing action that is due, or the next
+// ray or message, or sending what batches and the frame buffer are owed, or
+// waiting for work. A turn that charges time may suspend the process.
+void Node::proceed() {
+    if (balance_ && balance_->pending()) {  // the rest of the last interval's or report's actions
+        balance_->act();
+        return;
+    }
+    // An interval's end is seen before the next ray is taken, and once its
+    // actions are done that ray is taken before the end is looked at again.
+    if (!intervalClosed_ && balance_ && balance_->due(now_)) {
+        closeInterval();
+        if (balance_->pending()) {
+            intervalClosed_ = true;
+            return;
+        }
+    }
+    intervalClosed_ = false;
     Work w;
     std::optional<Message> ctl;
-    for (;;) {
-        if (balance_ && balance_->due(now_)) closeInterval();
-        int fromDir = -1;
-        if (takeWork(w, ctl, fromDir)) {
-            if (ctl) {
-                control(*ctl, fromDir);
-                ctl.reset();
-            } else {
-                step(w);
-            }
-            continue;
-        }
-        // Nothing to trace: send the rays still collected in batches, and hand
-        // the frame buffer what it is owed, before waiting; so no ray waits in a batch
-        // while everyone waits, and the credit of every ray ended here
-        // follows its contributions.
-        if (flushRays()) continue;
-        if (owesFrameBuffer()) {
-            flushToFrameBuffer();
-            continue;
-        }
-        waitForWork();
+    int fromDir = -1;
+    if (takeWork(w, ctl, fromDir)) {
+        if (ctl) control(*ctl, fromDir);
+        else step(w);
+        return;
     }
+    // Nothing to trace: send the rays still collected in batches, and hand
+    // the frame buffer what it is owed, before waiting; so no ray waits in a batch
+    // while everyone waits, and the credit of every ray ended here
+    // follows its contributions.
+    if (flushRays()) return;
+    if (owesFrameBuffer()) {
+        flushToFrameBuffer();
+        return;
+    }
+    waitForWork();
 }
 
 // Nothing to do: the node waits from its own time on, including while the
@@ -200,10 +243,16 @@ void Node::waitForWork() {
     next = std::max(next, now_);  // (straight after a step, a message may have arrived by now)
     if (time_.mayIdleUntil(next)) {
         now_ = next;  // known to be the next thing to happen, and within the quantum
+    } else if (inputOrder_.waitForInput(now_, balance_ ? balance_->nextClose() : ~Picos(0))) {
+        suspend(Resume::Input);  // endWait when it wakes
+        return;
     } else {
-        inputOrder_.waitForInput(now_, balance_ ? balance_->nextClose() : ~Picos(0));
         now_ = sc_core::sc_time_stamp().value();
     }
+    endWait();
+}
+
+void Node::endWait() {
     stats_.wait += now_ - stats_.waitingSince;
     stats_.waiting = false;
     checkpoint();
@@ -374,51 +423,69 @@ void Node::chargeAndSend(Picos cost, bool mayWaitForWork) {
     stats_.busy += cost;
     stats_.lastActive = now_;
     checkpoint();
-    Picos blocked = 0;
-    for (auto& [d, m] : outbox_) blocked += sendOrBlock(d, std::move(m));
-    stats_.messagesSent += outbox_.size();
-    outbox_.clear();
-    if (blocked) {  // the step, then the wait: each between two checkpoints (endFrame)
-        checkpoint();
-        cost += blocked;
-    }
-    // A step that leaves the node with nothing to do and must let the kernel
-    // catch up anyway goes straight into waiting for input, which includes
-    // the catching up: one kernel wait instead of two. The node takes its
-    // input at the same times either way.
-    if (!time_.mustSync(now_, cost)) return;
-    if (mayWaitForWork && nothingToDo()) waitForWork();
-    else time_.syncTo(now_);
+    sendCost_ = cost;
+    sendMayWait_ = mayWaitForWork;
+    sendBlocked_ = 0;
+    if (sendOutbox()) endSend();
 }
 
-// A full output buffer blocks the node (link.h): no step, no input taken,
-// until the link has room; the time is wait, and counted as blocked.
-Picos Node::sendOrBlock(int d, Message&& m) {
-    LinkSendIf& link = d >= kDirs ? *fb[d - kDirs] : *out[d].operator->();
-    const Picos from = now_;
-    for (Picos room; (room = link.roomAt(m.type, now_)) != now_;) {
-        if (!stats_.blocking) {
-            stats_.blocking = true;
-            stats_.blockedSince = now_;
-            stats_.blockedOn = d;
-            traceState(false, true);
-        }
-        if (room != LinkSendIf::kRoomUnknown) {
+// The step's messages are sent, each after any wait for room: the step, then
+// the wait, each between two checkpoints (endFrame); then the kernel catches
+// up as the quantum asks. A step that leaves the node with nothing to do and
+// must let the kernel catch up anyway goes straight into waiting for input,
+// which includes the catching up: one kernel wait instead of two. The node
+// takes its input at the same times either way.
+void Node::endSend() {
+    stats_.messagesSent += outbox_.size();
+    outbox_.clear();
+    outboxNext_ = 0;
+    Picos cost = sendCost_;
+    if (sendBlocked_) {
+        checkpoint();
+        cost += sendBlocked_;
+    }
+    if (!time_.mustSync(now_, cost)) return;
+    if (sendMayWait_ && nothingToDo()) {
+        waitForWork();
+    } else {
+        time_.syncTo(now_);
+        suspend(Resume::Synced);
+    }
+}
+
+// Sends the outbox from outboxNext_ on. A full output buffer blocks the node
+// (link.h): no step, no input taken, until the link has room; the time is
+// wait, and counted as blocked. Returns false if the node must wait for the
+// receiver to consume (suspended: it goes on from the same message).
+bool Node::sendOutbox() {
+    for (; outboxNext_ < outbox_.size(); ++outboxNext_) {
+        auto& [d, m] = outbox_[outboxNext_];
+        LinkSendIf& link = d >= kDirs ? *fb[d - kDirs] : *out[d].operator->();
+        for (Picos room; (room = link.roomAt(m.type, now_)) != now_;) {
+            if (!stats_.blocking) {
+                stats_.blocking = true;
+                stats_.blockedSince = now_;
+                stats_.blockedOn = d;
+                traceState(false, true);
+            }
+            if (room == LinkSendIf::kRoomUnknown) {
+                sc_core::next_trigger(link.roomEvent());  // until the receiver consumes
+                suspend(Resume::Room);
+                return false;
+            }
             now_ = room;  // known: a message leaves for a slot then
-        } else {
-            sc_core::wait(link.roomEvent());  // until the receiver consumes
-            now_ = std::max(now_, Picos(sc_core::sc_time_stamp().value()));
         }
+        if (stats_.blocking) {
+            const Picos blocked = now_ - stats_.blockedSince;
+            stats_.blocking = false;
+            stats_.blocked += blocked;
+            stats_.wait += blocked;
+            sendBlocked_ += blocked;
+            traceState(true, false);
+        }
+        link.send(std::move(m), now_);
     }
-    const Picos blocked = now_ - from;
-    if (stats_.blocking) {
-        stats_.blocking = false;
-        stats_.blocked += blocked;
-        stats_.wait += blocked;
-        traceState(true, false);
-    }
-    link.send(std::move(m), now_);
-    return blocked;
+    return true;
 }
 
 // Where a ray is forwarded: into the batch for its direction, which leaves

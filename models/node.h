@@ -124,7 +124,14 @@ private:
         bool generated;
     };
 
-    void run();
+    void run();      // the method process: one activation
+    void start();    // its first
+    void proceed();  // one turn of the node's loop
+    // Where the process goes on when it runs next: its start, after letting
+    // the kernel catch up, after waiting for input (endWait), after waiting
+    // for room in an output buffer (sendOutbox, then endSend).
+    enum class Resume : uint8_t { Start, Synced, Input, Room };
+    void suspend(Resume r);  // the process returns; its next activation is armed
     // Takes the next ray (or control message, into `control`); false if none.
     bool takeWork(Work& w, std::optional<Message>& control, int& controlDir);
     void step(Work& w);
@@ -146,11 +153,13 @@ private:
     // Advances the node's time by a step's cost, sends what the step made,
     // and lets the kernel catch up as the quantum asks (with a ray step that
     // leaves nothing to do, by waiting for work at once: mayWaitForWork).
+    // The node may be suspended when it returns: nothing may follow it in a
+    // turn that reads the input or acts on the machine.
     void chargeAndSend(Picos cost, bool mayWaitForWork = false);
-    // Sends on output `d` (a direction, or kDirs + a frame-buffer unit),
-    // first waiting while its output buffer is full; returns the time blocked.
-    Picos sendOrBlock(int d, Message&& m);
+    bool sendOutbox();  // false: suspended, waiting for room
+    void endSend();
     void waitForWork();
+    void endWait();
     bool nothingToDo() const;
     bool owesFrameBuffer() const { return pendingCount_ || !credit_.isZero(); }  // contributions or credit not yet sent
     int sideDir(int side) const { return dirOf(bal_.axis, side); }  // side -1 / +1 -> link direction
@@ -220,6 +229,15 @@ private:
     size_t pendingCount_ = 0;                         // in all of them
     std::vector<uint32_t> sentSince_;  // per unit: contributions sent since the last credit return
     std::vector<std::pair<int, Message>> outbox_;  // this step's sends: (direction, or fbTarget(unit); message)
+    // The process between activations (run): how it goes on, and the step
+    // whose outbox is being sent: the next message, the step's cost, whether
+    // it may wait for work at once, and the time blocked so far.
+    Resume resume_ = Resume::Start;
+    bool suspended_ = false;
+    bool intervalClosed_ = false;  // the last turn closed an interval whose actions are being taken
+    size_t outboxNext_ = 0;
+    Picos sendCost_ = 0, sendBlocked_ = 0;
+    bool sendMayWait_ = false;
     Mailbox mailbox_;
     Picos now_ = 0;
     ArrivalQueue inputOrder_;

@@ -7,6 +7,10 @@
 //                TLM-2.0 quantum keeper). Still exact while Q is at most the
 //                smallest link latency (the lookahead).
 //
+// Nodes and frame-buffer units are method processes (SC_METHOD): a wait is
+// the process returning with its next activation set (next_trigger), which
+// costs the kernel about a quarter of a thread's context switch.
+//
 // In both, a process that waits for input waits until the kernel has caught
 // up with it at least (one wait, ArrivalQueue::waitForInput); a step that
 // leaves it with nothing to do goes straight into that wait instead of
@@ -34,13 +38,9 @@ public:
         return now > k && now - k >= quantum_;
     }
 
-    // Lets the kernel catch up with local time `now`.
-    void syncTo(Picos now) const { sc_core::wait(sc_core::sc_time::from_value(now - kernel())); }
-
-    // After a step that took `cost` and ended at local time `now`.
-    void afterStep(Picos now, Picos cost) const {
-        if (mustSync(now, cost)) syncTo(now);
-    }
+    // Lets the kernel catch up with local time `now`: the calling (method)
+    // process runs next then.
+    void syncTo(Picos now) const { sc_core::next_trigger(sc_core::sc_time::from_value(now - kernel())); }
 
     // A process with nothing to do until `t` (a known arrival or deadline)
     // may move its local time there without waiting for the kernel, if `t`

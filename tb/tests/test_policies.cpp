@@ -175,6 +175,11 @@ struct FakeHost : BalanceHost {
     Picos hopTime(int) const override { return hop; }
 };
 
+// Takes every action the agent has due, as a node does between its steps.
+void settle(BalanceAgent& a) {
+    while (a.pending()) a.act();
+}
+
 BalanceConfig agentConfig() {
     BalanceConfig b = config("slide", 0.25);
     b.interval = 20 * us;
@@ -191,8 +196,10 @@ TEST(Agent, OneRoundEachWayAndOnlyTheHeavierGives) {
     BalanceAgent a(cfg, ha, world, 0, 2, false, true, 0.05), b(cfg, hb, world, 1, 2, true, false, 0.05);
     for (int i = 0; i < 10; ++i) a.recordStep(0.5, 2 * us);  // 20 us of work in 10 steps
     a.closeInterval(20 * us, 20 * us, 0, 3);                  // busy the whole interval, 3 rays waiting
+    settle(a);
     b.recordStep(1.5, 5 * us);
     b.closeInterval(20 * us, 7 * us, 13 * us, 0);  // 2 us of it handling messages: neither execution nor wait
+    settle(b);
     ASSERT_EQ(ha.reports.size(), 1u);
     ASSERT_EQ(hb.reports.size(), 1u);
     EXPECT_EQ(ha.reports[0].first, +1);
@@ -202,7 +209,9 @@ TEST(Agent, OneRoundEachWayAndOnlyTheHeavierGives) {
     EXPECT_EQ(hb.reports[0].second.busy, 5 * us);
     EXPECT_EQ(hb.reports[0].second.wait, 13 * us);
     a.onReport(+1, hb.reports[0].second, 21 * us);
+    settle(a);
     b.onReport(-1, ha.reports[0].second, 21 * us);
+    settle(b);
     ASSERT_EQ(ha.slabs.size(), 1u);  // loads 1.0 and 5 / 18: a gives 0.25 x (1 - 5 / 18) of its thickness
     EXPECT_NEAR(ha.slabs[0].second, 1.0 - 0.25 * (1 - 5.0 / 18), 1e-12);
     EXPECT_TRUE(hb.slabs.empty());
@@ -210,6 +219,44 @@ TEST(Agent, OneRoundEachWayAndOnlyTheHeavierGives) {
     EXPECT_EQ(a.stats().ages.count(), 1u);
     EXPECT_EQ(a.stats().ages.max(), 51u);  // decided 1 us after the loads' end: 0.05 intervals, 51.2 / 1024
     EXPECT_THROW(a.onReport(+1, hb.reports[0].second, 22 * us), std::logic_error);  // round 0 again: out of lockstep
+}
+
+TEST(Agent, TakesOneHostCallPerActionLowerSideFirst) {
+    // A node in the middle of a column reports to both sides when an
+    // interval closes: one report per act(), so the node can let the kernel
+    // catch up after each, as after any step.
+    const BalanceConfig cfg = agentConfig();
+    FakeHost h;
+    const Box world{Vec3(0.0), Vec3(3.0, 1.0, 1.0)};
+    h.b = Box{Vec3(1.0, 0.0, 0.0), Vec3(2.0, 1.0, 1.0)};
+    BalanceAgent a(cfg, h, world, 1, 3, true, true, 0.05);
+    a.closeInterval(20 * us, 20 * us, 0, 0);
+    EXPECT_TRUE(h.reports.empty());  // nothing until acted on
+    ASSERT_TRUE(a.pending());
+    a.act();
+    ASSERT_EQ(h.reports.size(), 1u);
+    EXPECT_EQ(h.reports[0].first, -1);
+    ASSERT_TRUE(a.pending());
+    a.act();
+    ASSERT_EQ(h.reports.size(), 2u);
+    EXPECT_EQ(h.reports[1].first, +1);
+    a.act();  // nothing more is due on either side
+    EXPECT_FALSE(a.pending());
+    // Start targets on both faces: one give per act(), the lower face first.
+    BalanceConfig held = cfg;
+    held.policy = "resplit";
+    FakeHost g;
+    g.b = h.b;
+    BalanceAgent b(held, g, world, 1, 3, true, true, 0.05);
+    b.startAt(1.2, 1.8);
+    EXPECT_TRUE(g.slabs.empty());
+    b.act();
+    ASSERT_EQ(g.slabs.size(), 1u);
+    EXPECT_EQ(g.slabs[0], std::make_pair(-1, 1.2));
+    b.act();
+    ASSERT_EQ(g.slabs.size(), 2u);
+    EXPECT_EQ(g.slabs[1], std::make_pair(+1, 1.8));
+    EXPECT_FALSE(b.pending());
 }
 
 TEST(Agent, SlowReportsMakeLongerRoundsNotAQueue) {
@@ -223,6 +270,7 @@ TEST(Agent, SlowReportsMakeLongerRoundsNotAQueue) {
     const auto interval = [](BalanceAgent& n, Picos end, Picos traced, Picos busy, Picos wait) {
         n.recordStep(0.5, traced);
         n.closeInterval(end, busy, wait, 0);
+        settle(n);
     };
     interval(a, 20 * us, 10 * us, 10 * us, 10 * us);
     interval(b, 20 * us, 10 * us, 10 * us, 10 * us);
@@ -231,6 +279,7 @@ TEST(Agent, SlowReportsMakeLongerRoundsNotAQueue) {
     interval(a, 80 * us, 10 * us, 50 * us, 30 * us);
     EXPECT_EQ(ha.reports.size(), 1u);
     a.onReport(+1, hb.reports[0].second, 81 * us);
+    settle(a);
     ASSERT_EQ(ha.reports.size(), 2u);
     const Message& r1 = ha.reports[1].second;
     EXPECT_EQ(r1.interval, 1);
@@ -250,10 +299,14 @@ TEST(Agent, HandlingMessagesIsNoLoad) {
     const Box world{Vec3(0.0), Vec3(2.0, 1.0, 1.0)};
     BalanceAgent a(cfg, ha, world, 0, 2, false, true, 0.05), b(cfg, hb, world, 1, 2, true, false, 0.05);
     a.closeInterval(20 * us, 20 * us, 0, 0);
+    settle(a);
     b.closeInterval(20 * us, 0, 20 * us, 0);
+    settle(b);
     EXPECT_EQ(ha.reports[0].second.busy, 0);
     a.onReport(+1, hb.reports[0].second, 21 * us);
+    settle(a);
     b.onReport(-1, ha.reports[0].second, 21 * us);
+    settle(b);
     EXPECT_TRUE(ha.slabs.empty());
     EXPECT_TRUE(hb.slabs.empty());
     EXPECT_EQ(a.stats().intervals[0].busy, 20 * us);  // the node's own record keeps every busy picosecond
@@ -272,6 +325,7 @@ TEST(Agent, IntervalHistoryStaysBoundedAndKeepsEveryPicosecond) {
     for (Picos i = 1; i <= 3000; ++i) {
         busy += i;
         a.closeInterval(i * 20 * us, busy, i * 20 * us - busy, 0);
+        settle(a);
     }
     const BalanceStats s = a.finalStats();
     EXPECT_EQ(s.intervalsPerRecord, 4u);
@@ -288,6 +342,7 @@ TEST(Agent, IntervalHistoryStaysBoundedAndKeepsEveryPicosecond) {
     EXPECT_EQ(s.intervals[0].busy, Picos(1 + 2 + 3 + 4));
     // One more interval: a last, shorter record.
     a.closeInterval(3001 * 20 * us, busy + 7, 3001 * 20 * us - busy - 7, 0);
+    settle(a);
     ASSERT_EQ(a.finalStats().intervals.size(), 751u);
     EXPECT_EQ(a.finalStats().intervals.back().busy, 7u);
 }
@@ -370,8 +425,11 @@ TEST(Agent, GuardStopsStaleCostlyAndLatencyBoundSlides) {
         BalanceAgent a(cfg, ha, world, 0, 2, false, true, 0.05), b(cfg, hb, world, 1, 2, true, false, 0.05);
         a.recordStep(0.9, 1 * us);  // mean step 1 us, its work in the slab the policy gives ([0.75, 1])
         a.closeInterval(20 * us, 20 * us, 0, 0);
+        settle(a);
         b.closeInterval(20 * us, 0, 20 * us, 0);
+        settle(b);
         a.onReport(+1, hb.reports[0].second, decideAt);
+        settle(a);
         return std::make_pair(ha.slabs.size(), a.stats());
     };
     const BalanceConfig cfg = agentConfig();
@@ -558,7 +616,9 @@ TEST(Agent, StartAtMovesEachFaceByItsOwnerAndHolds) {
     BalanceAgent a(cfg, ha, world, 0, 2, false, true, 0.05), b(cfg, hb, world, 1, 2, true, false, 0.05);
     const double nan = std::nan("");
     a.startAt(nan, 0.6);
+    settle(a);
     b.startAt(0.6, nan);
+    settle(b);
     ASSERT_EQ(ha.slabs.size(), 1u);
     EXPECT_EQ(ha.slabs[0], std::make_pair(+1, 0.6));
     EXPECT_TRUE(hb.slabs.empty());
@@ -566,7 +626,9 @@ TEST(Agent, StartAtMovesEachFaceByItsOwnerAndHolds) {
     for (int i = 1; i <= 3; ++i) {
         a.recordStep(0.3, 20 * us);
         a.closeInterval(Picos(i) * 20 * us, Picos(i) * 20 * us, 0, 5);
+        settle(a);
         b.closeInterval(Picos(i) * 20 * us, 0, Picos(i) * 20 * us, 0);
+        settle(b);
     }
     EXPECT_TRUE(ha.reports.empty());
     EXPECT_TRUE(hb.reports.empty());
@@ -576,6 +638,7 @@ TEST(Agent, StartAtMovesEachFaceByItsOwnerAndHolds) {
     hc.b = Box{Vec3(1.0, 0.0, 0.0), Vec3(2.0, 1.0, 1.0)};
     BalanceAgent c(cfg, hc, world, 1, 2, true, false, 0.05);
     c.startAt(2.5, nan);
+    settle(c);
     ASSERT_EQ(hc.slabs.size(), 1u);
     EXPECT_EQ(hc.slabs[0], std::make_pair(-1, 1.95));
 }
