@@ -6,7 +6,8 @@
 // nothing when it pops, and reads its items in address order, which the
 // processor prefetches: a link's backlog can hold 100,000 messages that the
 // receiver takes long after they were sent. A burst's memory is given back
-// when the queue runs empty.
+// when the queue runs empty, and half of it when it is a quarter full, so a
+// queue holds at most four times the room its items need (plus a little).
 #pragma once
 #include <cstddef>
 #include <memory>
@@ -49,6 +50,8 @@ public:
         if (--size_ == 0) {
             head_ = 0;
             if (capacity() > kKeep) release();  // empty: keep a little room, give back a burst's
+        } else if (capacity() > kKeep && 4 * size_ <= capacity()) {
+            resize(capacity() / 2);  // a quarter full: half the room (a backlog that shrinks but never empties)
         }
     }
     void clear() {
@@ -58,8 +61,8 @@ public:
 private:
     static constexpr size_t kKeep = 32;
     size_t capacity() const { return items_ ? mask_ + 1 : 0; }
-    void grow() {
-        const size_t cap = capacity() ? 2 * capacity() : 4;
+    void grow() { resize(capacity() ? 2 * capacity() : 4); }
+    void resize(size_t cap) {
         T* items = static_cast<T*>(::operator new(cap * sizeof(T)));
         for (size_t i = 0; i < size_; ++i) {
             T& v = (*this)[i];

@@ -42,8 +42,8 @@ Picos FrameBufferUnit::take(Message& m) {
             }
             ++stats_.contributionMessages;
             stats_.contributions += m.contributions.size();
-            received_.push_back(std::move(m.contributions));
-            return cost_ * received_.back().size();
+            received_.insert(received_.end(), m.contributions.begin(), m.contributions.end());
+            return cost_ * m.contributions.size();
         case MsgType::Credit:
             if (!controller()) fail("credit sent to a unit other than 0");
             if (dropCredit_) {  // the planted lost credit
