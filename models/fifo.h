@@ -10,7 +10,6 @@
 // queue holds at most four times the room its items need (plus a little).
 #pragma once
 #include <cstddef>
-#include <memory>
 #include <new>
 #include <utility>
 

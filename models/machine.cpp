@@ -119,7 +119,7 @@ Machine::Machine(sc_core::sc_module_name name, const Scene& scene, const Machine
     for (Node& n : nodes_) n.setProgress(&progress_);
     if (cfg_.faultDropFirstCredit) units_[0].dropFirstCredit();
     units_[0].onFinish([this] { endProcesses(); });
-    SC_THREAD(watch);
+    SC_METHOD(watch);
     if (!cfg_.vcdPath.empty()) setupTraces();
     assignPrimaryRays();
 }
@@ -135,40 +135,42 @@ Machine::~Machine() = default;
 // their intervals), and without balancing it ends only with the kernel out
 // of events.
 void Machine::watch() {
-    const Picos span = cfg_.watchdogSpanOrDefault(scene_.objects.size());
-    const Picos period = std::min<Picos>(span, std::max<Picos>(1000000000, span / 1000));
-    const auto start = std::chrono::steady_clock::now();
-    for (;;) {
-        wait(sc_core::sc_time::from_value(period));
-        if (controller().done()) return;
-        if (vcd_) vcd_->flush(traceHorizon());  // the waveform so far, on disk
-        const Picos now = sc_core::sc_time_stamp().value();
-        const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        std::ostringstream why;
-        if (stopSignal) {
-            why << "interrupted by signal " << int(stopSignal) << " at " << formatTime(now) << " of simulated time";
-        } else if (now >= progress_.last + span) {
-            why << "no ray, contribution or credit moved for " << formatTime(now - progress_.last)
-                << " of simulated time (since " << formatTime(progress_.last) << ")";
-        } else if (cfg_.watchdogWall > 0 && wall > cfg_.watchdogWall) {
-            why << "the wall-clock limit of " << cfg_.watchdogWall << " s was reached at " << formatTime(now)
-                << " of simulated time";
-        } else {
-            continue;
-        }
-        stalledAt_ = now;
-        stall_ = why.str() + "; " + whoHolds();
-        endProcesses();
-        sc_core::sc_stop();
+    const auto wake = [&] { sc_core::next_trigger(sc_core::sc_time::from_value(watchPeriod_)); };
+    if (watchPeriod_ == 0) {  // its first activation, at time 0
+        watchSpan_ = cfg_.watchdogSpanOrDefault(scene_.objects.size());
+        watchPeriod_ = std::min<Picos>(watchSpan_, std::max<Picos>(1000000000, watchSpan_ / 1000));
+        watchStart_ = std::chrono::steady_clock::now();
+        wake();
         return;
     }
+    if (controller().done()) return;
+    if (vcd_) vcd_->flush(traceHorizon());  // the waveform so far, on disk
+    const Picos now = sc_core::sc_time_stamp().value();
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - watchStart_).count();
+    std::ostringstream why;
+    if (stopSignal) {
+        why << "interrupted by signal " << int(stopSignal) << " at " << formatTime(now) << " of simulated time";
+    } else if (now >= progress_.last + watchSpan_) {
+        why << "no ray, contribution or credit moved for " << formatTime(now - progress_.last)
+            << " of simulated time (since " << formatTime(progress_.last) << ")";
+    } else if (cfg_.watchdogWall > 0 && wall > cfg_.watchdogWall) {
+        why << "the wall-clock limit of " << cfg_.watchdogWall << " s was reached at " << formatTime(now)
+            << " of simulated time";
+    } else {
+        wake();
+        return;
+    }
+    stalledAt_ = now;
+    stall_ = why.str() + "; " + whoHolds();
+    endProcesses();
+    sc_core::sc_stop();
 }
 
-// Ends every process but the caller's, from within the simulation: each
-// one suspended in a wait is resumed with SystemC's unwinding exception, so
-// what its stack holds (a slab being given, a message being handled) is
-// freed. A thread left suspended when the simulation stops is never
-// unwound, and LeakSanitizer found those objects lost.
+// Ends every process but the caller's, from within the simulation, just
+// before it stops: sc_stop finishes the current delta cycle, and a process
+// ended here does not run in it. (When the nodes were threads this also
+// unwound their stacks, which LeakSanitizer otherwise found lost; the
+// processes are all method processes now and hold nothing on a stack.)
 void Machine::endProcesses() {
     const sc_core::sc_process_handle self = sc_core::sc_get_current_process_handle();
     auto end = [&](const sc_core::sc_object& module) {

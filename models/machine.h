@@ -5,6 +5,7 @@
 // every statistic.
 #pragma once
 #include <csignal>
+#include <chrono>
 #include <map>
 #include <memory>
 #include <string>
@@ -116,7 +117,10 @@ private:
 
     // The watchdog (MachineConfig::watchdogSpan): progress marked by the
     // nodes and links, and why and when it stopped the run (empty: it did not).
+    // A method process, like the nodes: the machine has no thread process.
     void watch();
+    Picos watchSpan_ = 0, watchPeriod_ = 0;  // (period 0: not started)
+    std::chrono::steady_clock::time_point watchStart_;
     std::string whoHolds() const;
     void endProcesses();
     // When the frame ended, or when the watchdog stopped it.
