@@ -147,7 +147,8 @@ void BalanceAgent::onReport(int side, const Message& m, Picos now) {
 // given when deciding r leaves before the report of r + 1 on the same FIFO
 // lane, so the neighbour has the slab before it decides r + 1: the two never
 // give across one boundary at once, and each decides with its box up to date.
-// A decision uses the time of the report or interval that made it due.
+// A decision uses the time of the report or interval that made it due. A
+// report waits for the first interval to close after its pacing allows it.
 void BalanceAgent::advance(int i, Picos now) {
     if (advancing_[i]) throw std::logic_error("balance agent: a side advanced again before its actions were taken");
     advancing_[i] = true;
@@ -156,7 +157,7 @@ void BalanceAgent::advance(int i, Picos now) {
 
 bool BalanceAgent::advanceStep(int i) {
     Side& s = sides_[i];
-    if (s.reported == s.decided && s.fresh) {
+    if (s.reported == s.decided && s.fresh && advanceAt_[i] >= s.nextReport) {
         report(i);
         return true;
     }
@@ -186,6 +187,12 @@ void BalanceAgent::report(int i) {
     s.span.steps = 0;
     s.fresh = false;
     ++s.reported;
+    // Pacing: the next report from the next multiple of the period, a whole
+    // number of intervals. Both ends of a link count the same multiples, so
+    // their reports leave together and neither's loads wait for the other's.
+    const Picos gap = Picos(std::ceil(double(host_.reportTime(sideOf(i))) / cfg_.reportShare));
+    const Picos period = std::max<Picos>(1, (gap + cfg_.interval - 1) / cfg_.interval) * cfg_.interval;
+    s.nextReport = (advanceAt_[i] / period + 1) * period;
     Message m;
     m.type = MsgType::LoadReport;
     m.interval = s.reported;

@@ -11,6 +11,16 @@
 // an interval to cross, rounds span several intervals instead of queueing
 // up behind each other: a decision always uses the newest loads.
 //
+// Pacing. Reports to a neighbour go at most once per period: reportTime /
+// reportShare (a report's time on the wire over the share of the link's time
+// that reports may take) rounded up to whole intervals, on multiples of it
+// that both ends of the link count alike, so their reports leave together.
+// On a slow link reports then do not crowd out the rays: at
+// 10 MB/s a 52-byte report takes 5.2 us on the wire, a quarter of a 20 us
+// interval, and with the control lane's priority reports every interval made
+// the frame 13 % longer (doc/balancing.md, "The control lane"). A round then
+// spans more intervals; its loads are no older for it.
+//
 // The guard (every policy): no slide
 //  - on loads older than maxAge intervals (slow or saturated links);
 //  - when a ray's hop to the neighbour (latency and wire time) takes longer
@@ -68,6 +78,8 @@ public:
     // How long one ray takes to reach that neighbour: the link's latency and
     // a ray message's time on the wire.
     virtual Picos hopTime(int side) const = 0;
+    // A load report's time on the wire to that neighbour (its bytes at the link's bandwidth).
+    virtual Picos reportTime(int side) const = 0;
 };
 
 class BalanceAgent {
@@ -118,6 +130,7 @@ private:
         bool present = false;
         Span span;
         bool fresh = false;           // an interval closed since the last report
+        Picos nextReport = 0;         // not before (pacing)
         int reported = -1, decided = -1;
         LoadSample sent;              // this round's sample, as reported
         WorkProfile sentProfile;      // and the work behind it

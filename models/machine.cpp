@@ -87,7 +87,11 @@ Machine::Machine(sc_core::sc_module_name name, const Scene& scene, const Machine
             m[dirAxis(d)] += dirStep(d);
             if (m[dirAxis(d)] < 0 || m[dirAxis(d)] >= cfg_.dims[dirAxis(d)]) continue;
             const std::string lname = cellName(c) + "_" + linkSuffix(d);
-            links_.push_back(std::make_unique<Link>(lname, cfg_.linkOf(c, d)));
+            // Without a dynamic policy there is no control traffic and the
+            // lane stays empty: one FIFO is the same link, cheaper to simulate.
+            LinkParams p = cfg_.linkOf(c, d);
+            if (!cfg_.balance.dynamic()) p.controlDepth = 0;
+            links_.push_back(std::make_unique<Link>(lname, p));
             n.out[d].bind(*links_.back());
             meshLinks_[{nodeIndex(c), d}] = links_.back().get();
             nodes_[nodeIndex(m)].in[opposite(d)].bind(*links_.back());

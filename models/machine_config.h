@@ -40,8 +40,9 @@ struct LinkParams {
     int depth = 16;           // messages the link holds before back-pressure
     // The control lane (link.h): slots of a second virtual channel for load
     // reports, slides and acks, which go on the wire ahead of waiting rays.
-    // 0 (the default): no lane; control messages queue with the rays, in one
-    // FIFO (doc/balancing.md, "The control lane", says why it is off).
+    // 0: no lane; control messages queue with the rays, in one FIFO. The mesh
+    // links have one (MachineConfig::link, doc/balancing.md "The control
+    // lane"); the frame-buffer ports carry no control messages.
     int controlDepth = 0;
     // The sender's output buffer (link.h): messages sent and still waiting
     // for a flow-control slot, per lane. A node whose buffer is full blocks
@@ -58,6 +59,12 @@ struct LinkParams {
 // --frames re-splits each column between frames (0.44 of the unbalanced
 // frame along the axis at N = 4, against slide's 0.50).
 constexpr const char* kDefaultPolicy = "resplit";
+// The mesh links' control lane by default (issue 11): load reports, slides
+// and acks on a virtual channel of their own with priority, so decisions use
+// loads a fraction of an interval old instead of loads queued behind rays
+// (p95 age 0.03 against 1.0 intervals at rtsim's defaults; 6.0 against 10.3
+// at 100 us latency). Two slots: a report each way and a slide in flight.
+constexpr int kDefaultControlDepth = 2;
 
 struct BalanceConfig {
     std::string policy = "none";
@@ -75,6 +82,10 @@ struct BalanceConfig {
     double maxAge = 4;
     double horizon = 10;
     double hopRatio = 4;          // no slide while a ray's hop takes longer than this many mean steps
+    // Load reports take at most this share of a link's time: a node reports
+    // to a neighbour again only once reportTime / reportShare has passed
+    // since its last report there (balance_agent.h, "Pacing").
+    double reportShare = 0.02;
 
     bool dynamic() const;         // a policy that moves boundaries during the frame
     double gainOf() const;        // gain, or the policy's default
@@ -90,7 +101,7 @@ struct MachineConfig {
     std::map<Cell, double> nodeSpeed;  // per-node speed overrides
     std::map<Cell, Costs> nodeCosts;   // per-node cost overrides (whole sets)
 
-    LinkParams link;
+    LinkParams link{100000, 1e9, 16, kDefaultControlDepth};
     std::map<std::pair<Cell, int>, LinkParams> linkOverride;  // (source node, direction)
 
     // The frame buffer (doc/machine.md, "The frame buffer"): fbUnits units,

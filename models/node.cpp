@@ -638,6 +638,12 @@ Picos Node::hopTime(int side) const {
     return l.latency + Picos(double(kHeaderBytes + kRayBytes) * 1e12 / l.bandwidth);
 }
 
+Picos Node::reportTime(int side) const {
+    Message m;
+    m.type = MsgType::LoadReport;
+    return Picos(double(m.bytes()) * 1e12 / out[sideDir(side)]->params().bandwidth);
+}
+
 Picos Node::slabCost(int side, double boundary) const {
     const Box slab = slabOf(side, boundary);
     Message m;

@@ -164,7 +164,7 @@ struct FakeHost : BalanceHost {
     Box b{Vec3(0.0), Vec3(1.0)};
     std::vector<std::pair<int, Message>> reports;
     std::vector<std::pair<int, double>> slabs;
-    Picos cost = 0, hop = 0;
+    Picos cost = 0, hop = 0, reportWire = 0;
     const Box& box() const override { return b; }
     void sendReport(int side, Message m) override { reports.push_back({side, std::move(m)}); }
     void giveSlab(int side, double boundary) override {  // the box shrinks along x, as a node's does
@@ -173,6 +173,7 @@ struct FakeHost : BalanceHost {
     }
     Picos slabCost(int, double) const override { return cost; }
     Picos hopTime(int) const override { return hop; }
+    Picos reportTime(int) const override { return reportWire; }
 };
 
 // Takes every action the agent has due, as a node does between its steps.
@@ -287,6 +288,45 @@ TEST(Agent, SlowReportsMakeLongerRoundsNotAQueue) {
     EXPECT_EQ(r1.wait, 20 * us);
     EXPECT_EQ(r1.end, 80 * us);
     EXPECT_EQ(a.stats().ages.max(), 3123u);  // round 0's loads ended at 20 us: 61 / 20 intervals, 3123.2 / 1024
+}
+
+TEST(Agent, ReportsArePacedToTheirShareOfTheLink) {
+    // A report takes 1 us on the wire and may take 2 % of the link: one
+    // report per 50 us, rounded up to whole intervals: a period of 60 us.
+    // The neighbour answers at once, so only the pacing holds the reports
+    // back: after the first (20 us), at the multiples of 60 us. A report
+    // covers every interval since the last, and its loads are as fresh as
+    // without pacing (decided 1 us after their end).
+    BalanceConfig cfg = agentConfig();
+    cfg.reportShare = 0.02;
+    FakeHost ha, hb;
+    ha.reportWire = hb.reportWire = 1 * us;
+    const Box world{Vec3(0.0), Vec3(2.0, 1.0, 1.0)};
+    BalanceAgent a(cfg, ha, world, 0, 2, false, true, 0.05), b(cfg, hb, world, 1, 2, true, false, 0.05);
+    std::vector<Picos> sentAt;
+    for (Picos k = 1; k <= 8; ++k) {
+        const Picos end = k * 20 * us;
+        a.recordStep(0.5, 5 * us);
+        a.closeInterval(end, k * 5 * us, k * 15 * us, 0);
+        settle(a);
+        b.closeInterval(end, 0, k * 20 * us, 0);
+        settle(b);
+        if (ha.reports.size() > sentAt.size()) {
+            sentAt.push_back(end);
+            ASSERT_EQ(hb.reports.size(), ha.reports.size());
+            a.onReport(+1, hb.reports.back().second, end + 1 * us);
+            settle(a);
+            b.onReport(-1, ha.reports.back().second, end + 1 * us);
+            settle(b);
+        }
+    }
+    EXPECT_EQ(sentAt, (std::vector<Picos>{20 * us, 60 * us, 120 * us}));
+    ASSERT_EQ(ha.reports.size(), 3u);
+    EXPECT_EQ(ha.reports[1].second.busy, 10 * us);  // intervals 2 and 3, 5 us traced in each
+    EXPECT_EQ(ha.reports[1].second.wait, 30 * us);
+    EXPECT_EQ(ha.reports[2].second.busy, 15 * us);  // intervals 4 to 6
+    EXPECT_EQ(a.stats().decisions, 3u);
+    EXPECT_EQ(a.stats().ages.max(), 51u);  // 1 us after the loads' end: 0.05 intervals
 }
 
 TEST(Agent, HandlingMessagesIsNoLoad) {
