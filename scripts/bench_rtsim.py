@@ -62,6 +62,9 @@ def main():
     ap.add_argument("--tracing-only", action="store_true")
     ap.add_argument("--doc", action="store_true")
     a = ap.parse_args()
+    # The tree's version before anything is written: the tracing section goes
+    # into doc/ first, and would make the main tables say "-dirty".
+    a.version = version()
     build = os.path.join(ROOT, "build")
     tmp = tempfile.mkdtemp()
     report = os.path.join(tmp, "r.json")
@@ -116,7 +119,7 @@ def main():
         ("messages per wall second, exact mode", f"{msgs / exact_wall:,.0f}"),
         ("rtsim peak memory, exact mode (max over runs)", f"{exact_mem:.0f} MiB"),
         ("machine", machine()),
-        ("version (git describe)", version()),
+        ("version (git describe)", a.version),
     ]
     table = "| quantity | value |\n|---|---|\n" + "".join(f"| {k} | {v} |\n" for k, v in rows)
     big, big_figures = "", None
@@ -198,7 +201,7 @@ def tracing(a, tmp, rtsim, report):
             w = statistics.median(walls[label])
             rows.append(f"| {job} | {label} | {w:.2f} s | {w / base:.2f} | {max(mems[label]):.0f} MiB | "
                         f"{sizes[label] / 2 ** 20:.1f} MiB |")
-    rows.append(f"\n{a.tracing_runs} runs of each, alternated; {machine()}; {version()}.")
+    rows.append(f"\n{a.tracing_runs} runs of each, alternated; {machine()}; {a.version}.")
     text = "\n".join(rows)
     print(text)
     if a.doc:
