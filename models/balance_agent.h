@@ -15,11 +15,12 @@
 // reportShare (a report's time on the wire over the share of the link's time
 // that reports may take) rounded up to whole intervals, on multiples of it
 // that both ends of the link count alike, so their reports leave together.
-// On a slow link reports then do not crowd out the rays: at
-// 10 MB/s a 52-byte report takes 5.2 us on the wire, a quarter of a 20 us
-// interval, and with the control lane's priority reports every interval made
+// On a slow link reports on the control lane then do not crowd out the
+// rays: at 10 MB/s a 52-byte report takes 5.2 us on the wire, a quarter of a
+// 20 us interval, and with the lane's priority reports every interval made
 // the frame 13 % longer (doc/balancing.md, "The control lane"). A round then
-// spans more intervals; its loads are no older for it.
+// spans more intervals; its loads are no older for it. (On the rays' FIFO
+// the host reports no wire time: reports wait their turn, unpaced.)
 //
 // The guard (every policy): no slide
 //  - on loads older than maxAge intervals (slow or saturated links);
@@ -78,7 +79,8 @@ public:
     // How long one ray takes to reach that neighbour: the link's latency and
     // a ray message's time on the wire.
     virtual Picos hopTime(int side) const = 0;
-    // A load report's time on the wire to that neighbour (its bytes at the link's bandwidth).
+    // A load report's time on the wire to that neighbour (its bytes at the
+    // link's bandwidth); 0 when reports to it are not paced.
     virtual Picos reportTime(int side) const = 0;
 };
 

@@ -40,9 +40,9 @@ struct LinkParams {
     int depth = 16;           // messages the link holds before back-pressure
     // The control lane (link.h): slots of a second virtual channel for load
     // reports, slides and acks, which go on the wire ahead of waiting rays.
-    // 0: no lane; control messages queue with the rays, in one FIFO. The mesh
-    // links have one (MachineConfig::link, doc/balancing.md "The control
-    // lane"); the frame-buffer ports carry no control messages.
+    // 0: no lane; control messages queue with the rays, in one FIFO (the
+    // default, kDefaultControlDepth); the frame-buffer ports carry no control
+    // messages.
     int controlDepth = 0;
     // The sender's output buffer (link.h): messages sent and still waiting
     // for a flow-control slot, per lane. A node whose buffer is full blocks
@@ -59,12 +59,13 @@ struct LinkParams {
 // --frames re-splits each column between frames (0.44 of the unbalanced
 // frame along the axis at N = 4, against slide's 0.50).
 constexpr const char* kDefaultPolicy = "resplit";
-// The mesh links' control lane by default (issue 11): load reports, slides
-// and acks on a virtual channel of their own with priority, so decisions use
+// The mesh links' control lane by default: none. With it, decisions use
 // loads a fraction of an interval old instead of loads queued behind rays
-// (p95 age 0.03 against 1.0 intervals at rtsim's defaults; 6.0 against 10.3
-// at 100 us latency). Two slots: a report each way and a slide in flight.
-constexpr int kDefaultControlDepth = 2;
+// (issue 11's age target is met at every link speed), but rounds come every
+// interval instead of every few, and `slide`'s first frame loses more than
+// 2 % at 21 of Fig. 4's 70 points instead of 9 (doc/balancing.md, "The
+// control lane").
+constexpr int kDefaultControlDepth = 0;
 
 struct BalanceConfig {
     std::string policy = "none";
@@ -82,9 +83,10 @@ struct BalanceConfig {
     double maxAge = 4;
     double horizon = 10;
     double hopRatio = 4;          // no slide while a ray's hop takes longer than this many mean steps
-    // Load reports take at most this share of a link's time: a node reports
-    // to a neighbour again only once reportTime / reportShare has passed
-    // since its last report there (balance_agent.h, "Pacing").
+    // Load reports on a control lane take at most this share of the link's
+    // time: a node reports to a neighbour again only once reportTime /
+    // reportShare has passed since its last report there (balance_agent.h,
+    // "Pacing"; on the rays' FIFO reports wait their turn and are not paced).
     double reportShare = 0.02;
 
     bool dynamic() const;         // a policy that moves boundaries during the frame

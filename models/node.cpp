@@ -638,10 +638,15 @@ Picos Node::hopTime(int side) const {
     return l.latency + Picos(double(kHeaderBytes + kRayBytes) * 1e12 / l.bandwidth);
 }
 
+// Only a report on a control lane is paced: it goes ahead of the rays, so
+// without pacing reports could take the wire from them. On the rays' FIFO
+// a report waits its turn behind them (0: no pacing).
 Picos Node::reportTime(int side) const {
+    const LinkParams& l = out[sideDir(side)]->params();
+    if (l.controlDepth == 0) return 0;
     Message m;
     m.type = MsgType::LoadReport;
-    return Picos(double(m.bytes()) * 1e12 / out[sideDir(side)]->params().bandwidth);
+    return Picos(double(m.bytes()) * 1e12 / l.bandwidth);
 }
 
 Picos Node::slabCost(int side, double boundary) const {

@@ -47,7 +47,7 @@ protected:
         return json::parse(slurp(dir_ / name));
     }
     // Defined with the resplit tests below.
-    ResplitAgainstNone resplitAgainstNone(const std::string& bandwidth, const std::string& more = "");
+    ResplitAgainstNone resplitAgainstNone(const std::string& bandwidth);
 };
 
 const char* kSmall = " --spheres 200 --radius 0.04 --size 32x32";
@@ -350,12 +350,12 @@ INSTANTIATE_TEST_SUITE_P(FailureCases, NeverHurts,
                                          Hurt{"view_across", ""}),
                          [](const testing::TestParamInfo<Hurt>& i) { return std::string(i.param.name); });
 
-// Issue 11's age target at the ends of the link sweep: the 95th percentile
-// age of the loads the default policy's decisions used is at most 2
-// intervals plus a report's own crossing of one link (latency + 52 bytes at
-// the link's bandwidth), and the reports cost no more than 2 % of the frame.
-// On the rays' FIFO the 100 us case reached 10.3 intervals, and without
-// pacing the 10 MB/s one made the frame 13 % longer.
+// Issue 11's age target at the ends of the link sweep, with the control
+// lane: the 95th percentile age of the loads the default policy's decisions
+// used is at most 2 intervals plus a report's own crossing of one link
+// (latency + 52 bytes at the link's bandwidth), and the reports cost no more
+// than 2 % of the frame. On the rays' FIFO the 100 us case reached 10.3
+// intervals, and without pacing the 10 MB/s one made the frame 13 % longer.
 struct Speed {
     const char* name;
     const char* flags;
@@ -365,7 +365,8 @@ class LoadAges : public Rtsim, public testing::WithParamInterface<Speed> {};
 
 TEST_P(LoadAges, StayWithinTwoIntervalsAndAReportsCrossing) {
     const Speed& s = GetParam();
-    const Outcome o = run(std::string(" --eye=-1.3,0.5,0.5 --look-at=0.5,0.5,0.5 --fov 50 --size 64x64 --balance default ") +
+    const Outcome o = run(std::string(" --eye=-1.3,0.5,0.5 --look-at=0.5,0.5,0.5 --fov 50 --size 64x64 --balance default"
+                                      " --link-control-depth 2 ") +
                           s.flags + " -q --image '' --report " + (dir_ / "r.json").string());
     ASSERT_EQ(o.code, 0) << o.err;
     const json r = json::parse(slurp(dir_ / "r.json"));
@@ -384,8 +385,7 @@ INSTANTIATE_TEST_SUITE_P(LinkSweepEnds, LoadAges,
                          [](const testing::TestParamInfo<Speed>& i) { return std::string(i.param.name); });
 
 TEST_F(Rtsim, WithoutTheGuardTheSlowLinksCaseLoses) {
-    // (192x192: at 128x128, with the control lane, the unguarded slides gain, 0.91.)
-    const Outcome o = run(" --eye=-1.3,0.5,0.5 --look-at=0.5,0.5,0.5 --fov 50 --size 192x192 --balance default "
+    const Outcome o = run(" --eye=-1.3,0.5,0.5 --look-at=0.5,0.5,0.5 --fov 50 --size 128x128 --balance default "
                           "--link-latency 3us --no-guard -q --image '' --report " + (dir_ / "r.json").string());
     ASSERT_EQ(o.code, 0) << o.err;
     const json r = json::parse(slurp(dir_ / "r.json"));
@@ -852,9 +852,9 @@ TEST_F(Rtsim, FramesWithOneNodeAlongTheBalancingAxis) {
     }
 }
 
-ResplitAgainstNone Rtsim::resplitAgainstNone(const std::string& bandwidth, const std::string& more) {
+ResplitAgainstNone Rtsim::resplitAgainstNone(const std::string& bandwidth) {
     const std::string k = " --spheres 300 --radius 0.03 --size 48x48 --mesh 3 --balance-interval 5us"
-                          " --link-bandwidth " + bandwidth + more;
+                          " --link-bandwidth " + bandwidth;
     const json f = report(k + " --balance resplit --frames 6", "f.json");
     ResplitAgainstNone r{{}, {}, f["render_time_ns"].get<double>(),
                          report(k + " --balance none", "n.json")["render_time_ns"].get<double>()};
@@ -887,14 +887,11 @@ TEST_F(Rtsim, ResplitGoesBackToTheFirstFrameWhereReSplittingDoesNotPay) {
 }
 
 TEST_F(Rtsim, ResplitHoldsTheUnbalancedSplitWhereEvenTheFirstFrameLoses) {
-    // At 30 MB/s, with the reports in the rays' FIFO and not paced (the
-    // links before issue 11's control lane), the first frame's slides lose
-    // too (slabs and rays on slow links): after two re-split frames that
-    // lose more, frame 4 holds the starting split, beats frame 1, and is
-    // held: frames 4 to 6 take the unbalanced run's time to the picosecond,
-    // with no slides. (With the lane and pacing the guard makes no slide in
-    // the first frame here, which then takes the unbalanced time.)
-    const ResplitAgainstNone f = resplitAgainstNone("30MB/s", " --link-control-depth 0 --report-share 1");
+    // At 30 MB/s the first frame's slides lose too (slabs and rays on slow
+    // links): after two re-split frames that lose more, frame 4 holds the
+    // starting split, beats frame 1, and is held: frames 4 to 6 take the
+    // unbalanced run's time to the picosecond, with no slides.
+    const ResplitAgainstNone f = resplitAgainstNone("30MB/s");
     const double first = f.ns[0];
     EXPECT_GT(first, f.none);
     EXPECT_GT(f.ns[1], first);
