@@ -40,9 +40,13 @@ struct LinkParams {
     int depth = 16;           // messages the link holds before back-pressure
     // The control lane (link.h): slots of a second virtual channel for load
     // reports, slides and acks, which go on the wire ahead of waiting rays.
-    // 0: no lane; control messages queue with the rays, in one FIFO (the
-    // default, kDefaultControlDepth); the frame-buffer ports carry no control
-    // messages.
+    // 0 (the default): no lane; control messages queue with the rays, in one
+    // FIFO. With a lane, decisions use loads a fraction of an interval old
+    // instead of loads queued behind rays (issue 11's age target is met at
+    // every link speed), but rounds come every interval instead of every
+    // few, and `slide`'s first frame loses more than 2 % at 21 of Fig. 4's
+    // 70 points instead of 9 (doc/balancing.md, "The control lane"). The
+    // frame-buffer ports carry no control messages.
     int controlDepth = 0;
     // The sender's output buffer (link.h): messages sent and still waiting
     // for a flow-control slot, per lane. A node whose buffer is full blocks
@@ -59,13 +63,6 @@ struct LinkParams {
 // --frames re-splits each column between frames (0.44 of the unbalanced
 // frame along the axis at N = 4, against slide's 0.50).
 constexpr const char* kDefaultPolicy = "resplit";
-// The mesh links' control lane by default: none. With it, decisions use
-// loads a fraction of an interval old instead of loads queued behind rays
-// (issue 11's age target is met at every link speed), but rounds come every
-// interval instead of every few, and `slide`'s first frame loses more than
-// 2 % at 21 of Fig. 4's 70 points instead of 9 (doc/balancing.md, "The
-// control lane").
-constexpr int kDefaultControlDepth = 0;
 
 struct BalanceConfig {
     std::string policy = "none";
@@ -103,7 +100,7 @@ struct MachineConfig {
     std::map<Cell, double> nodeSpeed;  // per-node speed overrides
     std::map<Cell, Costs> nodeCosts;   // per-node cost overrides (whole sets)
 
-    LinkParams link{100000, 1e9, 16, kDefaultControlDepth};
+    LinkParams link;
     std::map<std::pair<Cell, int>, LinkParams> linkOverride;  // (source node, direction)
 
     // The frame buffer (doc/machine.md, "The frame buffer"): fbUnits units,

@@ -186,8 +186,8 @@ void RtsimOptions::addTo(CLI::App& app) {
                    "guard: no slide that costs more than the work it moves over this many intervals")
         ->check(CLI::Range(0.0, 1e9))->capture_default_str()->group(gb);
     app.add_option("--report-share", b.reportShare,
-                   "load reports take at most this share of a link's time: a node reports to a neighbour again only "
-                   "once a report's time on the wire divided by this has passed")
+                   "load reports on a control lane take at most this share of the link's time: a node reports to a "
+                   "neighbour again only once a report's time on the wire divided by this has passed")
         ->check(CLI::Range(1e-6, 1.0))->capture_default_str()->group(gb);
     app.add_option("--bins", b.bins, "work profile: bins per box thickness along the axis")->check(CLI::Range(1, 4096))->capture_default_str()->group(gb);
     addTime(app, "--cost-rebuild", b.rebuildCost, "updating a node's grid, per object moved in or out", gb);
