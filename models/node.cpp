@@ -630,12 +630,12 @@ Box Node::slabOf(int side, double boundary) const {
     return slab;
 }
 
-// What giving the slab would cost: both nodes handle a message and update
-// their grids for its objects (rebuild cost per object moved, on each), and
-// the slab crosses the link (latency and its bytes at the link's bandwidth).
+// The time `bytes` take on the wire of a link with parameters `l`, in ps.
+static double wireTime(const LinkParams& l, uint32_t bytes) { return double(bytes) * 1e12 / l.bandwidth; }
+
 Picos Node::hopTime(int side) const {
     const LinkParams& l = out[sideDir(side)]->params();
-    return l.latency + Picos(double(kHeaderBytes + kRayBytes) * 1e12 / l.bandwidth);
+    return l.latency + Picos(wireTime(l, kHeaderBytes + kRayBytes));
 }
 
 // Only a report on a control lane is paced: it goes ahead of the rays, so
@@ -644,11 +644,12 @@ Picos Node::hopTime(int side) const {
 Picos Node::reportTime(int side) const {
     const LinkParams& l = out[sideDir(side)]->params();
     if (l.controlDepth == 0) return 0;
-    Message m;
-    m.type = MsgType::LoadReport;
-    return Picos(double(m.bytes()) * 1e12 / l.bandwidth);
+    return Picos(wireTime(l, kHeaderBytes + kLoadReportBytes));
 }
 
+// What giving the slab would cost: both nodes handle a message and update
+// their grids for its objects (rebuild cost per object moved, on each), and
+// the slab crosses the link (latency and its bytes at the link's bandwidth).
 Picos Node::slabCost(int side, double boundary) const {
     const Box slab = slabOf(side, boundary);
     Message m;
@@ -662,7 +663,7 @@ Picos Node::slabCost(int side, double boundary) const {
         }
     const LinkParams& l = out[sideDir(side)]->params();
     const double handling = double(costs_.send + costs_.recv + 2 * objects * bal_.rebuildCost) / speed_;
-    return Picos(handling + double(l.latency) + double(bytes) * 1e12 / l.bandwidth);
+    return Picos(handling + double(l.latency) + wireTime(l, bytes));
 }
 
 // The heavier node gives the slab between the boundary and `boundary` on
