@@ -291,7 +291,7 @@ bool Node::takeWork(Work& w, std::optional<Message>& control, int& controlDir) {
     }
     if (receivedNext_ < received_.size()) {  // the rest of a batch: its message was handled already
         const RayItem& r = received_[receivedNext_++];
-        w = Work{r.job, r.creditExp, false, false};
+        w = Work{r.job, r.creditExp, false, false, receivedFrom_};
         return true;
     }
     Picos next;
@@ -301,8 +301,9 @@ bool Node::takeWork(Work& w, std::optional<Message>& control, int& controlDir) {
         ++stats_.messagesReceived;
         if (m.type == MsgType::Ray) {
             // The first ray carries the message's handling cost.
-            w = Work{m.rays[0].job, m.rays[0].creditExp, true, false};
+            w = Work{m.rays[0].job, m.rays[0].creditExp, true, false, int8_t(best)};
             recycle(received_);
+            receivedFrom_ = int8_t(best);
             received_ = std::move(m.rays);
             receivedNext_ = 1;
         } else {
@@ -314,7 +315,7 @@ bool Node::takeWork(Work& w, std::optional<Message>& control, int& controlDir) {
     if (nextPixel_ < pixels_.size()) {
         const uint32_t p = pixels_[nextPixel_++];
         w = Work{primaryJob(camera_, int(p % uint32_t(camera_.width())), int(p / uint32_t(camera_.width())), world_),
-                 uint16_t(primaryExp_), false, true};
+                 uint16_t(primaryExp_), false, true, -1};
         ++stats_.raysGenerated;
         ++stats_.raysCreated;
         ++stats_.counters.primaryRays;
@@ -361,7 +362,7 @@ void Node::terminate(const Work& w, std::vector<RayJob>& spawned) {
     const int c = ceilLog2(m + 1);
     credit_.add(w.creditExp + c, (uint64_t(1) << c) - m);
     for (RayJob& j : spawned) {
-        local_.push_back(Work{j, uint16_t(w.creditExp + c), false, false});
+        local_.push_back(Work{j, uint16_t(w.creditExp + c), false, false, -1});
         ++stats_.raysCreated;
     }
 }
@@ -376,6 +377,7 @@ void Node::step(Work& w) {
     spawned.clear();
     contributions.clear();
     int dir = route(w.job);
+    const bool passing = dir >= 0;  // not this box's: sent on without tracing
     double where = std::nan("");  // where along the axis the work happened (work histogram)
     if (dir < 0) {
         ++stats_.raysTraced;
@@ -393,6 +395,10 @@ void Node::step(Work& w) {
     }
     if (dir >= 0) {
         if (out[dir].size()) {
+            if (passing) {
+                ++stats_.raysPassed;
+                if (w.from >= 0 && dirAxis(w.from) != bal_.axis) ++stats_.raysPassedBetweenColumns;
+            }
             queueRay(dir, w);
         } else {  // no neighbour that way: the ray leaves the world
             contributions.push_back(shader_.miss(w.job, stats_.counters));

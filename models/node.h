@@ -51,6 +51,15 @@ struct NodeStats {
     uint64_t raysCreated = 0;      // generated + spawned here
     uint64_t raysTerminated = 0;   // ended here (hit, blocked, or left the world / reached its light)
     uint64_t raysForwarded = 0;    // sent to a neighbour
+    // Of those, sent on without a segment traced here: the box did not own
+    // where the ray was when it took it (a face moved since the ray was
+    // sent or held, or a neighbouring column's face along the axis is
+    // elsewhere). Each costs a receive and a send for no tracing.
+    uint64_t raysPassed = 0;
+    // Of those, rays that came from a neighbouring column (a link across
+    // the axis) to a box whose faces along the axis are not where that
+    // column's are.
+    uint64_t raysPassedBetweenColumns = 0;
     uint64_t messagesSent = 0, messagesReceived = 0;
     uint64_t contributionsSent = 0;
     size_t queueHighWater = 0;     // local work + input messages arrived and not yet taken
@@ -122,6 +131,7 @@ private:
         uint16_t creditExp;
         bool fromLink;
         bool generated;
+        int8_t from;  // the link direction it arrived on (-1: made here)
     };
 
     void run();      // the method process: one activation
@@ -200,6 +210,7 @@ private:
     std::array<std::vector<RayItem>, kDirs> outRays_;  // rays collected per direction, not yet sent
     std::vector<RayItem> received_;                     // the rest of the last batch received (FIFO)
     size_t receivedNext_ = 0;
+    int8_t receivedFrom_ = -1;                           // the link it came on
     static constexpr size_t kSpareRayLists = 8;
     std::vector<std::vector<RayItem>> spareRays_;       // emptied ray lists, reused for sending
 

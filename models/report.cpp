@@ -84,10 +84,14 @@ nlohmann::json machineReport(const MachineResult& r, const MachineConfig& cfg) {
     j["wall_s"] = r.wallSeconds;
 
     Picos busyTotal = 0, blockedTotal = 0;
+    uint64_t forwardedTotal = 0, passedTotal = 0, passedBetweenTotal = 0;
     for (size_t i = 0; i < r.nodes.size(); ++i) {
         const NodeStats& s = r.nodes[i];
         busyTotal += s.busy;
         blockedTotal += s.blocked;
+        forwardedTotal += s.raysForwarded;
+        passedTotal += s.raysPassed;
+        passedBetweenTotal += s.raysPassedBetweenColumns;
         nlohmann::json n;
         n["node"] = cellJson(r.cells[i]);
         n["box"] = {{r.boxes[i].lo.x, r.boxes[i].lo.y, r.boxes[i].lo.z}, {r.boxes[i].hi.x, r.boxes[i].hi.y, r.boxes[i].hi.z}};
@@ -101,6 +105,8 @@ nlohmann::json machineReport(const MachineResult& r, const MachineConfig& cfg) {
         n["rays_traced"] = s.raysTraced;
         n["rays_generated"] = s.raysGenerated;
         n["rays_forwarded"] = s.raysForwarded;
+        n["rays_passed"] = s.raysPassed;  // of those, sent on without tracing (a face elsewhere)
+        n["rays_passed_between_columns"] = s.raysPassedBetweenColumns;  // of those, from another column
         n["rays_created"] = s.raysCreated;
         n["rays_terminated"] = s.raysTerminated;
         n["messages_sent"] = s.messagesSent;
@@ -169,6 +175,9 @@ nlohmann::json machineReport(const MachineResult& r, const MachineConfig& cfg) {
     }
     j["totals"]["busy_ns"] = ns(busyTotal);
     j["totals"]["blocked_ns"] = ns(blockedTotal);
+    j["totals"]["rays_forwarded"] = forwardedTotal;
+    j["totals"]["rays_passed"] = passedTotal;
+    j["totals"]["rays_passed_between_columns"] = passedBetweenTotal;
     j["totals"]["primary_misses"] = r.primaryMisses;
     // The bounds (bounds.h).
     const Bounds bd = renderTimeBounds(r, cfg);

@@ -5,8 +5,10 @@ axis unless said), each rendered without balancing, with `slide` for one
 frame and for --frames frames, and with `resplit` over --frames frames;
 the ratios to the unbalanced frame and the 95th percentile age of the
 loads the first frame's decisions used. Also `resplit`'s sequence of
---sequence frames along and across the axis. Writes
-doc/results/failure_cases.{csv,md} and the tables into doc/balancing.md.
+--sequence frames along and across the axis, and what `slide`'s slides
+cost at Fig. 4's best and worst points (rays forwarded and passed on
+untraced). Writes doc/results/failure_cases.{csv,md}, resplit_sequences.md,
+slide_costs.md and the tables into doc/balancing.md.
 Run with /usr/bin/python3."""
 import argparse
 import os
@@ -16,6 +18,18 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import sweep as driver  # noqa: E402
 from fig4 import VIEWS  # noqa: E402
 from sweep import ROOT, write_csv  # noqa: E402
+
+# Fig. 4 points (modern) where `slide`'s first frame gains most and where it
+# loses most, for what its slides cost: rays forwarded, and of them rays
+# passed on untraced (a face moved, or the neighbouring column's faces are
+# elsewhere).
+COSTS = {
+    "along, N = 4, f = 1/4": VIEWS["along"] + ["--mesh", "4", "--concentration", "0.25"],
+    "across, N = 4, f = 1/4": VIEWS["across"] + ["--mesh", "4", "--concentration", "0.25"],
+    "along, N = 8, f = 7/8": VIEWS["along"] + ["--mesh", "8", "--concentration", "0.875"],
+    "across, N = 7, f = 1": VIEWS["across"] + ["--mesh", "7", "--concentration", "1"],
+    "across, N = 8, f = 1": VIEWS["across"] + ["--mesh", "8", "--concentration", "1"],
+}
 
 CASES = {
     "defaults (100 ns, 1 GB/s), f = 1/4": VIEWS["along"],
@@ -42,6 +56,8 @@ def main():
     points += [{"params": {"case": f"sequence {view}", "run": "resplit"},
                 "args": CASES[case] + ["--balance", "resplit", "--frames", a.sequence]}
                for view, case in sequences.items()]
+    points += [{"params": {"case": f"cost {point}", "run": policy}, "args": flags + ["--balance", policy]}
+               for point, flags in COSTS.items() for policy in ("none", "slide")]
     got = driver.run("failure_cases", points, extract, None, a)
     by = {(r["case"], r["run"]): r for r in got}
     rows, lines = [], [f"<!-- written by scripts/failure_cases.py --frames {a.frames}; do not edit -->",
@@ -69,11 +85,24 @@ def main():
         seq.append(f"| {view} | {none / 1e3:,.1f} | " + " | ".join(f"{t / 1e3:,.1f}" for t in times) +
                    f" | {times[-1] / none:.3f} |")
     driver.publish_table(seq, os.path.join(a.out, "resplit_sequences.md"), a.doc or None, "resplit sequences")
+    cost = ["<!-- written by scripts/failure_cases.py; do not edit -->",
+            "| Fig. 4 point | slide / none | busy, slide / none | rays forwarded, none | slide | "
+            "passed untraced, none | slide | of them between columns | slides |",
+            "|---|---:|---:|---:|---:|---:|---:|---:|---:|"]
+    for point in COSTS:
+        n, sl = by[(f"cost {point}", "none")], by[(f"cost {point}", "slide")]
+        cost.append(f"| {point} | {sl['render_time_ns'] / n['render_time_ns']:.3f} | {sl['busy_ns'] / n['busy_ns']:.3f} | "
+                    f"{n['forwarded']:,} | {sl['forwarded']:,} | {n['passed']:,} | {sl['passed']:,} | {sl['passed_between']:,} | "
+                    f"{sl['slides']:,} |")
+    driver.publish_table(cost, os.path.join(a.out, "slide_costs.md"), a.doc or None, "slide costs")
 
 
 def extract(r):
     ages = r["balance"].get("load_age_intervals") or {}
-    return {"render_time_ns": r["render_time_ns"], "age_p95": ages.get("p95", ""),
+    t = r["totals"]
+    return {"render_time_ns": r["render_time_ns"], "age_p95": ages.get("p95", ""), "busy_ns": t["busy_ns"],
+            "forwarded": t["rays_forwarded"], "passed": t["rays_passed"],
+            "passed_between": t["rays_passed_between_columns"], "slides": r["balance"].get("slides", 0),
             "frames_ns": " ".join(f"{f['render_time_ns']:.0f}" for f in r.get("frames", []))}
 
 

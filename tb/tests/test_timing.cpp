@@ -455,3 +455,76 @@ TEST(FrameBufferOracle, FullOutputBufferBlocksTheSender) {
     for (const NodeStats& s : r.nodes) EXPECT_EQ(s.busy + s.wait, r.renderTime);
     EXPECT_EQ(r.renderTime, firstIn + 16 * Picos(10000000));
 }
+
+// Columns whose faces along the axis are not in line. Two primary rays run
+// along +y near x = 5 across a 2 x 2 x 1 mesh (columns along x), in one
+// message of two rays. The column they start in (y = 0) has its plane at
+// x = 3, so node (1,0) traces them to the +y face. Its neighbour across that
+// face, node (1,1), owns x from 7 when the second column's plane is there:
+// the rays are not in its box, so it passes them to (0,1) at the cost of one
+// receive and one send (one message each way), traces nothing, and counts
+// both (the batch's second ray too) as passed between columns. With the
+// planes in line (both at 3) the same rays cross the same faces and nobody
+// passes them.
+class RayBetweenColumns : public testing::TestWithParam<bool> {};
+
+TEST_P(RayBetweenColumns, PassesOnlyWhereTheFacesAreNotInLine) {
+    const bool misaligned = GetParam();
+    const Scene scene = sceneFrom("columns", R"(b 0 0 0
+v
+from 5 -5 5
+at 5 10 5
+up 0 0 1
+angle 10
+hither 0.01
+resolution 2 1
+l 5 -30 0
+f 1 1 1 1 0 0 0 1
+s 0 0 0 0.1
+s 10 10 10 0.1
+)");
+    MachineConfig c;
+    c.dims = {2, 2, 1};
+    c.width = 2;
+    c.height = 1;
+    c.rayBatch = 2;
+    c.costs = test::distinctCosts();
+    c.startBoundaries = {{3.0}, {misaligned ? 7.0 : 3.0}};  // column y = 0, column y = 1
+    const MachineResult r = runMachine(scene, c);
+    ASSERT_EQ(r.nodes.size(), 4u);
+    auto node = [&](Cell cell) -> const NodeStats& {
+        for (size_t i = 0; i < r.cells.size(); ++i)
+            if (r.cells[i] == cell) return r.nodes[i];
+        throw std::logic_error("no such node");
+    };
+    const NodeStats& start = node({1, 0, 0});
+    EXPECT_EQ(start.raysGenerated, 2u);
+    EXPECT_EQ(start.raysTraced, 2u);
+    EXPECT_EQ(start.raysPassed, 0u);
+    const NodeStats& across = node({1, 1, 0});  // owns x >= 7 or x >= 3
+    const NodeStats& beyond = node({0, 1, 0});
+    if (misaligned) {
+        EXPECT_EQ(across.messagesReceived, 1u);
+        EXPECT_EQ(across.raysForwarded, 2u);
+        EXPECT_EQ(across.raysTraced, 0u);
+        EXPECT_EQ(across.raysPassed, 2u);
+        EXPECT_EQ(across.raysPassedBetweenColumns, 2u);
+        EXPECT_EQ(across.counters.voxelSteps, 0u);
+        EXPECT_EQ(across.busy, c.costs.recv + c.costs.send);
+        EXPECT_EQ(beyond.raysTraced, 2u);
+        EXPECT_EQ(beyond.raysPassed, 0u);
+    } else {
+        EXPECT_EQ(across.raysTraced, 2u);
+        EXPECT_EQ(beyond.messagesReceived, 0u);
+    }
+    uint64_t passed = 0, between = 0;
+    for (const NodeStats& s : r.nodes) {
+        passed += s.raysPassed;
+        between += s.raysPassedBetweenColumns;
+    }
+    EXPECT_EQ(passed, misaligned ? 2u : 0u);
+    EXPECT_EQ(between, passed);
+}
+
+INSTANTIATE_TEST_SUITE_P(Planes, RayBetweenColumns, testing::Values(true, false),
+                         [](const testing::TestParamInfo<bool>& i) { return i.param ? "NotInLine" : "InLine"; });
