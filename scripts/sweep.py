@@ -67,8 +67,35 @@ def version():
 
 
 def point_id(args):
-    """A stable name for a point: a hash of its flags."""
-    return hashlib.sha1("\0".join(str(a) for a in args).encode()).hexdigest()[:12]
+    """A stable name for a point: a hash of its flags and, when they name a
+    preset file (--config), of the settings in it, so that a point whose
+    preset was edited is run again rather than resumed from the journal."""
+    key = "\0".join(str(a) for a in args)
+    settings = preset_settings(args)
+    if settings is not None:
+        key += "\0--config settings\0" + settings
+    return hashlib.sha1(key.encode()).hexdigest()[:12]
+
+
+def preset_settings(args):
+    """The settings of the preset file the flags name (its lines without
+    comments and blanks, as rtsim reads them), or None if they name none or
+    it cannot be read (rtsim then says why)."""
+    args = [str(a) for a in args]
+    path = None
+    for i, a in enumerate(args):
+        if a == "--config" and i + 1 < len(args):
+            path = args[i + 1]
+        elif a.startswith("--config="):
+            path = a.split("=", 1)[1]
+    if path is None:
+        return None
+    try:
+        with open(path) as f:
+            lines = [ln.split("#", 1)[0].strip() for ln in f if not ln.lstrip().startswith(";")]
+    except OSError:
+        return None
+    return "\n".join(" ".join(ln.split()) for ln in lines if ln)
 
 
 def command(args, binary=RTSIM):

@@ -1,6 +1,7 @@
 """Tests of the sweep driver (scripts/sweep.py): parallel local runs, CSV in
 point order with command and version, resume without rerunning, a failing
-point reported, and the same sweep through a local Dask cluster.
+point reported, an edited preset rerun, and the same sweep through a local
+Dask cluster.
 Run by ctest as: /usr/bin/python3 test_sweep.py <rtsim binary>."""
 import csv
 import json
@@ -100,6 +101,28 @@ class Sweep(unittest.TestCase):
         self.assertEqual(len(rows), 5)
         sweep.run("t", points(), extract, None, self.opts(fresh=True), binary=self.binary)
         self.assertEqual(self.calls(), 9)
+
+    def test_edited_preset_reruns_its_points(self):
+        preset = os.path.join(self.dir, "links.conf")
+
+        def write(text):
+            with open(preset, "w") as f:
+                f.write(text)
+
+        def sweep_with_preset():
+            pts = [{"params": {"N": n}, "args": SMALL + ["--mesh", n, "--config", preset]} for n in (1, 2)]
+            return sweep.run("t", pts, extract, None, self.opts(), binary=self.binary)
+
+        write("# the links\nlink-latency = 100ns\n")
+        fast = sweep_with_preset()
+        self.assertEqual(self.calls(), 2)
+        write("# the links, commented differently\n\nlink-latency   =  100ns  # same value\n")
+        sweep_with_preset()
+        self.assertEqual(self.calls(), 2)  # the same settings: resumed
+        write("link-latency = 5us\n")
+        slow = sweep_with_preset()
+        self.assertEqual(self.calls(), 4)  # a setting changed: both points run again
+        self.assertGreater(slow[1]["render_time_ns"], fast[1]["render_time_ns"])
 
     def test_interrupted_journal_line_is_rerun(self):
         sweep.run("t", points(), extract, None, self.opts(), binary=self.binary)
