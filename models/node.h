@@ -54,7 +54,8 @@ struct NodeStats {
     // Of those, sent on without a segment traced here: the box did not own
     // where the ray was when it took it (a face moved since the ray was
     // sent or held, or a neighbouring column's face along the axis is
-    // elsewhere). Each costs a receive and a send for no tracing.
+    // elsewhere). Each costs a send, and a receive if it came over a link,
+    // for no tracing.
     uint64_t raysPassed = 0;
     // Of those, rays that came from a neighbouring column (a link across
     // the axis) to a box whose faces along the axis are not where that
