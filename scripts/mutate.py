@@ -131,6 +131,12 @@ MUTANTS = [
     ("vcd-wire-held-late", "models/link.cpp",
      "v.step(start + transfer, trace_.wire, -1);", "v.step(start + transfer + 1, trace_.wire, -1);",
      "the VCD shows the wire busy 1 ps longer than it was"),
+    ("pass-not-counted-from-batch", "models/node.cpp",
+     "w = Work{r.job, r.creditExp, false, false, receivedFrom_};", "w = Work{r.job, r.creditExp, false, false, -1};",
+     "a batch's later rays lose the link they came on: passed between columns goes uncounted for them"),
+    ("every-forward-counted-as-passed", "models/node.cpp",
+     "const bool passing = dir >= 0;", "const bool passing = true;",
+     "every ray forwarded counts as passed on untraced, also the ones traced here first"),
 ]
 
 
