@@ -135,10 +135,11 @@ void BalanceAgent::act() {
 void BalanceAgent::onReport(int side, const Message& m, Picos now) {
     const int i = side > 0;
     Side& s = sides_[i];
-    if (m.interval > s.reported + 1 || m.interval <= s.decided || s.got.count(m.interval))
-        throw std::logic_error("balance agent: report for round " + std::to_string(m.interval) + " out of lockstep");
-    s.got[m.interval] = LoadSample{Picos(m.end), Picos(m.busy), Picos(m.wait), Picos(m.backlog), m.sum};
-    s.neighbourSum = m.sum;
+    const MessageBody& r = m.body();
+    if (r.interval > s.reported + 1 || r.interval <= s.decided || s.got.count(r.interval))
+        throw std::logic_error("balance agent: report for round " + std::to_string(r.interval) + " out of lockstep");
+    s.got[r.interval] = LoadSample{Picos(r.end), Picos(r.busy), Picos(r.wait), Picos(r.backlog), r.sum};
+    s.neighbourSum = r.sum;
     advance(i, now);
 }
 
@@ -195,12 +196,13 @@ void BalanceAgent::report(int i) {
     s.nextReport = (advanceAt_[i] / period + 1) * period;
     Message m;
     m.type = MsgType::LoadReport;
-    m.interval = s.reported;
-    m.end = l.end;
-    m.busy = l.busy;
-    m.wait = l.wait;
-    m.backlog = l.backlog;
-    m.sum = l.sum;
+    MessageBody& r = m.body();
+    r.interval = s.reported;
+    r.end = l.end;
+    r.busy = l.busy;
+    r.wait = l.wait;
+    r.backlog = l.backlog;
+    r.sum = l.sum;
     host_.sendReport(sideOf(i), std::move(m));
 }
 

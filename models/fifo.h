@@ -38,9 +38,13 @@ public:
     T& operator[](size_t i) { return items_[(head_ + i) & mask_]; }
     const T& operator[](size_t i) const { return items_[(head_ + i) & mask_]; }
 
-    void push_back(T v) {
+    void push_back(T v) { emplace_back(std::move(v)); }
+    // Builds the item in place (braces: an aggregate takes its fields), so
+    // a large item is not moved once more on its way in.
+    template <class... Args>
+    void emplace_back(Args&&... args) {
         if (size_ == capacity()) grow();
-        new (&items_[(head_ + size_) & mask_]) T(std::move(v));
+        new (&items_[(head_ + size_) & mask_]) T{std::forward<Args>(args)...};
         ++size_;
     }
     void pop_front() {

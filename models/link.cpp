@@ -51,7 +51,7 @@ void Link::traceStart(Picos start, Picos transfer) {
     v.step(start, trace_.buffered, 1);
 }
 
-void Link::send(Message m, Picos t) {
+void Link::send(Message&& m, Picos t) {
     const int type = int(m.type);
     if (trace_.vcd && params_.controlDepth == 0) trace_.vcd->step(t, trace_.backlog, 1);
     ++stats_.messages[type];
@@ -64,7 +64,7 @@ void Link::send(Message m, Picos t) {
         putOnWire(lane, t, std::move(m), takeSlot(l));  // the usual case: a slot is free, nothing waits before it
         return;
     }
-    l.backlog.push_back({t, std::move(m)});
+    l.backlog.emplace_back(t, std::move(m));
     startWaiting(lane);
 }
 
@@ -126,7 +126,7 @@ void Link::putOnWire(int lane, Picos sent, Message&& m, Picos slot) {
     stats_.backlogHighWater = std::max(stats_.backlogHighWater, l.waitedUntil.size());
     stats_.wire[size_t(m.type)] += transfer;
     if (trace_.vcd && params_.controlDepth == 0) traceStart(start, transfer);
-    l.buffer.push_back({arrival, std::move(m), sent, start, ready, transfer});
+    l.buffer.emplace_back(arrival, std::move(m), sent, start, ready, transfer);
     if (l.buffer.size() == 1) headChanged();
 }
 

@@ -100,7 +100,7 @@ inline void mergeChannel(LinkStats& into, const LinkStats& s) {
 class LinkSendIf : public virtual sc_core::sc_interface {
 public:
     // Sends at the sender's time `t` (its local time, >= the kernel's).
-    virtual void send(Message m, Picos t) = 0;
+    virtual void send(Message&& m, Picos t) = 0;
     virtual const LinkParams& params() const = 0;
     // When a message of type `type` sent at `t` or later finds room in the
     // output buffer: `t` if it has room then; a later time if that is known
@@ -163,7 +163,7 @@ class Link : public LinkSendIf, public LinkRecvIf {
 public:
     Link(std::string name, const LinkParams& params);
 
-    void send(Message m, Picos t) override;
+    void send(Message&& m, Picos t) override;
     Picos roomAt(MsgType type, Picos t) override;
     const sc_core::sc_event& roomEvent() const override { return room_; }
     bool peekArrival(Picos& arrival) const override;

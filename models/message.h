@@ -2,8 +2,11 @@
 // a size in bytes; the size is what the link's bandwidth is charged for.
 #pragma once
 #include <cstdint>
+#include <memory>
 #include <utility>
 #include <vector>
+
+#include <boost/container/small_vector.hpp>
 
 #include "credit.h"
 #include "ray_job.h"
@@ -38,10 +41,17 @@ struct RayItem {
     RayJob job;
     uint16_t creditExp = 0;
 };
+// A message's rays: the first one inline, so the usual message (one ray,
+// --ray-batch 1) is one block that a link moves along, not a message and a
+// heap block of its own that the receiver reads long after another node
+// wrote it (doc/exploration.md, "Where rtsim's time goes"). Batches of more
+// than one ray go to the heap.
+constexpr size_t kInlineRays = 1;
+using RayList = boost::container::small_vector<RayItem, kInlineRays>;
 
-struct Message {
-    MsgType type = MsgType::Ray;
-    std::vector<RayItem> rays;                 // Ray: one or a batch (--ray-batch)
+// What the messages other than rays carry, behind one pointer (rays are
+// most of the messages, and a link holds a message by value).
+struct MessageBody {
     std::vector<Contribution> contributions;   // Contributions
     Credit credit;                             // Credit
     // Credit, with more than one frame-buffer unit: contributions sent to
@@ -54,16 +64,31 @@ struct Message {
     double sum = 0;                            // LoadReport: the column's demand up to the reporter (policy.h)
     double boundary = 0;                       // Slide, Ack: the boundary's new coordinate
     std::vector<Shape> objects;                // Slide: the objects of the moved slab
+};
+
+struct Message {
+    MsgType type = MsgType::Ray;
+    RayList rays;  // Ray: one or a batch (--ray-batch)
+
+    // The rest (made when first written; a message without one reads as empty).
+    MessageBody& body() {
+        if (!body_) body_ = std::make_unique<MessageBody>();
+        return *body_;
+    }
+    const MessageBody& body() const {
+        static const MessageBody empty;
+        return body_ ? *body_ : empty;
+    }
 
     uint32_t bytes() const {
         switch (type) {
             case MsgType::Ray: return kHeaderBytes + uint32_t(rays.size()) * kRayBytes;
-            case MsgType::Contributions: return kHeaderBytes + uint32_t(contributions.size()) * kContributionBytes;
-            case MsgType::Credit: return kHeaderBytes + credit.bytes() + uint32_t(unitCounts.size()) * kUnitCountBytes;
+            case MsgType::Contributions: return kHeaderBytes + uint32_t(body().contributions.size()) * kContributionBytes;
+            case MsgType::Credit: return kHeaderBytes + body().credit.bytes() + uint32_t(body().unitCounts.size()) * kUnitCountBytes;
             case MsgType::LoadReport: return kHeaderBytes + kLoadReportBytes;
             case MsgType::Slide: {
                 uint32_t b = kHeaderBytes + kSlideBytes;
-                for (const Shape& s : objects) b += objectBytes(s);
+                for (const Shape& s : body().objects) b += objectBytes(s);
                 return b;
             }
             case MsgType::Ack: return kHeaderBytes + kAckBytes;
@@ -72,6 +97,9 @@ struct Message {
         }
         return kHeaderBytes;
     }
+
+private:
+    std::unique_ptr<MessageBody> body_;
 };
 
 }  // namespace rt

@@ -122,7 +122,7 @@ std::string Node::holding() const {
         if (in[d].size()) coming += in[d]->workInFlight();
     add(coming, "ray messages on their way to it");
     uint64_t batched = 0;
-    for (const std::vector<RayItem>& b : outRays_) batched += b.size();
+    for (const RayList& b : outRays_) batched += b.size();
     add(batched, "rays in partial batches");
     add(pendingCount_, "contributions");
     if (!credit_.isZero()) s += std::string(s.empty() ? "" : ", ") + "credit";
@@ -262,7 +262,7 @@ void Node::endWait() {
 // generate, rays in partial batches, contributions or credit owed.
 bool Node::nothingToDo() const {
     if (ownWork() || nextPixel_ < pixels_.size() || owesFrameBuffer()) return false;
-    for (const std::vector<RayItem>& b : outRays_)
+    for (const RayList& b : outRays_)
         if (!b.empty()) return false;
     return true;
 }
@@ -302,10 +302,15 @@ bool Node::takeWork(Work& w, std::optional<Message>& control, int& controlDir) {
         if (m.type == MsgType::Ray) {
             // The first ray carries the message's handling cost.
             w = Work{m.rays[0].job, m.rays[0].creditExp, true, false, int8_t(best)};
-            recycle(received_);
             receivedFrom_ = int8_t(best);
-            received_ = std::move(m.rays);
-            receivedNext_ = 1;
+            if (m.rays.size() > 1) {  // a batch: the rest waits in received_
+                recycle(received_);
+                received_ = std::move(m.rays);
+                receivedNext_ = 1;
+            } else {
+                received_.clear();
+                receivedNext_ = 0;
+            }
         } else {
             controlDir = best;
             control = std::move(m);
@@ -498,34 +503,39 @@ bool Node::sendOutbox() {
 // as one message when full.
 void Node::queueRay(int dir, const Work& w) {
     ++stats_.raysForwarded;
-    if (outRays_[dir].capacity() == 0 && !spareRays_.empty()) {
-        outRays_[dir] = std::move(spareRays_.back());
+    RayList& batch = outRays_[dir];
+    if (rayBatch_ <= 1) {  // a message per ray: written straight into the message (a ray is most of its bytes)
+        outbox_.emplace_back(dir, Message{}).second.rays.push_back(RayItem{w.job, w.creditExp});
+        return;
+    }
+    if (batch.empty() && batch.capacity() <= kInlineRays && !spareRays_.empty()) {
+        batch = std::move(spareRays_.back());
         spareRays_.pop_back();
     }
-    outRays_[dir].push_back(RayItem{w.job, w.creditExp});
-    if (outRays_[dir].size() < size_t(rayBatch_)) return;
-    Message m;
+    batch.push_back(RayItem{w.job, w.creditExp});
+    if (batch.size() >= size_t(rayBatch_)) sendBatch(dir);
+}
+
+// The rays collected for `dir` leave as one message (their list moves into it).
+void Node::sendBatch(int dir) {
+    Message& m = outbox_.emplace_back(dir, Message{}).second;
     m.type = MsgType::Ray;
-    m.rays.swap(outRays_[dir]);
-    outbox_.push_back({dir, std::move(m)});
+    m.rays = std::move(outRays_[dir]);
+    outRays_[dir].clear();
 }
 
 // A ray list this node is done with becomes the next one it sends: nodes
 // receive about as many ray messages as they send, so most messages reuse a
 // list instead of allocating one (and the receiver freeing it).
-void Node::recycle(std::vector<RayItem>& rays) {
-    if (rays.capacity() == 0 || spareRays_.size() >= kSpareRayLists) return;
+void Node::recycle(RayList& rays) {
+    if (rays.capacity() <= kInlineRays || spareRays_.size() >= kSpareRayLists) return;  // (no heap block to reuse)
     rays.clear();
     spareRays_.push_back(std::move(rays));
 }
 
 bool Node::flushRays() {
     for (int d = 0; d < kDirs; ++d) {
-        if (outRays_[d].empty()) continue;
-        Message m;
-        m.type = MsgType::Ray;
-        m.rays.swap(outRays_[d]);
-        outbox_.push_back({d, std::move(m)});
+        if (!outRays_[d].empty()) sendBatch(d);
     }
     if (outbox_.empty()) return false;
     traceState(true, false);
@@ -543,14 +553,14 @@ void Node::sendContributions(int unit) {
     Message m;
     m.type = MsgType::Contributions;
     if (p.size() >= size_t(fbBatch_)) {  // a full batch: hand over the list itself
-        m.contributions.swap(p);
+        m.body().contributions.swap(p);
         p.reserve(size_t(fbBatch_));     // the unit keeps the list: it should hold no spare room
     } else {
-        m.contributions.assign(p.begin(), p.end());  // a part batch: a list of its size
+        m.body().contributions.assign(p.begin(), p.end());  // a part batch: a list of its size
         p.clear();
     }
-    pendingCount_ -= m.contributions.size();
-    sentSince_[size_t(unit)] += uint32_t(m.contributions.size());
+    pendingCount_ -= m.body().contributions.size();
+    sentSince_[size_t(unit)] += uint32_t(m.body().contributions.size());
     outbox_.push_back({fbTarget(unit), std::move(m)});
 }
 
@@ -567,10 +577,10 @@ void Node::flushToFrameBuffer() {
     if (!credit_.isZero()) {
         Message m;
         m.type = MsgType::Credit;
-        m.credit = credit_;
+        m.body().credit = credit_;
         credit_.clear();
         for (size_t u = 1; u < sentSince_.size(); ++u)
-            if (sentSince_[u]) m.unitCounts.push_back({uint16_t(u), sentSince_[u]});
+            if (sentSince_[u]) m.body().unitCounts.push_back({uint16_t(u), sentSince_[u]});
         std::fill(sentSince_.begin(), sentSince_.end(), 0);
         outbox_.push_back({fbTarget(0), std::move(m)});
     } else if (std::any_of(sentSince_.begin(), sentSince_.end(), [](uint32_t n) { return n != 0; })) {
@@ -622,7 +632,7 @@ void Node::control(Message& m, int fromDir) {
         finishControlStep(stats_.counters, 1, 0);
         balance_->onReport(side, m, now_);
     } else if (m.type == MsgType::Slide) {
-        takeSlab(side, m.boundary, std::move(m.objects));
+        takeSlab(side, m.body().boundary, std::move(m.body().objects));
     } else if (m.type == MsgType::Ack) {
         ++stats_.acks;
         finishControlStep(stats_.counters, 1, 0);
@@ -683,19 +693,19 @@ void Node::giveSlab(int side, double boundary) {
     else own.lo[bal_.axis] = boundary;
     Message m;
     m.type = MsgType::Slide;
-    m.boundary = boundary;
+    m.body().boundary = boundary;
     std::vector<Shape> keep;
     for (const Shape& s : region_->objects()) {
-        if (overlapsBox(s, slab, margin_)) m.objects.push_back(s);
+        if (overlapsBox(s, slab, margin_)) m.body().objects.push_back(s);
         if (overlapsBox(s, own, margin_)) keep.push_back(s);
     }
-    stats_.slides.push_back({now_, side, boundary, m.objects.size()});
+    stats_.slides.push_back({now_, side, boundary, m.body().objects.size()});
     const size_t face = side > 0 ? 1 : 0;
     if (trace_.position[face] >= 0) {  // the boundary's signals, if traced
         trace_.vcd->setReal(now_, trace_.position[face], boundary);
         trace_.vcd->step(now_, trace_.slides[face], 1);
     }
-    stats_.objectsSent += m.objects.size();
+    stats_.objectsSent += m.body().objects.size();
     outbox_.push_back({sideDir(side), std::move(m)});
     const size_t moved = stats_.slides.back().objects;
     rebuild(own, std::move(keep));
@@ -718,7 +728,7 @@ void Node::takeSlab(int side, double boundary, std::vector<Shape> objects) {
     ++stats_.slidesTaken;
     Message ack;
     ack.type = MsgType::Ack;
-    ack.boundary = boundary;
+    ack.body().boundary = boundary;
     outbox_.push_back({sideDir(side), std::move(ack)});
     rebuild(own, std::move(all));
     finishControlStep(stats_.counters, 1, moved);

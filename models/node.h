@@ -188,7 +188,8 @@ private:
     int unitOf(const Contribution& c) const { return int(c.pixel % uint32_t(pending_.size())); }
     bool flushRays();  // sends every partial ray batch; false if there was none
     void queueRay(int dir, const Work& w);
-    void recycle(std::vector<RayItem>& rays);
+    void sendBatch(int dir);
+    void recycle(RayList& rays);
     Picos stepCost(const Counters& before, uint64_t sends, uint64_t recvs, uint64_t generated) const;
     size_t queueDepth(Picos at) const;  // rays in hand and input arrived by `at`, not yet taken
     // Rays in hand: spawned here, or the rest of a batch received.
@@ -208,12 +209,12 @@ private:
     double minThickness_;  // absolute, along the progress axis
     TimeKeeper time_;      // when to let the kernel catch up
     int rayBatch_;         // rays per link message
-    std::array<std::vector<RayItem>, kDirs> outRays_;  // rays collected per direction, not yet sent
-    std::vector<RayItem> received_;                     // the rest of the last batch received (FIFO)
+    std::array<RayList, kDirs> outRays_;                // rays collected per direction, not yet sent
+    RayList received_;                                    // the rest of the last batch received (FIFO)
     size_t receivedNext_ = 0;
     int8_t receivedFrom_ = -1;                           // the link it came on
     static constexpr size_t kSpareRayLists = 8;
-    std::vector<std::vector<RayItem>> spareRays_;       // emptied ray lists, reused for sending
+    std::vector<RayList> spareRays_;                      // emptied ray lists, reused for sending
 
     // Balancing (dynamic policies); made when the process starts, once the
     // node knows which neighbours it has.

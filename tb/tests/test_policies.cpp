@@ -204,11 +204,11 @@ TEST(Agent, OneRoundEachWayAndOnlyTheHeavierGives) {
     ASSERT_EQ(ha.reports.size(), 1u);
     ASSERT_EQ(hb.reports.size(), 1u);
     EXPECT_EQ(ha.reports[0].first, +1);
-    EXPECT_EQ(ha.reports[0].second.interval, 0);
-    EXPECT_EQ(ha.reports[0].second.busy, 20 * us);
-    EXPECT_EQ(ha.reports[0].second.backlog, 3 * 2 * us);  // 3 waiting at the mean step, 2 us
-    EXPECT_EQ(hb.reports[0].second.busy, 5 * us);
-    EXPECT_EQ(hb.reports[0].second.wait, 13 * us);
+    EXPECT_EQ(ha.reports[0].second.body().interval, 0);
+    EXPECT_EQ(ha.reports[0].second.body().busy, 20 * us);
+    EXPECT_EQ(ha.reports[0].second.body().backlog, 3 * 2 * us);  // 3 waiting at the mean step, 2 us
+    EXPECT_EQ(hb.reports[0].second.body().busy, 5 * us);
+    EXPECT_EQ(hb.reports[0].second.body().wait, 13 * us);
     a.onReport(+1, hb.reports[0].second, 21 * us);
     settle(a);
     b.onReport(-1, ha.reports[0].second, 21 * us);
@@ -283,10 +283,10 @@ TEST(Agent, SlowReportsMakeLongerRoundsNotAQueue) {
     settle(a);
     ASSERT_EQ(ha.reports.size(), 2u);
     const Message& r1 = ha.reports[1].second;
-    EXPECT_EQ(r1.interval, 1);
-    EXPECT_EQ(r1.busy, 40 * us);  // intervals 2 to 4: 15 + 15 + 10
-    EXPECT_EQ(r1.wait, 20 * us);
-    EXPECT_EQ(r1.end, 80 * us);
+    EXPECT_EQ(r1.body().interval, 1);
+    EXPECT_EQ(r1.body().busy, 40 * us);  // intervals 2 to 4: 15 + 15 + 10
+    EXPECT_EQ(r1.body().wait, 20 * us);
+    EXPECT_EQ(r1.body().end, 80 * us);
     EXPECT_EQ(a.stats().ages.max(), 3123u);  // round 0's loads ended at 20 us: 61 / 20 intervals, 3123.2 / 1024
 }
 
@@ -322,9 +322,9 @@ TEST(Agent, ReportsArePacedToTheirShareOfTheLink) {
     }
     EXPECT_EQ(sentAt, (std::vector<Picos>{20 * us, 60 * us, 120 * us}));
     ASSERT_EQ(ha.reports.size(), 3u);
-    EXPECT_EQ(ha.reports[1].second.busy, 10 * us);  // intervals 2 and 3, 5 us traced in each
-    EXPECT_EQ(ha.reports[1].second.wait, 30 * us);
-    EXPECT_EQ(ha.reports[2].second.busy, 15 * us);  // intervals 4 to 6
+    EXPECT_EQ(ha.reports[1].second.body().busy, 10 * us);  // intervals 2 and 3, 5 us traced in each
+    EXPECT_EQ(ha.reports[1].second.body().wait, 30 * us);
+    EXPECT_EQ(ha.reports[2].second.body().busy, 15 * us);  // intervals 4 to 6
     EXPECT_EQ(a.stats().decisions, 3u);
     EXPECT_EQ(a.stats().ages.max(), 51u);  // 1 us after the loads' end: 0.05 intervals
 }
@@ -342,7 +342,7 @@ TEST(Agent, HandlingMessagesIsNoLoad) {
     settle(a);
     b.closeInterval(20 * us, 0, 20 * us, 0);
     settle(b);
-    EXPECT_EQ(ha.reports[0].second.busy, 0);
+    EXPECT_EQ(ha.reports[0].second.body().busy, 0);
     a.onReport(+1, hb.reports[0].second, 21 * us);
     settle(a);
     b.onReport(-1, ha.reports[0].second, 21 * us);
@@ -500,7 +500,7 @@ namespace {
 Message rays(int k) {  // 8 + 124 k bytes
     Message m;
     m.type = MsgType::Ray;
-    m.rays.resize(size_t(k));
+    m.rays.assign(size_t(k), RayItem{});
     return m;
 }
 
@@ -561,15 +561,15 @@ TEST(ControlLane, HasItsOwnSlotsAndStaysFifo) {
     // (at 200 ns) and its slot has travelled back (100 ns later).
     Link l("l", oneBytePerNs(1));
     Message r1 = report(), r2 = report();
-    r1.interval = 1;
-    r2.interval = 2;
+    r1.body().interval = 1;
+    r2.body().interval = 2;
     l.send(std::move(r1), 0);
     l.send(std::move(r2), 0);
     EXPECT_TRUE(l.controlArrivedBy(152 * ns));
-    EXPECT_EQ(l.consumeControl(200 * ns).interval, 1);
+    EXPECT_EQ(l.consumeControl(200 * ns).body().interval, 1);
     EXPECT_FALSE(l.controlArrivedBy(451 * ns));  // slot back at 300, on the wire 52, latency 100: 452
     EXPECT_TRUE(l.controlArrivedBy(452 * ns));
-    EXPECT_EQ(l.consumeControl(452 * ns).interval, 2);
+    EXPECT_EQ(l.consumeControl(452 * ns).body().interval, 2);
 }
 
 TEST(ControlLane, TakesTurnsWithTheRaysWhileBothWaitByHand) {

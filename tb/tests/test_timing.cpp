@@ -234,10 +234,10 @@ TEST(LinkOracleBy, MessagesWeighWhatTheyCarry) {
     Link link("l", LinkParams{0, bw, 16});
     Message c;
     c.type = MsgType::Contributions;
-    c.contributions.resize(9);
+    c.body().contributions.resize(9);
     Message s;
     s.type = MsgType::Slide;
-    for (int i = 0; i < 3; ++i) s.objects.push_back(Shape{Sphere{Vec3(0.0), 1.0, false}, 0, uint32_t(i)});
+    for (int i = 0; i < 3; ++i) s.body().objects.push_back(Shape{Sphere{Vec3(0.0), 1.0, false}, 0, uint32_t(i)});
     Message a;
     a.type = MsgType::Ack;
     link.send(rays(5), 0);
