@@ -158,8 +158,7 @@ Image assembleImage(const sc_core::sc_vector<FrameBufferUnit>& units, int width,
     // units; FrameBufferUnit::take checks it). One unit at a time, group its
     // contributions by pixel (a counting sort, by reference) and sum each
     // pixel's in path-key order: the sort's lists are one unit's, not the
-    // frame's (on a 16x16x16 mesh at 1024x1024 the frame's were 52 MB at the
-    // end of the run, when memory peaks).
+    // frame's (on a 16x16x16 mesh at 1024x1024 the frame's took 52 MB).
     const size_t pixels = size_t(width) * size_t(height), n = units.size();
     std::vector<size_t> first, next;
     std::vector<const Contribution*> byPixel;
@@ -168,7 +167,8 @@ Image assembleImage(const sc_core::sc_vector<FrameBufferUnit>& units, int width,
         const size_t local = pixels > u ? (pixels - u + n - 1) / n : 0;  // its pixels: u + k n, k < local
         first.assign(local + 1, 0);  // its pixel k's contributions: byPixel[first[k] .. first[k + 1])
         units[u].forEachContribution([&](const Contribution& c) {
-            if (c.pixel % n != u) throw std::logic_error("frame buffer: unit " + std::to_string(u) + " holds pixel " + std::to_string(c.pixel));
+            if (c.pixel % n != u)
+                throw std::logic_error("frame buffer: unit " + std::to_string(u) + " holds pixel " + std::to_string(c.pixel));
             ++first[c.pixel / n + 1];
         });
         for (size_t k = 0; k < local; ++k) first[k + 1] += first[k];
