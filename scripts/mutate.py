@@ -137,6 +137,13 @@ MUTANTS = [
     ("every-forward-counted-as-passed", "models/node.cpp",
      "const bool passing = dir >= 0;", "const bool passing = true;",
      "every ray forwarded counts as passed on untraced, also the ones traced here first"),
+    ("spare-list-over-a-started-batch", "models/node.cpp",
+     "if (batch.empty() && batch.capacity() <= kInlineRays && !spareRays_.empty()) {",
+     "if (batch.capacity() <= kInlineRays && !spareRays_.empty()) {",
+     "a batch whose first ray sits in its inline slot is replaced by a spare list: that ray is lost"),
+    ("frame-buffer-unit-pixel-offset", "models/frame_buffer.cpp",
+     "img.pixels[u + k * n] = sumInKeyOrder(pixel);", "img.pixels[k * n] = sumInKeyOrder(pixel);",
+     "the image put together one unit at a time writes every unit's pixels where unit 0's go"),
 ]
 
 
