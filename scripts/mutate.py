@@ -187,6 +187,19 @@ def main():
         print("mutate.py: --doc publishes the whole table; it cannot go with --only", file=sys.stderr)
         return 2
 
+    # Every mutant's text must sit exactly once in its file before anything is
+    # built: a text that drifted from the code would otherwise stop the run
+    # midway, after an hour of building.
+    stale = []
+    for name, path, old, _, _ in chosen:
+        with open(os.path.join(ROOT, path)) as f:
+            n = f.read().count(old)
+        if n != 1:
+            stale.append(f"{name} ({path}: {n} times)")
+    if stale:
+        print(f"mutate.py: the text to change is not found exactly once for: {'; '.join(stale)}", file=sys.stderr)
+        return 2
+
     src, build, log = (os.path.join(args.work, d) for d in ("src", "build", "log.txt"))
     os.makedirs(args.work, exist_ok=True)
     if os.path.exists(src):
