@@ -65,6 +65,7 @@ void BalanceAgent::closeInterval(Picos now, Picos busyTotal, Picos waitTotal, ui
     // that moves back and forth always catches it (doc/balancing.md).
     const Picos exec = traced_;
     traced_ = 0;
+    if (layerFaces_) layerFaces_->add(index_, long(now / cfg_.interval) - 1, exec, waited);
     lastEnd_ = now;
     waiting_ = waiting;
     // The next interval boundary after now (a long step may have spanned several).
@@ -206,6 +207,18 @@ void BalanceAgent::report(int i) {
     host_.sendReport(sideOf(i), std::move(m));
 }
 
+// --faces ideal-layer: the face goes to its layer's plane after the last
+// interval both samples cover (the same for both nodes of the face), and the
+// node that loses volume to it gives.
+std::optional<double> BalanceAgent::towardsLayerFace(const SlideQuery& q, const LoadSample& theirs) const {
+    const long through = long(std::min(q.mine.end, theirs.end) / cfg_.interval);
+    const double plane = layerFaces_->face(q.upper ? index_ : index_ - 1, through);
+    const int ax = q.axis;
+    if (q.upper && plane < q.own.hi[ax]) return clampGive(q, q.own.hi[ax] - plane);
+    if (!q.upper && plane > q.own.lo[ax]) return clampGive(q, plane - q.own.lo[ax]);
+    return std::nullopt;
+}
+
 void BalanceAgent::decide(int i, Picos now) {
     Side& s = sides_[i];
     const LoadSample theirs = s.got.at(s.reported);
@@ -225,7 +238,7 @@ void BalanceAgent::decide(int i, Picos now) {
     q.index = index_;
     q.count = count_;
     q.minThickness = minThickness_;
-    const std::optional<double> b = policy_->decide(cfg_, q);
+    const std::optional<double> b = layerFaces_ ? towardsLayerFace(q, theirs) : policy_->decide(cfg_, q);
     if (!b) return;
     if (cfg_.guard) {
         if (age > cfg_.maxAge) {

@@ -39,6 +39,7 @@
 
 #include "box.h"
 #include "histogram.h"
+#include "ideal_layer_faces.h"
 #include "machine_config.h"
 #include "message.h"
 #include "policy.h"
@@ -122,6 +123,11 @@ public:
     // target, so exactly one of them gives.
     void startAt(double lo, double hi);
 
+    // --faces ideal-layer: the layer's faces, summed and decided without
+    // messages (ideal_layer_faces.h); this node adds its loads to them and
+    // moves its faces to their planes instead of asking its policy.
+    void shareFaces(IdealLayerFaces* faces) { layerFaces_ = faces; }
+
 private:
     struct Span {  // since the last report to one side
         Picos busy = 0, wait = 0, stepCost = 0, end = 0;
@@ -145,11 +151,13 @@ private:
     void giveToStartTarget();        // the next face startAt moves (act)
     void report(int i);
     void decide(int i, Picos now);
+    std::optional<double> towardsLayerFace(const SlideQuery& q, const LoadSample& theirs) const;
     static int sideOf(int i) { return i ? +1 : -1; }
 
     const BalanceConfig& cfg_;
     BalanceHost& host_;
     std::unique_ptr<BalancePolicy> policy_;
+    IdealLayerFaces* layerFaces_ = nullptr;
     int index_, count_;
     double minThickness_;
     Picos next_;

@@ -60,8 +60,15 @@ Machine::Machine(sc_core::sc_module_name name, const Scene& scene, const Machine
         return new FrameBufferUnit(n, int(u), k, cfg_.hostCost, maxExp_, cfg_.showProgress, cfg_.quantum);
     });
 
-    const NodeParams params{shader_,       camera_,         world_,  k, cfg_.fbBatch, cfg_.rayBatch, cfg_.balance,
-                            cfg_.dims[ax], minThickness_, cfg_.quantum};
+    if (cfg_.balance.idealLayerFaces) {  // every column starts with the same planes (validate)
+        const std::vector<double>& b = columnBounds_.front();
+        layerFaces_ = std::make_unique<IdealLayerFaces>(std::vector<double>(b.begin() + 1, b.end() - 1), world_.lo[ax],
+                                                        world_.hi[ax], cfg_.balance.deadband, cfg_.balance.gainOf(),
+                                                        minThickness_);
+    }
+    const NodeParams params{shader_,       camera_,         world_,         k,
+                            cfg_.fbBatch,  cfg_.rayBatch,   cfg_.balance,   cfg_.dims[ax],
+                            minThickness_, cfg_.quantum,    layerFaces_.get()};
     nodes_.init(size_t(cfg_.nodeCount()), [&](const char*, size_t i) {
         const Cell c{int(i % cfg_.dims[0]), int(i / cfg_.dims[0] % cfg_.dims[1]), int(i / cfg_.dims[0] / cfg_.dims[1])};
         Box b = cuts_.cellBox(c);

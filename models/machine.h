@@ -103,6 +103,7 @@ private:
     Lattice cuts_;      // the initial uniform split; along the axis, columns have their own boundaries
     std::vector<std::vector<double>> columnBounds_;
     double minThickness_;
+    std::unique_ptr<IdealLayerFaces> layerFaces_;  // --faces ideal-layer
     Camera camera_;
     Shader shader_;
     int maxExp_;

@@ -135,6 +135,14 @@ void MachineConfig::validate() const {
         throw std::invalid_argument("--balance-interval: " + formatTime(b.interval) + " is shorter than a node takes to send and take a load report (" +
                                     formatTime(floor) + ": --cost-send + --cost-recv, at least 1 ns)");
     if (!findPolicy(b.policy)) throw std::invalid_argument("--balance: no policy named '" + b.policy + "'");
+    // The layer's planes apply the paper's rule (ideal_layer_faces.h) and
+    // start in line: one frame of slide (or resplit, whose first frame is slide).
+    if (b.idealLayerFaces && b.policy != "slide" && b.policy != "resplit")
+        throw std::invalid_argument("--faces ideal-layer: applies slide's rule to the layers; needs --balance slide (or resplit, one frame), not '" +
+                                    b.policy + "'");
+    if (b.idealLayerFaces && (!startBoundaries.empty() || !targetBoundaries.empty()))
+        throw std::invalid_argument("--faces ideal-layer: needs every column's faces in line at the start (one frame, "
+                                    "no --boundaries-from)");
     if (!(b.gain >= 0) || !std::isfinite(b.gain)) throw std::invalid_argument("--gain: must be positive (0: the policy's)");
     if (!(b.maxAge >= 0) || !std::isfinite(b.maxAge)) throw std::invalid_argument("--max-age: must be non-negative");
     if (!(b.horizon >= 0) || !std::isfinite(b.horizon)) throw std::invalid_argument("--guard-horizon: must be non-negative");

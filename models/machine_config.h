@@ -85,6 +85,9 @@ struct BalanceConfig {
     // reportShare has passed since its last report there (balance_agent.h,
     // "Pacing"; on the rays' FIFO reports wait their turn and are not paced).
     double reportShare = 0.02;
+    // Faces shared by a layer and agreed at no cost (ideal_layer_faces.h): a
+    // measuring device for `slide`, off on a real machine.
+    bool idealLayerFaces = false;
 
     bool dynamic() const;         // a policy that moves boundaries during the frame
     double gainOf() const;        // gain, or the policy's default

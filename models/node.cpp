@@ -26,6 +26,7 @@ Node::Node(sc_core::sc_module_name name, const Cell& cell, const Box& box, std::
       time_(params.quantum),
       rayBatch_(params.rayBatch),
       columnLength_(params.columnLength),
+      layerFaces_(params.layerFaces),
       pending_(size_t(params.fbUnits)),
       sentSince_(size_t(params.fbUnits), 0) {
     rebuild(box, std::move(objects));
@@ -182,6 +183,7 @@ void Node::start() {
     if (bal_.dynamic())
         balance_ = std::make_unique<BalanceAgent>(bal_, static_cast<BalanceHost&>(*this), world_, cell_[bal_.axis], columnLength_,
                                                   out[sideDir(-1)].size() > 0, out[sideDir(+1)].size() > 0, minThickness_);
+    if (balance_) balance_->shareFaces(layerFaces_);
     if (balance_ && startTargets_) balance_->startAt((*startTargets_)[0], (*startTargets_)[1]);
 }
 

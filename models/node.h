@@ -89,6 +89,7 @@ struct NodeParams {
     int columnLength = 1;   // nodes along the balancing axis
     double minThickness;    // absolute, along the balancing axis
     Picos quantum = 0;
+    IdealLayerFaces* layerFaces = nullptr;  // --faces ideal-layer (the machine's)
 };
 
 class Node : public sc_core::sc_module, private BalanceHost {
@@ -222,6 +223,7 @@ private:
     Progress* progress_ = nullptr;  // the watchdog's (machine.h)
     std::optional<std::array<double, 2>> startTargets_;
     int columnLength_;
+    IdealLayerFaces* layerFaces_;
 
     std::vector<uint32_t> pixels_;
     size_t nextPixel_ = 0;

@@ -61,7 +61,7 @@ nlohmann::json machineConfigJson(const MachineConfig& cfg, int width, int height
                     {"bins", bc.bins},                   {"rebuild_cost_ns", ns(bc.rebuildCost)},
                     {"guard", bc.guard},                 {"max_age_intervals", bc.maxAge},
                     {"guard_horizon_intervals", bc.horizon}, {"guard_hop_steps", bc.hopRatio},
-                    {"report_share", bc.reportShare}};
+                    {"report_share", bc.reportShare},    {"faces", bc.idealLayerFaces ? "ideal-layer" : "column"}};
     c["watchdog"] = {{"span_ns", ns(cfg.watchdogSpan)}, {"wall_s", cfg.watchdogWall}};
     auto& tr = c["trace"];
     tr["nodes"] = nlohmann::json::array();

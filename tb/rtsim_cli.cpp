@@ -189,6 +189,13 @@ void RtsimOptions::addTo(CLI::App& app) {
                    "load reports on a control lane take at most this share of the link's time: a node reports to a "
                    "neighbour again only once a report's time on the wire divided by this has passed")
         ->check(CLI::Range(1e-6, 1.0))->capture_default_str()->group(gb);
+    app.add_option_function<std::string>("--faces", [&b](const std::string& s) {
+           if (s != "column" && s != "ideal-layer")
+               throw CLI::ValidationError("--faces", "expected column or ideal-layer, got '" + s + "'");
+           b.idealLayerFaces = s == "ideal-layer";
+       }, "column: each column moves its own faces (the machine); ideal-layer: a measuring device, faces shared by a "
+          "layer and moved by slide's rule on the layer's summed loads, read without messages (doc/balancing.md)")
+        ->default_str("column")->group(gb);
     app.add_option("--bins", b.bins, "work profile: bins per box thickness along the axis")->check(CLI::Range(1, 4096))->capture_default_str()->group(gb);
     addTime(app, "--cost-rebuild", b.rebuildCost, "updating a node's grid, per object moved in or out", gb);
 
@@ -254,6 +261,9 @@ void RtsimOptions::finish() {
     MachineConfig& m = machine;
     if (noGuard_) m.balance.guard = false;
     if (noBaseline_) baseline = false;
+    if (m.balance.idealLayerFaces && frames > 1)
+        throw CLI::ValidationError("--faces", "ideal-layer measures one frame from faces in line; not with --frames " +
+                                                  std::to_string(frames));
     m.dims = {mesh, mesh, mesh};
     if (frameIndex < 0) frameIndex = frames - 1;  // this process renders the last frame of its sequence
     if (asBaseline || asFrame) frames = 1;        // the baseline is of the last frame's view; a frame is one frame
@@ -275,6 +285,9 @@ void RtsimOptions::finish() {
         m.balance.policy = "none";  // one node has no boundary to slide
     }
     // (asComparison: the same machine and frame; the caller sets --balance.)
+    // The reference runs' other policy has no faces to share.
+    if ((asBaseline || asComparison) && m.balance.policy != "slide" && m.balance.policy != "resplit")
+        m.balance.idealLayerFaces = false;
     if (!meshDims.empty()) {
         int x, y, z;
         char a = 0, b = 0;

@@ -610,6 +610,44 @@ TEST(ControlLane, AStreamOfReportsCannotStarveARay) {
     EXPECT_EQ(l.consume(1204 * ns).type, MsgType::Ray);
 }
 
+// ---- --faces ideal-layer (models/ideal_layer_faces.h) ----
+
+TEST(IdealLayerFaces, SlideRuleOnTheLayersSummedLoadsByHand) {
+    // Layers [0,1] [1,2] [2,3]; gain 0.25, dead band 0.05, minimum 0.05.
+    IdealLayerFaces f({1.0, 2.0}, 0.0, 3.0, 0.05, 0.25, 0.05);
+    // Interval 0: layer 0 at 0.9; layer 1's two nodes 10/50 and 30/50, so
+    // 40 of 100: 0.4 (not their loads' mean); layer 2 at 0.5.
+    f.add(0, 0, 90, 10);
+    f.add(1, 0, 10, 40);
+    f.add(1, 0, 30, 20);
+    f.add(2, 0, 50, 50);
+    EXPECT_EQ(f.face(0, 0), 1.0);
+    EXPECT_EQ(f.face(1, 0), 2.0);
+    // Face 0 moves into layer 0 by 0.25 x 0.5 x 1; face 1 into layer 2 by
+    // 0.25 x 0.1 x 1 (layer 2's thickness, 3 - 2).
+    EXPECT_NEAR(f.face(0, 1), 0.875, 1e-12);
+    EXPECT_NEAR(f.face(1, 1), 2.025, 1e-12);
+    // Fixed once asked for: loads added later for interval 0 change nothing.
+    f.add(2, 0, 1000, 0);
+    EXPECT_NEAR(f.face(1, 1), 2.025, 1e-12);
+    // Interval 1: no loads (0 = 0) keep the planes; interval 2: layer 1 at
+    // 1.0 and layer 0 idle: face 0 moves up into layer 1 by
+    // 0.25 x 1 x (2.025 - 0.875), face 1 down by 0.25 x 1 x the thickness
+    // layer 1 has after face 0's move (the faces are judged in order).
+    f.add(1, 2, 100, 0);
+    f.add(0, 2, 0, 100);
+    f.add(2, 2, 0, 100);
+    EXPECT_NEAR(f.face(0, 2), 0.875, 1e-12);
+    const double f0 = 0.875 + 0.25 * (2.025 - 0.875);
+    EXPECT_NEAR(f.face(0, 3), f0, 1e-12);
+    EXPECT_NEAR(f.face(1, 3), 2.025 - 0.25 * (2.025 - f0), 1e-12);
+    // A step past the layer's minimum stops at it.
+    IdealLayerFaces g({1.0}, 0.0, 2.0, 0.05, 4.0, 0.3);
+    g.add(0, 0, 100, 0);
+    EXPECT_NEAR(g.face(0, 1), 0.3, 1e-12);
+    EXPECT_THROW(g.face(1, 1), std::logic_error);
+}
+
 // ---- resplit: between frames (models/resplit.h) ----
 
 TEST(Resplit, PlanesAtTheQuantilesOfTheBusyTimeByHand) {

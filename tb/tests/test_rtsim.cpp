@@ -350,6 +350,39 @@ INSTANTIATE_TEST_SUITE_P(FailureCases, NeverHurts,
                                          Hurt{"view_across", ""}),
                          [](const testing::TestParamInfo<Hurt>& i) { return std::string(i.param.name); });
 
+// --faces ideal-layer (models/ideal_layer_faces.h). Spheres everywhere,
+// viewed across the axis (rtsim's camera): `slide`'s columns move their
+// faces apart, and rays crossing into a neighbouring column whose face is
+// elsewhere are passed on untraced. With the layer's shared planes the faces
+// stay in line, up to the columns' lag in reaching them; the image is the
+// unbalanced run's, byte for byte.
+TEST_F(Rtsim, IdealLayerFacesStayInLineAndKeepTheImage) {
+    const std::string procedural = " --spheres 1000 --radius 0.02 --seed 5 --concentration 1 --size 96x96 -q";
+    auto between = [&](const std::string& flags, const std::string& image) {
+        const Outcome o = run(procedural + flags + " --image " + (dir_ / image).string() + " --report " +
+                              (dir_ / "r.json").string());
+        EXPECT_EQ(o.code, 0) << o.err;
+        EXPECT_EQ(o.err, "");  // the baseline and the balancing comparison ran (their policies share no faces)
+        const json r = json::parse(slurp(dir_ / "r.json"));
+        EXPECT_TRUE(r.contains("baseline"));
+        return std::make_pair(r["totals"]["rays_passed_between_columns"].get<uint64_t>(),
+                              r["balance"].value("slides", 0));
+    };
+    const auto none = between(" --balance none", "none.png");
+    const auto columns = between(" --balance slide", "columns.png");
+    const auto layers = between(" --balance slide --faces ideal-layer", "layers.png");
+    EXPECT_EQ(none.second, 0);
+    EXPECT_GT(layers.second, 50);
+    EXPECT_GT(columns.first, 400u);
+    EXPECT_LT(layers.first * 5, columns.first) << layers.first << " against " << columns.first;
+    EXPECT_EQ(slurp(dir_ / "layers.png"), slurp(dir_ / "none.png"));
+    EXPECT_EQ(slurp(dir_ / "columns.png"), slurp(dir_ / "none.png"));
+    // Only with slide's rule, in one frame from faces in line: one line each.
+    for (const char* bad : {" --balance work --faces ideal-layer", " --balance slide --faces ideal-layer --frames 2",
+                            " --balance slide --faces aligned"})
+        expectBad(procedural + bad, "--faces");
+}
+
 // Issue 11's age target at the ends of the link sweep, with the control
 // lane: the 95th percentile age of the loads the default policy's decisions
 // used is at most 2 intervals plus a report's own crossing of one link
