@@ -46,6 +46,7 @@ MODES = [
     ("100 us quantum", ["--quantum", "100us"]),
     ("fastest swept (64 rays per message)", ["--quantum", "100us", "--ray-batch", "64"]),
 ]
+DRIFT, RERUNS = 0.10, 2  # a mode whose rtref strays this far from rtref's median is measured again
 
 
 def main():
@@ -89,7 +90,8 @@ def main():
             "|---|---|---:|---:|---:|---:|---:|---|\n"
     exact_report = None
     ratio_of = {}
-    for label, flags in MODES:
+
+    def measure(label, flags):
         sim, ref, ratios, mem = [], [], [], []
         for i in range(a.runs):  # alternated, so both see the same machine state
             ws, ms = timed(rtsim(a.mesh, flags))
@@ -100,7 +102,25 @@ def main():
             mem.append(ms)
             print(f"{label}, run {i + 1}: rtsim {ws:.3f} s, rtref {wr:.3f} s, ratio {ws / wr:.2f}", file=sys.stderr)
         with open(report) as f:
-            r = json.load(f)
+            return sim, ref, ratios, mem, json.load(f), same("s.png", "r.png")
+
+    measured = {label: measure(label, flags) for label, flags in MODES}
+    # This machine has slow spells that last minutes and need not slow rtsim
+    # and rtref alike (one try had lockstep faster than the lookahead). A mode
+    # whose rtref median strays more than DRIFT from the median of every
+    # rtref run is measured again, at most RERUNS times.
+    reruns = {}
+    for label, flags in MODES:
+        for _ in range(RERUNS):
+            usual = statistics.median(t for m in measured.values() for t in m[1])
+            if abs(statistics.median(measured[label][1]) / usual - 1) <= DRIFT:
+                break
+            print(f"{label}: rtref's median {statistics.median(measured[label][1]):.3f} s strays from "
+                  f"{usual:.3f} s; measured again", file=sys.stderr)
+            measured[label] = measure(label, flags)
+            reruns[label] = reruns.get(label, 0) + 1
+    for label, flags in MODES:
+        sim, ref, ratios, mem, r, identical = measured[label]
         if exact_report is None:
             exact_report, exact_mem, exact_wall = r, max(mem), statistics.median(sim)
         err = r["render_time_ns"] / exact_report["render_time_ns"] - 1
@@ -108,7 +128,7 @@ def main():
         modes += (f"| {label} | `{' '.join(flags) or '(defaults)'}` | {statistics.median(sim):.3f} s | "
                   f"{statistics.median(ref):.3f} s | **{statistics.median(ratios):.2f}** | "
                   f"{r['render_time_ns'] / 1e6:.3f} ms | {err * 100:+.4f} % | "
-                  f"{'yes' if same('s.png', 'r.png') else 'NO'} |\n")
+                  f"{'yes' if identical else 'NO'} |\n")
     r = exact_report
     msgs = sum(r["totals"]["messages"].values())
     rows = [
@@ -118,6 +138,8 @@ def main():
          " / ".join(f"{r['totals']['messages'][k]:,}" for k in ("ray", "contributions", "credit"))),
         ("messages per wall second, exact mode", f"{msgs / exact_wall:,.0f}"),
         ("rtsim peak memory, exact mode (max over runs)", f"{exact_mem:.0f} MiB"),
+        ("modes measured again because rtref's time strayed more than "
+         f"{DRIFT * 100:.0f} % from its median", ", ".join(f"{k} ({v}x)" for k, v in reruns.items()) or "none"),
         ("machine", machine()),
         ("version (git describe)", a.version),
     ]
@@ -221,9 +243,11 @@ def targets(ratio_of, big):
             f"| fastest mode with render-time error under 1 %: at most 1.5 | {fast[0]:.2f} at `{fast_flags}` "
             f"(error {fast[1] * 100:+.4f} %) | {'yes' if fast[0] <= 1.5 and abs(fast[1]) < 0.01 else 'no'} |"]
     if big:
-        rows.append(f"| 16x16x16 mesh on balls-5 at 1024x1024, exact: at most 45 s and 700 MiB | {big[0]:.1f} s, "
-                    f"{big[1]:.0f} MiB peak, image {'identical to' if big[2] else 'DIFFERENT from'} rtref's | "
-                    f"{'yes' if big[0] <= 45 and big[1] <= 700 and big[2] else 'no'} |")
+        rows.append(f"| 16x16x16 mesh on balls-5 at 1024x1024, exact: at most 45 s | {big[0]:.1f} s (median), "
+                    f"image {'identical to' if big[2] else 'DIFFERENT from'} rtref's | "
+                    f"{'yes' if big[0] <= 45 and big[2] else 'no'} |")
+        rows.append(f"| the same run: at most 700 MiB | {big[1]:.0f} MiB peak (the largest of the runs) | "
+                    f"{'yes' if big[1] <= 700 else 'no'} |")
     return "\n".join(rows) + "\n"
 
 
