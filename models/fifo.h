@@ -1,15 +1,23 @@
-// A first-in first-out queue that allocates nothing until its first push: a
-// ring buffer whose capacity doubles as it fills. A link holds several, and a
-// machine with a frame-buffer port from every node to every unit has tens of
-// thousands of links, most of them idle most of the time (std::deque
-// allocates about 600 bytes each before it holds anything). A ring moves
-// nothing when it pops, and reads its items in address order, which the
-// processor prefetches: a link's backlog can hold 100,000 messages that the
-// receiver takes long after they were sent. A burst's memory is given back
-// when the queue runs empty, and half of it when it is a quarter full, so a
-// queue holds at most four times the room its items need (plus a little).
+// A first-in first-out queue that allocates nothing until its first push. A
+// link holds several, and a machine with a frame-buffer port from every node
+// to every unit has tens of thousands of links, most of them idle most of
+// the time (std::deque allocates about 600 bytes each before it holds
+// anything).
+//
+// Up to one chunk's worth of items (about 64 KiB) it is a ring buffer whose
+// capacity doubles as it fills: a ring moves nothing when it pops and reads
+// its items in address order, which the processor prefetches. Past that it
+// is a list of such chunks, filled at the back and freed at the front, so a
+// backlog of 100,000 messages that the receiver takes long after they were
+// sent is never copied to a block twice its size (each doubling touched
+// fresh pages, which the kernel zeroes: on balls-4 at 512x512 that was 4 %
+// of rtsim's time) and holds at most three chunks more than its items need.
+// A burst's memory is given back when the queue runs empty, and a ring's
+// half when it is a quarter full, so a ring holds at most four times the
+// room its items need (plus a little).
 #pragma once
 #include <cstddef>
+#include <deque>
 #include <new>
 #include <utility>
 
@@ -27,30 +35,44 @@ public:
         return *this;
     }
     ~Fifo() {
-        clear();
-        ::operator delete(items_);
+        clear();  // (an empty queue is a ring)
+        ::operator delete(items());
     }
 
     bool empty() const { return size_ == 0; }
     size_t size() const { return size_; }
-    T& front() { return items_[head_]; }
-    const T& front() const { return items_[head_]; }
-    T& operator[](size_t i) { return items_[(head_ + i) & mask_]; }
-    const T& operator[](size_t i) const { return items_[(head_ + i) & mask_]; }
+    T& front() { return chunked() ? chunks()->list.front()[head_] : items()[head_]; }
+    const T& front() const { return const_cast<Fifo*>(this)->front(); }
+    T& operator[](size_t i) { return *slot(i); }
+    const T& operator[](size_t i) const { return *const_cast<Fifo*>(this)->slot(i); }
 
     void push_back(T v) { emplace_back(std::move(v)); }
     // Builds the item in place (braces: an aggregate takes its fields), so
     // a large item is not moved once more on its way in.
     template <class... Args>
     void emplace_back(Args&&... args) {
-        if (size_ == capacity()) grow();
-        new (&items_[(head_ + size_) & mask_]) T{std::forward<Args>(args)...};
+        if (!chunked() && size_ == capacity()) {
+            if (capacity() < kChunk) grow();
+            else toChunks();
+        }
+        if (chunked() && head_ + size_ == chunks()->list.size() * kChunk) chunks()->list.push_back(chunks()->take());
+        new (slot(size_)) T{std::forward<Args>(args)...};
         ++size_;
     }
     void pop_front() {
-        items_[head_].~T();
+        front().~T();
+        --size_;
+        if (chunked()) {
+            if (++head_ == kChunk) {  // the first chunk is used up: kept for the next one at the back
+                chunks()->keep(chunks()->list.front());
+                chunks()->list.pop_front();
+                head_ = 0;
+            }
+            if (size_ == 0) toRing();
+            return;
+        }
         head_ = (head_ + 1) & mask_;
-        if (--size_ == 0) {
+        if (size_ == 0) {
             head_ = 0;
             if (capacity() > kKeep) release();  // empty: keep a little room, give back a burst's
         } else if (capacity() > kKeep && 4 * size_ <= capacity()) {
@@ -61,37 +83,96 @@ public:
         while (size_) pop_front();
     }
 
+    // Items per chunk: a power of two, about 64 KiB of them.
+    static constexpr size_t kChunk = [] {
+        size_t n = 8;
+        while (2 * n * sizeof(T) <= 65536) n *= 2;
+        return n;
+    }();
+
 private:
+    // Chunk mode's state, allocated only in it (a std::deque allocates when
+    // made, and an idle link has a dozen queues).
+    struct Chunks {
+        std::deque<T*> list;  // kChunk items each; the first item at head_ in the first
+        T* spare = nullptr;   // the last chunk used up, for the next one
+        ~Chunks() {
+            for (T* c : list) ::operator delete(c);
+            ::operator delete(spare);
+        }
+        T* take() {
+            T* c = spare ? spare : static_cast<T*>(::operator new(kChunk * sizeof(T)));
+            spare = nullptr;
+            return c;
+        }
+        void keep(T* c) {
+            ::operator delete(spare);
+            spare = c;
+        }
+    };
     static constexpr size_t kKeep = 32;
-    size_t capacity() const { return items_ ? mask_ + 1 : 0; }
+    static constexpr size_t kChunkMode = ~size_t(0);  // mask_ in chunk mode
+
+    bool chunked() const { return mask_ == kChunkMode; }
+    T* items() const { return chunked() ? nullptr : static_cast<T*>(mem_); }
+    Chunks* chunks() const { return static_cast<Chunks*>(mem_); }
+    size_t capacity() const { return mem_ ? mask_ + 1 : 0; }  // (ring mode)
+    T* slot(size_t i) {
+        if (!chunked()) return &items()[(head_ + i) & mask_];
+        const size_t pos = head_ + i;
+        return &chunks()->list[pos / kChunk][pos & (kChunk - 1)];
+    }
     void grow() { resize(capacity() ? 2 * capacity() : 4); }
     void resize(size_t cap) {
-        T* items = static_cast<T*>(::operator new(cap * sizeof(T)));
-        for (size_t i = 0; i < size_; ++i) {
-            T& v = (*this)[i];
-            new (&items[i]) T(std::move(v));
-            v.~T();
-        }
-        ::operator delete(items_);
-        items_ = items;
+        T* to = static_cast<T*>(::operator new(cap * sizeof(T)));
+        moveOut(to);
+        ::operator delete(items());
+        mem_ = to;
         mask_ = cap - 1;
         head_ = 0;
     }
+    // A full ring of one chunk's size: its items, in order, become the first chunk.
+    void toChunks() {
+        auto* c = new Chunks;
+        c->list.push_back(c->take());
+        moveOut(c->list.front());
+        ::operator delete(items());
+        mem_ = c;
+        mask_ = kChunkMode;
+        head_ = 0;
+    }
+    // Empty in chunk mode: back to an empty ring, every chunk given back.
+    void toRing() {
+        delete chunks();
+        mem_ = nullptr;
+        mask_ = 0;
+        head_ = 0;
+    }
+    // Moves the ring's items, in order, to the front of `to`.
+    void moveOut(T* to) {
+        for (size_t i = 0; i < size_; ++i) {
+            T& v = items()[(head_ + i) & mask_];
+            new (&to[i]) T(std::move(v));
+            v.~T();
+        }
+    }
     void release() {
-        ::operator delete(items_);
-        items_ = nullptr;
+        ::operator delete(items());
+        mem_ = nullptr;
         mask_ = 0;
     }
     void swap(Fifo& o) noexcept {
-        std::swap(items_, o.items_);
+        std::swap(mem_, o.mem_);
         std::swap(mask_, o.mask_);
         std::swap(head_, o.head_);
         std::swap(size_, o.size_);
     }
 
-    T* items_ = nullptr;
-    size_t mask_ = 0;  // capacity - 1 (a power of two)
-    size_t head_ = 0;
+    // The ring's items (ring mode) or the Chunks (chunk mode): one pointer
+    // for both, so that a queue stays 32 bytes.
+    void* mem_ = nullptr;
+    size_t mask_ = 0;  // ring mode: capacity - 1 (a power of two); kChunkMode in chunk mode
+    size_t head_ = 0;  // the first item's place in the ring, or in the first chunk
     size_t size_ = 0;
 };
 

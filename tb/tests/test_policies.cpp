@@ -387,34 +387,62 @@ TEST(Agent, IntervalHistoryStaysBoundedAndKeepsEveryPicosecond) {
     EXPECT_EQ(a.finalStats().intervals.back().busy, 7u);
 }
 
-// The links' queues: a ring that grows while it wraps round and gives its
-// memory back when it runs empty must still hand out every item once, in
+// The links' queues: a ring that grows while it wraps round, turns into a
+// list of chunks past one chunk's worth and back into a ring when it runs
+// empty, and gives its memory back, must still hand out every item once, in
 // order, and destroy each (an item owning memory shows a leak under the
-// sanitizer build, a double destruction a crash).
-TEST(Fifo, KeepsOrderThroughWrapGrowthAndReleaseLikeADeque) {
-    Fifo<std::unique_ptr<uint64_t>> f;
+// sanitizer build, a double destruction a crash). Small items stay in the
+// ring (8,192 per chunk); 4 KiB items (16 per chunk) go through the chunks
+// in nearly every burst.
+struct SmallItem {
+    std::unique_ptr<uint64_t> v;
+};
+struct LargeItem {
+    std::unique_ptr<uint64_t> v;
+    char pad[4088] = {};
+};
+template <class Item>
+class FifoOf : public ::testing::Test {};
+using FifoItems = ::testing::Types<SmallItem, LargeItem>;
+TYPED_TEST_SUITE(FifoOf, FifoItems);
+
+TYPED_TEST(FifoOf, KeepsOrderThroughWrapGrowthChunksAndReleaseLikeADeque) {
+    using Item = TypeParam;
+    static_assert(Fifo<LargeItem>::kChunk == 16 && Fifo<SmallItem>::kChunk == 8192);
+    Fifo<Item> f;
     std::deque<uint64_t> ref;
     std::mt19937_64 rng(7);
     uint64_t next = 0;
+    auto item = [](uint64_t v) {
+        Item it{};
+        it.v = std::make_unique<uint64_t>(v);
+        return it;
+    };
     for (int round = 0; round < 200; ++round) {
         // Bursts of different sizes, some drained to empty, some not.
         const int pushes = int(rng() % 300), pops = int(rng() % 320);
         for (int i = 0; i < pushes; ++i) {
-            f.push_back(std::make_unique<uint64_t>(next));
+            if (i % 2) f.push_back(item(next));
+            else f.emplace_back(std::make_unique<uint64_t>(next));
             ref.push_back(next++);
         }
         ASSERT_EQ(f.size(), ref.size());
-        for (size_t i = 0; i < ref.size(); i += 1 + ref.size() / 7) ASSERT_EQ(*f[i], ref[i]);
+        for (size_t i = 0; i < ref.size(); i += 1 + ref.size() / 7) ASSERT_EQ(*f[i].v, ref[i]);
+        if (!ref.empty()) {
+            ASSERT_EQ(*f[ref.size() - 1].v, ref.back());
+        }
         for (int i = 0; i < pops && !ref.empty(); ++i) {
-            ASSERT_EQ(*f.front(), ref.front());
+            ASSERT_EQ(*f.front().v, ref.front());
             f.pop_front();
             ref.pop_front();
         }
         ASSERT_EQ(f.empty(), ref.empty());
     }
-    Fifo<std::unique_ptr<uint64_t>> g(std::move(f));  // moved whole, items left for its destructor
+    Fifo<Item> g(std::move(f));  // moved whole, items left for its destructor
     EXPECT_EQ(g.size(), ref.size());
     EXPECT_TRUE(f.empty());
+    f.push_back(item(1));  // a moved-from queue is an empty one
+    EXPECT_EQ(*f.front().v, 1u);
 }
 
 TEST(Histogram, ExactForFewValuesThenWithinHalfABinAndBoundedByTheRange) {
