@@ -44,11 +44,13 @@ Machine::Machine(sc_core::sc_module_name name, const Scene& scene, const Machine
     cfg_.validate();
     const int ax = cfg_.balance.axis;
     minThickness_ = cfg_.balance.minThickness * world_.extent()[ax] / cfg_.dims[ax];
-    columnBounds_ = initialBoundaries();
+    // Each node's objects (and the median's columns) found by binning, not by
+    // scanning the scene once per box.
+    const ObjectBins bins(scene_.objects, cuts_, roundingMargin(world_));
+    columnBounds_ = initialBoundaries(bins);
     if (!cfg_.targetBoundaries.empty() && cfg_.targetBoundaries.size() != columnBounds_.size())
         throw std::invalid_argument("target boundaries: " + std::to_string(cfg_.targetBoundaries.size()) +
                                     " columns, the mesh has " + std::to_string(columnBounds_.size()));
-    const double margin = roundingMargin(world_);
     // Credit precision: the host's split, a node's split over its primary
     // rays, and one split per ray-tree level (a hit spawns at most L + 2 rays
     // and keeps a share: L + 3 parts).
@@ -74,7 +76,7 @@ Machine::Machine(sc_core::sc_module_name name, const Scene& scene, const Machine
         Box b = cuts_.cellBox(c);
         b.lo[ax] = columnBounds_[columnOf(c)][c[ax]];
         b.hi[ax] = columnBounds_[columnOf(c)][c[ax] + 1];
-        return new Node(cellName(c).c_str(), c, b, objectsOverlapping(scene_.objects, b, margin), params,
+        return new Node(cellName(c).c_str(), c, b, bins.overlapping(b), params,
                         cfg_.costsOf(c), cfg_.speedOf(c));
     });
     if (!cfg_.targetBoundaries.empty())  // resplit: where each node's faces go at the frame's start
@@ -218,7 +220,7 @@ int Machine::columnOf(const Cell& c) const {
     return c[u] + cfg_.dims[u] * c[v];
 }
 
-std::vector<std::vector<double>> Machine::initialBoundaries() const {
+std::vector<std::vector<double>> Machine::initialBoundaries(const ObjectBins& bins) const {
     const int ax = cfg_.balance.axis, u = (ax + 1) % 3, v = (ax + 2) % 3, n = cfg_.dims[ax];
     std::vector<std::vector<double>> bounds(size_t(cfg_.dims[u] * cfg_.dims[v]), cuts_.planes(ax));
     if (!cfg_.startBoundaries.empty()) {  // where a previous frame left them
@@ -239,7 +241,6 @@ std::vector<std::vector<double>> Machine::initialBoundaries() const {
         return bounds;
     }
     if (cfg_.balance.policy != "median") return bounds;
-    const double margin = roundingMargin(world_);
     for (int j = 0; j < cfg_.dims[v]; ++j)
         for (int i = 0; i < cfg_.dims[u]; ++i) {
             Cell c{};
@@ -250,7 +251,7 @@ std::vector<std::vector<double>> Machine::initialBoundaries() const {
             column.lo[ax] = world_.lo[ax];
             column.hi[ax] = world_.hi[ax];
             std::vector<double> centres;
-            for (const Shape& s : objectsOverlapping(scene_.objects, column, margin)) {
+            for (const Shape& s : bins.overlapping(column)) {
                 const Box ob = s.bounds();
                 centres.push_back(0.5 * (ob.lo[ax] + ob.hi[ax]));
             }

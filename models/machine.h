@@ -84,7 +84,7 @@ private:
     void assignPrimaryRays();
     // Initial boundaries along the progress axis of each column: uniform, or
     // at the object medians (the static baseline policy).
-    std::vector<std::vector<double>> initialBoundaries() const;
+    std::vector<std::vector<double>> initialBoundaries(const ObjectBins& bins) const;
     int columnOf(const Cell& c) const;
     std::vector<BoundaryHistory> boundaryHistories() const;
     const FrameBufferUnit& controller() const { return units_[0]; }  // unit 0 ends the frame

@@ -3,11 +3,12 @@
 namespace rt {
 
 Partition::Partition(const Scene& scene, const Lattice& cuts, AccelKind kind) : cuts_(cuts), world_(cuts.bounds()) {
+    const ObjectBins bins(scene.objects, cuts_, roundingMargin(world_));
     for (int z = 0; z < cuts_.cells(2); ++z)
         for (int y = 0; y < cuts_.cells(1); ++y)
             for (int x = 0; x < cuts_.cells(0); ++x) {
                 const Box b = cuts_.cellBox({x, y, z});
-                regions_.emplace_back(b, objectsOverlapping(scene.objects, b, roundingMargin(world_)), kind);
+                regions_.emplace_back(b, bins.overlapping(b), kind);
             }
 }
 

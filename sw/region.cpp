@@ -1,5 +1,7 @@
 #include "region.h"
 
+#include <algorithm>
+
 #include "shading.h"
 
 namespace rt {
@@ -10,6 +12,35 @@ std::vector<Shape> objectsOverlapping(const std::vector<Shape>& all, const Box& 
     std::vector<Shape> out;
     for (const Shape& s : all)
         if (overlapsBox(s, box, margin)) out.push_back(s);
+    return out;
+}
+
+ObjectBins::ObjectBins(const std::vector<Shape>& all, Lattice cells, double margin)
+    : all_(all), cells_(std::move(cells)), margin_(margin), bins_(size_t(cells_.cellCount())) {
+    for (size_t i = 0; i < all_.size(); ++i) {
+        Cell first, last;
+        cells_.overlapRange(all_[i].bounds().expanded(margin_), first, last);
+        for (int z = first[2]; z <= last[2]; ++z)
+            for (int y = first[1]; y <= last[1]; ++y)
+                for (int x = first[0]; x <= last[0]; ++x) bins_[binOf(x, y, z)].push_back(uint32_t(i));
+    }
+}
+
+std::vector<Shape> ObjectBins::overlapping(const Box& box) const {
+    Cell first, last;
+    cells_.overlapRange(box, first, last);
+    std::vector<uint32_t> candidates;
+    for (int z = first[2]; z <= last[2]; ++z)
+        for (int y = first[1]; y <= last[1]; ++y)
+            for (int x = first[0]; x <= last[0]; ++x) {
+                const std::vector<uint32_t>& b = bins_[binOf(x, y, z)];
+                candidates.insert(candidates.end(), b.begin(), b.end());
+            }
+    std::sort(candidates.begin(), candidates.end());
+    candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+    std::vector<Shape> out;
+    for (uint32_t i : candidates)
+        if (overlapsBox(all_[i], box, margin_)) out.push_back(all_[i]);
     return out;
 }
 

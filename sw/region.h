@@ -22,6 +22,30 @@ std::vector<Shape> objectsOverlapping(const std::vector<Shape>& all, const Box& 
 // Same, for one object.
 bool overlapsBox(const Shape& s, const Box& box, double margin);
 
+// The objects of a scene binned into the cells of a lattice that covers the
+// world (each object in every cell its widened bounds touch), so that the
+// objects of a box are looked for among a few cells' instead of the whole
+// scene: a 16x16x16 machine builds 4,096 boxes from 66,430 objects. Any
+// point where an object's widened bounds and a box (within the lattice) meet
+// lies in a cell both touch, so the cells a box touches hold every object
+// objectsOverlapping would find; the exact test then keeps those.
+class ObjectBins {
+public:
+    // `all` must outlive the bins.
+    ObjectBins(const std::vector<Shape>& all, Lattice cells, double margin);
+    // objectsOverlapping(all, box, margin): the same objects in the same
+    // (the scene's) order, for a box within the lattice.
+    std::vector<Shape> overlapping(const Box& box) const;
+
+private:
+    size_t binOf(int x, int y, int z) const { return (size_t(z) * cells_.cells(1) + y) * cells_.cells(0) + x; }
+
+    const std::vector<Shape>& all_;
+    Lattice cells_;
+    double margin_;
+    std::vector<std::vector<uint32_t>> bins_;  // indices into all_, ascending
+};
+
 class Region {
 public:
     Region(const Box& box, std::vector<Shape> objects, AccelKind kind);

@@ -108,3 +108,61 @@ TEST(Partition, BruteForceRegionsAgreeToo) {
     const Image whole = render(s, Partition::whole(s), opts()).image;
     expectIdentity(s, whole, Partition::uniform(s, {3, 2, 2}, AccelKind::BruteForce));
 }
+
+// The bins a machine and a partition find each box's objects with must find
+// exactly what scanning the whole scene finds, in the scene's order: boxes
+// that do not line up with the bins, boxes that only touch an object's
+// widened bounds (closed overlap), flat boxes and the whole world.
+TEST(ObjectBins, FindWhatAScanFindsInTheSameOrder) {
+    auto boundsOf = [](const std::vector<Shape>& v) {
+        std::vector<std::array<double, 6>> b;
+        for (const Shape& s : v) {
+            const Box x = s.bounds();
+            b.push_back({x.lo.x, x.lo.y, x.lo.z, x.hi.x, x.hi.y, x.hi.z});
+        }
+        return b;
+    };
+    for (const char* name : {"balls-3", "rings-2", "gears-2"}) {
+        const Scene s = test::spd(name);
+        const Box w = s.worldBox();
+        const double margin = roundingMargin(w);
+        std::vector<Box> boxes{w};
+        const Lattice other = randomCuts(s, 11, 5);
+        for (int z = 0; z < other.cells(2); ++z)
+            for (int y = 0; y < other.cells(1); ++y)
+                for (int x = 0; x < other.cells(0); ++x) boxes.push_back(other.cellBox({x, y, z}));
+        std::mt19937_64 rng(3);
+        std::vector<Box> touched;  // widened bounds of 40 objects
+        for (int k = 0; k < 40; ++k) touched.push_back(s.objects[rng() % s.objects.size()].bounds().expanded(margin));
+        for (int k = 0; k < 40; ++k) {  // faces on those: touching counts
+            const Box& o = touched[size_t(k)];
+            Box b = w;
+            const int a = int(rng() % 3);
+            if (k % 4 != 2) b.lo[a] = o.hi[a];
+            else b.hi[a] = o.lo[a];
+            if (k % 4 < 2) b.hi[a] = b.lo[a];  // flat
+            if (b.lo[a] <= b.hi[a]) boxes.push_back(b);
+        }
+        // Bin planes between those objects' bounds and their widened bounds:
+        // only the widened bounds put an object in the bin a touching box
+        // lies in.
+        std::array<std::vector<double>, 3> tight;
+        for (int a = 0; a < 3; ++a) {
+            std::set<double> p{w.lo[a], w.hi[a]};
+            for (const Box& o : touched) {
+                const double c = o.hi[a] - margin / 2;
+                if (c > w.lo[a] && c < w.hi[a]) p.insert(c);
+            }
+            tight[a].assign(p.begin(), p.end());
+        }
+        for (const Lattice& bins : {Lattice::uniform(w, {1, 1, 1}), Lattice::uniform(w, {4, 3, 5}), randomCuts(s, 5, 4),
+                                    Lattice(tight)}) {
+            const ObjectBins binned(s.objects, bins, margin);
+            for (const Box& b : boxes) {
+                SCOPED_TRACE(testing::Message() << name << ", box " << b.lo.x << " " << b.lo.y << " " << b.lo.z << " / "
+                                                << b.hi.x << " " << b.hi.y << " " << b.hi.z);
+                ASSERT_EQ(boundsOf(binned.overlapping(b)), boundsOf(objectsOverlapping(s.objects, b, margin)));
+            }
+        }
+    }
+}
