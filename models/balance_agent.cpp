@@ -70,7 +70,13 @@ void BalanceAgent::closeInterval(Picos now, Picos busyTotal, Picos waitTotal, ui
     waiting_ = waiting;
     // The next interval boundary after now (a long step may have spanned several).
     next_ = (now / cfg_.interval + 1) * cfg_.interval;
-    for (Side& s : sides_) {
+    for (int i : {0, 1}) {
+        Side& s = sides_[i];
+        if (s.present) {
+            const Picos w = host_.linkBusy(sideOf(i));
+            s.wireUse = double(w - s.wireMark) / double(cfg_.interval);
+            s.wireMark = w;
+        }
         s.span.busy += exec;
         s.span.wait += waited;
         s.span.end = now;
@@ -243,6 +249,10 @@ void BalanceAgent::decide(int i, Picos now) {
     if (cfg_.guard) {
         if (age > cfg_.maxAge) {
             ++stats_.skippedStale;
+            return;
+        }
+        if (cfg_.wireShare > 0 && s.wireUse > cfg_.wireShare) {
+            ++stats_.skippedBusyLink;
             return;
         }
         if (double(host_.hopTime(sideOf(i))) > cfg_.hopRatio * double(s.sentMeanStep)) {

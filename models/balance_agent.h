@@ -28,6 +28,10 @@
 //    than its mean step: a thinner box adds a hop to the rays that cross
 //    it, and when hops dominate, the frame is set by the rays' paths, not
 //    by the nodes' work (measured: doc/balancing.md, "The guard");
+//  - (--guard-wire U, off by default) across a link whose wire took more
+//    than U of the last interval: on a saturated link the rays a slide
+//    sends across it queue, and the frame is set by the link, not by the
+//    nodes' work (measured: doc/balancing.md, "A busy-link guard");
 //  - that costs more (handling, grid updates, the slab's time on the link)
 //    than the work it moves off the giver over the next `horizon` intervals
 //    (a load already even, a frame about to end: little work left).
@@ -63,7 +67,7 @@ struct BalanceStats {
     // Per decision: the age of the older of its two loads, in 1/kAgeUnits of an interval.
     static constexpr double kAgeUnits = 1024;
     Histogram ages;
-    uint64_t decisions = 0, gives = 0, skippedStale = 0, skippedLatency = 0, skippedCost = 0;
+    uint64_t decisions = 0, gives = 0, skippedStale = 0, skippedLatency = 0, skippedCost = 0, skippedBusyLink = 0;
 };
 
 class BalanceHost {
@@ -83,6 +87,9 @@ public:
     // A load report's time on the wire to that neighbour (its bytes at the
     // link's bandwidth); 0 when reports to it are not paced.
     virtual Picos reportTime(int side) const = 0;
+    // The time every message sent so far to that neighbour takes on the
+    // wire (the link's busy time, including what waits to go).
+    virtual Picos linkBusy(int side) const = 0;
 };
 
 class BalanceAgent {
@@ -145,6 +152,8 @@ private:
         Picos sentMeanStep = 0;       // and its mean cost per ray step
         std::map<int, LoadSample> got;  // the neighbour's, by round
         double neighbourSum = 0;      // the newest column sum from that side
+        Picos wireMark = 0;           // the link's wire time (linkBusy) when the last interval began
+        double wireUse = 0;           // what it grew by in that interval, over the interval's length
     };
     void advance(int i, Picos now);  // marks side i's lockstep to be advanced (act)
     bool advanceStep(int i);         // one step of it; false if nothing is due

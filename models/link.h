@@ -110,6 +110,8 @@ public:
     static constexpr Picos kRoomUnknown = ~Picos(0);
     virtual Picos roomAt(MsgType type, Picos t) = 0;
     virtual const sc_core::sc_event& roomEvent() const = 0;
+    // The time every message sent so far takes on the wire.
+    virtual Picos wireBusy() const = 0;
 };
 
 // Told by a link when its oldest unconsumed message changes: a message lands
@@ -178,6 +180,11 @@ public:
 
     const LinkParams& params() const override { return params_; }
     const LinkStats& stats() const { return stats_; }
+    Picos wireBusy() const override {
+        Picos t = 0;
+        for (Picos w : stats_.wire) t += w;
+        return t;
+    }
     void setProgress(Progress* p) { progress_ = p; }
     void setTrace(const LinkTrace& t) { trace_ = t; }
     // Whether changes it records later may be earlier than the kernel's time

@@ -147,6 +147,7 @@ void MachineConfig::validate() const {
     if (!(b.maxAge >= 0) || !std::isfinite(b.maxAge)) throw std::invalid_argument("--max-age: must be non-negative");
     if (!(b.horizon >= 0) || !std::isfinite(b.horizon)) throw std::invalid_argument("--guard-horizon: must be non-negative");
     if (!(b.hopRatio >= 0) || !std::isfinite(b.hopRatio)) throw std::invalid_argument("--guard-hop: must be non-negative");
+    if (!(b.wireShare >= 0) || !std::isfinite(b.wireShare)) throw std::invalid_argument("--guard-wire: must be non-negative (0: off)");
     if (!(b.reportShare > 0) || !(b.reportShare <= 1)) throw std::invalid_argument("--report-share: must be in (0, 1]");
     if (!(b.deadband >= 0) || !(b.deadband < 1)) throw std::invalid_argument("--deadband: must be in [0, 1)");
     if (!(b.minThickness > 0) || !(b.minThickness <= 1)) throw std::invalid_argument("--min-thickness: must be in (0, 1]");

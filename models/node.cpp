@@ -665,6 +665,8 @@ Picos Node::reportTime(int side) const {
     return Picos(wireTime(l, kHeaderBytes + kLoadReportBytes));
 }
 
+Picos Node::linkBusy(int side) const { return out[sideDir(side)]->wireBusy(); }
+
 // What giving the slab would cost: both nodes handle a message and update
 // their grids for its objects (rebuild cost per object moved, on each), and
 // the slab crosses the link (latency and its bytes at the link's bandwidth).

@@ -159,6 +159,7 @@ private:
     Picos slabCost(int side, double boundary) const override;
     Picos hopTime(int side) const override;
     Picos reportTime(int side) const override;  // 0 on the rays' FIFO: not paced
+    Picos linkBusy(int side) const override;
     Box slabOf(int side, double boundary) const;  // between the face on `side` and `boundary`
     void takeSlab(int side, double boundary, std::vector<Shape> objects);
     void rebuild(const Box& box, std::vector<Shape> objects);

@@ -61,7 +61,7 @@ nlohmann::json machineConfigJson(const MachineConfig& cfg, int width, int height
                     {"bins", bc.bins},                   {"rebuild_cost_ns", ns(bc.rebuildCost)},
                     {"guard", bc.guard},                 {"max_age_intervals", bc.maxAge},
                     {"guard_horizon_intervals", bc.horizon}, {"guard_hop_steps", bc.hopRatio},
-                    {"report_share", bc.reportShare},    {"faces", bc.idealLayerFaces ? "ideal-layer" : "column"}};
+                    {"guard_wire_share", bc.wireShare},  {"report_share", bc.reportShare},    {"faces", bc.idealLayerFaces ? "ideal-layer" : "column"}};
     c["watchdog"] = {{"span_ns", ns(cfg.watchdogSpan)}, {"wall_s", cfg.watchdogWall}};
     auto& tr = c["trace"];
     tr["nodes"] = nlohmann::json::array();
@@ -234,7 +234,7 @@ nlohmann::json machineReport(const MachineResult& r, const MachineConfig& cfg) {
     j["balance"]["boundaries_diverging"] = st.diverging;
     // The decisions, what the guard stopped, and how old the loads they used
     // were (the older of the two, in intervals).
-    uint64_t decisions = 0, gives = 0, stale = 0, latency = 0, costly = 0;
+    uint64_t decisions = 0, gives = 0, stale = 0, latency = 0, costly = 0, busyLink = 0;
     Histogram ages;
     for (const NodeStats& s : r.nodes) {
         decisions += s.balance.decisions;
@@ -242,12 +242,14 @@ nlohmann::json machineReport(const MachineResult& r, const MachineConfig& cfg) {
         stale += s.balance.skippedStale;
         latency += s.balance.skippedLatency;
         costly += s.balance.skippedCost;
+        busyLink += s.balance.skippedBusyLink;
         ages.merge(s.balance.ages);
     }
     j["balance"]["decisions"] = decisions;
     j["balance"]["guard_stale"] = stale;
     j["balance"]["guard_latency"] = latency;
     j["balance"]["guard_cost"] = costly;
+    j["balance"]["guard_busy_link"] = busyLink;
     if (ages.count() > 0)
         j["balance"]["load_age_intervals"] = {
             {"median", ages.percentile(0.5) / BalanceStats::kAgeUnits},

@@ -182,6 +182,10 @@ void RtsimOptions::addTo(CLI::App& app) {
                    "guard: no slide while a ray's hop to the neighbour (latency + wire) takes longer than this many "
                    "of the giver's mean ray steps")
         ->check(CLI::Range(0.0, 1e9))->capture_default_str()->group(gb);
+    app.add_option("--guard-wire", b.wireShare,
+                   "guard: no slide across a link whose wire was busy more than this share of the last interval "
+                   "(a saturated link; 0: off)")
+        ->check(CLI::Range(0.0, 1e9))->capture_default_str()->group(gb);
     app.add_option("--guard-horizon", b.horizon,
                    "guard: no slide that costs more than the work it moves over this many intervals")
         ->check(CLI::Range(0.0, 1e9))->capture_default_str()->group(gb);

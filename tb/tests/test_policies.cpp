@@ -164,7 +164,7 @@ struct FakeHost : BalanceHost {
     Box b{Vec3(0.0), Vec3(1.0)};
     std::vector<std::pair<int, Message>> reports;
     std::vector<std::pair<int, double>> slabs;
-    Picos cost = 0, hop = 0, reportWire = 0;
+    Picos cost = 0, hop = 0, reportWire = 0, wire = 0;
     const Box& box() const override { return b; }
     void sendReport(int side, Message m) override { reports.push_back({side, std::move(m)}); }
     void giveSlab(int side, double boundary) override {  // the box shrinks along x, as a node's does
@@ -174,6 +174,7 @@ struct FakeHost : BalanceHost {
     Picos slabCost(int, double) const override { return cost; }
     Picos hopTime(int) const override { return hop; }
     Picos reportTime(int) const override { return reportWire; }
+    Picos linkBusy(int) const override { return wire; }
 };
 
 // Takes every action the agent has due, as a node does between its steps.
@@ -519,6 +520,53 @@ TEST(Agent, GuardStopsStaleCostlyAndLatencyBoundSlides) {
     BalanceConfig off = cfg;
     off.guard = false;
     EXPECT_EQ(run(off, 20 * us + 200 * us, 1000 * us, 100 * us).first, 1u);
+}
+
+// --guard-wire: the giver's link to the taker had its wire busy for
+// 16.2 us of the 20 us interval before the decision (0.81): over a share of
+// 0.8 it does not give, under 0.82 it does, and off (0) the link's load does
+// not count. Only the last interval counts: after one at 1.5 and one at 0.2
+// it gives.
+TEST(Agent, BusyLinkGuardStopsSlidesAcrossASaturatedLink) {
+    const Box world{Vec3(0.0), Vec3(2.0, 1.0, 1.0)};
+    {
+        BalanceConfig cfg = agentConfig();
+        cfg.wireShare = 0.8;
+        FakeHost ha, hb;
+        BalanceAgent a(cfg, ha, world, 0, 2, false, true, 0.05), b(cfg, hb, world, 1, 2, true, false, 0.05);
+        a.recordStep(0.9, 1 * us);
+        ha.wire = 30 * us;
+        a.closeInterval(20 * us, 20 * us, 0, 0);
+        settle(a);
+        ha.wire += 4 * us;
+        a.closeInterval(40 * us, 40 * us, 0, 0);
+        settle(a);
+        b.closeInterval(20 * us, 0, 20 * us, 0);
+        settle(b);
+        a.onReport(+1, hb.reports[0].second, 41 * us);
+        settle(a);
+        EXPECT_EQ(ha.slabs.size(), 1u);
+        EXPECT_EQ(a.stats().skippedBusyLink, 0u);
+    }
+    auto run = [&](double share) {
+        BalanceConfig cfg = agentConfig();
+        cfg.wireShare = share;
+        FakeHost ha, hb;
+        BalanceAgent a(cfg, ha, world, 0, 2, false, true, 0.05), b(cfg, hb, world, 1, 2, true, false, 0.05);
+        a.recordStep(0.9, 1 * us);
+        ha.wire = Picos(16.2 * us);  // sent during the interval that closes now
+        a.closeInterval(20 * us, 20 * us, 0, 0);
+        settle(a);
+        ha.wire += 20 * us;  // later sends do not count until the next interval closes
+        b.closeInterval(20 * us, 0, 20 * us, 0);
+        settle(b);
+        a.onReport(+1, hb.reports[0].second, 21 * us);
+        settle(a);
+        return std::make_pair(ha.slabs.size(), a.stats().skippedBusyLink);
+    };
+    EXPECT_EQ(run(0.8), std::make_pair(size_t(0), uint64_t(1)));
+    EXPECT_EQ(run(0.82), std::make_pair(size_t(1), uint64_t(0)));
+    EXPECT_EQ(run(0), std::make_pair(size_t(1), uint64_t(0)));
 }
 
 // ---- The control lane (link.h) ----

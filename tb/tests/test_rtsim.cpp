@@ -425,6 +425,29 @@ TEST_F(Rtsim, WithoutTheGuardTheSlowLinksCaseLoses) {
     EXPECT_GT(r["comparison"]["ratio"].get<double>(), 1.1) << r["comparison"].dump();
 }
 
+// The 1987 machine at its bandwidth knee (360 KB/s links, N = 2): the
+// default policy's slides pass the cost test, but each moves work across a
+// link the rays already fill, and the frame becomes link-bound: 1.19 times
+// the unbalanced frame. With the busy-link guard (--guard-wire 0.8) the
+// slides across a link busier than 0.8 of the last interval are stopped and
+// the frame is shorter than the unbalanced one (0.91).
+TEST_F(Rtsim, TheBusyLinkGuardKeepsBalancingFromLosingAtTheBandwidthKnee) {
+    const std::string args = " --config " RT_CONFIG_DIR "/transputer-1987.conf --spheres 1000 --concentration 0.25 "
+                             "--size 128x128 --mesh 2 --link-latency 1.5us --link-bandwidth 360KB/s --balance default "
+                             "-q --image '' --report " + (dir_ / "r.json").string();
+    const Outcome without = run(args);
+    ASSERT_EQ(without.code, 0) << without.err;
+    const json w = json::parse(slurp(dir_ / "r.json"));
+    EXPECT_GT(w["comparison"]["ratio"].get<double>(), 1.1) << w["comparison"].dump();
+    EXPECT_EQ(w["balance"]["guard_busy_link"], 0);
+    const Outcome with = run(args + " --guard-wire 0.8");
+    ASSERT_EQ(with.code, 0) << with.err;
+    const json g = json::parse(slurp(dir_ / "r.json"));
+    EXPECT_LE(g["comparison"]["ratio"].get<double>(), 1 / 0.98) << g["comparison"].dump();
+    EXPECT_GT(g["balance"]["guard_busy_link"].get<int>(), 0);
+    EXPECT_EQ(g["config"]["balance"]["guard_wire_share"], 0.8);
+}
+
 // The presets: modern.conf is exactly the built-in defaults, and the 1987
 // preset is a valid configuration that changes every cost.
 TEST_F(Rtsim, PresetsAreValidAndModernIsTheDefault) {
@@ -474,6 +497,8 @@ TEST_F(Rtsim, BadConfigurationExits2NamingTheFlag) {
     expectBad("--mesh 2 --trace-links 1,0,0,+x", "--trace-links: no link in that direction");
     expectBad("--map /nonexistent/m.png", "--map: /nonexistent/m.png");
     expectBad("--quantum soon", "--quantum");
+    expectBad("--guard-wire -0.5", "--guard-wire");
+    expectBad("--guard-wire busy", "--guard-wire");
     expectBad("--fb-units 0", "--fb-units");
     expectBad("--fb-units 257", "--fb-units");
     expectBad("--balance sometimes", "--balance");
