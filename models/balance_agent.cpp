@@ -180,6 +180,7 @@ void BalanceAgent::report(int i) {
     Side& s = sides_[i];
     LoadSample l;
     l.end = s.span.end;
+    s.sentLength = l.end - s.sent.end;  // (the last report's end, or the frame's start)
     l.busy = s.span.busy;
     l.wait = s.span.wait;
     l.backlog = s.span.steps ? Picos(double(waiting_) * double(s.span.stepCost) / double(s.span.steps)) : 0;
@@ -189,6 +190,7 @@ void BalanceAgent::report(int i) {
     l.sum = (other.present ? other.neighbourSum : 0.0) + l.demand();
     s.sent = l;
     s.sentMeanStep = s.span.steps ? Picos(s.span.stepCost / s.span.steps) : 0;
+    s.sentSteps = s.span.steps;
     std::swap(s.sentProfile, s.span.profile);
     s.span.profile.clear();
     s.span.busy = s.span.wait = s.span.stepCost = 0;
@@ -251,10 +253,6 @@ void BalanceAgent::decide(int i, Picos now) {
             ++stats_.skippedStale;
             return;
         }
-        if (cfg_.wireShare > 0 && s.wireUse > cfg_.wireShare) {
-            ++stats_.skippedBusyLink;
-            return;
-        }
         if (double(host_.hopTime(sideOf(i))) > cfg_.hopRatio * double(s.sentMeanStep)) {
             ++stats_.skippedLatency;
             return;
@@ -268,6 +266,16 @@ void BalanceAgent::decide(int i, Picos now) {
         const double share = inBox > 0 ? s.sentProfile.within(a, z) / inBox : (z - a) / (hi - lo);
         const double returns =
             share * (q.mine.load() * double(cfg_.interval) * cfg_.horizon + double(q.mine.backlog));
+        if (cfg_.wireShare > 0) {
+            // The link after the slide: its wire's share of the last
+            // interval, plus a ray message for each ray step the slab's work
+            // took in the span, which the giver now sends across instead.
+            const double across = s.sentLength > 0 ? share * double(s.sentSteps) / double(s.sentLength) : 0;  // rays per ps
+            if (s.wireUse + across * double(host_.rayWire(sideOf(i))) > cfg_.wireShare) {
+                ++stats_.skippedBusyLink;
+                return;
+            }
+        }
         if (double(host_.slabCost(sideOf(i), *b)) > returns) {
             ++stats_.skippedCost;
             return;

@@ -28,10 +28,12 @@
 //    than its mean step: a thinner box adds a hop to the rays that cross
 //    it, and when hops dominate, the frame is set by the rays' paths, not
 //    by the nodes' work (measured: doc/balancing.md, "The guard");
-//  - (--guard-wire U, off by default) across a link whose wire took more
-//    than U of the last interval: on a saturated link the rays a slide
-//    sends across it queue, and the frame is set by the link, not by the
-//    nodes' work (measured: doc/balancing.md, "A busy-link guard");
+//  - (--guard-wire U, off by default) across a link whose wire would take
+//    more than U of an interval after the slide: its share of the last
+//    interval plus a ray message for each ray step the slab's work took.
+//    On a full link the rays a slide sends across it queue, and the frame
+//    is set by the link, not by the nodes' work (measured:
+//    doc/balancing.md, "A busy-link guard");
 //  - that costs more (handling, grid updates, the slab's time on the link)
 //    than the work it moves off the giver over the next `horizon` intervals
 //    (a load already even, a frame about to end: little work left).
@@ -82,8 +84,9 @@ public:
     // nodes and its time on the link.
     virtual Picos slabCost(int side, double boundary) const = 0;
     // How long one ray takes to reach that neighbour: the link's latency and
-    // a ray message's time on the wire.
+    // a ray message's time on the wire (rayWire).
     virtual Picos hopTime(int side) const = 0;
+    virtual Picos rayWire(int side) const = 0;
     // A load report's time on the wire to that neighbour (its bytes at the
     // link's bandwidth); 0 when reports to it are not paced.
     virtual Picos reportTime(int side) const = 0;
@@ -150,6 +153,8 @@ private:
         LoadSample sent;              // this round's sample, as reported
         WorkProfile sentProfile;      // and the work behind it
         Picos sentMeanStep = 0;       // and its mean cost per ray step
+        uint64_t sentSteps = 0;       // and its ray steps
+        Picos sentLength = 0;         // and its length in time
         std::map<int, LoadSample> got;  // the neighbour's, by round
         double neighbourSum = 0;      // the newest column sum from that side
         Picos wireMark = 0;           // the link's wire time (linkBusy) when the last interval began

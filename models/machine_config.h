@@ -80,9 +80,10 @@ struct BalanceConfig {
     double maxAge = 4;
     double horizon = 10;
     double hopRatio = 4;          // no slide while a ray's hop takes longer than this many mean steps
-    // No slide across a link whose wire took more than this share of the
-    // last interval (saturated: the rays the slide sends across it would
-    // queue; 0: off, the default; doc/balancing.md, "A busy-link guard").
+    // No slide across a link whose wire would take more than this share of
+    // an interval after it (its last interval's share plus the rays the
+    // slab's work sends across; 1: a full link; 0: off, the default;
+    // doc/balancing.md, "A busy-link guard").
     double wireShare = 0;
     // Load reports on a control lane take at most this share of the link's
     // time: a node reports to a neighbour again only once reportTime /

@@ -651,10 +651,9 @@ Box Node::slabOf(int side, double boundary) const {
 // The time `bytes` take on the wire of a link with parameters `l`, in ps.
 static double wireTime(const LinkParams& l, uint32_t bytes) { return double(bytes) * 1e12 / l.bandwidth; }
 
-Picos Node::hopTime(int side) const {
-    const LinkParams& l = out[sideDir(side)]->params();
-    return l.latency + Picos(wireTime(l, kHeaderBytes + kRayBytes));
-}
+Picos Node::rayWire(int side) const { return Picos(wireTime(out[sideDir(side)]->params(), kHeaderBytes + kRayBytes)); }
+
+Picos Node::hopTime(int side) const { return out[sideDir(side)]->params().latency + rayWire(side); }
 
 // Only a report on a control lane is paced: it goes ahead of the rays, so
 // without pacing reports could take the wire from them. On the rays' FIFO

@@ -1,6 +1,8 @@
 #!/usr/bin/python3
 """What the busy-link guard (`--guard-wire U`: no slide across a link whose
-wire took more than U of the last interval) does where balancing is judged:
+wire would take more than U of an interval after the slide: the last
+interval's share plus a ray message for each ray step the slab's work
+took) does where balancing is judged:
 every point of the link sweep (latency and bandwidth, N = 2..8, the default
 policy's first frame) and of Fig. 4 (`slide`'s first frame, both views,
 every f), on the modern and the 1987 machine, each run without balancing,
@@ -53,7 +55,7 @@ def variants(shares):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--shares", default="0.5,0.8", help="busy-link guard shares to try")
+    ap.add_argument("--shares", default="1,0.8", help="busy-link guard shares to try (1: a full link)")
     driver.add_output_arguments(ap, os.path.join(ROOT, "doc", "balancing.md"))
     driver.add_arguments(ap)
     a = ap.parse_args()

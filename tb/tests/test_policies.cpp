@@ -164,7 +164,7 @@ struct FakeHost : BalanceHost {
     Box b{Vec3(0.0), Vec3(1.0)};
     std::vector<std::pair<int, Message>> reports;
     std::vector<std::pair<int, double>> slabs;
-    Picos cost = 0, hop = 0, reportWire = 0, wire = 0;
+    Picos cost = 0, hop = 0, reportWire = 0, wire = 0, rayWireTime = 0;
     const Box& box() const override { return b; }
     void sendReport(int side, Message m) override { reports.push_back({side, std::move(m)}); }
     void giveSlab(int side, double boundary) override {  // the box shrinks along x, as a node's does
@@ -175,6 +175,7 @@ struct FakeHost : BalanceHost {
     Picos hopTime(int) const override { return hop; }
     Picos reportTime(int) const override { return reportWire; }
     Picos linkBusy(int) const override { return wire; }
+    Picos rayWire(int) const override { return rayWireTime; }
 };
 
 // Takes every action the agent has due, as a node does between its steps.
@@ -526,7 +527,10 @@ TEST(Agent, GuardStopsStaleCostlyAndLatencyBoundSlides) {
 // 16.2 us of the 20 us interval before the decision (0.81): over a share of
 // 0.8 it does not give, under 0.82 it does, and off (0) the link's load does
 // not count. Only the last interval counts: after one at 1.5 and one at 0.2
-// it gives.
+// it gives. And the rays the slab's work sends across count: the giver's one
+// ray step in the 20 us span lies in the slab the policy gives ([0.75, 1]),
+// so a ray message of 8 us on the wire adds 8 / 20 = 0.4 to a link at 0.5:
+// 0.9, over 0.8; one of 4 us adds 0.2: 0.7, under.
 TEST(Agent, BusyLinkGuardStopsSlidesAcrossASaturatedLink) {
     const Box world{Vec3(0.0), Vec3(2.0, 1.0, 1.0)};
     {
@@ -548,13 +552,14 @@ TEST(Agent, BusyLinkGuardStopsSlidesAcrossASaturatedLink) {
         EXPECT_EQ(ha.slabs.size(), 1u);
         EXPECT_EQ(a.stats().skippedBusyLink, 0u);
     }
-    auto run = [&](double share) {
+    auto run = [&](double share, Picos busy = Picos(16.2 * us), Picos rayWire = 0) {
         BalanceConfig cfg = agentConfig();
         cfg.wireShare = share;
         FakeHost ha, hb;
+        ha.rayWireTime = rayWire;
         BalanceAgent a(cfg, ha, world, 0, 2, false, true, 0.05), b(cfg, hb, world, 1, 2, true, false, 0.05);
         a.recordStep(0.9, 1 * us);
-        ha.wire = Picos(16.2 * us);  // sent during the interval that closes now
+        ha.wire = busy;  // sent during the interval that closes now
         a.closeInterval(20 * us, 20 * us, 0, 0);
         settle(a);
         ha.wire += 20 * us;  // later sends do not count until the next interval closes
@@ -567,6 +572,8 @@ TEST(Agent, BusyLinkGuardStopsSlidesAcrossASaturatedLink) {
     EXPECT_EQ(run(0.8), std::make_pair(size_t(0), uint64_t(1)));
     EXPECT_EQ(run(0.82), std::make_pair(size_t(1), uint64_t(0)));
     EXPECT_EQ(run(0), std::make_pair(size_t(1), uint64_t(0)));
+    EXPECT_EQ(run(0.8, 10 * us, 8 * us), std::make_pair(size_t(0), uint64_t(1)));
+    EXPECT_EQ(run(0.8, 10 * us, 4 * us), std::make_pair(size_t(1), uint64_t(0)));
 }
 
 // ---- The control lane (link.h) ----
