@@ -14,9 +14,13 @@
 // - the frame buffer as the bottleneck, fed by two nodes at once;
 // - one slide: its objects' bytes over the link, the grid updates on both
 //   sides, and the acknowledgement's way back.
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
+#include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -50,10 +54,15 @@ Message rays(size_t n) {
     return m;
 }
 
+// (ctest runs each test in a process of its own, several at once: the file
+// is named by the process, so that two tests writing the same scene do not
+// read each other's half-written file.)
 Scene sceneFrom(const std::string& name, const std::string& nff) {
-    const std::string path = testing::TempDir() + name + ".nff";
+    const std::string path = testing::TempDir() + name + "_" + std::to_string(::getpid()) + ".nff";
     std::ofstream(path) << nff;
-    return readNff(path);
+    Scene s = readNff(path);
+    std::remove(path.c_str());
+    return s;
 }
 
 // Two nodes, 8 pixels each, whose rays miss everything (16 contributions),
