@@ -66,6 +66,7 @@ void BalanceAgent::closeInterval(Picos now, Picos busyTotal, Picos waitTotal, ui
     const Picos exec = traced_;
     traced_ = 0;
     if (layerFaces_) layerFaces_->add(index_, long(now / cfg_.interval) - 1, exec, waited);
+    const Picos length = now - lastEnd_;  // an interval, or more after a long step
     lastEnd_ = now;
     waiting_ = waiting;
     // The next interval boundary after now (a long step may have spanned several).
@@ -74,7 +75,7 @@ void BalanceAgent::closeInterval(Picos now, Picos busyTotal, Picos waitTotal, ui
         Side& s = sides_[i];
         if (s.present) {
             const Picos w = host_.linkBusy(sideOf(i));
-            s.wireUse = double(w - s.wireMark) / double(cfg_.interval);
+            s.wireUse = length > 0 ? double(w - s.wireMark) / double(length) : 0;
             s.wireMark = w;
         }
         s.span.busy += exec;

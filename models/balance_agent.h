@@ -158,7 +158,7 @@ private:
         std::map<int, LoadSample> got;  // the neighbour's, by round
         double neighbourSum = 0;      // the newest column sum from that side
         Picos wireMark = 0;           // the link's wire time (linkBusy) when the last interval began
-        double wireUse = 0;           // what it grew by in that interval, over the interval's length
+        double wireUse = 0;           // what it grew by since, over the time since (an interval, or more)
     };
     void advance(int i, Picos now);  // marks side i's lockstep to be advanced (act)
     bool advanceStep(int i);         // one step of it; false if nothing is due
