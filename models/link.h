@@ -180,11 +180,7 @@ public:
 
     const LinkParams& params() const override { return params_; }
     const LinkStats& stats() const { return stats_; }
-    Picos wireBusy() const override {
-        Picos t = 0;
-        for (Picos w : stats_.wire) t += w;
-        return t;
-    }
+    Picos wireBusy() const override { return stats_.wireBusy(); }
     void setProgress(Progress* p) { progress_ = p; }
     void setTrace(const LinkTrace& t) { trace_ = t; }
     // Whether changes it records later may be earlier than the kernel's time
