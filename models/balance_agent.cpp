@@ -73,7 +73,7 @@ void BalanceAgent::closeInterval(Picos now, Picos busyTotal, Picos waitTotal, ui
     next_ = (now / cfg_.interval + 1) * cfg_.interval;
     for (int i : {0, 1}) {
         Side& s = sides_[i];
-        if (s.present) {
+        if (s.present && cfg_.wireShare > 0) {  // (only the busy-link guard reads it)
             const Picos w = host_.linkBusy(sideOf(i));
             s.wireUse = length > 0 ? double(w - s.wireMark) / double(length) : 0;
             s.wireMark = w;
