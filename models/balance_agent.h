@@ -28,7 +28,7 @@
 //    than its mean step: a thinner box adds a hop to the rays that cross
 //    it, and when hops dominate, the frame is set by the rays' paths, not
 //    by the nodes' work (measured: doc/balancing.md, "The guard");
-//  - (--guard-wire U, off by default) across a link whose wire would take
+//  - (--guard-wire U, 1 by default) across a link whose wire would take
 //    more than U of an interval after the slide: its share of the last
 //    interval plus a ray message for each ray step the slab's work took.
 //    On a full link the rays a slide sends across it queue, and the frame

@@ -130,6 +130,15 @@ void Link::putOnWire(int lane, Picos sent, Message&& m, Picos slot) {
     if (l.buffer.size() == 1) headChanged();
 }
 
+void Link::endFrame(Picos end) {
+    for (const Lane& l : lanes_)
+        for (size_t i = 0; i < l.buffer.size(); ++i) {
+            const Timed& m = l.buffer[i];
+            const Picos done = m.start + m.transfer;
+            if (done > end) stats_.wire[size_t(m.m.type)] -= done - std::max(m.start, end);
+        }
+}
+
 Picos Link::scheduleControl(Picos ready, Picos transfer) {
     Fifo<Timed>& data = lanes_[kData].buffer;  // in the order they go on the wire
     size_t first = 0;                          // the first data message not started by `ready`

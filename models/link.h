@@ -180,6 +180,11 @@ public:
 
     const LinkParams& params() const override { return params_; }
     const LinkStats& stats() const { return stats_; }
+    // The frame ended at `end`: the wire time after it is taken out of the
+    // figures (a node running ahead of the kernel may have sent a load
+    // report that goes on the wire after the last contribution arrived;
+    // the frame's figures, as its waveforms, end with the frame).
+    void endFrame(Picos end);
     Picos wireBusy() const override { return stats_.wireBusy(); }
     void setProgress(Progress* p) { progress_ = p; }
     void setTrace(const LinkTrace& t) { trace_ = t; }

@@ -71,6 +71,7 @@ public:
     MachineResult collect(double wallSeconds);
     void endFrame() {
         for (Node& n : nodes_) n.endFrame(frameEnd());
+        for (auto& l : links_) l->endFrame(frameEnd());
     }
     // Checks the conservation laws at the end of a run; throws
     // std::runtime_error naming the first one broken.

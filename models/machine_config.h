@@ -82,9 +82,9 @@ struct BalanceConfig {
     double hopRatio = 4;          // no slide while a ray's hop takes longer than this many mean steps
     // No slide across a link whose wire would take more than this share of
     // an interval after it (its last interval's share plus the rays the
-    // slab's work sends across; 1: a full link; 0: off, the default;
+    // slab's work sends across; 1: a full link, the default; 0: off;
     // doc/balancing.md, "A busy-link guard").
-    double wireShare = 0;
+    double wireShare = 1;
     // Load reports on a control lane take at most this share of the link's
     // time: a node reports to a neighbour again only once reportTime /
     // reportShare has passed since its last report there (balance_agent.h,
