@@ -74,7 +74,7 @@ void BalanceAgent::closeInterval(Picos now, Picos busyTotal, Picos waitTotal, ui
     for (int i : {0, 1}) {
         Side& s = sides_[i];
         if (s.present && cfg_.wireShare > 0) {  // (only the busy-link guard reads it)
-            const Picos w = host_.linkBusy(sideOf(i));
+            const Picos w = host_.linkOccupied(sideOf(i));
             s.wireUse = length > 0 ? double(w - s.wireMark) / double(length) : 0;
             s.wireMark = w;
         }
@@ -268,11 +268,12 @@ void BalanceAgent::decide(int i, Picos now) {
         const double returns =
             share * (q.mine.load() * double(cfg_.interval) * cfg_.horizon + double(q.mine.backlog));
         if (cfg_.wireShare > 0) {
-            // The link after the slide: its wire's share of the last
-            // interval, plus a ray message for each ray step the slab's work
-            // took in the span, which the giver now sends across instead.
+            // The link after the slide: its busy share of the last interval
+            // (wire or slots, the narrower), plus a ray message for each ray
+            // step the slab's work took in the span, which the giver now
+            // sends across instead.
             const double across = s.sentLength > 0 ? share * double(s.sentSteps) / double(s.sentLength) : 0;  // rays per ps
-            if (s.wireUse + across * double(host_.rayWire(sideOf(i))) > cfg_.wireShare) {
+            if (s.wireUse + across * double(host_.rayOccupies(sideOf(i))) > cfg_.wireShare) {
                 ++stats_.skippedBusyLink;
                 return;
             }

@@ -28,9 +28,10 @@
 //    than its mean step: a thinner box adds a hop to the rays that cross
 //    it, and when hops dominate, the frame is set by the rays' paths, not
 //    by the nodes' work (measured: doc/balancing.md, "The guard");
-//  - (--guard-wire U, 1 by default) across a link whose wire would take
-//    more than U of an interval after the slide: its share of the last
-//    interval plus a ray message for each ray step the slab's work took.
+//  - (--guard-wire U, 1 by default) across a link that would be busy more
+//    than U of an interval after the slide: its share of the last interval
+//    plus a ray message for each ray step the slab's work took, each by the
+//    link's narrower limit, its wire or its slots (LinkSendIf::occupied).
 //    On a full link the rays a slide sends across it queue, and the frame
 //    is set by the link, not by the nodes' work (measured:
 //    doc/balancing.md, "A busy-link guard");
@@ -84,15 +85,17 @@ public:
     // nodes and its time on the link.
     virtual Picos slabCost(int side, double boundary) const = 0;
     // How long one ray takes to reach that neighbour: the link's latency and
-    // a ray message's time on the wire (rayWire).
+    // a ray message's time on the wire.
     virtual Picos hopTime(int side) const = 0;
-    virtual Picos rayWire(int side) const = 0;
+    // How long one ray message keeps the link to that neighbour busy, by
+    // the narrower of its wire and its slots (LinkSendIf::occupied).
+    virtual Picos rayOccupies(int side) const = 0;
     // A load report's time on the wire to that neighbour (its bytes at the
     // link's bandwidth); 0 when reports to it are not paced.
     virtual Picos reportTime(int side) const = 0;
-    // The time every message sent so far to that neighbour takes on the
-    // wire (the link's busy time, including what waits to go).
-    virtual Picos linkBusy(int side) const = 0;
+    // How long every message sent so far to that neighbour keeps the link
+    // busy, including what waits to go (LinkSendIf::occupied).
+    virtual Picos linkOccupied(int side) const = 0;
 };
 
 class BalanceAgent {
@@ -157,7 +160,7 @@ private:
         Picos sentLength = 0;         // and its length in time
         std::map<int, LoadSample> got;  // the neighbour's, by round
         double neighbourSum = 0;      // the newest column sum from that side
-        Picos wireMark = 0;           // the link's wire time (linkBusy) when the last interval began
+        Picos wireMark = 0;           // the link's busy time (linkOccupied) when the last interval began
         double wireUse = 0;           // what it grew by since, over the time since (an interval, or more)
     };
     void advance(int i, Picos now);  // marks side i's lockstep to be advanced (act)

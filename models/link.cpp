@@ -130,6 +130,16 @@ void Link::putOnWire(int lane, Picos sent, Message&& m, Picos slot) {
     if (l.buffer.size() == 1) headChanged();
 }
 
+Picos Link::occupied() const {
+    std::array<double, 2> held{};  // per lane: each message's transfer and the latency there and back
+    for (int t = 0; t < kMsgTypes; ++t)
+        held[size_t(laneOf(MsgType(t)))] += double(stats_.messages[size_t(t)]) * 2 * double(params_.latency) +
+                                            double(stats_.bytes[size_t(t)]) * 1e12 / params_.bandwidth;
+    double slots = held[kData] / params_.depth;
+    if (params_.controlDepth > 0) slots = std::max(slots, held[kControl] / params_.controlDepth);
+    return std::max(stats_.wireBusy(), Picos(slots));
+}
+
 void Link::endFrame(Picos end) {
     for (const Lane& l : lanes_)
         for (size_t i = 0; i < l.buffer.size(); ++i) {

@@ -80,9 +80,10 @@ struct BalanceConfig {
     double maxAge = 4;
     double horizon = 10;
     double hopRatio = 4;          // no slide while a ray's hop takes longer than this many mean steps
-    // No slide across a link whose wire would take more than this share of
-    // an interval after it (its last interval's share plus the rays the
-    // slab's work sends across; 1: a full link, the default; 0: off;
+    // No slide across a link that would be busy more than this share of an
+    // interval after it (its last interval's share plus the rays the slab's
+    // work sends across, by the link's narrower limit: its wire, or its
+    // slots' round trips; 1: a full link, the default; 0: off;
     // doc/balancing.md, "A busy-link guard").
     double wireShare = 1;
     // Load reports on a control lane take at most this share of the link's

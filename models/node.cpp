@@ -664,7 +664,15 @@ Picos Node::reportTime(int side) const {
     return Picos(wireTime(l, kHeaderBytes + kLoadReportBytes));
 }
 
-Picos Node::linkBusy(int side) const { return out[sideDir(side)]->wireBusy(); }
+Picos Node::linkOccupied(int side) const { return out[sideDir(side)]->occupied(); }
+
+// As LinkSendIf::occupied counts it: its wire time, or its share of the
+// slots' round trip when that is longer.
+Picos Node::rayOccupies(int side) const {
+    const LinkParams& l = out[sideDir(side)]->params();
+    const double wire = wireTime(l, kHeaderBytes + kRayBytes);
+    return Picos(std::max(wire, (wire + 2 * double(l.latency)) / l.depth));
+}
 
 // What giving the slab would cost: both nodes handle a message and update
 // their grids for its objects (rebuild cost per object moved, on each), and

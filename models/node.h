@@ -158,9 +158,10 @@ private:
     void giveSlab(int side, double boundary) override;
     Picos slabCost(int side, double boundary) const override;
     Picos hopTime(int side) const override;
-    Picos rayWire(int side) const override;
+    Picos rayWire(int side) const;  // a ray message's time on the wire
+    Picos rayOccupies(int side) const override;
     Picos reportTime(int side) const override;  // 0 on the rays' FIFO: not paced
-    Picos linkBusy(int side) const override;
+    Picos linkOccupied(int side) const override;
     Box slabOf(int side, double boundary) const;  // between the face on `side` and `boundary`
     void takeSlab(int side, double boundary, std::vector<Shape> objects);
     void rebuild(const Box& box, std::vector<Shape> objects);

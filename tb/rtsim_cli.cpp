@@ -183,9 +183,9 @@ void RtsimOptions::addTo(CLI::App& app) {
                    "of the giver's mean ray steps")
         ->check(CLI::Range(0.0, 1e9))->capture_default_str()->group(gb);
     app.add_option("--guard-wire", b.wireShare,
-                   "guard: no slide across a link whose wire would be busy more than this share of an interval after "
-                   "it: the last interval's share plus a ray message per ray step the slab's work took (1: a full link; "
-                   "0: off)")
+                   "guard: no slide across a link that would be busy more than this share of an interval after it: "
+                   "the last interval's share plus a ray message per ray step the slab's work took, each by the link's "
+                   "narrower limit, its wire or its slots (1: a full link; 0: off)")
         ->check(CLI::Range(0.0, 1e9))->capture_default_str()->group(gb);
     app.add_option("--guard-horizon", b.horizon,
                    "guard: no slide that costs more than the work it moves over this many intervals")

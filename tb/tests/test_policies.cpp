@@ -164,7 +164,7 @@ struct FakeHost : BalanceHost {
     Box b{Vec3(0.0), Vec3(1.0)};
     std::vector<std::pair<int, Message>> reports;
     std::vector<std::pair<int, double>> slabs;
-    Picos cost = 0, hop = 0, reportWire = 0, wire = 0, rayWireTime = 0;
+    Picos cost = 0, hop = 0, reportWire = 0, occupied = 0, rayTime = 0;
     const Box& box() const override { return b; }
     void sendReport(int side, Message m) override { reports.push_back({side, std::move(m)}); }
     void giveSlab(int side, double boundary) override {  // the box shrinks along x, as a node's does
@@ -174,8 +174,8 @@ struct FakeHost : BalanceHost {
     Picos slabCost(int, double) const override { return cost; }
     Picos hopTime(int) const override { return hop; }
     Picos reportTime(int) const override { return reportWire; }
-    Picos linkBusy(int) const override { return wire; }
-    Picos rayWire(int) const override { return rayWireTime; }
+    Picos linkOccupied(int) const override { return occupied; }
+    Picos rayOccupies(int) const override { return rayTime; }
 };
 
 // Takes every action the agent has due, as a node does between its steps.
@@ -539,10 +539,10 @@ TEST(Agent, BusyLinkGuardStopsSlidesAcrossASaturatedLink) {
         FakeHost ha, hb;
         BalanceAgent a(cfg, ha, world, 0, 2, false, true, 0.05), b(cfg, hb, world, 1, 2, true, false, 0.05);
         a.recordStep(0.9, 1 * us);
-        ha.wire = 30 * us;
+        ha.occupied = 30 * us;
         a.closeInterval(20 * us, 20 * us, 0, 0);
         settle(a);
-        ha.wire += 4 * us;
+        ha.occupied += 4 * us;
         a.closeInterval(40 * us, 40 * us, 0, 0);
         settle(a);
         b.closeInterval(20 * us, 0, 20 * us, 0);
@@ -552,17 +552,17 @@ TEST(Agent, BusyLinkGuardStopsSlidesAcrossASaturatedLink) {
         EXPECT_EQ(ha.slabs.size(), 1u);
         EXPECT_EQ(a.stats().skippedBusyLink, 0u);
     }
-    auto run = [&](double share, Picos busy = Picos(16.2 * us), Picos rayWire = 0) {
+    auto run = [&](double share, Picos busy = Picos(16.2 * us), Picos rayTime = 0) {
         BalanceConfig cfg = agentConfig();
         cfg.wireShare = share;
         FakeHost ha, hb;
-        ha.rayWireTime = rayWire;
+        ha.rayTime = rayTime;
         BalanceAgent a(cfg, ha, world, 0, 2, false, true, 0.05), b(cfg, hb, world, 1, 2, true, false, 0.05);
         a.recordStep(0.9, 1 * us);
-        ha.wire = busy;  // sent during the interval that closes now
+        ha.occupied = busy;  // sent during the interval that closes now
         a.closeInterval(20 * us, 20 * us, 0, 0);
         settle(a);
-        ha.wire += 20 * us;  // later sends do not count until the next interval closes
+        ha.occupied += 20 * us;  // later sends do not count until the next interval closes
         b.closeInterval(20 * us, 0, 20 * us, 0);
         settle(b);
         a.onReport(+1, hb.reports[0].second, 21 * us);
@@ -604,6 +604,33 @@ LinkParams oneBytePerNs(int lane) {
 }
 
 }  // namespace
+
+// What the busy-link guard reads (Link::occupied): the link's wire time, or
+// its slots' round trips over the slots when that is longer, each lane's
+// slots on their own.
+TEST(Link, OccupiedIsTheWireOrTheSlotsRoundTripByHand) {
+    {  // 16 slots, 100 ns: three ray messages of 1,000 ns on the wire; their
+       // slots, (1000 + 2 x 100) / 16 = 75 ns each, are the wider limit
+        Link l("l", oneBytePerNs(0));
+        for (int i = 0; i < 3; ++i) l.send(rays(8), 0);
+        EXPECT_EQ(l.occupied(), 3000 * ns);
+    }
+    {  // 2 slots, 1 us: four reports of 52 ns; two on the wire (104 ns), two
+       // waiting for a slot; each holds one for 52 + 2 x 1000 ns: 4 x 2052 / 2
+        Link l("l", LinkParams{1000 * ns, 1e9, 2});
+        for (int i = 0; i < 4; ++i) l.send(report(), 0);
+        EXPECT_EQ(l.stats().wireBusy(), 104 * ns);
+        EXPECT_EQ(l.occupied(), 4104 * ns);
+    }
+    {  // one control slot, 100 ns: three reports hold it 3 x 252 ns; the 16
+       // data slots do not carry them
+        Link l("l", oneBytePerNs(1));
+        for (int i = 0; i < 3; ++i) l.send(report(), 0);
+        EXPECT_EQ(l.occupied(), 756 * ns);
+        l.send(rays(8), 0);  // the wire, 52 + 1000 ns, is longer again
+        EXPECT_EQ(l.occupied(), 1052 * ns);
+    }
+}
 
 TEST(ControlLane, GoesAheadOfWaitingRaysByHand) {
     // 1 byte/ns, 100 ns latency. Three ray messages of 1,000 bytes at t = 0

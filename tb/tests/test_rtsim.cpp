@@ -450,6 +450,35 @@ TEST_F(Rtsim, TheBusyLinkGuardKeepsBalancingFromLosingAtTheBandwidthKnee) {
     EXPECT_EQ(g["config"]["balance"]["guard_wire_share"], 1.0);
 }
 
+// The busy-link guard counts a link's slots where they, not its wire, are
+// the narrower limit (Link::occupied). The 1987 machine with 150 us links:
+// a ray message takes 110 us on the wire (132 bytes at 1.2 MB/s), but with
+// 2 slots each holds one for 110 + 2 x 150 us, so the link carries one
+// every 205 us at best. No wire is busy a third of the frame, yet the guard
+// stops slides across links whose slots are full, and the frame is 0.88 of
+// the unbalanced one (0.98 when the guard read only the wire). With 64
+// slots the wire is the narrower limit again ((110 + 300) / 64 < 110 us),
+// and the guard stops none.
+TEST_F(Rtsim, TheBusyLinkGuardCountsALinksSlotsWhereTheyAreTheNarrowerLimit) {
+    const std::string args = " --config " RT_CONFIG_DIR "/transputer-1987.conf --spheres 1000 --concentration 0.25 "
+                             "--size 128x128 --mesh 2 --link-latency 150us --balance default -q --image '' --report " +
+                             (dir_ / "r.json").string();
+    auto busiestWire = [](const json& r) {
+        double u = 0;
+        for (const json& l : r["links"])
+            if (l["to"] != "fb") u = std::max(u, l["utilisation"].get<double>());
+        return u;
+    };
+    ASSERT_EQ(run(args + " --link-depth 2").code, 0);
+    const json two = json::parse(slurp(dir_ / "r.json"));
+    EXPECT_LT(busiestWire(two), 0.34);
+    EXPECT_GT(two["balance"]["guard_busy_link"].get<int>(), 0);
+    EXPECT_LT(two["comparison"]["ratio"].get<double>(), 0.93) << two["comparison"].dump();
+    ASSERT_EQ(run(args + " --link-depth 64").code, 0);
+    const json many = json::parse(slurp(dir_ / "r.json"));
+    EXPECT_EQ(many["balance"]["guard_busy_link"], 0);
+}
+
 // The presets: modern.conf is exactly the built-in defaults, and the 1987
 // preset is a valid configuration that changes every cost.
 TEST_F(Rtsim, PresetsAreValidAndModernIsTheDefault) {
