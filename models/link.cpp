@@ -57,6 +57,11 @@ void Link::send(Message&& m, Picos t) {
     ++stats_.messages[type];
     stats_.bytes[type] += m.bytes();
     ++inFlight_[type];
+    {  // what the link owes for it (occupied())
+        const Picos transfer = transferTime(m.bytes());
+        owedWire_ += transfer;
+        lanes_[laneOf(m.type)].held += transfer + 2 * params_.latency;
+    }
     if (progress_ && !isControl(m.type)) progress_->mark(t);  // work moves; load reports alone are no progress
     const int lane = laneOf(m.type);
     Lane& l = lanes_[lane];
@@ -131,13 +136,9 @@ void Link::putOnWire(int lane, Picos sent, Message&& m, Picos slot) {
 }
 
 Picos Link::occupied() const {
-    std::array<double, 2> held{};  // per lane: each message's transfer and the latency there and back
-    for (int t = 0; t < kMsgTypes; ++t)
-        held[size_t(laneOf(MsgType(t)))] += double(stats_.messages[size_t(t)]) * 2 * double(params_.latency) +
-                                            double(stats_.bytes[size_t(t)]) * 1e12 / params_.bandwidth;
-    double slots = held[kData] / params_.depth;
-    if (params_.controlDepth > 0) slots = std::max(slots, held[kControl] / params_.controlDepth);
-    return std::max(stats_.wireBusy(), Picos(slots));
+    Picos slots = lanes_[kData].held / Picos(params_.depth);
+    if (params_.controlDepth > 0) slots = std::max(slots, lanes_[kControl].held / Picos(params_.controlDepth));
+    return std::max(owedWire_, slots);
 }
 
 void Link::endFrame(Picos end) {

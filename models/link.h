@@ -243,6 +243,9 @@ private:
         // With an output depth: when the messages that left the backlog
         // (given a slot) leave the sender's buffer, from the sender's time on.
         Fifo<Picos> leaving;
+        // Every message sent: its transfer and the latency there and back,
+        // summed (the slots' round trips it owes, for occupied()).
+        Picos held = 0;
         bool slotFree_() const { return unusedSlots > 0 || !slotFree.empty(); }
     };
     static constexpr int kData = 0, kControl = 1;
@@ -269,6 +272,7 @@ private:
     std::string name_;
     LinkParams params_;
     std::array<Lane, 2> lanes_;
+    Picos owedWire_ = 0;     // every message sent: its time on the wire (occupied())
     Picos wireFree_ = 0;     // the end of the last transmission scheduled
     Picos controlFree_ = 0;  // the end of the last control transmission
     ArrivalListener* listener_ = nullptr;

@@ -615,20 +615,21 @@ TEST(Link, OccupiedIsTheWireOrTheSlotsRoundTripByHand) {
         for (int i = 0; i < 3; ++i) l.send(rays(8), 0);
         EXPECT_EQ(l.occupied(), 3000 * ns);
     }
-    {  // 2 slots, 1 us: four reports of 52 ns; two on the wire (104 ns), two
-       // waiting for a slot; each holds one for 52 + 2 x 1000 ns: 4 x 2052 / 2
+    {  // 2 slots, 1 us: four reports of 52 ns, two on the wire (104 ns) and
+       // two waiting for a slot; each will hold one for 52 + 2 x 1000 ns:
+       // the link owes 4 x 2052 / 2, those waiting included
         Link l("l", LinkParams{1000 * ns, 1e9, 2});
         for (int i = 0; i < 4; ++i) l.send(report(), 0);
         EXPECT_EQ(l.stats().wireBusy(), 104 * ns);
         EXPECT_EQ(l.occupied(), 4104 * ns);
     }
-    {  // one control slot, 100 ns: three reports hold it 3 x 252 ns; the 16
-       // data slots do not carry them
+    {  // one control slot, 100 ns: three reports take turns on it (the
+       // 16 data slots do not carry them), each holding it 52 + 200 ns
         Link l("l", oneBytePerNs(1));
         for (int i = 0; i < 3; ++i) l.send(report(), 0);
         EXPECT_EQ(l.occupied(), 756 * ns);
-        l.send(rays(8), 0);  // the wire, 52 + 1000 ns, is longer again
-        EXPECT_EQ(l.occupied(), 1052 * ns);
+        l.send(rays(8), 0);  // the wire, 3 x 52 + 1000 ns, is longer again
+        EXPECT_EQ(l.occupied(), 1156 * ns);
     }
 }
 
