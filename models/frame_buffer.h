@@ -55,6 +55,8 @@ public:
     // Unit 0: bound to units 1..K-1, in order.
     sc_core::sc_port<LinkSendIf, 0, sc_core::SC_ZERO_OR_MORE_BOUND> toUnits;
 
+    // Before the start: how far it may run ahead of the kernel (its lookahead).
+    void setQuantum(Picos q) { time_.setQuantum(q); }
     // Before the start: credit unit 0 keeps (not handed to nodes), and
     // contributions the unit makes itself (primary rays that miss the world
     // box: the background of its pixels).

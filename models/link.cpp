@@ -26,15 +26,13 @@ uint32_t objectBytes(const Shape& s) {
     return head + 8 * 8 + 1;  // cone: two centres, two radii, inside flag
 }
 
-Link::Link(std::string name, const LinkParams& params) : name_(std::move(name)), params_(params) {
+Link::Link(std::string name, const LinkParams& params, uint32_t smallest)
+    : name_(std::move(name)), params_(params), smallest_(smallest) {
     lanes_[kData].unusedSlots = params.depth;
     lanes_[kControl].unusedSlots = params.controlDepth;
 }
 
-Picos Link::transferTime(uint32_t bytes) const {
-    const double ps = std::ceil(double(bytes) * 1e12 / params_.bandwidth);
-    return std::max<Picos>(1, Picos(ps));
-}
+Picos Link::transferTime(uint32_t bytes) const { return wireTime(bytes, params_.bandwidth); }
 
 // A message's changes on the link's signals, each recorded at a time no
 // earlier than the kernel's (VcdStream's horizon): sent (by the sender, at
@@ -53,6 +51,11 @@ void Link::traceStart(Picos start, Picos transfer) {
 
 void Link::send(Message&& m, Picos t) {
     const int type = int(m.type);
+    // The receiver runs ahead by its lookahead, which counts on no message
+    // arriving sooner than the smallest one would.
+    if (m.bytes() < smallest_)
+        throw std::logic_error(name_ + ": a " + msgTypeName(m.type) + " message of " + std::to_string(m.bytes()) +
+                               " bytes, smaller than the " + std::to_string(smallest_) + " its receiver's lookahead counts on");
     if (trace_.vcd && params_.controlDepth == 0) trace_.vcd->step(t, trace_.backlog, 1);
     ++stats_.messages[type];
     stats_.bytes[type] += m.bytes();
@@ -142,12 +145,20 @@ Picos Link::occupied() const {
 }
 
 void Link::endFrame(Picos end) {
-    for (const Lane& l : lanes_)
+    const bool late = tracesLate();  // a lane's messages are traced when consumed: these never were
+    for (const Lane& l : lanes_) {
         for (size_t i = 0; i < l.buffer.size(); ++i) {
             const Timed& m = l.buffer[i];
             const Picos done = m.start + m.transfer;
             if (done > end) stats_.wire[size_t(m.m.type)] -= done - std::max(m.start, end);
+            if (late) {
+                trace_.vcd->step(m.sent, trace_.backlog, 1);
+                traceStart(m.start, m.transfer);
+            }
         }
+        if (late)
+            for (size_t i = 0; i < l.backlog.size(); ++i) trace_.vcd->step(l.backlog[i].t, trace_.backlog, 1);
+    }
 }
 
 Picos Link::scheduleControl(Picos ready, Picos transfer) {

@@ -170,7 +170,13 @@ inline bool isControl(MsgType t) { return t == MsgType::LoadReport || t == MsgTy
 // unregisters one linear search at a time.
 class Link : public LinkSendIf, public LinkRecvIf {
 public:
-    Link(std::string name, const LinkParams& params);
+    // `smallest`: the fewest bytes a message on it may have (message.h,
+    // smallestMeshMessage); its receiver's lookahead counts on it, and send
+    // refuses a smaller message.
+    Link(std::string name, const LinkParams& params, uint32_t smallest = kHeaderBytes);
+    // The soonest after its sender's time that a message sent on it arrives:
+    // the latency and the smallest message's time on the wire.
+    Picos lookahead() const { return params_.latency + transferTime(smallest_); }
 
     void send(Message&& m, Picos t) override;
     Picos roomAt(MsgType type, Picos t) override;
@@ -190,7 +196,9 @@ public:
     // The frame ended at `end`: the wire time after it is taken out of the
     // figures (a node running ahead of the kernel may have sent a load
     // report that goes on the wire after the last contribution arrived;
-    // the frame's figures, as its waveforms, end with the frame).
+    // the frame's figures, as its waveforms, end with the frame). A link
+    // with a control lane traces a message when it is consumed; those never
+    // consumed are traced now, as a link without one traced them when sent.
     void endFrame(Picos end);
     Picos occupied() const override;
     void setProgress(Progress* p) { progress_ = p; }
@@ -271,6 +279,7 @@ private:
 
     std::string name_;
     LinkParams params_;
+    uint32_t smallest_;
     std::array<Lane, 2> lanes_;
     Picos owedWire_ = 0;     // every message sent: its time on the wire (occupied())
     Picos wireFree_ = 0;     // the end of the last transmission scheduled

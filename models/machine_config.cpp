@@ -41,9 +41,20 @@ const LinkParams& MachineConfig::linkOf(const Cell& from, int dir) const {
     return it == linkOverride.end() ? link : it->second;
 }
 
+Picos wireTime(uint32_t bytes, double bandwidth) {
+    const double ps = std::ceil(double(bytes) * 1e12 / bandwidth);
+    return std::max<Picos>(1, Picos(ps));
+}
+
 Picos MachineConfig::lookahead() const {
-    Picos l = std::min(link.latency, fbPort.latency);
-    for (const auto& [where, p] : linkOverride) l = std::min(l, p.latency);
+    const uint32_t mesh = smallestMeshMessage(balance.dynamic());
+    Picos l = fbPort.latency + wireTime(kSmallestFbMessage, fbPort.bandwidth);
+    auto meshLink = [&](const LinkParams& p) {
+        l = std::min(l, p.latency + wireTime(mesh, p.bandwidth));
+        if (balance.dynamic() && p.controlDepth > 0) l = std::min(l, p.latency);  // its sender's (Machine::setLookaheads)
+    };
+    meshLink(link);
+    for (const auto& [where, p] : linkOverride) meshLink(p);
     return l;
 }
 

@@ -34,6 +34,10 @@ struct Costs {
     Picos recv = 40000;     // handling one incoming message
 };
 
+// A message of `bytes` on a wire of `bandwidth` bytes per second: its time on
+// the wire, rounded up to whole picoseconds, at least 1 ps.
+Picos wireTime(uint32_t bytes, double bandwidth);
+
 struct LinkParams {
     Picos latency = 100000;   // 100 ns
     double bandwidth = 1e9;   // bytes per second
@@ -144,10 +148,17 @@ struct MachineConfig {
 
     // Temporal decoupling (TLM-2.0 style): a process may run this far ahead of
     // the kernel's time before it synchronises. 0: synchronise after every
-    // step (exact). No larger than the smallest link latency: still exact,
-    // because no message can arrive sooner than one latency after the kernel's
-    // time (doc/machine.md, "Local time").
+    // step (exact). No larger than the lookahead: still exact, because no
+    // message can arrive sooner than one latency and its own time on the
+    // wire after the kernel's time (doc/machine.md, "Local time").
     Picos quantum = 0;
+    // --quantum lookahead (the default): each process runs ahead by its own
+    // lookahead instead, the largest quantum that is still exact for it: the
+    // soonest a message not yet sent can arrive at it, the smallest over its
+    // input links of their latency plus the smallest message's time on
+    // their wire (Machine; doc/machine.md, "Local time"). `quantum` then
+    // holds the smallest of them (lookahead()), for the report.
+    bool lookaheadQuantum = false;
 
     bool showProgress = false;
 
@@ -167,8 +178,11 @@ struct MachineConfig {
     double speedOf(const Cell& c) const;
     const Costs& costsOf(const Cell& c) const;
     const LinkParams& linkOf(const Cell& from, int dir) const;
-    // The lookahead: the smallest latency of any link or frame-buffer port. A
-    // quantum up to this is still exact.
+    // The machine's lookahead: the smallest of its processes' (see
+    // lookaheadQuantum): over every mesh link and frame-buffer port, its
+    // latency plus the smallest message it carries on its wire (a link with
+    // a control lane: its latency alone, for its sender). A quantum up to
+    // this is still exact for every process.
     Picos lookahead() const;
     // The watchdog's span: watchdogSpan, or its default for a scene of
     // `objects` objects.

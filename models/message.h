@@ -33,6 +33,16 @@ constexpr uint32_t kAckBytes = 8;                           // the boundary take
 constexpr uint32_t kUnitCountBytes = 2 + 4;                 // Credit: a frame-buffer unit and a count
 constexpr uint32_t kFbExpectBytes = 8;                      // the count
 
+// The smallest message each kind of link carries, which sets how soon a
+// message not yet sent can arrive (the lookahead, MachineConfig::lookahead;
+// Link::send refuses a smaller one). A mesh link carries rays (a message
+// holds at least one) and, under a dynamic balancing policy, load reports,
+// slides and acks; the frame-buffer ports and the links between units
+// carry contributions, credit, FbExpect and FbDone (a header alone).
+static_assert(kAckBytes <= kSlideBytes && kAckBytes <= kLoadReportBytes, "the ack is the smallest control message");
+constexpr uint32_t smallestMeshMessage(bool control) { return kHeaderBytes + (control ? kAckBytes : kRayBytes); }
+constexpr uint32_t kSmallestFbMessage = kHeaderBytes;
+
 // Bytes of one object on the wire: id, material, kind, then its geometry.
 uint32_t objectBytes(const Shape& s);
 

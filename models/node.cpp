@@ -476,6 +476,14 @@ bool Node::sendOutbox() {
         LinkSendIf& link = d >= kDirs ? *fb[d - kDirs] : *out[d].operator->();
         for (Picos room; (room = link.roomAt(m.type, now_)) != now_;) {
             if (!stats_.blocking) {
+                // It records the blocked state with its queue (messages
+                // arrived by now): beyond what it may run ahead to, the
+                // kernel catches up first, so that the queue is complete.
+                if (now_ > sc_core::sc_time_stamp().value() && !time_.mayIdleUntil(now_)) {
+                    time_.syncTo(now_);
+                    suspend(Resume::Room);
+                    return false;
+                }
                 stats_.blocking = true;
                 stats_.blockedSince = now_;
                 stats_.blockedOn = d;

@@ -109,6 +109,8 @@ public:
     // Its signals in the VCD (busy, wait, queue; boundaries it moves).
     void enableTrace(const NodeTrace& t) { trace_ = t; }
     void setProgress(Progress* p) { progress_ = p; }
+    // Before the start: how far it may run ahead of the kernel (its lookahead).
+    void setQuantum(Picos q) { time_.setQuantum(q); }
     // What the node still holds (rays in hand or in its input links, rays
     // in partial batches, contributions, credit), for the watchdog's
     // message; empty if nothing.

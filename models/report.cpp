@@ -52,7 +52,8 @@ nlohmann::json machineConfigJson(const MachineConfig& cfg, int width, int height
     c["fb_batch"] = cfg.fbBatch;
     c["ray_batch"] = cfg.rayBatch;
     c["host_cost_ns"] = ns(cfg.hostCost);
-    c["quantum_ns"] = ns(cfg.quantum);
+    c["quantum_ns"] = ns(cfg.lookaheadQuantum ? cfg.lookahead() : cfg.quantum);
+    c["quantum"] = cfg.lookaheadQuantum ? "lookahead" : "fixed";  // lookahead: each process its own, quantum_ns the smallest
 
     const BalanceConfig& bc = cfg.balance;
     c["balance"] = {{"policy", bc.policy},               {"axis", std::string(1, "xyz"[bc.axis])},

@@ -5,7 +5,10 @@
 //   --quantum 0  (exact) wait for the kernel after every step.
 //   --quantum Q  run ahead of the kernel, and wait for it once Q ahead (the
 //                TLM-2.0 quantum keeper). Still exact while Q is at most the
-//                smallest link latency (the lookahead).
+//                process's lookahead: the soonest a message not yet sent can
+//                arrive at it (its input links' latency plus the smallest
+//                message's time on their wire; Link::lookahead).
+//   --quantum lookahead (the default): each process's own lookahead.
 //
 // In both, a process that waits for input waits until the kernel has caught
 // up with it at least (one wait, ArrivalQueue::waitForInput); a step that
@@ -31,6 +34,9 @@ namespace rt {
 class TimeKeeper {
 public:
     explicit TimeKeeper(Picos quantum) : quantum_(quantum) {}
+    // Before the simulation starts: the process's own lookahead
+    // (MachineConfig::lookaheadQuantum).
+    void setQuantum(Picos quantum) { quantum_ = quantum; }
 
     // After a step that took `cost` and ended at local time `now`: whether
     // the process must let the kernel catch up before it goes on.

@@ -49,8 +49,8 @@ MUTANTS = [
     ("no-latency", "models/link.cpp",
      "const Picos arrival = start + transfer + params_.latency;", "const Picos arrival = start + transfer;",
      "the link's latency is not added"),
-    ("bandwidth-in-bits", "models/link.cpp",
-     "std::ceil(double(bytes) * 1e12 / params_.bandwidth)", "std::ceil(double(bytes) * 1e12 / (8 * params_.bandwidth))",
+    ("bandwidth-in-bits", "models/machine_config.cpp",
+     "std::ceil(double(bytes) * 1e12 / bandwidth)", "std::ceil(double(bytes) * 1e12 / (8 * bandwidth))",
      "the bandwidth read as bits per second: transfers 8 times too short"),
     ("no-send-cost", "models/node.cpp",
      "Picos ps = sends * costs_.send + ", "Picos ps = 0 * sends * costs_.send + ",
@@ -145,6 +145,14 @@ MUTANTS = [
     ("frame-buffer-unit-pixel-offset", "models/frame_buffer.cpp",
      "img.pixels[u + k * n] = sumInKeyOrder(pixel);", "img.pixels[k * n] = sumInKeyOrder(pixel);",
      "the image put together one unit at a time writes every unit's pixels where unit 0's go"),
+    ("lookahead-counts-on-a-ray", "models/link.h",
+     "Picos lookahead() const { return params_.latency + transferTime(smallest_); }",
+     "Picos lookahead() const { return params_.latency + transferTime(kHeaderBytes + kRayBytes); }",
+     "a process's lookahead counts on a ray message's wire time, also where acks and headers alone travel"),
+    ("blocked-queue-ahead-of-the-kernel", "models/node.cpp",
+     "if (now_ > sc_core::sc_time_stamp().value() && !time_.mayIdleUntil(now_)) {",
+     "if (false) {",
+     "a node that blocks records its queue at a time beyond its lookahead, missing messages not yet sent"),
 ]
 
 

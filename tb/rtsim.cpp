@@ -458,8 +458,11 @@ int sc_main(int argc, char** argv) {
         rt::msg::info("running again the flags of a report written by " +
                       rerun->report["rerun"].value("version", std::string("an unknown build")) + " (this is " RTSIM_VERSION ")" +
                       (rerun->overrides ? ", with the flags given after --rerun on top" : ""));
-    rt::msg::info("quantum " + rt::formatTime(o.machine.quantum) + " (lookahead " + rt::formatTime(o.machine.lookahead()) +
-                  "); watchdog after " + rt::formatTime(o.machine.watchdogSpanOrDefault(scene.objects.size())) +
+    rt::msg::info((o.machine.lookaheadQuantum ? "quantum: each process's lookahead (the smallest " +
+                                                    rt::formatTime(o.machine.lookahead()) + ")"
+                                              : "quantum " + rt::formatTime(o.machine.quantum) + " (lookahead " +
+                                                    rt::formatTime(o.machine.lookahead()) + ")") +
+                  "; watchdog after " + rt::formatTime(o.machine.watchdogSpanOrDefault(scene.objects.size())) +
                   " of simulated time without progress");
     o.machine.showProgress = !o.quiet && isatty(2);
     const bool single = o.machine.dims == std::array<int, 3>{1, 1, 1};

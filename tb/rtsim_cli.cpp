@@ -113,9 +113,10 @@ void RtsimOptions::addTo(CLI::App& app) {
         ->group(gc);
 
     app.add_option("--quantum", quantum_,
-                   "temporal decoupling: how far a process may run ahead of the kernel. 'lookahead': the smallest link or "
-                   "port latency, the largest that is still exact; 0: synchronise after every step (also exact, slower); "
-                   "beyond the lookahead: faster, timing approximate")
+                   "temporal decoupling: how far a process may run ahead of the kernel. 'lookahead': each process's own, "
+                   "the largest that is still exact (its input links' latency plus the smallest message's time on their "
+                   "wire); 0: synchronise after every step (also exact, slower); a time: every process by that much, "
+                   "exact up to the smallest lookahead, beyond it faster and timing approximate")
         ->capture_default_str()
         ->group(gm);
     addTime(app, "--link-latency", m.link.latency, "link latency", gl);
@@ -371,8 +372,10 @@ void RtsimOptions::finish() {
         m.traceTo = timeOf("--trace-window", traceWindow_.substr(comma + 1));
     }
     m.vcdPath = vcd;
-    // After every link setting: the lookahead is the smallest of their latencies.
-    if (quantum_ == "lookahead") {
+    // After every link and balancing setting: each process's lookahead
+    // depends on its links and on the smallest message they carry.
+    m.lookaheadQuantum = quantum_ == "lookahead";
+    if (m.lookaheadQuantum) {
         m.quantum = m.lookahead();
     } else {
         const auto q = parseTime(quantum_);

@@ -633,6 +633,27 @@ TEST(Link, OccupiedIsTheWireOrTheSlotsRoundTripByHand) {
     }
 }
 
+// A link's lookahead (how soon after its sender's time a message arrives at
+// the soonest): its latency plus the smallest message it may carry on the
+// wire; and it refuses a smaller one, since its receiver runs ahead by that.
+TEST(Link, LookaheadIsTheLatencyAndTheSmallestMessageByHand) {
+    // 100 ns and 1 byte/ns: a mesh link of rays alone, 8 + 124 bytes: 232 ns;
+    // with a dynamic policy's acks, 8 + 8 bytes: 116 ns; a frame-buffer
+    // port (a header): 108 ns.
+    EXPECT_EQ(Link("rays", oneBytePerNs(0), smallestMeshMessage(false)).lookahead(), 232 * ns);
+    EXPECT_EQ(Link("control", oneBytePerNs(0), smallestMeshMessage(true)).lookahead(), 116 * ns);
+    EXPECT_EQ(Link("port", oneBytePerNs(0)).lookahead(), 108 * ns);
+    // The soonest arrival is what the lookahead says: a ray sent at 5 ns.
+    Link l("rays", oneBytePerNs(0), smallestMeshMessage(false));
+    l.send(rays(1), 5 * ns);
+    Picos a;
+    ASSERT_TRUE(l.peekArrival(a));
+    EXPECT_EQ(a, 5 * ns + l.lookahead());
+    EXPECT_THROW(l.send(report(), 10 * ns), std::logic_error);  // 52 bytes on a link whose receiver counts on 132
+    Link c("control", oneBytePerNs(2), smallestMeshMessage(true));
+    EXPECT_NO_THROW(c.send(report(), 10 * ns));
+}
+
 TEST(ControlLane, GoesAheadOfWaitingRaysByHand) {
     // 1 byte/ns, 100 ns latency. Three ray messages of 1,000 bytes at t = 0
     // take the wire at 0, 1000 and 2000 ns. A load report (52 bytes) sent at
