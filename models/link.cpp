@@ -32,7 +32,14 @@ Link::Link(std::string name, const LinkParams& params, uint32_t smallest)
     lanes_[kControl].unusedSlots = params.controlDepth;
 }
 
-Picos Link::transferTime(uint32_t bytes) const { return wireTime(bytes, params_.bandwidth); }
+// (Most messages on a link are of one size: rays, or full batches.)
+Picos Link::transferTime(uint32_t bytes) const {
+    if (bytes != lastBytes_) {
+        lastBytes_ = bytes;
+        lastTransfer_ = wireTime(bytes, params_.bandwidth);
+    }
+    return lastTransfer_;
+}
 
 // A message's changes on the link's signals, each recorded at a time no
 // earlier than the kernel's (VcdStream's horizon): sent (by the sender, at

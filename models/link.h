@@ -280,6 +280,8 @@ private:
     std::string name_;
     LinkParams params_;
     uint32_t smallest_;
+    mutable uint32_t lastBytes_ = 0;   // transferTime's last message size
+    mutable Picos lastTransfer_ = 0;   // and its time on the wire
     std::array<Lane, 2> lanes_;
     Picos owedWire_ = 0;     // every message sent: its time on the wire (occupied())
     Picos wireFree_ = 0;     // the end of the last transmission scheduled

@@ -68,9 +68,9 @@ Machine::Machine(sc_core::sc_module_name name, const Scene& scene, const Machine
                                                         world_.hi[ax], cfg_.balance.deadband, cfg_.balance.gainOf(),
                                                         minThickness_);
     }
-    const NodeParams params{shader_,       camera_,         world_,         k,
-                            cfg_.fbBatch,  cfg_.rayBatch,   cfg_.balance,   cfg_.dims[ax],
-                            minThickness_, cfg_.quantum,    layerFaces_.get()};
+    const NodeParams params{shader_,       camera_,      world_,        k,
+                            cfg_.fbBatch,  cfg_.rayBatch, cfg_.balance,  cfg_.dims[ax],
+                            minThickness_, cfg_.quantum,  layerFaces_.get(), cfg_.lookaheadQuantum && !cfg_.balance.dynamic()};
     nodes_.init(size_t(cfg_.nodeCount()), [&](const char*, size_t i) {
         const Cell c{int(i % cfg_.dims[0]), int(i / cfg_.dims[0] % cfg_.dims[1]), int(i / cfg_.dims[0] / cfg_.dims[1])};
         Box b = cuts_.cellBox(c);

@@ -41,11 +41,6 @@ const LinkParams& MachineConfig::linkOf(const Cell& from, int dir) const {
     return it == linkOverride.end() ? link : it->second;
 }
 
-Picos wireTime(uint32_t bytes, double bandwidth) {
-    const double ps = std::ceil(double(bytes) * 1e12 / bandwidth);
-    return std::max<Picos>(1, Picos(ps));
-}
-
 Picos MachineConfig::lookahead() const {
     const uint32_t mesh = smallestMeshMessage(balance.dynamic());
     Picos l = fbPort.latency + wireTime(kSmallestFbMessage, fbPort.bandwidth);

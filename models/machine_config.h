@@ -4,7 +4,9 @@
 // it from its command line or config file. Defaults and where their values
 // come from: doc/machine.md, "Costs".
 #pragma once
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <map>
 #include <string>
 #include <utility>
@@ -36,7 +38,10 @@ struct Costs {
 
 // A message of `bytes` on a wire of `bandwidth` bytes per second: its time on
 // the wire, rounded up to whole picoseconds, at least 1 ps.
-Picos wireTime(uint32_t bytes, double bandwidth);
+inline Picos wireTime(uint32_t bytes, double bandwidth) {
+    const double ps = std::ceil(double(bytes) * 1e12 / bandwidth);
+    return std::max<Picos>(1, Picos(ps));
+}
 
 struct LinkParams {
     Picos latency = 100000;   // 100 ns

@@ -30,6 +30,7 @@ Node::Node(sc_core::sc_module_name name, const Cell& cell, const Box& box, std::
       pending_(size_t(params.fbUnits)),
       sentSince_(size_t(params.fbUnits), 0) {
     rebuild(box, std::move(objects));
+    runAhead_ = params.runAhead;
     SC_METHOD(run);
 }
 
@@ -63,6 +64,7 @@ void Node::checkpoint() {
 }
 
 void Node::endFrame(Picos end) {
+    settleDepths();  // (the run is over: every message is in the links)
     if (balance_) stats_.balance = balance_->finalStats();
     if (stats_.blocking && stats_.blockedSince <= end) {  // blocked on a full output since then
         stats_.blocking = false;
@@ -185,6 +187,7 @@ void Node::start() {
                                                   out[sideDir(-1)].size() > 0, out[sideDir(+1)].size() > 0, minThickness_);
     if (balance_) balance_->shareFaces(layerFaces_);
     if (balance_ && startTargets_) balance_->startAt((*startTargets_)[0], (*startTargets_)[1]);
+    runAhead_ = runAhead_ && !balance_ && trace_.busy < 0;
 }
 
 // One turn of the node's loop: a balancing action that is due, or the next
@@ -211,6 +214,12 @@ void Node::proceed() {
     if (takeWork(w, ctl, fromDir)) {
         if (ctl) control(*ctl, fromDir);
         else step(w);
+        return;
+    }
+    if (mustSee_) {  // running ahead, its input as of now_ is not all there yet
+        mustSee_ = false;
+        time_.syncTo(now_);
+        suspend(Resume::Synced);
         return;
     }
     // Nothing to trace: send the rays still collected in batches, and hand
@@ -298,9 +307,20 @@ bool Node::takeWork(Work& w, std::optional<Message>& control, int& controlDir) {
     }
     Picos next;
     const int best = inputOrder_.oldest(now_, next);  // ties go to the lower direction
+    // Running ahead, the node takes the oldest message it has only if none
+    // still to be sent can arrive before it, and decides that nothing has
+    // arrived by now_ only if none can arrive by then: else it lets the
+    // kernel catch up first (proceed). What it takes is what it would take
+    // in lockstep; it only reads its input less often.
+    if (runAhead_ && !time_.sees(best >= 0 ? next : now_)) {
+        mustSee_ = true;
+        return false;
+    }
     if (best >= 0) {
         Message m = in[best]->consume(now_);
         ++stats_.messagesReceived;
+        ++taken_;
+        if (!deferredDepths_.empty()) takenArrivals_.push_back(next);
         if (m.type == MsgType::Ray) {
             // The first ray carries the message's handling cost.
             w = Work{m.rays[0].job, m.rays[0].creditExp, true, false, int8_t(best)};
@@ -423,9 +443,36 @@ void Node::step(Work& w) {
     if (balance_ && std::isfinite(where)) balance_->recordStep(where, cost);
     // The exact depth (a scan of the input links) only when it could set a
     // new high-water mark: it is at most the local work plus all unconsumed.
-    if (ownWork() + inputOrder_.unconsumed() > stats_.queueHighWater)
-        stats_.queueHighWater = std::max(stats_.queueHighWater, queueDepth(now_));
+    // A node running ahead counts it once it sees its input as of now_.
+    if (runAhead_ && !time_.sees(now_)) {
+        deferDepth();
+    } else {
+        if (!deferredDepths_.empty() && time_.sees(deferredDepths_.back().t)) settleDepths();
+        if (ownWork() + inputOrder_.unconsumed() > stats_.queueHighWater)
+            stats_.queueHighWater = std::max(stats_.queueHighWater, queueDepth(now_));
+    }
     chargeAndSend(cost, true);
+}
+
+void Node::deferDepth() {
+    if (deferredDepths_.empty()) takenBase_ = taken_;
+    deferredDepths_.push_back({now_, ownWork(), taken_});
+}
+
+// The deferred depths, once every message that arrived by each is in the
+// links: its own work, the messages taken since that had arrived by it
+// (taken in arrival order), and those arrived by it still not taken.
+void Node::settleDepths() {
+    const size_t unconsumed = inputOrder_.unconsumed();
+    for (const DeferredDepth& d : deferredDepths_) {
+        const auto from = takenArrivals_.begin() + std::ptrdiff_t(d.taken - takenBase_);
+        const auto takenSince = uint64_t(std::upper_bound(from, takenArrivals_.end(), d.t) - from);
+        // (the scan of the links only when the depth could set a new mark, as in step)
+        if (d.own + takenSince + unconsumed > stats_.queueHighWater)
+            stats_.queueHighWater = std::max(stats_.queueHighWater, size_t(d.own + takenSince + inputOrder_.arrivedBy(d.t)));
+    }
+    deferredDepths_.clear();
+    takenArrivals_.clear();
 }
 
 // A step takes `cost`: the node is busy until then, and what it produced
@@ -458,7 +505,9 @@ void Node::endSend() {
         cost += sendBlocked_;
     }
     if (!time_.mustSync(now_, cost)) return;
-    if (sendMayWait_ && nothingToDo()) {
+    const bool idle = sendMayWait_ && nothingToDo();
+    if (runAhead_ && !idle) return;  // it lets the kernel catch up when it must see its input (takeWork)
+    if (idle) {
         waitForWork();
     } else {
         time_.syncTo(now_);

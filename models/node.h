@@ -90,6 +90,11 @@ struct NodeParams {
     double minThickness;    // absolute, along the balancing axis
     Picos quantum = 0;
     IdealLayerFaces* layerFaces = nullptr;  // --faces ideal-layer (the machine's)
+    // The quantum is the node's lookahead and no dynamic policy runs: the
+    // node synchronises only when it must read its input beyond what it
+    // sees (Node::takeWork), not after every step that takes it a lookahead
+    // ahead; a traced node does not (its queue is recorded at each step).
+    bool runAhead = false;
 };
 
 class Node : public sc_core::sc_module, private BalanceHost {
@@ -262,6 +267,22 @@ private:
     Mailbox mailbox_;
     Picos now_ = 0;
     ArrivalQueue inputOrder_;
+    // Running ahead (NodeParams::runAhead): takeWork found it must see its
+    // input as of now_ first. And the queue depths of the steps taken
+    // beyond what the node saw, for the high-water mark once it sees them:
+    // the step's time, its own work then and the messages it had taken by
+    // then; with the arrivals of the messages taken since the first of them
+    // (in arrival order, as the node takes them).
+    bool runAhead_ = false, mustSee_ = false;
+    struct DeferredDepth {
+        Picos t;
+        uint64_t own, taken;
+    };
+    std::vector<DeferredDepth> deferredDepths_;
+    std::vector<Picos> takenArrivals_;
+    uint64_t taken_ = 0, takenBase_ = 0;
+    void deferDepth();
+    void settleDepths();
     std::vector<RayJob> spawned_;              // step(): rays a step spawned
     std::vector<Contribution> contributions_;  // step(): contributions a step made
     NodeStats stats_;

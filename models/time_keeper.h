@@ -8,7 +8,10 @@
 //                process's lookahead: the soonest a message not yet sent can
 //                arrive at it (its input links' latency plus the smallest
 //                message's time on their wire; Link::lookahead).
-//   --quantum lookahead (the default): each process's own lookahead.
+//   --quantum lookahead (the default): each process's own lookahead; a
+//                node without a dynamic policy then synchronises only when
+//                it must read input it does not see yet (NodeParams::
+//                runAhead, Node::takeWork), not after every step.
 //
 // In both, a process that waits for input waits until the kernel has caught
 // up with it at least (one wait, ArrivalQueue::waitForInput); a step that
@@ -61,6 +64,12 @@ public:
     }
 
     bool decoupled() const { return quantum_ > 0; }
+
+    // Whether every message that arrives by `t` is already in the process's
+    // links: true while `t` is less than the quantum ahead of the kernel,
+    // exact when the quantum is the process's lookahead (no message still
+    // to be sent arrives sooner).
+    bool sees(Picos t) const { return t < kernel() + quantum_; }
 
 private:
     static Picos kernel() { return sc_core::sc_time_stamp().value(); }

@@ -49,7 +49,7 @@ MUTANTS = [
     ("no-latency", "models/link.cpp",
      "const Picos arrival = start + transfer + params_.latency;", "const Picos arrival = start + transfer;",
      "the link's latency is not added"),
-    ("bandwidth-in-bits", "models/machine_config.cpp",
+    ("bandwidth-in-bits", "models/machine_config.h",
      "std::ceil(double(bytes) * 1e12 / bandwidth)", "std::ceil(double(bytes) * 1e12 / (8 * bandwidth))",
      "the bandwidth read as bits per second: transfers 8 times too short"),
     ("no-send-cost", "models/node.cpp",
@@ -153,6 +153,13 @@ MUTANTS = [
      "if (now_ > sc_core::sc_time_stamp().value() && !time_.mayIdleUntil(now_)) {",
      "if (false) {",
      "a node that blocks records its queue at a time beyond its lookahead, missing messages not yet sent"),
+    ("run-ahead-takes-unseen-order", "models/node.cpp",
+     "if (runAhead_ && !time_.sees(best >= 0 ? next : now_)) {",
+     "if (runAhead_ && best < 0 && !time_.sees(now_)) {",
+     "a node running ahead takes the oldest message it has, though one still to be sent may arrive before it"),
+    ("run-ahead-depth-forgets-taken", "models/node.cpp",
+     "size_t(d.own + takenSince + inputOrder_.arrivedBy(d.t))", "size_t(d.own + inputOrder_.arrivedBy(d.t))",
+     "a queue depth settled late leaves out the messages taken since"),
 ]
 
 

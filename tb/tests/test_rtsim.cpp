@@ -811,10 +811,14 @@ void RtsimQuantum::expectExactUpToTheLookahead(const std::string& extra, double 
                     (dir_ / "e.json").string() + " --vcd " + (dir_ / "e.vcd").string());
     ASSERT_EQ(o.code, 0) << o.err;
     const json exact = json::parse(slurp(dir_ / "e.json"));
-    for (const char* q : {"50ns", "200ns", "lookahead"}) {
-        SCOPED_TRACE(q);
+    // Untraced, a node running ahead in lookahead mode without a dynamic
+    // policy reads its input only when it must (NodeParams::runAhead); a
+    // traced one, at every step, as before.
+    for (const auto& [q, traced] : std::vector<std::pair<const char*, bool>>{
+             {"50ns", true}, {"200ns", true}, {"lookahead", true}, {"lookahead", false}}) {
+        SCOPED_TRACE(std::string(q) + (traced ? ", traced" : ""));
         o = run(args + " -q --no-baseline --quantum " + q + " --image " + (dir_ / "q.png").string() + " --report " +
-                (dir_ / "q.json").string() + " --vcd " + (dir_ / "q.vcd").string());
+                (dir_ / "q.json").string() + (traced ? " --vcd " + (dir_ / "q.vcd").string() : ""));
         ASSERT_EQ(o.code, 0) << o.err;
         const json r = json::parse(slurp(dir_ / "q.json"));
         EXPECT_EQ(r["render_time_ns"], exact["render_time_ns"]);
@@ -848,7 +852,9 @@ void RtsimQuantum::expectExactUpToTheLookahead(const std::string& extra, double 
         // And the waveforms: every node's busy, wait and queue changes at the
         // same picoseconds, also where a process waits from ahead of the
         // kernel and the queue depth is traced once it has caught up.
-        EXPECT_TRUE(slurp(dir_ / "q.vcd") == slurp(dir_ / "e.vcd"));
+        if (traced) {
+            EXPECT_TRUE(slurp(dir_ / "q.vcd") == slurp(dir_ / "e.vcd"));
+        }
         if (std::string(q) == "lookahead") {  // each process its own; the report gives the smallest
             EXPECT_EQ(r["config"]["quantum_ns"], lookahead);
             EXPECT_EQ(r["config"]["quantum"], "lookahead");
