@@ -181,6 +181,13 @@ void Node::suspend(Resume r) {
 
 void Node::start() {
     inputOrder_.listen(in);
+    // The links themselves, read at every step: a port's interface is one
+    // more pointer to follow (a cache miss on a node not run for a while).
+    for (int d = 0; d < kDirs; ++d) {
+        inLinks_[size_t(d)] = in[d].size() ? in[d].operator->() : nullptr;
+        outLinks_[size_t(d)] = out[d].size() ? out[d].operator->() : nullptr;
+    }
+    for (int u = 0; u < fb.size(); ++u) fbLinks_.push_back(fb[u]);
     now_ = sc_core::sc_time_stamp().value();
     if (bal_.dynamic())
         balance_ = std::make_unique<BalanceAgent>(bal_, static_cast<BalanceHost&>(*this), world_, cell_[bal_.axis], columnLength_,
@@ -283,8 +290,8 @@ bool Node::nothingToDo() const {
 bool Node::takeControl(std::optional<Message>& control, int& controlDir) {
     for (int side : {-1, +1}) {
         const int d = sideDir(side);
-        if (in[d].size() && in[d]->controlArrivedBy(now_)) {
-            control = in[d]->consumeControl(now_);
+        if (inLinks_[size_t(d)] && inLinks_[size_t(d)]->controlArrivedBy(now_)) {
+            control = inLinks_[size_t(d)]->consumeControl(now_);
             ++stats_.messagesReceived;
             controlDir = d;
             return true;
@@ -317,7 +324,7 @@ bool Node::takeWork(Work& w, std::optional<Message>& control, int& controlDir) {
         return false;
     }
     if (best >= 0) {
-        Message m = in[best]->consume(now_);
+        Message m = inLinks_[size_t(best)]->consume(now_);
         ++stats_.messagesReceived;
         ++taken_;
         if (!deferredDepths_.empty()) takenArrivals_.push_back(next);
@@ -421,7 +428,7 @@ void Node::step(Work& w) {
         }
     }
     if (dir >= 0) {
-        if (out[dir].size()) {
+        if (outLinks_[size_t(dir)]) {
             if (passing) {
                 ++stats_.raysPassed;
                 if (w.from >= 0 && dirAxis(w.from) != bal_.axis) ++stats_.raysPassedBetweenColumns;
@@ -522,7 +529,7 @@ void Node::endSend() {
 bool Node::sendOutbox() {
     for (; outboxNext_ < outbox_.size(); ++outboxNext_) {
         auto& [d, m] = outbox_[outboxNext_];
-        LinkSendIf& link = d >= kDirs ? *fb[d - kDirs] : *out[d].operator->();
+        LinkSendIf& link = d >= kDirs ? *fbLinks_[size_t(d - kDirs)] : *outLinks_[size_t(d)];
         for (Picos room; (room = link.roomAt(m.type, now_)) != now_;) {
             if (!stats_.blocking) {
                 // It records the blocked state with its queue (messages
@@ -706,9 +713,10 @@ Box Node::slabOf(int side, double boundary) const {
 }
 
 // The time `bytes` take on the wire of a link with parameters `l`, in ps.
-static double wireTime(const LinkParams& l, uint32_t bytes) { return double(bytes) * 1e12 / l.bandwidth; }
+// A message's time on the wire, unrounded: for the guard's estimates.
+static double wirePicos(const LinkParams& l, uint32_t bytes) { return double(bytes) * 1e12 / l.bandwidth; }
 
-Picos Node::rayWire(int side) const { return Picos(wireTime(out[sideDir(side)]->params(), kHeaderBytes + kRayBytes)); }
+Picos Node::rayWire(int side) const { return Picos(wirePicos(out[sideDir(side)]->params(), kHeaderBytes + kRayBytes)); }
 
 Picos Node::hopTime(int side) const { return out[sideDir(side)]->params().latency + rayWire(side); }
 
@@ -718,7 +726,7 @@ Picos Node::hopTime(int side) const { return out[sideDir(side)]->params().latenc
 Picos Node::reportTime(int side) const {
     const LinkParams& l = out[sideDir(side)]->params();
     if (l.controlDepth == 0) return 0;
-    return Picos(wireTime(l, kHeaderBytes + kLoadReportBytes));
+    return Picos(wirePicos(l, kHeaderBytes + kLoadReportBytes));
 }
 
 Picos Node::linkOccupied(int side) const { return out[sideDir(side)]->occupied(); }
@@ -727,7 +735,7 @@ Picos Node::linkOccupied(int side) const { return out[sideDir(side)]->occupied()
 // slots' round trip when that is longer.
 Picos Node::rayOccupies(int side) const {
     const LinkParams& l = out[sideDir(side)]->params();
-    const double wire = wireTime(l, kHeaderBytes + kRayBytes);
+    const double wire = wirePicos(l, kHeaderBytes + kRayBytes);
     return Picos(std::max(wire, (wire + 2 * double(l.latency)) / l.depth));
 }
 
@@ -747,7 +755,7 @@ Picos Node::slabCost(int side, double boundary) const {
         }
     const LinkParams& l = out[sideDir(side)]->params();
     const double handling = double(costs_.send + costs_.recv + 2 * objects * bal_.rebuildCost) / speed_;
-    return Picos(handling + double(l.latency) + wireTime(l, bytes));
+    return Picos(handling + double(l.latency) + wirePicos(l, bytes));
 }
 
 // The heavier node gives the slab between the boundary and `boundary` on
