@@ -3,6 +3,7 @@
 // the guard, and the links' control lane, all against values worked out by
 // hand in the tests (no machine run).
 #include <algorithm>
+#include <set>
 #include <cmath>
 #include <deque>
 #include <memory>
@@ -484,6 +485,37 @@ TEST(Histogram, ExactForFewValuesThenWithinHalfABinAndBoundedByTheRange) {
         EXPECT_EQ(lo.percentile(p), one.percentile(p));
     }
     EXPECT_EQ(Histogram().percentile(0.5), 0.0);
+}
+
+// Single values wait in the histogram and go into its bins a few at a time,
+// sorted: the figures must not depend on the order the values came in, nor
+// on where the waiting ones stood when it was read, across the change from
+// exact to coarse bins (at the 65th distinct value).
+TEST(Histogram, TheOrderValuesComeInDoesNotMatter) {
+    std::vector<uint64_t> values;
+    for (uint64_t i = 0; i < 300; ++i) values.push_back(1000 + (i * 7919) % 97 * 13 + (i % 5 == 0 ? 100000 : 0));
+    Histogram up, down, read;
+    std::vector<uint64_t> sorted = values;
+    std::sort(sorted.begin(), sorted.end());
+    for (uint64_t v : sorted) up.add(v);
+    for (auto it = values.rbegin(); it != values.rend(); ++it) down.add(*it);
+    for (size_t i = 0; i < values.size(); ++i) {
+        read.add(values[i]);
+        if (i % 3 == 0) {
+            EXPECT_EQ(read.count(), i + 1);  // counts the waiting ones
+        }
+        if (i == 40) read.percentile(0.5);   // settles the waiting ones (exact bins still)
+        if (i == 150) read.merge(Histogram());  // and so does a merge
+    }
+    for (const Histogram* h : {&down, &read}) {
+        EXPECT_EQ(h->count(), up.count());
+        EXPECT_EQ(h->bins(), up.bins());
+        EXPECT_EQ(h->max(), up.max());
+        for (double p : {0.0, 0.1, 0.5, 0.9, 0.99}) EXPECT_EQ(h->percentile(p), up.percentile(p)) << p;
+    }
+    const size_t distinct = std::set<uint64_t>(values.begin(), values.end()).size();
+    EXPECT_GT(distinct, Histogram::kExact);
+    EXPECT_LT(up.bins(), distinct);  // coarse by the end
 }
 
 TEST(Agent, GuardStopsStaleCostlyAndLatencyBoundSlides) {
