@@ -53,7 +53,7 @@ void Node::assignPrimaries(std::vector<uint32_t> pixels, int primaryExp, const C
 }
 
 void Node::checkpoint() {
-    if (!time_.decoupled()) return;
+    if (!time_.decoupled() || runAhead_) return;  // (running ahead: endFrame needs none)
     const Picos k = sc_core::sc_time_stamp().value();
     while (timelineStart_ + 1 < timeline_.size() && timeline_[timelineStart_ + 1].t <= k) ++timelineStart_;
     if (timelineStart_ > 64 && timelineStart_ * 2 > timeline_.size()) {
@@ -91,6 +91,16 @@ void Node::endFrame(Picos end) {
     const Picos local = stats_.busy + stats_.wait;  // the node's local time: every picosecond is one or the other
     if (local <= end) {  // idle from its local time until the end (asleep while the kernel caught up)
         stats_.wait += end - local;
+        return;
+    }
+    if (runAhead_) {
+        // Without a dynamic policy every step moves credit (a ray's, or the
+        // frame buffer's share), which reaches unit 0 after the step ends:
+        // no step ends after the frame, and a node past its end got there
+        // idling. So it keeps no timeline.
+        if (stats_.lastActive > end)
+            throw std::logic_error(std::string(name()) + ": a step ended after the frame, with no dynamic policy");
+        stats_.wait = end - stats_.busy;
         return;
     }
     // Ahead of the end: between two checkpoints the node waited, then ran one
