@@ -30,6 +30,7 @@ Link::Link(std::string name, const LinkParams& params, uint32_t smallest)
     : name_(std::move(name)), params_(params), smallest_(smallest) {
     lanes_[kData].unusedSlots = params.depth;
     lanes_[kControl].unusedSlots = params.controlDepth;
+    if (params.outDepth > 0) room_ = std::make_unique<sc_core::sc_event>();
 }
 
 // (Most messages on a link are of one size: rays, or full batches.)
@@ -100,7 +101,7 @@ void Link::startWaiting(int lane) {
         Timed& w = l.backlog.front();
         if (params_.outDepth > 0) {  // a sender blocked on the full buffer has room from then
             const Picos room = std::max(w.t, slot), k = sc_core::sc_time_stamp().value();
-            room_.notify(sc_core::sc_time::from_value(room > k ? room - k : 0));
+            room_->notify(sc_core::sc_time::from_value(room > k ? room - k : 0));
         }
         putOnWire(lane, w.t, std::move(w.m), slot);
         l.backlog.pop_front();
