@@ -70,7 +70,7 @@ public:
 
     MachineResult collect(double wallSeconds);
     void endFrame() {
-        for (Node& n : nodes_) n.endFrame(frameEnd());
+        for (Node& n : nodes_) n.endFrame(frameEnd(), stall_.empty());
         for (auto& l : links_) l->endFrame(frameEnd());
     }
     // Checks the conservation laws at the end of a run; throws

@@ -63,7 +63,7 @@ void Node::checkpoint() {
     timeline_.push_back({now_, stats_.busy, stats_.lastActive});
 }
 
-void Node::endFrame(Picos end) {
+void Node::endFrame(Picos end, bool complete) {
     settleDepths();  // (the run is over: every message is in the links)
     if (balance_) stats_.balance = balance_->finalStats();
     if (stats_.blocking && stats_.blockedSince <= end) {  // blocked on a full output since then
@@ -96,10 +96,19 @@ void Node::endFrame(Picos end) {
     if (runAhead_) {
         // Without a dynamic policy every step moves credit (a ray's, or the
         // frame buffer's share), which reaches unit 0 after the step ends:
-        // no step ends after the frame, and a node past its end got there
-        // idling. So it keeps no timeline.
-        if (stats_.lastActive > end)
-            throw std::logic_error(std::string(name()) + ": a step ended after the frame, with no dynamic policy");
+        // no step of a whole frame ends after it, and a node past its end
+        // got there idling. So it keeps no timeline.
+        if (stats_.lastActive > end) {
+            if (complete)
+                throw std::logic_error(std::string(name()) + ": a step ended after the frame, with no dynamic policy");
+            // A run stopped midway (watchdog, signal) at the kernel's time,
+            // which a node with work may have run past: its figures there
+            // are not kept, so it counts as busy from the stop to the end of
+            // its last step (an incomplete report's figures are the run's so
+            // far; busy + wait is still the time).
+            stats_.busy -= std::min(stats_.busy, stats_.lastActive - end);
+            stats_.lastActive = end;
+        }
         stats_.wait = end - stats_.busy;
         return;
     }

@@ -128,7 +128,7 @@ public:
     // to `end`; a node still waiting then waited until then. A node running
     // ahead of the kernel may have gone past `end` (steps, or idling to a
     // known arrival): its time after `end` is not the frame's.
-    void endFrame(Picos end);
+    void endFrame(Picos end, bool complete = true);
 
     const Cell& cell() const { return cell_; }
     const Region& region() const { return *region_; }

@@ -688,6 +688,27 @@ TEST_F(RtsimTimed, WatchdogSpanAndWallClockLimit) {
     EXPECT_NE(w.err.find("the wall-clock limit of 0.5 s was reached"), std::string::npos) << w.err;
 }
 
+// A busy run stopped midway (here by the wall clock) ends at the kernel's
+// time, which nodes reading their input only when they must (no dynamic
+// policy) may have worked past: the run still ends as incomplete (exit 3,
+// not an error), and every node's busy and wait make up the time reached.
+TEST_F(RtsimTimed, ABusyRunStoppedMidwayEndsIncompleteWithItsTimeAccounted) {
+    const fs::path report = dir_ / "stopped.json";
+    const Outcome o = run(" --scene " + scene("balls-4") + " --mesh 4 --size 256x256 --watchdog-wall 0.05 --no-baseline -q"
+                          " --image '' --report " + report.string());
+    ASSERT_EQ(o.code, 3) << o.err;
+    EXPECT_NE(o.err.find("the wall-clock limit of 0.05 s was reached"), std::string::npos) << o.err;
+    const json r = json::parse(slurp(report));
+    const auto end = std::llround(r["render_time_ns"].get<double>() * 1000);
+    double busy = 0;
+    for (const json& n : r["nodes"]) {
+        EXPECT_EQ(std::llround((n["busy_ns"].get<double>() + n["wait_ns"].get<double>()) * 1000), end) << n["node"];
+        EXPECT_LE(std::llround(n["last_active_ns"].get<double>() * 1000), end) << n["node"];
+        busy += n["busy_ns"].get<double>();
+    }
+    EXPECT_GT(busy, 0.0);
+}
+
 // Finite output buffers (--link-out-depth): with one slot per link and one
 // message of output buffer, nodes that send rays both ways fill each
 // other's links and block each other (doc/machine.md, "Finite output
