@@ -175,9 +175,8 @@ public:
     // smallestMeshMessage); its receiver's lookahead counts on it, and send
     // refuses a smaller message.
     Link(std::string name, const LinkParams& params, uint32_t smallest = kHeaderBytes);
-    // The soonest after its sender's time that a message sent on it arrives:
-    // the latency and the smallest message's time on the wire.
-    Picos lookahead() const { return params_.latency + transferTime(smallest_); }
+    // The soonest after its sender's time that a message sent on it arrives.
+    Picos lookahead() const { return linkLookahead(params_, smallest_); }
 
     void send(Message&& m, Picos t) override;
     Picos roomAt(MsgType type, Picos t) override;

@@ -90,8 +90,7 @@ Machine::Machine(sc_core::sc_module_name name, const Scene& scene, const Machine
 
     // Links between face neighbours, one per direction, and the frame-buffer
     // ports; each process's lookahead is the smallest of its inputs'.
-    nodeLookahead_.assign(nodes_.size(), kNoInput);
-    unitLookahead_.assign(units_.size(), kNoInput);
+    std::vector<Picos> nodeLookahead(nodes_.size(), kNoInput), unitLookahead(units_.size(), kNoInput);
     auto lowerTo = [](Picos& l, Picos input) { l = std::min(l, input); };
     for (Node& n : nodes_) {
         const Cell c = n.cell();
@@ -108,14 +107,14 @@ Machine::Machine(sc_core::sc_module_name name, const Scene& scene, const Machine
             n.out[d].bind(*links_.back());
             meshLinks_[{nodeIndex(c), d}] = links_.back().get();
             nodes_[nodeIndex(m)].in[opposite(d)].bind(*links_.back());
-            lowerTo(nodeLookahead_[size_t(nodeIndex(m))], links_.back()->lookahead());
+            lowerTo(nodeLookahead[size_t(nodeIndex(m))], links_.back()->lookahead());
             // A control lane places a control message among the data messages
             // on the wire when it is sent, from the slots the receiver has
             // returned by then, which come back one latency after it consumed:
             // its sender runs ahead by no more than that latency, as before
             // the smallest message's wire time counted (the lane is not yet
             // exact either way: doc/balancing.md, "The control lane").
-            if (p.controlDepth > 0) lowerTo(nodeLookahead_[size_t(nodeIndex(c))], p.latency);
+            if (p.controlDepth > 0) lowerTo(nodeLookahead[size_t(nodeIndex(c))], p.latency);
             reportOf_.push_back(linkInfo_.size());
             linkInfo_.push_back({lname, c, d, links_.back()->params(), 1, {}});
         }
@@ -125,7 +124,7 @@ Machine::Machine(sc_core::sc_module_name name, const Scene& scene, const Machine
             links_.push_back(std::make_unique<Link>(k > 1 ? fname + std::to_string(u) : fname, cfg_.fbPort));
             n.fb.bind(*links_.back());                   // the node's u-th binding
             units_[size_t(u)].in.bind(*links_.back());   // the unit's binding for this node (nodes in order)
-            lowerTo(unitLookahead_[size_t(u)], links_.back()->lookahead());
+            lowerTo(unitLookahead[size_t(u)], links_.back()->lookahead());
             reportOf_.push_back(linkInfo_.size());
         }
         linkInfo_.push_back({fname, c, -1, cfg_.fbPort, k, {}});
@@ -136,13 +135,13 @@ Machine::Machine(sc_core::sc_module_name name, const Scene& scene, const Machine
         unitLinks_.push_back(std::make_unique<Link>(up, cfg_.fbPort));
         units_[size_t(u)].toController.bind(*unitLinks_.back());
         units_[0].in.bind(*unitLinks_.back());  // after the nodes' ports
-        lowerTo(unitLookahead_[0], unitLinks_.back()->lookahead());
+        lowerTo(unitLookahead[0], unitLinks_.back()->lookahead());
         unitLinks_.push_back(std::make_unique<Link>(down, cfg_.fbPort));
         units_[0].toUnits.bind(*unitLinks_.back());
         units_[size_t(u)].in.bind(*unitLinks_.back());
-        lowerTo(unitLookahead_[size_t(u)], unitLinks_.back()->lookahead());
+        lowerTo(unitLookahead[size_t(u)], unitLinks_.back()->lookahead());
     }
-    if (cfg_.lookaheadQuantum) setLookaheads();
+    if (cfg_.lookaheadQuantum) setLookaheads(nodeLookahead, unitLookahead);
     for (auto& l : links_) l->setProgress(&progress_);
     for (auto& l : unitLinks_) l->setProgress(&progress_);
     for (Node& n : nodes_) n.setProgress(&progress_);
@@ -165,12 +164,10 @@ Machine::~Machine() = default;
 // the lane's latency, below); a unit's, the nodes' ports and the units'
 // links (a header of 8 bytes). A process with no inputs (one node) takes the
 // machine's smallest.
-void Machine::setLookaheads() {
+void Machine::setLookaheads(const std::vector<Picos>& nodes, const std::vector<Picos>& units) {
     const Picos fallback = cfg_.lookahead();
-    for (size_t i = 0; i < nodes_.size(); ++i)
-        nodes_[i].setQuantum(nodeLookahead_[i] == kNoInput ? fallback : nodeLookahead_[i]);
-    for (size_t u = 0; u < units_.size(); ++u)
-        units_[u].setQuantum(unitLookahead_[u] == kNoInput ? fallback : unitLookahead_[u]);
+    for (size_t i = 0; i < nodes_.size(); ++i) nodes_[i].setQuantum(nodes[i] == kNoInput ? fallback : nodes[i]);
+    for (size_t u = 0; u < units_.size(); ++u) units_[u].setQuantum(units[u] == kNoInput ? fallback : units[u]);
 }
 
 // The watchdog: wakes every span of simulated time, or every millisecond

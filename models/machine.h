@@ -113,11 +113,10 @@ private:
     std::vector<std::unique_ptr<Link>> links_;
     std::vector<std::unique_ptr<Link>> unitLinks_;  // units 1..K-1: [2(u-1)] u -> 0, [2(u-1) + 1] 0 -> u
     std::map<std::pair<size_t, int>, Link*> meshLinks_;  // (node, direction) -> its outgoing link
-    // Each node's and unit's lookahead: the smallest of its input links'
-    // (Link::lookahead); kNoInput for a process with none.
+    // --quantum lookahead: each process runs ahead by its own, the smallest
+    // of its input links' (Link::lookahead; kNoInput: it has none).
     static constexpr Picos kNoInput = ~Picos(0);
-    std::vector<Picos> nodeLookahead_, unitLookahead_;
-    void setLookaheads();  // --quantum lookahead: each process runs ahead by its own
+    void setLookaheads(const std::vector<Picos>& nodes, const std::vector<Picos>& units);
     std::vector<LinkReport> linkInfo_;  // the report's links
     std::vector<size_t> reportOf_;      // per link in links_: its entry in linkInfo_
     uint64_t primaryMisses_ = 0;

@@ -41,11 +41,13 @@ const LinkParams& MachineConfig::linkOf(const Cell& from, int dir) const {
     return it == linkOverride.end() ? link : it->second;
 }
 
+Picos linkLookahead(const LinkParams& p, uint32_t smallest) { return p.latency + wireTime(smallest, p.bandwidth); }
+
 Picos MachineConfig::lookahead() const {
     const uint32_t mesh = smallestMeshMessage(balance.dynamic());
-    Picos l = fbPort.latency + wireTime(kSmallestFbMessage, fbPort.bandwidth);
+    Picos l = linkLookahead(fbPort, kSmallestFbMessage);
     auto meshLink = [&](const LinkParams& p) {
-        l = std::min(l, p.latency + wireTime(mesh, p.bandwidth));
+        l = std::min(l, linkLookahead(p, mesh));
         if (balance.dynamic() && p.controlDepth > 0) l = std::min(l, p.latency);  // its sender's (Machine::setLookaheads)
     };
     meshLink(link);

@@ -43,6 +43,11 @@ inline Picos wireTime(uint32_t bytes, double bandwidth) {
     return std::max<Picos>(1, Picos(ps));
 }
 
+struct LinkParams;
+// The soonest after its sender's time that a message on a link of `p`
+// arrives: the latency and the smallest message's time on the wire.
+Picos linkLookahead(const LinkParams& p, uint32_t smallest);
+
 struct LinkParams {
     Picos latency = 100000;   // 100 ns
     double bandwidth = 1e9;   // bytes per second

@@ -473,7 +473,7 @@ void Node::step(Work& w) {
     if (runAhead_ && !time_.sees(now_)) {
         deferDepth();
     } else {
-        if (!deferredDepths_.empty() && time_.sees(deferredDepths_.back().t)) settleDepths();
+        if (!deferredDepths_.empty()) settleDepths();  // (it sees now_, so every earlier one)
         if (ownWork() + inputOrder_.unconsumed() > stats_.queueHighWater)
             stats_.queueHighWater = std::max(stats_.queueHighWater, queueDepth(now_));
     }
