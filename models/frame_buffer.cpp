@@ -7,8 +7,8 @@
 
 namespace rt {
 
-FrameBufferUnit::FrameBufferUnit(sc_core::sc_module_name name, int index, int units, Picos costPerContribution,
-                                 int maxExp, bool progress, Picos quantum)
+FrameBufferUnit::FrameBufferUnit(sc_core::sc_module_name name, int index, int units, size_t pixels,
+                                 Picos costPerContribution, int maxExp, bool progress, Picos quantum)
     : sc_module(name),
       in("in"),
       toController("to_controller"),
@@ -19,7 +19,8 @@ FrameBufferUnit::FrameBufferUnit(sc_core::sc_module_name name, int index, int un
       progress_(progress && index == 0),
       time_(quantum),
       credit_(maxExp),
-      expected_(size_t(index == 0 ? units : 0), 0) {
+      expected_(size_t(index == 0 ? units : 0), 0),
+      sums_(pixels > size_t(index) ? (pixels - size_t(index) + size_t(units) - 1) / size_t(units) : 0) {
     SC_METHOD(run);
 }
 
@@ -31,19 +32,22 @@ void FrameBufferUnit::finish(Picos now) {
     sc_core::sc_stop();
 }
 
+void FrameBufferUnit::accumulate(const Contribution& c) {
+    const uint32_t local = c.pixel / uint32_t(units_);
+    if (int(c.pixel % uint32_t(units_)) != index_ || local >= sums_.size())
+        throw std::logic_error(std::string(name()) + ": a contribution for another unit's pixel " + std::to_string(c.pixel));
+    stats_.digest += contributionDigest(c);
+    sums_.add(local, c);
+}
+
 Picos FrameBufferUnit::take(Message& m) {
     auto fail = [&](const std::string& what) { throw std::logic_error(std::string(name()) + ": " + what); };
     switch (m.type) {
         case MsgType::Contributions: {
             const std::vector<Contribution>& cs = m.body().contributions;
-            for (const Contribution& c : cs) {
-                if (int(c.pixel % uint32_t(units_)) != index_)
-                    fail("a contribution for another unit's pixel " + std::to_string(c.pixel));
-                stats_.digest += contributionDigest(c);
-            }
+            for (const Contribution& c : cs) accumulate(c);
             ++stats_.contributionMessages;
             stats_.contributions += cs.size();
-            received_.insert(received_.end(), cs.begin(), cs.end());
             return cost_ * cs.size();
         }
         case MsgType::Credit:
@@ -152,36 +156,10 @@ void FrameBufferUnit::run() {
     }
 }
 
-Image assembleImage(const sc_core::sc_vector<FrameBufferUnit>& units, int width, int height) {
+Image assembleImage(sc_core::sc_vector<FrameBufferUnit>& units, int width, int height) {
     Image img(width, height);
-    // Unit u holds the contributions of pixels u, u + n, u + 2n, ... (n
-    // units; FrameBufferUnit::take checks it). One unit at a time, group its
-    // contributions by pixel (a counting sort, by reference) and sum each
-    // pixel's in path-key order: the sort's lists are one unit's, not the
-    // frame's (on a 16x16x16 mesh at 1024x1024 the frame's took 52 MB).
-    const size_t pixels = size_t(width) * size_t(height), n = units.size();
-    std::vector<size_t> first, next;
-    std::vector<const Contribution*> byPixel;
-    std::vector<Contribution> pixel;
-    for (size_t u = 0; u < n; ++u) {
-        const size_t local = pixels > u ? (pixels - u + n - 1) / n : 0;  // its pixels: u + k n, k < local
-        first.assign(local + 1, 0);  // its pixel k's contributions: byPixel[first[k] .. first[k + 1])
-        units[u].forEachContribution([&](const Contribution& c) {
-            if (c.pixel % n != u)
-                throw std::logic_error("frame buffer: unit " + std::to_string(u) + " holds pixel " + std::to_string(c.pixel));
-            ++first[c.pixel / n + 1];
-        });
-        for (size_t k = 0; k < local; ++k) first[k + 1] += first[k];
-        byPixel.resize(first[local]);
-        next.assign(first.begin(), first.end() - 1);
-        units[u].forEachContribution([&](const Contribution& c) { byPixel[next[c.pixel / n]++] = &c; });
-        for (size_t k = 0; k < local; ++k) {
-            if (first[k] == first[k + 1]) continue;
-            pixel.clear();
-            for (size_t i = first[k]; i < first[k + 1]; ++i) pixel.push_back(*byPixel[i]);
-            img.pixels[u + k * n] = sumInKeyOrder(pixel);
-        }
-    }
+    const uint32_t n = uint32_t(units.size());
+    for (uint32_t p = 0; p < img.pixels.size(); ++p) img.pixels[p] = units[p % n].pixel(p);
     return img;
 }
 

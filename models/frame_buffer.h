@@ -17,7 +17,6 @@
 //     complete, and the machine itself knows it.
 #pragma once
 #include <chrono>
-#include <deque>
 #include <functional>
 #include <optional>
 #include <vector>
@@ -28,6 +27,7 @@
 #include "credit.h"
 #include "vcd_stream.h"
 #include "image.h"
+#include "pixel_sum.h"
 #include "link.h"
 #include "time_keeper.h"
 
@@ -44,8 +44,9 @@ struct FrameBufferStats {
 class FrameBufferUnit : public sc_core::sc_module {
 public:
     SC_HAS_PROCESS(FrameBufferUnit);
-    FrameBufferUnit(sc_core::sc_module_name name, int index, int units, Picos costPerContribution, int maxExp,
-                    bool progress, Picos quantum);
+    // pixels: the image's (the unit sums those that are its own).
+    FrameBufferUnit(sc_core::sc_module_name name, int index, int units, size_t pixels, Picos costPerContribution,
+                    int maxExp, bool progress, Picos quantum);
 
     // Multiports (one object each, however many nodes): bound to every node
     // in node order, then (unit 0) to units 1..K-1, or (the others) to unit 0.
@@ -62,17 +63,12 @@ public:
     // box: the background of its pixels).
     void keep(const Credit& c) { credit_.add(c); }
     void addOwn(const Contribution& c) {
-        own_.push_back(c);
+        accumulate(c);
         ++stats_.own;
-        stats_.digest += contributionDigest(c);
     }
 
-    // Calls f(c) for every contribution the unit holds (its pixels').
-    template <class F>
-    void forEachContribution(F&& f) const {
-        for (const Contribution& c : received_) f(c);
-        for (const Contribution& c : own_) f(c);
-    }
+    // Its pixel p's value so far (p one of its own: p mod units = index).
+    Vec3 pixel(uint32_t p) { return sums_.value(p / uint32_t(units_)); }
     const FrameBufferStats& stats() const { return stats_; }
     int index() const { return index_; }
     bool controller() const { return index_ == 0; }
@@ -98,6 +94,8 @@ private:
     void run();  // the method process: one activation
     // Takes one message; returns the time it costs.
     Picos take(Message& m);
+    // Adds a contribution to its pixel's sum (checked to be its own).
+    void accumulate(const Contribution& c);
     void finish(Picos now);
 
     int index_, units_;
@@ -111,14 +109,9 @@ private:
     int awaiting_ = -1;  // -1: the credit is not whole yet
     // Units 1..K-1: the count unit 0 says to expect, once it has said so.
     std::optional<uint64_t> expect_;
-    // The contributions, in the order they came, and the unit's own. A
-    // deque grows in blocks without copying (one growing array cost about
-    // 9 % of a run, most of it the kernel handing out fresh pages), and the
-    // messages' lists go back to the allocator for the next messages.
-    // Keeping each message's list instead cost a list header and a heap
-    // block per message: 2.8 M of them on a 16x16x16 mesh, about 90 MB.
-    std::deque<Contribution> received_;
-    std::vector<Contribution> own_;
+    // Its pixels' sums (local index p / units), accumulated as contributions
+    // come: the order they come in cannot change a bit (pixel_sum.h).
+    PixelSums sums_;
     ArrivalQueue inputOrder_;
     FrameBufferStats stats_;
     bool done_ = false;
@@ -132,8 +125,8 @@ private:
     std::chrono::steady_clock::time_point lastPrint_;
 };
 
-// The image the units hold: each pixel the sum of its contributions in
-// path-key order (image.h), as rtref sums them.
-Image assembleImage(const sc_core::sc_vector<FrameBufferUnit>& units, int width, int height);
+// The image the units hold: each pixel the sum of its contributions
+// (pixel_sum.h), as rtref sums them.
+Image assembleImage(sc_core::sc_vector<FrameBufferUnit>& units, int width, int height);
 
 }  // namespace rt

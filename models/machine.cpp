@@ -59,7 +59,8 @@ Machine::Machine(sc_core::sc_module_name name, const Scene& scene, const Machine
     maxExp_ = ceilLog2(uint64_t(cfg_.nodeCount()) + 1) + ceilLog2(uint64_t(pixels) + 1) +
               (cfg_.maxDepth + 1) * ceilLog2(scene.lights.size() + 3) + 2;
     units_.init(size_t(k), [&](const char* n, size_t u) {
-        return new FrameBufferUnit(n, int(u), k, cfg_.hostCost, maxExp_, cfg_.showProgress, cfg_.quantum);
+        return new FrameBufferUnit(n, int(u), k, size_t(pixels), cfg_.hostCost, maxExp_,
+                                   cfg_.showProgress, cfg_.quantum);
     });
 
     if (cfg_.balance.idealLayerFaces) {  // every column starts with the same planes (validate)

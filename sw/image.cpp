@@ -47,13 +47,6 @@ uint64_t contributionDigest(const Contribution& c) {
     return h;
 }
 
-Vec3 sumInKeyOrder(std::vector<Contribution>& c) {
-    std::sort(c.begin(), c.end(), [](const Contribution& a, const Contribution& b) { return a.key < b.key; });
-    Vec3 sum(0.0);
-    for (const Contribution& x : c) sum += x.rgb;
-    return sum;
-}
-
 void writePng(const Image& image, const std::string& path) {
     std::unique_ptr<FILE, int (*)(FILE*)> f(std::fopen(path.c_str(), "wb"), &std::fclose);
     if (!f) throw std::runtime_error(path + ": cannot open for writing");

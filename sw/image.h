@@ -1,5 +1,5 @@
 // A rendered frame: one linear RGB value (double) per pixel, each the sum of
-// its contributions in path-key order.
+// its contributions (PixelSums, pixel_sum.h: the same whatever their order).
 #pragma once
 #include <cstdint>
 #include <string>
@@ -19,11 +19,6 @@ struct Image {
     std::vector<uint8_t> rgb8() const;
     bool operator==(const Image& o) const;  // bit-identical doubles
 };
-
-// Sorts one pixel's contributions by path key and sums them in that order.
-// Every renderer and the frame buffer sum this way, so the order in which
-// contributions arrive cannot change a pixel.
-Vec3 sumInKeyOrder(std::vector<Contribution>& contributions);
 
 // An order-independent fingerprint of a set of contributions: the sum
 // (mod 2^64) of a hash of each one's pixel, path key and colour bits. Two

@@ -5,6 +5,7 @@
 #include <thread>
 
 #include "camera.h"
+#include "pixel_sum.h"
 
 namespace rt {
 
@@ -75,11 +76,14 @@ RenderResult render(const Scene& scene, const Partition& partition, const Render
         Counters& counters = perThread[t];
         std::vector<RayJob> pending;
         std::vector<Contribution> contributions;
+        PixelSums sum(1);
         for (int y = t; y < h; y += threads)
             for (int x = 0; x < w; ++x) {
                 contributions.clear();
                 tracePixel(camera, partition, shader, x, y, mailbox, counters, pending, contributions);
-                result.image.pixels[size_t(y) * w + x] = sumInKeyOrder(contributions);
+                sum.clear();
+                for (const Contribution& c : contributions) sum.add(0, c);
+                result.image.pixels[size_t(y) * w + x] = sum.value(0);
             }
     };
     if (threads == 1) {

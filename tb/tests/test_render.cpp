@@ -1,10 +1,15 @@
 // The reference renderer: the grid finds the same hits as brute force (bit-
 // identical images on every SPD scene), contributions are accounted for, and
 // threads do not change the image.
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
 #include <map>
 
 #include <gtest/gtest.h>
 
+#include "pixel_sum.h"
 #include "renderer.h"
 #include "scenes.h"
 
@@ -94,15 +99,77 @@ TEST(Render, MaxDepthZeroSpawnsNoSecondaryRays) {
     EXPECT_FALSE(render(s, Partition::whole(s), deeper).image == r.image);
 }
 
-TEST(Render, PixelSumIsInKeyOrderWhateverTheArrivalOrder) {
-    // Values chosen so that floating-point addition order matters.
-    std::vector<Contribution> c = {{0, {4, 0}, Vec3(1e16)}, {0, {0, 1}, Vec3(1.0)}, {0, {1, 2}, Vec3(-1e16)},
-                                   {0, {0, 0}, Vec3(1.0)}};
-    std::vector<Contribution> reversed(c.rbegin(), c.rend());
-    const Vec3 a = sumInKeyOrder(c), b = sumInKeyOrder(reversed);
-    EXPECT_EQ(a, b);
-    EXPECT_EQ(c.front().key, (PathKey{0, 0}));
-    EXPECT_EQ(c.back().key, (PathKey{4, 0}));
+// The pixel's sum (pixel_sum.h) against sums worked out by hand, in every
+// order of arrival.
+namespace {
+Vec3 sumInOrder(const std::vector<Contribution>& cs) {
+    PixelSums s(1);
+    for (const Contribution& c : cs) s.add(0, c);
+    return s.value(0);
+}
+// Every permutation gives `expected`, bit for bit.
+void expectEveryOrderGives(std::vector<Contribution> cs, const Vec3& expected) {
+    std::sort(cs.begin(), cs.end(), [](const Contribution& a, const Contribution& b) { return a.key < b.key; });
+    int orders = 0;
+    do {
+        const Vec3 v = sumInOrder(cs);
+        EXPECT_EQ(std::memcmp(&v, &expected, sizeof v), 0) << "order " << orders << ": " << v.x << " " << v.y << " " << v.z;
+        ++orders;
+    } while (std::next_permutation(cs.begin(), cs.end(),
+                                   [](const Contribution& a, const Contribution& b) { return a.key < b.key; }));
+    EXPECT_GT(orders, 1);
+}
+}  // namespace
+
+TEST(PixelSum, IsExactWhereFloatingPointAdditionDependsOnOrder) {
+    // In doubles, 1e11 + 0.001 - 1e11 + 0.001 is 0.0020071 (the ulp at 1e11
+    // is 1.5e-5); the exact sum is 0.002. Fixed point at 2^-40 rounds each
+    // 0.001 once, to round(0.001 * 2^40) = 1099511628 units, and adds exactly.
+    const double unit = std::ldexp(1.0, -40);
+    const std::vector<Contribution> cs = {
+        {0, {0, 0}, Vec3(1e11)}, {0, {0, 1}, Vec3(0.001)}, {0, {1, 0}, Vec3(-1e11)}, {0, {2, 0}, Vec3(0.001)}};
+    ASSERT_GT(std::fabs(((1e11 + 0.001) - 1e11) + 0.001 - 0.002), 1e-6);  // the order would matter in doubles
+    expectEveryOrderGives(cs, Vec3(2.0 * 1099511628.0 * unit));
+    EXPECT_NEAR(sumInOrder(cs).x, 0.002, 1e-12);
+}
+
+TEST(PixelSum, RoundsEachComponentOnceToTheNearestUnit) {
+    const double unit = std::ldexp(1.0, -40);
+    // Half a unit rounds away from zero; less than half vanishes; signs hold.
+    expectEveryOrderGives({{0, {0, 0}, Vec3(0.5 * unit, 0.49 * unit, -0.5 * unit)},
+                           {0, {1, 0}, Vec3(3.0 * unit, 1.49 * unit, 0.0)}},
+                          Vec3(4.0 * unit, 1.0 * unit, -1.0 * unit));
+}
+
+TEST(PixelSum, ComponentsOutsideTheRangeAreSummedAsideInKeyOrder) {
+    // 1e16 is past 2^40: those two go aside and are summed in key order
+    // (-1e16 at path 1 before 1e16 at path 4: 0), the two ones in fixed
+    // point (2); an infinite component goes aside too.
+    expectEveryOrderGives({{0, {4, 0}, Vec3(1e16)}, {0, {0, 1}, Vec3(1.0)}, {0, {1, 2}, Vec3(-1e16)},
+                           {0, {0, 0}, Vec3(1.0)}},
+                          Vec3(2.0));
+    const double inf = std::numeric_limits<double>::infinity();
+    expectEveryOrderGives({{0, {0, 0}, Vec3(inf, 0.0, 0.0)}, {0, {1, 0}, Vec3(1.0)}}, Vec3(inf, 1.0, 1.0));
+    // Just below the range it is fixed point, just at it aside.
+    const double below = std::nextafter(kFixedRange, 0.0);
+    expectEveryOrderGives({{0, {0, 0}, Vec3(below)}, {0, {1, 0}, Vec3(-below)}, {0, {2, 0}, Vec3(0.25)}}, Vec3(0.25));
+    FixedRgb f;
+    EXPECT_TRUE(addFixed(f, Vec3(below)));
+    EXPECT_FALSE(addFixed(f, Vec3(0.0, kFixedRange, 0.0)));
+    EXPECT_FALSE(addFixed(f, Vec3(0.0, 0.0, std::nan(""))));
+}
+
+TEST(PixelSum, PixelsAreSummedApartAndClearedForTheNext) {
+    PixelSums s(3);
+    s.add(2, {0, {0, 0}, Vec3(0.5)});
+    s.add(0, {0, {0, 0}, Vec3(0.25)});
+    s.add(2, {0, {1, 0}, Vec3(1e20)});  // aside, pixel 2 only
+    s.add(0, {0, {1, 0}, Vec3(0.25)});
+    EXPECT_EQ(s.value(0), Vec3(0.5));
+    EXPECT_EQ(s.value(1), Vec3(0.0));
+    EXPECT_EQ(s.value(2), Vec3(1e20));
+    s.clear();
+    for (size_t i = 0; i < 3; ++i) EXPECT_EQ(s.value(i), Vec3(0.0));
 }
 
 TEST(Render, BackgroundWhereNothingIsHit) {
@@ -110,7 +177,12 @@ TEST(Render, BackgroundWhereNothingIsHit) {
     s.view.at = s.view.from + (s.view.from - s.view.at);  // look away from the scene, up into the sky
     const RenderResult r = render(s, Partition::whole(s), small(8));
     EXPECT_EQ(r.counters.primaryHits, 0u);
-    for (const Vec3& p : r.image.pixels) EXPECT_EQ(p, s.background);
+    // The background, rounded to the pixel sum's unit of 2^-40.
+    Vec3 expected;
+    for (int a = 0; a < 3; ++a) expected[a] = std::round(std::ldexp(s.background[a], 40)) * std::ldexp(1.0, -40);
+    EXPECT_NE(expected, s.background);
+    EXPECT_LT(std::fabs(expected.x - s.background.x), std::ldexp(1.0, -41));
+    for (const Vec3& p : r.image.pixels) EXPECT_EQ(p, expected);
 }
 
 TEST(Render, LightingModelByHand) {

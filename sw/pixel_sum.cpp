@@ -1,0 +1,59 @@
+#include "pixel_sum.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace rt {
+
+namespace {
+constexpr double kScale = kFixedRange;             // 2^kFixedBits: scaling by it is exact
+constexpr double kUnit = 1.0 / kFixedRange;        // 2^-kFixedBits
+static_assert(kFixedRange == double(uint64_t(1) << kFixedBits));
+
+// s (a component scaled by 2^40, so |s| < 2^80) rounded to the nearest
+// integer, halves away from zero, whatever the floating-point rounding mode.
+__int128 toFixed(double s) {
+    if (std::fabs(s) < 0x1p62) {  // nearly always: in 64 bits, without a library call
+        int64_t i = int64_t(s);          // towards zero, exact
+        const double frac = s - double(i);  // exact (Sterbenz, or s itself when |s| < 1)
+        if (frac >= 0.5) ++i;
+        else if (frac <= -0.5) --i;
+        return i;
+    }
+    return __int128(std::round(s));  // an integer already (|s| >= 2^53): converts exactly
+}
+}  // namespace
+
+bool addFixed(FixedRgb& sum, const Vec3& rgb) {
+    for (int a = 0; a < 3; ++a)
+        if (!(std::fabs(rgb[a]) < kFixedRange)) return false;  // (also NaN)
+    for (int a = 0; a < 3; ++a) sum.c[a] += toFixed(rgb[a] * kScale);
+    return true;
+}
+
+Vec3 toDouble(const FixedRgb& sum) {
+    return Vec3(double(sum.c[0]) * kUnit, double(sum.c[1]) * kUnit, double(sum.c[2]) * kUnit);
+}
+
+Vec3 PixelSums::value(size_t i) {
+    const Vec3 fixed = toDouble(fixed_[i]);
+    if (aside_.empty()) return fixed;
+    if (!sorted_) {
+        std::sort(aside_.begin(), aside_.end(), [](const auto& a, const auto& b) {
+            return a.first != b.first ? a.first < b.first : a.second.key < b.second.key;
+        });
+        sorted_ = true;
+    }
+    auto it = std::partition_point(aside_.begin(), aside_.end(), [&](const auto& x) { return x.first < i; });
+    Vec3 rest(0.0);
+    for (; it != aside_.end() && it->first == i; ++it) rest += it->second.rgb;
+    return fixed + rest;
+}
+
+void PixelSums::clear() {
+    std::fill(fixed_.begin(), fixed_.end(), FixedRgb{});
+    aside_.clear();
+    sorted_ = true;
+}
+
+}  // namespace rt
