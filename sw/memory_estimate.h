@@ -7,11 +7,12 @@
 namespace rt {
 
 // Bytes per image pixel, measured (peak resident memory against image size
-// on a sparse scene, 256x256 to 2048x2048): rtref about 27, rtsim about 143
-// (every node's pixel lists, the frame buffer's contributions, the image).
-// A lower bound: scenes with more bounces keep more contributions per pixel.
+// on a sparse scene, --spheres 10 at 256x256 and 2048x2048): rtref about 27,
+// rtsim about 103 (every node's pixel list, the frame buffer's pixel sums,
+// the contributions queued on its ports, the image). A lower bound: a
+// scene's rays in flight add to it.
 constexpr double kRtrefBytesPerPixel = 27;
-constexpr double kRtsimBytesPerPixel = 143;
+constexpr double kRtsimBytesPerPixel = 103;
 
 // The machine's physical memory in bytes (0 if unknown).
 double physicalMemory();

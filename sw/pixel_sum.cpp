@@ -1,6 +1,7 @@
 #include "pixel_sum.h"
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
 
 namespace rt {
@@ -12,7 +13,7 @@ static_assert(kFixedRange == double(uint64_t(1) << kFixedBits));
 
 // s (a component scaled by 2^40, so |s| < 2^80) rounded to the nearest
 // integer, halves away from zero, whatever the floating-point rounding mode.
-__int128 toFixed(double s) {
+__int128 roundToUnits(double s) {
     if (std::fabs(s) < 0x1p62) {  // nearly always: in 64 bits, without a library call
         int64_t i = int64_t(s);          // towards zero, exact
         const double frac = s - double(i);  // exact (Sterbenz, or s itself when |s| < 1)
@@ -24,10 +25,10 @@ __int128 toFixed(double s) {
 }
 }  // namespace
 
-bool addFixed(FixedRgb& sum, const Vec3& rgb) {
+bool toFixed(const Vec3& rgb, FixedRgb& out) {
     for (int a = 0; a < 3; ++a)
         if (!(std::fabs(rgb[a]) < kFixedRange)) return false;  // (also NaN)
-    for (int a = 0; a < 3; ++a) sum.c[a] += toFixed(rgb[a] * kScale);
+    for (int a = 0; a < 3; ++a) out.c[a] = roundToUnits(rgb[a] * kScale);
     return true;
 }
 
@@ -35,8 +36,32 @@ Vec3 toDouble(const FixedRgb& sum) {
     return Vec3(double(sum.c[0]) * kUnit, double(sum.c[1]) * kUnit, double(sum.c[2]) * kUnit);
 }
 
+void PixelSums::add(size_t i, const Contribution& c) {
+    FixedRgb v;
+    if (!toFixed(c.rgb, v)) {
+        aside_.emplace_back(i, c);
+        sorted_ = false;
+        return;
+    }
+    for (int a = 0; a < 3; ++a) {
+        // (the builtin stores the wrapped sum on overflow: hence the temporary)
+        int64_t& narrow = narrow_[i].c[a];
+        int64_t sum;
+        const bool fits = v.c[a] >= INT64_MIN && v.c[a] <= INT64_MAX;
+        if (fits && !__builtin_add_overflow(narrow, int64_t(v.c[a]), &sum)) narrow = sum;
+        else wide_[i].c[a] += v.c[a];
+    }
+}
+
 Vec3 PixelSums::value(size_t i) {
-    const Vec3 fixed = toDouble(fixed_[i]);
+    FixedRgb sum;
+    for (int a = 0; a < 3; ++a) sum.c[a] = narrow_[i].c[a];
+    if (!wide_.empty()) {
+        const auto w = wide_.find(i);
+        if (w != wide_.end())
+            for (int a = 0; a < 3; ++a) sum.c[a] += w->second.c[a];
+    }
+    const Vec3 fixed = toDouble(sum);
     if (aside_.empty()) return fixed;
     if (!sorted_) {
         std::sort(aside_.begin(), aside_.end(), [](const auto& a, const auto& b) {
@@ -51,7 +76,8 @@ Vec3 PixelSums::value(size_t i) {
 }
 
 void PixelSums::clear() {
-    std::fill(fixed_.begin(), fixed_.end(), FixedRgb{});
+    std::fill(narrow_.begin(), narrow_.end(), Narrow{});
+    wide_.clear();
     aside_.clear();
     sorted_ = true;
 }

@@ -6,18 +6,25 @@
 // (rtref, and the frame buffer's units in rtsim) sums this way, so a pixel
 // does not depend on where or when its contributions were traced.
 //
-// The integers are 128 bits wide and a component is taken only if its
-// magnitude is below 2^40 (kFixedRange; a colour of 10^12 is far outside any
-// sane scene), so a sum cannot overflow before 2^47 contributions to one
-// pixel. A contribution outside that range (or not finite) is kept aside and
-// summed in path-key order, as every contribution once was, and added to the
-// fixed-point part at the end: still independent of the order of arrival.
+// A pixel's sum is kept in 64 bits per component (24 bytes a pixel), enough
+// for sums below 2^23 in magnitude, which is every sane scene's; what would
+// overflow them (a huge contribution, or many) is added instead to a 128-bit
+// sum for that pixel, kept apart (wide_), and the pixel is the exact integer
+// sum of both: which part a contribution went to cannot change it. A 128-bit
+// sum cannot overflow before 2^47 contributions of the largest size taken
+// (magnitude below 2^40, kFixedRange; a colour of 10^12 is far outside any
+// sane scene). A contribution outside that range (or not finite) is kept
+// aside and summed in path-key order, as every contribution once was, and
+// added to the fixed-point part at the end: still independent of the order
+// of arrival.
 //
 // Why not keep every contribution and sort: the frame buffer then held the
 // whole frame's contributions until its end (40 bytes each, 4.5 M of them on
-// balls-5 at 1024x1024); a sum takes 48 bytes per pixel.
+// balls-5 at 1024x1024).
 #pragma once
 #include <cstddef>
+#include <cstdint>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -28,14 +35,15 @@ namespace rt {
 constexpr int kFixedBits = 40;     // a component's resolution: 2^-40
 constexpr double kFixedRange = 1099511627776.0;  // 2^40: components at least this large are kept aside
 
-// A colour in fixed point (units of 2^-kFixedBits).
+// A colour in fixed point (units of 2^-kFixedBits), 128 bits per component.
 struct FixedRgb {
     __int128 c[3] = {0, 0, 0};
 };
 
-// Adds rgb to sum if every component is finite and below kFixedRange in
-// magnitude; returns false (and adds nothing) otherwise.
-bool addFixed(FixedRgb& sum, const Vec3& rgb);
+// rgb in fixed point, each component rounded to the nearest unit (halves
+// away from zero), if every component is finite and below kFixedRange in
+// magnitude; false (out untouched) otherwise.
+bool toFixed(const Vec3& rgb, FixedRgb& out);
 // The fixed-point colour as doubles (rounded to nearest).
 Vec3 toDouble(const FixedRgb& sum);
 
@@ -43,14 +51,9 @@ Vec3 toDouble(const FixedRgb& sum);
 // holds its own pixels; rtref one pixel at a time).
 class PixelSums {
 public:
-    explicit PixelSums(size_t n = 0) : fixed_(n) {}
-    size_t size() const { return fixed_.size(); }
-    void add(size_t i, const Contribution& c) {
-        if (!addFixed(fixed_[i], c.rgb)) {
-            aside_.emplace_back(i, c);
-            sorted_ = false;
-        }
-    }
+    explicit PixelSums(size_t n = 0) : narrow_(n) {}
+    size_t size() const { return narrow_.size(); }
+    void add(size_t i, const Contribution& c);
     // Pixel i: its fixed-point sum plus, if any, the contributions kept
     // aside, summed in path-key order.
     Vec3 value(size_t i);
@@ -58,7 +61,11 @@ public:
     void clear();
 
 private:
-    std::vector<FixedRgb> fixed_;
+    struct Narrow {
+        int64_t c[3] = {0, 0, 0};
+    };
+    std::vector<Narrow> narrow_;                  // per pixel: what fits in 64 bits
+    std::unordered_map<size_t, FixedRgb> wide_;   // per pixel, rarely: what would have overflowed it
     std::vector<std::pair<size_t, Contribution>> aside_;  // outside the fixed-point range
     bool sorted_ = true;  // aside_ in (index, key) order
 };

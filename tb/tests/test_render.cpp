@@ -154,9 +154,23 @@ TEST(PixelSum, ComponentsOutsideTheRangeAreSummedAsideInKeyOrder) {
     const double below = std::nextafter(kFixedRange, 0.0);
     expectEveryOrderGives({{0, {0, 0}, Vec3(below)}, {0, {1, 0}, Vec3(-below)}, {0, {2, 0}, Vec3(0.25)}}, Vec3(0.25));
     FixedRgb f;
-    EXPECT_TRUE(addFixed(f, Vec3(below)));
-    EXPECT_FALSE(addFixed(f, Vec3(0.0, kFixedRange, 0.0)));
-    EXPECT_FALSE(addFixed(f, Vec3(0.0, 0.0, std::nan(""))));
+    EXPECT_TRUE(toFixed(Vec3(below), f));
+    EXPECT_FALSE(toFixed(Vec3(0.0, kFixedRange, 0.0), f));
+    EXPECT_FALSE(toFixed(Vec3(0.0, 0.0, std::nan("")), f));
+}
+
+TEST(PixelSum, SumsPastSixtyFourBitsStayExact) {
+    // A pixel's sum is kept in 64 bits while it fits: below 2^63 units, or
+    // 2^23 = 8388608 in colour. Three contributions of 4e6 go past it (in
+    // whatever order, the third to arrive would overflow); the exact sum,
+    // 12e6 + round(0.001 * 2^40) units, is nearest to the double 12000000.001.
+    const Vec3 big(4e6, -4e6, 0.25), small(0.001, -0.001, 0.25);
+    expectEveryOrderGives({{0, {0, 0}, big}, {0, {1, 0}, big}, {0, {2, 0}, small}, {0, {3, 0}, big}},
+                          Vec3(12000000.001, -12000000.001, 1.0));
+    // Past 64 bits and back: the sum is exact whichever part held what.
+    expectEveryOrderGives({{0, {0, 0}, big}, {0, {1, 0}, big}, {0, {2, 0}, big}, {0, {3, 0}, -big},
+                           {0, {4, 0}, small}},
+                          Vec3(8000000.001, -8000000.001, 0.75));
 }
 
 TEST(PixelSum, PixelsAreSummedApartAndClearedForTheNext) {
