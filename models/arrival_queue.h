@@ -45,11 +45,19 @@ public:
         listen(std::move(links));
     }
 
+    // A process that may take its input late (a frame-buffer unit other
+    // than 0: FrameBufferUnit::setLate) is woken up to `late` after a message
+    // on ports below `punctualFrom` arrives, and at once by one on the others.
+    void setLate(Picos late, size_t punctualFrom) {
+        late_ = late;
+        punctualFrom_ = punctualFrom;
+    }
+
     void headChanged(int port, Picos arrival) override {
         head_[size_t(port)] = arrival;
         if (arrival == kNone) return;
         heap_.push({arrival, port});
-        const Picos w = std::max(arrival, notBefore_);
+        const Picos w = std::max(arrival, notBefore_) + (size_t(port) < punctualFrom_ ? late_ : 0);
         if (waiting_ && w < wakeAt_) {  // sooner than the waiting process expects
             wakeAt_ = w;
             arrived_.notify(sc_core::sc_time::from_value(w - sc_core::sc_time_stamp().value()));
@@ -67,6 +75,10 @@ public:
     bool waitForInput(Picos now, Picos deadline = ~Picos(0)) {
         Picos next;
         oldest(now, next);
+        if (late_ > 0) {  // the first message late, those on punctual ports at once
+            if (next != kNone) next += late_;
+            for (size_t p = punctualFrom_; p < head_.size(); ++p) next = std::min(next, head_[p]);
+        }
         next = std::max(now, std::min(next, deadline));
         const Picos k = sc_core::sc_time_stamp().value();
         if (next <= k) return false;
@@ -133,6 +145,8 @@ private:
     bool waiting_ = false;
     Picos notBefore_ = 0;        // while waiting: the process's local time, before which it takes nothing
     Picos wakeAt_ = 0;           // while waiting: when the process wakes anyway
+    Picos late_ = 0;             // setLate
+    size_t punctualFrom_ = ~size_t(0);
 };
 
 }  // namespace rt

@@ -24,6 +24,12 @@ FrameBufferUnit::FrameBufferUnit(sc_core::sc_module_name name, int index, int un
     SC_METHOD(run);
 }
 
+void FrameBufferUnit::setLate(Picos late) {
+    if (controller()) throw std::logic_error("unit 0 decides the frame's end: it cannot take its input late");
+    late_ = late > 0;
+    lateBy_ = late;
+}
+
 void FrameBufferUnit::finish(Picos now) {
     done_ = true;
     renderTime_ = now;
@@ -63,6 +69,11 @@ Picos FrameBufferUnit::take(Message& m) {
         case MsgType::FbExpect:
             if (controller() || expect_) fail("unexpected fb_expect");
             expect_ = m.body().count;
+            // Its fb_done must leave no earlier than the kernel's time (a
+            // message is sent from its sender's time on): from now on it takes
+            // every message when it arrives, and so is never behind the kernel
+            // when it takes the last one.
+            if (late_) inputOrder_.setLate(0, ~size_t(0));
             return 0;
         case MsgType::FbDone:
             if (!controller() || awaiting_ <= 0) fail("unexpected fb_done");
@@ -81,6 +92,7 @@ void FrameBufferUnit::run() {
     if (!started_) {
         started_ = true;
         inputOrder_.listen(in);
+        if (late_) inputOrder_.setLate(lateBy_, size_t(in.size()) - 1);  // its last port is from unit 0
         now_ = sc_core::sc_time_stamp().value();
         lastPrint_ = std::chrono::steady_clock::now();
         if (controller() && credit_.isOne()) {  // nothing to trace at all
@@ -90,21 +102,23 @@ void FrameBufferUnit::run() {
     } else if (waiting_) {
         waiting_ = false;
         inputOrder_.woke();
-        now_ = sc_core::sc_time_stamp().value();
+        if (!late_) now_ = sc_core::sc_time_stamp().value();  // (late, it goes on from its own time)
     }
     for (;;) {
         Picos next;
         const int best = inputOrder_.oldest(now_, next);  // ties go to the lower port: nodes, then units
         if (best < 0) {
-            if (time_.mayIdleUntil(next)) {  // the next arrival is known and within the quantum
-                now_ = next;
+            // The next arrival is known and within the quantum (or, late,
+            // before it: every message that arrives by then is in its links).
+            if (late_ ? next != ~Picos(0) && time_.sees(next) : time_.mayIdleUntil(next)) {
+                now_ = std::max(now_, next);
                 continue;
             }
             if (inputOrder_.waitForInput(now_)) {  // also lets the kernel catch up with `now_`
                 waiting_ = true;
                 return;
             }
-            now_ = sc_core::sc_time_stamp().value();
+            now_ = std::max(now_, Picos(sc_core::sc_time_stamp().value()));
             continue;
         }
         Message m = in[best]->consume(now_);
@@ -137,6 +151,8 @@ void FrameBufferUnit::run() {
             }
         } else if (expect_ && stats_.contributions >= *expect_) {  // all accumulated: say so, once
             if (stats_.contributions > *expect_) throw std::logic_error(std::string(name()) + ": more contributions than sent");
+            if (now_ < Picos(sc_core::sc_time_stamp().value()))  // (setLate: it cannot be behind here)
+                throw std::logic_error(std::string(name()) + ": fb_done sent before the kernel's time");
             Message d;
             d.type = MsgType::FbDone;
             toController->send(std::move(d), now_);

@@ -58,6 +58,18 @@ public:
 
     // Before the start: how far it may run ahead of the kernel (its lookahead).
     void setQuantum(Picos q) { time_.setQuantum(q); }
+    // Before the start, a unit other than 0, exact (lookahead) mode: it may
+    // take the nodes' contributions up to `late` after they arrive (still
+    // at the times they would be taken; unit 0's fb_expect at once), so
+    // that one activation takes many. Exact because nothing reads a unit
+    // but its own input links, whose times it computes as before: a message
+    // that arrived by the kernel's time plus the lookahead is in its links
+    // however late it looks, and taking it later on the kernel's clock
+    // changes no simulated time (the slot it frees comes back to its sender
+    // at the same time: Link::take). Not with waveforms (they are recorded
+    // no earlier than the kernel's time) nor with a bounded output buffer
+    // on the ports (a blocked node goes on at the kernel's time).
+    void setLate(Picos late);
     // Before the start: credit unit 0 keeps (not handed to nodes), and
     // contributions the unit makes itself (primary rays that miss the world
     // box: the background of its pixels).
@@ -121,6 +133,8 @@ private:
     Trace trace_;
     // The process's state between activations.
     bool started_ = false, waiting_ = false;  // waiting: for input (ArrivalQueue::waitForInput)
+    bool late_ = false;                       // setLate: its local time may be behind the kernel's
+    Picos lateBy_ = 0;
     Picos now_ = 0;                           // its local time
     std::chrono::steady_clock::time_point lastPrint_;
 };

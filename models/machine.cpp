@@ -143,6 +143,8 @@ Machine::Machine(sc_core::sc_module_name name, const Scene& scene, const Machine
         lowerTo(unitLookahead[size_t(u)], unitLinks_.back()->lookahead());
     }
     if (cfg_.lookaheadQuantum) setLookaheads(nodeLookahead, unitLookahead);
+    if (cfg_.lookaheadQuantum && cfg_.fbLate > 0 && cfg_.vcdPath.empty() && cfg_.fbPort.outDepth == 0)
+        for (int u = 1; u < k; ++u) units_[size_t(u)].setLate(cfg_.fbLate);
     for (auto& l : links_) l->setProgress(&progress_);
     for (auto& l : unitLinks_) l->setProgress(&progress_);
     for (Node& n : nodes_) n.setProgress(&progress_);

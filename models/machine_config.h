@@ -169,6 +169,11 @@ struct MachineConfig {
     // their wire (Machine; doc/machine.md, "Local time"). `quantum` then
     // holds the smallest of them (lookahead()), for the report.
     bool lookaheadQuantum = false;
+    // With lookaheadQuantum: how late the frame-buffer units other than 0
+    // may take the nodes' contributions (FrameBufferUnit::setLate), so that
+    // one activation takes many; the simulated times are the same (0: as
+    // they arrive). Not with waveforms or --fb-out-depth.
+    Picos fbLate = 10000000;  // 10 us
 
     bool showProgress = false;
 

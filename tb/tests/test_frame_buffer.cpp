@@ -135,7 +135,22 @@ struct EndOfFrame {
     std::vector<uint64_t> c;  // C_u, from the reference renderer
 };
 
-EndOfFrame oneNodeRun(int units, Picos h, int depth, double bandwidth = 1e15, int batch = 1, Picos latency = kL) {
+// How the kernel is kept in step: lockstep, or each process running ahead
+// by its lookahead with the units other than 0 taking their input as it
+// comes (late 0), up to 10 us late (the default) or up to a second late
+// (after the whole frame). The simulated times are the same in each.
+struct Timing {
+    bool lookahead;
+    Picos late;
+};
+const Timing kTimings[] = {{false, 0}, {true, 0}, {true, 10000000}, {true, 1000000000000}};
+
+std::string describe(const Timing& t) {
+    return t.lookahead ? "lookahead, units late by up to " + std::to_string(t.late) + " ps" : "lockstep";
+}
+
+EndOfFrame oneNodeRun(const Timing& timing, int units, Picos h, int depth, double bandwidth = 1e15, int batch = 1,
+                      Picos latency = kL) {
     ProceduralParams p;
     p.spheres = 60;
     p.radius = 0.08;
@@ -150,6 +165,8 @@ EndOfFrame oneNodeRun(int units, Picos h, int depth, double bandwidth = 1e15, in
     c.fbPort = LinkParams{latency, bandwidth, depth};
     c.fbBatch = batch;
     c.hostCost = h;
+    c.lookaheadQuantum = timing.lookahead;
+    c.fbLate = timing.late;
     EndOfFrame e{runMachine(s, c), expectedPerUnit(s, c.width, c.height, units).count};
     for (const FrameBufferUnitReport& u : e.result.frameBuffer) EXPECT_EQ(u.stats.own, 0u);
     for (uint64_t n : e.c) EXPECT_GT(n, 0u);  // every unit gets work (the forms below assume it)
@@ -158,7 +175,12 @@ EndOfFrame oneNodeRun(int units, Picos h, int depth, double bandwidth = 1e15, in
 
 }  // namespace
 
-class EndOfFrameClosedForm : public testing::TestWithParam<int> {};
+// Parameters: the number of units, and the timing (kTimings).
+class EndOfFrameClosedForm : public testing::TestWithParam<std::tuple<int, int>> {
+protected:
+    int units() const { return std::get<0>(GetParam()); }
+    const Timing& timing() const { return kTimings[std::get<1>(GetParam())]; }
+};
 
 // Deep ports (16) and slow units (h = 1 us > 2L / 15): each unit is never
 // starved, so it finishes at F_u = L + 1 + C_u h. Unit 0 takes the credit
@@ -166,15 +188,19 @@ class EndOfFrameClosedForm : public testing::TestWithParam<int> {};
 // reaches unit u at A = T_0 + L + 1; u answers at max(F_u, A), and unit 0
 // has the answer L + 1 later.
 TEST_P(EndOfFrameClosedForm, UnitBoundFrame) {
-    const int units = GetParam();
+    const int units = this->units();
     const Picos h = 1000000;
-    const EndOfFrame e = oneNodeRun(units, h, 16);
+    SCOPED_TRACE(describe(timing()));
+    const EndOfFrame e = oneNodeRun(timing(), units, h, 16);
     auto finish = [&](size_t u) { return kL + kWire + e.c[u] * h; };
     Picos expected = finish(0);
     for (size_t u = 1; u < e.c.size(); ++u)
         expected = std::max(expected, std::max(finish(u), finish(0) + kL + kWire) + kL + kWire);
     EXPECT_EQ(e.result.renderTime, expected);
-    for (size_t u = 0; u < e.c.size(); ++u) EXPECT_EQ(e.result.frameBuffer[u].stats.busy, e.c[u] * h);
+    for (size_t u = 0; u < e.c.size(); ++u) {
+        EXPECT_EQ(e.result.frameBuffer[u].stats.busy, e.c[u] * h);
+        EXPECT_EQ(e.result.frameBuffer[u].stats.lastActive, finish(u));
+    }
 }
 
 // Depth-1 ports and fast units (h = 100 ns < 2L + 1): the port is the limit.
@@ -183,13 +209,15 @@ TEST_P(EndOfFrameClosedForm, UnitBoundFrame) {
 // F_u = L + 1 + (C_u - 1)(2L + 1) + h. The credit is message C_0 on unit
 // 0's port: T_0 = L + 1 + C_0 (2L + 1). The rest as above.
 TEST_P(EndOfFrameClosedForm, PortBoundFrameWithDepthOnePorts) {
-    const int units = GetParam();
+    const int units = this->units();
     const Picos h = 100000, gap = 2 * kL + kWire;
-    const EndOfFrame e = oneNodeRun(units, h, 1);
+    SCOPED_TRACE(describe(timing()));
+    const EndOfFrame e = oneNodeRun(timing(), units, h, 1);
     const Picos t0 = kL + kWire + e.c[0] * gap;
     Picos expected = t0;
     for (size_t u = 1; u < e.c.size(); ++u) {
         const Picos f = kL + kWire + (e.c[u] - 1) * gap + h;
+        EXPECT_EQ(e.result.frameBuffer[u].stats.lastActive, f);
         expected = std::max(expected, std::max(f, t0 + kL + kWire) + kL + kWire);
     }
     EXPECT_EQ(e.result.renderTime, expected);
@@ -212,12 +240,13 @@ TEST_P(EndOfFrameClosedForm, PortBoundFrameWithDepthOnePorts) {
 // T_0 + 16 + L, and its fb_done is at unit 0 8 + L after max(F_u, that).
 // With L = 5 us the handshake, not the units, sets the end: every term of
 // it counts.
-class HandshakeClosedForm : public testing::TestWithParam<int> {};
+class HandshakeClosedForm : public EndOfFrameClosedForm {};
 
 TEST_P(HandshakeClosedForm, WireBoundFrameWithRealMessageSizes) {
-    const int units = GetParam();
+    const int units = this->units();
     const Picos h = 1000, ns = 1000, L = 5000 * ns;
-    const EndOfFrame e = oneNodeRun(units, h, 1000, 1e9, 1, L);
+    SCOPED_TRACE(describe(timing()));
+    const EndOfFrame e = oneNodeRun(timing(), units, h, 1000, 1e9, 1, L);
     const Picos t0 = (48 * e.c[0] + 16 + 6 * Picos(units - 1)) * ns + L;
     Picos expected = t0;
     bool handshakeBound = false;
@@ -233,14 +262,16 @@ TEST_P(HandshakeClosedForm, WireBoundFrameWithRealMessageSizes) {
 // A unit's busy time is its contributions times the cost, however they are
 // batched into messages.
 TEST_P(EndOfFrameClosedForm, BusyIsPerContributionWhateverTheBatch) {
-    const int units = GetParam();
+    const int units = this->units();
     const Picos h = 1000000;
-    const EndOfFrame e = oneNodeRun(units, h, 16, 1e15, 4);
+    const EndOfFrame e = oneNodeRun(timing(), units, h, 16, 1e15, 4);
     for (size_t u = 0; u < e.c.size(); ++u) EXPECT_EQ(e.result.frameBuffer[u].stats.busy, e.c[u] * h);
 }
 
-INSTANTIATE_TEST_SUITE_P(Units, EndOfFrameClosedForm, testing::Values(1, 2, 5, 16));
-INSTANTIATE_TEST_SUITE_P(Units, HandshakeClosedForm, testing::Values(2, 5, 16));  // one unit has no handshake
+INSTANTIATE_TEST_SUITE_P(Units, EndOfFrameClosedForm,
+                         testing::Combine(testing::Values(1, 2, 5, 16), testing::Range(0, int(std::size(kTimings)))));
+INSTANTIATE_TEST_SUITE_P(Units, HandshakeClosedForm,  // one unit has no handshake
+                         testing::Combine(testing::Values(2, 5, 16), testing::Range(0, int(std::size(kTimings)))));
 
 // ---- The bounds, from figures written here ----
 
