@@ -231,6 +231,10 @@ public:
 
 private:
     struct Timed {
+        // (A constructor, not an aggregate: GCC cleared the whole 232-byte
+        // slot before writing the fields when it was built from braces.)
+        Timed(Picos t_, Message&& m_, Picos sent_ = 0, Picos start_ = 0, Picos ready_ = 0, Picos transfer_ = 0)
+            : t(t_), m(std::move(m_)), sent(sent_), start(start_), ready(ready_), transfer(transfer_) {}
         Picos t;
         Message m;
         Picos sent = 0;      // in a buffer: when the sender sent it

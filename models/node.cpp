@@ -234,12 +234,15 @@ void Node::proceed() {
         }
     }
     intervalClosed_ = false;
-    Work w;
-    std::optional<Message> ctl;
     int fromDir = -1;
-    if (takeWork(w, ctl, fromDir)) {
-        if (ctl) control(*ctl, fromDir);
-        else step(w);
+    if (takeWork(work_, control_, fromDir)) {
+        if (control_) {
+            Message m = std::move(*control_);
+            control_.reset();
+            control(m, fromDir);
+        } else {
+            step(work_);
+        }
         return;
     }
     if (mustSee_) {  // running ahead, its input as of now_ is not all there yet

@@ -251,6 +251,10 @@ private:
     size_t timelineStart_ = 0;
 
     std::vector<Work> local_;                 // spawned rays, LIFO
+    // What proceed takes, members rather than locals: a Work and an empty
+    // optional Message on the stack were cleared (392 bytes) at every turn.
+    Work work_;                               // the ray being stepped
+    std::optional<Message> control_;          // or the control message being handled
     std::vector<std::vector<Contribution>> pending_;  // per frame-buffer unit: contributions not yet sent
     size_t pendingCount_ = 0;                         // in all of them
     std::vector<uint32_t> sentSince_;  // per unit: contributions sent since the last credit return
