@@ -90,7 +90,22 @@ private:
         if (last_ < bins_.size() && bins_[last_].first == key) {  // (a link's messages often take the same time)
             bins_[last_].second += n;
         } else {
-            auto it = std::lower_bound(bins_.begin(), bins_.end(), key, [](const auto& b, uint64_t k) { return b.first < k; });
+            // Settled values come sorted, so the bin is usually just past the
+            // last one: gallop from there (1, 2, 4, ... bins on) before the
+            // binary search, which touches a few bins near it instead of
+            // ones spread over the whole list (cache misses on a link not
+            // used for a while).
+            auto lo = bins_.begin(), hi = bins_.end();
+            if (last_ < bins_.size() && bins_[last_].first < key) {
+                size_t step = 1, from = last_ + 1;
+                while (from + step - 1 < bins_.size() && bins_[from + step - 1].first < key) {
+                    from += step;
+                    step *= 2;
+                }
+                lo = bins_.begin() + long(from);
+                hi = bins_.begin() + long(std::min(bins_.size(), from + step));
+            }
+            auto it = std::lower_bound(lo, hi, key, [](const auto& b, uint64_t k) { return b.first < k; });
             if (it != bins_.end() && it->first == key) it->second += n;
             else it = bins_.insert(it, {key, n});
             last_ = size_t(it - bins_.begin());
