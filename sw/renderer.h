@@ -1,7 +1,7 @@
 // The sequential reference renderer: every pixel's ray tree traced region by
 // region through a partition (one region by default), each pixel the sum of
-// its contributions in path-key order. The machine must reproduce its images
-// bit for bit.
+// its contributions in fixed point (pixel_sum.h: the same in any order). The
+// machine must reproduce its images bit for bit.
 #pragma once
 #include "counters.h"
 #include "image.h"
