@@ -26,8 +26,7 @@ FrameBufferUnit::FrameBufferUnit(sc_core::sc_module_name name, int index, int un
 
 void FrameBufferUnit::setLate(Picos late) {
     if (controller()) throw std::logic_error("unit 0 decides the frame's end: it cannot take its input late");
-    late_ = late > 0;
-    lateBy_ = late;
+    late_ = late;
 }
 
 void FrameBufferUnit::finish(Picos now) {
@@ -73,7 +72,7 @@ Picos FrameBufferUnit::take(Message& m) {
             // message is sent from its sender's time on): from now on it takes
             // every message when it arrives, and so is never behind the kernel
             // when it takes the last one.
-            if (late_) inputOrder_.setLate(0, ~size_t(0));
+            if (late_ > 0) inputOrder_.setLate(0, ~size_t(0));
             return 0;
         case MsgType::FbDone:
             if (!controller() || awaiting_ <= 0) fail("unexpected fb_done");
@@ -92,7 +91,7 @@ void FrameBufferUnit::run() {
     if (!started_) {
         started_ = true;
         inputOrder_.listen(in);
-        if (late_) inputOrder_.setLate(lateBy_, size_t(in.size()) - 1);  // its last port is from unit 0
+        if (late_ > 0) inputOrder_.setLate(late_, size_t(in.size()) - 1);  // its last port is from unit 0
         now_ = sc_core::sc_time_stamp().value();
         lastPrint_ = std::chrono::steady_clock::now();
         if (controller() && credit_.isOne()) {  // nothing to trace at all
@@ -102,7 +101,7 @@ void FrameBufferUnit::run() {
     } else if (waiting_) {
         waiting_ = false;
         inputOrder_.woke();
-        if (!late_) now_ = sc_core::sc_time_stamp().value();  // (late, it goes on from its own time)
+        if (late_ == 0) now_ = sc_core::sc_time_stamp().value();  // (late, it goes on from its own time)
     }
     for (;;) {
         Picos next;
@@ -110,7 +109,7 @@ void FrameBufferUnit::run() {
         if (best < 0) {
             // The next arrival is known and within the quantum (or, late,
             // before it: every message that arrives by then is in its links).
-            if (late_ ? next != ~Picos(0) && time_.sees(next) : time_.mayIdleUntil(next)) {
+            if (late_ > 0 ? next != ~Picos(0) && time_.sees(next) : time_.mayIdleUntil(next)) {
                 now_ = std::max(now_, next);
                 continue;
             }

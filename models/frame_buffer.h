@@ -133,8 +133,7 @@ private:
     Trace trace_;
     // The process's state between activations.
     bool started_ = false, waiting_ = false;  // waiting: for input (ArrivalQueue::waitForInput)
-    bool late_ = false;                       // setLate: its local time may be behind the kernel's
-    Picos lateBy_ = 0;
+    Picos late_ = 0;                          // setLate (> 0: its local time may be behind the kernel's)
     Picos now_ = 0;                           // its local time
     std::chrono::steady_clock::time_point lastPrint_;
 };

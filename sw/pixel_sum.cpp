@@ -9,7 +9,6 @@ namespace rt {
 namespace {
 constexpr double kScale = kFixedRange;             // 2^kFixedBits: scaling by it is exact
 constexpr double kUnit = 1.0 / kFixedRange;        // 2^-kFixedBits
-static_assert(kFixedRange == double(uint64_t(1) << kFixedBits));
 
 // s (a component scaled by 2^40, so |s| < 2^80) rounded to the nearest
 // integer, halves away from zero, whatever the floating-point rounding mode.

@@ -33,7 +33,7 @@
 namespace rt {
 
 constexpr int kFixedBits = 40;     // a component's resolution: 2^-40
-constexpr double kFixedRange = 1099511627776.0;  // 2^40: components at least this large are kept aside
+constexpr double kFixedRange = double(uint64_t(1) << kFixedBits);  // 2^40: components at least this large are kept aside
 
 // A colour in fixed point (units of 2^-kFixedBits), 128 bits per component.
 struct FixedRgb {
