@@ -5,11 +5,13 @@
 //
 // The links tell the queue when their oldest unconsumed message changes (a
 // message lands in an empty link, the oldest is consumed, or a control
-// message goes ahead), with its arrival, and the queue keeps each port's head
-// and a min-heap of (arrival, port). Entries are checked against the port's
-// head when they reach the top and dropped if it has moved on, so a choice
-// costs O(log ports) instead of a scan of every port (the host has one port
-// per node: 4,096 on a 16x16x16 mesh), and touches no link.
+// message goes ahead), with its arrival, and the queue keeps each port's
+// head. With a few ports (a node has six) a choice scans those heads, which
+// sit in the queue itself. With many (a frame-buffer unit has one port per
+// node: 4,096 on a 16x16x16 mesh) it also keeps a min-heap of (arrival,
+// port); entries are checked against the port's head when they reach the
+// top and dropped if it has moved on, so a choice costs O(log ports). Either
+// way a choice touches no link.
 //
 // It also wakes its process: a process with nothing to do waits until its
 // next known arrival (waitForInput), and only a message that lands in an
@@ -21,6 +23,7 @@
 #include <queue>
 #include <vector>
 
+#include <boost/container/small_vector.hpp>
 #include <systemc>
 
 #include "link.h"
@@ -37,6 +40,13 @@ public:
         for (size_t i = 0; i < ports.size(); ++i)
             if (ports[i].size()) links[i] = ports[i].operator->();
         listen(std::move(links));
+    }
+    // Listens to these links (a null one keeps its port, empty).
+    void listen(std::vector<LinkRecvIf*> links) {
+        links_ = std::move(links);
+        head_.assign(links_.size(), kNone);
+        for (size_t i = 0; i < links_.size(); ++i)
+            if (links_[i]) links_[i]->setListener(this, int(i));  // (it tells the head it has now)
     }
     // Listens to every link a multiport is bound to, in binding order.
     void listen(sc_core::sc_port<LinkRecvIf, 0>& multiport) {
@@ -56,7 +66,7 @@ public:
     void headChanged(int port, Picos arrival) override {
         head_[size_t(port)] = arrival;
         if (arrival == kNone) return;
-        heap_.push({arrival, port});
+        if (heaped()) heap_.push({arrival, port});
         const Picos w = std::max(arrival, notBefore_) + (size_t(port) < punctualFrom_ ? late_ : 0);
         if (waiting_ && w < wakeAt_) {  // sooner than the waiting process expects
             wakeAt_ = w;
@@ -95,6 +105,16 @@ public:
     // (ties to the lower port), or -1; `next` gets the earliest arrival of any
     // unconsumed message (~0 if none).
     int oldest(Picos now, Picos& next) {
+        if (!heaped()) {
+            int port = -1;
+            next = kNone;
+            for (size_t p = 0; p < head_.size(); ++p)
+                if (head_[p] < next) {  // (strictly: ties to the lower port)
+                    next = head_[p];
+                    port = int(p);
+                }
+            return next <= now ? port : -1;
+        }
         while (!heap_.empty()) {
             const Entry& e = heap_.top();
             if (head_[size_t(e.port)] == e.arrival) break;
@@ -109,12 +129,7 @@ public:
     }
 
     // Messages on the listened links or arrived there, not yet taken.
-    size_t unconsumed() const {
-        size_t n = 0;
-        for (const LinkRecvIf* l : links_)
-            if (l) n += l->unconsumed();
-        return n;
-    }
+    size_t unconsumed() const { return buffered; }
 
     // Messages that have arrived at the listened ports by `t`, not yet taken.
     size_t arrivedBy(Picos t) const {
@@ -125,12 +140,6 @@ public:
     }
 
 private:
-    void listen(std::vector<LinkRecvIf*> links) {
-        links_ = std::move(links);
-        head_.assign(links_.size(), kNone);
-        for (size_t i = 0; i < links_.size(); ++i)
-            if (links_[i]) links_[i]->setListener(this, int(i));  // (it tells the head it has now)
-    }
 
     struct Entry {
         Picos arrival;
@@ -138,8 +147,11 @@ private:
         bool operator>(const Entry& o) const { return arrival != o.arrival ? arrival > o.arrival : port > o.port; }
     };
     static constexpr Picos kNone = ~Picos(0);
+    static constexpr size_t kScanned = 8;  // ports up to which a choice scans the heads, without the heap
+    bool heaped() const { return head_.size() > kScanned; }
     std::vector<LinkRecvIf*> links_;
-    std::vector<Picos> head_;  // each port's oldest unconsumed arrival, as its link last said (kNone: empty)
+    // Each port's oldest unconsumed arrival, as its link last said (kNone: empty).
+    boost::container::small_vector<Picos, kScanned> head_;
     std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> heap_;
     sc_core::sc_event arrived_;  // wakes the waiting process
     bool waiting_ = false;

@@ -95,6 +95,8 @@ private:
             // binary search, which touches a few bins near it instead of
             // ones spread over the whole list (cache misses on a link not
             // used for a while).
+            // A batch's first value is often a little below the last one's,
+            // so it gallops back the same way.
             auto lo = bins_.begin(), hi = bins_.end();
             if (last_ < bins_.size() && bins_[last_].first < key) {
                 size_t step = 1, from = last_ + 1;
@@ -104,6 +106,14 @@ private:
                 }
                 lo = bins_.begin() + long(from);
                 hi = bins_.begin() + long(std::min(bins_.size(), from + step));
+            } else if (last_ < bins_.size()) {  // key < bins_[last_]: the bin is at or below last_
+                size_t step = 1, to = last_;    // bins_[to] >= key
+                while (to >= step && bins_[to - step].first >= key) {
+                    to -= step;
+                    step *= 2;
+                }
+                lo = bins_.begin() + long(to >= step ? to - step + 1 : 0);
+                hi = bins_.begin() + long(to + 1);
             }
             auto it = std::lower_bound(lo, hi, key, [](const auto& b, uint64_t k) { return b.first < k; });
             if (it != bins_.end() && it->first == key) it->second += n;

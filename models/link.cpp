@@ -27,7 +27,7 @@ uint32_t objectBytes(const Shape& s) {
 }
 
 Link::Link(std::string name, const LinkParams& params, uint32_t smallest)
-    : name_(std::move(name)), params_(params), smallest_(smallest) {
+    : params_(params), smallest_(smallest), name_(std::move(name)) {
     lanes_[kData].unusedSlots = params.depth;
     lanes_[kControl].unusedSlots = params.controlDepth;
     if (params.outDepth > 0) room_ = std::make_unique<sc_core::sc_event>();
@@ -65,9 +65,10 @@ void Link::send(Message&& m, Picos t) {
         throw std::logic_error(name_ + ": a " + msgTypeName(m.type) + " message of " + std::to_string(m.bytes()) +
                                " bytes, smaller than the " + std::to_string(smallest_) + " its receiver's lookahead counts on");
     if (trace_.vcd && params_.controlDepth == 0) trace_.vcd->step(t, trace_.backlog, 1);
-    ++stats_.messages[type];
-    stats_.bytes[type] += m.bytes();
-    ++inFlight_[type];
+    TypeCounts& counts = byType_[size_t(type)];
+    ++counts.messages;
+    counts.bytes += m.bytes();
+    ++counts.inFlight;
     {  // what the link owes for it (occupied())
         const Picos transfer = transferTime(m.bytes());
         owedWire_ += transfer;
@@ -76,11 +77,12 @@ void Link::send(Message&& m, Picos t) {
     if (progress_ && !isControl(m.type)) progress_->mark(t);  // work moves; load reports alone are no progress
     const int lane = laneOf(m.type);
     Lane& l = lanes_[lane];
-    if (l.backlog.empty() && l.slotFree_()) {
-        putOnWire(lane, t, std::move(m), takeSlot(l));  // the usual case: a slot is free, nothing waits before it
+    const bool nothingWaits = l.waiting() == 0;
+    l.queue.emplace_back(t, std::move(m));
+    if (nothingWaits && l.slotFree_()) {
+        putOnWire(lane, takeSlot(l));  // the usual case: a slot is free, nothing waits before it
         return;
     }
-    l.backlog.emplace_back(t, std::move(m));
     startWaiting(lane);
 }
 
@@ -96,15 +98,13 @@ Picos Link::takeSlot(Lane& l) {
 
 void Link::startWaiting(int lane) {
     Lane& l = lanes_[lane];
-    while (!l.backlog.empty() && l.slotFree_()) {
+    while (l.waiting() > 0 && l.slotFree_()) {
         const Picos slot = takeSlot(l);
-        Timed& w = l.backlog.front();
         if (params_.outDepth > 0) {  // a sender blocked on the full buffer has room from then
-            const Picos room = std::max(w.t, slot), k = sc_core::sc_time_stamp().value();
+            const Picos room = std::max(l.firstWaiting().sent, slot), k = sc_core::sc_time_stamp().value();
             room_->notify(sc_core::sc_time::from_value(room > k ? room - k : 0));
         }
-        putOnWire(lane, w.t, std::move(w.m), slot);
-        l.backlog.pop_front();
+        putOnWire(lane, slot);
     }
 }
 
@@ -114,15 +114,17 @@ Picos Link::roomAt(MsgType type, Picos t) {
     while (!l.leaving.empty() && l.leaving.front() <= t) l.leaving.pop_front();
     // Held at `t`: the backlog, and those that leave it later than `t`
     // (in the order they leave: slots come back in order).
-    const size_t held = l.backlog.size() + l.leaving.size(), cap = size_t(params_.outDepth);
+    const size_t held = l.waiting() + l.leaving.size(), cap = size_t(params_.outDepth);
     if (held < cap) return t;
     const size_t mustLeave = held - cap + 1;
     return l.leaving.size() >= mustLeave ? l.leaving[mustLeave - 1] : kRoomUnknown;
 }
 
-void Link::putOnWire(int lane, Picos sent, Message&& m, Picos slot) {
+void Link::putOnWire(int lane, Picos slot) {
     Lane& l = lanes_[lane];
-    const Picos transfer = transferTime(m.bytes());
+    Timed& w = l.firstWaiting();
+    const Picos sent = w.sent;
+    const Picos transfer = transferTime(w.m.bytes());
     const Picos ready = std::max(sent, slot);
     // Until its slot is free it is in the sender's output buffer. (With a
     // quantum the slot may be known before the message is sent, when the
@@ -140,10 +142,14 @@ void Link::putOnWire(int lane, Picos sent, Message&& m, Picos slot) {
     while (!l.waitedUntil.empty() && l.waitedUntil.front() <= sent) l.waitedUntil.pop_front();
     if (start > sent) l.waitedUntil.push_back(start);
     stats_.backlogHighWater = std::max(stats_.backlogHighWater, l.waitedUntil.size());
-    stats_.wire[size_t(m.type)] += transfer;
+    byType_[size_t(w.m.type)].wire += transfer;
     if (trace_.vcd && params_.controlDepth == 0) traceStart(start, transfer);
-    l.buffer.emplace_back(arrival, std::move(m), sent, start, ready, transfer);
-    if (l.buffer.size() == 1) headChanged();
+    w.t = arrival;
+    w.start = start;
+    w.ready = ready;
+    w.transfer = transfer;
+    if (listener_) ++listener_->buffered;
+    if (++l.onWire == 1) headChanged();
 }
 
 Picos Link::occupied() const {
@@ -155,38 +161,39 @@ Picos Link::occupied() const {
 void Link::endFrame(Picos end) {
     const bool late = tracesLate();  // a lane's messages are traced when consumed: these never were
     for (const Lane& l : lanes_) {
-        for (size_t i = 0; i < l.buffer.size(); ++i) {
-            const Timed& m = l.buffer[i];
+        for (size_t i = 0; i < l.buffered(); ++i) {
+            const Timed& m = l.queue[i];
             const Picos done = m.start + m.transfer;
-            if (done > end) stats_.wire[size_t(m.m.type)] -= done - std::max(m.start, end);
+            if (done > end) byType_[size_t(m.m.type)].wire -= done - std::max(m.start, end);
             if (late) {
                 trace_.vcd->step(m.sent, trace_.backlog, 1);
                 traceStart(m.start, m.transfer);
             }
         }
         if (late)
-            for (size_t i = 0; i < l.backlog.size(); ++i) trace_.vcd->step(l.backlog[i].t, trace_.backlog, 1);
+            for (size_t i = l.buffered(); i < l.queue.size(); ++i) trace_.vcd->step(l.queue[i].sent, trace_.backlog, 1);
     }
 }
 
 Picos Link::scheduleControl(Picos ready, Picos transfer) {
-    Fifo<Timed>& data = lanes_[kData].buffer;  // in the order they go on the wire
-    size_t first = 0;                          // the first data message not started by `ready`
-    while (first < data.size() && data[first].start < ready) ++first;
-    if (first < data.size() && data[first].owed) ++first;  // its turn: it goes first (round-robin)
+    Fifo<Timed>& data = lanes_[kData].queue;  // on the wire: the first onWire, in the order they go on it
+    const size_t onWire = lanes_[kData].onWire;
+    size_t first = 0;  // the first data message not started by `ready`
+    while (first < onWire && data[first].start < ready) ++first;
+    if (first < onWire && data[first].owed) ++first;  // its turn: it goes first (round-robin)
     Picos start = std::max(ready, controlFree_);
     if (first > 0) start = std::max(start, data[first - 1].start + data[first - 1].transfer);  // on the wire then
     controlFree_ = start + transfer;
     Picos end = controlFree_;
-    if (first < data.size() && data[first].ready < end) data[first].owed = true;  // it waits for this one
-    for (size_t i = first; i < data.size(); ++i) {
+    if (first < onWire && data[first].ready < end) data[first].owed = true;  // it waits for this one
+    for (size_t i = first; i < onWire; ++i) {
         Timed& d = data[i];
         d.start = std::max(d.ready, end);
         end = d.start + d.transfer;
         d.t = end + params_.latency;
     }
     wireFree_ = std::max(wireFree_, end);
-    if (first == 0 && !data.empty()) headChanged();  // the data head moved
+    if (first == 0 && onWire > 0) headChanged();  // the data head moved
     return start;
 }
 
@@ -198,32 +205,39 @@ bool Link::peekArrival(Picos& arrival) const {
 size_t Link::arrivedBy(Picos t) const {
     size_t n = 0;
     for (const Lane& l : lanes_)
-        for (size_t i = 0; i < l.buffer.size() && l.buffer[i].t <= t; ++i) ++n;  // buffers are in arrival order
+        for (size_t i = 0; i < l.buffered() && l.queue[i].t <= t; ++i) ++n;  // buffers are in arrival order
     return n;
 }
 
 bool Link::controlArrivedBy(Picos t) const {
-    const Fifo<Timed>& c = lanes_[kControl].buffer;
-    return !c.empty() && c.front().t <= t;
+    const Lane& c = lanes_[kControl];
+    return c.buffered() && c.head().t <= t;
 }
 
 Message Link::consumeControl(Picos t) { return take(kControl, t); }
 
 Message Link::consume(Picos t) {
-    const Fifo<Timed>&d = lanes_[kData].buffer, &c = lanes_[kControl].buffer;
-    const bool control = !c.empty() && (d.empty() || c.front().t <= d.front().t);  // ties to control
+    const Lane &d = lanes_[kData], &c = lanes_[kControl];
+    const bool control = c.buffered() && (!d.buffered() || c.head().t <= d.head().t);  // ties to control
     return take(control ? kControl : kData, t);
 }
 
 Message Link::take(int lane, Picos t) {
     Lane& l = lanes_[lane];
-    if (l.buffer.empty() || l.buffer.front().t > t) throw std::logic_error(name_ + ": consumed before arrival");
+    if (!l.buffered() || l.head().t > t) throw std::logic_error(name_ + ": consumed before arrival");
     // Messages on the lane when this one went on the wire: those before it
-    // not consumed by then, and itself.
-    while (!l.consumedAt.empty() && l.consumedAt.front() <= l.buffer.front().start) l.consumedAt.pop_front();
-    l.consumedAt.push_back(t);
-    stats_.bufferHighWater = std::max(stats_.bufferHighWater, l.consumedAt.size());
-    const Timed& head = l.buffer.front();
+    // not consumed by then, and itself. Each holds a slot, so they are at
+    // most the lane's slots; once the mark has reached that, no message can
+    // raise it, and the lane stops keeping the times (a cold block per
+    // link: most messages on the 16x16x16 mesh go on links that fill
+    // their 16 slots).
+    const size_t slots = size_t(lane == kData ? params_.depth : params_.controlDepth);
+    if (stats_.bufferHighWater < slots) {
+        while (!l.consumedAt.empty() && l.consumedAt.front() <= l.head().start) l.consumedAt.pop_front();
+        l.consumedAt.push_back(t);
+        stats_.bufferHighWater = std::max(stats_.bufferHighWater, l.consumedAt.size());
+    }
+    const Timed& head = l.head();
     stats_.slotWait += head.ready - head.sent;
     stats_.wireWait += head.start - head.ready;
     ++stats_.consumed;
@@ -236,9 +250,11 @@ Message Link::take(int lane, Picos t) {
         }
         v.step(t, trace_.buffered, -1);
     }
-    Message m = std::move(l.buffer.front().m);
-    l.buffer.pop_front();
-    --inFlight_[int(m.type)];
+    Message m = std::move(l.head().m);
+    l.queue.pop_front();
+    --l.onWire;
+    if (listener_) --listener_->buffered;
+    --byType_[size_t(m.type)].inFlight;
     l.slotFree.push_back(t + params_.latency);  // the credit travels back
     headChanged();
     startWaiting(lane);

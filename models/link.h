@@ -59,8 +59,6 @@
 namespace rt {
 
 struct LinkStats {
-    std::array<uint64_t, kMsgTypes> messages{}, bytes{};
-    std::array<Picos, kMsgTypes> wire{};  // time on the wire, by type (the wire's busy time: their sum)
     // Of the messages consumed: time from being sent to having a slot (in
     // the sender's backlog, its output buffer), from having a slot to
     // starting on the wire (behind other messages), and from being sent to
@@ -68,11 +66,13 @@ struct LinkStats {
     // contributions and credit, and for balancing messages (isControl).
     Picos slotWait = 0, wireWait = 0;
     uint64_t consumed = 0;
-    Histogram latency, controlLatency;
     // High-water marks in simulated time (so the same in every exact mode,
     // whatever order the kernel runs the processes in):
     size_t backlogHighWater = 0;  // messages sent and not yet on the wire, at once
     size_t bufferHighWater = 0;   // messages on the wire or arrived and not consumed, at once
+    Histogram latency, controlLatency;
+    std::array<uint64_t, kMsgTypes> messages{}, bytes{};
+    std::array<Picos, kMsgTypes> wire{};  // time on the wire, by type (the wire's busy time: their sum)
     Picos wireBusy() const {
         Picos b = 0;
         for (Picos w : wire) b += w;
@@ -129,6 +129,12 @@ class ArrivalListener {
 public:
     virtual ~ArrivalListener() = default;
     virtual void headChanged(int port, Picos arrival) = 0;
+    // Messages on the links it listens to (on the wire or arrived), not yet
+    // consumed: counted by the links as they go on the wire and are taken.
+    // A node reads it every step, and asking each link touched a link
+    // object per port that was out of cache (on the 16x16x16 mesh, half of
+    // Node::step's own time).
+    size_t buffered = 0;
 };
 
 class LinkRecvIf : public virtual sc_core::sc_interface {
@@ -186,13 +192,22 @@ public:
     bool controlArrivedBy(Picos t) const override;
     Message consumeControl(Picos t) override;
     void setListener(ArrivalListener* l, int port) override {
+        if (listener_) listener_->buffered -= unconsumed();
         listener_ = l;
         listenerPort_ = port;
+        if (listener_) listener_->buffered += unconsumed();
         headChanged();
     }
 
     const LinkParams& params() const override { return params_; }
-    const LinkStats& stats() const { return stats_; }
+    const LinkStats& stats() const {
+        for (int t = 0; t < kMsgTypes; ++t) {
+            stats_.messages[size_t(t)] = byType_[size_t(t)].messages;
+            stats_.bytes[size_t(t)] = byType_[size_t(t)].bytes;
+            stats_.wire[size_t(t)] = byType_[size_t(t)].wire;
+        }
+        return stats_;
+    }
     // The frame ended at `end`: the wire time after it is taken out of the
     // figures (a node running ahead of the kernel may have sent a load
     // report that goes on the wire after the last contribution arrived;
@@ -210,44 +225,57 @@ public:
     // change this link records later is earlier (VcdStream's horizon).
     Picos oldestSent() const {
         Picos t = ~Picos(0);
-        for (const Lane& l : lanes_) {
-            if (!l.backlog.empty()) t = std::min(t, l.backlog.front().t);
-            if (!l.buffer.empty()) t = std::min(t, l.buffer.front().sent);
-        }
+        for (const Lane& l : lanes_)
+            if (!l.queue.empty()) t = std::min(t, l.queue.front().sent);  // (a lane's queue is in the order sent)
         return t;
     }
-    size_t backlog() const { return lanes_[0].backlog.size() + lanes_[1].backlog.size(); }
+    size_t backlog() const { return lanes_[0].waiting() + lanes_[1].waiting(); }
     // Messages of this type sent and not yet consumed.
-    uint64_t inFlight(MsgType t) const { return inFlight_[int(t)]; }
+    uint64_t inFlight(MsgType t) const { return byType_[size_t(t)].inFlight; }
     uint64_t workInFlight() const override {
         uint64_t n = 0;
         for (int t = 0; t < kMsgTypes; ++t)
-            if (!isControl(MsgType(t))) n += inFlight_[size_t(t)];
+            if (!isControl(MsgType(t))) n += byType_[size_t(t)].inFlight;
         return n;
     }
     size_t arrivedBy(Picos t) const override;
-    size_t unconsumed() const override { return lanes_[0].buffer.size() + lanes_[1].buffer.size(); }
+    size_t unconsumed() const override { return lanes_[0].buffered() + lanes_[1].buffered(); }
     const std::string& name() const { return name_; }
 
 private:
     struct Timed {
         // (A constructor, not an aggregate: GCC cleared the whole 232-byte
         // slot before writing the fields when it was built from braces.)
-        Timed(Picos t_, Message&& m_, Picos sent_ = 0, Picos start_ = 0, Picos ready_ = 0, Picos transfer_ = 0)
-            : t(t_), m(std::move(m_)), sent(sent_), start(start_), ready(ready_), transfer(transfer_) {}
-        Picos t;
+        Timed(Picos sent_, Message&& m_) : t(sent_), m(std::move(m_)), sent(sent_) {}
+        Picos t;             // in the backlog: when sent; on the wire: its arrival
         Message m;
-        Picos sent = 0;      // in a buffer: when the sender sent it
-        Picos start = 0;     // in a buffer: when it went on the wire
-        Picos ready = 0;     // in a buffer: when it could have (sent, and a slot free)
-        Picos transfer = 0;  // in a buffer: its time on the wire
+        Picos sent = 0;      // when the sender sent it
+        Picos start = 0;     // on the wire: when it went on the wire
+        Picos ready = 0;     // on the wire: when it could have (sent, and a slot free)
+        Picos transfer = 0;  // on the wire: its time on the wire
         bool owed = false;   // a data message a control message went ahead of: it goes before the next one
     };
-    // One virtual channel: its slots, its backlog and its buffer.
+    // One virtual channel: its slots, its buffer and its backlog.
+    //
+    // Both are one queue in the order the messages were sent: the first
+    // `onWire` are the buffer (on the wire or arrived, not consumed; in the
+    // order they go on the wire, which is the order they were sent in), the
+    // rest the backlog (sent, waiting for a slot). A message given a slot
+    // stays where it is and only the split moves: in a quantum's run most
+    // messages wait for a slot, and moving each from one queue to another
+    // copied 232 bytes into memory the receiver then read cold.
     struct Lane {
-        Fifo<Timed> backlog;   // sent, waiting for a slot (t: when sent)
-        Fifo<Timed> buffer;    // on the wire or arrived, not consumed (t: arrival)
+        Fifo<Timed> queue;
+        size_t onWire = 0;
+        size_t buffered() const { return onWire; }
+        size_t waiting() const { return queue.size() - onWire; }
+        Timed& head() { return queue.front(); }  // the oldest on the wire (buffered() > 0)
+        const Timed& head() const { return queue.front(); }
+        Timed& firstWaiting() { return queue[onWire]; }  // (waiting() > 0)
         int unusedSlots = 0;   // slots never used yet (free since time 0)
+        // Every message sent: its transfer and the latency there and back,
+        // summed (the slots' round trips it owes, for occupied()).
+        Picos held = 0;
         Fifo<Picos> slotFree;  // slots returned by the receiver, free from these times
         // For the high-water marks: when the messages that waited for the
         // wire started, and when the last messages were consumed.
@@ -255,16 +283,13 @@ private:
         // With an output depth: when the messages that left the backlog
         // (given a slot) leave the sender's buffer, from the sender's time on.
         Fifo<Picos> leaving;
-        // Every message sent: its transfer and the latency there and back,
-        // summed (the slots' round trips it owes, for occupied()).
-        Picos held = 0;
         bool slotFree_() const { return unusedSlots > 0 || !slotFree.empty(); }
     };
     static constexpr int kData = 0, kControl = 1;
     int laneOf(MsgType t) const { return params_.controlDepth > 0 && isControl(t) ? kControl : kData; }
     void startWaiting(int lane);  // puts backlog messages on the wire while slots allow
     Picos takeSlot(Lane& l);      // a free slot (one must be), and when it became free
-    void putOnWire(int lane, Picos sent, Message&& m, Picos slot);
+    void putOnWire(int lane, Picos slot);  // the lane's first waiting message
     // A control message ready at `ready`: its start on the wire, after the
     // message being sent then; the data messages not started by then move
     // back behind it.
@@ -273,29 +298,40 @@ private:
     Picos transferTime(uint32_t bytes) const;
     // The oldest unconsumed message's arrival (~0 if none), and telling the listener.
     Picos headArrival() const {
-        const Fifo<Timed>&d = lanes_[kData].buffer, &c = lanes_[kControl].buffer;
-        return std::min(d.empty() ? ~Picos(0) : d.front().t, c.empty() ? ~Picos(0) : c.front().t);
+        const Lane &d = lanes_[kData], &c = lanes_[kControl];
+        return std::min(d.buffered() ? d.head().t : ~Picos(0), c.buffered() ? c.head().t : ~Picos(0));
     }
     void headChanged() {
         if (listener_) listener_->headChanged(listenerPort_, headArrival());
     }
     void traceStart(Picos start, Picos transfer);  // (trace_ set)
 
-    std::string name_;
+    // What a message sent or taken touches comes first, so that it shares
+    // a few cache lines: on a large mesh a link is out of cache whenever it
+    // is used (the 16x16x16 mesh has 27,000 links and ports).
     LinkParams params_;
     uint32_t smallest_;
     mutable uint32_t lastBytes_ = 0;   // transferTime's last message size
     mutable Picos lastTransfer_ = 0;   // and its time on the wire
-    std::array<Lane, 2> lanes_;
     Picos owedWire_ = 0;     // every message sent: its time on the wire (occupied())
     Picos wireFree_ = 0;     // the end of the last transmission scheduled
     Picos controlFree_ = 0;  // the end of the last control transmission
     ArrivalListener* listener_ = nullptr;
     Progress* progress_ = nullptr;  // the watchdog's (machine.h)
     int listenerPort_ = 0;
-    LinkStats stats_;
-    std::array<uint64_t, kMsgTypes> inFlight_{};
+    std::array<Lane, 2> lanes_;
+    // By type, counted as messages are sent, go on the wire and are taken:
+    // a type's four figures in one half cache line (stats() copies the first
+    // three into the LinkStats).
+    struct alignas(32) TypeCounts {
+        uint64_t messages = 0, bytes = 0;
+        Picos wire = 0;
+        uint64_t inFlight = 0;  // sent, not yet consumed
+    };
+    std::array<TypeCounts, kMsgTypes> byType_{};
+    mutable LinkStats stats_;  // (its figures by type: from byType_)
     LinkTrace trace_;
+    std::string name_;
     // A message left a full output buffer's backlog: only with an output
     // depth (168 bytes, on each of the 16x16x16 mesh's 90,000 links).
     std::unique_ptr<sc_core::sc_event> room_;

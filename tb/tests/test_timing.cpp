@@ -20,11 +20,13 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
 
+#include "arrival_queue.h"
 #include "busy_by_hand.h"
 #include "link.h"
 #include "machine.h"
@@ -152,6 +154,53 @@ TEST_P(LinkOracle, SaturatedLinkFollowsTheClosedForm) {
     EXPECT_EQ(link.stats().wireWait, wireWait);
     EXPECT_EQ(link.stats().wire[int(MsgType::Ray)], Picos(messages) * T);
     EXPECT_EQ(link.stats().consumed, uint64_t(messages));
+}
+
+// The high-water marks, from the same closed form. Buffer: message k and
+// the earlier ones not yet consumed (at their arrival) when k went on the
+// wire, at most D (each holds a slot); with L = 100 ns and T = 132 ns, D = 16,
+// that is 2 (k and k - 1). Backlog: everything is sent at 0, and all but the
+// first message are off the wire then.
+TEST_P(LinkOracle, HighWaterMarksFollowTheClosedForm) {
+    const Saturated& s = GetParam();
+    Link link("l", LinkParams{s.latency, s.bandwidth, s.depth});
+    const int messages = 5 * s.depth + 7;
+    for (int k = 0; k < messages; ++k) link.send(rays(1), 0);
+    const Picos T = wire(kHeader + kRay, s.bandwidth), L = s.latency, D = Picos(s.depth);
+    const Picos period = std::max(T + 2 * L, D * T);
+    auto start = [&](int k) { return Picos(k) / D * period + Picos(k) % D * T; };
+    size_t buffer = 0;
+    for (int k = 0; k < messages; ++k) {
+        size_t onLane = 1;
+        for (int j = 0; j < k; ++j) onLane += start(j) + T + L > start(k);
+        buffer = std::max(buffer, onLane);
+    }
+    ASSERT_LE(buffer, size_t(s.depth));
+    for (int k = 0; k < messages; ++k) {
+        Picos a;
+        ASSERT_TRUE(link.peekArrival(a));
+        link.consume(a);
+    }
+    EXPECT_EQ(link.stats().bufferHighWater, buffer);
+    EXPECT_EQ(link.stats().backlogHighWater, size_t(messages - 1));
+    if (s.depth == 16 && s.latency == 100000 && s.bandwidth == 1e9) {
+        EXPECT_EQ(buffer, 2u);  // (by hand, above)
+    }
+}
+
+// A receiver that takes nothing until every message is on the wire: its
+// buffer fills every slot, and no more.
+TEST(LinkOracleBy, UnreadBufferFillsEverySlot) {
+    for (int depth : {1, 3, 16}) {
+        Link link("l", LinkParams{100000, 1e9, depth});
+        for (int k = 0; k < 3 * depth; ++k) link.send(rays(1), 0);
+        Picos a = 0;
+        for (int k = 0; k < 3 * depth; ++k) {  // the first `depth` all at once, late; the rest later still
+            ASSERT_TRUE(link.peekArrival(a));
+            link.consume(k < depth ? Picos(1) << 40 : a + (Picos(1) << 40));
+        }
+        EXPECT_EQ(link.stats().bufferHighWater, size_t(depth)) << "depth " << depth;
+    }
 }
 
 // The wire's utilisation under saturation: D T / max(T + 2L, D T) (busy T
@@ -537,3 +586,49 @@ s 10 10 10 0.1
 
 INSTANTIATE_TEST_SUITE_P(Planes, RayBetweenColumns, testing::Values(true, false),
                          [](const testing::TestParamInfo<bool>& i) { return i.param ? "NotInLine" : "InLine"; });
+
+// ---- The order a process takes its input in (arrival_queue.h), with the
+// links driven by hand: the oldest arrival first, ties to the lower port;
+// and the count of messages on its links. A node's six ports are scanned,
+// a frame-buffer unit's many go through a heap: both must choose the same.
+TEST(ArrivalOrder, OldestFirstTiesToTheLowerPort) {
+    for (size_t ports : {4, 6, 12, 40}) {
+        SCOPED_TRACE(std::to_string(ports) + " ports");
+        std::vector<std::unique_ptr<Link>> links;
+        std::vector<LinkRecvIf*> in;
+        for (size_t p = 0; p < ports; ++p) {
+            links.push_back(std::make_unique<Link>("l" + std::to_string(p), LinkParams{100000, 1e9, 16}));
+            in.push_back(links.back().get());
+        }
+        in[1] = nullptr;  // an unbound port keeps its index
+        ArrivalQueue q;
+        q.listen(in);
+        const Picos T = wire(kHeader + kRay, 1e9), L = 100000;
+        // Port 2 and the last port send at 0 (a tie), port 0 at 5 ns, the
+        // last port once more at 0 (behind its first).
+        const size_t last = ports - 1;
+        links[2]->send(rays(1), 0);
+        links[last]->send(rays(1), 0);
+        links[0]->send(rays(1), 5000);
+        links[last]->send(rays(1), 0);
+        EXPECT_EQ(q.unconsumed(), 4u);
+        Picos next = 0;
+        EXPECT_EQ(q.oldest(T + L - 1, next), -1);  // nothing has arrived yet
+        EXPECT_EQ(next, T + L);
+        // In order: port 2 (tie, lower), the last port's first, port 0
+        // (5 ns + T + L), the last port's second (T behind its first: 2T + L).
+        const Picos at[] = {T + L, T + L, std::min(5000 + T + L, 2 * T + L), std::max(5000 + T + L, 2 * T + L)};
+        const int expect[] = {2, int(last), 5000 + T + L < 2 * T + L ? 0 : int(last),
+                              5000 + T + L < 2 * T + L ? int(last) : 0};
+        for (int k = 0; k < 4; ++k) {
+            const int p = q.oldest(at[k], next);
+            EXPECT_EQ(p, expect[k]) << "message " << k;
+            EXPECT_EQ(next, at[k]) << "message " << k;
+            if (p < 0) break;
+            links[size_t(p)]->consume(at[k]);
+            EXPECT_EQ(q.unconsumed(), size_t(3 - k));
+        }
+        EXPECT_EQ(q.oldest(~Picos(0) - 1, next), -1);
+        EXPECT_EQ(next, ~Picos(0));
+    }
+}
