@@ -8,19 +8,22 @@
 // computations); after that, values share bins of 2^kBits per octave
 // (log-linear, as HdrHistogram does), a percentile is its bin's centre and
 // is within 1/2^(kBits+1) (0.8 %) of the true value. The largest value is
-// kept exactly.
+// kept exactly. The exact values are a sorted list; the coarse bins are an
+// array of counts indexed by bin, from the lowest bin seen to the highest
+// (8 bytes a bin, 512 an octave), so a value finds its bin without a search.
 //
 // Single values wait in a few slots inside the object and go into the bins
 // a handful at a time, sorted: a link adds one per message, and its bins are
 // a block of their own that a link not used for a while has out of cache
 // (the bin search was a third of Link::take on the 16x16x16 mesh). The bins
 // do not depend on the order values come in (exact values are a set; coarse
-// ones are binOf(v) whenever they came), so the figures are the same.
+// ones are v's bin whenever they came), so the figures are the same.
 #pragma once
 
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -44,13 +47,13 @@ public:
         settle();
         o.settle();
         if (o.coarse_ && !coarse_) coarsen();
-        for (const auto& [key, n] : o.bins_) insert(key, n);  // (a coarse key is its own bin)
+        o.forEachBin([&](uint64_t key, uint64_t n) { insert(key, n); });  // (a coarse key is its own bin)
         max_ = std::max(max_, o.max_);
     }
     uint64_t count() const { return count_ + waitingCount_; }
     size_t bins() const {
         settle();
-        return bins_.size();
+        return coarse_ ? nonEmpty_ : bins_.size();
     }
     uint64_t max() const {
         settle();
@@ -62,11 +65,16 @@ public:
         settle();
         if (count_ == 0) return 0;
         uint64_t rank = std::min(count_ - 1, uint64_t(p * double(count_)));
-        for (const auto& [key, n] : bins_) {
-            if (rank < n) return coarse_ ? double(key) + double(width(key) - 1) / 2 : double(key);
+        double value = double(max_);  // (not kept)
+        forEachBin([&](uint64_t key, uint64_t n) {
+            if (rank < n) {
+                value = coarse_ ? double(key) + double(width(key) - 1) / 2 : double(key);
+                return false;
+            }
             rank -= n;
-        }
-        return double(max_);  // (not reached)
+            return true;
+        });
+        return value;
     }
 
 private:
@@ -85,8 +93,31 @@ private:
             i = j;
         }
     }
+    // Calls f(key, count) for each bin holding values, in order, until f
+    // returns false (if it returns a bool).
+    template <class F>
+    void forEachBin(F&& f) const {
+        auto call = [&](uint64_t key, uint64_t n) {
+            if constexpr (std::is_same_v<decltype(f(key, n)), bool>) return f(key, n);
+            else return f(key, n), true;
+        };
+        if (!coarse_) {
+            for (const auto& [key, n] : bins_)
+                if (!call(key, n)) return;
+            return;
+        }
+        for (size_t i = 0; i < dense_.size(); ++i)
+            if (dense_[i] && !call(keyOf(base_ + i), dense_[i])) return;
+    }
+
     void insert(uint64_t v, uint64_t n) const {
-        const uint64_t key = coarse_ ? binOf(v) : v;
+        if (coarse_) {
+            addToBin(indexOf(v), n);
+            count_ += n;
+            max_ = std::max(max_, v);
+            return;
+        }
+        const uint64_t key = v;
         if (last_ < bins_.size() && bins_[last_].first == key) {  // (a link's messages often take the same time)
             bins_[last_].second += n;
         } else {
@@ -122,7 +153,22 @@ private:
         }
         count_ += n;
         max_ = std::max(max_, v);
-        if (!coarse_ && bins_.size() > kExact) coarsen();
+        if (bins_.size() > kExact) coarsen();
+    }
+    // A coarse bin's count: the array grows to take in a bin below or above it.
+    void addToBin(size_t index, uint64_t n) const {
+        if (dense_.empty()) {
+            base_ = uint32_t(index);
+            dense_.assign(1, 0);
+        } else if (index < base_) {
+            dense_.insert(dense_.begin(), base_ - index, 0);
+            base_ = uint32_t(index);
+        } else if (index - base_ >= dense_.size()) {
+            dense_.resize(index - base_ + 1, 0);
+        }
+        uint64_t& c = dense_[index - base_];
+        nonEmpty_ += c == 0;
+        c += n;
     }
 
     // The bin of v: v with all but its kBits + 1 leading bits cleared.
@@ -130,7 +176,19 @@ private:
         const int msb = v ? 63 - __builtin_clzll(v) : 0;  // (once per message: no loop)
         return uint64_t(1) << std::max(0, msb - kBits);
     }
-    static uint64_t binOf(uint64_t v) { return v & ~(width(v) - 1); }
+    // Bins numbered in order: values below 2^(kBits+1) are their own bins,
+    // then 2^kBits bins per octave.
+    static size_t indexOf(uint64_t v) {
+        const int msb = v ? 63 - __builtin_clzll(v) : 0;
+        if (msb <= kBits) return size_t(v);
+        const int shift = msb - kBits;
+        return (size_t(shift) << kBits) + size_t(v >> shift);
+    }
+    static uint64_t keyOf(size_t index) {  // the lowest value of bin `index`
+        if (index < (size_t(2) << kBits)) return index;
+        const size_t shift = (index >> kBits) - 1;
+        return uint64_t(index - (shift << kBits)) << shift;
+    }
     void coarsen() const {
         coarse_ = true;
         std::vector<std::pair<uint64_t, uint64_t>> old;
@@ -142,7 +200,9 @@ private:
         max_ = m;
     }
 
-    mutable std::vector<std::pair<uint64_t, uint64_t>> bins_;  // (value or bin, count), sorted
+    mutable std::vector<std::pair<uint64_t, uint64_t>> bins_;  // exact: (value, count), sorted
+    mutable std::vector<uint64_t> dense_;  // coarse: the counts of bins base_, base_ + 1, ...
+    mutable uint32_t base_ = 0, nonEmpty_ = 0;  // (a bin's index is below 2^(kBits + 7))
     mutable uint64_t count_ = 0, max_ = 0;  // of the values in the bins
     mutable size_t last_ = ~size_t(0);      // the bin the last value went to
     mutable bool coarse_ = false;

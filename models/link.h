@@ -58,7 +58,8 @@
 
 namespace rt {
 
-struct LinkStats {
+// A link's figures but those by message type (what it keeps as a struct).
+struct LinkFlow {
     // Of the messages consumed: time from being sent to having a slot (in
     // the sender's backlog, its output buffer), from having a slot to
     // starting on the wire (behind other messages), and from being sent to
@@ -71,6 +72,9 @@ struct LinkStats {
     size_t backlogHighWater = 0;  // messages sent and not yet on the wire, at once
     size_t bufferHighWater = 0;   // messages on the wire or arrived and not consumed, at once
     Histogram latency, controlLatency;
+};
+
+struct LinkStats : LinkFlow {
     std::array<uint64_t, kMsgTypes> messages{}, bytes{};
     std::array<Picos, kMsgTypes> wire{};  // time on the wire, by type (the wire's busy time: their sum)
     Picos wireBusy() const {
@@ -200,13 +204,15 @@ public:
     }
 
     const LinkParams& params() const override { return params_; }
-    const LinkStats& stats() const {
-        for (int t = 0; t < kMsgTypes; ++t) {
-            stats_.messages[size_t(t)] = byType_[size_t(t)].messages;
-            stats_.bytes[size_t(t)] = byType_[size_t(t)].bytes;
-            stats_.wire[size_t(t)] = byType_[size_t(t)].wire;
+    LinkStats stats() const {
+        LinkStats s;
+        static_cast<LinkFlow&>(s) = stats_;
+        for (size_t t = 0; t < size_t(kMsgTypes); ++t) {
+            s.messages[t] = byType_[t].messages;
+            s.bytes[t] = byType_[t].bytes;
+            s.wire[t] = byType_[t].wire;
         }
-        return stats_;
+        return s;
     }
     // The frame ended at `end`: the wire time after it is taken out of the
     // figures (a node running ahead of the kernel may have sent a load
@@ -321,15 +327,15 @@ private:
     int listenerPort_ = 0;
     std::array<Lane, 2> lanes_;
     // By type, counted as messages are sent, go on the wire and are taken:
-    // a type's four figures in one half cache line (stats() copies the first
-    // three into the LinkStats).
+    // a type's four figures in one half cache line (stats() adds the first
+    // three to the rest).
     struct alignas(32) TypeCounts {
         uint64_t messages = 0, bytes = 0;
         Picos wire = 0;
         uint64_t inFlight = 0;  // sent, not yet consumed
     };
     std::array<TypeCounts, kMsgTypes> byType_{};
-    mutable LinkStats stats_;  // (its figures by type: from byType_)
+    LinkFlow stats_;
     LinkTrace trace_;
     std::string name_;
     // A message left a full output buffer's backlog: only with an output

@@ -279,7 +279,7 @@ TEST(LinkOracleBy, LatencyPercentilesByHand) {
     std::vector<Picos> lat(taken, taken + 10);
     std::sort(lat.begin(), lat.end());
     EXPECT_EQ(lat[5], 1028000);
-    const Histogram& h = link.stats().latency;
+    const Histogram h = link.stats().latency;
     EXPECT_EQ(h.percentile(0.5), double(lat[5]));   // rank 5
     EXPECT_EQ(h.percentile(0.95), double(lat[9]));  // rank 9
     EXPECT_EQ(h.max(), uint64_t(lat[9]));
