@@ -59,18 +59,19 @@ void Link::traceStart(Picos start, Picos transfer) {
 
 void Link::send(Message&& m, Picos t) {
     const int type = int(m.type);
+    const uint32_t bytes = m.bytes();
     // The receiver runs ahead by its lookahead, which counts on no message
     // arriving sooner than the smallest one would.
-    if (m.bytes() < smallest_)
-        throw std::logic_error(name_ + ": a " + msgTypeName(m.type) + " message of " + std::to_string(m.bytes()) +
+    if (bytes < smallest_)
+        throw std::logic_error(name_ + ": a " + msgTypeName(m.type) + " message of " + std::to_string(bytes) +
                                " bytes, smaller than the " + std::to_string(smallest_) + " its receiver's lookahead counts on");
     if (trace_.vcd && params_.controlDepth == 0) trace_.vcd->step(t, trace_.backlog, 1);
     TypeCounts& counts = byType_[size_t(type)];
     ++counts.messages;
-    counts.bytes += m.bytes();
+    counts.bytes += bytes;
     ++counts.inFlight;
     {  // what the link owes for it (occupied())
-        const Picos transfer = transferTime(m.bytes());
+        const Picos transfer = transferTime(bytes);
         owedWire_ += transfer;
         lanes_[laneOf(m.type)].held += transfer + 2 * params_.latency;
     }
@@ -78,7 +79,8 @@ void Link::send(Message&& m, Picos t) {
     const int lane = laneOf(m.type);
     Lane& l = lanes_[lane];
     const bool nothingWaits = l.waiting() == 0;
-    l.queue.emplace_back(t, std::move(m));
+    l.queue.emplace_back(t, bytes, m.type);
+    l.messages.emplace_back(std::move(m));
     if (nothingWaits && l.slotFree_()) {
         putOnWire(lane, takeSlot(l));  // the usual case: a slot is free, nothing waits before it
         return;
@@ -124,7 +126,7 @@ void Link::putOnWire(int lane, Picos slot) {
     Lane& l = lanes_[lane];
     Timed& w = l.firstWaiting();
     const Picos sent = w.sent;
-    const Picos transfer = transferTime(w.m.bytes());
+    const Picos transfer = transferTime(w.bytes);
     const Picos ready = std::max(sent, slot);
     // Until its slot is free it is in the sender's output buffer. (With a
     // quantum the slot may be known before the message is sent, when the
@@ -142,7 +144,7 @@ void Link::putOnWire(int lane, Picos slot) {
     while (!l.waitedUntil.empty() && l.waitedUntil.front() <= sent) l.waitedUntil.pop_front();
     if (start > sent) l.waitedUntil.push_back(start);
     stats_.backlogHighWater = std::max(stats_.backlogHighWater, l.waitedUntil.size());
-    byType_[size_t(w.m.type)].wire += transfer;
+    byType_[size_t(w.type)].wire += transfer;
     if (trace_.vcd && params_.controlDepth == 0) traceStart(start, transfer);
     w.t = arrival;
     w.start = start;
@@ -164,7 +166,7 @@ void Link::endFrame(Picos end) {
         for (size_t i = 0; i < l.buffered(); ++i) {
             const Timed& m = l.queue[i];
             const Picos done = m.start + m.transfer;
-            if (done > end) byType_[size_t(m.m.type)].wire -= done - std::max(m.start, end);
+            if (done > end) byType_[size_t(m.type)].wire -= done - std::max(m.start, end);
             if (late) {
                 trace_.vcd->step(m.sent, trace_.backlog, 1);
                 traceStart(m.start, m.transfer);
@@ -241,7 +243,7 @@ Message Link::take(int lane, Picos t) {
     stats_.slotWait += head.ready - head.sent;
     stats_.wireWait += head.start - head.ready;
     ++stats_.consumed;
-    (isControl(head.m.type) ? stats_.controlLatency : stats_.latency).add(t - head.sent);
+    (isControl(head.type) ? stats_.controlLatency : stats_.latency).add(t - head.sent);
     if (trace_.vcd) {
         VcdStream& v = *trace_.vcd;
         if (params_.controlDepth > 0) {  // (its start may have moved: recorded now, when final)
@@ -250,7 +252,8 @@ Message Link::take(int lane, Picos t) {
         }
         v.step(t, trace_.buffered, -1);
     }
-    Message m = std::move(l.head().m);
+    Message m = std::move(l.messages.front());
+    l.messages.pop_front();
     l.queue.pop_front();
     --l.onWire;
     if (listener_) --listener_->buffered;

@@ -127,7 +127,7 @@ MUTANTS = [
      "stats_.slotWait += head.ready - head.sent;", "stats_.slotWait += head.start - head.sent;",
      "the time waiting for the wire counted as waiting for a slot too"),
     ("link-wire-busy-without-headers", "models/link.cpp",
-     "byType_[size_t(w.m.type)].wire += transfer;", "byType_[size_t(w.m.type)].wire += transferTime(w.m.bytes() - 8);",
+     "byType_[size_t(w.type)].wire += transfer;", "byType_[size_t(w.type)].wire += transferTime(w.bytes - 8);",
      "a link's busy time leaves out each message's header"),
     ("buffer-high-water-stops-a-slot-short", "models/link.cpp",
      "if (stats_.bufferHighWater < slots) {", "if (stats_.bufferHighWater + 1 < slots) {",
