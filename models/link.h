@@ -319,7 +319,7 @@ private:
 
     // What a message sent or taken touches comes first, so that it shares
     // a few cache lines: on a large mesh a link is out of cache whenever it
-    // is used (the 16x16x16 mesh has 27,000 links and ports).
+    // is used (the 16x16x16 mesh has about 90,000 links).
     LinkParams params_;
     uint32_t smallest_;
     mutable uint32_t lastBytes_ = 0;   // transferTime's last message size
