@@ -113,6 +113,15 @@ void PrintTo(const Saturated& s, std::ostream* os) {
 
 class LinkOracle : public testing::TestWithParam<Saturated> {};
 
+// The closed form below: a ray message's time on the wire T, the latency L,
+// the depth D, each group of D messages' period, and when message k starts.
+struct SaturatedForm {
+    Picos T, L, D, period;
+    explicit SaturatedForm(const Saturated& s)
+        : T(wire(kHeader + kRay, s.bandwidth)), L(s.latency), D(Picos(s.depth)), period(std::max(T + 2 * L, D * T)) {}
+    Picos start(int k) const { return Picos(k) / D * period + Picos(k) % D * T; }
+};
+
 // Message k starts on the wire when the wire is free and a slot is: the
 // first `depth` at once, one after another; each later one when the slot of
 // message k - depth comes back (consumed at its arrival, back one latency
@@ -124,14 +133,13 @@ TEST_P(LinkOracle, SaturatedLinkFollowsTheClosedForm) {
     Link link("l", LinkParams{s.latency, s.bandwidth, s.depth});
     const int messages = 5 * s.depth + 7;
     for (int k = 0; k < messages; ++k) link.send(rays(1), 0);
-    const Picos T = wire(kHeader + kRay, s.bandwidth), L = s.latency, D = Picos(s.depth);
-    const Picos period = std::max(T + 2 * L, D * T);  // of each group of D messages
+    const SaturatedForm f(s);
+    const Picos T = f.T, L = f.L, D = f.D, period = f.period;
     std::vector<Picos> arrivals;
     for (int k = 0; k < messages; ++k) {
         Picos a;
         ASSERT_TRUE(link.peekArrival(a));
-        const Picos start = Picos(k) / D * period + Picos(k) % D * T;
-        EXPECT_EQ(a, start + T + L) << "message " << k;
+        EXPECT_EQ(a, f.start(k) + T + L) << "message " << k;
         link.consume(a);
         arrivals.push_back(a);
     }
@@ -145,10 +153,9 @@ TEST_P(LinkOracle, SaturatedLinkFollowsTheClosedForm) {
     // came back (T + 2L after it started), then for the wire.
     Picos slotWait = 0, wireWait = 0;
     for (int k = 0; k < messages; ++k) {
-        const Picos start = Picos(k) / D * period + Picos(k) % D * T;
         const Picos ready = k < s.depth ? 0 : (Picos(k) / D - 1) * period + Picos(k) % D * T + T + 2 * L;
         slotWait += ready;
-        wireWait += start - ready;
+        wireWait += f.start(k) - ready;
     }
     EXPECT_EQ(link.stats().slotWait, slotWait);
     EXPECT_EQ(link.stats().wireWait, wireWait);
@@ -166,13 +173,11 @@ TEST_P(LinkOracle, HighWaterMarksFollowTheClosedForm) {
     Link link("l", LinkParams{s.latency, s.bandwidth, s.depth});
     const int messages = 5 * s.depth + 7;
     for (int k = 0; k < messages; ++k) link.send(rays(1), 0);
-    const Picos T = wire(kHeader + kRay, s.bandwidth), L = s.latency, D = Picos(s.depth);
-    const Picos period = std::max(T + 2 * L, D * T);
-    auto start = [&](int k) { return Picos(k) / D * period + Picos(k) % D * T; };
+    const SaturatedForm f(s);
     size_t buffer = 0;
     for (int k = 0; k < messages; ++k) {
         size_t onLane = 1;
-        for (int j = 0; j < k; ++j) onLane += start(j) + T + L > start(k);
+        for (int j = 0; j < k; ++j) onLane += f.start(j) + f.T + f.L > f.start(k);
         buffer = std::max(buffer, onLane);
     }
     ASSERT_LE(buffer, size_t(s.depth));
@@ -215,9 +220,9 @@ TEST_P(LinkOracle, SaturatedUtilisationIsTheClosedForm) {
         ASSERT_TRUE(link.peekArrival(a));
         link.consume(a);
     }
-    const Picos T = wire(kHeader + kRay, s.bandwidth), L = s.latency, D = Picos(s.depth);
-    const double utilisation = double(link.stats().wireBusy()) / double(a - L);  // to the last message's end on the wire
-    const double closed = double(D * T) / double(std::max(T + 2 * L, D * T));
+    const SaturatedForm f(s);
+    const double utilisation = double(link.stats().wireBusy()) / double(a - f.L);  // to the last message's end on the wire
+    const double closed = double(f.D * f.T) / double(f.period);
     EXPECT_NEAR(utilisation / closed, 1.0, 0.01) << utilisation << " against " << closed;
 }
 
