@@ -46,11 +46,28 @@ constexpr uint32_t kSmallestFbMessage = kHeaderBytes;
 // Bytes of one object on the wire: id, material, kind, then its geometry.
 uint32_t objectBytes(const Shape& s);
 
-// One ray on the wire, with its credit 2^-creditExp.
+// One ray on the wire, with its credit 2^-creditExp: what kRayBytes counts,
+// the job without its ray's reciprocal direction. The receiver computes that
+// again as Ray's constructor did, from the same direction, so the ray it
+// traces is the sender's to the bit; a link holding a message per ray in
+// flight keeps 112 bytes each instead of 144 (doc/exploration.md).
 struct RayItem {
-    RayJob job;
+    Vec3 o, d;
+    double t0 = 0, tEnd = 0;
+    Vec3 weight{1.0};
+    uint32_t pixel = 0;
+    PathKey key;
+    uint8_t depth = 0;
+    RayKind kind = RayKind::Primary;
     uint16_t creditExp = 0;
+
+    RayItem() = default;
+    RayItem(const RayJob& j, uint16_t exp)
+        : o(j.ray.o), d(j.ray.d), t0(j.t0), tEnd(j.tEnd), weight(j.weight), pixel(j.pixel), key(j.key),
+          depth(j.depth), kind(j.kind), creditExp(exp) {}
+    RayJob job() const { return RayJob{Ray(o, d), t0, tEnd, weight, pixel, key, depth, kind}; }
 };
+static_assert(sizeof(RayItem) == 112, "a ray on the wire: 13 doubles, pixel, path key, depth, kind, credit");
 // A message's rays: the first one inline, so the usual message (one ray,
 // --ray-batch 1) is one block that a link moves along, not a message and a
 // heap block of its own that the receiver reads long after another node

@@ -331,7 +331,7 @@ bool Node::takeWork(Work& w, std::optional<Message>& control, int& controlDir) {
     }
     if (receivedNext_ < received_.size()) {  // the rest of a batch: its message was handled already
         const RayItem& r = received_[receivedNext_++];
-        w = Work{r.job, r.creditExp, false, false, receivedFrom_};
+        w = Work{r.job(), r.creditExp, false, false, receivedFrom_};
         return true;
     }
     Picos next;
@@ -352,7 +352,7 @@ bool Node::takeWork(Work& w, std::optional<Message>& control, int& controlDir) {
         if (!deferredDepths_.empty()) takenArrivals_.push_back(next);
         if (m.type == MsgType::Ray) {
             // The first ray carries the message's handling cost.
-            w = Work{m.rays[0].job, m.rays[0].creditExp, true, false, int8_t(best)};
+            w = Work{m.rays[0].job(), m.rays[0].creditExp, true, false, int8_t(best)};
             receivedFrom_ = int8_t(best);
             if (m.rays.size() > 1) {  // a batch: the rest waits in received_
                 recycle(received_);
