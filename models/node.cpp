@@ -385,7 +385,7 @@ bool Node::takeWork(Work& w, std::optional<Message>& control, int& controlDir) {
 // the direction; a neighbour that does not own it either forwards it on, so
 // a ray always reaches its owner, also when the columns' boundaries along the
 // progress axis do not line up.
-int Node::route(const RayJob& job) const {
+int Node::route(const RayJob& job, const BoxSlabs& box) const {
     const Box& b = region_->box();
     for (int a = 0; a < 3; ++a) {
         if (job.ray.d[a] == 0) {
@@ -394,7 +394,7 @@ int Node::route(const RayJob& job) const {
             if (o >= b.hi[a]) return dirOf(a, +1);
             continue;
         }
-        const Interval s = slabInterval(job.ray, a, b.lo[a], b.hi[a]);
+        const Interval s = box.slab[size_t(a)];
         const int forward = job.ray.d[a] > 0 ? +1 : -1;  // moving along the ray moves this way on axis a
         if (job.t0 < s.lo) return dirOf(a, -forward);
         if (job.t0 >= s.hi) return dirOf(a, forward);
@@ -432,21 +432,24 @@ void Node::step(Work& w) {
     std::vector<Contribution>& contributions = contributions_;
     spawned.clear();
     contributions.clear();
-    int dir = route(w.job);
+    // The box's slabs for this ray, computed once: whether the box owns
+    // job.t0, where the ray leaves it, and by which face.
+    const BoxSlabs box = boxSlabs(w.job.ray, region_->box());
+    int dir = route(w.job, box);
     const bool passing = dir >= 0;  // not this box's: sent on without tracing
     double where = std::nan("");  // where along the axis the work happened (work histogram)
     if (dir < 0) {
         ++stats_.raysTraced;
         if (balance_) {  // the middle of the segment traced stands for where its work is
-            const double end = std::min(w.job.tEnd, boxInterval(w.job.ray, region_->box()).hi);
+            const double end = std::min(w.job.tEnd, box.span.hi);
             where = w.job.ray.at(0.5 * (w.job.t0 + end))[bal_.axis];
         }
-        const Region::Step s = region_->trace(w.job, shader_, mailbox_, stats_.counters, spawned, contributions);
+        const Region::Step s = region_->trace(w.job, box.span.hi, shader_, mailbox_, stats_.counters, spawned, contributions);
         if (s == Region::Step::Terminated) {
             terminate(w, spawned);
             dir = -2;
         } else {
-            dir = route(w.job);  // it left the box at job.t0
+            dir = route(w.job, box);  // it left the box at job.t0 (the same ray, the same box)
         }
     }
     if (dir >= 0) {

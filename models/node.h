@@ -187,8 +187,9 @@ private:
     bool owesFrameBuffer() const { return pendingCount_ || !credit_.isZero(); }  // contributions or credit not yet sent
     int sideDir(int side) const { return dirOf(bal_.axis, side); }  // side -1 / +1 -> link direction
     uint64_t waitingWork() const { return ownWork() + inputOrder_.arrivedBy(now_); }
-    // The link direction towards the owner of job.t0, or -1 if it is ours.
-    int route(const RayJob& job) const;
+    // The link direction towards the owner of job.t0, or -1 if it is ours;
+    // box: boxSlabs(job.ray, our box).
+    int route(const RayJob& job, const BoxSlabs& box) const;
     void terminate(const Work& w, std::vector<RayJob>& spawned);
     void flushToFrameBuffer();
     // A contribution into the batch of its pixel's unit, which leaves as one

@@ -43,16 +43,19 @@ Interval slabInterval(const Ray& r, int axis, double lo, double hi) {
     return (lo <= o && o < hi) ? Interval{-inf, inf} : Interval{inf, -inf};
 }
 
-Interval boxInterval(const Ray& r, const Box& b) {
+BoxSlabs boxSlabs(const Ray& r, const Box& b) {
     constexpr double inf = std::numeric_limits<double>::infinity();
-    Interval s{-inf, inf};
+    BoxSlabs s{{}, {-inf, inf}};
     for (int a = 0; a < 3; ++a) {
         const Interval ia = slabInterval(r, a, b.lo[a], b.hi[a]);
-        s.lo = std::max(s.lo, ia.lo);
-        s.hi = std::min(s.hi, ia.hi);
+        s.slab[size_t(a)] = ia;
+        s.span.lo = std::max(s.span.lo, ia.lo);
+        s.span.hi = std::min(s.span.hi, ia.hi);
     }
     return s;
 }
+
+Interval boxInterval(const Ray& r, const Box& b) { return boxSlabs(r, b).span; }
 
 Interval Lattice::slab(const Ray& r, int axis, int i) const {
     return slabInterval(r, axis, planes_[axis][i], planes_[axis][i + 1]);

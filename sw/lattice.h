@@ -31,6 +31,13 @@ struct Interval {
 Interval slabInterval(const Ray& r, int axis, double lo, double hi);
 // The ray's parameters owned by box b (the intersection of its three slabs).
 Interval boxInterval(const Ray& r, const Box& b);
+// The three slabs of box b and their intersection, for a caller that asks
+// both whether it owns a parameter and which face the ray leaves by.
+struct BoxSlabs {
+    std::array<Interval, 3> slab;
+    Interval span;  // boxInterval(r, b), to the bit
+};
+BoxSlabs boxSlabs(const Ray& r, const Box& b);
 
 class Lattice {
 public:

@@ -49,9 +49,8 @@ Region::Region(const Box& box, std::vector<Shape> objects, AccelKind kind)
     accel_ = makeAccelerator(kind, *objects_, box_);
 }
 
-Region::Step Region::trace(RayJob& job, const Shader& shader, Mailbox& mailbox, Counters& counters,
+Region::Step Region::trace(RayJob& job, double tOut, const Shader& shader, Mailbox& mailbox, Counters& counters,
                            std::vector<RayJob>& spawned, std::vector<Contribution>& out) const {
-    const double tOut = boxInterval(job.ray, box_).hi;
     const double end = std::min(tOut, job.tEnd);
     const Hit hit = accel_->closestHit(job.ray, job.t0, end, mailbox, counters);
     if (hit.valid()) {

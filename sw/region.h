@@ -61,6 +61,12 @@ public:
     // its end it finishes here; otherwise job.t0 becomes the exit parameter
     // and the caller forwards it. job.t0 must be owned by this box.
     Step trace(RayJob& job, const Shader& shader, Mailbox& mailbox, Counters& counters,
+               std::vector<RayJob>& spawned, std::vector<Contribution>& out) const {
+        return trace(job, boxInterval(job.ray, box_).hi, shader, mailbox, counters, spawned, out);
+    }
+    // The same, for a caller that has the exit parameter already
+    // (tOut == boxInterval(job.ray, box()).hi).
+    Step trace(RayJob& job, double tOut, const Shader& shader, Mailbox& mailbox, Counters& counters,
                std::vector<RayJob>& spawned, std::vector<Contribution>& out) const;
 
 private:
