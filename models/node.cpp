@@ -53,7 +53,7 @@ void Node::assignPrimaries(std::vector<uint32_t> pixels, int primaryExp, const C
 }
 
 void Node::checkpoint() {
-    if (!time_.decoupled() || runAhead_) return;  // (running ahead: endFrame needs none)
+    if (!keepsTimeline_) return;
     const Picos k = sc_core::sc_time_stamp().value();
     while (timelineStart_ + 1 < timeline_.size() && timeline_[timelineStart_ + 1].t <= k) ++timelineStart_;
     if (timelineStart_ > 64 && timelineStart_ * 2 > timeline_.size()) {
@@ -93,11 +93,12 @@ void Node::endFrame(Picos end, bool complete) {
         stats_.wait += end - local;
         return;
     }
-    if (runAhead_) {
+    if (!keepsTimeline_) {
         // Without a dynamic policy every step moves credit (a ray's, or the
-        // frame buffer's share), which reaches unit 0 after the step ends:
-        // no step of a whole frame ends after it, and a node past its end
-        // got there idling. So it keeps no timeline.
+        // frame buffer's share), which reaches unit 0 after the step ends
+        // (in any mode: a message never arrives before it is sent): no step
+        // of a whole frame ends after it, and a node past its end got there
+        // idling. So it keeps no timeline.
         if (stats_.lastActive > end) {
             if (complete)
                 throw std::logic_error(std::string(name()) + ": a step ended after the frame, with no dynamic policy");
@@ -214,6 +215,7 @@ void Node::start() {
     if (balance_) balance_->shareFaces(layerFaces_);
     if (balance_ && startTargets_) balance_->startAt((*startTargets_)[0], (*startTargets_)[1]);
     runAhead_ = runAhead_ && !balance_ && trace_.busy < 0;
+    keepsTimeline_ = time_.decoupled() && balance_;
 }
 
 // One turn of the node's loop: a balancing action that is due, or the next

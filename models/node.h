@@ -241,12 +241,15 @@ private:
     int primaryExp_ = 0;
     Credit credit_;  // returned credit not yet sent to the frame buffer
 
-    // Decoupled modes: the node's time, busy time and end of its last step at
-    // the end of each step and idle stretch, kept back to the last one the
-    // kernel has passed; endFrame reads the figures at the frame's end off it.
+    // Decoupled modes under a dynamic policy: the node's time, busy time and
+    // end of its last step at the end of each step and idle stretch, kept
+    // back to the last one the kernel has passed; endFrame reads the figures
+    // at the frame's end off it. (Without a dynamic policy no step ends
+    // after the frame: endFrame needs none, and keepsTimeline_ is false.)
     struct Checkpoint {
         Picos t, busy, lastActive;
     };
+    bool keepsTimeline_ = false;
     void checkpoint();
     std::vector<Checkpoint> timeline_;  // from timelineStart_ on (the older ones are dropped in bulk)
     size_t timelineStart_ = 0;
