@@ -65,7 +65,18 @@ struct RayItem {
     RayItem(const RayJob& j, uint16_t exp)
         : o(j.ray.o), d(j.ray.d), t0(j.t0), tEnd(j.tEnd), weight(j.weight), pixel(j.pixel), key(j.key),
           depth(j.depth), kind(j.kind), creditExp(exp) {}
-    RayJob job() const { return RayJob{Ray(o, d), t0, tEnd, weight, pixel, key, depth, kind}; }
+    // The job, written field by field into `j` (not built and copied: a
+    // copy of a job just written by parts stalls on the parts).
+    void fill(RayJob& j) const {
+        j.ray = Ray(o, d);
+        j.t0 = t0;
+        j.tEnd = tEnd;
+        j.weight = weight;
+        j.pixel = pixel;
+        j.key = key;
+        j.depth = depth;
+        j.kind = kind;
+    }
 };
 static_assert(sizeof(RayItem) == 112, "a ray on the wire: 13 doubles, pixel, path key, depth, kind, credit");
 // A message's rays: the first one inline, so the usual message (one ray,

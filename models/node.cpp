@@ -333,7 +333,7 @@ bool Node::takeWork(Work& w, std::optional<Message>& control, int& controlDir) {
     }
     if (receivedNext_ < received_.size()) {  // the rest of a batch: its message was handled already
         const RayItem& r = received_[receivedNext_++];
-        w = Work{r.job(), r.creditExp, false, false, receivedFrom_};
+        w.take(r, false, receivedFrom_);
         return true;
     }
     Picos next;
@@ -354,7 +354,7 @@ bool Node::takeWork(Work& w, std::optional<Message>& control, int& controlDir) {
         if (!deferredDepths_.empty()) takenArrivals_.push_back(next);
         if (m.type == MsgType::Ray) {
             // The first ray carries the message's handling cost.
-            w = Work{m.rays[0].job(), m.rays[0].creditExp, true, false, int8_t(best)};
+            w.take(m.rays[0], true, int8_t(best));
             receivedFrom_ = int8_t(best);
             if (m.rays.size() > 1) {  // a batch: the rest waits in received_
                 recycle(received_);
@@ -598,14 +598,14 @@ void Node::queueRay(int dir, const Work& w) {
     ++stats_.raysForwarded;
     RayList& batch = outRays_[dir];
     if (rayBatch_ <= 1) {  // a message per ray: written straight into the message (a ray is most of its bytes)
-        outbox_.emplace_back(dir, Message{}).second.rays.push_back(RayItem{w.job, w.creditExp});
+        outbox_.emplace_back(dir, Message{}).second.rays.emplace_back(w.job, w.creditExp);
         return;
     }
     if (batch.empty() && batch.capacity() <= kInlineRays && !spareRays_.empty()) {
         batch = std::move(spareRays_.back());
         spareRays_.pop_back();
     }
-    batch.push_back(RayItem{w.job, w.creditExp});
+    batch.emplace_back(w.job, w.creditExp);
     if (batch.size() >= size_t(rayBatch_)) sendBatch(dir);
 }
 

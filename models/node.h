@@ -141,6 +141,14 @@ private:
         bool fromLink;
         bool generated;
         int8_t from;  // the link direction it arrived on (-1: made here)
+        // A ray taken from a link message.
+        void take(const RayItem& r, bool first, int8_t dir) {
+            r.fill(job);
+            creditExp = r.creditExp;
+            fromLink = first;
+            generated = false;
+            from = dir;
+        }
     };
 
     void run();      // the method process: one activation
