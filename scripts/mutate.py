@@ -139,7 +139,7 @@ MUTANTS = [
      "v.step(start + transfer, trace_.wire, -1);", "v.step(start + transfer + 1, trace_.wire, -1);",
      "the VCD shows the wire busy 1 ps longer than it was"),
     ("pass-not-counted-from-batch", "models/node.cpp",
-     "w = Work{r.job, r.creditExp, false, false, receivedFrom_};", "w = Work{r.job, r.creditExp, false, false, -1};",
+     "w.take(r, false, receivedFrom_);", "w.take(r, false, -1);",
      "a batch's later rays lose the link they came on: passed between columns goes uncounted for them"),
     ("every-forward-counted-as-passed", "models/node.cpp",
      "const bool passing = dir >= 0;", "const bool passing = true;",

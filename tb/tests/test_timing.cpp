@@ -19,8 +19,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <memory>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -314,6 +316,44 @@ TEST(LinkOracleBy, MessagesWeighWhatTheyCarry) {
         ASSERT_TRUE(link.peekArrival(t));
         EXPECT_EQ(t, end) << bytes << " bytes";
         link.consume(t);
+    }
+}
+
+// A ray on the wire leaves its reciprocal direction behind (kRayBytes does
+// not count it): the receiver's job must still be the sender's to the bit,
+// reciprocal included, for rays along the axes (1/0 = +-inf) and off them.
+TEST(RayOnTheWire, ArrivesAsTheSameJobToTheBit) {
+    auto sameBits = [](double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; };
+    auto sameVec = [&](const Vec3& a, const Vec3& b) { return sameBits(a.x, b.x) && sameBits(a.y, b.y) && sameBits(a.z, b.z); };
+    std::mt19937_64 rng(2026);
+    std::uniform_real_distribution<double> u(-3, 3);
+    Link link("l", LinkParams{0, 1e9, 16});
+    for (int i = 0; i < 200; ++i) {
+        Vec3 d(u(rng), u(rng), u(rng));
+        if (i % 4 == 1) d.y = 0.0;
+        if (i % 4 == 2) d = Vec3(0.0, -0.0, 1.0);
+        RayJob j;
+        j.ray = Ray(Vec3(u(rng), u(rng), u(rng)), glm::normalize(d));
+        j.t0 = u(rng);
+        j.tEnd = i % 3 ? std::numeric_limits<double>::infinity() : u(rng);
+        j.weight = Vec3(u(rng), u(rng), u(rng));
+        j.pixel = uint32_t(rng());
+        j.key = PathKey{rng(), uint32_t(rng())};
+        j.depth = uint8_t(i % 40);
+        j.kind = RayKind(i % 4);
+        Message m;
+        m.rays.emplace_back(j, uint16_t(i));
+        link.send(std::move(m), Picos(i) * 1000000);
+        Picos t;
+        ASSERT_TRUE(link.peekArrival(t));
+        const Message got = link.consume(t);
+        ASSERT_EQ(got.rays.size(), 1u);
+        RayJob k;
+        got.rays[0].fill(k);
+        EXPECT_TRUE(sameVec(k.ray.o, j.ray.o) && sameVec(k.ray.d, j.ray.d) && sameVec(k.ray.inv, j.ray.inv)) << i;
+        EXPECT_TRUE(sameBits(k.t0, j.t0) && sameBits(k.tEnd, j.tEnd) && sameVec(k.weight, j.weight)) << i;
+        EXPECT_TRUE(k.pixel == j.pixel && k.key == j.key && k.depth == j.depth && k.kind == j.kind) << i;
+        EXPECT_EQ(got.rays[0].creditExp, uint16_t(i));
     }
 }
 
