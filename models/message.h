@@ -48,7 +48,7 @@ uint32_t objectBytes(const Shape& s);
 
 // One ray on the wire, with its credit 2^-creditExp: what kRayBytes counts,
 // the job without its ray's reciprocal direction. The receiver computes that
-// again as Ray's constructor did, from the same direction, so the ray it
+// again as Ray's constructor does (Ray::reciprocal), so the ray it
 // traces is the sender's to the bit; a link holding a message per ray in
 // flight keeps 112 bytes each instead of 144 (doc/exploration.md).
 struct RayItem {
@@ -68,7 +68,9 @@ struct RayItem {
     // The job, written field by field into `j` (not built and copied: a
     // copy of a job just written by parts stalls on the parts).
     void fill(RayJob& j) const {
-        j.ray = Ray(o, d);
+        j.ray.o = o;
+        j.ray.d = d;
+        j.ray.inv = Ray::reciprocal(d);
         j.t0 = t0;
         j.tEnd = tEnd;
         j.weight = weight;

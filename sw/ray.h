@@ -18,7 +18,8 @@ struct Ray {
     Vec3 inv;  // 1/d per component (+-inf where d is zero)
 
     Ray() = default;
-    Ray(const Vec3& origin, const Vec3& dir) : o(origin), d(dir), inv(1.0 / dir.x, 1.0 / dir.y, 1.0 / dir.z) {}
+    Ray(const Vec3& origin, const Vec3& dir) : o(origin), d(dir), inv(reciprocal(dir)) {}
+    static Vec3 reciprocal(const Vec3& dir) { return Vec3(1.0 / dir.x, 1.0 / dir.y, 1.0 / dir.z); }
 
     Vec3 at(double t) const { return o + t * d; }
     // Parameter where the ray crosses the plane {p[axis] == coord}. Only
