@@ -70,14 +70,14 @@ void Link::send(Message&& m, Picos t) {
     ++counts.messages;
     counts.bytes += bytes;
     ++counts.inFlight;
+    const int lane = laneOf(m.type);
+    Lane& l = lanes_[lane];
     {  // what the link owes for it (occupied())
         const Picos transfer = transferTime(bytes);
         owedWire_ += transfer;
-        lanes_[laneOf(m.type)].held += transfer + 2 * params_.latency;
+        l.held += transfer + 2 * params_.latency;
     }
     if (progress_ && !isControl(m.type)) progress_->mark(t);  // work moves; load reports alone are no progress
-    const int lane = laneOf(m.type);
-    Lane& l = lanes_[lane];
     const bool nothingWaits = l.waiting() == 0;
     l.queue.emplace_back(t, bytes, m.type);
     l.messages.emplace_back(std::move(m));
