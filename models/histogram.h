@@ -13,8 +13,9 @@
 // (8 bytes a bin, 512 an octave), so a value finds its bin without a search.
 //
 // Single values wait in a few slots inside the object and go into the bins
-// a handful at a time, sorted: a link adds one per message, and its bins are
-// a block of their own that a link not used for a while has out of cache
+// a handful at a time (sorted while exact; coarse bins need no search, and
+// sorting latencies mispredicted): a link adds one per message, and its bins
+// are a block of their own that a link not used for a while has out of cache
 // (the bin search was a third of Link::take on the 16x16x16 mesh). The bins
 // do not depend on the order values come in (exact values are a set; coarse
 // ones are v's bin whenever they came), so the figures are the same.
@@ -83,9 +84,13 @@ private:
     // (const: the figures are the same before and after, hence the mutable members)
     void settle() const {
         if (!waitingCount_) return;
-        std::sort(waiting_.begin(), waiting_.begin() + waitingCount_);
         const uint8_t k = waitingCount_;
         waitingCount_ = 0;
+        if (coarse_) {  // a value's bin is found without a search: no order needed (sorting mispredicted)
+            for (uint8_t i = 0; i < k; ++i) insert(waiting_[i], 1);
+            return;
+        }
+        std::sort(waiting_.begin(), waiting_.begin() + k);
         for (uint8_t i = 0; i < k;) {
             uint8_t j = i + 1;
             while (j < k && waiting_[j] == waiting_[i]) ++j;
