@@ -6,8 +6,6 @@
 #include <utility>
 #include <vector>
 
-#include <boost/container/small_vector.hpp>
-
 #include "credit.h"
 #include "ray_job.h"
 #include "shape.h"
@@ -62,9 +60,20 @@ struct RayItem {
     uint16_t creditExp = 0;
 
     RayItem() = default;
-    RayItem(const RayJob& j, uint16_t exp)
-        : o(j.ray.o), d(j.ray.d), t0(j.t0), tEnd(j.tEnd), weight(j.weight), pixel(j.pixel), key(j.key),
-          depth(j.depth), kind(j.kind), creditExp(exp) {}
+    RayItem(const RayJob& j, uint16_t exp) { set(j, exp); }
+    // The job and its credit, written field by field (not built and copied).
+    void set(const RayJob& j, uint16_t exp) {
+        o = j.ray.o;
+        d = j.ray.d;
+        t0 = j.t0;
+        tEnd = j.tEnd;
+        weight = j.weight;
+        pixel = j.pixel;
+        key = j.key;
+        depth = j.depth;
+        kind = j.kind;
+        creditExp = exp;
+    }
     // The job, written field by field into `j` (not built and copied: a
     // copy of a job just written by parts stalls on the parts).
     void fill(RayJob& j) const {
@@ -81,13 +90,8 @@ struct RayItem {
     }
 };
 static_assert(sizeof(RayItem) == 112, "a ray on the wire: 13 doubles, pixel, path key, depth, kind, credit");
-// A message's rays: the first one inline, so the usual message (one ray,
-// --ray-batch 1) is one block that a link moves along, not a message and a
-// heap block of its own that the receiver reads long after another node
-// wrote it (doc/exploration.md, "Where rtsim's time goes"). Batches of more
-// than one ray go to the heap.
-constexpr size_t kInlineRays = 1;
-using RayList = boost::container::small_vector<RayItem, kInlineRays>;
+// A batch of rays (--ray-batch), collected by a node or received.
+using RayList = std::vector<RayItem>;
 
 // What the messages other than rays carry, behind one pointer (rays are
 // most of the messages, and a link holds a message by value).
@@ -108,7 +112,21 @@ struct MessageBody {
 
 struct Message {
     MsgType type = MsgType::Ray;
-    RayList rays;  // Ray: one or a batch (--ray-batch)
+    // Ray: one ray inline, so the usual message (--ray-batch 1) is one
+    // block of plain bytes that a link moves along (a container holding it
+    // inline moved it through a library copy at every move), not a message
+    // and a heap block of its own that the receiver reads long after
+    // another node wrote it (doc/exploration.md, "Where rtsim's time goes");
+    // or a batch, whose rays are all in `batch` (then `ray` is not used).
+    RayItem ray;
+    RayList batch;
+
+    Message() = default;
+    // A message of one ray, the job's with its credit, written in place.
+    Message(const RayJob& j, uint16_t creditExp) { ray.set(j, creditExp); }
+
+    size_t rayCount() const { return batch.empty() ? 1 : batch.size(); }
+    const RayItem& rayAt(size_t i) const { return batch.empty() ? ray : batch[i]; }
 
     // The rest (made when first written; a message without one reads as empty).
     MessageBody& body() {
@@ -122,7 +140,7 @@ struct Message {
 
     uint32_t bytes() const {
         switch (type) {
-            case MsgType::Ray: return kHeaderBytes + uint32_t(rays.size()) * kRayBytes;
+            case MsgType::Ray: return kHeaderBytes + uint32_t(rayCount()) * kRayBytes;
             case MsgType::Contributions: return kHeaderBytes + uint32_t(body().contributions.size()) * kContributionBytes;
             case MsgType::Credit: return kHeaderBytes + body().credit.bytes() + uint32_t(body().unitCounts.size()) * kUnitCountBytes;
             case MsgType::LoadReport: return kHeaderBytes + kLoadReportBytes;

@@ -354,13 +354,14 @@ bool Node::takeWork(Work& w, std::optional<Message>& control, int& controlDir) {
         if (!deferredDepths_.empty()) takenArrivals_.push_back(next);
         if (m.type == MsgType::Ray) {
             // The first ray carries the message's handling cost.
-            w.take(m.rays[0], true, int8_t(best));
+            w.take(m.rayAt(0), true, int8_t(best));
             receivedFrom_ = int8_t(best);
-            if (m.rays.size() > 1) {  // a batch: the rest waits in received_
+            if (m.rayCount() > 1) {  // a batch: the rest waits in received_
                 recycle(received_);
-                received_ = std::move(m.rays);
+                received_ = std::move(m.batch);
                 receivedNext_ = 1;
             } else {
+                recycle(m.batch);
                 received_.clear();
                 receivedNext_ = 0;
             }
@@ -598,10 +599,10 @@ void Node::queueRay(int dir, const Work& w) {
     ++stats_.raysForwarded;
     RayList& batch = outRays_[dir];
     if (rayBatch_ <= 1) {  // a message per ray: written straight into the message (a ray is most of its bytes)
-        outbox_.emplace_back(dir, Message{}).second.rays.emplace_back(w.job, w.creditExp);
+        outbox_.emplace_back(std::piecewise_construct, std::forward_as_tuple(dir), std::forward_as_tuple(w.job, w.creditExp));
         return;
     }
-    if (batch.empty() && batch.capacity() <= kInlineRays && !spareRays_.empty()) {
+    if (batch.capacity() == 0 && !spareRays_.empty()) {
         batch = std::move(spareRays_.back());
         spareRays_.pop_back();
     }
@@ -613,7 +614,7 @@ void Node::queueRay(int dir, const Work& w) {
 void Node::sendBatch(int dir) {
     Message& m = outbox_.emplace_back(dir, Message{}).second;
     m.type = MsgType::Ray;
-    m.rays = std::move(outRays_[dir]);
+    m.batch = std::move(outRays_[dir]);
     outRays_[dir].clear();
 }
 
@@ -621,7 +622,7 @@ void Node::sendBatch(int dir) {
 // receive about as many ray messages as they send, so most messages reuse a
 // list instead of allocating one (and the receiver freeing it).
 void Node::recycle(RayList& rays) {
-    if (rays.capacity() <= kInlineRays || spareRays_.size() >= kSpareRayLists) return;  // (no heap block to reuse)
+    if (rays.capacity() == 0 || spareRays_.size() >= kSpareRayLists) return;  // (no heap block to reuse)
     rays.clear();
     spareRays_.push_back(std::move(rays));
 }

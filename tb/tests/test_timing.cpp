@@ -54,7 +54,7 @@ constexpr uint64_t kSphere = 4 + 4 + 1 + 4 * 8 + 1, kSlideHead = 8 + 4, kAck = 8
 Message rays(size_t n) {
     Message m;
     m.type = MsgType::Ray;
-    m.rays.resize(n);
+    if (n > 1) m.batch.resize(n);
     return m;
 }
 
@@ -341,19 +341,17 @@ TEST(RayOnTheWire, ArrivesAsTheSameJobToTheBit) {
         j.key = PathKey{rng(), uint32_t(rng())};
         j.depth = uint8_t(i % 40);
         j.kind = RayKind(i % 4);
-        Message m;
-        m.rays.emplace_back(j, uint16_t(i));
-        link.send(std::move(m), Picos(i) * 1000000);
+        link.send(Message(j, uint16_t(i)), Picos(i) * 1000000);
         Picos t;
         ASSERT_TRUE(link.peekArrival(t));
         const Message got = link.consume(t);
-        ASSERT_EQ(got.rays.size(), 1u);
+        ASSERT_EQ(got.rayCount(), 1u);
         RayJob k;
-        got.rays[0].fill(k);
+        got.rayAt(0).fill(k);
         EXPECT_TRUE(sameVec(k.ray.o, j.ray.o) && sameVec(k.ray.d, j.ray.d) && sameVec(k.ray.inv, j.ray.inv)) << i;
         EXPECT_TRUE(sameBits(k.t0, j.t0) && sameBits(k.tEnd, j.tEnd) && sameVec(k.weight, j.weight)) << i;
         EXPECT_TRUE(k.pixel == j.pixel && k.key == j.key && k.depth == j.depth && k.kind == j.kind) << i;
-        EXPECT_EQ(got.rays[0].creditExp, uint16_t(i));
+        EXPECT_EQ(got.rayAt(0).creditExp, uint16_t(i));
     }
 }
 
