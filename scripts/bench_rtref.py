@@ -17,6 +17,17 @@ import tempfile
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 
+def build_kind(build=os.path.join(ROOT, "build")):
+    """How build/ was made, from its CMake cache: profile-guided and
+    link-time optimised when scripts/build.sh made it (RT_PGO=use)."""
+    try:
+        with open(os.path.join(build, "CMakeCache.txt")) as f:
+            pgo = any(line.strip() == "RT_PGO:STRING=use" for line in f)
+    except OSError:
+        pgo = False
+    return "Release build (-O3, profile-guided and link-time optimised)" if pgo else "Release build (-O3)"
+
+
 def machine():
     cpu = "unknown CPU"
     try:
@@ -35,7 +46,7 @@ def machine():
     except (OSError, ValueError, IndexError):
         pass
     gxx = subprocess.run(["g++", "--version"], capture_output=True, text=True).stdout.splitlines()[0]
-    return f"{cpu}, {os.cpu_count()} cores{mem}; {platform.system()} {platform.release()}; {gxx}; Release build (-O3)"
+    return f"{cpu}, {os.cpu_count()} cores{mem}; {platform.system()} {platform.release()}; {gxx}; {build_kind()}"
 
 
 def main():
