@@ -11,15 +11,17 @@ cmake -S "$root" -B "$gen" -DCMAKE_BUILD_TYPE=Release -DRT_PGO=generate >/dev/nu
 cmake --build "$gen" -j "$(nproc)" --target rtsim rtref
 if [ ! -e "$gen/trained" ] || [ "$gen/rtsim" -nt "$gen/trained" ] || [ "$gen/rtref" -nt "$gen/trained" ]; then
   # The training job: the built-in procedural scene, not a benchmark's. The
-  # default job (exact mode, the one-node baseline, a balancing policy) and
-  # a denser scene at 512x512 with a 100 us quantum; rtref on that scene.
+  # default job as scripts/run.sh runs it (exact mode, the one-node
+  # baseline, a balancing policy, a VCD: code a profile never saw is laid
+  # out as cold) and a denser scene at 512x512 with a 100 us quantum;
+  # rtref on that scene.
   find "$gen" -name '*.gcda' -delete
   out=$(mktemp -d)
   trap 'rm -rf "$out"' EXIT
   # Without address randomisation: value profiles record addresses, and
   # the same job then leaves the same profiles (no object is made again).
   norand=(setarch "$(uname -m)" -R)
-  "${norand[@]}" "$gen/rtsim" -q --image "$out/a.png" --report "$out/a.json"
+  "${norand[@]}" "$gen/rtsim" -q --image "$out/a.png" --report "$out/a.json" --vcd "$out/a.vcd"
   "${norand[@]}" "$gen/rtsim" -q --spheres 10000 --size 512x512 --quantum 100us --no-baseline --image "$out/b.png" --report "$out/b.json"
   "${norand[@]}" "$gen/rtref" --spheres 10000 --size 512x512 -o "$out/c.png" >/dev/null
   touch "$gen/trained"
