@@ -79,7 +79,7 @@ void Link::send(Message&& m, Picos t) {
     }
     if (progress_ && !isControl(m.type)) progress_->mark(t);  // work moves; load reports alone are no progress
     const bool nothingWaits = l.waiting() == 0;
-    l.queue.emplace_back(t, bytes, m.type);
+    l.backlog.emplace_back(t, bytes, m.type);
     l.messages.emplace_back(std::move(m));
     if (nothingWaits && l.slotFree_()) {
         putOnWire(lane, takeSlot(l));  // the usual case: a slot is free, nothing waits before it
@@ -124,7 +124,7 @@ Picos Link::roomAt(MsgType type, Picos t) {
 
 void Link::putOnWire(int lane, Picos slot) {
     Lane& l = lanes_[lane];
-    Timed& w = l.firstWaiting();
+    const Waiting& w = l.firstWaiting();
     const Picos sent = w.sent;
     const Picos transfer = transferTime(w.bytes);
     const Picos ready = std::max(sent, slot);
@@ -146,12 +146,10 @@ void Link::putOnWire(int lane, Picos slot) {
     stats_.backlogHighWater = std::max(stats_.backlogHighWater, l.waitedUntil.size());
     byType_[size_t(w.type)].wire += transfer;
     if (trace_.vcd && params_.controlDepth == 0) traceStart(start, transfer);
-    w.t = arrival;
-    w.start = start;
-    w.ready = ready;
-    w.transfer = transfer;
+    l.wire.emplace_back(w, arrival, start, ready, transfer);
+    l.backlog.pop_front();
     if (listener_) ++listener_->buffered;
-    if (++l.onWire == 1) headChanged();
+    if (l.buffered() == 1) headChanged();
 }
 
 Picos Link::occupied() const {
@@ -164,7 +162,7 @@ void Link::endFrame(Picos end) {
     const bool late = tracesLate();  // a lane's messages are traced when consumed: these never were
     for (const Lane& l : lanes_) {
         for (size_t i = 0; i < l.buffered(); ++i) {
-            const Timed& m = l.queue[i];
+            const Timed& m = l.wire[i];
             const Picos done = m.start + m.transfer;
             if (done > end) byType_[size_t(m.type)].wire -= done - std::max(m.start, end);
             if (late) {
@@ -173,13 +171,13 @@ void Link::endFrame(Picos end) {
             }
         }
         if (late)
-            for (size_t i = l.buffered(); i < l.queue.size(); ++i) trace_.vcd->step(l.queue[i].sent, trace_.backlog, 1);
+            for (size_t i = 0; i < l.waiting(); ++i) trace_.vcd->step(l.backlog[i].sent, trace_.backlog, 1);
     }
 }
 
 Picos Link::scheduleControl(Picos ready, Picos transfer) {
-    Fifo<Timed>& data = lanes_[kData].queue;  // on the wire: the first onWire, in the order they go on it
-    const size_t onWire = lanes_[kData].onWire;
+    Fifo<Timed>& data = lanes_[kData].wire;  // in the order they go on the wire
+    const size_t onWire = data.size();
     size_t first = 0;  // the first data message not started by `ready`
     while (first < onWire && data[first].start < ready) ++first;
     if (first < onWire && data[first].owed) ++first;  // its turn: it goes first (round-robin)
@@ -207,7 +205,7 @@ bool Link::peekArrival(Picos& arrival) const {
 size_t Link::arrivedBy(Picos t) const {
     size_t n = 0;
     for (const Lane& l : lanes_)
-        for (size_t i = 0; i < l.buffered() && l.queue[i].t <= t; ++i) ++n;  // buffers are in arrival order
+        for (size_t i = 0; i < l.buffered() && l.wire[i].t <= t; ++i) ++n;  // buffers are in arrival order
     return n;
 }
 
@@ -254,12 +252,11 @@ Message Link::take(int lane, Picos t) {
     }
     Message m = std::move(l.messages.front());
     l.messages.pop_front();
-    l.queue.pop_front();
+    l.wire.pop_front();
     if (!l.messages.empty()) {  // the next one, written long ago by the sender: on its way to the cache
         const char* next = reinterpret_cast<const char*>(&l.messages.front());
         for (size_t b = 0; b < sizeof(Message); b += 64) __builtin_prefetch(next + b);
     }
-    --l.onWire;
     if (listener_) --listener_->buffered;
     --byType_[size_t(m.type)].inFlight;
     l.slotFree.push_back(t + params_.latency);  // the credit travels back

@@ -231,8 +231,10 @@ public:
     // change this link records later is earlier (VcdStream's horizon).
     Picos oldestSent() const {
         Picos t = ~Picos(0);
-        for (const Lane& l : lanes_)
-            if (!l.queue.empty()) t = std::min(t, l.queue.front().sent);  // (a lane's queue is in the order sent)
+        for (const Lane& l : lanes_) {  // (a lane's buffer is older than its backlog, each in the order sent)
+            if (l.buffered()) t = std::min(t, l.head().sent);
+            else if (l.waiting()) t = std::min(t, l.firstWaiting().sent);
+        }
         return t;
     }
     size_t backlog() const { return lanes_[0].waiting() + lanes_[1].waiting(); }
@@ -249,40 +251,51 @@ public:
     const std::string& name() const { return name_; }
 
 private:
-    // A message's times on the link. They are kept apart from the messages
-    // themselves: the times are read and written several times (sent, given
-    // a slot, moved back by a control message, taken), a message is written
-    // once and read once, and 48-byte records in a row share cache lines
-    // where 232-byte entries did not (with a quantum most messages wait for
-    // a slot, and giving one a slot read its entry long after it was written).
+    // A message's times on the link, kept apart from the message itself:
+    // the times are read and written several times (sent, given a slot,
+    // moved back by a control message, taken), a message is written once
+    // and read once. A message waiting for a slot needs only when it was
+    // sent and its size; the rest is known once it has a slot. With a
+    // quantum most messages wait for a slot, and some links hold many
+    // thousands at once (the output buffer of the node that generates the
+    // primary rays: 126,000 on balls-4 at 512x512), which the links write
+    // to memory and read back long after; so a waiting message's record is
+    // 16 bytes, and the records of the few on the wire (at most a slot
+    // each), which every change touches, are a queue of their own.
+    struct Waiting {
+        Waiting(Picos sent_, uint32_t bytes_, MsgType type_) : sent(sent_), bytes(bytes_), type(type_) {}
+        Picos sent;  // when the sender sent it
+        uint32_t bytes;
+        MsgType type;
+    };
     struct Timed {
-        Timed(Picos sent_, uint32_t bytes_, MsgType type_) : t(sent_), sent(sent_), bytes(bytes_), type(type_) {}
-        Picos t;             // in the backlog: when sent; on the wire: its arrival
+        Timed(const Waiting& w, Picos arrival, Picos start_, Picos ready_, Picos transfer_)
+            : t(arrival), sent(w.sent), start(start_), ready(ready_), transfer(transfer_), bytes(w.bytes), type(w.type) {}
+        Picos t;             // its arrival
         Picos sent;          // when the sender sent it
-        Picos start = 0;     // on the wire: when it went on the wire
-        Picos ready = 0;     // on the wire: when it could have (sent, and a slot free)
-        Picos transfer = 0;  // on the wire: its time on the wire
+        Picos start;         // when it went on the wire
+        Picos ready;         // when it could have (sent, and a slot free)
+        Picos transfer;      // its time on the wire
         uint32_t bytes;
         MsgType type;
         bool owed = false;   // a data message a control message went ahead of: it goes before the next one
     };
     // One virtual channel: its slots, its buffer and its backlog.
     //
-    // Both are one queue in the order the messages were sent (their times
-    // in `queue`, the messages themselves at the same places in `messages`):
-    // the first `onWire` are the buffer (on the wire or arrived, not
-    // consumed; in the order they go on the wire, which is the order they
-    // were sent in), the rest the backlog (sent, waiting for a slot). A
-    // message given a slot stays where it is and only the split moves.
+    // The buffer (on the wire or arrived, not consumed; in the order they
+    // go on the wire, which is the order they were sent in) is `wire`, the
+    // backlog (sent, waiting for a slot) `backlog`; the messages themselves
+    // are in `messages`, in the order sent: the buffer's first, then the
+    // backlog's. A message given a slot stays where it is in `messages`.
     struct Lane {
-        Fifo<Timed> queue;
+        Fifo<Timed> wire;
+        Fifo<Waiting> backlog;
         Fifo<Message> messages;
-        size_t onWire = 0;
-        size_t buffered() const { return onWire; }
-        size_t waiting() const { return queue.size() - onWire; }
-        Timed& head() { return queue.front(); }  // the oldest on the wire (buffered() > 0)
-        const Timed& head() const { return queue.front(); }
-        Timed& firstWaiting() { return queue[onWire]; }  // (waiting() > 0)
+        size_t buffered() const { return wire.size(); }
+        size_t waiting() const { return backlog.size(); }
+        Timed& head() { return wire.front(); }  // the oldest on the wire (buffered() > 0)
+        const Timed& head() const { return wire.front(); }
+        const Waiting& firstWaiting() const { return backlog.front(); }  // (waiting() > 0)
         int unusedSlots = 0;   // slots never used yet (free since time 0)
         // Every message sent: its transfer and the latency there and back,
         // summed (the slots' round trips it owes, for occupied()).

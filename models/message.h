@@ -93,9 +93,10 @@ static_assert(sizeof(RayItem) == 112, "a ray on the wire: 13 doubles, pixel, pat
 // A batch of rays (--ray-batch), collected by a node or received.
 using RayList = std::vector<RayItem>;
 
-// What the messages other than rays carry, behind one pointer (rays are
-// most of the messages, and a link holds a message by value).
+// What the messages other than a single ray carry, behind one pointer (rays
+// are most of the messages, and a link holds a message by value).
 struct MessageBody {
+    RayList batch;                             // Ray: a batch of rays (--ray-batch)
     std::vector<Contribution> contributions;   // Contributions
     Credit credit;                             // Credit
     // Credit, with more than one frame-buffer unit: contributions sent to
@@ -110,23 +111,31 @@ struct MessageBody {
     std::vector<Shape> objects;                // Slide: the objects of the moved slab
 };
 
+// 128 bytes: two cache lines. A link holds every message sent on it until
+// its receiver takes it, and on balls-4 at 512x512 a link out of the node
+// that generates the primary rays holds up to 126,000 at once (its output
+// buffer in the modelled machine): most messages are written to memory
+// and read back long after, so their size is what a run moves through
+// memory (doc/exploration.md, "Where rtsim's time goes").
 struct Message {
-    MsgType type = MsgType::Ray;
     // Ray: one ray inline, so the usual message (--ray-batch 1) is one
     // block of plain bytes that a link moves along (a container holding it
     // inline moved it through a library copy at every move), not a message
     // and a heap block of its own that the receiver reads long after
-    // another node wrote it (doc/exploration.md, "Where rtsim's time goes");
-    // or a batch, whose rays are all in `batch` (then `ray` is not used).
+    // another node wrote it; or a batch, whose rays are all in the body's
+    // `batch` (then `ray` is not used).
     RayItem ray;
-    RayList batch;
+    MsgType type = MsgType::Ray;
 
     Message() = default;
     // A message of one ray, the job's with its credit, written in place.
     Message(const RayJob& j, uint16_t creditExp) { ray.set(j, creditExp); }
 
-    size_t rayCount() const { return batch.empty() ? 1 : batch.size(); }
-    const RayItem& rayAt(size_t i) const { return batch.empty() ? ray : batch[i]; }
+    bool batched() const { return body_ && !body_->batch.empty(); }
+    size_t rayCount() const { return batched() ? body_->batch.size() : 1; }
+    const RayItem& rayAt(size_t i) const { return batched() ? body_->batch[i] : ray; }
+    // A batch's list, taken from the message (empty if it holds one ray).
+    RayList takeBatch() { return body_ ? std::move(body_->batch) : RayList{}; }
 
     // The rest (made when first written; a message without one reads as empty).
     MessageBody& body() {
@@ -159,5 +168,6 @@ struct Message {
 private:
     std::unique_ptr<MessageBody> body_;
 };
+static_assert(sizeof(Message) == 128, "a message: a ray, its type and the body's pointer");
 
 }  // namespace rt

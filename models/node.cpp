@@ -358,10 +358,13 @@ bool Node::takeWork(Work& w, std::optional<Message>& control, int& controlDir) {
             receivedFrom_ = int8_t(best);
             if (m.rayCount() > 1) {  // a batch: the rest waits in received_
                 recycle(received_);
-                received_ = std::move(m.batch);
+                received_ = m.takeBatch();
                 receivedNext_ = 1;
             } else {
-                recycle(m.batch);
+                if (m.batched()) {  // a batch of one (a partial flush): its list is reused
+                    RayList one = m.takeBatch();
+                    recycle(one);
+                }
                 received_.clear();
                 receivedNext_ = 0;
             }
@@ -613,8 +616,7 @@ void Node::queueRay(int dir, const Work& w) {
 // The rays collected for `dir` leave as one message (their list moves into it).
 void Node::sendBatch(int dir) {
     Message& m = outbox_.emplace_back(dir, Message{}).second;
-    m.type = MsgType::Ray;
-    m.batch = std::move(outRays_[dir]);
+    m.body().batch = std::move(outRays_[dir]);
     outRays_[dir].clear();
 }
 

@@ -615,7 +615,7 @@ namespace {
 Message rays(int k) {  // 8 + 124 k bytes
     Message m;
     m.type = MsgType::Ray;
-    if (k > 1) m.batch.assign(size_t(k), RayItem{});
+    if (k > 1) m.body().batch.assign(size_t(k), RayItem{});
     return m;
 }
 

@@ -54,7 +54,7 @@ constexpr uint64_t kSphere = 4 + 4 + 1 + 4 * 8 + 1, kSlideHead = 8 + 4, kAck = 8
 Message rays(size_t n) {
     Message m;
     m.type = MsgType::Ray;
-    if (n > 1) m.batch.resize(n);
+    if (n > 1) m.body().batch.resize(n);
     return m;
 }
 
