@@ -50,6 +50,10 @@ Picos FrameBufferUnit::take(Message& m) {
     switch (m.type) {
         case MsgType::Contributions: {
             const std::vector<Contribution>& cs = m.body().contributions;
+            // The batch's sums, fetched together (a unit's pixels are spread
+            // over its 16th of the image: each sum is out of cache).
+            for (const Contribution& c : cs)
+                if (c.pixel / uint32_t(units_) < sums_.size()) sums_.prefetch(c.pixel / uint32_t(units_));
             for (const Contribution& c : cs) accumulate(c);
             ++stats_.contributionMessages;
             stats_.contributions += cs.size();

@@ -205,14 +205,16 @@ private:
         max_ = m;
     }
 
-    mutable std::vector<std::pair<uint64_t, uint64_t>> bins_;  // exact: (value, count), sorted
+    // (What a value added touches first, then what settling it touches:
+    // a link adds one per message, from a block out of cache.)
+    mutable uint8_t waitingCount_ = 0;
+    mutable bool coarse_ = false;
+    mutable std::array<uint64_t, kWaiting> waiting_;  // single values not yet in the bins
     mutable std::vector<uint64_t> dense_;  // coarse: the counts of bins base_, base_ + 1, ...
     mutable uint32_t base_ = 0, nonEmpty_ = 0;  // (a bin's index is below 2^(kBits + 7))
     mutable uint64_t count_ = 0, max_ = 0;  // of the values in the bins
+    mutable std::vector<std::pair<uint64_t, uint64_t>> bins_;  // exact: (value, count), sorted
     mutable size_t last_ = ~size_t(0);      // the bin the last value went to
-    mutable bool coarse_ = false;
-    mutable uint8_t waitingCount_ = 0;
-    mutable std::array<uint64_t, kWaiting> waiting_;  // single values not yet in the bins
 };
 
 }  // namespace rt

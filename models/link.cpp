@@ -28,8 +28,8 @@ uint32_t objectBytes(const Shape& s) {
 
 Link::Link(std::string name, const LinkParams& params, uint32_t smallest)
     : params_(params), smallest_(smallest), name_(std::move(name)) {
-    lanes_[kData].unusedSlots = params.depth;
-    lanes_[kControl].unusedSlots = params.controlDepth;
+    lanes_[kData].slots = uint32_t(params.depth);
+    lanes_[kControl].slots = uint32_t(params.controlDepth);
     if (params.outDepth > 0) room_ = std::make_unique<sc_core::sc_event>();
 }
 
@@ -81,27 +81,33 @@ void Link::send(Message&& m, Picos t) {
     const bool nothingWaits = l.waiting() == 0;
     l.backlog.emplace_back(t, bytes, m.type);
     l.messages.emplace_back(std::move(m));
-    if (nothingWaits && l.slotFree_()) {
-        putOnWire(lane, takeSlot(l));  // the usual case: a slot is free, nothing waits before it
+    if (nothingWaits && l.slotFree()) {
+        putOnWire(lane, slotTime(l));  // the usual case: a slot is free, nothing waits before it
         return;
     }
     startWaiting(lane);
 }
 
-Picos Link::takeSlot(Lane& l) {
-    if (l.unusedSlots > 0) {
-        --l.unusedSlots;
-        return 0;
+Picos Link::slotTime(const Lane& l) const {
+    if (l.wired < l.slots) return 0;  // a slot not used yet
+    return l.takenAt(l.wired - l.slots) + params_.latency;  // the credit travelled back
+}
+
+// A take time is kept while a message still to go on the wire needs its
+// slot, and while the buffer's high-water mark is kept, from markFrom on.
+void Link::forgetTaken(Lane& l) {
+    uint64_t keep = l.wired >= l.slots ? l.wired - l.slots : 0;
+    if (keepsBufferMark(l)) keep = std::min(keep, l.markFrom);
+    while (l.takenFrom < keep && !l.taken.empty()) {
+        l.taken.pop_front();
+        ++l.takenFrom;
     }
-    const Picos slot = l.slotFree.front();
-    l.slotFree.pop_front();
-    return slot;
 }
 
 void Link::startWaiting(int lane) {
     Lane& l = lanes_[lane];
-    while (l.waiting() > 0 && l.slotFree_()) {
-        const Picos slot = takeSlot(l);
+    while (l.waiting() > 0 && l.slotFree()) {
+        const Picos slot = slotTime(l);
         if (params_.outDepth > 0) {  // a sender blocked on the full buffer has room from then
             const Picos room = std::max(l.firstWaiting().sent, slot), k = sc_core::sc_time_stamp().value();
             room_->notify(sc_core::sc_time::from_value(room > k ? room - k : 0));
@@ -148,6 +154,8 @@ void Link::putOnWire(int lane, Picos slot) {
     if (trace_.vcd && params_.controlDepth == 0) traceStart(start, transfer);
     l.wire.emplace_back(w, arrival, start, ready, transfer);
     l.backlog.pop_front();
+    ++l.wired;
+    forgetTaken(l);
     if (listener_) ++listener_->buffered;
     if (l.buffered() == 1) headChanged();
 }
@@ -225,19 +233,15 @@ Message Link::consume(Picos t) {
 Message Link::take(int lane, Picos t) {
     Lane& l = lanes_[lane];
     if (!l.buffered() || l.head().t > t) throw std::logic_error(name_ + ": consumed before arrival");
-    // Messages on the lane when this one went on the wire: those before it
-    // not consumed by then, and itself. Each holds a slot, so they are at
-    // most the lane's slots; once the mark has reached that, no message can
-    // raise it, and the lane stops keeping the times (a cold block per
-    // link: most messages on the 16x16x16 mesh go on links that fill
-    // their 16 slots).
-    const size_t slots = size_t(lane == kData ? params_.depth : params_.controlDepth);
-    if (stats_.bufferHighWater < slots) {
-        while (!l.consumedAt.empty() && l.consumedAt.front() <= l.head().start) l.consumedAt.pop_front();
-        l.consumedAt.push_back(t);
-        stats_.bufferHighWater = std::max(stats_.bufferHighWater, l.consumedAt.size());
-    }
     const Timed& head = l.head();
+    const uint64_t j = l.takenCount();  // its number
+    // Messages on the lane when it went on the wire: those before it taken
+    // after that (take times do not decrease), and itself.
+    if (keepsBufferMark(l)) {
+        while (l.markFrom < j && l.takenAt(l.markFrom) <= head.start) ++l.markFrom;
+        stats_.bufferHighWater = std::max(stats_.bufferHighWater, size_t(j - l.markFrom + 1));
+    }
+    l.taken.push_back(t);
     stats_.slotWait += head.ready - head.sent;
     stats_.wireWait += head.start - head.ready;
     ++stats_.consumed;
@@ -259,7 +263,7 @@ Message Link::take(int lane, Picos t) {
     }
     if (listener_) --listener_->buffered;
     --byType_[size_t(m.type)].inFlight;
-    l.slotFree.push_back(t + params_.latency);  // the credit travels back
+    forgetTaken(l);
     headChanged();
     startWaiting(lane);
     return m;

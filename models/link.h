@@ -287,32 +287,51 @@ private:
     // backlog (sent, waiting for a slot) `backlog`; the messages themselves
     // are in `messages`, in the order sent: the buffer's first, then the
     // backlog's. A message given a slot stays where it is in `messages`.
+    //
+    // Messages are numbered in the order sent, from 0. The receiver takes
+    // them in that order, and taking message j gives its slot back one
+    // latency later: message n goes on the wire with the slot of message
+    // n - slots (the first `slots` with unused ones, free from time 0).
+    // So a slot is free while fewer than `slots` messages are on the wire,
+    // and `taken` keeps when the last messages were taken: for the slots,
+    // and for the buffer's high-water mark while it is kept.
     struct Lane {
         Fifo<Timed> wire;
         Fifo<Waiting> backlog;
         Fifo<Message> messages;
+        Fifo<Picos> taken;       // when messages takenFrom, takenFrom + 1, ... were taken
+        uint64_t takenFrom = 0;
+        uint64_t wired = 0;      // messages put on the wire so far (the next one's number)
+        uint64_t markFrom = 0;   // the first message that may still count towards the buffer's high-water mark
+        uint32_t slots = 0;
+        // Every message sent: its transfer and the latency there and back,
+        // summed (the slots' round trips it owes, for occupied()).
+        Picos held = 0;
+        // For the backlog's high-water mark: when the messages that waited
+        // for the wire started.
+        Fifo<Picos> waitedUntil;
+        // With an output depth: when the messages that left the backlog
+        // (given a slot) leave the sender's buffer, from the sender's time on.
+        Fifo<Picos> leaving;
         size_t buffered() const { return wire.size(); }
         size_t waiting() const { return backlog.size(); }
         Timed& head() { return wire.front(); }  // the oldest on the wire (buffered() > 0)
         const Timed& head() const { return wire.front(); }
         const Waiting& firstWaiting() const { return backlog.front(); }  // (waiting() > 0)
-        int unusedSlots = 0;   // slots never used yet (free since time 0)
-        // Every message sent: its transfer and the latency there and back,
-        // summed (the slots' round trips it owes, for occupied()).
-        Picos held = 0;
-        Fifo<Picos> slotFree;  // slots returned by the receiver, free from these times
-        // For the high-water marks: when the messages that waited for the
-        // wire started, and when the last messages were consumed.
-        Fifo<Picos> waitedUntil, consumedAt;
-        // With an output depth: when the messages that left the backlog
-        // (given a slot) leave the sender's buffer, from the sender's time on.
-        Fifo<Picos> leaving;
-        bool slotFree_() const { return unusedSlots > 0 || !slotFree.empty(); }
+        bool slotFree() const { return buffered() < slots; }
+        uint64_t takenCount() const { return wired - buffered(); }  // (the head's number)
+        Picos takenAt(uint64_t j) const { return taken[size_t(j - takenFrom)]; }
     };
     static constexpr int kData = 0, kControl = 1;
     int laneOf(MsgType t) const { return params_.controlDepth > 0 && isControl(t) ? kControl : kData; }
     void startWaiting(int lane);  // puts backlog messages on the wire while slots allow
-    Picos takeSlot(Lane& l);      // a free slot (one must be), and when it became free
+    Picos slotTime(const Lane& l) const;  // when the slot of the lane's next message on the wire became free (one must be)
+    void forgetTaken(Lane& l);    // drops the take times no longer needed
+    // Messages on a lane at once (each holding a slot) are at most its
+    // slots: once the buffer's high-water mark has reached that, no message
+    // can raise it, and the lane stops keeping what it needs for it (most
+    // messages on the 16x16x16 mesh go on links that fill their 16 slots).
+    bool keepsBufferMark(const Lane& l) const { return stats_.bufferHighWater < l.slots; }
     void putOnWire(int lane, Picos slot);  // the lane's first waiting message
     // A control message ready at `ready`: its start on the wire, after the
     // message being sent then; the data messages not started by then move
@@ -343,6 +362,8 @@ private:
     ArrivalListener* listener_ = nullptr;
     Progress* progress_ = nullptr;  // the watchdog's (machine.h)
     int listenerPort_ = 0;
+    LinkTrace trace_;
+    LinkFlow stats_;
     std::array<Lane, 2> lanes_;
     // By type, counted as messages are sent, go on the wire and are taken:
     // a type's four figures in one half cache line (stats() adds the first
@@ -353,8 +374,6 @@ private:
         uint64_t inFlight = 0;  // sent, not yet consumed
     };
     std::array<TypeCounts, kMsgTypes> byType_{};
-    LinkFlow stats_;
-    LinkTrace trace_;
     std::string name_;
     // A message left a full output buffer's backlog: only with an output
     // depth (168 bytes, on each of the 16x16x16 mesh's 90,000 links).

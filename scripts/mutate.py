@@ -32,10 +32,10 @@ ORACLES = ("LinkOracle", "RayAcrossEmptyNodes", "FrameBufferOracle", "SlideOracl
 # (name, file, exact text (found exactly once), replacement, what the bug is)
 MUTANTS = [
     ("slot-back-at-once", "models/link.cpp",
-     "l.slotFree.push_back(t + params_.latency);", "l.slotFree.push_back(t);",
+     "return l.takenAt(l.wired - l.slots) + params_.latency;", "return l.takenAt(l.wired - l.slots);",
      "a consumed message's flow-control slot is free at once, not one latency later"),
     ("slot-back-late", "models/link.cpp",
-     "l.slotFree.push_back(t + params_.latency);", "l.slotFree.push_back(t + 2 * params_.latency);",
+     "return l.takenAt(l.wired - l.slots) + params_.latency;", "return l.takenAt(l.wired - l.slots) + 2 * params_.latency;",
      "the slot comes back two latencies after the message is consumed"),
     ("slot-never-waited-for", "models/link.cpp",
      "const Picos ready = std::max(sent, slot);", "const Picos ready = sent + 0 * slot;",
@@ -129,8 +129,8 @@ MUTANTS = [
     ("link-wire-busy-without-headers", "models/link.cpp",
      "byType_[size_t(w.type)].wire += transfer;", "byType_[size_t(w.type)].wire += transferTime(w.bytes - 8);",
      "a link's busy time leaves out each message's header"),
-    ("buffer-high-water-stops-a-slot-short", "models/link.cpp",
-     "if (stats_.bufferHighWater < slots) {", "if (stats_.bufferHighWater + 1 < slots) {",
+    ("buffer-high-water-stops-a-slot-short", "models/link.h",
+     "return stats_.bufferHighWater < l.slots;", "return stats_.bufferHighWater + 1 < l.slots;",
      "a link stops counting its buffer's high-water mark one short of its slots"),
     ("unconsumed-not-counted-on-the-wire", "models/link.cpp",
      "if (listener_) ++listener_->buffered;", "(void)0;",

@@ -54,6 +54,8 @@ public:
     explicit PixelSums(size_t n = 0) : narrow_(n) {}
     size_t size() const { return narrow_.size(); }
     void add(size_t i, const Contribution& c);
+    // Starts bringing pixel i's sum into the cache (i < size()), ahead of an add.
+    void prefetch(size_t i) const { __builtin_prefetch(&narrow_[i], 1); }
     // Pixel i: its fixed-point sum plus, if any, the contributions kept
     // aside, summed in path-key order.
     Vec3 value(size_t i);
