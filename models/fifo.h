@@ -22,6 +22,7 @@
 // empty, and at most a chunk.
 #pragma once
 #include <cstddef>
+#include <cstdint>
 #include <deque>
 #include <new>
 #include <utility>
@@ -40,47 +41,35 @@ public:
         return *this;
     }
     ~Fifo() {
-        clear();  // (an empty queue is a ring)
-        ::operator delete(items());
+        clear();  // (an empty queue is a ring, or nothing)
+        ::operator delete(mem_);
     }
 
     bool empty() const { return size_ == 0; }
     size_t size() const { return size_; }
-    T& front() { return chunked() ? chunks()->list.front()[head_] : items()[head_]; }
+    T& front() { return cap_ ? ring()[head_] : chunks()->list.front()[head_]; }
     const T& front() const { return const_cast<Fifo*>(this)->front(); }
-    T& operator[](size_t i) { return *slot(i); }
-    const T& operator[](size_t i) const { return *const_cast<Fifo*>(this)->slot(i); }
+    T& operator[](size_t i) { return cap_ ? ring()[(head_ + i) & (cap_ - 1)] : chunkSlot(i); }
+    const T& operator[](size_t i) const { return (*const_cast<Fifo*>(this))[i]; }
 
     void push_back(T v) { emplace_back(std::move(v)); }
     // Builds the item in place (braces: an aggregate takes its fields), so
-    // a large item is not moved once more on its way in.
+    // a large item is not moved once more on its way in. A ring with room
+    // takes it at once; growing, and the chunks, are the slow path.
     template <class... Args>
     void emplace_back(Args&&... args) {
-        if (!chunked() && size_ == capacity()) {
-            if (capacity() < kChunk) grow();
-            else toChunks();
-        }
-        if (chunked() && head_ + size_ == chunks()->list.size() * kChunk) chunks()->list.push_back(chunks()->take());
-        new (slot(size_)) T{std::forward<Args>(args)...};
+        T* at = size_ < cap_ ? &ring()[(head_ + size_) & (cap_ - 1)] : backSlot();
+        new (at) T{std::forward<Args>(args)...};
         ++size_;
     }
     void pop_front() {
-        front().~T();
-        --size_;
-        if (chunked()) {
-            if (++head_ == kChunk) {  // the first chunk is used up: kept for the next one at the back
-                chunks()->keep(chunks()->list.front());
-                chunks()->list.pop_front();
-                head_ = 0;
-            }
-            if (size_ == 0) toRing();
+        if (cap_ && size_ > 1) {  // a ring that does not run empty
+            ring()[head_].~T();
+            head_ = (head_ + 1) & (cap_ - 1);
+            --size_;
             return;
         }
-        head_ = (head_ + 1) & mask_;
-        if (size_ == 0) {
-            head_ = 0;
-            if (capacity() > kKeep) resize(kKeep);  // empty: keep a little room, give back a burst's
-        }
+        popSlow();
     }
     void clear() {
         while (size_) pop_front();
@@ -113,25 +102,56 @@ private:
             spare = c;
         }
     };
-    static constexpr size_t kKeep = 32;
-    static constexpr size_t kChunkMode = ~size_t(0);  // mask_ in chunk mode
+    static constexpr uint32_t kKeep = 32;
 
-    bool chunked() const { return mask_ == kChunkMode; }
-    T* items() const { return chunked() ? nullptr : static_cast<T*>(mem_); }
+    // Ring mode: cap_ > 0. Chunk mode: cap_ == 0 with mem_ set. Neither
+    // (nothing allocated): both 0.
+    bool chunked() const { return cap_ == 0 && mem_; }
+    T* ring() const { return static_cast<T*>(mem_); }
     Chunks* chunks() const { return static_cast<Chunks*>(mem_); }
-    size_t capacity() const { return mem_ ? mask_ + 1 : 0; }  // (ring mode)
-    T* slot(size_t i) {
-        if (!chunked()) return &items()[(head_ + i) & mask_];
+    T& chunkSlot(size_t i) const {
         const size_t pos = head_ + i;
-        return &chunks()->list[pos / kChunk][pos & (kChunk - 1)];
+        return chunks()->list[pos / kChunk][pos & (kChunk - 1)];
     }
-    void grow() { resize(capacity() ? 2 * capacity() : 4); }
-    void resize(size_t cap) {
+    // Where the next item goes when the ring is full, or there is none, or
+    // in chunk mode.
+    T* backSlot() {
+        if (!chunked()) {
+            if (cap_ < kChunk) {
+                resize(cap_ ? 2 * cap_ : 4);
+                return &ring()[size_];  // (head_ is 0)
+            }
+            toChunks();
+        }
+        const size_t pos = head_ + size_;
+        Chunks* c = chunks();
+        if (pos == c->list.size() * kChunk) c->list.push_back(c->take());
+        return &chunkSlot(size_);
+    }
+    void popSlow() {
+        front().~T();
+        --size_;
+        if (chunked()) {
+            if (++head_ == kChunk) {  // the first chunk is used up: kept for the next one at the back
+                chunks()->keep(chunks()->list.front());
+                chunks()->list.pop_front();
+                head_ = 0;
+            }
+            if (size_ == 0) toRing();
+            return;
+        }
+        head_ = (head_ + 1) & (cap_ - 1);
+        if (size_ == 0) {
+            head_ = 0;
+            if (cap_ > kKeep) resize(kKeep);  // empty: keep a little room, give back a burst's
+        }
+    }
+    void resize(uint32_t cap) {
         T* to = static_cast<T*>(::operator new(cap * sizeof(T)));
         moveOut(to);
-        ::operator delete(items());
+        ::operator delete(mem_);
         mem_ = to;
-        mask_ = cap - 1;
+        cap_ = cap;
         head_ = 0;
     }
     // A full ring of one chunk's size: its items, in order, become the first chunk.
@@ -139,38 +159,37 @@ private:
         auto* c = new Chunks;
         c->list.push_back(c->take());
         moveOut(c->list.front());
-        ::operator delete(items());
+        ::operator delete(mem_);
         mem_ = c;
-        mask_ = kChunkMode;
+        cap_ = 0;
         head_ = 0;
     }
-    // Empty in chunk mode: back to an empty ring, every chunk given back.
+    // Empty in chunk mode: back to no ring at all, every chunk given back.
     void toRing() {
         delete chunks();
         mem_ = nullptr;
-        mask_ = 0;
         head_ = 0;
     }
     // Moves the ring's items, in order, to the front of `to`.
     void moveOut(T* to) {
         for (size_t i = 0; i < size_; ++i) {
-            T& v = items()[(head_ + i) & mask_];
+            T& v = ring()[(head_ + i) & (cap_ - 1)];
             new (&to[i]) T(std::move(v));
             v.~T();
         }
     }
     void swap(Fifo& o) noexcept {
         std::swap(mem_, o.mem_);
-        std::swap(mask_, o.mask_);
+        std::swap(cap_, o.cap_);
         std::swap(head_, o.head_);
         std::swap(size_, o.size_);
     }
 
     // The ring's items (ring mode) or the Chunks (chunk mode): one pointer
-    // for both, so that a queue stays 32 bytes.
+    // for both, so that a queue stays 24 bytes.
     void* mem_ = nullptr;
-    size_t mask_ = 0;  // ring mode: capacity - 1 (a power of two); kChunkMode in chunk mode
-    size_t head_ = 0;  // the first item's place in the ring, or in the first chunk
+    uint32_t cap_ = 0;   // ring mode: its capacity (a power of two); 0 otherwise
+    uint32_t head_ = 0;  // the first item's place in the ring, or in the first chunk
     size_t size_ = 0;
 };
 

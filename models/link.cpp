@@ -93,17 +93,6 @@ Picos Link::slotTime(const Lane& l) const {
     return l.takenAt(l.wired - l.slots) + params_.latency;  // the credit travelled back
 }
 
-// A take time is kept while a message still to go on the wire needs its
-// slot, and while the buffer's high-water mark is kept, from markFrom on.
-void Link::forgetTaken(Lane& l) {
-    uint64_t keep = l.wired >= l.slots ? l.wired - l.slots : 0;
-    if (keepsBufferMark(l)) keep = std::min(keep, l.markFrom);
-    while (l.takenFrom < keep && !l.taken.empty()) {
-        l.taken.pop_front();
-        ++l.takenFrom;
-    }
-}
-
 void Link::startWaiting(int lane) {
     Lane& l = lanes_[lane];
     while (l.waiting() > 0 && l.slotFree()) {
@@ -152,10 +141,10 @@ void Link::putOnWire(int lane, Picos slot) {
     stats_.backlogHighWater = std::max(stats_.backlogHighWater, l.waitedUntil.size());
     byType_[size_t(w.type)].wire += transfer;
     if (trace_.vcd && params_.controlDepth == 0) traceStart(start, transfer);
-    l.wire.emplace_back(w, arrival, start, ready, transfer);
+    l.onWire_.fit(l.taken, l.wired);
+    l.onWire_[l.wired] = Timed(w, arrival, start, ready, transfer);
     l.backlog.pop_front();
     ++l.wired;
-    forgetTaken(l);
     if (listener_) ++listener_->buffered;
     if (l.buffered() == 1) headChanged();
 }
@@ -170,7 +159,7 @@ void Link::endFrame(Picos end) {
     const bool late = tracesLate();  // a lane's messages are traced when consumed: these never were
     for (const Lane& l : lanes_) {
         for (size_t i = 0; i < l.buffered(); ++i) {
-            const Timed& m = l.wire[i];
+            const Timed& m = l.onWire(i);
             const Picos done = m.start + m.transfer;
             if (done > end) byType_[size_t(m.type)].wire -= done - std::max(m.start, end);
             if (late) {
@@ -184,18 +173,18 @@ void Link::endFrame(Picos end) {
 }
 
 Picos Link::scheduleControl(Picos ready, Picos transfer) {
-    Fifo<Timed>& data = lanes_[kData].wire;  // in the order they go on the wire
-    const size_t onWire = data.size();
+    Lane& data = lanes_[kData];  // on the wire in the order they went on it
+    const size_t onWire = data.buffered();
     size_t first = 0;  // the first data message not started by `ready`
-    while (first < onWire && data[first].start < ready) ++first;
-    if (first < onWire && data[first].owed) ++first;  // its turn: it goes first (round-robin)
+    while (first < onWire && data.onWire(first).start < ready) ++first;
+    if (first < onWire && data.onWire(first).owed) ++first;  // its turn: it goes first (round-robin)
     Picos start = std::max(ready, controlFree_);
-    if (first > 0) start = std::max(start, data[first - 1].start + data[first - 1].transfer);  // on the wire then
+    if (first > 0) start = std::max(start, data.onWire(first - 1).start + data.onWire(first - 1).transfer);  // on the wire then
     controlFree_ = start + transfer;
     Picos end = controlFree_;
-    if (first < onWire && data[first].ready < end) data[first].owed = true;  // it waits for this one
+    if (first < onWire && data.onWire(first).ready < end) data.onWire(first).owed = true;  // it waits for this one
     for (size_t i = first; i < onWire; ++i) {
-        Timed& d = data[i];
+        Timed& d = data.onWire(i);
         d.start = std::max(d.ready, end);
         end = d.start + d.transfer;
         d.t = end + params_.latency;
@@ -213,7 +202,7 @@ bool Link::peekArrival(Picos& arrival) const {
 size_t Link::arrivedBy(Picos t) const {
     size_t n = 0;
     for (const Lane& l : lanes_)
-        for (size_t i = 0; i < l.buffered() && l.wire[i].t <= t; ++i) ++n;  // buffers are in arrival order
+        for (size_t i = 0; i < l.buffered() && l.onWire(i).t <= t; ++i) ++n;  // buffers are in arrival order
     return n;
 }
 
@@ -233,15 +222,25 @@ Message Link::consume(Picos t) {
 Message Link::take(int lane, Picos t) {
     Lane& l = lanes_[lane];
     if (!l.buffered() || l.head().t > t) throw std::logic_error(name_ + ": consumed before arrival");
+    const uint64_t j = l.taken;  // its number
     const Timed& head = l.head();
-    const uint64_t j = l.takenCount();  // its number
     // Messages on the lane when it went on the wire: those before it taken
-    // after that (take times do not decrease), and itself.
+    // after that (take times do not decrease), and itself. They held a slot
+    // each then, so they are the last `slots` at most (its own slot came
+    // back after message j - slots was taken).
     if (keepsBufferMark(l)) {
+        if (j + 1 > l.slots) l.markFrom = std::max(l.markFrom, j + 1 - l.slots);
         while (l.markFrom < j && l.takenAt(l.markFrom) <= head.start) ++l.markFrom;
         stats_.bufferHighWater = std::max(stats_.bufferHighWater, size_t(j - l.markFrom + 1));
     }
-    l.taken.push_back(t);
+    // Its take time, beside those the next slots need (message n's slot is
+    // message n - slots's) and those the mark may still read (from markFrom,
+    // or `slots` back at most).
+    const auto since = [](uint64_t n, uint64_t back) { return n >= back ? n - back : 0; };
+    uint64_t from = since(l.wired, l.slots);
+    if (keepsBufferMark(l)) from = std::min(from, std::max(l.markFrom, since(j + 1, l.slots)));
+    l.takenAt_.fit(std::min(from, j), j);
+    l.takenAt_[j] = t;
     stats_.slotWait += head.ready - head.sent;
     stats_.wireWait += head.start - head.ready;
     ++stats_.consumed;
@@ -256,14 +255,13 @@ Message Link::take(int lane, Picos t) {
     }
     Message m = std::move(l.messages.front());
     l.messages.pop_front();
-    l.wire.pop_front();
+    ++l.taken;
     if (!l.messages.empty()) {  // the next one, written long ago by the sender: on its way to the cache
         const char* next = reinterpret_cast<const char*>(&l.messages.front());
         for (size_t b = 0; b < sizeof(Message); b += 64) __builtin_prefetch(next + b);
     }
     if (listener_) --listener_->buffered;
     --byType_[size_t(m.type)].inFlight;
-    forgetTaken(l);
     headChanged();
     startWaiting(lane);
     return m;

@@ -269,38 +269,60 @@ private:
         MsgType type;
     };
     struct Timed {
+        Timed() = default;
         Timed(const Waiting& w, Picos arrival, Picos start_, Picos ready_, Picos transfer_)
             : t(arrival), sent(w.sent), start(start_), ready(ready_), transfer(transfer_), bytes(w.bytes), type(w.type) {}
-        Picos t;             // its arrival
-        Picos sent;          // when the sender sent it
-        Picos start;         // when it went on the wire
-        Picos ready;         // when it could have (sent, and a slot free)
-        Picos transfer;      // its time on the wire
-        uint32_t bytes;
-        MsgType type;
+        Picos t = 0;         // its arrival
+        Picos sent = 0;      // when the sender sent it
+        Picos start = 0;     // when it went on the wire
+        Picos ready = 0;     // when it could have (sent, and a slot free)
+        Picos transfer = 0;  // its time on the wire
+        uint32_t bytes = 0;
+        MsgType type = MsgType::Ray;
         bool owed = false;   // a data message a control message went ahead of: it goes before the next one
     };
     // One virtual channel: its slots, its buffer and its backlog.
     //
-    // The buffer (on the wire or arrived, not consumed; in the order they
-    // go on the wire, which is the order they were sent in) is `wire`, the
-    // backlog (sent, waiting for a slot) `backlog`; the messages themselves
-    // are in `messages`, in the order sent: the buffer's first, then the
-    // backlog's. A message given a slot stays where it is in `messages`.
-    //
-    // Messages are numbered in the order sent, from 0. The receiver takes
+    // Messages are numbered in the order sent, from 0. The backlog (sent,
+    // waiting for a slot) is `backlog`; the messages themselves, on the wire
+    // or waiting, are in `messages`, in the order sent. The receiver takes
     // them in that order, and taking message j gives its slot back one
     // latency later: message n goes on the wire with the slot of message
-    // n - slots (the first `slots` with unused ones, free from time 0).
-    // So a slot is free while fewer than `slots` messages are on the wire,
-    // and `taken` keeps when the last messages were taken: for the slots,
-    // and for the buffer's high-water mark while it is kept.
+    // n - slots (the first `slots` with unused ones, free from time 0). So
+    // at most `slots` are on the wire at once (the buffer: on the wire or
+    // arrived, not taken), and a slot is free while fewer are.
+    //
+    // By number, without moving or dropping anything as messages go on the
+    // wire and are taken: the records of those on the wire (from `taken` to
+    // `wired`) in `onWire_`, and when the last ones were taken (those a
+    // slot or the buffer's high-water mark may still need: at most `slots`
+    // before the oldest on the wire) in `takenAt_`; message n at n mod each
+    // ring's size, a power of two that grows as the window does (to at most
+    // slots and 2 slots).
+    template <class T>
+    struct NumberedRing {
+        std::unique_ptr<T[]> items;
+        uint64_t mask = 0;  // size - 1 (no items before the first message)
+        T& operator[](uint64_t n) { return items[n & mask]; }
+        const T& operator[](uint64_t n) const { return items[n & mask]; }
+        // Room for numbers from..to, keeping those from..to-1 (in place by their number).
+        void fit(uint64_t from, uint64_t to) {
+            const uint64_t need = to + 1 - from;
+            if (items && need <= mask + 1) return;
+            uint64_t size = items ? 2 * (mask + 1) : 4;
+            while (size < need) size *= 2;
+            std::unique_ptr<T[]> grown(new T[size]());
+            for (uint64_t n = from; n < to; ++n) grown[n & (size - 1)] = items[n & mask];
+            items = std::move(grown);
+            mask = size - 1;
+        }
+    };
     struct Lane {
-        Fifo<Timed> wire;
         Fifo<Waiting> backlog;
         Fifo<Message> messages;
-        Fifo<Picos> taken;       // when messages takenFrom, takenFrom + 1, ... were taken
-        uint64_t takenFrom = 0;
+        NumberedRing<Timed> onWire_;
+        NumberedRing<Picos> takenAt_;
+        uint64_t taken = 0;      // messages taken so far (the oldest on the wire's number)
         uint64_t wired = 0;      // messages put on the wire so far (the next one's number)
         uint64_t markFrom = 0;   // the first message that may still count towards the buffer's high-water mark
         uint32_t slots = 0;
@@ -313,20 +335,20 @@ private:
         // With an output depth: when the messages that left the backlog
         // (given a slot) leave the sender's buffer, from the sender's time on.
         Fifo<Picos> leaving;
-        size_t buffered() const { return wire.size(); }
+        size_t buffered() const { return size_t(wired - taken); }
         size_t waiting() const { return backlog.size(); }
-        Timed& head() { return wire.front(); }  // the oldest on the wire (buffered() > 0)
-        const Timed& head() const { return wire.front(); }
+        Timed& onWire(size_t i) { return onWire_[taken + i]; }  // i < buffered(), oldest first
+        const Timed& onWire(size_t i) const { return onWire_[taken + i]; }
+        Timed& head() { return onWire(0); }  // the oldest on the wire (buffered() > 0)
+        const Timed& head() const { return onWire(0); }
         const Waiting& firstWaiting() const { return backlog.front(); }  // (waiting() > 0)
         bool slotFree() const { return buffered() < slots; }
-        uint64_t takenCount() const { return wired - buffered(); }  // (the head's number)
-        Picos takenAt(uint64_t j) const { return taken[size_t(j - takenFrom)]; }
+        Picos takenAt(uint64_t j) const { return takenAt_[j]; }
     };
     static constexpr int kData = 0, kControl = 1;
     int laneOf(MsgType t) const { return params_.controlDepth > 0 && isControl(t) ? kControl : kData; }
     void startWaiting(int lane);  // puts backlog messages on the wire while slots allow
     Picos slotTime(const Lane& l) const;  // when the slot of the lane's next message on the wire became free (one must be)
-    void forgetTaken(Lane& l);    // drops the take times no longer needed
     // Messages on a lane at once (each holding a slot) are at most its
     // slots: once the buffer's high-water mark has reached that, no message
     // can raise it, and the lane stops keeping what it needs for it (most

@@ -454,8 +454,10 @@ void Node::step(Work& w) {
         if (s == Region::Step::Terminated) {
             terminate(w, spawned);
             dir = -2;
-        } else {
-            dir = route(w.job, box);  // it left the box at job.t0 (the same ray, the same box)
+        } else {  // it left the box at job.t0 = box.span.hi: by the face route() would pick there
+            const auto [axis, step] = box.exitFace(w.job.ray);
+            if (axis < 0) throw std::logic_error(std::string(name()) + ": a ray left its box by no face");
+            dir = dirOf(axis, step);
         }
     }
     if (dir >= 0) {

@@ -12,6 +12,7 @@
 // pieces, with no gaps and no overlaps, whatever the rounding.
 #pragma once
 #include <array>
+#include <utility>
 #include <optional>
 #include <vector>
 
@@ -36,6 +37,16 @@ Interval boxInterval(const Ray& r, const Box& b);
 struct BoxSlabs {
     std::array<Interval, 3> slab;
     Interval span;  // boxInterval(r, b), to the bit
+    // The face by which a ray that starts inside the box leaves it at
+    // span.hi: the first axis (x, y, z) whose slab ends there, and +1 or -1
+    // as the ray moves along it; axis -1 if none (the span is unbounded).
+    // It is the face a ray at parameter span.hi is outside of first, axis
+    // by axis: the rule Node::route applies to it.
+    std::pair<int, int> exitFace(const Ray& r) const {
+        for (int a = 0; a < 3; ++a)
+            if (r.d[a] != 0 && slab[size_t(a)].hi == span.hi) return {a, r.d[a] > 0 ? +1 : -1};
+        return {-1, 0};
+    }
 };
 BoxSlabs boxSlabs(const Ray& r, const Box& b);
 

@@ -179,3 +179,40 @@ TEST(Dda, LocateAgreesWithWalk) {
         }
     }
 }
+
+// The face a ray leaves its box by (BoxSlabs::exitFace, what a node forwards
+// it through after tracing it) is the first axis, x then y then z, along
+// which the cell that owns the exit parameter lies beyond the box, and the
+// way the ray moves along it; on the axes before it the owner is still in
+// line with the box. Checked against Lattice::locate in a 3x3x3 lattice, for
+// rays from inside the centre cell, including ties through edges and corners.
+TEST(Dda, ExitFaceIsTheFirstAxisTheRayIsOutsideOf) {
+    const Lattice L = Lattice::uniform(kBox, {3, 3, 3});
+    const Box centre = L.cellBox({1, 1, 1});
+    auto check = [&](const Ray& r) {
+        const BoxSlabs b = boxSlabs(r, centre);
+        const auto [axis, step] = b.exitFace(r);
+        ASSERT_GE(axis, 0);
+        ASSERT_EQ(step, r.d[axis] > 0 ? 1 : -1);
+        const std::optional<Cell> owner = L.locate(r, b.span.hi);
+        ASSERT_TRUE(owner.has_value());
+        EXPECT_EQ((*owner)[axis], 1 + step) << "axis " << axis;
+        for (int a = 0; a < axis; ++a) EXPECT_EQ((*owner)[a], 1) << "axis " << a << " before the exit axis " << axis;
+    };
+    std::mt19937_64 rng(99);
+    std::uniform_real_distribution<double> in(0.0, 1.0), dir(-1, 1);
+    const Vec3 lo = centre.lo, size = centre.hi - centre.lo;
+    for (int i = 0; i < 5000; ++i) {
+        const Vec3 o = lo + Vec3(in(rng), in(rng), in(rng)) * size;
+        Vec3 d(dir(rng), dir(rng), dir(rng));
+        if (i % 5 == 0) d[i % 3] = 0;  // parallel to a face
+        check(Ray(o, glm::normalize(d)));
+    }
+    // Through an edge and a corner from the cell's centre: ties go to the first axis.
+    const Vec3 mid = lo + 0.5 * size;
+    check(Ray(mid, glm::normalize(Vec3(1, 1, 0))));
+    check(Ray(mid, glm::normalize(Vec3(0, -1, -1))));
+    check(Ray(mid, glm::normalize(Vec3(-1, 1, -1))));
+    EXPECT_EQ(boxSlabs(Ray(mid, glm::normalize(Vec3(0, -1, -1))), centre).exitFace(Ray(mid, glm::normalize(Vec3(0, -1, -1)))),
+              std::make_pair(1, -1));
+}
