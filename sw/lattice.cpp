@@ -50,7 +50,10 @@ BoxSlabs boxSlabs(const Ray& r, const Box& b) {
         const Interval ia = slabInterval(r, a, b.lo[a], b.hi[a]);
         s.slab[size_t(a)] = ia;
         s.span.lo = std::max(s.span.lo, ia.lo);
-        s.span.hi = std::min(s.span.hi, ia.hi);
+        if (ia.hi < s.span.hi) {  // the first axis to reach the final span.hi names the exit
+            s.span.hi = ia.hi;
+            s.exitAxis = r.d[a] != 0 ? a : -1;  // (a parallel axis's slab is all or nothing)
+        }
     }
     return s;
 }

@@ -41,12 +41,13 @@ struct BoxSlabs {
     // span.hi: the first axis (x, y, z) whose slab ends there, and +1 or -1
     // as the ray moves along it; axis -1 if none (the span is unbounded).
     // It is the face a ray at parameter span.hi is outside of first, axis
-    // by axis: the rule Node::route applies to it.
+    // by axis: the rule Node::route applies to it. (Found as the slabs are
+    // intersected: the first axis to lower span.hi to its final value.)
     std::pair<int, int> exitFace(const Ray& r) const {
-        for (int a = 0; a < 3; ++a)
-            if (r.d[a] != 0 && slab[size_t(a)].hi == span.hi) return {a, r.d[a] > 0 ? +1 : -1};
-        return {-1, 0};
+        if (exitAxis < 0) return {-1, 0};
+        return {exitAxis, r.d[exitAxis] > 0 ? +1 : -1};
     }
+    int exitAxis = -1;
 };
 BoxSlabs boxSlabs(const Ray& r, const Box& b);
 
