@@ -1,6 +1,7 @@
 #include "lattice.h"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 namespace rt {
@@ -11,6 +12,7 @@ Lattice::Lattice(std::array<std::vector<double>, 3> planes) : planes_(std::move(
         for (size_t i = 1; i < p.size(); ++i)
             if (!(p[i - 1] < p[i])) throw std::invalid_argument("lattice planes must be strictly increasing");
     }
+    for (int a = 0; a < 3; ++a) perLength_[a] = double(cells(a)) / (planes_[a].back() - planes_[a].front());
 }
 
 Lattice Lattice::uniform(const Box& box, const std::array<int, 3>& n) {
@@ -74,24 +76,35 @@ Interval Lattice::segment(const Ray& r, const Cell& c, double t0, double t1) con
     return s;
 }
 
+namespace {
+// Of an axis's planes p_0 < ... < p_n, those on p_0's side of the ray's
+// point (`below`) are a prefix p_0 .. p_i: i, or -1 if none. The guess is
+// checked first (two tests; with evenly spaced planes it is nearly always
+// right), then the planes are bisected: the same i either way.
+template <class Below>
+int lastPlaneBelow(const std::vector<double>& p, double guess, Below below) {
+    const int n = int(p.size()) - 1;
+    const int g = guess >= 0 ? int(std::min(guess, double(n))) : -1;  // floor, from -1 to n (NaN: -1)
+    if ((g < 0 || below(p[size_t(g)])) && (g == n || !below(p[size_t(g) + 1]))) return g;
+    return int(std::partition_point(p.begin(), p.end(), below) - p.begin()) - 1;
+}
+}  // namespace
+
 std::optional<Cell> Lattice::locate(const Ray& r, double t) const {
     Cell c{};
     for (int a = 0; a < 3; ++a) {
         const std::vector<double>& p = planes_[a];
-        const int n = cells(a);
+        // The guess: the cell of the point at t, as if the planes were even.
+        const double x = r.d[a] != 0 ? r.o[a] + t * r.d[a] : r.o[a];
+        const double guess = p.empty() ? -1 : (x - p.front()) * perLength_[a];  // (lastPlaneBelow truncates it)
         int i;
-        if (r.d[a] > 0) {
-            // t(p_k) grows with k: the planes already crossed form a prefix.
-            auto it = std::partition_point(p.begin(), p.end(), [&](double x) { return r.tAt(a, x) <= t; });
-            i = int(it - p.begin()) - 1;
-        } else if (r.d[a] < 0) {
-            // t(p_k) shrinks with k: the planes already crossed form a suffix.
-            auto it = std::partition_point(p.begin(), p.end(), [&](double x) { return r.tAt(a, x) > t; });
-            i = int(it - p.begin()) - 1;
-        } else {
-            i = int(std::upper_bound(p.begin(), p.end(), r.o[a]) - p.begin()) - 1;
-        }
-        if (i < 0 || i >= n) return std::nullopt;
+        if (r.d[a] > 0)  // t(p_k) grows with k: below are the planes already crossed
+            i = lastPlaneBelow(p, guess, [&](double q) { return r.tAt(a, q) <= t; });
+        else if (r.d[a] < 0)  // t(p_k) shrinks with k: below are those not crossed yet
+            i = lastPlaneBelow(p, guess, [&](double q) { return r.tAt(a, q) > t; });
+        else
+            i = lastPlaneBelow(p, guess, [&](double q) { return q <= r.o[a]; });
+        if (i < 0 || i >= cells(a)) return std::nullopt;
         c[a] = i;
     }
     return c;

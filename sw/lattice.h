@@ -86,6 +86,9 @@ public:
 
 private:
     std::array<std::vector<double>, 3> planes_;
+    // Per axis, cells per unit length as if the planes were evenly spaced
+    // (they are, in a region's voxel grid): locate's first guess.
+    std::array<double, 3> perLength_{};
 };
 
 template <class Visit>

@@ -2,6 +2,7 @@
 // exactly those a brute-force ray/cell overlap test over every cell finds,
 // in the same order, for random and degenerate rays.
 #include <algorithm>
+#include <cmath>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -177,6 +178,50 @@ TEST(Dda, LocateAgreesWithWalk) {
         for (const Visit& v : walked(L, r, 0, kInf)) {
             ASSERT_EQ(L.locate(r, v.seg.lo), std::optional<Cell>(v.cell));
         }
+    }
+}
+
+// Lattice::locate guesses a cell from the point's coordinates and checks
+// the guess against the planes: the cell it names must be the one whose
+// segment (Lattice::segment, the slab rule) holds t, on evenly spaced planes
+// and uneven ones (a partition after boundaries slid), and at the parameters
+// where the guess is hardest: a plane's own crossing and the doubles beside it.
+TEST(Dda, LocateNamesTheCellWhoseSegmentHoldsT) {
+    const Lattice even = Lattice::uniform(kBox, {5, 3, 4});
+    const Lattice uneven({std::vector<double>{0, 0.1, 0.15, 2.9, 4}, std::vector<double>{0, 3.5, 3.6, 4},
+                          std::vector<double>{0, 1, 1.0000001, 1.5, 3.99, 4}});
+    std::mt19937_64 rng(11);
+    std::uniform_real_distribution<double> u(-1, 5), dir(-1, 1), t(-2, 12);
+    for (const Lattice* L : {&even, &uneven}) {
+        auto owner = [&](const Ray& r, double at) {
+            std::optional<Cell> found;
+            for (int z = 0; z < L->cells(2); ++z)
+                for (int y = 0; y < L->cells(1); ++y)
+                    for (int x = 0; x < L->cells(0); ++x) {
+                        const Interval s = L->segment(r, {x, y, z}, -kInf, kInf);
+                        if (s.lo <= at && at < s.hi) found = Cell{x, y, z};
+                    }
+            return found;
+        };
+        int inside = 0;
+        for (int i = 0; i < 3000; ++i) {
+            Vec3 d(dir(rng), dir(rng), dir(rng));
+            if (i % 7 == 0) d[i % 3] = 0;  // parallel to an axis's planes
+            const Ray r(Vec3(u(rng), u(rng), u(rng)), glm::normalize(d));
+            std::vector<double> ts{t(rng)};
+            for (int a = 0; a < 3; ++a)
+                if (r.d[a] != 0)
+                    for (double p : L->planes(a)) {
+                        const double c = r.tAt(a, p);
+                        ts.insert(ts.end(), {c, std::nextafter(c, -kInf), std::nextafter(c, kInf)});
+                    }
+            for (double at : ts) {
+                const std::optional<Cell> want = owner(r, at);
+                inside += want.has_value();
+                ASSERT_EQ(L->locate(r, at), want) << "ray " << i << " at t = " << at;
+            }
+        }
+        EXPECT_GT(inside, 1000);  // (most of the cases are inside the lattice)
     }
 }
 
