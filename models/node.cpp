@@ -392,6 +392,8 @@ bool Node::takeWork(Work& w, std::optional<Message>& control, int& controlDir) {
 // a ray always reaches its owner, also when the columns' boundaries along the
 // progress axis do not line up.
 int Node::route(const RayJob& job, const BoxSlabs& box) const {
+    // Owned when every slab holds t0: when their intersection does (the usual case).
+    if (box.span.lo <= job.t0 && job.t0 < box.span.hi) return -1;
     const Box& b = region_->box();
     for (int a = 0; a < 3; ++a) {
         if (job.ray.d[a] == 0) {

@@ -36,7 +36,7 @@ namespace rt {
 
 class TimeKeeper {
 public:
-    explicit TimeKeeper(Picos quantum) : quantum_(quantum) {}
+    explicit TimeKeeper(Picos quantum) : quantum_(quantum), sim_(sc_core::sc_get_curr_simcontext()) {}
     // Before the simulation starts: the process's own lookahead
     // (MachineConfig::lookaheadQuantum).
     void setQuantum(Picos quantum) { quantum_ = quantum; }
@@ -72,9 +72,12 @@ public:
     bool sees(Picos t) const { return t < kernel() + quantum_; }
 
 private:
-    static Picos kernel() { return sc_core::sc_time_stamp().value(); }
+    // The kernel's time, read every step: from the simulation context itself
+    // (an inline read), not through sc_time_stamp() (a call into the library).
+    Picos kernel() const { return sim_->time_stamp().value(); }
 
     Picos quantum_;
+    const sc_core::sc_simcontext* sim_;
 };
 
 }  // namespace rt
