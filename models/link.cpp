@@ -235,10 +235,9 @@ Message Link::take(int lane, Picos t) {
     }
     // Its take time, beside those the next slots need (message n's slot is
     // message n - slots's) and those the mark may still read (from markFrom,
-    // or `slots` back at most).
-    const auto since = [](uint64_t n, uint64_t back) { return n >= back ? n - back : 0; };
-    uint64_t from = since(l.wired, l.slots);
-    if (keepsBufferMark(l)) from = std::min(from, std::max(l.markFrom, since(j + 1, l.slots)));
+    // which the mark's count above keeps at most `slots` back).
+    uint64_t from = l.wired >= l.slots ? l.wired - l.slots : 0;
+    if (keepsBufferMark(l)) from = std::min(from, l.markFrom);
     l.takenAt_.fit(std::min(from, j), j);
     l.takenAt_[j] = t;
     stats_.slotWait += head.ready - head.sent;

@@ -1,7 +1,6 @@
 #include "lattice.h"
 
 #include <algorithm>
-#include <cmath>
 #include <stdexcept>
 
 namespace rt {
