@@ -21,8 +21,25 @@ from bench_rtref import machine  # noqa: E402
 from sweep import update_doc_section, version  # noqa: E402
 
 
+# The CPU every run is pinned to (None: the scheduler's choice); main sets it.
+PIN = None
+
+
+def pinned():
+    """In the child, before exec: keep it (and GNU time's child) on PIN."""
+    if PIN is not None:
+        os.sched_setaffinity(0, {PIN})
+
+
 def timed(cmd):
     """Runs cmd; returns (wall seconds, peak resident set in MiB).
+
+    Every run is pinned to one CPU (--cpu): this VM's two CPUs ran at
+    different speeds for minutes at a time (the same run took 1.5 s on one
+    and 2.3 s on the other, at the same moment), so a run the scheduler
+    moved between them took either time or anything between, and rtsim's
+    and rtref's runs, alternated, could fall on different CPUs. Pinned,
+    five alternated runs' ratios lie within 1 to 2 % of each other.
 
     The peak comes from GNU time, which runs cmd as its own child: a child
     of this script starts with the script's peak resident set (fork copies
@@ -30,7 +47,7 @@ def timed(cmd):
     every run's own peak read as the script's (136 MiB for N = 1 to 8)."""
     t0 = time.monotonic()
     p = subprocess.run(["/usr/bin/time", "-f", "maxrss_kib=%M"] + cmd, stdout=subprocess.DEVNULL,
-                       stderr=subprocess.PIPE)
+                       stderr=subprocess.PIPE, preexec_fn=pinned)
     wall = time.monotonic() - t0
     err = p.stderr.decode().rstrip("\n").split("\n")
     if p.returncode != 0 or not err[-1].startswith("maxrss_kib="):
@@ -65,8 +82,18 @@ def main():
     ap.add_argument("--tracing-runs", type=int, default=3,
                     help="runs of each tracing case (0 to skip); --tracing-only: only those")
     ap.add_argument("--tracing-only", action="store_true")
+    ap.add_argument("--cpu", type=int, default=-2,
+                    help="CPU to pin every run to (default: the last this script may use; -1: no pinning)")
     ap.add_argument("--doc", action="store_true")
     a = ap.parse_args()
+    global PIN
+    allowed = sorted(os.sched_getaffinity(0))
+    if a.cpu == -2:
+        PIN = allowed[-1]
+    elif a.cpu >= 0:
+        if a.cpu not in allowed:
+            sys.exit(f"bench_rtsim: --cpu {a.cpu}: not one of the CPUs this process may use ({allowed})")
+        PIN = a.cpu
     # The tree's version before anything is written: the tracing section goes
     # into doc/ first, and would make the main tables say "-dirty".
     a.version = version()
@@ -144,7 +171,7 @@ def main():
         ("rtsim peak memory, exact mode (max over runs)", f"{exact_mem:.0f} MiB"),
         ("modes measured again because rtref's time strayed more than "
          f"{DRIFT * 100:.0f} % from its median", ", ".join(f"{k} ({v}x)" for k, v in reruns.items()) or "none"),
-        ("machine", machine()),
+        ("machine", machine() + (f"; every run pinned to CPU {PIN}" if PIN is not None else "; runs not pinned")),
         ("version (git describe)", a.version),
     ]
     table = "| quantity | value |\n|---|---|\n" + "".join(f"| {k} | {v} |\n" for k, v in rows)
