@@ -85,17 +85,17 @@ def main():
     ap.add_argument("--tracing-runs", type=int, default=3,
                     help="runs of each tracing case (0 to skip); --tracing-only: only those")
     ap.add_argument("--tracing-only", action="store_true")
-    ap.add_argument("--cpu", type=int, default=-2,
+    ap.add_argument("--cpu", type=int, default=None,
                     help="CPU to pin every run to (default: the last this script may use; -1: no pinning)")
     ap.add_argument("--doc", action="store_true")
     a = ap.parse_args()
     global PIN
     allowed = sorted(os.sched_getaffinity(0))
-    if a.cpu == -2:
+    if a.cpu is None:
         PIN = allowed[-1]
-    elif a.cpu >= 0:
+    elif a.cpu != -1:
         if a.cpu not in allowed:
-            sys.exit(f"bench_rtsim: --cpu {a.cpu}: not one of the CPUs this process may use ({allowed})")
+            sys.exit(f"bench_rtsim: --cpu {a.cpu}: not -1 nor one of the CPUs this process may use ({allowed})")
         PIN = a.cpu
     # The tree's version before anything is written: the tracing section goes
     # into doc/ first, and would make the main tables say "-dirty".
@@ -125,6 +125,8 @@ def main():
     exact_report = None
     ratio_of = {}
 
+    redos = {}  # by mode: runs made again (measure)
+
     def measure(label, flags):
         """Each rtsim run between two rtref runs (the one after it is the
         next one's before): its ratio is to their mean, and a run whose two
@@ -152,7 +154,6 @@ def main():
         with open(report) as f:
             return sim, ref, ratios, mem, json.load(f), same("s.png", "r.png")
 
-    redos = {}
     measured = {label: measure(label, flags) for label, flags in MODES}
     # This machine has slow spells that last minutes and need not slow rtsim
     # and rtref alike (one try had lockstep faster than the lookahead). A mode
