@@ -21,16 +21,6 @@ from bench_rtref import machine  # noqa: E402
 from sweep import update_doc_section, version  # noqa: E402
 
 
-# The CPU every run is pinned to (None: the scheduler's choice); main sets it.
-PIN = None
-
-
-def pinned():
-    """In the child, before exec: keep it (and GNU time's child) on PIN."""
-    if PIN is not None:
-        os.sched_setaffinity(0, {PIN})
-
-
 def timed(cmd):
     """Runs cmd; returns (wall seconds, peak resident set in MiB).
 
@@ -49,7 +39,7 @@ def timed(cmd):
     every run's own peak read as the script's (136 MiB for N = 1 to 8)."""
     t0 = time.monotonic()
     p = subprocess.run(["/usr/bin/time", "-f", "maxrss_kib=%M"] + cmd, stdout=subprocess.DEVNULL,
-                       stderr=subprocess.PIPE, preexec_fn=pinned)
+                       stderr=subprocess.PIPE)
     wall = time.monotonic() - t0
     err = p.stderr.decode().rstrip("\n").split("\n")
     if p.returncode != 0 or not err[-1].startswith("maxrss_kib="):
@@ -89,14 +79,13 @@ def main():
                     help="CPU to pin every run to (default: the last this script may use; -1: no pinning)")
     ap.add_argument("--doc", action="store_true")
     a = ap.parse_args()
-    global PIN
+    # The script pins itself: every run, GNU time's child too, inherits it.
     allowed = sorted(os.sched_getaffinity(0))
-    if a.cpu is None:
-        PIN = allowed[-1]
-    elif a.cpu != -1:
-        if a.cpu not in allowed:
+    pin = allowed[-1] if a.cpu is None else None if a.cpu == -1 else a.cpu
+    if pin is not None:
+        if pin not in allowed:
             sys.exit(f"bench_rtsim: --cpu {a.cpu}: not -1 nor one of the CPUs this process may use ({allowed})")
-        PIN = a.cpu
+        os.sched_setaffinity(0, {pin})
     # The tree's version before anything is written: the tracing section goes
     # into doc/ first, and would make the main tables say "-dirty".
     a.version = version()
@@ -192,7 +181,7 @@ def main():
          f"{BRACKET * 100:.0f} %", ", ".join(f"{k} ({v})" for k, v in redos.items() if v) or "none"),
         ("modes measured again because rtref's time strayed more than "
          f"{DRIFT * 100:.0f} % from its median", ", ".join(f"{k} ({v}x)" for k, v in reruns.items()) or "none"),
-        ("machine", machine() + (f"; every run pinned to CPU {PIN}" if PIN is not None else "; runs not pinned")),
+        ("machine", machine() + (f"; every run pinned to CPU {pin}" if pin is not None else "; runs not pinned")),
         ("version (git describe)", a.version),
     ]
     table = "| quantity | value |\n|---|---|\n" + "".join(f"| {k} | {v} |\n" for k, v in rows)
