@@ -95,6 +95,7 @@ void FrameBufferUnit::run() {
     if (!started_) {
         started_ = true;
         inputOrder_.listen(in);
+        for (int i = 0; i < in.size(); ++i) inLinks_.push_back(&asLink(*in[i]));
         if (late_ > 0) inputOrder_.setLate(late_, size_t(in.size()) - 1);  // its last port is from unit 0
         now_ = sc_core::sc_time_stamp().value();
         lastPrint_ = std::chrono::steady_clock::now();
@@ -124,7 +125,7 @@ void FrameBufferUnit::run() {
             now_ = std::max(now_, Picos(sc_core::sc_time_stamp().value()));
             continue;
         }
-        Message m = in[best]->consume(now_);
+        Message m = inLinks_[size_t(best)]->consume(now_);
         const Picos cost = take(m);
         if (trace_.vcd) {
             if (cost) {

@@ -125,6 +125,7 @@ private:
     // come: the order they come in cannot change a bit (pixel_sum.h).
     PixelSums sums_;
     ArrivalQueue inputOrder_;
+    std::vector<Link*> inLinks_;  // in's, in binding order (set at the start)
     FrameBufferStats stats_;
     bool done_ = false;
     bool dropCredit_ = false;

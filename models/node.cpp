@@ -204,10 +204,10 @@ void Node::start() {
     // The links themselves, read at every step: a port's interface is one
     // more pointer to follow (a cache miss on a node not run for a while).
     for (int d = 0; d < kDirs; ++d) {
-        inLinks_[size_t(d)] = in[d].size() ? in[d].operator->() : nullptr;
-        outLinks_[size_t(d)] = out[d].size() ? out[d].operator->() : nullptr;
+        inLinks_[size_t(d)] = in[d].size() ? &asLink(*in[d].operator->()) : nullptr;
+        outLinks_[size_t(d)] = out[d].size() ? &asLink(*out[d].operator->()) : nullptr;
     }
-    for (int u = 0; u < fb.size(); ++u) fbLinks_.push_back(fb[u]);
+    for (int u = 0; u < fb.size(); ++u) fbLinks_.push_back(&asLink(*fb[u]));
     now_ = sc_core::sc_time_stamp().value();
     if (bal_.dynamic())
         balance_ = std::make_unique<BalanceAgent>(bal_, static_cast<BalanceHost&>(*this), world_, cell_[bal_.axis], columnLength_,
@@ -564,7 +564,7 @@ void Node::endSend() {
 bool Node::sendOutbox() {
     for (; outboxNext_ < outbox_.size(); ++outboxNext_) {
         auto& [d, m] = outbox_[outboxNext_];
-        LinkSendIf& link = d >= kDirs ? *fbLinks_[size_t(d - kDirs)] : *outLinks_[size_t(d)];
+        Link& link = d >= kDirs ? *fbLinks_[size_t(d - kDirs)] : *outLinks_[size_t(d)];
         for (Picos room; (room = link.roomAt(m.type, now_)) != now_;) {
             if (!stats_.blocking) {
                 // It records the blocked state with its queue (messages

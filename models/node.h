@@ -283,9 +283,9 @@ private:
     Mailbox mailbox_;
     Picos now_ = 0;
     ArrivalQueue inputOrder_;
-    std::array<LinkRecvIf*, kDirs> inLinks_{};   // in[d]'s link (null: none), set at the start
-    std::array<LinkSendIf*, kDirs> outLinks_{};  // out[d]'s
-    std::vector<LinkSendIf*> fbLinks_;           // fb's, by unit
+    std::array<Link*, kDirs> inLinks_{};   // in[d]'s link (null: none), set at the start
+    std::array<Link*, kDirs> outLinks_{};  // out[d]'s
+    std::vector<Link*> fbLinks_;           // fb's, by unit
     // Running ahead (NodeParams::runAhead): takeWork found it must see its
     // input as of now_ first. And the queue depths of the steps taken
     // beyond what the node saw, for the high-water mark once it sees them:
