@@ -136,9 +136,11 @@ void Link::putOnWire(int lane, Picos slot) {
     }
     const Picos arrival = start + transfer + params_.latency;
     // Messages sent before this one and still off the wire when it was sent.
-    while (!l.waitedUntil.empty() && l.waitedUntil.front() <= sent) l.waitedUntil.pop_front();
-    if (start > sent) l.waitedUntil.push_back(start);
-    stats_.backlogHighWater = std::max(stats_.backlogHighWater, l.waitedUntil.size());
+    if (distributions_) {
+        while (!l.waitedUntil.empty() && l.waitedUntil.front() <= sent) l.waitedUntil.pop_front();
+        if (start > sent) l.waitedUntil.push_back(start);
+        stats_.backlogHighWater = std::max(stats_.backlogHighWater, l.waitedUntil.size());
+    }
     byType_[size_t(w.type)].wire += transfer;
     if (trace_.vcd && params_.controlDepth == 0) traceStart(start, transfer);
     l.onWire_.fit(l.taken, l.wired);
@@ -243,7 +245,7 @@ Message Link::take(int lane, Picos t) {
     stats_.slotWait += head.ready - head.sent;
     stats_.wireWait += head.start - head.ready;
     ++stats_.consumed;
-    (isControl(head.type) ? stats_.controlLatency : stats_.latency).add(t - head.sent);
+    if (distributions_) (isControl(head.type) ? stats_.controlLatency : stats_.latency).add(t - head.sent);
     if (trace_.vcd) {
         VcdStream& v = *trace_.vcd;
         if (params_.controlDepth > 0) {  // (its start may have moved: recorded now, when final)

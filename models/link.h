@@ -224,6 +224,10 @@ public:
     void endFrame(Picos end);
     Picos occupied() const override;
     void setProgress(Progress* p) { progress_ = p; }
+    // Whether it keeps its latency distributions and high-water marks
+    // (MachineConfig::linkDistributions); set before the first message.
+    void keepDistributions(bool keep) { distributions_ = keep; }
+    bool keepsDistributions() const { return distributions_; }
     void setTrace(const LinkTrace& t) { trace_ = t; }
     // Whether changes it records later may be earlier than the kernel's time
     // (with a control lane: Link::traceStart).
@@ -354,7 +358,7 @@ private:
     // slots: once the buffer's high-water mark has reached that, no message
     // can raise it, and the lane stops keeping what it needs for it (most
     // messages on the 16x16x16 mesh go on links that fill their 16 slots).
-    bool keepsBufferMark(const Lane& l) const { return stats_.bufferHighWater < l.slots; }
+    bool keepsBufferMark(const Lane& l) const { return distributions_ && stats_.bufferHighWater < l.slots; }
     void putOnWire(int lane, Picos slot);  // the lane's first waiting message
     // A control message ready at `ready`: its start on the wire, after the
     // message being sent then; the data messages not started by then move
@@ -377,6 +381,7 @@ private:
     // is used (the 16x16x16 mesh has about 90,000 links).
     LinkParams params_;
     uint32_t smallest_;
+    bool distributions_ = true;  // keepDistributions
     mutable uint32_t lastBytes_ = 0;   // transferTime's last message size
     mutable Picos lastTransfer_ = 0;   // and its time on the wire
     Picos owedWire_ = 0;     // every message sent: its time on the wire (occupied())

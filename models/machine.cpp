@@ -145,8 +145,11 @@ Machine::Machine(sc_core::sc_module_name name, const Scene& scene, const Machine
     if (cfg_.lookaheadQuantum) setLookaheads(nodeLookahead, unitLookahead);
     if (cfg_.lookaheadQuantum && cfg_.fbLate > 0 && cfg_.vcdPath.empty() && cfg_.fbPort.outDepth == 0)
         for (int u = 1; u < k; ++u) units_[size_t(u)].setLate(cfg_.fbLate);
-    for (auto& l : links_) l->setProgress(&progress_);
-    for (auto& l : unitLinks_) l->setProgress(&progress_);
+    for (auto* links : {&links_, &unitLinks_})
+        for (auto& l : *links) {
+            l->setProgress(&progress_);
+            l->keepDistributions(cfg_.linkDistributions);
+        }
     for (Node& n : nodes_) n.setProgress(&progress_);
     if (cfg_.faultDropFirstCredit) units_[0].dropFirstCredit();
     units_[0].onFinish([this] { endProcesses(); });

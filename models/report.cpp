@@ -54,6 +54,7 @@ nlohmann::json machineConfigJson(const MachineConfig& cfg, int width, int height
     c["host_cost_ns"] = ns(cfg.hostCost);
     c["quantum_ns"] = ns(cfg.lookaheadQuantum ? cfg.lookahead() : cfg.quantum);
     c["quantum"] = cfg.lookaheadQuantum ? "lookahead" : "fixed";  // lookahead: each process its own, quantum_ns the smallest
+    c["link_stats"] = cfg.linkDistributions ? "full" : "counts";
 
     const BalanceConfig& bc = cfg.balance;
     c["balance"] = {{"policy", bc.policy},               {"axis", std::string(1, "xyz"[bc.axis])},
@@ -159,10 +160,12 @@ nlohmann::json machineReport(const MachineResult& r, const MachineConfig& cfg) {
         lj["consumed"] = l.stats.consumed;
         lj["slot_wait_ns"] = ns(l.stats.slotWait);
         lj["wire_wait_ns"] = ns(l.stats.wireWait);
-        if (l.stats.latency.count()) lj["latency_ns"] = percentilesJson(l.stats.latency);
-        if (l.stats.controlLatency.count()) lj["control_latency_ns"] = percentilesJson(l.stats.controlLatency);
-        lj["backlog_high_water"] = l.stats.backlogHighWater;
-        lj["buffer_high_water"] = l.stats.bufferHighWater;
+        if (cfg.linkDistributions) {  // (--link-stats counts: not kept)
+            if (l.stats.latency.count()) lj["latency_ns"] = percentilesJson(l.stats.latency);
+            if (l.stats.controlLatency.count()) lj["control_latency_ns"] = percentilesJson(l.stats.controlLatency);
+            lj["backlog_high_water"] = l.stats.backlogHighWater;
+            lj["buffer_high_water"] = l.stats.bufferHighWater;
+        }
         j["links"].push_back(lj);
     }
     // The three busiest wires (ties: the first in the list).

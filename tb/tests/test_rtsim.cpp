@@ -104,6 +104,40 @@ TEST_F(Rtsim, DoublingEveryCostDoublesRenderTime) {
     EXPECT_EQ(a["totals"]["messages"], b["totals"]["messages"]);
 }
 
+// --link-stats counts leaves the links' latency percentiles and high-water
+// marks out of the report and changes nothing else: every other field, the
+// image and the VCD are the full run's, in lockstep, with a quantum past the
+// lookahead, and under a balancing policy with a control lane (whose data
+// messages move on the wire).
+TEST_F(Rtsim, LinkCountsOnlyLeaveOutTheDistributionsAndChangeNothingElse) {
+    const std::string base = std::string(kSmall) + " --mesh 3 --link-depth 2 --fb-depth 3";
+    for (const char* mode : {" --quantum 0", " --quantum 10us", " --balance slide --balance-interval 20us --link-control-depth 2"}) {
+        SCOPED_TRACE(mode);
+        json full = report(base + mode + " --vcd " + (dir_ / "f.vcd").string(), "f.json");
+        json counts = report(base + mode + " --link-stats counts --vcd " + (dir_ / "c.vcd").string(), "c.json");
+        EXPECT_EQ(slurp(dir_ / "f.vcd"), slurp(dir_ / "c.vcd"));
+        EXPECT_EQ(full["config"]["link_stats"], "full");
+        EXPECT_EQ(counts["config"]["link_stats"], "counts");
+        size_t withLatency = 0;
+        for (json* j : {&full, &counts}) {
+            dropWall(*j);
+            j->erase("rerun");  // (the flags given)
+            (*j)["config"].erase("link_stats");
+            for (json& l : (*j)["links"]) {
+                const bool kept = j == &full;
+                EXPECT_EQ(l.contains("backlog_high_water"), kept);
+                EXPECT_EQ(l.contains("buffer_high_water"), kept);
+                if (!kept) EXPECT_FALSE(l.contains("latency_ns"));
+                withLatency += l.erase("latency_ns") + l.erase("control_latency_ns");
+                l.erase("backlog_high_water");
+                l.erase("buffer_high_water");
+            }
+        }
+        EXPECT_GT(withLatency, 0u);
+        EXPECT_EQ(full, counts);
+    }
+}
+
 TEST_F(Rtsim, LatencyOnALineAddsOneLatencyPerHop) {
     // One pixel, one ray: from the eye at -x through every node of a line to a
     // sphere in the last one; everything but the link latency costs nothing.
