@@ -227,7 +227,6 @@ public:
     // Whether it keeps its latency distributions and high-water marks
     // (MachineConfig::linkDistributions); set before the first message.
     void keepDistributions(bool keep) { distributions_ = keep; }
-    bool keepsDistributions() const { return distributions_; }
     void setTrace(const LinkTrace& t) { trace_ = t; }
     // Whether changes it records later may be earlier than the kernel's time
     // (with a control lane: Link::traceStart).

@@ -154,8 +154,8 @@ struct MachineConfig {
     // time on balls-4 at 512x512 (each touches a link's figures once per
     // message, long after the link was last used); without them (--link-stats
     // counts) the report leaves those fields out and everything else,
-    // timing included, is the same to the bit (doc/machine.md, "Fidelity
-    // knobs").
+    // timing included, is the same to the bit (doc/exploration.md,
+    // "Fidelity knobs"; doc/machine.md, the report).
     bool linkDistributions = true;
 
     // Tracing (VCD); empty path: none.
