@@ -55,6 +55,19 @@ void addTime(CLI::App& app, const std::string& flag, Picos& target, const std::s
         ->group(group);
 }
 
+// A setting with two named values, kept as whether it is `on`; the value it
+// holds now is the default, named first in the error for any other value.
+void addChoice(CLI::App& app, const std::string& flag, bool& target, const std::string& on, const std::string& off,
+               const std::string& what, const std::string& group) {
+    const std::string given = target ? on : off, other = target ? off : on;
+    app.add_option_function<std::string>(flag, [flag, &target, on, off, given, other](const std::string& s) {
+           if (s != on && s != off) throw CLI::ValidationError(flag, "expected " + given + " or " + other + ", got '" + s + "'");
+           target = s == on;
+       }, what)
+        ->default_str(given)
+        ->group(group);
+}
+
 // Cost names used by --node-cost.
 Picos* costField(Costs& c, const std::string& name) {
     if (name == "sphere") return &c.test[0];
@@ -131,12 +144,10 @@ void RtsimOptions::addTo(CLI::App& app) {
                    "messages a sender's output buffer holds per link and lane while they wait for a slot; a node whose "
                    "buffer is full blocks (charged as wait, reported as blocked); 0: unbounded, senders never block")
         ->check(CLI::Range(0, 1000000))->capture_default_str()->group(gl);
-    app.add_option_function<std::string>("--link-stats", [&m](const std::string& s) {
-           if (s != "full" && s != "counts") throw CLI::ValidationError("--link-stats", "expected full or counts, got '" + s + "'");
-           m.linkDistributions = s == "full";
-       }, "what the links keep beyond message counts, bytes, wire and wait times: full (also latency percentiles and "
-          "backlog and buffer high-water marks) or counts (not those: a 100 us run about 7 % faster; timing unchanged)")
-        ->default_str("full")->group(gl);
+    addChoice(app, "--link-stats", m.linkDistributions, "full", "counts",
+              "what the links keep beyond message counts, bytes, wire and wait times: full (also latency percentiles and "
+              "backlog and buffer high-water marks) or counts (not those: a 100 us run about 7 % faster; timing unchanged)",
+              gl);
     app.add_option("--link-set", linkSpecs_, "one link: x,y,z,DIR:latency=T,bandwidth=R,depth=N,control_depth=N,out_depth=N (DIR +x -x +y -y +z -z; any subset; repeatable)")
         ->group(gl);
     app.add_option("--fb-units", m.fbUnits,
@@ -201,13 +212,10 @@ void RtsimOptions::addTo(CLI::App& app) {
                    "load reports on a control lane take at most this share of the link's time: a node reports to a "
                    "neighbour again only once a report's time on the wire divided by this has passed")
         ->check(CLI::Range(1e-6, 1.0))->capture_default_str()->group(gb);
-    app.add_option_function<std::string>("--faces", [&b](const std::string& s) {
-           if (s != "column" && s != "ideal-layer")
-               throw CLI::ValidationError("--faces", "expected column or ideal-layer, got '" + s + "'");
-           b.idealLayerFaces = s == "ideal-layer";
-       }, "column: each column moves its own faces (the machine); ideal-layer: a measuring device, faces shared by a "
-          "layer and moved by slide's rule on the layer's summed loads, read without messages (doc/balancing.md)")
-        ->default_str("column")->group(gb);
+    addChoice(app, "--faces", b.idealLayerFaces, "ideal-layer", "column",
+              "column: each column moves its own faces (the machine); ideal-layer: a measuring device, faces shared by a "
+              "layer and moved by slide's rule on the layer's summed loads, read without messages (doc/balancing.md)",
+              gb);
     app.add_option("--bins", b.bins, "work profile: bins per box thickness along the axis")->check(CLI::Range(1, 4096))->capture_default_str()->group(gb);
     addTime(app, "--cost-rebuild", b.rebuildCost, "updating a node's grid, per object moved in or out", gb);
 
