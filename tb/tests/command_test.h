@@ -47,8 +47,11 @@ class CommandTest : public testing::Test {
 protected:
     explicit CommandTest(std::string exe) : exe_(std::move(exe)) {}
     void SetUp() override {
-        dir_ = fs::temp_directory_path() / ("rt_test_" + std::to_string(::getpid()) + "_" +
-                                            testing::UnitTest::GetInstance()->current_test_info()->name());
+        // A parameterised test's name is "Name/3": flattened, so that TearDown's
+        // remove_all takes the whole folder and leaves no empty parent behind.
+        std::string name = testing::UnitTest::GetInstance()->current_test_info()->name();
+        std::replace(name.begin(), name.end(), '/', '_');
+        dir_ = fs::temp_directory_path() / ("rt_test_" + std::to_string(::getpid()) + "_" + name);
         fs::create_directories(dir_);
     }
     void TearDown() override { fs::remove_all(dir_); }
