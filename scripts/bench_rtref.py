@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """Benchmark of the reference renderer: rtref on an SPD scene (default
-balls-4 at 512x512), single thread, N runs; prints the median wall time and
+balls-4 at 512x512), single thread, N runs, each pinned to one CPU (--cpu); prints the median wall time and
 rays per second with the ray counts, and with --doc writes them as a table
 into doc/benchmarks/rtref.md together with a description of the machine.
 
@@ -49,6 +49,26 @@ def machine():
     return f"{cpu}, {os.cpu_count()} cores{mem}; {platform.system()} {platform.release()}; {gxx}; {build_kind()}"
 
 
+def add_cpu_option(ap):
+    ap.add_argument("--cpu", type=int, default=None,
+                    help="CPU to pin every run to (default: the last this script may use; -1: no pinning)")
+
+
+def pin_to_cpu(cpu, prog):
+    """Pins this script, and so every run it starts, to one CPU (--cpu): this
+    VM's two CPUs ran at different speeds for minutes at a time (the same
+    run took 1.5 s on one and 2.3 s on the other at the same moment), so an
+    unpinned run took either time or a mix. Returns the CPU, or None when
+    not pinned (-1)."""
+    allowed = sorted(os.sched_getaffinity(0))
+    pin = allowed[-1] if cpu is None else None if cpu == -1 else cpu
+    if pin is not None:
+        if pin not in allowed:
+            sys.exit(f"{prog}: --cpu {cpu}: not -1 nor one of the CPUs this process may use ({allowed})")
+        os.sched_setaffinity(0, {pin})
+    return pin
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--scene", default=os.path.join(ROOT, "..", "shared", "scenes", "spd", "balls-4.nff"))
@@ -56,9 +76,11 @@ def main():
     ap.add_argument("--runs", type=int, default=5)
     ap.add_argument("--rtref", default=os.path.join(ROOT, "build", "rtref"))
     ap.add_argument("--doc", action="store_true", help="write doc/benchmarks/rtref.md")
+    add_cpu_option(ap)
     a = ap.parse_args()
     if a.runs < 1:
         sys.exit("bench_rtref: --runs must be at least 1")
+    pin = pin_to_cpu(a.cpu, "bench_rtref")
     runs = []
     with tempfile.TemporaryDirectory() as tmp:
         for i in range(a.runs):
@@ -82,7 +104,7 @@ def main():
         ("secondary rays / hits", f"{s['secondary_rays']:,} / {s['secondary_hits']:,}"),
         ("intersection tests", f"{s['intersection_tests']:,}"),
         ("voxel steps", f"{s['voxel_steps']:,}"),
-        ("machine", machine()),
+        ("machine", machine() + (f"; every run pinned to CPU {pin}" if pin is not None else "; runs not pinned")),
     ]
     table = "| quantity | value |\n|---|---|\n" + "".join(f"| {k} | {v} |\n" for k, v in rows)
     print(table, end="")

@@ -17,7 +17,7 @@ import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(ROOT, "scripts"))
-from bench_rtref import machine  # noqa: E402
+from bench_rtref import add_cpu_option, machine, pin_to_cpu  # noqa: E402
 from sweep import update_doc_section, version  # noqa: E402
 
 
@@ -79,17 +79,11 @@ def main():
     ap.add_argument("--tracing-runs", type=int, default=3,
                     help="runs of each tracing case (0 to skip); --tracing-only: only those")
     ap.add_argument("--tracing-only", action="store_true")
-    ap.add_argument("--cpu", type=int, default=None,
-                    help="CPU to pin every run to (default: the last this script may use; -1: no pinning)")
+    add_cpu_option(ap)
     ap.add_argument("--doc", action="store_true")
     a = ap.parse_args()
     # The script pins itself: every run, GNU time's child too, inherits it.
-    allowed = sorted(os.sched_getaffinity(0))
-    pin = allowed[-1] if a.cpu is None else None if a.cpu == -1 else a.cpu
-    if pin is not None:
-        if pin not in allowed:
-            sys.exit(f"bench_rtsim: --cpu {a.cpu}: not -1 nor one of the CPUs this process may use ({allowed})")
-        os.sched_setaffinity(0, {pin})
+    pin = pin_to_cpu(a.cpu, "bench_rtsim")
     # The tree's version before anything is written: the tracing section goes
     # into doc/ first, and would make the main tables say "-dirty".
     a.version = version()
