@@ -231,7 +231,9 @@ TEST_P(LinkOracle, SaturatedUtilisationIsTheClosedForm) {
 INSTANTIATE_TEST_SUITE_P(Shapes, LinkOracle,
                          testing::Values(Saturated{1, 100000, 1e9}, Saturated{1, 1000, 1e9}, Saturated{2, 100000, 1e9},
                                          Saturated{2, 3000000, 1e8}, Saturated{16, 100000, 1e9},
-                                         Saturated{16, 10000000, 1e10}, Saturated{16, 1000, 1e8}),
+                                         Saturated{16, 10000000, 1e10}, Saturated{16, 1000, 1e8},
+                                         // No latency at all: a slot comes back the instant its message is taken
+                                         Saturated{1, 0, 1e9}, Saturated{16, 0, 1e8}),
                          [](const testing::TestParamInfo<Saturated>& i) {
                              return "depth" + std::to_string(i.param.depth) + "_lat" + std::to_string(i.param.latency) +
                                     "ps_bw" + std::to_string(int(std::log10(i.param.bandwidth)));
