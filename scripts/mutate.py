@@ -185,17 +185,21 @@ MUTANTS = [
     ("counts-mode-skips-the-take-time", "models/link.cpp",
      "    l.takenAt_[j] = t;\n", "    if (distributions_) l.takenAt_[j] = t;\n",
      "with --link-stats counts a link forgets when its messages were taken, so their slots come back at stale times"),
+    ("lookahead-too-long-at-zero-latency", "models/machine_config.cpp",
+     "{ return p.latency + wireTime(smallest, p.bandwidth); }",
+     "{ return p.latency + wireTime(smallest, p.bandwidth) + (p.latency == 0 ? 50000 : 0); }",
+     "a link with no latency lets its receiver run 50 ns further ahead than its smallest message's time on the wire"),
     ("run-ahead-depth-forgets-taken", "models/node.cpp",
      "size_t(d.own + takenSince + inputOrder_.arrivedBy(d.t))", "size_t(d.own + inputOrder_.arrivedBy(d.t))",
      "a queue depth settled late leaves out the messages taken since"),
 ]
 
 
-def run(cmd, cwd, log):
+def run(cmd, cwd, log, env=None):
     with open(log, "a") as f:
         f.write("$ " + " ".join(cmd) + "\n")
         f.flush()
-        return subprocess.run(cmd, cwd=cwd, stdout=f, stderr=subprocess.STDOUT).returncode
+        return subprocess.run(cmd, cwd=cwd, stdout=f, stderr=subprocess.STDOUT, env=env).returncode
 
 
 def failed_tests(junit):
@@ -284,8 +288,16 @@ def main():
         junit = os.path.join(args.work, "junit.xml")
         if os.path.exists(junit):
             os.remove(junit)
+        # The tests' temporary folders in one of the run's own, emptied after
+        # every suite: a test that a mutant makes hang is killed at the
+        # timeout, before its TearDown removes its folder.
+        tmp = os.path.join(args.work, "tmp")
+        shutil.rmtree(tmp, ignore_errors=True)
+        os.makedirs(tmp)
         # (Not MutantsApply: a planted mutant is, by design, text that no longer fits.)
-        run(["ctest", "-j", str(args.jobs), "--timeout", "120", "-E", "^MutantsApply$", "--output-junit", junit], build, log)
+        run(["ctest", "-j", str(args.jobs), "--timeout", "120", "-E", "^MutantsApply$", "--output-junit", junit], build, log,
+            env=dict(os.environ, TMPDIR=tmp))
+        shutil.rmtree(tmp, ignore_errors=True)
         return failed_tests(junit)
 
     t0 = time.time()
