@@ -858,7 +858,7 @@ TEST_F(RtsimQuantum, ABlockedNodeRecordsItsWholeQueue) {
 // untraced node without a dynamic policy runs ahead), is the lockstep run:
 // the whole report, the image and the waveforms.
 //
-// With the default costs (20 to 50 ns each) a quantum 50 ns past the
+// With the default costs (4 to 50 ns each) a quantum 50 ns past the
 // lookahead still gave lockstep's report; with 1 ns costs it does not (its
 // links' figures differ), so there the comparison itself would see a
 // lookahead 50 ns too long, not only the lookahead's figure.
