@@ -173,9 +173,6 @@ struct LinkTrace {
     int wire = -1, buffered = -1, backlog = -1;
 };
 
-// Load reports, slides and acks: what the control lane carries.
-inline bool isControl(MsgType t) { return t == MsgType::LoadReport || t == MsgType::Slide || t == MsgType::Ack; }
-
 // A channel, but not an sc_object: ports bind to its interfaces, and a
 // machine has tens of thousands of links (a frame-buffer port from every node
 // to every unit), which SystemC's object hierarchy registers by name and

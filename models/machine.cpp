@@ -69,9 +69,11 @@ Machine::Machine(sc_core::sc_module_name name, const Scene& scene, const Machine
                                                         world_.hi[ax], cfg_.balance.deadband, cfg_.balance.gainOf(),
                                                         minThickness_);
     }
-    const NodeParams params{shader_,       camera_,      world_,        k,
-                            cfg_.fbBatch,  cfg_.rayBatch, cfg_.balance,  cfg_.dims[ax],
-                            minThickness_, cfg_.quantum,  layerFaces_.get(), cfg_.lookaheadQuantum && !cfg_.balance.dynamic()};
+    nodeParams_.reset(new NodeParams{shader_,       camera_,      world_,        k,
+                                     cfg_.fbBatch,  cfg_.rayBatch, cfg_.balance,  cfg_.dims[ax],
+                                     minThickness_, cfg_.quantum,  layerFaces_.get(),
+                                     cfg_.lookaheadQuantum && !cfg_.balance.dynamic()});
+    const NodeParams& params = *nodeParams_;
     nodes_.init(size_t(cfg_.nodeCount()), [&](const char*, size_t i) {
         const Cell c{int(i % cfg_.dims[0]), int(i / cfg_.dims[0] % cfg_.dims[1]), int(i / cfg_.dims[0] / cfg_.dims[1])};
         Box b = cuts_.cellBox(c);

@@ -108,6 +108,7 @@ private:
     Camera camera_;
     Shader shader_;
     int maxExp_;
+    std::unique_ptr<NodeParams> nodeParams_;  // what the nodes share (they hold a reference)
     sc_core::sc_vector<FrameBufferUnit> units_;
     sc_core::sc_vector<Node> nodes_;
     std::vector<std::unique_ptr<Link>> links_;

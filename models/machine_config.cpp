@@ -21,11 +21,6 @@ double BalanceConfig::gainOf() const {
     return p ? p->defaultGain : 0.0;
 }
 
-const char* dirName(int d) {
-    static const char* names[kDirs] = {"+x", "-x", "+y", "-y", "+z", "-z"};
-    return names[d];
-}
-
 double MachineConfig::speedOf(const Cell& c) const {
     auto it = nodeSpeed.find(c);
     return it == nodeSpeed.end() ? speed : it->second;
@@ -40,8 +35,6 @@ const LinkParams& MachineConfig::linkOf(const Cell& from, int dir) const {
     auto it = linkOverride.find({from, dir});
     return it == linkOverride.end() ? link : it->second;
 }
-
-Picos linkLookahead(const LinkParams& p, uint32_t smallest) { return p.latency + wireTime(smallest, p.bandwidth); }
 
 Picos MachineConfig::lookahead() const {
     const uint32_t mesh = smallestMeshMessage(balance.dynamic());

@@ -13,18 +13,11 @@
 #include <vector>
 
 #include "lattice.h"
+#include "link_params.h"
+#include "mesh_geometry.h"
 #include "units.h"
 
 namespace rt {
-
-// Link directions of a node, in port order.
-enum Dir : int { PosX = 0, NegX = 1, PosY = 2, NegY = 3, PosZ = 4, NegZ = 5 };
-constexpr int kDirs = 6;
-inline int dirAxis(int d) { return d / 2; }
-inline int dirStep(int d) { return (d % 2) ? -1 : 1; }
-inline int opposite(int d) { return d ^ 1; }
-inline int dirOf(int axis, int step) { return 2 * axis + (step < 0 ? 1 : 0); }
-const char* dirName(int d);  // "+x", "-x", ...
 
 // Processing cost of each operation, before the node's speed factor.
 struct Costs {
@@ -34,39 +27,6 @@ struct Costs {
     Picos shade = 50000;    // shading one hit (spawning its rays and contributions)
     Picos send = 40000;     // handling one outgoing message (link or frame-buffer port)
     Picos recv = 40000;     // handling one incoming message
-};
-
-// A message of `bytes` on a wire of `bandwidth` bytes per second: its time on
-// the wire, rounded up to whole picoseconds, at least 1 ps.
-inline Picos wireTime(uint32_t bytes, double bandwidth) {
-    const double ps = std::ceil(double(bytes) * 1e12 / bandwidth);
-    return std::max<Picos>(1, Picos(ps));
-}
-
-struct LinkParams;
-// The soonest after its sender's time that a message on a link of `p`
-// arrives: the latency and the smallest message's time on the wire.
-Picos linkLookahead(const LinkParams& p, uint32_t smallest);
-
-struct LinkParams {
-    Picos latency = 100000;   // 100 ns
-    double bandwidth = 1e9;   // bytes per second
-    int depth = 16;           // messages the link holds before back-pressure
-    // The control lane (link.h): slots of a second virtual channel for load
-    // reports, slides and acks, which go on the wire ahead of waiting rays.
-    // 0 (the default): no lane; control messages queue with the rays, in one
-    // FIFO. With a lane, decisions use loads a fraction of an interval old
-    // instead of loads queued behind rays (issue 11's age target is met at
-    // every link speed), but rounds come every interval instead of every
-    // few, and `slide`'s first frame loses more than 2 % at 21 of Fig. 4's
-    // 70 points instead of 9 (doc/balancing.md, "The control lane"). The
-    // frame-buffer ports carry no control messages.
-    int controlDepth = 0;
-    // The sender's output buffer (link.h): messages sent and still waiting
-    // for a flow-control slot, per lane. A node whose buffer is full blocks
-    // until the receiver frees a slot. 0 (the default): unbounded, a sender
-    // never blocks.
-    int outDepth = 0;
 };
 
 // Sliding boundaries (doc/balancing.md). Every column of nodes along the

@@ -131,6 +131,54 @@ struct Message {
     // A message of one ray, the job's with its credit, written in place.
     Message(const RayJob& j, uint16_t creditExp) { ray.set(j, creditExp); }
 
+    // The other kinds of message, each with what it carries.
+    static Message rays(RayList batch) {  // a batch of rays (--ray-batch)
+        Message m;
+        m.body().batch = std::move(batch);
+        return m;
+    }
+    static Message contributions(std::vector<Contribution> cs) {
+        Message m(MsgType::Contributions);
+        m.body().contributions = std::move(cs);
+        return m;
+    }
+    // Credit back to unit 0, with the contributions sent to each other unit
+    // since the last (frame_buffer.h).
+    static Message credit(const Credit& c, std::vector<std::pair<uint16_t, uint32_t>> unitCounts) {
+        Message m(MsgType::Credit);
+        m.body().credit = c;
+        m.body().unitCounts = std::move(unitCounts);
+        return m;
+    }
+    static Message loadReport(int32_t round, uint64_t end, uint64_t busy, uint64_t wait, uint64_t backlog, double sum) {
+        Message m(MsgType::LoadReport);
+        MessageBody& r = m.body();
+        r.interval = round;
+        r.end = end;
+        r.busy = busy;
+        r.wait = wait;
+        r.backlog = backlog;
+        r.sum = sum;
+        return m;
+    }
+    static Message slide(double boundary, std::vector<Shape> objects) {
+        Message m(MsgType::Slide);
+        m.body().boundary = boundary;
+        m.body().objects = std::move(objects);
+        return m;
+    }
+    static Message ack(double boundary) {
+        Message m(MsgType::Ack);
+        m.body().boundary = boundary;
+        return m;
+    }
+    static Message fbExpect(uint64_t count) {
+        Message m(MsgType::FbExpect);
+        m.body().count = count;
+        return m;
+    }
+    static Message fbDone() { return Message(MsgType::FbDone); }
+
     bool batched() const { return body_ && !body_->batch.empty(); }
     size_t rayCount() const { return batched() ? body_->batch.size() : 1; }
     const RayItem& rayAt(size_t i) const { return batched() ? body_->batch[i] : ray; }
@@ -166,8 +214,17 @@ struct Message {
     }
 
 private:
+    explicit Message(MsgType t) : type(t) {}
     std::unique_ptr<MessageBody> body_;
 };
 static_assert(sizeof(Message) == 128, "a message: a ray, its type and the body's pointer");
+
+// Load reports, slides and acks: the balancing protocol's messages, which a
+// link's control lane carries (link.h).
+inline bool isControl(MsgType t) { return t == MsgType::LoadReport || t == MsgType::Slide || t == MsgType::Ack; }
+
+// A step's sends, in order: each a destination (a link direction, or kDirs
+// + unit for a frame-buffer unit) and its message.
+using Outbox = std::vector<std::pair<int, Message>>;
 
 }  // namespace rt

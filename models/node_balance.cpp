@@ -1,0 +1,119 @@
+// The balancing protocol, the node's side (doc/balancing.md): the agent
+// (balance_agent.h) runs the rounds and decides; the node measures,
+// carries the messages, hands over and takes slabs (slab.h), and tells the
+// guard its links' timing.
+#include <algorithm>
+#include <cstdio>
+#include <stdexcept>
+
+#include "node.h"
+#include "slab.h"
+
+namespace rt {
+
+void Node::rebuild(const Box& box, std::vector<Shape> objects) {
+    for (int a = 0; a < 3; ++a)
+        if (!(box.lo[a] < box.hi[a])) {
+            char buf[256];
+            std::snprintf(buf, sizeof buf, "%s: empty box on axis %d: [%.17g, %.17g] at %llu ps", name(), a, box.lo[a],
+                          box.hi[a], (unsigned long long)now_);
+            throw std::logic_error(buf);
+        }
+    std::sort(objects.begin(), objects.end(), [](const Shape& a, const Shape& b) { return a.id < b.id; });
+    region_ = std::make_unique<Region>(box, std::move(objects), AccelKind::Grid);
+}
+
+// At the end of each interval: the agent records the node's load over it,
+// and reports and decides with each neighbour as far as the lockstep allows.
+void Node::closeInterval() {
+    balance_->closeInterval(now_, stats_.busy, stats_.wait, input_.depth(now_));
+}
+
+void Node::sendReport(int side, Message m) {
+    outbox_.push_back({sideDir(side), std::move(m)});
+    traceState(true, false);
+    finishControlStep(0, 0);
+}
+
+void Node::control(Message& m, int fromDir) {
+    const int side = dirStep(fromDir);  // the neighbour is below (-1) or above (+1) along the axis
+    traceState(true, false);
+    if (dirAxis(fromDir) != params_.balance.axis)
+        throw std::logic_error(std::string(name()) + ": control message off the progress axis");
+    if (m.type == MsgType::LoadReport) {
+        finishControlStep(1, 0);
+        balance_->onReport(side, m, now_);
+    } else if (m.type == MsgType::Slide) {
+        takeSlab(side, m.body().boundary, std::move(m.body().objects));
+    } else if (m.type == MsgType::Ack) {
+        ++stats_.acks;
+        finishControlStep(1, 0);
+    }
+}
+
+// The heavier node gives the slab between its face on `side` and
+// `boundary`, with the objects that overlap it, in one message. From now on
+// rays that reach it for the slab are forwarded to the neighbour
+// (route.h); the link is FIFO, so they arrive after the slide.
+void Node::giveSlab(int side, double boundary) {
+    const int ax = params_.balance.axis;
+    const Box own = withFace(region_->box(), ax, side, boundary);
+    ObjectSplit objects = splitObjects(region_->objects(), slabOf(region_->box(), ax, side, boundary), own, margin_);
+    const size_t moved = objects.give.size();
+    stats_.slides.push_back({now_, side, boundary, moved});
+    const size_t face = side > 0 ? 1 : 0;
+    if (trace_.position[face] >= 0) {  // the boundary's signals, if traced
+        trace_.vcd->setReal(now_, trace_.position[face], boundary);
+        trace_.vcd->step(now_, trace_.slides[face], 1);
+    }
+    stats_.objectsSent += moved;
+    outbox_.push_back({sideDir(side), Message::slide(boundary, std::move(objects.give))});
+    rebuild(own, std::move(objects.keep));
+    finishControlStep(0, moved);
+}
+
+// The lighter node takes the slab: its box grows to `boundary` on `side`, its
+// objects become the union of its own and the slab's, and it acknowledges.
+void Node::takeSlab(int side, double boundary, std::vector<Shape> objects) {
+    const Box own = withFace(region_->box(), params_.balance.axis, side, boundary);
+    const size_t moved = objects.size();
+    stats_.objectsReceived += moved;
+    ++stats_.slidesTaken;
+    outbox_.push_back({sideDir(side), Message::ack(boundary)});
+    rebuild(own, uniteObjects(region_->objects(), std::move(objects)));
+    finishControlStep(1, moved);
+}
+
+// ---- The guard's view of the links to the column neighbours ----
+
+Picos Node::hopTime(int side) const {
+    const LinkParams& l = linkTo(side);
+    return l.latency + Picos(wirePicos(kHeaderBytes + kRayBytes, l.bandwidth));
+}
+
+// Only a report on a control lane is paced: it goes ahead of the rays, so
+// without pacing reports could take the wire from them. On the rays' FIFO
+// a report waits its turn behind them (0: no pacing).
+Picos Node::reportTime(int side) const {
+    const LinkParams& l = linkTo(side);
+    if (l.controlDepth == 0) return 0;
+    return Picos(wirePicos(kHeaderBytes + kLoadReportBytes, l.bandwidth));
+}
+
+Picos Node::linkOccupied(int side) const { return out[sideDir(side)]->occupied(); }
+
+Picos Node::rayOccupies(int side) const {
+    const LinkParams& l = linkTo(side);
+    return Picos(occupancy(l, wirePicos(kHeaderBytes + kRayBytes, l.bandwidth)));
+}
+
+// What giving the slab would cost: both nodes handle a message and update
+// their grids for its objects, and the slab crosses the link (latency and
+// its bytes at the link's bandwidth).
+Picos Node::slabCost(int side, double boundary) const {
+    const SlabLoad load = slabLoad(region_->objects(), slabOf(region_->box(), params_.balance.axis, side, boundary), margin_);
+    const LinkParams& l = linkTo(side);
+    return Picos(costs_.slabHandling(load.objects) + double(l.latency) + wirePicos(load.bytes, l.bandwidth));
+}
+
+}  // namespace rt
