@@ -93,16 +93,7 @@ Picos FrameBufferUnit::take(Message& m) {
 // next activation for then.
 void FrameBufferUnit::run() {
     if (!started_) {
-        started_ = true;
-        inputOrder_.listen(in);
-        for (int i = 0; i < in.size(); ++i) inLinks_.push_back(&asLink(*in[i]));
-        if (late_ > 0) inputOrder_.setLate(late_, size_t(in.size()) - 1);  // its last port is from unit 0
-        now_ = sc_core::sc_time_stamp().value();
-        lastPrint_ = std::chrono::steady_clock::now();
-        if (controller() && credit_.isOne()) {  // nothing to trace at all
-            finish(now_);
-            return;
-        }
+        if (!begin()) return;
     } else if (waiting_) {
         waiting_ = false;
         inputOrder_.woke();
@@ -112,67 +103,100 @@ void FrameBufferUnit::run() {
         Picos next;
         const int best = inputOrder_.oldest(now_, next);  // ties go to the lower port: nodes, then units
         if (best < 0) {
-            // The next arrival is known and within the quantum (or, late,
-            // before it: every message that arrives by then is in its links).
-            if (late_ > 0 ? next != ~Picos(0) && time_.sees(next) : time_.mayIdleUntil(next)) {
-                now_ = std::max(now_, next);
-                continue;
-            }
-            if (inputOrder_.waitForInput(now_)) {  // also lets the kernel catch up with `now_`
-                waiting_ = true;
-                return;
-            }
-            now_ = std::max(now_, Picos(sc_core::sc_time_stamp().value()));
+            if (waitFor(next)) return;
             continue;
         }
         Message m = inLinks_[size_t(best)]->consume(now_);
         const Picos cost = take(m);
-        if (trace_.vcd) {
-            if (cost) {
-                trace_.vcd->set(now_, trace_.busy, 1);
-                trace_.vcd->set(now_ + cost, trace_.busy, 0);
-            }
-            trace_.vcd->set(now_ + cost, trace_.contributions, int64_t(stats_.contributions));
-            if (trace_.credit >= 0) trace_.vcd->setReal(now_ + cost, trace_.credit, credit_.value());
-        }
+        traceTake(cost);
         now_ += cost;
         checkSimTime(now_, name());
         stats_.busy += cost;
         if (cost) stats_.lastActive = now_;
         if (controller()) {
-            if (awaiting_ < 0 && credit_.isOne()) {  // every contribution sent: check the other units have them
-                awaiting_ = units_ - 1;
-                for (int u = 1; u < units_; ++u) {
-                    Message e;
-                    e.type = MsgType::FbExpect;
-                    e.body().count = expected_[size_t(u)];
-                    toUnits[u - 1]->send(std::move(e), now_);
-                }
-            }
-            if (awaiting_ == 0) {
-                finish(now_);
-                return;
-            }
-        } else if (expect_ && stats_.contributions >= *expect_) {  // all accumulated: say so, once
-            if (stats_.contributions > *expect_) throw std::logic_error(std::string(name()) + ": more contributions than sent");
-            if (now_ < Picos(sc_core::sc_time_stamp().value()))  // (setLate: it cannot be behind here)
-                throw std::logic_error(std::string(name()) + ": fb_done sent before the kernel's time");
-            Message d;
-            d.type = MsgType::FbDone;
-            toController->send(std::move(d), now_);
-            expect_.reset();
+            if (endOfFrame()) return;
+        } else {
+            reportDone();
         }
-        if (progress_) {
-            const auto t = std::chrono::steady_clock::now();
-            if (t - lastPrint_ > std::chrono::milliseconds(500)) {
-                lastPrint_ = t;
-                std::fprintf(stderr, "\rrtsim: %5.1f%% of the frame's rays done", 100.0 * credit_.value());
-            }
-        }
+        if (progress_) showProgress();
         if (time_.mustSync(now_, cost)) {
             time_.syncTo(now_);
             return;
         }
+    }
+}
+
+// Its first activation: listens to its ports; false if the frame is over
+// already (nothing to trace at all).
+bool FrameBufferUnit::begin() {
+    started_ = true;
+    inputOrder_.listen(in);
+    for (int i = 0; i < in.size(); ++i) inLinks_.push_back(&asLink(*in[i]));
+    if (late_ > 0) inputOrder_.setLate(late_, size_t(in.size()) - 1);  // its last port is from unit 0
+    now_ = sc_core::sc_time_stamp().value();
+    lastPrint_ = std::chrono::steady_clock::now();
+    if (controller() && credit_.isOne()) {
+        finish(now_);
+        return false;
+    }
+    return true;
+}
+
+// No message has arrived by now_; the next arrives at `next` (~0: none
+// known). Whether the process must return (it waits for input).
+bool FrameBufferUnit::waitFor(Picos next) {
+    // The next arrival is known and within the quantum (or, late, before
+    // it: every message that arrives by then is in its links).
+    if (late_ > 0 ? next != ~Picos(0) && time_.sees(next) : time_.mayIdleUntil(next)) {
+        now_ = std::max(now_, next);
+        return false;
+    }
+    if (inputOrder_.waitForInput(now_)) {  // also lets the kernel catch up with `now_`
+        waiting_ = true;
+        return true;
+    }
+    now_ = std::max(now_, Picos(sc_core::sc_time_stamp().value()));
+    return false;
+}
+
+void FrameBufferUnit::traceTake(Picos cost) {
+    if (!trace_.vcd) return;
+    if (cost) {
+        trace_.vcd->set(now_, trace_.busy, 1);
+        trace_.vcd->set(now_ + cost, trace_.busy, 0);
+    }
+    trace_.vcd->set(now_ + cost, trace_.contributions, int64_t(stats_.contributions));
+    if (trace_.credit >= 0) trace_.vcd->setReal(now_ + cost, trace_.credit, credit_.value());
+}
+
+// Unit 0: once the credit is whole, every contribution has been sent: it
+// tells each other unit how many to expect, and the frame ends when all
+// have answered. Whether the frame has ended.
+bool FrameBufferUnit::endOfFrame() {
+    if (awaiting_ < 0 && credit_.isOne()) {
+        awaiting_ = units_ - 1;
+        for (int u = 1; u < units_; ++u) toUnits[u - 1]->send(Message::fbExpect(expected_[size_t(u)]), now_);
+    }
+    if (awaiting_ != 0) return false;
+    finish(now_);
+    return true;
+}
+
+// Units 1..K-1: once all it was told to expect are accumulated, it says so, once.
+void FrameBufferUnit::reportDone() {
+    if (!expect_ || stats_.contributions < *expect_) return;
+    if (stats_.contributions > *expect_) throw std::logic_error(std::string(name()) + ": more contributions than sent");
+    if (now_ < Picos(sc_core::sc_time_stamp().value()))  // (setLate: it cannot be behind here)
+        throw std::logic_error(std::string(name()) + ": fb_done sent before the kernel's time");
+    toController->send(Message::fbDone(), now_);
+    expect_.reset();
+}
+
+void FrameBufferUnit::showProgress() {
+    const auto t = std::chrono::steady_clock::now();
+    if (t - lastPrint_ > std::chrono::milliseconds(500)) {
+        lastPrint_ = t;
+        std::fprintf(stderr, "\rrtsim: %5.1f%% of the frame's rays done", 100.0 * credit_.value());
     }
 }
 

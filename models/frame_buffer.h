@@ -109,6 +109,13 @@ private:
     // Adds a contribution to its pixel's sum (checked to be its own).
     void accumulate(const Contribution& c);
     void finish(Picos now);
+    // The steps of run().
+    bool begin();
+    bool waitFor(Picos next);
+    void traceTake(Picos cost);
+    bool endOfFrame();
+    void reportDone();
+    void showProgress();
 
     int index_, units_;
     Picos cost_;

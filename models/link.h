@@ -12,7 +12,7 @@
 // delays messages but cannot deadlock the machine. With an output depth
 // (LinkParams::outDepth, --link-out-depth), a buffer holds at most that many
 // messages per lane, and a sender that finds it full blocks until a message
-// leaves it for a slot (roomAt, roomEvent; Node::sendOrBlock charges the
+// leaves it for a slot (roomAt, roomEvent; Node::sendOutbox charges the
 // blocked time). Then two nodes that fill each other's links can deadlock
 // (doc/machine.md, "Finite output buffers").
 //
@@ -51,118 +51,15 @@
 #include <systemc>
 
 #include "fifo.h"
-#include "histogram.h"
+#include "link_if.h"
+#include "link_stats.h"
 #include "machine_config.h"
 #include "message.h"
+#include "numbered_ring.h"
 #include "progress.h"
 #include "vcd_stream.h"
 
 namespace rt {
-
-// A link's figures but those by message type (what it keeps as a struct).
-struct LinkFlow {
-    // Of the messages consumed: time from being sent to having a slot (in
-    // the sender's backlog, its output buffer), from having a slot to
-    // starting on the wire (behind other messages), and from being sent to
-    // being consumed (its latency as the receiver sees it), for rays,
-    // contributions and credit, and for balancing messages (isControl).
-    Picos slotWait = 0, wireWait = 0;
-    uint64_t consumed = 0;
-    // High-water marks in simulated time (so the same in every exact mode,
-    // whatever order the kernel runs the processes in):
-    size_t backlogHighWater = 0;  // messages sent and not yet on the wire, at once
-    size_t bufferHighWater = 0;   // messages on the wire or arrived and not consumed, at once
-    Histogram latency, controlLatency;
-};
-
-struct LinkStats : LinkFlow {
-    std::array<uint64_t, kMsgTypes> messages{}, bytes{};
-    std::array<Picos, kMsgTypes> wire{};  // time on the wire, by type (the wire's busy time: their sum)
-    Picos wireBusy() const {
-        Picos b = 0;
-        for (Picos w : wire) b += w;
-        return b;
-    }
-};
-
-// Adds one channel's figures to a port's: counts, times and distributions
-// summed, high-water marks the larger of the two (each channel has its own
-// slots).
-inline void mergeChannel(LinkStats& into, const LinkStats& s) {
-    for (size_t t = 0; t < s.messages.size(); ++t) {
-        into.messages[t] += s.messages[t];
-        into.bytes[t] += s.bytes[t];
-        into.wire[t] += s.wire[t];
-    }
-    into.slotWait += s.slotWait;
-    into.wireWait += s.wireWait;
-    into.consumed += s.consumed;
-    into.latency.merge(s.latency);
-    into.controlLatency.merge(s.controlLatency);
-    into.backlogHighWater = std::max(into.backlogHighWater, s.backlogHighWater);
-    into.bufferHighWater = std::max(into.bufferHighWater, s.bufferHighWater);
-}
-
-class LinkSendIf : public virtual sc_core::sc_interface {
-public:
-    // Sends at the sender's time `t` (its local time, >= the kernel's).
-    virtual void send(Message&& m, Picos t) = 0;
-    virtual const LinkParams& params() const = 0;
-    // When a message of type `type` sent at `t` or later finds room in the
-    // output buffer: `t` if it has room then; a later time if that is known
-    // already (a message leaves for a slot then); kRoomUnknown if it waits
-    // for the receiver to consume (roomEvent() tells when that happened).
-    // The sender's times must not decrease from one call to the next.
-    static constexpr Picos kRoomUnknown = ~Picos(0);
-    virtual Picos roomAt(MsgType type, Picos t) = 0;
-    virtual const sc_core::sc_event& roomEvent() const = 0;
-    // How long the link is kept busy by every message sent so far (those
-    // waiting for a slot too), by the narrower of its two limits: its wire
-    // (their time on it), or its slots when those are the narrower: a
-    // message holds a slot from its start on the wire until the receiver's
-    // credit is back (its transfer and the latency there and back, at the
-    // least), so d slots carry a message every (transfer + 2 latency) / d.
-    // With 2 slots and 450 us of latency a ray message of 132 bytes holds
-    // the link 505 us per message at 1.2 MB/s, against 110 us on the wire.
-    virtual Picos occupied() const = 0;
-};
-
-// Told by a link when its oldest unconsumed message changes: a message lands
-// in an empty link, the oldest is consumed, or a control message goes ahead;
-// `arrival` is the new oldest one's arrival, ~0 if none (arrival_queue.h).
-class ArrivalListener {
-public:
-    virtual ~ArrivalListener() = default;
-    virtual void headChanged(int port, Picos arrival) = 0;
-    // Messages on the links it listens to (on the wire or arrived), not yet
-    // consumed: counted by the links as they go on the wire and are taken.
-    // A node reads it every step, and asking each link touched a link
-    // object per port that was out of cache (on the 16x16x16 mesh, half of
-    // Node::step's own time).
-    size_t buffered = 0;
-};
-
-class LinkRecvIf : public virtual sc_core::sc_interface {
-public:
-    // Arrival time of the oldest unconsumed message, if any has been sent.
-    virtual bool peekArrival(Picos& arrival) const = 0;
-    // Takes the oldest message; it must have arrived by `t`.
-    virtual Message consume(Picos t) = 0;
-    // Tells `l` (as its input `port`) whenever the oldest message changes,
-    // and at once what it is now.
-    virtual void setListener(ArrivalListener* l, int port) = 0;
-    // Messages that have arrived by `t` and are not yet consumed.
-    virtual size_t arrivedBy(Picos t) const = 0;
-    // Messages on the link or arrived, not yet consumed (at least arrivedBy).
-    virtual size_t unconsumed() const = 0;
-    // The control lane: whether its oldest message has arrived by `t`, and
-    // taking it (ahead of data that arrived earlier).
-    virtual bool controlArrivedBy(Picos t) const = 0;
-    virtual Message consumeControl(Picos t) = 0;
-    // Rays, contributions and credit sent on it and not yet consumed
-    // (balancing messages not counted): for the watchdog's message.
-    virtual uint64_t workInFlight() const = 0;
-};
 
 // A link's signals in the VCD: the wire busy (a bit; a frame-buffer port's
 // channels share one count), messages buffered (on the wire or arrived, not
@@ -300,24 +197,6 @@ private:
     // before the oldest on the wire) in `takenAt_`; message n at n mod each
     // ring's size, a power of two that grows as the window does (to at most
     // slots and 2 slots).
-    template <class T>
-    struct NumberedRing {
-        std::unique_ptr<T[]> items;
-        uint64_t mask = 0;  // size - 1 (no items before the first message)
-        T& operator[](uint64_t n) { return items[n & mask]; }
-        const T& operator[](uint64_t n) const { return items[n & mask]; }
-        // Room for numbers from..to, keeping those from..to-1 (in place by their number).
-        void fit(uint64_t from, uint64_t to) {
-            const uint64_t need = to + 1 - from;
-            if (items && need <= mask + 1) return;
-            uint64_t size = items ? 2 * (mask + 1) : 4;
-            while (size < need) size *= 2;
-            std::unique_ptr<T[]> grown(new T[size]());
-            for (uint64_t n = from; n < to; ++n) grown[n & (size - 1)] = items[n & mask];
-            items = std::move(grown);
-            mask = size - 1;
-        }
-    };
     struct Lane {
         Fifo<Waiting> backlog;
         Fifo<Message> messages;

@@ -1,11 +1,15 @@
 // The machine: an X x Y x Z mesh of nodes (sc_vector), a link per direction
 // between face neighbours, the frame-buffer units (sc_vector) and a port from
-// every node to every unit. Built from a scene and a MachineConfig;
-// runMachine() elaborates, simulates one frame and returns the image and
-// every statistic.
+// every node to every unit, and its watchdog. Built from a scene and a
+// MachineConfig; runMachine() elaborates, simulates one frame and returns
+// the image and every statistic.
+//
+//   machine.cpp        building it, running it, collecting the results
+//   machine_trace.cpp  its VCD: which signals, and when a change is final
+//   machine_checks.cpp the conservation laws, checked at the end of a run
+//   initial_split.h    where the frame starts (boxes, primary rays, credit)
+//   watchdog.h         stopping a run that is stuck, too long or interrupted
 #pragma once
-#include <csignal>
-#include <chrono>
 #include <map>
 #include <memory>
 #include <string>
@@ -14,9 +18,11 @@
 #include <systemc>
 
 #include "frame_buffer.h"
+#include "initial_split.h"
 #include "lattice.h"
 #include "node.h"
 #include "vcd_stream.h"
+#include "watchdog.h"
 
 namespace rt {
 
@@ -64,35 +70,49 @@ struct MachineResult {
 
 class Machine : public sc_core::sc_module {
 public:
-    SC_HAS_PROCESS(Machine);
     Machine(sc_core::sc_module_name name, const Scene& scene, const MachineConfig& config);
     ~Machine() override;
 
     MachineResult collect(double wallSeconds);
-    void endFrame() {
-        for (Node& n : nodes_) n.endFrame(frameEnd(), stall_.empty());
-        for (auto& l : links_) l->endFrame(frameEnd());
-    }
+    // The frame is over (ended, or stopped): every node's and link's figures as of its end.
+    void endFrame();
     // Checks the conservation laws at the end of a run; throws
-    // std::runtime_error naming the first one broken.
+    // std::runtime_error naming the first one broken (machine_checks.cpp).
     void checkConservation() const;
     // Ends the VCD (if any) at the frame's end and writes its .gtkw.
     void closeTraces();
 
-    size_t nodeIndex(const Cell& c) const { return (size_t(c[2]) * cfg_.dims[1] + c[1]) * cfg_.dims[0] + c[0]; }
+    size_t nodeIndex(const Cell& c) const { return rt::nodeIndex(c, cfg_.dims); }
 
 private:
-    void assignPrimaryRays();
-    // Initial boundaries along the progress axis of each column: uniform, or
-    // at the object medians (the static baseline policy).
-    std::vector<std::vector<double>> initialBoundaries(const ObjectBins& bins) const;
-    int columnOf(const Cell& c) const;
+    // Building (machine.cpp).
+    void buildUnits();
+    void buildNodes(const ObjectBins& bins);
+    void buildLinks();
+    void linkNeighbours(Node& n, std::vector<Picos>& nodeLookahead);
+    void linkToFrameBuffer(Node& n, std::vector<Picos>& unitLookahead);
+    void linkUnits(std::vector<Picos>& unitLookahead);
+    void startWatchdog();
+    void giveOutPrimaryRays();
+    // --quantum lookahead: each process runs ahead by its own, the smallest
+    // of its input links' (Link::lookahead; kNoInput: it has none).
+    static constexpr Picos kNoInput = ~Picos(0);
+    void setLookaheads(const std::vector<Picos>& nodes, const std::vector<Picos>& units);
     std::vector<BoundaryHistory> boundaryHistories() const;
     const FrameBufferUnit& controller() const { return units_[0]; }  // unit 0 ends the frame
+    // Ends every process but the caller's, from within the simulation.
+    void endProcesses();
+    std::string whoHolds() const;
+    // When the frame ended, or when the watchdog stopped it.
+    Picos frameEnd() const { return stopped() ? watchdog_->stalledAt() : controller().renderTime(); }
+    bool stopped() const { return !watchdog_->stall().empty(); }
 
     // Tracing: the VCD, written as the run goes (vcd_stream.h), and the
-    // links that record into it.
+    // links that record into it (machine_trace.cpp).
     void setupTraces();
+    void traceNodes(std::vector<NodeTrace>& traces);
+    void traceUnits();
+    void traceBoundaries(std::vector<NodeTrace>& traces);
     Picos traceHorizon() const;
     std::unique_ptr<VcdStream> vcd_;
     std::vector<const Link*> tracedLinks_;
@@ -101,8 +121,9 @@ private:
     MachineConfig cfg_;
     int width_, height_;
     Box world_;
-    Lattice cuts_;      // the initial uniform split; along the axis, columns have their own boundaries
-    std::vector<std::vector<double>> columnBounds_;
+    ColumnGeometry columns_;
+    Lattice cuts_;             // the initial uniform split; along the axis, columns have their own planes
+    ColumnPlanes columnPlanes_;
     double minThickness_;
     std::unique_ptr<IdealLayerFaces> layerFaces_;  // --faces ideal-layer
     Camera camera_;
@@ -114,34 +135,11 @@ private:
     std::vector<std::unique_ptr<Link>> links_;
     std::vector<std::unique_ptr<Link>> unitLinks_;  // units 1..K-1: [2(u-1)] u -> 0, [2(u-1) + 1] 0 -> u
     std::map<std::pair<size_t, int>, Link*> meshLinks_;  // (node, direction) -> its outgoing link
-    // --quantum lookahead: each process runs ahead by its own, the smallest
-    // of its input links' (Link::lookahead; kNoInput: it has none).
-    static constexpr Picos kNoInput = ~Picos(0);
-    void setLookaheads(const std::vector<Picos>& nodes, const std::vector<Picos>& units);
     std::vector<LinkReport> linkInfo_;  // the report's links
     std::vector<size_t> reportOf_;      // per link in links_: its entry in linkInfo_
     uint64_t primaryMisses_ = 0;
-
-    // The watchdog (MachineConfig::watchdogSpan): progress marked by the
-    // nodes and links, and why and when it stopped the run (empty: it did not).
-    // A method process, like the nodes: the machine has no thread process.
-    void watch();
-    Picos watchSpan_ = 0, watchPeriod_ = 0;  // (period 0: not started)
-    std::chrono::steady_clock::time_point watchStart_;
-    std::string whoHolds() const;
-    void endProcesses();
-    // When the frame ended, or when the watchdog stopped it.
-    Picos frameEnd() const { return stall_.empty() ? controller().renderTime() : stalledAt_; }
-    Progress progress_;
-    std::string stall_;
-    Picos stalledAt_ = 0;
+    std::unique_ptr<Watchdog> watchdog_;
 };
-
-// A signal (SIGINT, SIGTERM) asks the running machine to stop: the watchdog
-// sees it at its next wake and stops the run as it would a stuck one, with
-// the report and VCD so far ("interrupted by signal N"). Set from a signal
-// handler (tb/rtsim.cpp), hence a plain global.
-extern volatile std::sig_atomic_t stopSignal;
 
 // Elaborates the machine, runs one frame, checks conservation, writes the
 // VCD (and .gtkw) if configured. Call once per process (SystemC elaborates

@@ -81,6 +81,17 @@ Picos MachineConfig::watchdogSpanOrDefault(size_t objects) const {
     return span >= double(kMaxSimTime / 4) ? kMaxSimTime / 4 : Picos(span);
 }
 
+namespace {
+
+// `c` is a node of the mesh; with `dir`, one with a link that way.
+void checkNode(const Cell& c, const std::array<int, 3>& dims, const std::string& flag, int dir = -1) {
+    if (!inMesh(c, dims)) throw std::invalid_argument(flag + ": node outside the mesh");
+    if (dir >= 0 && dir < kDirs && !inMesh(neighbour(c, dir), dims))
+        throw std::invalid_argument(flag + ": no link in that direction (mesh face)");
+}
+
+}  // namespace
+
 void MachineConfig::validate() const {
     for (int a = 0; a < 3; ++a)
         if (dims[a] < 1 || dims[a] > 16) throw std::invalid_argument("--mesh: nodes per axis must be in 1..16");
@@ -89,70 +100,54 @@ void MachineConfig::validate() const {
     if (!(speed > 0) || !std::isfinite(speed)) throw std::invalid_argument("--speed: must be positive");
     for (const auto& [c, s] : nodeSpeed) {
         if (!(s > 0) || !std::isfinite(s)) throw std::invalid_argument("--node-speed: must be positive");
-        for (int a = 0; a < 3; ++a)
-            if (c[a] < 0 || c[a] >= dims[a]) throw std::invalid_argument("--node-speed: node outside the mesh");
+        checkNode(c, dims, "--node-speed");
     }
-    for (const auto& [c, k] : nodeCosts)
-        for (int a = 0; a < 3; ++a)
-            if (c[a] < 0 || c[a] >= dims[a]) throw std::invalid_argument("--node-cost: node outside the mesh");
+    for (const auto& [c, k] : nodeCosts) checkNode(c, dims, "--node-cost");
     checkLink(link, "--link-bandwidth/--link-depth");
     checkLink(fbPort, "--fb-bandwidth/--fb-depth");
     for (const auto& [key, l] : linkOverride) {
         checkLink(l, "--link-set");
-        const Cell& c = key.first;
-        for (int a = 0; a < 3; ++a)
-            if (c[a] < 0 || c[a] >= dims[a]) throw std::invalid_argument("--link-set: node outside the mesh");
-        Cell n = c;
-        n[dirAxis(key.second)] += dirStep(key.second);
-        if (n[dirAxis(key.second)] < 0 || n[dirAxis(key.second)] >= dims[dirAxis(key.second)])
-            throw std::invalid_argument("--link-set: no link in that direction (mesh face)");
+        checkNode(key.first, dims, "--link-set", key.second);
     }
     if (fbUnits < 1 || fbUnits > 256) throw std::invalid_argument("--fb-units: must be in 1..256");
     if (fbBatch < 1 || fbBatch > 65536) throw std::invalid_argument("--fb-batch: must be in 1..65536");
     if (rayBatch < 1 || rayBatch > 65536) throw std::invalid_argument("--ray-batch: must be in 1..65536");
-    for (const Cell& c : traceNodes)
-        for (int a = 0; a < 3; ++a)
-            if (c[a] < 0 || c[a] >= dims[a]) throw std::invalid_argument("--trace-nodes: node outside the mesh");
-    for (const auto& [c, d] : traceLinks) {
-        for (int a = 0; a < 3; ++a)
-            if (c[a] < 0 || c[a] >= dims[a]) throw std::invalid_argument("--trace-links: node outside the mesh");
-        if (d >= 0 && d < kDirs) {
-            Cell n = c;
-            n[dirAxis(d)] += dirStep(d);
-            if (n[dirAxis(d)] < 0 || n[dirAxis(d)] >= dims[dirAxis(d)])
-                throw std::invalid_argument("--trace-links: no link in that direction (mesh face)");
-        }
-    }
+    for (const Cell& c : traceNodes) checkNode(c, dims, "--trace-nodes");
+    for (const auto& [c, d] : traceLinks) checkNode(c, dims, "--trace-links", d);
     if (traceFrom > traceTo) throw std::invalid_argument("--trace-window: start after end");
-    const BalanceConfig& b = balance;
-    if (b.axis < 0 || b.axis > 2) throw std::invalid_argument("--axis: must be x, y or z");
-    if (b.interval == 0) throw std::invalid_argument("--balance-interval: must be positive");
+    balance.validate(std::max<Picos>(1000, costs.send + costs.recv), !startBoundaries.empty() || !targetBoundaries.empty());
+}
+
+void BalanceConfig::validate(Picos reportFloor, bool carriedBoundaries) const {
+    if (axis < 0 || axis > 2) throw std::invalid_argument("--axis: must be x, y or z");
+    if (interval == 0) throw std::invalid_argument("--balance-interval: must be positive");
     // An interval a node cannot honour: every interval wakes every node and
     // sends a report each way, so one shorter than handling a report (or
     // than 1 ns) only burns the run's time and memory (1 ps once ran 20 s
     // and died of bad_alloc).
-    const Picos floor = std::max<Picos>(1000, costs.send + costs.recv);
-    if (b.dynamic() && b.interval < floor)
-        throw std::invalid_argument("--balance-interval: " + formatTime(b.interval) + " is shorter than a node takes to send and take a load report (" +
-                                    formatTime(floor) + ": --cost-send + --cost-recv, at least 1 ns)");
-    if (!findPolicy(b.policy)) throw std::invalid_argument("--balance: no policy named '" + b.policy + "'");
+    if (dynamic() && interval < reportFloor)
+        throw std::invalid_argument("--balance-interval: " + formatTime(interval) +
+                                    " is shorter than a node takes to send and take a load report (" +
+                                    formatTime(reportFloor) + ": --cost-send + --cost-recv, at least 1 ns)");
+    if (!findPolicy(policy)) throw std::invalid_argument("--balance: no policy named '" + policy + "'");
     // The layer's planes apply the paper's rule (ideal_layer_faces.h) and
     // start in line: one frame of slide (or resplit, whose first frame is slide).
-    if (b.idealLayerFaces && b.policy != "slide" && b.policy != "resplit")
+    if (idealLayerFaces && policy != "slide" && policy != "resplit")
         throw std::invalid_argument("--faces ideal-layer: applies slide's rule to the layers; needs --balance slide (or resplit, one frame), not '" +
-                                    b.policy + "'");
-    if (b.idealLayerFaces && (!startBoundaries.empty() || !targetBoundaries.empty()))
+                                    policy + "'");
+    if (idealLayerFaces && carriedBoundaries)
         throw std::invalid_argument("--faces ideal-layer: needs every column's faces in line at the start (one frame, "
                                     "no --boundaries-from)");
-    if (!(b.gain >= 0) || !std::isfinite(b.gain)) throw std::invalid_argument("--gain: must be positive (0: the policy's)");
-    if (!(b.maxAge >= 0) || !std::isfinite(b.maxAge)) throw std::invalid_argument("--max-age: must be non-negative");
-    if (!(b.horizon >= 0) || !std::isfinite(b.horizon)) throw std::invalid_argument("--guard-horizon: must be non-negative");
-    if (!(b.hopRatio >= 0) || !std::isfinite(b.hopRatio)) throw std::invalid_argument("--guard-hop: must be non-negative");
-    if (!(b.wireShare >= 0) || !std::isfinite(b.wireShare)) throw std::invalid_argument("--guard-wire: must be non-negative (0: off)");
-    if (!(b.reportShare > 0) || !(b.reportShare <= 1)) throw std::invalid_argument("--report-share: must be in (0, 1]");
-    if (!(b.deadband >= 0) || !(b.deadband < 1)) throw std::invalid_argument("--deadband: must be in [0, 1)");
-    if (!(b.minThickness > 0) || !(b.minThickness <= 1)) throw std::invalid_argument("--min-thickness: must be in (0, 1]");
-    if (b.bins < 1 || b.bins > 4096) throw std::invalid_argument("--bins: must be in 1..4096");
+    auto atLeast0 = [](double x) { return x >= 0 && std::isfinite(x); };
+    if (!atLeast0(gain)) throw std::invalid_argument("--gain: must be positive (0: the policy's)");
+    if (!atLeast0(maxAge)) throw std::invalid_argument("--max-age: must be non-negative");
+    if (!atLeast0(horizon)) throw std::invalid_argument("--guard-horizon: must be non-negative");
+    if (!atLeast0(hopRatio)) throw std::invalid_argument("--guard-hop: must be non-negative");
+    if (!atLeast0(wireShare)) throw std::invalid_argument("--guard-wire: must be non-negative (0: off)");
+    if (!(reportShare > 0) || !(reportShare <= 1)) throw std::invalid_argument("--report-share: must be in (0, 1]");
+    if (!(deadband >= 0) || !(deadband < 1)) throw std::invalid_argument("--deadband: must be in [0, 1)");
+    if (!(minThickness > 0) || !(minThickness <= 1)) throw std::invalid_argument("--min-thickness: must be in (0, 1]");
+    if (bins < 1 || bins > 4096) throw std::invalid_argument("--bins: must be in 1..4096");
 }
 
 }  // namespace rt

@@ -71,6 +71,10 @@ struct BalanceConfig {
 
     bool dynamic() const;         // a policy that moves boundaries during the frame
     double gainOf() const;        // gain, or the policy's default
+    // Throws std::invalid_argument("--flag: what") for the first bad value.
+    // `reportFloor`: the shortest interval a node can report in;
+    // `carriedBoundaries`: the frame starts where another left its faces.
+    void validate(Picos reportFloor, bool carriedBoundaries) const;
 };
 
 struct MachineConfig {

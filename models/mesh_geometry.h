@@ -40,6 +40,20 @@ inline Cell neighbour(Cell c, int d) {
     return c;
 }
 
+// Nodes are numbered x fastest, then y, then z.
+inline size_t nodeIndex(const Cell& c, const std::array<int, 3>& dims) {
+    return (size_t(c[2]) * size_t(dims[1]) + size_t(c[1])) * size_t(dims[0]) + size_t(c[0]);
+}
+inline Cell cellAt(size_t i, const std::array<int, 3>& dims) {
+    return {int(i % size_t(dims[0])), int(i / size_t(dims[0]) % size_t(dims[1])), int(i / size_t(dims[0]) / size_t(dims[1]))};
+}
+// Names in the report and the VCD: node_X_Y_Z, and its links' suffixes
+// ("px", "mz", ...).
+inline std::string nodeName(const Cell& c) {
+    return "node_" + std::to_string(c[0]) + "_" + std::to_string(c[1]) + "_" + std::to_string(c[2]);
+}
+inline std::string linkSuffix(int d) { return std::string(d % 2 ? "m" : "p") + "xyz"[dirAxis(d)]; }
+
 // The columns along the progress axis: the nodes that share their
 // coordinates on the other two axes, u = axis + 1 and v = axis + 2 (mod 3).
 // A column is named by those two coordinates (i, j) and numbered i + U j

@@ -76,189 +76,215 @@ nlohmann::json machineConfigJson(const MachineConfig& cfg, int width, int height
     return c;
 }
 
-nlohmann::json machineReport(const MachineResult& r, const MachineConfig& cfg) {
-    nlohmann::json j;
-    const BalanceConfig& bc = cfg.balance;
-    j["config"] = machineConfigJson(cfg, r.image.width, r.image.height);
+namespace {
 
-    j["render_time_ns"] = ns(r.renderTime);
-    if (!r.incomplete.empty()) j["incomplete"] = r.incomplete;  // stopped by the watchdog: every figure up to then
-    j["wall_s"] = r.wallSeconds;
-
-    Picos busyTotal = 0, blockedTotal = 0;
-    uint64_t forwardedTotal = 0, passedTotal = 0, passedBetweenTotal = 0;
-    for (size_t i = 0; i < r.nodes.size(); ++i) {
-        const NodeStats& s = r.nodes[i];
-        busyTotal += s.busy;
-        blockedTotal += s.blocked;
-        forwardedTotal += s.raysForwarded;
-        passedTotal += s.raysPassed;
-        passedBetweenTotal += s.raysPassedBetweenColumns;
-        nlohmann::json n;
-        n["node"] = cellJson(r.cells[i]);
-        n["box"] = {{r.boxes[i].lo.x, r.boxes[i].lo.y, r.boxes[i].lo.z}, {r.boxes[i].hi.x, r.boxes[i].hi.y, r.boxes[i].hi.z}};
-        n["objects"] = r.objectsPerNode[i];
-        n["busy_ns"] = ns(s.busy);
-        // busy + wait = render time (checked at the end of every run).
-        const Picos wait = s.wait;
-        n["wait_ns"] = ns(wait);
-        n["blocked_ns"] = ns(s.blocked);  // of the wait: on a full output buffer (--link-out-depth)
-        n["load"] = s.busy + wait ? double(s.busy) / double(s.busy + wait) : 0.0;
-        n["rays_traced"] = s.raysTraced;
-        n["rays_generated"] = s.raysGenerated;
-        n["rays_forwarded"] = s.raysForwarded;
-        n["rays_passed"] = s.raysPassed;  // of those, sent on without tracing (a face elsewhere)
-        n["rays_passed_between_columns"] = s.raysPassedBetweenColumns;  // of those, from another column
-        n["rays_created"] = s.raysCreated;
-        n["rays_terminated"] = s.raysTerminated;
-        n["messages_sent"] = s.messagesSent;
-        n["messages_received"] = s.messagesReceived;
-        n["contributions_sent"] = s.contributionsSent;
-        n["queue_high_water"] = s.queueHighWater;
-        n["last_active_ns"] = ns(s.lastActive);
-        n["counters"] = countersJson(s.counters);
-        n["slides_given"] = s.slides.size();
-        n["slides_taken"] = s.slidesTaken;
-        n["objects_sent"] = s.objectsSent;
-        n["objects_received"] = s.objectsReceived;
-        if (!s.balance.intervals.empty()) {
-            auto& iv = n["intervals"];
-            iv["intervals_per_record"] = s.balance.intervalsPerRecord;  // > 1: merged to bound the report
-            for (const IntervalRecord& x : s.balance.intervals) {
-                iv["end_ns"].push_back(ns(x.end));
-                iv["busy_ns"].push_back(ns(x.busy));
-                iv["wait_ns"].push_back(ns(x.wait));
-            }
+// Per node: its box, time, counts and balancing intervals.
+nlohmann::json nodeJson(const MachineResult& r, size_t i) {
+    const NodeStats& s = r.nodes[i];
+    nlohmann::json n;
+    n["node"] = cellJson(r.cells[i]);
+    n["box"] = {{r.boxes[i].lo.x, r.boxes[i].lo.y, r.boxes[i].lo.z}, {r.boxes[i].hi.x, r.boxes[i].hi.y, r.boxes[i].hi.z}};
+    n["objects"] = r.objectsPerNode[i];
+    n["busy_ns"] = ns(s.busy);
+    n["wait_ns"] = ns(s.wait);  // busy + wait = render time (checked at the end of every run)
+    n["blocked_ns"] = ns(s.blocked);  // of the wait: on a full output buffer (--link-out-depth)
+    n["load"] = s.busy + s.wait ? double(s.busy) / double(s.busy + s.wait) : 0.0;
+    n["rays_traced"] = s.raysTraced;
+    n["rays_generated"] = s.raysGenerated;
+    n["rays_forwarded"] = s.raysForwarded;
+    n["rays_passed"] = s.raysPassed;  // of those, sent on without tracing (a face elsewhere)
+    n["rays_passed_between_columns"] = s.raysPassedBetweenColumns;  // of those, from another column
+    n["rays_created"] = s.raysCreated;
+    n["rays_terminated"] = s.raysTerminated;
+    n["messages_sent"] = s.messagesSent;
+    n["messages_received"] = s.messagesReceived;
+    n["contributions_sent"] = s.contributionsSent;
+    n["queue_high_water"] = s.queueHighWater;
+    n["last_active_ns"] = ns(s.lastActive);
+    n["counters"] = countersJson(s.counters);
+    n["slides_given"] = s.slides.size();
+    n["slides_taken"] = s.slidesTaken;
+    n["objects_sent"] = s.objectsSent;
+    n["objects_received"] = s.objectsReceived;
+    if (!s.balance.intervals.empty()) {
+        auto& iv = n["intervals"];
+        iv["intervals_per_record"] = s.balance.intervalsPerRecord;  // > 1: merged to bound the report
+        for (const IntervalRecord& x : s.balance.intervals) {
+            iv["end_ns"].push_back(ns(x.end));
+            iv["busy_ns"].push_back(ns(x.busy));
+            iv["wait_ns"].push_back(ns(x.wait));
         }
-        j["nodes"].push_back(n);
     }
+    return n;
+}
+
+// Per link: messages, bytes and wire time by type, utilisation, waits and
+// (--link-stats full) latency percentiles and high-water marks.
+nlohmann::json linkJsonOf(const LinkReport& l, Picos renderTime, bool distributions) {
+    nlohmann::json lj;
+    lj["name"] = l.name;
+    lj["from"] = cellJson(l.from);
+    lj["to"] = l.dir < 0 ? "fb" : dirName(l.dir);
+    lj["params"] = linkJson(l.params);
+    for (int t = 0; t < kMsgTypes; ++t) {
+        const char* name = msgTypeName(MsgType(t));
+        lj["messages"][name] = l.stats.messages[size_t(t)];
+        lj["bytes"][name] = l.stats.bytes[size_t(t)];
+        lj["wire_ns"][name] = ns(l.stats.wire[size_t(t)]);
+    }
+    // The wire's busy time over the frame (a port's channels are wires side
+    // by side: their busy time over the frame's as many).
+    const Picos busy = l.stats.wireBusy();
+    lj["wire_busy_ns"] = ns(busy);
+    lj["channels"] = l.channels;
+    lj["utilisation"] = renderTime ? double(busy) / (double(renderTime) * l.channels) : 0.0;
+    lj["consumed"] = l.stats.consumed;
+    lj["slot_wait_ns"] = ns(l.stats.slotWait);
+    lj["wire_wait_ns"] = ns(l.stats.wireWait);
+    if (distributions) {  // (--link-stats counts: not kept)
+        if (l.stats.latency.count()) lj["latency_ns"] = percentilesJson(l.stats.latency);
+        if (l.stats.controlLatency.count()) lj["control_latency_ns"] = percentilesJson(l.stats.controlLatency);
+        lj["backlog_high_water"] = l.stats.backlogHighWater;
+        lj["buffer_high_water"] = l.stats.bufferHighWater;
+    }
+    return lj;
+}
+
+// The links, the three busiest wires (ties: the first in the list) and the
+// totals by message type.
+void addLinks(nlohmann::json& j, const MachineResult& r, const MachineConfig& cfg) {
     std::array<uint64_t, kMsgTypes> msgs{}, bytes{};
     std::vector<std::pair<double, size_t>> busiest;  // (utilisation, index)
     for (const LinkReport& l : r.links) {
-        nlohmann::json lj;
-        lj["name"] = l.name;
-        lj["from"] = cellJson(l.from);
-        lj["to"] = l.dir < 0 ? "fb" : dirName(l.dir);
-        lj["params"] = linkJson(l.params);
-        for (int t = 0; t < kMsgTypes; ++t) {
-            const char* name = msgTypeName(MsgType(t));
-            lj["messages"][name] = l.stats.messages[t];
-            lj["bytes"][name] = l.stats.bytes[t];
+        for (size_t t = 0; t < size_t(kMsgTypes); ++t) {
             msgs[t] += l.stats.messages[t];
             bytes[t] += l.stats.bytes[t];
         }
-        // The wire: its busy time by type and over the frame (a port's
-        // channels are wires side by side: their busy time over the frame's
-        // as many).
-        const Picos busy = l.stats.wireBusy();
-        for (int t = 0; t < kMsgTypes; ++t) lj["wire_ns"][msgTypeName(MsgType(t))] = ns(l.stats.wire[size_t(t)]);
-        lj["wire_busy_ns"] = ns(busy);
-        lj["channels"] = l.channels;
-        const double util = r.renderTime ? double(busy) / (double(r.renderTime) * l.channels) : 0.0;
-        lj["utilisation"] = util;
-        busiest.push_back({util, j["links"].size()});
-        lj["consumed"] = l.stats.consumed;
-        lj["slot_wait_ns"] = ns(l.stats.slotWait);
-        lj["wire_wait_ns"] = ns(l.stats.wireWait);
-        if (cfg.linkDistributions) {  // (--link-stats counts: not kept)
-            if (l.stats.latency.count()) lj["latency_ns"] = percentilesJson(l.stats.latency);
-            if (l.stats.controlLatency.count()) lj["control_latency_ns"] = percentilesJson(l.stats.controlLatency);
-            lj["backlog_high_water"] = l.stats.backlogHighWater;
-            lj["buffer_high_water"] = l.stats.bufferHighWater;
-        }
-        j["links"].push_back(lj);
+        nlohmann::json lj = linkJsonOf(l, r.renderTime, cfg.linkDistributions);
+        busiest.push_back({lj["utilisation"].get<double>(), j["links"].size()});
+        j["links"].push_back(std::move(lj));
     }
-    // The three busiest wires (ties: the first in the list).
     std::stable_sort(busiest.begin(), busiest.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
     j["busiest_links"] = nlohmann::json::array();
     for (size_t i = 0; i < std::min<size_t>(3, busiest.size()); ++i)
         j["busiest_links"].push_back({{"name", j["links"][busiest[i].second]["name"]}, {"utilisation", busiest[i].first}});
     for (int t = 0; t < kMsgTypes; ++t) {
-        j["totals"]["messages"][msgTypeName(MsgType(t))] = msgs[t];
-        j["totals"]["bytes"][msgTypeName(MsgType(t))] = bytes[t];
+        j["totals"]["messages"][msgTypeName(MsgType(t))] = msgs[size_t(t)];
+        j["totals"]["bytes"][msgTypeName(MsgType(t))] = bytes[size_t(t)];
     }
-    j["totals"]["busy_ns"] = ns(busyTotal);
-    j["totals"]["blocked_ns"] = ns(blockedTotal);
-    j["totals"]["rays_forwarded"] = forwardedTotal;
-    j["totals"]["rays_passed"] = passedTotal;
-    j["totals"]["rays_passed_between_columns"] = passedBetweenTotal;
-    j["totals"]["primary_misses"] = r.primaryMisses;
-    // The bounds (bounds.h).
-    const Bounds bd = renderTimeBounds(r, cfg);
-    // The frame buffer: per unit, and its busiest unit's busy time (the
-    // floor the frame buffer puts under the frame: the bound).
-    auto& fb = j["frame_buffer"];
-    Picos fbTotal = 0;
+}
+
+// The frame buffer: per unit, and its busiest unit's busy time (the floor
+// the frame buffer puts under the frame: its bound).
+nlohmann::json frameBufferJson(const MachineResult& r, const Bounds& bd) {
+    nlohmann::json fb;
+    Picos total = 0;
     uint64_t contributions = 0;
     for (size_t u = 0; u < r.frameBuffer.size(); ++u) {
         const FrameBufferStats& s = r.frameBuffer[u].stats;
-        fbTotal += s.busy;
+        total += s.busy;
         contributions += s.contributions;
-        nlohmann::json uj = {{"unit", u},
-                             {"busy_ns", ns(s.busy)},
-                             {"last_active_ns", ns(s.lastActive)},
-                             {"contributions", s.contributions},
-                             {"contribution_messages", s.contributionMessages},
-                             {"credit_messages", s.creditMessages}};
-        fb["units"].push_back(uj);
+        fb["units"].push_back({{"unit", u},
+                               {"busy_ns", ns(s.busy)},
+                               {"last_active_ns", ns(s.lastActive)},
+                               {"contributions", s.contributions},
+                               {"contribution_messages", s.contributionMessages},
+                               {"credit_messages", s.creditMessages}});
     }
     fb["busy_ns"] = ns(bd.frameBuffer);
-    fb["busy_total_ns"] = ns(fbTotal);
+    fb["busy_total_ns"] = ns(total);
     fb["contributions"] = contributions;
+    return fb;
+}
+
+// Balancing: the number of slides, how even the loads are (max / mean)
+// over the whole frame, whether the boundaries settled, the decisions,
+// what the guard stopped, and how old the loads they used were (the older
+// of the two, in intervals).
+nlohmann::json balanceJson(const MachineResult& r, const MachineConfig& cfg, const nlohmann::json& nodes) {
+    size_t slides = 0;
+    for (const BoundaryHistory& h : r.boundaries) slides += h.positions.size() - 1;
+    double maxLoad = 0, sumLoad = 0;
+    for (const auto& n : nodes) {
+        maxLoad = std::max(maxLoad, n["load"].get<double>());
+        sumLoad += n["load"].get<double>();
+    }
+    nlohmann::json b = {{"slides", slides},
+                        {"max_over_mean_load", sumLoad > 0 ? maxLoad / (sumLoad / double(r.nodes.size())) : 0.0}};
+    const int ax = cfg.balance.axis;
+    const StabilityVerdict st = judgeStability(r.boundaries, r.renderTime, r.worldBox.extent()[ax] / cfg.dims[ax]);
+    b["stability"] = stabilityName(st.overall);
+    b["boundaries_converged"] = st.converged;
+    b["boundaries_oscillating"] = st.oscillating;
+    b["boundaries_diverging"] = st.diverging;
+    BalanceStats all;
+    for (const NodeStats& s : r.nodes) {
+        all.decisions += s.balance.decisions;
+        all.skippedStale += s.balance.skippedStale;
+        all.skippedLatency += s.balance.skippedLatency;
+        all.skippedCost += s.balance.skippedCost;
+        all.skippedBusyLink += s.balance.skippedBusyLink;
+        all.ages.merge(s.balance.ages);
+    }
+    b["decisions"] = all.decisions;
+    b["guard_stale"] = all.skippedStale;
+    b["guard_latency"] = all.skippedLatency;
+    b["guard_cost"] = all.skippedCost;
+    b["guard_busy_link"] = all.skippedBusyLink;
+    if (all.ages.count() > 0)
+        b["load_age_intervals"] = {{"median", all.ages.percentile(0.5) / BalanceStats::kAgeUnits},
+                                   {"p95", all.ages.percentile(0.95) / BalanceStats::kAgeUnits},
+                                   {"max", double(all.ages.max()) / BalanceStats::kAgeUnits}};
+    return b;
+}
+
+nlohmann::json boundariesJson(const MachineResult& r) {
+    nlohmann::json out = nlohmann::json::array();  // empty, not missing, with one node along the axis
+    for (const BoundaryHistory& h : r.boundaries) {
+        nlohmann::json bj;
+        bj["column"] = {h.column[0], h.column[1]};
+        bj["index"] = h.index;
+        for (const auto& [t, x] : h.positions) bj["history"].push_back({ns(t), x});
+        out.push_back(bj);
+    }
+    return out;
+}
+
+}  // namespace
+
+nlohmann::json machineReport(const MachineResult& r, const MachineConfig& cfg) {
+    nlohmann::json j;
+    j["config"] = machineConfigJson(cfg, r.image.width, r.image.height);
+    j["render_time_ns"] = ns(r.renderTime);
+    if (!r.incomplete.empty()) j["incomplete"] = r.incomplete;  // stopped by the watchdog: every figure up to then
+    j["wall_s"] = r.wallSeconds;
+    NodeStats total;
+    for (size_t i = 0; i < r.nodes.size(); ++i) {
+        const NodeStats& s = r.nodes[i];
+        total.busy += s.busy;
+        total.blocked += s.blocked;
+        total.raysForwarded += s.raysForwarded;
+        total.raysPassed += s.raysPassed;
+        total.raysPassedBetweenColumns += s.raysPassedBetweenColumns;
+        j["nodes"].push_back(nodeJson(r, i));
+    }
+    addLinks(j, r, cfg);
+    j["totals"]["busy_ns"] = ns(total.busy);
+    j["totals"]["blocked_ns"] = ns(total.blocked);
+    j["totals"]["rays_forwarded"] = total.raysForwarded;
+    j["totals"]["rays_passed"] = total.raysPassed;
+    j["totals"]["rays_passed_between_columns"] = total.raysPassedBetweenColumns;
+    j["totals"]["primary_misses"] = r.primaryMisses;
+    const Bounds bd = renderTimeBounds(r, cfg);  // bounds.h
+    j["frame_buffer"] = frameBufferJson(r, bd);
     // Each bound in ns and as a fraction of the render time.
     auto bound = [&](Picos t) {
         return nlohmann::json{{"ns", ns(t)}, {"fraction", r.renderTime ? double(t) / double(r.renderTime) : 0.0}};
     };
     j["bounds"] = {{"perfect", bound(bd.perfect)}, {"column", bound(bd.column)}, {"frame_buffer", bound(bd.frameBuffer)}};
     j["kernel"] = {{"delta_cycles", r.deltaCycles}};
-    // Balancing: every boundary's history, the number of slides, and how
-    // even the loads are (max / mean) over the whole frame.
-    size_t slides = 0;
-    j["boundaries"] = nlohmann::json::array();  // empty, not missing, with one node along the axis
-    for (const BoundaryHistory& h : r.boundaries) {
-        slides += h.positions.size() - 1;
-        nlohmann::json bj;
-        bj["column"] = {h.column[0], h.column[1]};
-        bj["index"] = h.index;
-        for (const auto& [t, x] : h.positions) bj["history"].push_back({ns(t), x});
-        j["boundaries"].push_back(bj);
-    }
-    double maxLoad = 0, sumLoad = 0;
-    for (const auto& n : j["nodes"]) {
-        maxLoad = std::max(maxLoad, n["load"].get<double>());
-        sumLoad += n["load"].get<double>();
-    }
-    j["balance"] = {{"slides", slides},
-                    {"max_over_mean_load", sumLoad > 0 ? maxLoad / (sumLoad / double(r.nodes.size())) : 0.0}};
-    const StabilityVerdict st =
-        judgeStability(r.boundaries, r.renderTime, r.worldBox.extent()[bc.axis] / cfg.dims[bc.axis]);
-    j["balance"]["stability"] = stabilityName(st.overall);
-    j["balance"]["boundaries_converged"] = st.converged;
-    j["balance"]["boundaries_oscillating"] = st.oscillating;
-    j["balance"]["boundaries_diverging"] = st.diverging;
-    // The decisions, what the guard stopped, and how old the loads they used
-    // were (the older of the two, in intervals).
-    uint64_t decisions = 0, gives = 0, stale = 0, latency = 0, costly = 0, busyLink = 0;
-    Histogram ages;
-    for (const NodeStats& s : r.nodes) {
-        decisions += s.balance.decisions;
-        gives += s.balance.gives;
-        stale += s.balance.skippedStale;
-        latency += s.balance.skippedLatency;
-        costly += s.balance.skippedCost;
-        busyLink += s.balance.skippedBusyLink;
-        ages.merge(s.balance.ages);
-    }
-    j["balance"]["decisions"] = decisions;
-    j["balance"]["guard_stale"] = stale;
-    j["balance"]["guard_latency"] = latency;
-    j["balance"]["guard_cost"] = costly;
-    j["balance"]["guard_busy_link"] = busyLink;
-    if (ages.count() > 0)
-        j["balance"]["load_age_intervals"] = {
-            {"median", ages.percentile(0.5) / BalanceStats::kAgeUnits},
-            {"p95", ages.percentile(0.95) / BalanceStats::kAgeUnits},
-            {"max", double(ages.max()) / BalanceStats::kAgeUnits}};
+    j["boundaries"] = boundariesJson(r);
+    j["balance"] = balanceJson(r, cfg, j["nodes"]);
     return j;
 }
 
