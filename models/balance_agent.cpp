@@ -204,16 +204,7 @@ void BalanceAgent::report(int i) {
     const Picos gap = Picos(std::ceil(double(host_.reportTime(sideOf(i))) / cfg_.reportShare));
     const Picos period = std::max<Picos>(1, (gap + cfg_.interval - 1) / cfg_.interval) * cfg_.interval;
     s.nextReport = (advanceAt_[i] / period + 1) * period;
-    Message m;
-    m.type = MsgType::LoadReport;
-    MessageBody& r = m.body();
-    r.interval = s.reported;
-    r.end = l.end;
-    r.busy = l.busy;
-    r.wait = l.wait;
-    r.backlog = l.backlog;
-    r.sum = l.sum;
-    host_.sendReport(sideOf(i), std::move(m));
+    host_.sendReport(sideOf(i), Message::loadReport(s.reported, l.end, l.busy, l.wait, l.backlog, l.sum));
 }
 
 // --faces ideal-layer: the face goes to its layer's plane after the last

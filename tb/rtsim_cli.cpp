@@ -1,16 +1,27 @@
 #include "rtsim_cli.h"
 
-#include "policy.h"
-
-#include <algorithm>
 #include <filesystem>
-#include <sstream>
+
+#include "option_parsers.h"
+#include "policy.h"
 
 namespace rt {
 namespace {
 // A --config file is a few dozen lines; a report, with the per-interval
 // history bounded, a few MB.
 constexpr uintmax_t kMaxConfigBytes = 1 << 20, kMaxReportBytes = uintmax_t(1) << 30;
+const std::string gm = "Machine", gc = "Costs", gl = "Links", go = "Outputs", gb = "Balancing (sliding boundaries)",
+                  gf = "Frames";
+
+// Runs a parser of option_parsers.h, its error reported as CLI11's ("FLAG: what", exit 2).
+template <class F>
+auto cli(F&& f) -> decltype(f()) {
+    try {
+        return f();
+    } catch (const OptionError& e) {
+        throw CLI::ValidationError(e.flag, e.what());
+    }
+}
 
 // A regular file of at most `limit` bytes: files read whole (a fifo or
 // /dev/urandom would never end).
@@ -26,31 +37,8 @@ CLI::Validator regularFileAtMost(uintmax_t limit) {
         "", "");
 }
 
-// "x,y,z" node coordinates.
-Cell parseCell(const std::string& flag, const std::string& s) {
-    Cell c{};
-    char comma1 = 0, comma2 = 0;
-    std::istringstream in(s);
-    if (!(in >> c[0] >> comma1 >> c[1] >> comma2 >> c[2]) || comma1 != ',' || comma2 != ',' || !in.eof())
-        throw CLI::ValidationError(flag, "expected node coordinates x,y,z, got '" + s + "'");
-    return c;
-}
-
-Picos timeOf(const std::string& flag, const std::string& s) {
-    const auto t = parseTime(s);
-    if (!t)
-        throw CLI::ValidationError(flag, "expected a non-negative time with a unit (ps ns us ms s), at most 1000 s, got '" + s + "'");
-    return *t;
-}
-
-double rateOf(const std::string& flag, const std::string& s) {
-    const auto r = parseRate(s);
-    if (!r) throw CLI::ValidationError(flag, "expected a positive rate with a unit (B/s KB/s MB/s GB/s, b/s .. Gb/s), got '" + s + "'");
-    return *r;
-}
-
 void addTime(CLI::App& app, const std::string& flag, Picos& target, const std::string& what, const std::string& group) {
-    app.add_option_function<std::string>(flag, [flag, &target](const std::string& s) { target = timeOf(flag, s); }, what)
+    app.add_option_function<std::string>(flag, [flag, &target](const std::string& s) { target = cli([&] { return parseTimeOf(flag, s); }); }, what)
         ->default_str(formatTime(target))
         ->group(group);
 }
@@ -68,21 +56,10 @@ void addChoice(CLI::App& app, const std::string& flag, bool& target, const std::
         ->group(group);
 }
 
-// Cost names used by --node-cost.
-Picos* costField(Costs& c, const std::string& name) {
-    if (name == "sphere") return &c.test[0];
-    if (name == "polygon") return &c.test[1];
-    if (name == "cone") return &c.test[2];
-    if (name == "voxel") return &c.voxelStep;
-    if (name == "raygen") return &c.rayGen;
-    if (name == "shade") return &c.shade;
-    if (name == "send") return &c.send;
-    if (name == "recv") return &c.recv;
-    return nullptr;
-}
-
 }  // namespace
 
+// The flags, group by group, in the order --help lists them (and a
+// report's rerun.flags records them).
 void RtsimOptions::addTo(CLI::App& app) {
     // A flag given twice (or on the command line and in --config) takes its last value.
     app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
@@ -90,13 +67,29 @@ void RtsimOptions::addTo(CLI::App& app) {
     // mesh: the spheres crowd into the first 1/N = 1/4 of the progress axis.
     scene.procedural.concentration = 0.25;
     scene.addTo(app, false);
+    addMachineFlags(app);
+    addCostFlags(app);
+    addLinkFlags(app);
+    addBalanceFlags(app);
+    addOutputFlags(app);
+    addFrameFlags(app);
+    // A regular file of bounded size: CLI11 reads it whole, so /dev/urandom
+    // or a fifo would never end.
+    app.set_config("--config", "", "read flags from a file (INI/TOML: name = value, one per line)")
+        ->check(regularFileAtMost(kMaxConfigBytes));
+    app.allow_config_extras(CLI::config_extras_mode::error);  // a misspelt name is an error, not ignored
+}
+
+void RtsimOptions::addMachineFlags(CLI::App& app) {
     MachineConfig& m = machine;
-    const std::string gm = "Machine", gc = "Costs", gl = "Links", go = "Outputs";
     app.add_option("--mesh", mesh, "nodes per axis: an N x N x N mesh")->check(CLI::Range(1, 16))->capture_default_str()->group(gm);
     app.add_option("--mesh-dims", meshDims, "mesh shape XxYxZ (each 1..16), instead of --mesh")->group(gm);
     app.add_option("--max-depth", m.maxDepth, "mirror/refraction levels below the primary ray")
         ->check(CLI::Range(0, 39))->capture_default_str()->group(gm);
+}
 
+void RtsimOptions::addCostFlags(CLI::App& app) {
+    MachineConfig& m = machine;
     addTime(app, "--cost-sphere", m.costs.test[0], "intersection test, sphere", gc);
     addTime(app, "--cost-polygon", m.costs.test[1], "intersection test, polygon", gc);
     addTime(app, "--cost-cone", m.costs.test[2], "intersection test, cone/cylinder", gc);
@@ -113,18 +106,18 @@ void RtsimOptions::addTo(CLI::App& app) {
         ->default_str("1")->group(gc);
     app.add_option_function<std::vector<std::string>>("--node-speed", [&m](const std::vector<std::string>& v) {
            for (const std::string& s : v) {
-               const size_t eq = s.find('=');
-               if (eq == std::string::npos) throw CLI::ValidationError("--node-speed", "expected x,y,z=SPEED, got '" + s + "'");
-               double sp;
-               std::istringstream in(s.substr(eq + 1));
-               if (!(in >> sp) || !in.eof() || !(sp > 0)) throw CLI::ValidationError("--node-speed", "speed must be a positive number in '" + s + "'");
-               m.nodeSpeed[parseCell("--node-speed", s.substr(0, eq))] = sp;
+               const auto [cell, speed] = cli([&] { return parseNodeSpeed(s); });
+               m.nodeSpeed[cell] = speed;
            }
        }, "speed factor of one node: x,y,z=SPEED (repeatable)")
         ->group(gc);
     app.add_option("--node-cost", nodeCostSpecs_, "a cost of one node: x,y,z:NAME=TIME, NAME one of sphere polygon cone voxel raygen shade send recv (repeatable)")
         ->group(gc);
+}
 
+// The quantum (with the machine's flags), then the links and ports.
+void RtsimOptions::addLinkFlags(CLI::App& app) {
+    MachineConfig& m = machine;
     app.add_option("--quantum", quantum_,
                    "temporal decoupling: how far a process may run ahead of the kernel. 'lookahead': each process's own, "
                    "the largest that is still exact (its input links' latency plus the smallest message's time on their "
@@ -133,7 +126,7 @@ void RtsimOptions::addTo(CLI::App& app) {
         ->capture_default_str()
         ->group(gm);
     addTime(app, "--link-latency", m.link.latency, "link latency", gl);
-    app.add_option_function<std::string>("--link-bandwidth", [&m](const std::string& s) { m.link.bandwidth = rateOf("--link-bandwidth", s); }, "link bandwidth")
+    app.add_option_function<std::string>("--link-bandwidth", [&m](const std::string& s) { m.link.bandwidth = cli([&] { return parseRateOf("--link-bandwidth", s); }); }, "link bandwidth")
         ->default_str("1GB/s")->group(gl);
     app.add_option("--link-depth", m.link.depth, "messages a link holds before back-pressure")
         ->check(CLI::Range(1, 1000000))->capture_default_str()->group(gl);
@@ -155,7 +148,7 @@ void RtsimOptions::addTo(CLI::App& app) {
                    "1: a single host")
         ->check(CLI::Range(1, 256))->capture_default_str()->group(gl);
     addTime(app, "--fb-latency", m.fbPort.latency, "frame-buffer port latency", gl);
-    app.add_option_function<std::string>("--fb-bandwidth", [&m](const std::string& s) { m.fbPort.bandwidth = rateOf("--fb-bandwidth", s); }, "frame-buffer port bandwidth")
+    app.add_option_function<std::string>("--fb-bandwidth", [&m](const std::string& s) { m.fbPort.bandwidth = cli([&] { return parseRateOf("--fb-bandwidth", s); }); }, "frame-buffer port bandwidth")
         ->default_str("1GB/s")->group(gl);
     app.add_option("--fb-depth", m.fbPort.depth, "messages a frame-buffer port holds")->check(CLI::Range(1, 1000000))->capture_default_str()->group(gl);
     app.add_option("--fb-out-depth", m.fbPort.outDepth,
@@ -164,9 +157,10 @@ void RtsimOptions::addTo(CLI::App& app) {
     app.add_option("--ray-batch", m.rayBatch, "rays per link message (sent when full or before a node waits)")
         ->check(CLI::Range(1, 65536))->capture_default_str()->group(gl);
     app.add_option("--fb-batch", m.fbBatch, "contributions per frame-buffer message")->check(CLI::Range(1, 65536))->capture_default_str()->group(gl);
+}
 
-    const std::string gb = "Balancing (sliding boundaries)";
-    BalanceConfig& b = m.balance;
+void RtsimOptions::addBalanceFlags(CLI::App& app) {
+    BalanceConfig& b = machine.balance;
     std::string policyHelp = "policy: default (the recommended one: " + std::string(kDefaultPolicy) + ")";
     std::string names = "default";
     for (const PolicyInfo& p : policies()) {
@@ -218,7 +212,10 @@ void RtsimOptions::addTo(CLI::App& app) {
               gb);
     app.add_option("--bins", b.bins, "work profile: bins per box thickness along the axis")->check(CLI::Range(1, 4096))->capture_default_str()->group(gb);
     addTime(app, "--cost-rebuild", b.rebuildCost, "updating a node's grid, per object moved in or out", gb);
+}
 
+void RtsimOptions::addOutputFlags(CLI::App& app) {
+    MachineConfig& m = machine;
     addTime(app, "--watchdog", m.watchdogSpan,
             "stop a run in which no ray, contribution or credit moves for this long in simulated time (exit 3, the "
             "report and VCD so far marked incomplete); 0: the larger of 100 us and 1,000 times the largest cost, "
@@ -252,7 +249,9 @@ void RtsimOptions::addTo(CLI::App& app) {
                  "say more on stderr: -v what rtsim does and each message's SystemC report ID (rtsim/config, "
                  "rtsim/scene, ...); -vv also SystemC's own information")
         ->group(go);
-    const std::string gf = "Frames";
+}
+
+void RtsimOptions::addFrameFlags(CLI::App& app) {
     app.add_option("--frames", frames,
                    "frames rendered one after another, each starting with the boundaries where the one before ended, "
                    "as a running machine would; the outputs and the summary are the last frame's, the report lists "
@@ -270,140 +269,88 @@ void RtsimOptions::addTo(CLI::App& app) {
     app.add_flag("--as-frame", asFrame, "internal: run as an earlier frame of another run's sequence")->group("");
     app.add_flag("--as-baseline", asBaseline, "internal: run as the 1x1x1 baseline of another run")->group("");
     app.add_flag("--as-comparison", asComparison, "internal: run as the balancing comparison of another run")->group("");
-    // A regular file of bounded size: CLI11 reads it whole, so /dev/urandom
-    // or a fifo would never end.
-    app.set_config("--config", "", "read flags from a file (INI/TOML: name = value, one per line)")
-        ->check(regularFileAtMost(kMaxConfigBytes));
-    app.allow_config_extras(CLI::config_extras_mode::error);  // a misspelt name is an error, not ignored
 }
 
 void RtsimOptions::finish() {
-    MachineConfig& m = machine;
-    if (noGuard_) m.balance.guard = false;
-    if (noBaseline_) baseline = false;
-    if (m.balance.idealLayerFaces && frames > 1)
-        throw CLI::ValidationError("--faces", "ideal-layer measures one frame from faces in line; not with --frames " +
-                                                  std::to_string(frames));
-    m.dims = {mesh, mesh, mesh};
-    if (frameIndex < 0) frameIndex = frames - 1;  // this process renders the last frame of its sequence
-    if (asBaseline || asFrame) frames = 1;        // the baseline is of the last frame's view; a frame is one frame
-    if (asBaseline || asComparison || asFrame) {  // a reference run of another: no outputs (the caller reads its report)
-        traceSpecs_.clear();
-        traceWindow_.clear();
-        vcd.clear();
-        map.clear();
-        image.clear();
-        baseline = false;
-        quiet = true;
-        verbose = 0;  // (the parent says what it does)
-    }
-    if (asBaseline) {  // one node with the global costs: no per-node or per-link settings
-        meshDims = "1x1x1";
-        nodeCostSpecs_.clear();
-        linkSpecs_.clear();
-        m.nodeSpeed.clear();
-        m.balance.policy = "none";  // one node has no boundary to slide
-    }
-    // (asComparison: the same machine and frame; the caller sets --balance.)
-    // The reference runs' other policy has no faces to share.
-    if ((asBaseline || asComparison) && m.balance.policy != "slide" && m.balance.policy != "resplit")
-        m.balance.idealLayerFaces = false;
-    if (!meshDims.empty()) {
-        int x, y, z;
-        char a = 0, b = 0;
-        std::istringstream in(meshDims);
-        if (!(in >> x >> a >> y >> b >> z) || a != 'x' || b != 'x' || !in.eof() || x < 1 || y < 1 || z < 1 || x > 16 ||
-            y > 16 || z > 16)
-            throw CLI::ValidationError("--mesh-dims", "expected XxYxZ with each in 1..16, got '" + meshDims + "'");
-        m.dims = {x, y, z};
-    }
-    for (const std::string& s : nodeCostSpecs_) {
-        const size_t colon = s.find(':'), eq = s.find('=');
-        if (colon == std::string::npos || eq == std::string::npos || eq < colon)
-            throw CLI::ValidationError("--node-cost", "expected x,y,z:NAME=TIME, got '" + s + "'");
-        const Cell c = parseCell("--node-cost", s.substr(0, colon));
-        auto it = m.nodeCosts.find(c);
-        Costs& k = it == m.nodeCosts.end() ? (m.nodeCosts[c] = m.costs) : it->second;
-        Picos* f = costField(k, s.substr(colon + 1, eq - colon - 1));
-        if (!f) throw CLI::ValidationError("--node-cost", "unknown cost name in '" + s + "'");
-        *f = timeOf("--node-cost", s.substr(eq + 1));
-    }
-    for (const std::string& s : linkSpecs_) {
-        const size_t colon = s.find(':');
-        if (colon == std::string::npos) throw CLI::ValidationError("--link-set", "expected x,y,z,DIR:settings, got '" + s + "'");
-        const std::string where = s.substr(0, colon);
-        const size_t lastComma = where.find_last_of(',');
-        if (lastComma == std::string::npos) throw CLI::ValidationError("--link-set", "expected x,y,z,DIR, got '" + where + "'");
-        const Cell c = parseCell("--link-set", where.substr(0, lastComma));
-        const std::string dirText = where.substr(lastComma + 1);
-        int dir = -1;
-        for (int d = 0; d < kDirs; ++d)
-            if (dirText == dirName(d)) dir = d;
-        if (dir < 0) throw CLI::ValidationError("--link-set", "direction must be one of +x -x +y -y +z -z, got '" + dirText + "'");
-        LinkParams p = m.link;
-        std::istringstream items(s.substr(colon + 1));
-        std::string item;
-        while (std::getline(items, item, ',')) {
-            const size_t eq = item.find('=');
-            const std::string key = item.substr(0, eq), val = eq == std::string::npos ? "" : item.substr(eq + 1);
-            if (key == "latency") p.latency = timeOf("--link-set", val);
-            else if (key == "bandwidth") p.bandwidth = rateOf("--link-set", val);
-            else if (key == "depth") {
-                std::istringstream in(val);
-                if (!(in >> p.depth) || !in.eof() || p.depth < 1) throw CLI::ValidationError("--link-set", "depth must be a positive integer, got '" + val + "'");
-            } else if (key == "control_depth") {
-                std::istringstream in(val);
-                if (!(in >> p.controlDepth) || !in.eof() || p.controlDepth < 0)
-                    throw CLI::ValidationError("--link-set", "control_depth must be a non-negative integer, got '" + val + "'");
-            } else if (key == "out_depth") {
-                std::istringstream in(val);
-                if (!(in >> p.outDepth) || !in.eof() || p.outDepth < 0)
-                    throw CLI::ValidationError("--link-set", "out_depth must be a non-negative integer, got '" + val + "'");
-            } else throw CLI::ValidationError("--link-set", "unknown setting '" + key + "' (latency, bandwidth, depth, control_depth, out_depth)");
-        }
-        m.linkOverride[{c, dir}] = p;
-    }
-    for (const std::string& s : traceSpecs_) m.traceNodes.push_back(parseCell("--trace-nodes", s));
-    for (const std::string& s : traceLinkSpecs_) {  // x,y,z[,DIR|fb]
-        const size_t commas = size_t(std::count(s.begin(), s.end(), ','));
-        if (commas == 2) {
-            m.traceLinks.push_back({parseCell("--trace-links", s), -1});
-            continue;
-        }
-        const size_t last = s.find_last_of(',');
-        const std::string dirText = s.substr(last + 1);
-        int dir = dirText == "fb" ? kDirs : -1;
-        for (int d = 0; d < kDirs; ++d)
-            if (dirText == dirName(d)) dir = d;
-        if (commas != 3 || dir < 0)
-            throw CLI::ValidationError("--trace-links", "expected x,y,z or x,y,z,DIR with DIR one of +x -x +y -y +z -z fb, got '" + s + "'");
-        m.traceLinks.push_back({parseCell("--trace-links", s.substr(0, last)), dir});
-    }
-    if (!traceWindow_.empty()) {
-        const size_t comma = traceWindow_.find(',');
-        if (comma == std::string::npos) throw CLI::ValidationError("--trace-window", "expected FROM,TO, got '" + traceWindow_ + "'");
-        m.traceFrom = timeOf("--trace-window", traceWindow_.substr(0, comma));
-        m.traceTo = timeOf("--trace-window", traceWindow_.substr(comma + 1));
-    }
-    m.vcdPath = vcd;
-    // After every link and balancing setting: each process's lookahead
-    // depends on its links and on the smallest message they carry.
-    m.lookaheadQuantum = quantum_ == "lookahead";
-    if (m.lookaheadQuantum) {
-        m.quantum = m.lookahead();
-    } else {
-        const auto q = parseTime(quantum_);
-        if (!q) throw CLI::ValidationError("--quantum", "expected 'lookahead' or a non-negative time with a unit (ps ns us ms s), got '" + quantum_ + "'");
-        m.quantum = *q;
-    }
-    m.balance.axis = scene.axis == "x" ? 0 : scene.axis == "y" ? 1 : 2;  // one progress axis for scene and balancing
     try {
-        m.validate();
+        if (noGuard_) machine.balance.guard = false;
+        if (noBaseline_) baseline = false;
+        if (machine.balance.idealLayerFaces && frames > 1)
+            throw OptionError("--faces", "ideal-layer measures one frame from faces in line; not with --frames " +
+                                             std::to_string(frames));
+        machine.dims = {mesh, mesh, mesh};
+        if (frameIndex < 0) frameIndex = frames - 1;  // this process renders the last frame of its sequence
+        if (asBaseline || asFrame) frames = 1;        // the baseline is of the last frame's view; a frame is one frame
+        if (asBaseline || asComparison || asFrame) actAsReference();
+        readSpecs();
+        setQuantum();
+        machine.balance.axis = scene.axis == "x" ? 0 : scene.axis == "y" ? 1 : 2;  // one progress axis for scene and balancing
+    } catch (const OptionError& e) {
+        throw CLI::ValidationError(e.flag, e.what());
+    }
+    try {
+        machine.validate();
     } catch (const std::invalid_argument& e) {
         const std::string msg = e.what();
         const size_t colon = msg.find(':');
         throw CLI::ValidationError(msg.substr(0, colon), msg.substr(colon + 2));
     }
+}
+
+// A reference run of another (its 1x1x1 baseline, its balancing
+// comparison, an earlier frame of its sequence): no outputs (the caller
+// reads its report), and the baseline is one node with the global costs.
+void RtsimOptions::actAsReference() {
+    traceSpecs_.clear();
+    traceWindow_.clear();
+    vcd.clear();
+    map.clear();
+    image.clear();
+    baseline = false;
+    quiet = true;
+    verbose = 0;  // (the parent says what it does)
+    if (asBaseline) {  // one node with the global costs: no per-node or per-link settings
+        meshDims = "1x1x1";
+        nodeCostSpecs_.clear();
+        linkSpecs_.clear();
+        machine.nodeSpeed.clear();
+        machine.balance.policy = "none";  // one node has no boundary to slide
+    }
+    // (asComparison: the same machine and frame; the caller sets --balance.)
+    // The reference runs' other policy has no faces to share.
+    if ((asBaseline || asComparison) && machine.balance.policy != "slide" && machine.balance.policy != "resplit")
+        machine.balance.idealLayerFaces = false;
+}
+
+// The flags whose values have a syntax of their own (option_parsers.h).
+void RtsimOptions::readSpecs() {
+    MachineConfig& m = machine;
+    if (!meshDims.empty()) m.dims = parseMeshDims(meshDims);
+    for (const std::string& s : nodeCostSpecs_) applyNodeCost(s, m.costs, m.nodeCosts);
+    for (const std::string& s : linkSpecs_) {
+        const auto [where, params] = parseLinkSet(s, m.link);
+        m.linkOverride[where] = params;
+    }
+    for (const std::string& s : traceSpecs_) m.traceNodes.push_back(parseCell("--trace-nodes", s));
+    for (const std::string& s : traceLinkSpecs_) m.traceLinks.push_back(parseTraceLink(s));
+    if (!traceWindow_.empty()) std::tie(m.traceFrom, m.traceTo) = parseTraceWindow(traceWindow_);
+    m.vcdPath = vcd;
+}
+
+// After every link and balancing setting: each process's lookahead depends
+// on its links and on the smallest message they carry.
+void RtsimOptions::setQuantum() {
+    MachineConfig& m = machine;
+    m.lookaheadQuantum = quantum_ == "lookahead";
+    if (m.lookaheadQuantum) {
+        m.quantum = m.lookahead();
+        return;
+    }
+    const auto q = parseTime(quantum_);
+    if (!q)
+        throw OptionError("--quantum", "expected 'lookahead' or a non-negative time with a unit (ps ns us ms s), got '" +
+                                           quantum_ + "'");
+    m.quantum = *q;
 }
 
 }  // namespace rt

@@ -38,6 +38,16 @@ struct RtsimOptions {
     void finish();
 
 private:
+    void addMachineFlags(CLI::App& app);
+    void addCostFlags(CLI::App& app);
+    void addLinkFlags(CLI::App& app);
+    void addBalanceFlags(CLI::App& app);
+    void addOutputFlags(CLI::App& app);
+    void addFrameFlags(CLI::App& app);
+    void actAsReference();
+    void readSpecs();
+    void setQuantum();
+
     std::vector<std::string> nodeCostSpecs_, linkSpecs_, traceSpecs_, traceLinkSpecs_;
     std::string traceWindow_;
     bool noGuard_ = false, noBaseline_ = false;

@@ -1,0 +1,48 @@
+#include "config_echo.h"
+
+#include <filesystem>
+
+#include "report.h"
+#include "rerun.h"
+
+namespace rt {
+namespace {
+
+nlohmann::json vec(const Vec3& v) { return nlohmann::json{v.x, v.y, v.z}; }
+std::string absolutePath(const std::string& p) { return std::filesystem::absolute(p).lexically_normal().string(); }
+
+}  // namespace
+
+nlohmann::json configEcho(const RtsimOptions& o, const Scene& scene) {
+    nlohmann::json c = machineConfigJson(o.machine, o.machine.width, o.machine.height);
+    auto& s = c["scene"];
+    s["objects"] = scene.objects.size();
+    if (!o.scene.file.empty()) {
+        s["file"] = absolutePath(o.scene.file);
+        s["sha256"] = sha256OfFile(o.scene.file);
+    } else {
+        const ProceduralParams& p = o.scene.procedural;
+        s["procedural"] = {{"spheres", p.spheres}, {"radius", p.radius}, {"concentration", p.concentration},
+                           {"seed", p.seed}};
+    }
+    s["axis"] = o.scene.axis;
+    c["camera"] = {{"eye", vec(scene.view.from)}, {"look_at", vec(scene.view.at)}, {"up", vec(scene.view.up)},
+                   {"fov_deg", scene.view.angle}};
+    for (const Light& l : scene.lights) c["lights"].push_back({{"position", vec(l.position)}, {"colour", vec(l.colour)}});
+    c["frames"] = {{"count", o.frames}, {"index", o.frameIndex}, {"eye_step", o.eyeStep}};
+    if (!o.boundariesFrom.empty()) c["frames"]["boundaries_from"] = absolutePath(o.boundariesFrom);
+    return c;
+}
+
+std::string firstDifference(const nlohmann::json& there, const nlohmann::json& here) {
+    for (const nlohmann::json& op : nlohmann::json::diff(there, here)) {
+        const std::string where = op["path"].get<std::string>();
+        const nlohmann::json::json_pointer path(where);
+        const nlohmann::json a = there.contains(path) ? there[path] : nlohmann::json();
+        const nlohmann::json b = here.contains(path) ? here[path] : nlohmann::json();
+        return where + ": " + a.dump() + " there, " + b.dump() + " here";
+    }
+    return "";
+}
+
+}  // namespace rt

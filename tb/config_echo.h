@@ -1,0 +1,23 @@
+// The report's `config`: every setting as the run used it, the machine's
+// (models/report.h) and the run's own (the scene file and its SHA-256, or
+// the procedural parameters; the camera and lights as this frame sees them;
+// the frame sequence). A rerun without flags of its own must arrive at the
+// report's (tb/rerun.h).
+#pragma once
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "rtsim_cli.h"
+#include "scene.h"
+
+namespace rt {
+
+// Throws (std::runtime_error from sha256OfFile) if the scene file cannot be read.
+nlohmann::json configEcho(const RtsimOptions& o, const Scene& scene);
+
+// The first setting where two configs differ, as "PATH: A there, B here";
+// empty if none does.
+std::string firstDifference(const nlohmann::json& there, const nlohmann::json& here);
+
+}  // namespace rt

@@ -1,0 +1,140 @@
+#include "option_parsers.h"
+
+#include <algorithm>
+#include <sstream>
+
+namespace rt {
+namespace {
+
+// A whole integer of at least `least`, or nothing.
+bool readInt(const std::string& text, int& out, int least) {
+    std::istringstream in(text);
+    return (in >> out) && in.eof() && out >= least;
+}
+
+// Cost names used by --node-cost.
+Picos* costField(Costs& c, const std::string& name) {
+    if (name == "sphere") return &c.test[0];
+    if (name == "polygon") return &c.test[1];
+    if (name == "cone") return &c.test[2];
+    if (name == "voxel") return &c.voxelStep;
+    if (name == "raygen") return &c.rayGen;
+    if (name == "shade") return &c.shade;
+    if (name == "send") return &c.send;
+    if (name == "recv") return &c.recv;
+    return nullptr;
+}
+
+// One "key=value" of --link-set into `p`.
+void setLinkField(LinkParams& p, const std::string& key, const std::string& val) {
+    const std::string flag = "--link-set";
+    if (key == "latency") p.latency = parseTimeOf(flag, val);
+    else if (key == "bandwidth") p.bandwidth = parseRateOf(flag, val);
+    else if (key == "depth") {
+        if (!readInt(val, p.depth, 1)) throw OptionError(flag, "depth must be a positive integer, got '" + val + "'");
+    } else if (key == "control_depth") {
+        if (!readInt(val, p.controlDepth, 0))
+            throw OptionError(flag, "control_depth must be a non-negative integer, got '" + val + "'");
+    } else if (key == "out_depth") {
+        if (!readInt(val, p.outDepth, 0))
+            throw OptionError(flag, "out_depth must be a non-negative integer, got '" + val + "'");
+    } else {
+        throw OptionError(flag, "unknown setting '" + key + "' (latency, bandwidth, depth, control_depth, out_depth)");
+    }
+}
+
+}  // namespace
+
+Cell parseCell(const std::string& flag, const std::string& text) {
+    Cell c{};
+    char comma1 = 0, comma2 = 0;
+    std::istringstream in(text);
+    if (!(in >> c[0] >> comma1 >> c[1] >> comma2 >> c[2]) || comma1 != ',' || comma2 != ',' || !in.eof())
+        throw OptionError(flag, "expected node coordinates x,y,z, got '" + text + "'");
+    return c;
+}
+
+Picos parseTimeOf(const std::string& flag, const std::string& text) {
+    const auto t = parseTime(text);
+    if (!t)
+        throw OptionError(flag, "expected a non-negative time with a unit (ps ns us ms s), at most 1000 s, got '" + text + "'");
+    return *t;
+}
+
+double parseRateOf(const std::string& flag, const std::string& text) {
+    const auto r = parseRate(text);
+    if (!r) throw OptionError(flag, "expected a positive rate with a unit (B/s KB/s MB/s GB/s, b/s .. Gb/s), got '" + text + "'");
+    return *r;
+}
+
+std::array<int, 3> parseMeshDims(const std::string& text) {
+    int x, y, z;
+    char a = 0, b = 0;
+    std::istringstream in(text);
+    if (!(in >> x >> a >> y >> b >> z) || a != 'x' || b != 'x' || !in.eof() || x < 1 || y < 1 || z < 1 || x > 16 ||
+        y > 16 || z > 16)
+        throw OptionError("--mesh-dims", "expected XxYxZ with each in 1..16, got '" + text + "'");
+    return {x, y, z};
+}
+
+std::pair<Cell, double> parseNodeSpeed(const std::string& spec) {
+    const size_t eq = spec.find('=');
+    if (eq == std::string::npos) throw OptionError("--node-speed", "expected x,y,z=SPEED, got '" + spec + "'");
+    double speed;
+    std::istringstream in(spec.substr(eq + 1));
+    if (!(in >> speed) || !in.eof() || !(speed > 0))
+        throw OptionError("--node-speed", "speed must be a positive number in '" + spec + "'");
+    return {parseCell("--node-speed", spec.substr(0, eq)), speed};
+}
+
+void applyNodeCost(const std::string& spec, const Costs& base, std::map<Cell, Costs>& costs) {
+    const size_t colon = spec.find(':'), eq = spec.find('=');
+    if (colon == std::string::npos || eq == std::string::npos || eq < colon)
+        throw OptionError("--node-cost", "expected x,y,z:NAME=TIME, got '" + spec + "'");
+    const Cell c = parseCell("--node-cost", spec.substr(0, colon));
+    auto it = costs.find(c);
+    Costs& k = it == costs.end() ? (costs[c] = base) : it->second;
+    Picos* f = costField(k, spec.substr(colon + 1, eq - colon - 1));
+    if (!f) throw OptionError("--node-cost", "unknown cost name in '" + spec + "'");
+    *f = parseTimeOf("--node-cost", spec.substr(eq + 1));
+}
+
+std::pair<std::pair<Cell, int>, LinkParams> parseLinkSet(const std::string& spec, const LinkParams& base) {
+    const std::string flag = "--link-set";
+    const size_t colon = spec.find(':');
+    if (colon == std::string::npos) throw OptionError(flag, "expected x,y,z,DIR:settings, got '" + spec + "'");
+    const std::string where = spec.substr(0, colon);
+    const size_t lastComma = where.find_last_of(',');
+    if (lastComma == std::string::npos) throw OptionError(flag, "expected x,y,z,DIR, got '" + where + "'");
+    const Cell c = parseCell(flag, where.substr(0, lastComma));
+    const std::string dirText = where.substr(lastComma + 1);
+    const std::optional<int> dir = dirNamed(dirText);
+    if (!dir) throw OptionError(flag, "direction must be one of +x -x +y -y +z -z, got '" + dirText + "'");
+    LinkParams p = base;
+    std::istringstream items(spec.substr(colon + 1));
+    std::string item;
+    while (std::getline(items, item, ',')) {
+        const size_t eq = item.find('=');
+        setLinkField(p, item.substr(0, eq), eq == std::string::npos ? "" : item.substr(eq + 1));
+    }
+    return {{c, *dir}, p};
+}
+
+std::pair<Cell, int> parseTraceLink(const std::string& spec) {
+    const size_t commas = size_t(std::count(spec.begin(), spec.end(), ','));
+    if (commas == 2) return {parseCell("--trace-links", spec), -1};
+    const size_t last = spec.find_last_of(',');
+    const std::string dirText = last == std::string::npos ? spec : spec.substr(last + 1);
+    const std::optional<int> dir = dirText == "fb" ? std::optional<int>(kDirs) : dirNamed(dirText);
+    if (commas != 3 || !dir)
+        throw OptionError("--trace-links", "expected x,y,z or x,y,z,DIR with DIR one of +x -x +y -y +z -z fb, got '" + spec + "'");
+    return {parseCell("--trace-links", spec.substr(0, last)), *dir};
+}
+
+std::pair<Picos, Picos> parseTraceWindow(const std::string& text) {
+    const size_t comma = text.find(',');
+    if (comma == std::string::npos) throw OptionError("--trace-window", "expected FROM,TO, got '" + text + "'");
+    return {parseTimeOf("--trace-window", text.substr(0, comma)), parseTimeOf("--trace-window", text.substr(comma + 1))};
+}
+
+}  // namespace rt

@@ -1,0 +1,190 @@
+// Where a frame starts, without a machine: the columns' initial planes,
+// the nodes' boxes, which node generates each primary ray, the host's
+// credit shared out exactly; and between frames, the boundaries read back
+// from a report and resplit's choice of the next frame's, on reports
+// written here with values worked out by hand.
+#include <algorithm>
+#include <numeric>
+#include <stdexcept>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "between_frames.h"
+#include "initial_split.h"
+#include "procedural.h"
+#include "shading.h"
+
+using namespace rt;
+
+namespace {
+
+Shape sphere(Vec3 c, double r, uint32_t id) { return Shape{Sphere{c, r, false}, 0, id}; }
+
+MachineConfig mesh(std::array<int, 3> dims, int axis = 0) {
+    MachineConfig m;
+    m.dims = dims;
+    m.balance.axis = axis;
+    return m;
+}
+
+}  // namespace
+
+// ---- The initial split (initial_split.h) ----
+
+TEST(InitialSplit, UniformUnlessStartedElsewhereOrAtTheMedians) {
+    const Box world{Vec3(0.0), Vec3(1.0)};
+    MachineConfig m = mesh({2, 2, 1});
+    const Lattice cuts = Lattice::uniform(world, m.dims);
+    // Column y = 0: centres at x = .05 .1 .15 .2; column y = 1: none.
+    std::vector<Shape> objects;
+    for (int i = 0; i < 4; ++i) objects.push_back(sphere(Vec3(0.05 * (i + 1), 0.25, 0.5), 0.01, uint32_t(i)));
+    const ObjectBins bins(objects, cuts, 1e-9);
+    const ColumnPlanes uniform = initialPlanes(m, cuts, world, bins, 0.025);
+    ASSERT_EQ(uniform.size(), 2u);
+    for (const auto& p : uniform) EXPECT_EQ(p, cuts.planes(0));
+
+    m.balance.policy = "median";
+    const ColumnPlanes median = initialPlanes(m, cuts, world, bins, 0.025);
+    ASSERT_EQ(median[0].size(), 3u);
+    EXPECT_DOUBLE_EQ(median[0][1], 0.15);  // the 2/4th centre
+    EXPECT_EQ(median[0].front(), 0.0);
+    EXPECT_EQ(median[0].back(), 1.0);
+    EXPECT_EQ(median[1], cuts.planes(0));                         // no objects: uniform
+
+    m.startBoundaries = {{0.3}, {0.8}};
+    const ColumnPlanes started = initialPlanes(m, cuts, world, bins, 0.025);
+    EXPECT_EQ(started[0], (std::vector<double>{0.0, 0.3, 1.0}));
+    EXPECT_EQ(started[1], (std::vector<double>{0.0, 0.8, 1.0}));
+    EXPECT_EQ(nodeBox(Cell{1, 1, 0}, cuts, ColumnGeometry(0, m.dims), started).lo.x, 0.8);
+    m.startBoundaries = {{0.99}, {0.5}};  // a box thinner than the minimum
+    EXPECT_THROW(initialPlanes(m, cuts, world, bins, 0.025), std::invalid_argument);
+    m.startBoundaries = {{0.5}};  // one column short
+    EXPECT_THROW(initialPlanes(m, cuts, world, bins, 0.025), std::invalid_argument);
+}
+
+TEST(InitialSplit, EveryPrimaryRayGoesToTheNodeThatOwnsItsStart) {
+    ProceduralParams p;
+    p.spheres = 10;
+    p.eye = Vec3(0.5, 0.45, 0.3);  // inside the world: rays start at the eye's node
+    Scene scene = makeProceduralScene(p);
+    for (const View& v : {scene.view, View{Vec3(-1.3, 0.4, 0.6), Vec3(0.5, 0.5, 0.5), Vec3(0, 0, 1), 70}}) {
+        const Camera camera(v, 24, 20);
+        const Box world = scene.worldBox();
+        const MachineConfig m = mesh({3, 2, 2});
+        const ColumnGeometry g(0, m.dims);
+        const Lattice cuts = Lattice::uniform(world, m.dims);
+        ColumnPlanes planes(size_t(g.count()), cuts.planes(0));
+        planes[1] = {world.lo.x, 0.1, 0.2, world.hi.x};  // one column split elsewhere along x
+        const PrimaryRays r = assignPrimaryRays(camera, world, cuts, g, planes);
+        std::vector<uint32_t> all;
+        for (size_t i = 0; i < r.perNode.size(); ++i) {
+            const Box box = nodeBox(cellAt(i, m.dims), cuts, g, planes);
+            for (uint32_t pixel : r.perNode[i]) {
+                all.push_back(pixel);
+                const RayJob j = primaryJob(camera, int(pixel % 24), int(pixel / 24), world);
+                const Interval owned = boxInterval(j.ray, box);
+                EXPECT_TRUE(owned.lo <= j.t0 && j.t0 < owned.hi) << "pixel " << pixel << " at node " << i;
+            }
+        }
+        for (const RayJob& j : r.misses) all.push_back(j.pixel);
+        if (v.from == p.eye) EXPECT_TRUE(r.misses.empty());  // from inside the world no ray misses it
+        std::sort(all.begin(), all.end());
+        std::vector<uint32_t> each(24 * 20);
+        std::iota(each.begin(), each.end(), 0u);
+        EXPECT_EQ(all, each);  // every pixel once
+    }
+}
+
+TEST(InitialSplit, TheCreditSharesSumToExactlyOne) {
+    const std::vector<std::vector<uint32_t>> perNode{{1, 2, 3}, {}, {4}, {5, 6, 7, 8, 9}};
+    const CreditShares s = shareCredit(perNode, 40);
+    EXPECT_EQ(s.exp, (std::vector<int>{2 + 2, 0, 2 + 0, 2 + 3}));  // 3 nodes with rays: 2^-2 each
+    Credit total(40);
+    total.add(s.host);  // 1 - 3/4
+    EXPECT_EQ(s.host.value(), 0.25);
+    for (size_t i = 0; i < perNode.size(); ++i) {
+        total.add(s.remainder[i]);
+        for (size_t k = 0; k < perNode[i].size(); ++k) total.add(s.exp[i]);
+    }
+    EXPECT_TRUE(total.isOne());
+}
+
+// ---- Between frames (between_frames.h) ----
+
+namespace {
+
+// A report of a 3x1x1 mesh along x: boundary 1 from `b1` (at time 0) to
+// `b1end` (at 5 ns), boundary 2 at 2/3 throughout; the nodes' busy times.
+nlohmann::json report(double renderNs, double b1, double b1end, std::array<double, 3> busy) {
+    nlohmann::json r;
+    r["render_time_ns"] = renderNs;
+    r["config"]["mesh"] = {3, 1, 1};
+    r["config"]["balance"]["axis"] = "x";
+    r["boundaries"] = {{{"column", {0, 0}}, {"index", 1}, {"history", {{0, b1}, {5, b1end}}}},
+                       {{"column", {0, 0}}, {"index", 2}, {"history", {{0, 2.0 / 3}}}}};
+    const double planes[] = {0, b1end, 2.0 / 3, 1};
+    for (int k = 0; k < 3; ++k)
+        r["nodes"].push_back({{"node", {k, 0, 0}}, {"box", {{planes[k], 0, 0}, {planes[k + 1], 1, 1}}}, {"busy_ns", busy[size_t(k)]}});
+    return r;
+}
+
+}  // namespace
+
+TEST(BetweenFrames, BoundariesReadBackFromAReport) {
+    const MachineConfig m = mesh({3, 1, 1});
+    const nlohmann::json r = report(10, 0.3, 0.4, {1, 1, 1});
+    EXPECT_EQ(lastBoundaries(r, m), (InnerPlanes{{0.4, 2.0 / 3}}));
+    EXPECT_EQ(lastBoundaries(r, m, true), (InnerPlanes{{0.3, 2.0 / 3}}));
+    EXPECT_THROW(lastBoundaries(r, mesh({3, 1, 1}, 1)), std::runtime_error);  // another axis
+    EXPECT_THROW(lastBoundaries(r, mesh({2, 1, 1})), std::runtime_error);     // another mesh
+    nlohmann::json broken = r;
+    broken.erase("boundaries");
+    EXPECT_THROW(lastBoundaries(broken, m), std::runtime_error);
+}
+
+TEST(BetweenFrames, ResplitTargetsSplitTheBusyTimeEvenly) {
+    // Planes at 1/3 and 2/3 throughout; busy 2, 1, 1: 4/3 each. Node 0's 2
+    // over [0, 1/3] reach 4/3 at 2/9; then its last 2/3 and 2/3 of node 1's
+    // (over [1/3, 2/3]) reach 8/3 at 1/3 + 2/9 = 5/9.
+    const InnerPlanes t = resplitTargets(report(10, 1.0 / 3, 1.0 / 3, {2, 1, 1}), mesh({3, 1, 1}));
+    ASSERT_EQ(t.size(), 1u);
+    ASSERT_EQ(t[0].size(), 2u);
+    EXPECT_NEAR(t[0][0], 2.0 / 9, 1e-12);
+    EXPECT_NEAR(t[0][1], 5.0 / 9, 1e-12);
+}
+
+TEST(BetweenFrames, ResplitHoldsTheFastestFrameOnceAResplitLoses) {
+    const MachineConfig m = mesh({3, 1, 1});
+    ResplitSequence s(m);
+    const auto first = s.next(report(100, 0.30, 0.31, {2, 1, 1}), 1);  // re-split after frame 1
+    ASSERT_TRUE(first);
+    const auto second = s.next(report(80, 0.31, 0.32, {1, 1, 1}), 2);  // faster: re-split again
+    ASSERT_TRUE(second);
+    EXPECT_FALSE(s.startsAfresh());
+    const auto third = s.next(report(90, 0.32, 0.33, {1, 1, 1}), 3);  // slower: back to frame 2's planes, held
+    ASSERT_TRUE(third);
+    EXPECT_EQ(*third, (InnerPlanes{{0.32, 2.0 / 3}}));
+    EXPECT_EQ(*s.next(report(70, 0.5, 0.5, {1, 1, 1}), 4), *third);
+}
+
+TEST(BetweenFrames, ResplitThatDoesNotPayTriesTheStartingSplit) {
+    const MachineConfig m = mesh({3, 1, 1});
+    for (const double trial : {95.0, 105.0}) {
+        ResplitSequence s(m);
+        s.next(report(100, 0.30, 0.31, {2, 1, 1}), 1);
+        ASSERT_TRUE(s.next(report(120, 0.31, 0.32, {1, 1, 1}), 2));  // slower than frame 1: one more try
+        const auto start = s.next(report(110, 0.32, 0.33, {1, 1, 1}), 3);  // still slower: the split frame 1 started from
+        ASSERT_TRUE(start);
+        EXPECT_EQ(*start, (InnerPlanes{{0.30, 2.0 / 3}}));
+        EXPECT_TRUE(s.startsAfresh());
+        const auto after = s.next(report(trial, 0.30, 0.30, {1, 1, 1}), 4);
+        if (trial < 100) {  // the starting split beat frame 1: held
+            ASSERT_TRUE(after);
+            EXPECT_EQ(*after, *start);
+        } else {  // it did not: every later frame is frame 1 again
+            EXPECT_FALSE(after);
+            EXPECT_FALSE(s.next(report(50, 0.30, 0.30, {1, 1, 1}), 5));
+        }
+    }
+}
