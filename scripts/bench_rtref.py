@@ -14,12 +14,19 @@ import subprocess
 import sys
 import tempfile
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from project import FAST_BUILD, ROOT, spd_scene  # noqa: E402
 
 
-def build_kind(build=os.path.join(ROOT, "build")):
-    """How build/ was made, from its CMake cache: profile-guided and
-    link-time optimised when scripts/build.sh made it (RT_PGO=use)."""
+def build_fast():
+    """Makes build-fast/ (scripts/build_fast.sh: only what changed), the
+    profile-guided build every benchmark measures."""
+    subprocess.run(["bash", os.path.join(ROOT, "scripts", "build_fast.sh")], check=True, stdout=subprocess.DEVNULL)
+
+
+def build_kind(build=FAST_BUILD):
+    """How a build was made, from its CMake cache: profile-guided and
+    link-time optimised when scripts/build_fast.sh made it (RT_PGO=use)."""
     try:
         with open(os.path.join(build, "CMakeCache.txt")) as f:
             pgo = any(line.strip() == "RT_PGO:STRING=use" for line in f)
@@ -71,15 +78,18 @@ def pin_to_cpu(cpu, prog):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--scene", default=os.path.join(ROOT, "..", "shared", "scenes", "spd", "balls-4.nff"))
+    ap.add_argument("--scene", default=spd_scene("balls-4"))
     ap.add_argument("--size", default="512x512")
     ap.add_argument("--runs", type=int, default=5)
-    ap.add_argument("--rtref", default=os.path.join(ROOT, "build", "rtref"))
+    ap.add_argument("--rtref", help="the rtref to measure (default: the one in build-fast/, built first)")
     ap.add_argument("--doc", action="store_true", help="write doc/benchmarks/rtref.md")
     add_cpu_option(ap)
     a = ap.parse_args()
     if a.runs < 1:
         sys.exit("bench_rtref: --runs must be at least 1")
+    if not a.rtref:
+        build_fast()
+        a.rtref = os.path.join(FAST_BUILD, "rtref")
     pin = pin_to_cpu(a.cpu, "bench_rtref")
     runs = []
     with tempfile.TemporaryDirectory() as tmp:

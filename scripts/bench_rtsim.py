@@ -15,10 +15,9 @@ import sys
 import tempfile
 import time
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-sys.path.insert(0, os.path.join(ROOT, "scripts"))
-from bench_rtref import add_cpu_option, machine, pin_to_cpu  # noqa: E402
-from sweep import update_doc_section, version  # noqa: E402
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from bench_rtref import add_cpu_option, build_fast, machine, pin_to_cpu  # noqa: E402
+from project import FAST_BUILD, ROOT, spd_scene, update_doc_section, version  # noqa: E402
 
 
 def timed(cmd):
@@ -69,7 +68,7 @@ BRACKET, REDOS = 0.05, 10  # an rtsim run whose rtref before and after differ th
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--scene", default=os.path.join(ROOT, "..", "shared", "scenes", "spd", "balls-4.nff"))
+    ap.add_argument("--scene", default=spd_scene("balls-4"))
     ap.add_argument("--size", default="512x512")
     ap.add_argument("--mesh", type=int, default=4)
     ap.add_argument("--runs", type=int, default=5)
@@ -79,15 +78,20 @@ def main():
     ap.add_argument("--tracing-runs", type=int, default=3,
                     help="runs of each tracing case (0 to skip); --tracing-only: only those")
     ap.add_argument("--tracing-only", action="store_true")
+    ap.add_argument("--against", metavar="BUILD",
+                    help="only compare this build's rtsim with BUILD's (an older build folder), alternated run by "
+                         "run, --against-runs times each mode; with --doc into doc/benchmarks/rtsim-against.md")
+    ap.add_argument("--against-runs", type=int, default=7)
     add_cpu_option(ap)
     ap.add_argument("--doc", action="store_true")
     a = ap.parse_args()
+    build_fast()
     # The script pins itself: every run, GNU time's child too, inherits it.
     pin = pin_to_cpu(a.cpu, "bench_rtsim")
     # The tree's version before anything is written: the tracing section goes
     # into doc/ first, and would make the main tables say "-dirty".
     a.version = version()
-    build = os.path.join(ROOT, "build")
+    build = FAST_BUILD
     tmp = tempfile.mkdtemp()
     report = os.path.join(tmp, "r.json")
 
@@ -102,6 +106,8 @@ def main():
         with open(os.path.join(tmp, x), "rb") as f, open(os.path.join(tmp, y), "rb") as g:
             return f.read() == g.read()
 
+    if a.against:
+        return against(a, tmp, rtsim, pin)
     if a.tracing_runs:
         tracing(a, tmp, rtsim, report)
     if a.tracing_only:
@@ -267,6 +273,48 @@ def tracing(a, tmp, rtsim, report):
     print(text)
     if a.doc:
         update_doc_section(os.path.join(ROOT, "doc", "machine.md"), "tracing overhead", text)
+
+
+def against(a, tmp, rtsim, pin):
+    """This build's rtsim against another build's on each mode of MODES and
+    (with --big-runs) the 16x16x16 job: the two alternated run by run on the
+    same pinned CPU, the first of each pair swapped every run, so that both
+    see the same spells of the CPU's speed; the medians of each and of the
+    run-by-run ratios, and the images compared."""
+    old = os.path.join(os.path.abspath(a.against), "rtsim")
+    jobs = [(label, lambda binary, flags=flags: [binary] + rtsim(a.mesh, flags)[1:]) for label, flags in MODES]
+    if a.big_runs:
+        spd5 = os.path.join(os.path.dirname(a.scene), "balls-5.nff")
+        jobs.append(("16x16x16, balls-5 at 1024x1024, exact",
+                     lambda binary: [binary] + rtsim(16, [], spd5, "1024x1024")[1:]))
+    rows = ["| job | this build (median) | older build (median) | this / older (median of pairs) | pairs: min .. max |"
+            " images |", "|---|---:|---:|---:|---|---|"]
+    for label, cmd in jobs:
+        new, older, ratios, same = [], [], [], True
+        for i in range(a.against_runs):
+            pair = {}
+            for which in (("new", "old") if i % 2 == 0 else ("old", "new")):
+                image = os.path.join(tmp, which + ".png")
+                args = cmd(os.path.join(FAST_BUILD, "rtsim") if which == "new" else old)
+                args[args.index("--image") + 1] = image
+                pair[which], _ = timed(args)
+            with open(os.path.join(tmp, "new.png"), "rb") as f, open(os.path.join(tmp, "old.png"), "rb") as g:
+                same = same and f.read() == g.read()
+            new.append(pair["new"])
+            older.append(pair["old"])
+            ratios.append(pair["new"] / pair["old"])
+            print(f"{label}, pair {i + 1}: {pair['new']:.3f} s against {pair['old']:.3f} s", file=sys.stderr)
+        rows.append(f"| {label} | {statistics.median(new):.3f} s | {statistics.median(older):.3f} s | "
+                    f"**{statistics.median(ratios):.3f}** | {min(ratios):.3f} .. {max(ratios):.3f} | "
+                    f"{'the same' if same else 'DIFFERENT'} |")
+    text = "\n".join(rows) + (f"\n\n{a.against_runs} pairs each; this build {a.version}, older build "
+                               f"`{os.path.abspath(a.against)}`; {machine()}" +
+                               (f"; every run pinned to CPU {pin}" if pin is not None else "") + ".\n")
+    print(text, end="")
+    if a.doc:
+        with open(os.path.join(ROOT, "doc", "benchmarks", "rtsim-against.md"), "w") as f:
+            f.write("# rtsim against an older build\n\nWritten by `scripts/bench_rtsim.py --against BUILD --doc`; "
+                    "do not edit by hand.\n\n" + text)
 
 
 def targets(ratio_of, big):

@@ -16,7 +16,9 @@ import os
 import re
 import sys
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from project import ROOT  # noqa: E402
+
 FOLDERS = ("models", "tb")
 MAX_FILE, MAX_FUNCTION = 450, 60
 # What may stand between a parameter list and a function body.

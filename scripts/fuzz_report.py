@@ -10,7 +10,7 @@ import re
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from sweep import ROOT, publish_table  # noqa: E402
+from project import ROOT, publish_table  # noqa: E402
 
 
 def main():

@@ -23,9 +23,8 @@ import time
 import xml.etree.ElementTree as ET
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from sweep import publish_table  # noqa: E402
+from project import ROOT, publish_table  # noqa: E402
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 # The timing oracles' tests (tb/tests/test_timing.cpp): the table says
 # whether the rest of the suite would have caught each bug without them.
 ORACLES = ("LinkOracle", "RayAcrossEmptyNodes", "FrameBufferOracle", "SlideOracle")

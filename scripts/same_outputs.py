@@ -21,11 +21,10 @@ Standard library only; run with /usr/bin/python3.
 import argparse
 import json
 import os
-import subprocess
 import sys
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-SPD = os.path.join(os.path.dirname(ROOT), "shared", "scenes", "spd")
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from project import BUILD, run_rtsim, spd_scene  # noqa: E402
 
 # (name, flags, files it writes besides the report and image)
 RUNS = [
@@ -56,13 +55,11 @@ def run(build, out_dir, name, flags):
     args = [a.format(out=out) for a in flags]
     if "--scene" in args:
         i = args.index("--scene") + 1
-        args[i] = os.path.join(SPD, args[i] + ".nff")
-    cmd = [os.path.join(build, "rtsim"), "-q", "--no-baseline", "--image", out + ".png", "--report", out + ".json"] + args
-    p = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
-    if p.returncode != 0:
-        sys.exit(f"same_outputs: {name} failed ({p.returncode}): {p.stderr.strip()}")
-    with open(out + ".json") as f:
-        report = json.load(f)
+        args[i] = spd_scene(args[i])
+    try:
+        report, _ = run_rtsim(args, os.path.join(build, "rtsim"), image=out + ".png", report=out + ".json")
+    except RuntimeError as e:
+        sys.exit(f"same_outputs: {name} failed ({e})")
     for path in HOST_FIELDS:
         d = report
         for k in path[:-1]:
@@ -77,7 +74,7 @@ def main():
     g = ap.add_mutually_exclusive_group(required=True)
     g.add_argument("--record", metavar="DIR")
     g.add_argument("--compare", metavar="DIR")
-    ap.add_argument("--build", default=os.path.join(ROOT, "build"))
+    ap.add_argument("--build", default=BUILD)
     ap.add_argument("--only", nargs="*", help="run names (default: all)")
     a = ap.parse_args()
     runs = [r for r in RUNS if not a.only or r[0] in a.only]

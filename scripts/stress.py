@@ -11,7 +11,6 @@ A seed fixes the configurations.
 """
 import argparse
 import concurrent.futures
-import json
 import os
 import random
 import shlex
@@ -21,10 +20,8 @@ import tempfile
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from sweep import publish_table  # noqa: E402
+from project import RESULTS, ROOT, RTREF, RTSIM, publish_table, run_rtsim, spd_scene  # noqa: E402
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-SCENES = os.path.join(ROOT, "..", "shared", "scenes", "spd")
 POLICIES = ["none", "slide", "work", "quantile", "resplit", "median", "default"]
 DIRS = ["+x", "-x", "+y", "-y", "+z", "-z"]
 
@@ -40,7 +37,7 @@ def configuration(rng):
     """One random configuration: (scene flags shared with rtref, rtsim-only flags)."""
     w, h = rng.randint(8, 40), rng.randint(8, 40)
     if rng.random() < 0.3:
-        scene = [os.path.join(SCENES, rng.choice(["balls-1.nff", "tetra-3.nff", "balls-2.nff"])), "--size", f"{w}x{h}"]
+        scene = [spd_scene(rng.choice(["balls-1", "tetra-3", "balls-2"])), "--size", f"{w}x{h}"]
         rtsim_scene = ["--scene"] + scene[:1] + scene[1:]
     else:
         scene = ["--spheres", str(rng.randint(5, 300)), "--radius", f"{rng.uniform(0.01, 0.08):.3f}",
@@ -101,18 +98,15 @@ def run_and_compare(index, scene, args, rtsim, rtref, tmp):
         return f"rtref failed: {ref.stderr.strip()}"
     runs = []
     for k in (1, 2):
-        cmd = [rtsim] + args + ["--no-baseline", "-q", "--image", os.path.join(d, f"{k}.png"),
-                                "--report", os.path.join(d, f"{k}.json")]
+        image = os.path.join(d, f"{k}.png")
         try:
-            r = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
+            report, _ = run_rtsim(args, rtsim, timeout=120, image=image, report=os.path.join(d, f"{k}.json"))
         except subprocess.TimeoutExpired:
             return "timed out after 120 s"
-        if r.returncode != 0:
-            return f"exit {r.returncode}: {r.stderr.strip()}"
-        with open(os.path.join(d, f"{k}.png"), "rb") as f:
-            png = f.read()
-        with open(os.path.join(d, f"{k}.json")) as f:
-            runs.append((png, without_wall(json.load(f))))
+        except RuntimeError as e:
+            return str(e)
+        with open(image, "rb") as f:
+            runs.append((f.read(), without_wall(report)))
     with open(os.path.join(d, "ref.png"), "rb") as f:
         if runs[0][0] != f.read():
             return "image differs from rtref's"
@@ -128,8 +122,8 @@ def main():
     ap.add_argument("--count", type=int, default=1000)
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
-    ap.add_argument("--rtsim", default=os.path.join(ROOT, "build", "rtsim"))
-    ap.add_argument("--rtref", default=os.path.join(ROOT, "build", "rtref"))
+    ap.add_argument("--rtsim", default=RTSIM)
+    ap.add_argument("--rtref", default=RTREF)
     ap.add_argument("--doc", action="store_true", help="write the figures to doc/results/stress.md")
     a = ap.parse_args()
     rng = random.Random(a.seed)
@@ -163,7 +157,7 @@ def main():
         lines += [f"| {p} | {n} |" for p, n in sorted(policies.items())]
         if failures:
             lines += ["", "Failures:", ""] + [f"- {i}: {why} (`rtsim {shlex.join(args)}`)" for i, why, args in failures]
-        publish_table(lines, os.path.join(ROOT, "doc", "results", "stress.md"),
+        publish_table(lines, os.path.join(RESULTS, "stress.md"),
                       os.path.join(ROOT, "doc", "robustness.md"), "stress")
     return 1 if failures else 0
 

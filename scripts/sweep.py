@@ -12,7 +12,8 @@ parameters (a dict) and given as its command-line flags. The driver
 - writes the CSV in point order, with each point's exact command and the
   version (git describe) of the tree that ran it.
 
-Standard library only, except python3-distributed for --dask.
+Standard library only, except python3-distributed for --dask. Runs rtsim
+through project.run_rtsim (scripts/project.py).
 Dask workers must see the same checkout at the same path (a shared file
 system): they run the rtsim binary named in the command.
 """
@@ -23,16 +24,16 @@ import json
 import os
 import shlex
 import statistics
-import subprocess
 import sys
-import tempfile
 import time
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-RTSIM = os.path.join(ROOT, "build", "rtsim")
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import project  # noqa: E402
+from project import ROOT, RTSIM, run_rtsim, version  # noqa: E402
+
 JOURNALS = os.path.join(ROOT, "out", "sweeps")
-# Flags every point gets: no 1x1x1 baseline run, quiet, no image.
-FIXED_FLAGS = ["--no-baseline", "-q", "--image", ""]
+# Flags every point gets (project.run_rtsim): no reference runs, quiet, no image.
+FIXED_FLAGS = project.QUIET + ["--image", ""]
 
 
 def add_arguments(ap):
@@ -54,16 +55,6 @@ def add_output_arguments(ap, doc_page=None):
     if doc_page:
         ap.add_argument("--doc", default=doc_page,
                         help="doc page whose generated table section to update ('' for none)")
-
-
-def version():
-    """The tree's version: git describe, with -dirty for uncommitted changes."""
-    try:
-        p = subprocess.run(["git", "-C", ROOT, "describe", "--always", "--dirty", "--abbrev=12"],
-                           capture_output=True, text=True, check=True)
-        return p.stdout.strip()
-    except (OSError, subprocess.CalledProcessError):
-        return "unknown"
 
 
 def point_id(args):
@@ -104,31 +95,13 @@ def command(args, binary=RTSIM):
     return shlex.join([rel] + [str(a) for a in args] + FIXED_FLAGS + ["--report", "REPORT.json"])
 
 
-def run_rtsim(binary, args, timeout=None):
-    """Runs one point; returns (report dict, wall seconds of the process).
-    Runs on a Dask worker too, so it imports nothing beyond the standard library."""
-    fd, report = tempfile.mkstemp(suffix=".json")
-    os.close(fd)
-    try:
-        cmd = [binary] + [str(a) for a in args] + FIXED_FLAGS + ["--report", report]
-        t0 = time.perf_counter()
-        p = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
-        wall = time.perf_counter() - t0
-        if p.returncode != 0:
-            raise RuntimeError(f"exit {p.returncode}: {p.stderr.strip()}")
-        with open(report) as f:
-            return json.load(f), wall
-    finally:
-        os.remove(report)
-
-
 def run_repeated(binary, args, repeats=1, timeout=None):
     """Runs a point `repeats` times; the median wall time and the report of the
     first run. Every run must give the same render time (the model is
     deterministic), otherwise this is an error."""
     walls, first = [], None
     for _ in range(repeats):
-        rep, wall = run_rtsim(binary, args, timeout)
+        rep, wall = run_rtsim(args, binary, timeout)
         if first is None:
             first = rep
         elif rep["render_time_ns"] != first["render_time_ns"]:
@@ -195,8 +168,9 @@ def _dask(todo, binary, address, repeats, timeout):
     """Yields (point, result or exception) as the cluster finishes them."""
     import cloudpickle
     import distributed
-    # Workers need not import this module: ship its functions by value.
+    # Workers need not import these modules: ship their functions by value.
     cloudpickle.register_pickle_by_value(sys.modules[__name__])
+    cloudpickle.register_pickle_by_value(project)
     with distributed.Client(address) as client:
         futs = {client.submit(run_repeated, binary, p["args"], repeats, timeout, pure=False): p for p in todo}
         for fut in distributed.as_completed(futs):
@@ -265,28 +239,3 @@ def write_csv(path, rows):
 def read_csv(path):
     with open(path, newline="") as f:
         return list(csv.DictReader(f))
-
-
-def publish_table(lines, md_path, doc_path, section):
-    """A generated markdown table (lines[0] a "written by" comment): to its
-    results file, into its section of a doc page (if doc_path), and to stdout."""
-    with open(md_path, "w") as f:
-        f.write("\n".join(lines) + "\n")
-    if doc_path:
-        update_doc_section(doc_path, section, "\n".join(lines[1:]))
-    print("\n".join(lines[1:]))
-
-
-def update_doc_section(path, name, text):
-    """Replaces the text between `<!-- begin NAME -->` and `<!-- end NAME -->`
-    in a doc page with `text`, so tables shown in doc/ pages are regenerated
-    by the script that computes them, never edited by hand."""
-    begin, end = f"<!-- begin {name} (generated; do not edit) -->", f"<!-- end {name} -->"
-    with open(path) as f:
-        doc = f.read()
-    if begin not in doc or end not in doc:
-        raise ValueError(f"{path}: no section markers for '{name}'")
-    head, rest = doc.split(begin, 1)
-    _, tail = rest.split(end, 1)
-    with open(path, "w") as f:
-        f.write(head + begin + "\n" + text.rstrip("\n") + "\n" + end + tail)

@@ -14,10 +14,10 @@ import argparse
 import os
 import sys
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # scripts/: project, sweep
 import sweep as driver  # noqa: E402
-from fig4 import SCENE, VIEWS  # noqa: E402
-from sweep import ROOT, read_csv, write_csv  # noqa: E402
+from project import PAPER_SCENE, ROOT, VIEWS, publish_table  # noqa: E402
+from sweep import read_csv, write_csv  # noqa: E402
 
 # Where `slide` gains most (f = 1/N along the axis, and the view across at
 # N = 4): what the shared planes cost where balancing works.
@@ -44,11 +44,11 @@ def main():
         sys.exit(f"aligned_faces.py: no point of {a.fig4} where slide loses more than 2 %")
     chosen = [(p, "gains") for p in GAINING] + [(p, "loses") for p in losing]
     points = [{"params": {"view": v, "N": n, "f": round(f, 6), "run": run},
-               "args": SCENE + VIEWS[v] + ["--mesh", n, "--concentration", f"{f:.6f}"] + flags}
+               "args": PAPER_SCENE + VIEWS[v] + ["--mesh", n, "--concentration", f"{f:.6f}"] + flags}
               for (v, n, f), _ in chosen for run, flags in RUNS.items()]
     got = driver.run("aligned_faces", points, extract, None, a)
     by = {(r["view"], r["N"], r["f"], r["run"]): r for r in got}
-    rows, lines = [], ["<!-- written by scripts/aligned_faces.py; do not edit -->",
+    rows, lines = [], ["<!-- written by scripts/experiments/aligned_faces.py; do not edit -->",
                        "| Fig. 4 point | slide there | slide / none | ideal layer / none | busy, slide / none | "
                        "ideal layer | passed between columns, slide | ideal layer | slides, slide | ideal layer |",
                        "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|"]
@@ -71,7 +71,7 @@ def main():
     lines.append(f"Of the {len(lost)} points where `slide` loses more than 2 %, the ideal layer's faces still lose "
                  f"more than 2 % at {still}.")
     write_csv(os.path.join(a.out, "aligned_faces.csv"), rows)
-    driver.publish_table(lines, os.path.join(a.out, "aligned_faces.md"), a.doc or None, "aligned faces")
+    publish_table(lines, os.path.join(a.out, "aligned_faces.md"), a.doc or None, "aligned faces")
 
 
 def extract(r):

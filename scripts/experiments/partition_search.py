@@ -15,14 +15,14 @@ import os
 import sys
 import tempfile
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # scripts/: project, sweep
 import sweep as driver  # noqa: E402
-from fig4 import SCENE, VIEWS  # noqa: E402
-from sweep import RTSIM, ROOT, write_csv  # noqa: E402
+from project import PAPER_SCENE, ROOT, RTSIM, VIEWS, preset_flags, publish_table  # noqa: E402
+from sweep import write_csv  # noqa: E402
 
 
 def args_of(a, n, f):
-    return (["--config", os.path.join(ROOT, "configs", a.preset + ".conf")] + SCENE + VIEWS[a.view] +
+    return (preset_flags(a.preset) + PAPER_SCENE + VIEWS[a.view] +
             ["--mesh", n, "--concentration", f"{f:.6f}", "--balance", "none"])
 
 
@@ -108,13 +108,13 @@ def main():
             print(f"N = {n}: {t / 1e3:.1f} us, ratio {t / none:.3f}, planes {planes} ({runs} runs)", file=sys.stderr)
     stem = "partition_search" if a.preset == "modern" else f"partition_search-{a.preset}"
     write_csv(os.path.join(a.out, stem + ".csv"), rows)
-    lines = [f"<!-- written by scripts/partition_search.py --preset {a.preset} --view {a.view}; do not edit -->",
+    lines = [f"<!-- written by scripts/experiments/partition_search.py --preset {a.preset} --view {a.view}; do not edit -->",
              "| view | N | f | none | best static partition | ratio | its planes along x | runs |",
              "|---|---:|---:|---:|---:|---:|---|---:|"]
     for r in rows:
         lines.append(f"| {r['view']} | {r['N']} | 1/{r['N']} | {r['time_none_ns'] / 1e3:,.1f} us | "
                      f"{r['best_ns'] / 1e3:,.1f} us | {r['ratio']:.3f} | {r['planes']} | {r['runs']} |")
-    driver.publish_table(lines, os.path.join(a.out, stem + ".md"), a.doc or None, f"partition search {a.preset}")
+    publish_table(lines, os.path.join(a.out, stem + ".md"), a.doc or None, f"partition search {a.preset}")
 
 
 if __name__ == "__main__":

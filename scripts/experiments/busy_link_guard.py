@@ -18,11 +18,11 @@ import math
 import os
 import sys
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # scripts/: project, sweep
 import sweep as driver  # noqa: E402
-import fig4  # noqa: E402
 import link_sweep  # noqa: E402
-from sweep import ROOT, write_csv  # noqa: E402
+from project import PAPER_SCENE, ROOT, VIEWS, preset_flags, publish_table  # noqa: E402
+from sweep import write_csv  # noqa: E402
 
 PRESETS = ("modern", "transputer-1987")
 
@@ -31,7 +31,7 @@ def points():
     """(set, preset, point label, rtsim args without balancing flags, balancing policy) for every point."""
     out = []
     for preset in PRESETS:
-        cfg = ["--config", os.path.join(ROOT, "configs", preset + ".conf")]
+        cfg = preset_flags(preset)
         p = link_sweep.PRESETS[preset]
         for swept, values in (("latency", p["latencies"]), ("bandwidth", p["bandwidths"])):
             for v in values.split(","):
@@ -42,11 +42,11 @@ def points():
                     out.append(("link sweep", preset, f"{swept} {v}, N = {n}",
                                 cfg + link_sweep.SCENE + ["--mesh", n, "--link-latency", lat, "--link-bandwidth", bw],
                                 "default"))
-        for view, cam in fig4.VIEWS.items():
+        for view, cam in VIEWS.items():
             for n in range(2, 9):
                 for k in range(1, n + 1):
                     out.append(("Fig. 4", preset, f"{view}, N = {n}, f = {k}/{n}",
-                                cfg + fig4.SCENE + cam + ["--mesh", n, "--concentration", f"{k / n:.6f}"], "slide"))
+                                cfg + PAPER_SCENE + cam + ["--mesh", n, "--concentration", f"{k / n:.6f}"], "slide"))
     return out
 
 
@@ -84,13 +84,13 @@ def main():
         row["version"] = by[(i, "wire 0")]["version"]
         rows.append(row)
     write_csv(os.path.join(a.out, "busy_link_guard.csv"), rows)
-    driver.publish_table(table(rows, vs), os.path.join(a.out, "busy_link_guard.md"), a.doc or None,
+    publish_table(table(rows, vs), os.path.join(a.out, "busy_link_guard.md"), a.doc or None,
                          "busy-link guard")
 
 
 def table(rows, vs):
     bal = [v for v in vs if v != "none"]
-    lines = ["<!-- written by scripts/busy_link_guard.py; do not edit -->",
+    lines = ["<!-- written by scripts/experiments/busy_link_guard.py; do not edit -->",
              "Balancing gain time(none) / time(balanced) of the first frame; \"wire 0\" is the guard without the "
              "busy-link term (`--guard-wire 0`), \"wire U\" with it at share U (1 is the default).", "",
              "| set | machine | points | " + " | ".join(f"losing > 2 %, {v}" for v in bal) + " | " +

@@ -20,11 +20,13 @@ import math
 import os
 import sys
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # scripts/: project, sweep
+import project  # noqa: E402
 import sweep as driver  # noqa: E402
-from sweep import ROOT, read_csv, write_csv  # noqa: E402
+from project import PAPER_SCENE, ROOT, preset_flags, publish_table  # noqa: E402
+from sweep import read_csv, write_csv  # noqa: E402
 
-SCENE = ["--spheres", "1000", "--concentration", "0.25", "--size", "256x256"]
+SCENE = PAPER_SCENE + ["--concentration", "0.25"]
 # Per preset (configs/NAME.conf): its link, and the swept values around it:
 # latency from a tenth to a thousand times the preset's, bandwidth from a
 # hundredth to a hundred times, in half decades; the deep-link repeat at four
@@ -94,7 +96,7 @@ def settings(a):
 
 def sweep(a):
     ns = [int(n) for n in a.n.split(",")]
-    preset = ["--config", os.path.join(ROOT, "configs", a.preset + ".conf")]
+    preset = preset_flags(a.preset)
     points = [{"params": {"sweep": "one node", "N": 1, "balance": "none", "latency": a.default_latency,
                           "bandwidth": a.default_bandwidth, "depth": a.default_depth},
                "args": preset + SCENE + ["--mesh", 1]}]
@@ -172,9 +174,7 @@ def fmt_bandwidth(b):
 
 
 def plot(a, rows):
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = project.pyplot()
     ns = sorted({r["N"] for r in rows})
     cmap = plt.get_cmap("viridis")
     colour = {n: cmap(i / max(1, len(ns) - 1)) for i, n in enumerate(ns)}
@@ -235,7 +235,7 @@ def plot(a, rows):
 
 def table(a, rows):
     ns = sorted({r["N"] for r in rows})
-    lines = [f"<!-- written by scripts/link_sweep.py --preset {a.preset}; do not edit -->",
+    lines = [f"<!-- written by scripts/experiments/link_sweep.py --preset {a.preset}; do not edit -->",
              "| N | latency: +10 % | latency: knee (x2) | latency knee (x2), depth "
              f"{a.deep_depth} | bandwidth: +10 % | bandwidth: knee (x2) |"
              f" knee (x2) with {a.balance}: latency, bandwidth | speed-up, fastest links | balancing gain, fastest"
@@ -270,7 +270,7 @@ def table(a, rows):
             f"{low_steady} | "
             f"{age} |")
     section = "link_sweep table" if a.preset == "modern" else f"link_sweep table {a.preset}"
-    driver.publish_table(lines, os.path.join(a.out, a.stem + ".md"), a.doc, section)
+    publish_table(lines, os.path.join(a.out, a.stem + ".md"), a.doc, section)
 
 
 if __name__ == "__main__":

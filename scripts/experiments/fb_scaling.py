@@ -11,12 +11,12 @@ import argparse
 import os
 import sys
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # scripts/: project, sweep
 import sweep as driver  # noqa: E402
-from sweep import ROOT, read_csv, write_csv  # noqa: E402
+from project import PAPER_SCENE, ROOT, publish_table  # noqa: E402
+from sweep import read_csv  # noqa: E402
 
-SCENE = ["--spheres", "1000", "--concentration", "0.25", "--size", "256x256",
-         "--link-latency", "10ns", "--link-bandwidth", "100GB/s"]
+SCENE = PAPER_SCENE + ["--concentration", "0.25", "--link-latency", "10ns", "--link-bandwidth", "100GB/s"]
 
 
 def main():
@@ -49,7 +49,7 @@ def extract(r):
 def table(a, rows, ns, units):
     by = {(r["N"], r["units"]): r for r in rows}
     head = " | ".join(f"{k} unit{'s' if k > 1 else ''}: render time, frame buffer busy" for k in units)
-    lines = ["<!-- written by scripts/fb_scaling.py; do not edit -->",
+    lines = ["<!-- written by scripts/experiments/fb_scaling.py; do not edit -->",
              f"| N | {head} | busiest node's busy time |",
              "|---:|" + "---|" * len(units) + "---:|"]
     for n in ns:
@@ -63,7 +63,7 @@ def table(a, rows, ns, units):
             lines.append(f"N = 8 against N = 6, {k} unit{'s' if k > 1 else ''}: {t8 / t6:.3f} of the time "
                          f"(the busiest node at N = 8 alone: {by[(8, k)]['max_node_busy_ns'] / t6:.3f}; "
                          f"node count alone: {(6 / 8) ** 3:.3f}).")
-    driver.publish_table(lines, os.path.join(a.out, "fb_scaling.md"), a.doc, "fb_scaling table")
+    publish_table(lines, os.path.join(a.out, "fb_scaling.md"), a.doc, "fb_scaling table")
 
 
 if __name__ == "__main__":

@@ -14,30 +14,32 @@ import argparse
 import os
 import sys
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # scripts/: project, sweep
 import sweep as driver  # noqa: E402
-from fig4 import VIEWS  # noqa: E402
-from sweep import ROOT, write_csv  # noqa: E402
+from project import PAPER_SCENE, ROOT, VIEWS, publish_table  # noqa: E402
+from sweep import write_csv  # noqa: E402
 
 # Fig. 4 points (modern) where `slide`'s first frame gains most and where it
 # loses most, for what its slides cost: rays forwarded, and of them rays
 # passed on untraced (a face moved, or the neighbouring column's faces are
 # elsewhere). A point that is one of the CASES below (rtsim's defaults are
 # N = 4, f = 1/4) names that case and uses its runs.
+# Every run: the paper's scene at rtsim's default concentration, on its default 4x4x4 mesh.
+BASE = PAPER_SCENE + ["--concentration", "0.25"]
 COSTS = {
     "along, N = 4, f = 1/4": "defaults (100 ns, 1 GB/s), f = 1/4",
     "across, N = 4, f = 1/4": "view across the axis",
-    "along, N = 8, f = 7/8": VIEWS["along"] + ["--mesh", "8", "--concentration", "0.875"],
-    "across, N = 7, f = 1": VIEWS["across"] + ["--mesh", "7", "--concentration", "1"],
-    "across, N = 8, f = 1": VIEWS["across"] + ["--mesh", "8", "--concentration", "1"],
+    "along, N = 8, f = 7/8": BASE + VIEWS["along"] + ["--mesh", "8", "--concentration", "0.875"],
+    "across, N = 7, f = 1": BASE + VIEWS["across"] + ["--mesh", "7", "--concentration", "1"],
+    "across, N = 8, f = 1": BASE + VIEWS["across"] + ["--mesh", "8", "--concentration", "1"],
 }
 
 CASES = {
-    "defaults (100 ns, 1 GB/s), f = 1/4": VIEWS["along"],
-    "links at 3 us": VIEWS["along"] + ["--link-latency", "3us"],
-    "links at 300 MB/s": VIEWS["along"] + ["--link-bandwidth", "300MB/s"],
-    "spheres everywhere (f = 1)": VIEWS["along"] + ["--concentration", "1"],
-    "view across the axis": VIEWS["across"],
+    "defaults (100 ns, 1 GB/s), f = 1/4": BASE + VIEWS["along"],
+    "links at 3 us": BASE + VIEWS["along"] + ["--link-latency", "3us"],
+    "links at 300 MB/s": BASE + VIEWS["along"] + ["--link-bandwidth", "300MB/s"],
+    "spheres everywhere (f = 1)": BASE + VIEWS["along"] + ["--concentration", "1"],
+    "view across the axis": BASE + VIEWS["across"],
 }
 
 
@@ -61,7 +63,7 @@ def main():
                for point, flags in COSTS.items() if not isinstance(flags, str) for policy in ("none", "slide")]
     got = driver.run("failure_cases", points, extract, None, a)
     by = {(r["case"], r["run"]): r for r in got}
-    rows, lines = [], [f"<!-- written by scripts/failure_cases.py --frames {a.frames}; do not edit -->",
+    rows, lines = [], [f"<!-- written by scripts/experiments/failure_cases.py --frames {a.frames}; do not edit -->",
                        "| case | none | slide | slide / none | slide, frame " f"{a.frames} | resplit, frame {a.frames}"
                        " | load age p95 (intervals) |", "|---|---:|---:|---:|---:|---:|---:|"]
     for case in CASES:
@@ -75,8 +77,8 @@ def main():
                      f"{ratio['slide']:.3f} | {ratio[f'slide@{a.frames}']:.3f} | {ratio[f'resplit@{a.frames}']:.3f} | "
                      f"{'-' if age == '' else f'{age:.2f}'} |")
     write_csv(os.path.join(a.out, "failure_cases.csv"), rows)
-    driver.publish_table(lines, os.path.join(a.out, "failure_cases.md"), a.doc or None, "failure cases")
-    seq = [f"<!-- written by scripts/failure_cases.py --sequence {a.sequence}; do not edit -->",
+    publish_table(lines, os.path.join(a.out, "failure_cases.md"), a.doc or None, "failure cases")
+    seq = [f"<!-- written by scripts/experiments/failure_cases.py --sequence {a.sequence}; do not edit -->",
            "| view | none | " + " | ".join(f"frame {k + 1}" for k in range(a.sequence)) + " | last / none |",
            "|---|---:|" + "---:|" * (a.sequence + 1)]
     for view in sequences:
@@ -85,8 +87,8 @@ def main():
         times = [float(t) for t in r["frames_ns"].split()]
         seq.append(f"| {view} | {none / 1e3:,.1f} | " + " | ".join(f"{t / 1e3:,.1f}" for t in times) +
                    f" | {times[-1] / none:.3f} |")
-    driver.publish_table(seq, os.path.join(a.out, "resplit_sequences.md"), a.doc or None, "resplit sequences")
-    cost = ["<!-- written by scripts/failure_cases.py; do not edit -->",
+    publish_table(seq, os.path.join(a.out, "resplit_sequences.md"), a.doc or None, "resplit sequences")
+    cost = ["<!-- written by scripts/experiments/failure_cases.py; do not edit -->",
             "| Fig. 4 point | slide / none | busy, slide / none | rays forwarded, none | slide | "
             "passed untraced, none | slide | of them between columns | slides |",
             "|---|---:|---:|---:|---:|---:|---:|---:|---:|"]
@@ -96,7 +98,7 @@ def main():
         cost.append(f"| {point} | {sl['render_time_ns'] / n['render_time_ns']:.3f} | {sl['busy_ns'] / n['busy_ns']:.3f} | "
                     f"{n['forwarded']:,} | {sl['forwarded']:,} | {n['passed']:,} | {sl['passed']:,} | {sl['passed_between']:,} | "
                     f"{sl['slides']:,} |")
-    driver.publish_table(cost, os.path.join(a.out, "slide_costs.md"), a.doc or None, "slide costs")
+    publish_table(cost, os.path.join(a.out, "slide_costs.md"), a.doc or None, "slide costs")
 
 
 def extract(r):

@@ -11,13 +11,12 @@ import argparse
 import os
 import sys
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # scripts/: project, sweep
 import sweep as driver  # noqa: E402
-from sweep import ROOT, read_csv  # noqa: E402
+from project import PAPER_SCENE, PRESETS, ROOT, VIEWS, preset_flags, publish_table  # noqa: E402
+from sweep import read_csv  # noqa: E402
 
-PRESETS = ["modern", "transputer-1987"]
-SCENE = ["--spheres", "1000", "--concentration", "0.25", "--size", "256x256", "--mesh", "4"]
-VIEWS = {"across": [], "along": ["--eye=-1.3,0.5,0.5", "--look-at=0.5,0.5,0.5", "--fov", "50"]}
+SCENE = PAPER_SCENE + ["--concentration", "0.25", "--mesh", "4"]
 PARTS = ["tests", "voxel_steps", "shading", "ray_generation", "messages"]
 
 
@@ -29,7 +28,7 @@ def main():
     csv_path = os.path.join(a.out, "presets.csv")
     if not a.plot_only:
         points = [{"params": {"preset": p, "view": v, "mesh": m},
-                   "args": ["--config", os.path.join(ROOT, "configs", p + ".conf")] + SCENE + cam +
+                   "args": preset_flags(p) + SCENE + cam +
                    (["--mesh", "1"] if m == 1 else [])}
                   for p in PRESETS for v, cam in VIEWS.items() for m in (1, 4)]
         driver.run("presets", points, extract, csv_path, a)
@@ -56,7 +55,7 @@ def extract(r):
 
 def table(a, rows):
     by = {(r["preset"], r["view"], int(r["mesh"])): r for r in rows}
-    lines = ["<!-- written by scripts/presets.py; do not edit -->",
+    lines = ["<!-- written by scripts/experiments/presets.py; do not edit -->",
              "| preset | view | render time, N = 4 | speed-up over one node | intersection tests | voxel steps | "
              "shading | ray generation | messages |",
              "|---|---|---:|---:|---:|---:|---:|---:|---:|"]
@@ -67,7 +66,7 @@ def table(a, rows):
             shown = f"{t / 1e6:.3g} ms" if t < 1e9 else f"{t / 1e9:.3g} s"
             lines.append(f"| {p} | {v} | {shown} | {float(one['render_time_ns']) / t:.2f} | " +
                          " | ".join(f"{100 * float(r[k + '_share']):.0f} %" for k in PARTS) + " |")
-    driver.publish_table(lines, os.path.join(a.out, "presets.md"), a.doc, "presets table")
+    publish_table(lines, os.path.join(a.out, "presets.md"), a.doc, "presets table")
 
 
 if __name__ == "__main__":

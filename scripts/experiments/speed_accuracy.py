@@ -13,15 +13,16 @@ import argparse
 import os
 import sys
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # scripts/: project, sweep
+import project  # noqa: E402
 import sweep as driver  # noqa: E402
-from sweep import ROOT, read_csv, write_csv  # noqa: E402
+from project import PAPER_SCENE, ROOT, publish_table, spd_scene  # noqa: E402
+from sweep import read_csv, write_csv  # noqa: E402
 
-SPD = os.path.join(ROOT, "..", "shared", "scenes", "spd")
 SCENES = {
-    "balls-4": ["--scene", os.path.join(SPD, "balls-4.nff"), "--size", "256x256"],
-    # rtsim's default experiment: 1,000 spheres crowded into the first quarter of x.
-    "procedural": ["--spheres", "1000", "--concentration", "0.25", "--size", "256x256"],
+    "balls-4": ["--scene", spd_scene("balls-4"), "--size", "256x256"],
+    # rtsim's default experiment: the paper's scene crowded into the first quarter of x.
+    "procedural": PAPER_SCENE + ["--concentration", "0.25"],
 }
 EXACT = ("0", 1)
 
@@ -106,10 +107,8 @@ def pct(x):
 
 
 def plot(a, rows):
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
     import matplotlib.ticker
+    plt = project.pyplot()
     cases = sorted({(r["scene"], r["N"]) for r in rows})
     fig, axes = plt.subplots(2, len(cases), figsize=(4.6 * len(cases), 8.2), squeeze=False)
     quanta = list(dict.fromkeys(r["quantum"] for r in rows))
@@ -167,7 +166,7 @@ def plot(a, rows):
 
 def table(a, rows):
     """The Pareto fronts as a markdown table (doc/results/speed_accuracy.md)."""
-    lines = ["<!-- written by scripts/speed_accuracy.py; do not edit -->",
+    lines = ["<!-- written by scripts/experiments/speed_accuracy.py; do not edit -->",
              "| scene | N | balance | mode (quantum, rays/message) | wall (s) | speed-up vs exact | render-time error |"
              " balancing gain (exact mode's) |",
              "|---|---|---|---|---|---|---|---|"]
@@ -181,7 +180,7 @@ def table(a, rows):
                 gain = "" if p["balance_gain"] is None else f"{p['balance_gain']:.3f} ({p['exact_balance_gain']:.3f})"
                 lines.append(f"| {scene} | {n} | {bal} | {p['quantum']}, {p['ray_batch']} | {p['wall_s']:.2f} | "
                              f"{exact['wall_s'] / p['wall_s']:.2f} | {pct(p['error'])} | {gain} |")
-    driver.publish_table(lines, os.path.join(a.out, "speed_accuracy.md"), a.doc, "speed_accuracy table")
+    publish_table(lines, os.path.join(a.out, "speed_accuracy.md"), a.doc, "speed_accuracy table")
 
 
 if __name__ == "__main__":

@@ -15,9 +15,10 @@ import csv
 import os
 import sys
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # scripts/: project, sweep
+import project  # noqa: E402
 import sweep as driver  # noqa: E402
-from sweep import ROOT  # noqa: E402
+from project import PAPER_SCENE, preset_flags  # noqa: E402
 
 DEFAULT_GAIN = 0.25  # models/machine_config.h
 # Per preset: the default interval (us), the swept intervals and latencies.
@@ -53,7 +54,7 @@ def main():
 
 def sweep(a, gains, intervals, lats):
     points = [{"params": {"latency": lat, "gain": g, "interval_us": iv},
-               "args": ["--config", os.path.join(ROOT, "configs", a.preset + ".conf"), "--balance", a.policy,
+               "args": preset_flags(a.preset) + PAPER_SCENE + ["--concentration", "0.25", "--balance", a.policy,
                         "--gain", g, "--balance-interval", f"{iv}us", "--link-latency", lat]}
               for lat in lats for g in gains for iv in intervals]
     driver.run(a.stem, points, extract, os.path.join(a.out, a.stem + ".csv"), a)
@@ -70,9 +71,7 @@ def plot(a, lats):
     with open(os.path.join(a.out, a.stem + ".csv")) as f:
         rows = [dict(r, gain=float(r["gain"]), interval_us=float(r["interval_us"]),
                      render_time_ns=float(r["render_time_ns"])) for r in csv.DictReader(f)]
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = project.pyplot()
     colour = {"converged": "#2a9d55", "oscillating": "#e9a23b", "diverging": "#d1495b"}
     fig, axes = plt.subplots(1, len(lats), figsize=(5.2 * len(lats), 4.4), sharey=True)
     axes = axes if len(lats) > 1 else [axes]

@@ -19,17 +19,14 @@ import argparse
 import os
 import sys
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # scripts/: project, sweep
+import project  # noqa: E402
 import sweep as driver  # noqa: E402
-from sweep import ROOT, read_csv, write_csv  # noqa: E402
+from project import PAPER_SCENE, ROOT, VIEWS, preset_flags, publish_table  # noqa: E402
+from sweep import read_csv, write_csv  # noqa: E402
 
-# The experiment (doc/balancing.md, "Fig. 4"): the procedural scene, progress
-# axis x; the camera either looks along x or across it (along y).
-SCENE = ["--spheres", "1000", "--radius", "0.02", "--size", "256x256", "--axis", "x", "--seed", "1"]
-VIEWS = {
-    "along": ["--eye=-1.3,0.5,0.5", "--look-at=0.5,0.5,0.5", "--fov", "50"],
-    "across": ["--eye=0.5,-1.6,0.5", "--look-at=0.5,0.5,0.5", "--fov", "40"],
-}
+# The experiment (doc/balancing.md, "Fig. 4"): the paper's scene, progress
+# axis x, the camera looking along x or across it (project.VIEWS).
 POLICIES = "median,slide,work"
 STEADY = "slide,resplit"  # their steady state too: "resplit@6" is resplit's frame 6
 PAPER = 0.2
@@ -64,10 +61,6 @@ def main():
     table(a, rows, ns, policies, os.path.join(a.out, stem + ".md"))
 
 
-def preset_args(a):
-    return ["--config", os.path.join(ROOT, "configs", a.preset + ".conf")]
-
-
 def sweep(a, ns, policies):
     points = []
     for view, cam in VIEWS.items():
@@ -76,7 +69,7 @@ def sweep(a, ns, policies):
                 for policy in ["none"] + policies:
                     name, _, frames = policy.partition("@")
                     points.append({"params": {"view": view, "N": n, "f": round(k / n, 6), "policy": policy},
-                                   "args": preset_args(a) + SCENE + cam +
+                                   "args": preset_flags(a.preset) + PAPER_SCENE + cam +
                                    ["--mesh", n, "--concentration", f"{k / n:.6f}", "--balance", name] +
                                    (["--frames", frames] if frames else []) + a.extra.split()})
     runs = driver.run(f"fig4-{a.preset}", points, extract, None, a)
@@ -120,9 +113,7 @@ def extract(r):
 
 
 def plot(a, rows, ns, policies, path):
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = project.pyplot()
     colours = {"median": "#7a7a7a", "slide": "#1f77b4", "work": "#d62728", "resplit": "#2a9d55",
                "quantile": "#9467bd"}
     fig, axes = plt.subplots(len(VIEWS), len(ns), figsize=(2.6 * len(ns) + 1, 2.7 * len(VIEWS) + 0.8),
@@ -162,7 +153,7 @@ def table(a, rows, ns, policies, md_path):
     the paper's rule (slide) the work it added and its own column bound."""
     head = " | ".join(policies)
     main = "slide" if "slide" in policies else policies[0]
-    lines = [f"<!-- written by scripts/fig4.py --preset {a.preset}; do not edit -->",
+    lines = [f"<!-- written by scripts/experiments/fig4.py --preset {a.preset}; do not edit -->",
              f"| view | N | {head} | column bound | perfect bound | frame buffer | 1/N | paper | "
              f"{main}: busy time added | {main}: its own column bound |",
              "|---|---:|" + "---:|" * (len(policies) + 7)]
@@ -175,7 +166,7 @@ def table(a, rows, ns, policies, md_path):
                          f" | {at[0]['column_bound']:.2f} | {at[0]['perfect_bound']:.2f} | {at[0]['fb_bound']:.3f}"
                          f" | {1 / n:.2f} | {PAPER} | {100 * (m['busy_ratio'] - 1):+.0f} % | {m['own_column_bound']:.2f} |")
     doc = a.doc if a.doc else None
-    driver.publish_table(lines, md_path, doc, f"fig4 table {a.preset}")
+    publish_table(lines, md_path, doc, f"fig4 table {a.preset}")
 
 
 if __name__ == "__main__":

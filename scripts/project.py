@@ -1,0 +1,118 @@
+"""What the project's scripts share: where things are (the repository, its
+builds, the SPD scenes, the machine presets), the paper's experiment scene
+as rtsim flags, running rtsim and reading its report, the tree's version,
+tables written into doc/, and the plotting set-up.
+
+Tools live in scripts/, the studies that make doc/results/ in
+scripts/experiments/; both import this module (an experiment puts scripts/
+on its path first). Standard library only: matplotlib is imported when a
+script asks for pyplot(). Runs on Dask workers too (scripts/sweep.py ships
+it by value)."""
+import json
+import os
+import subprocess
+import tempfile
+import time
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+SPD = os.path.join(os.path.dirname(ROOT), "shared", "scenes", "spd")  # Eric Haines' SPD scenes, beside the clone
+BUILD = os.path.join(ROOT, "build")            # scripts/build.sh
+FAST_BUILD = os.path.join(ROOT, "build-fast")  # scripts/build_fast.sh: what the benchmarks measure
+RTSIM = os.path.join(BUILD, "rtsim")
+RTREF = os.path.join(BUILD, "rtref")
+RESULTS = os.path.join(ROOT, "doc", "results")
+
+# The paper's experiment (section 4; doc/balancing.md, "Fig. 4"): 1,000
+# spheres of radius 0.02 placed at random (seed 1) in the unit cube, then
+# crowded along the progress axis x into its first f (--concentration f,
+# which each experiment adds), rendered at 256x256. Every setting is
+# spelled out, so that no experiment's scene depends on rtsim's defaults.
+PAPER_SCENE = ["--spheres", "1000", "--radius", "0.02", "--seed", "1", "--axis", "x", "--size", "256x256"]
+# Its two views: along the progress axis, and across it (rtsim's default camera).
+VIEWS = {
+    "along": ["--eye=-1.3,0.5,0.5", "--look-at=0.5,0.5,0.5", "--fov", "50"],
+    "across": ["--eye=0.5,-1.6,0.5", "--look-at=0.5,0.5,0.5", "--fov", "40"],
+}
+
+# The machine presets (configs/NAME.conf; doc/machine.md, "Machine presets").
+PRESETS = ["modern", "transputer-1987"]
+
+
+def preset_flags(name):
+    """The flags that run rtsim on a preset."""
+    return ["--config", os.path.join(ROOT, "configs", name + ".conf")]
+
+
+def spd_scene(name):
+    """The path of an SPD scene: 'balls-4' -> .../shared/scenes/spd/balls-4.nff."""
+    return os.path.join(SPD, name + ".nff")
+
+
+# What every scripted run of rtsim adds to its flags: no reference runs, no summary.
+QUIET = ["--no-baseline", "-q"]
+
+
+def run_rtsim(args, binary=RTSIM, timeout=None, image="", report=None):
+    """Runs rtsim quietly (-q, no reference runs) with `args`; returns (its
+    report, the process's wall seconds). The report goes to a temporary file
+    unless `report` names one; the image nowhere unless `image` does. Raises
+    RuntimeError with rtsim's exit code and message if it fails."""
+    temp = report is None
+    if temp:
+        fd, report = tempfile.mkstemp(suffix=".json")
+        os.close(fd)
+    try:
+        cmd = [binary] + [str(a) for a in args] + QUIET + ["--image", image, "--report", report]
+        t0 = time.perf_counter()
+        p = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
+        wall = time.perf_counter() - t0
+        if p.returncode != 0:
+            raise RuntimeError(f"exit {p.returncode}: {p.stderr.strip()}")
+        with open(report) as f:
+            return json.load(f), wall
+    finally:
+        if temp:
+            os.remove(report)
+
+
+def version():
+    """The tree's version: git describe, with -dirty for uncommitted changes."""
+    try:
+        p = subprocess.run(["git", "-C", ROOT, "describe", "--always", "--dirty", "--abbrev=12"],
+                           capture_output=True, text=True, check=True)
+        return p.stdout.strip()
+    except (OSError, subprocess.CalledProcessError):
+        return "unknown"
+
+
+def update_doc_section(path, name, text):
+    """Replaces the text between `<!-- begin NAME -->` and `<!-- end NAME -->`
+    in a doc page with `text`, so tables shown in doc/ pages are regenerated
+    by the script that computes them, never edited by hand."""
+    begin, end = f"<!-- begin {name} (generated; do not edit) -->", f"<!-- end {name} -->"
+    with open(path) as f:
+        doc = f.read()
+    if begin not in doc or end not in doc:
+        raise ValueError(f"{path}: no section markers for '{name}'")
+    head, rest = doc.split(begin, 1)
+    _, tail = rest.split(end, 1)
+    with open(path, "w") as f:
+        f.write(head + begin + "\n" + text.rstrip("\n") + "\n" + end + tail)
+
+
+def publish_table(lines, md_path, doc_path, section):
+    """A generated markdown table (lines[0] a "written by" comment): to its
+    results file, into its section of a doc page (if doc_path), and to stdout."""
+    with open(md_path, "w") as f:
+        f.write("\n".join(lines) + "\n")
+    if doc_path:
+        update_doc_section(doc_path, section, "\n".join(lines[1:]))
+    print("\n".join(lines[1:]))
+
+
+def pyplot():
+    """matplotlib's pyplot, drawing to files (no display needed)."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    return plt

@@ -1,0 +1,50 @@
+"""Every script a user runs starts: each tool in scripts/ and each
+experiment in scripts/experiments/ with argparse answers --help (its
+imports, project.py and sweep.py among them, resolve from where it lives),
+and every experiment runs the paper's scene with every setting spelled
+out, as project.PAPER_SCENE says, which rtsim reads as the scene its
+defaults give. Run by ctest as: /usr/bin/python3 test_scripts.py <rtsim>."""
+import glob
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import unittest
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+SCRIPTS = os.path.join(HERE, "..", "..", "scripts")
+sys.path.insert(0, SCRIPTS)
+import project  # noqa: E402
+
+RTSIM = os.path.abspath(sys.argv.pop(1)) if len(sys.argv) > 1 else project.RTSIM
+
+
+class Scripts(unittest.TestCase):
+    def test_every_script_answers_help(self):
+        scripts = sorted(glob.glob(os.path.join(SCRIPTS, "*.py")) + glob.glob(os.path.join(SCRIPTS, "experiments", "*.py")))
+        self.assertGreater(len(scripts), 15)
+        for path in scripts:
+            with open(path) as f:
+                if "argparse" not in f.read():
+                    continue  # a module (project.py, sweep.py) or a script with positional arguments
+            with self.subTest(script=os.path.relpath(path, SCRIPTS)):
+                p = subprocess.run(["/usr/bin/python3", path, "--help"], capture_output=True, text=True, timeout=60)
+                self.assertEqual(p.returncode, 0, p.stderr)
+                self.assertIn("usage:", p.stdout)
+
+    def test_the_paper_scene_is_the_one_rtsims_defaults_give(self):
+        with tempfile.TemporaryDirectory() as d:
+            def scene(flags):
+                report = os.path.join(d, "r.json")
+                subprocess.run([RTSIM, *flags, "--size", "16x16", "--mesh", "1", "--no-baseline", "-q", "--image", "",
+                                "--report", report], check=True)
+                with open(report) as f:
+                    return json.load(f)["config"]["scene"]
+            spelled = scene(project.PAPER_SCENE + ["--concentration", "0.25"])
+            self.assertEqual(spelled, scene([]))
+            self.assertEqual(spelled["procedural"], {"spheres": 1000, "radius": 0.02, "concentration": 0.25, "seed": 1})
+
+
+if __name__ == "__main__":
+    unittest.main()
