@@ -1,12 +1,12 @@
 // One computer of the mesh: a SystemC module with one tracer process, six
 // link ports (+x -x +y -y +z -z; unbound on the mesh faces) and an output
 // port to each frame-buffer unit. It owns one box of space, only the
-// objects that overlap it and a grid over them (sw/Region), and it knows
-// the camera, lights and materials (the job's configuration), nothing else
-// of the scene.
+// objects that overlap it and a grid over them (Region, sw/region.h), and
+// it knows the camera, lights and materials (the job's configuration),
+// nothing else of the scene.
 //
 // The process runs one step at a time: take a ray (node_input.h), trace it
-// through the box (sw/Region::trace), and send what comes out: a ray
+// through the box (Region::trace), and send what comes out: a ray
 // leaving the box to the neighbour it enters (route.h, ray_batcher.h),
 // contributions to the frame-buffer unit that holds their pixel
 // (fb_outbox.h). A step's time comes from cost_model.h and goes into the

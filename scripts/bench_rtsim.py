@@ -46,7 +46,7 @@ def timed(cmd):
     return wall, int(err[-1].split("=")[1]) / 1024.0
 
 
-# Fidelity modes compared with rtref (doc/machine.md, "Fidelity knobs"):
+# Fidelity modes compared with rtref (doc/exploration.md, "Fidelity knobs"):
 # the two exact ones, the two quanta whose render-time error stays under 1 %
 # on every case without balancing in the speed-against-accuracy sweep
 # (doc/results/speed_accuracy.md), the 100 us quantum with the links keeping

@@ -46,5 +46,22 @@ class Scripts(unittest.TestCase):
             self.assertEqual(spelled["procedural"], {"spheres": 1000, "radius": 0.02, "concentration": 0.25, "seed": 1})
 
 
+    def test_the_readme_shows_what_rtsim_prints(self):
+        """The README's sample summary is what rtsim's default run prints
+        (the wall clock and the image's path aside)."""
+        with open(os.path.join(HERE, "..", "..", "README.md")) as f:
+            readme = f.read()
+        start = readme.index("    rtsim: procedural")
+        sample = [line[4:] for line in readme[start:].split("\n\n")[0].split("\n")]
+        with tempfile.TemporaryDirectory() as d:
+            p = subprocess.run([RTSIM, "--image", os.path.join(d, "rtsim.png")], capture_output=True, text=True, check=True)
+        printed = p.stdout.rstrip("\n").split("\n")
+        self.assertEqual(len(printed), len(sample))
+        for got, shown in zip(printed, sample):
+            if got.lstrip().startswith("wall clock"):
+                continue
+            self.assertEqual(got, shown)
+
+
 if __name__ == "__main__":
     unittest.main()
