@@ -62,9 +62,9 @@ Picos MachineConfig::watchdogSpanOrDefault(size_t objects) const {
     // message's latency and time on the wire (the largest message: a full
     // batch of rays or of contributions), a unit's work on one, a node's step
     // (at worst every object tested once, at the slowest node's speed).
-    const double bytes = std::max(kHeaderBytes + double(rayBatch) * kRayBytes, kHeaderBytes + double(fbBatch) * kContributionBytes);
+    const uint32_t bytes = std::max(kHeaderBytes + uint32_t(rayBatch) * kRayBytes, kHeaderBytes + uint32_t(fbBatch) * kContributionBytes);
     double longest = double(hostCost) * fbBatch;
-    auto link = [&](const LinkParams& l) { longest = std::max(longest, double(l.latency) + bytes * 1e12 / l.bandwidth); };
+    auto link = [&](const LinkParams& l) { longest = std::max(longest, double(l.latency) + wirePicos(bytes, l.bandwidth)); };
     link(this->link);
     link(fbPort);
     for (const auto& [where, l] : linkOverride) link(l);

@@ -35,9 +35,7 @@ void TimeLedger::endFrame(Picos end, bool complete, const std::string& who) {
 // Blocked on a full output since before the end: blocked until then.
 bool TimeLedger::settleBlocked(Picos end) {
     if (!t_.blocking || t_.blockedSince > end) return false;
-    t_.blocking = false;
-    t_.blocked += end - t_.blockedSince;
-    t_.wait += end - t_.blockedSince;
+    endBlocked(end);
     return true;
 }
 

@@ -17,7 +17,7 @@ import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from bench_rtref import add_cpu_option, build_fast, machine, pin_to_cpu  # noqa: E402
-from project import FAST_BUILD, ROOT, spd_scene, update_doc_section, version  # noqa: E402
+from project import FAST_BUILD, ROOT, run_rtsim, spd_scene, update_doc_section, version  # noqa: E402
 
 
 def timed(cmd):
@@ -307,8 +307,9 @@ def against(a, tmp, rtsim, pin):
         rows.append(f"| {label} | {statistics.median(new):.3f} s | {statistics.median(older):.3f} s | "
                     f"**{statistics.median(ratios):.3f}** | {min(ratios):.3f} .. {max(ratios):.3f} | "
                     f"{'the same' if same else 'DIFFERENT'} |")
-    text = "\n".join(rows) + (f"\n\n{a.against_runs} pairs each; this build {a.version}, older build "
-                               f"`{os.path.abspath(a.against)}`; {machine()}" +
+    older_version = run_rtsim(["--size", "8x8", "--mesh", "1"], old)[0]["rerun"]["version"]
+    text = "\n".join(rows) + (f"\n\n{a.against_runs} pairs each; this build {a.version}, the older build "
+                               f"{older_version}, both profile-guided; {machine()}" +
                                (f"; every run pinned to CPU {pin}" if pin is not None else "") + ".\n")
     print(text, end="")
     if a.doc:
