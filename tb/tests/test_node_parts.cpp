@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include "busy_by_hand.h"
 #include "cost_model.h"
 #include "fb_outbox.h"
 #include "mesh_geometry.h"
@@ -231,25 +232,20 @@ TEST(Slab, ObjectsAcrossTheFaceGoAndStayAndAreTakenOnce) {
 // ---- The cost model (cost_model.h) ----
 
 TEST(CostModel, OperationsTimesTheirCostsOverTheSpeed) {
-    Costs c;
-    c.test = {10, 20, 30};
-    c.voxelStep = 4;
-    c.rayGen = 7;
-    c.shade = 50;
-    c.send = 100;
-    c.recv = 200;
+    const Costs c = test::distinctCosts();  // sphere 7, polygon 11, cone 13, voxel 3, raygen 17, shade 19, send 23, recv 29 ns
     Counters before, after;
     before.tests = {1, 1, 1};
     after.tests = {4, 3, 1};  // 3 spheres, 2 polygons
     after.voxelSteps = 5;
     after.shadings = 1;
-    const Picos atOne = 3 * 10 + 2 * 20 + 5 * 4 + 50 + 2 * 100 + 1 * 200 + 1 * 7;
+    // 3 x 7 + 2 x 11 + 5 x 3 + 19, two sends, one receive and one primary ray generated
+    const Picos atOne = 21000 + 22000 + 15000 + 19000 + 2 * 23000 + 29000 + 17000;
     EXPECT_EQ(CostModel(c, 1.0, 9).step(before, after, 2, 1, 1), atOne);
-    EXPECT_EQ(CostModel(c, 2.0, 9).step(before, after, 2, 1, 1), Picos(std::llround(atOne / 2.0)));
-    EXPECT_EQ(CostModel(c, 3.0, 9).step(before, after, 0, 0, 0), Picos(std::llround((30 + 40 + 20 + 50) / 3.0)));
+    EXPECT_EQ(CostModel(c, 2.0, 9).step(before, after, 2, 1, 1), atOne / 2);
+    EXPECT_EQ(CostModel(c, 3.0, 9).step(before, after, 0, 0, 0), 25667u);  // 77,000 / 3, rounded
     EXPECT_EQ(CostModel(c, 1.0, 9).rebuild(5), 45u);
     EXPECT_EQ(CostModel(c, 4.0, 9).rebuild(5), 11u);  // 45 / 4 = 11.25
-    EXPECT_DOUBLE_EQ(CostModel(c, 2.0, 9).slabHandling(5), (100 + 200 + 2 * 5 * 9) / 2.0);
+    EXPECT_DOUBLE_EQ(CostModel(c, 2.0, 9).slabHandling(5), (23000 + 29000 + 2 * 5 * 9) / 2.0);
 }
 
 // ---- The ray batcher (ray_batcher.h) ----
