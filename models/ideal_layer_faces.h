@@ -1,5 +1,5 @@
 // Faces shared by a whole layer, agreed at no cost: a measuring device, not
-// a machine (`--faces ideal-layer`; doc/balancing.md, "Faces in line").
+// a machine (`--faces ideal-layer`; doc/fig4.md, "Faces in line").
 //
 // Under `slide` each column moves its own faces, so the faces of
 // neighbouring columns drift apart and rays crossing from one column into

@@ -134,13 +134,13 @@ struct MachineConfig {
     // the kernel's time before it synchronises. 0: synchronise after every
     // step (exact). No larger than the lookahead: still exact, because no
     // message can arrive sooner than one latency and its own time on the
-    // wire after the kernel's time (doc/machine.md, "Local time").
+    // wire after the kernel's time (doc/time.md, "Local time").
     Picos quantum = 0;
     // --quantum lookahead (the default): each process runs ahead by its own
     // lookahead instead, the largest quantum that is still exact for it: the
     // soonest a message not yet sent can arrive at it, the smallest over its
     // input links of their latency plus the smallest message's time on
-    // their wire (Machine; doc/machine.md, "Local time"). `quantum` then
+    // their wire (Machine; doc/time.md, "Local time"). `quantum` then
     // holds the smallest of them (lookahead()), for the report.
     bool lookaheadQuantum = false;
     // With lookaheadQuantum: how late the frame-buffer units other than 0

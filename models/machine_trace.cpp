@@ -1,4 +1,4 @@
-// The machine's VCD (--vcd; doc/machine.md, "Waveforms"): per traced node
+// The machine's VCD (--vcd; doc/waveforms.md): per traced node
 // (all, unless --trace-nodes) busy, wait, queue and load, and under it its
 // traced links (its own, and those --trace-links names); the frame-buffer
 // units; every boundary when balancing. The header is written before the

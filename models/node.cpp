@@ -64,7 +64,7 @@ void Node::traceState(bool busy, bool waiting) {
 // first finishes what the last one stopped at (a wait for input, or for
 // room in an output buffer), then runs the node's loop until the node must
 // wait again; the waits are where the thread version of this loop called
-// wait(), so the machine's timing is the same (doc/machine.md, "Local time
+// wait(), so the machine's timing is the same (doc/time.md, "Local time
 // and temporal decoupling").
 void Node::run() {
     suspended_ = false;

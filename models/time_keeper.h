@@ -1,6 +1,6 @@
 // How a process (a node or the host) keeps its local time in step with the
 // kernel's: the one place where time synchronisation is decided
-// (doc/machine.md, "Local time and temporal decoupling").
+// (doc/time.md, "Local time and temporal decoupling").
 //
 //   --quantum 0  (exact) wait for the kernel after every step.
 //   --quantum Q  run ahead of the kernel, and wait for it once Q ahead (the

@@ -242,7 +242,7 @@ def tracing(a, tmp, rtsim, report):
     and peak memory without it, tracing one node and its links, and tracing
     every node and link; alternated run by run, medians; on the default job
     and on the 16x16x16 mesh (balls-5 at 128x128, every one of its 4,096
-    nodes traced). Into doc/machine.md's "tracing overhead" section."""
+    nodes traced). Into doc/waveforms.md's "tracing overhead" section."""
     vcd = os.path.join(tmp, "t.vcd")
     spd5 = os.path.join(os.path.dirname(a.scene), "balls-5.nff")
     jobs = [(f"{os.path.splitext(os.path.basename(a.scene))[0]} at {a.size}, N = {a.mesh}", a.mesh, None, None),
@@ -272,7 +272,7 @@ def tracing(a, tmp, rtsim, report):
     text = "\n".join(rows)
     print(text)
     if a.doc:
-        update_doc_section(os.path.join(ROOT, "doc", "machine.md"), "tracing overhead", text)
+        update_doc_section(os.path.join(ROOT, "doc", "waveforms.md"), "tracing overhead", text)
 
 
 def against(a, tmp, rtsim, pin):

@@ -8,6 +8,7 @@ scripts/experiments/; both import this module (an experiment puts scripts/
 on its path first). Standard library only: matplotlib is imported when a
 script asks for pyplot(). Runs on Dask workers too (scripts/sweep.py ships
 it by value)."""
+import glob
 import json
 import os
 import subprocess
@@ -88,12 +89,20 @@ def version():
 def update_doc_section(path, name, text):
     """Replaces the text between `<!-- begin NAME -->` and `<!-- end NAME -->`
     in a doc page with `text`, so tables shown in doc/ pages are regenerated
-    by the script that computes them, never edited by hand."""
+    by the script that computes them, never edited by hand. The markers are
+    looked for in `path`, and where they are not there, in the one page of
+    doc/ that has them (a section that moved to another page is followed)."""
     begin, end = f"<!-- begin {name} (generated; do not edit) -->", f"<!-- end {name} -->"
     with open(path) as f:
         doc = f.read()
     if begin not in doc or end not in doc:
-        raise ValueError(f"{path}: no section markers for '{name}'")
+        pages = [p for p in sorted(glob.glob(os.path.join(ROOT, "doc", "*.md")))
+                 if begin in open(p).read() and end in open(p).read()]
+        if len(pages) != 1:
+            raise ValueError(f"{path}: no section markers for '{name}' (nor in one other page of doc/)")
+        path = pages[0]
+        with open(path) as f:
+            doc = f.read()
     head, rest = doc.split(begin, 1)
     _, tail = rest.split(end, 1)
     with open(path, "w") as f:

@@ -8,7 +8,7 @@ the layer's summed loads, read without messages: an optimistic bound on any
 layer agreement built from messages; models/ideal_layer_faces.h). Reports
 the ratios to the unbalanced frame, the busy time, the rays passed on
 untraced between columns and the slides. Writes
-doc/results/aligned_faces.{csv,md} and the table into doc/balancing.md.
+doc/results/aligned_faces.{csv,md} and the table into doc/fig4.md.
 Run with /usr/bin/python3."""
 import argparse
 import os
@@ -36,7 +36,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--fig4", default=os.path.join(ROOT, "doc", "results", "fig4.csv"),
                     help="Fig. 4's results, for the points where slide loses")
-    driver.add_output_arguments(ap, os.path.join(ROOT, "doc", "balancing.md"))
+    driver.add_output_arguments(ap, os.path.join(ROOT, "doc", "fig4.md"))
     driver.add_arguments(ap)
     a = ap.parse_args()
     losing = losing_points(a.fig4, 1.02)

@@ -8,7 +8,7 @@ loads the first frame's decisions used. Also `resplit`'s sequence of
 --sequence frames along and across the axis, and what `slide`'s slides
 cost at Fig. 4's best and worst points (rays forwarded and passed on
 untraced). Writes doc/results/failure_cases.{csv,md}, resplit_sequences.md,
-slide_costs.md and the tables into doc/balancing.md.
+slide_costs.md and the tables into doc/balancing.md (slide costs: doc/fig4.md).
 Run with /usr/bin/python3."""
 import argparse
 import os

@@ -13,7 +13,7 @@ starting with the boundaries where the one before ended (rtsim --frames);
 Runs on a machine preset (--preset: configs/NAME.conf; modern is rtsim's
 defaults) with the project's default balancing settings. Writes
 doc/results/fig4[-PRESET].{csv,png,md} and the f = 1/N table into
-doc/balancing.md. Needs python3-matplotlib (bash scripts/setup.sh plots);
+doc/fig4.md. Needs python3-matplotlib (bash scripts/setup.sh plots);
 run with /usr/bin/python3."""
 import argparse
 import os
@@ -40,7 +40,7 @@ def main():
     ap.add_argument("--extra", default="", help="more rtsim flags for every run")
     ap.add_argument("--steady", default=STEADY, help="policies whose steady state is drawn too ('': none)")
     ap.add_argument("--frames", type=int, default=6, help="frames of the steady-state curves (the last is plotted)")
-    driver.add_output_arguments(ap, os.path.join(ROOT, "doc", "balancing.md"))
+    driver.add_output_arguments(ap, os.path.join(ROOT, "doc", "fig4.md"))
     driver.add_arguments(ap)
     a = ap.parse_args()
     ns = [int(x) for x in a.n.split(",")]

@@ -235,14 +235,14 @@ TEST(CostModel, OperationsTimesTheirCostsOverTheSpeed) {
     const Costs c = test::distinctCosts();  // sphere 7, polygon 11, cone 13, voxel 3, raygen 17, shade 19, send 23, recv 29 ns
     Counters before, after;
     before.tests = {1, 1, 1};
-    after.tests = {4, 3, 1};  // 3 spheres, 2 polygons
+    after.tests = {4, 3, 3};  // 3 spheres, 2 polygons, 2 cones
     after.voxelSteps = 5;
     after.shadings = 1;
-    // 3 x 7 + 2 x 11 + 5 x 3 + 19, two sends, one receive and one primary ray generated
-    const Picos atOne = 21000 + 22000 + 15000 + 19000 + 2 * 23000 + 29000 + 17000;
+    // 3 x 7 + 2 x 11 + 2 x 13 + 5 x 3 + 19, two sends, one receive and one primary ray generated
+    const Picos atOne = 21000 + 22000 + 26000 + 15000 + 19000 + 2 * 23000 + 29000 + 17000;
     EXPECT_EQ(CostModel(c, 1.0, 9).step(before, after, 2, 1, 1), atOne);
     EXPECT_EQ(CostModel(c, 2.0, 9).step(before, after, 2, 1, 1), atOne / 2);
-    EXPECT_EQ(CostModel(c, 3.0, 9).step(before, after, 0, 0, 0), 25667u);  // 77,000 / 3, rounded
+    EXPECT_EQ(CostModel(c, 3.0, 9).step(before, after, 0, 0, 0), 34333u);  // 103,000 / 3, rounded
     EXPECT_EQ(CostModel(c, 1.0, 9).rebuild(5), 45u);
     EXPECT_EQ(CostModel(c, 4.0, 9).rebuild(5), 11u);  // 45 / 4 = 11.25
     EXPECT_DOUBLE_EQ(CostModel(c, 2.0, 9).slabHandling(5), (23000 + 29000 + 2 * 5 * 9) / 2.0);
