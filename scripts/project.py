@@ -96,13 +96,15 @@ def update_doc_section(path, name, text):
     with open(path) as f:
         doc = f.read()
     if begin not in doc or end not in doc:
-        pages = [p for p in sorted(glob.glob(os.path.join(ROOT, "doc", "*.md")))
-                 if begin in open(p).read() and end in open(p).read()]
+        pages = {}
+        for page in sorted(glob.glob(os.path.join(ROOT, "doc", "*.md"))):
+            with open(page) as f:
+                text = f.read()
+            if begin in text and end in text:
+                pages[page] = text
         if len(pages) != 1:
             raise ValueError(f"{path}: no section markers for '{name}' (nor in one other page of doc/)")
-        path = pages[0]
-        with open(path) as f:
-            doc = f.read()
+        (path, doc), = pages.items()
     head, rest = doc.split(begin, 1)
     _, tail = rest.split(end, 1)
     with open(path, "w") as f:
