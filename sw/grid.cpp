@@ -2,6 +2,8 @@
 
 #include <cmath>
 #include <sstream>
+#include <stdexcept>
+#include <string>
 
 #include "brute_force.h"
 
@@ -14,6 +16,25 @@ std::array<int, 3> UniformGrid::resolution(const Box& box, size_t objects) {
     std::array<int, 3> n{};
     for (int a = 0; a < 3; ++a) n[a] = int(std::clamp(std::lround(e[a] * k), 1L, long(kMaxCellsPerAxis)));
     return n;
+}
+
+UniformGrid::Size UniformGrid::sizeFor(const std::vector<Shape>& objects, const Box& box) {
+    const Lattice lattice = Lattice::uniform(box, resolution(box, objects.size()));
+    const double margin = roundingMargin(box);
+    Size s;
+    s.cells = uint64_t(lattice.cellCount());
+    for (const Shape& o : objects) {
+        Cell f, l;
+        lattice.overlapRange(o.bounds().expanded(margin), f, l);
+        s.references += uint64_t(l[0] - f[0] + 1) * uint64_t(l[1] - f[1] + 1) * uint64_t(l[2] - f[2] + 1);
+    }
+    return s;
+}
+
+double UniformGrid::Size::bytes(size_t objects) const {
+    // The references and the offsets; while building, the counts and each
+    // object's cell range besides.
+    return 4.0 * double(references) + 8.0 * double(cells + 1) + 24.0 * double(objects);
 }
 
 UniformGrid::UniformGrid(const std::vector<Shape>& objects, const Box& box)
@@ -33,6 +54,11 @@ UniformGrid::UniformGrid(const std::vector<Shape>& objects, const Box& box)
             for (int y = f[1]; y <= l[1]; ++y)
                 for (int x = f[0]; x <= l[0]; ++x) ++count[cellIndex({x, y, z}) + 1];
     }
+    uint64_t references = 0;
+    for (long c = 0; c < cells; ++c) references += count[c + 1];
+    if (references > kMaxReferences)  // (32-bit offsets would wrap: a wrong grid, not a slow one)
+        throw std::length_error("a grid of " + std::to_string(references) + " references (objects listed in cells): more than " +
+                                std::to_string(kMaxReferences));
     start_.assign(cells + 1, 0);
     for (long c = 0; c < cells; ++c) start_[c + 1] = start_[c] + count[c + 1];
     items_.resize(start_[cells]);

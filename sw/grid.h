@@ -16,6 +16,18 @@ public:
     static constexpr double kCellsPerObject = 8.0;
     static constexpr int kMaxCellsPerAxis = 256;
     static std::array<int, 3> resolution(const Box& box, size_t objects);
+    // A grid's size, counted without building it: its cells and references
+    // (an object listed in a cell), and the bytes it takes at its peak
+    // while being built. Objects that overlap much make references grow as
+    // their count squared: start-up refuses a machine that would not fit
+    // (models/binning_memory.h).
+    struct Size {
+        uint64_t cells = 0, references = 0;
+        double bytes(size_t objects) const;
+    };
+    static Size sizeFor(const std::vector<Shape>& objects, const Box& box);
+    // The most references a grid holds (its offsets are 32-bit).
+    static constexpr uint64_t kMaxReferences = 0xffffffffu;
 
     UniformGrid(const std::vector<Shape>& objects, const Box& box);
     Hit closestHit(const Ray& r, double t0, double t1, Mailbox& mailbox, Counters& counters) const override;

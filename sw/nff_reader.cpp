@@ -1,7 +1,9 @@
 #include "nff_reader.h"
 
+#include <algorithm>
 #include <array>
 #include <charconv>
+#include <cstdio>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -12,6 +14,12 @@
 
 namespace rt {
 namespace {
+
+std::string shortNumber(double v) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%g", v);
+    return b;
+}
 
 struct Token {
     std::string text;
@@ -105,6 +113,13 @@ public:
                 sp.centre = vec("sphere centre 's x y z r'");
                 const double r = number("sphere radius");
                 if (r == 0) fail("sphere radius must not be zero");
+                // Below 1e-12 of its centre's distance from the origin a sphere
+                // has no extent in doubles there (1e-9 at 1e9 collapsed the
+                // world box's planes).
+                const double far = std::max({std::abs(sp.centre.x), std::abs(sp.centre.y), std::abs(sp.centre.z)});
+                if (std::abs(r) < 1e-12 * far)
+                    fail("sphere radius " + shortNumber(std::abs(r)) + " is too small for a centre that far from the origin (" +
+                         shortNumber(far) + "): at least 1e-12 of it, or the sphere has no extent in doubles");
                 sp.radius = std::abs(r);
                 sp.insideVisible = r < 0;
                 add(s, sp);

@@ -4,6 +4,9 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <atomic>
+#include <cctype>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -23,9 +26,10 @@ std::string folderOf(const std::string& path) {
     return parent.empty() ? "." : parent.string();
 }
 
-// A new, empty file beside `path` (mkstemp: unique, not shared with another run).
+// A new, empty file beside `path` (mkstemp: unique, not shared with another
+// run), named to say what it is if a killed run leaves it.
 std::string makeTemp(const std::string& path, int& err) {
-    std::string name = (fs::path(folderOf(path)) / ("." + fs::path(path).filename().string() + ".tmp-XXXXXX")).string();
+    std::string name = (fs::path(folderOf(path)) / (fs::path(path).filename().string() + ".incomplete-XXXXXX")).string();
     std::vector<char> buf(name.begin(), name.end());
     buf.push_back('\0');
     const int fd = ::mkstemp(buf.data());
@@ -37,13 +41,59 @@ std::string makeTemp(const std::string& path, int& err) {
     return std::string(buf.data());
 }
 
+std::string lower(std::string s) {
+    std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    return s;
+}
+
+// The registry of temporary files: fixed slots a signal handler may read.
+constexpr int kSlots = 64;
+constexpr size_t kPathBytes = 4096;
+struct Slot {
+    std::atomic<int> state{0};  // 0 free, 1 being filled, 2 holds a path
+    char path[kPathBytes];
+};
+Slot slots[kSlots];
+
 }  // namespace
+
+void registerTempFile(const std::string& path) {
+    if (path.size() >= kPathBytes) return;  // (not removed by a signal; still by its owner)
+    for (Slot& s : slots) {
+        int expected = 0;
+        if (!s.state.compare_exchange_strong(expected, 1)) continue;
+        std::memcpy(s.path, path.c_str(), path.size() + 1);
+        s.state.store(2);
+        return;
+    }
+}
+
+void forgetTempFile(const std::string& path) {
+    for (Slot& s : slots)
+        if (s.state.load() == 2 && path == s.path) {
+            s.state.store(0);
+            return;
+        }
+}
+
+void removeTempFilesNow() {
+    for (Slot& s : slots)
+        if (s.state.load() == 2) ::unlink(s.path);
+}
 
 void checkWritable(const std::string& flag, const std::string& path) {
     auto bad = [&](const std::string& why) { throw OutputError(flag + ": " + path + ": " + why); };
-    std::error_code ec;
-    if (fs::is_directory(path, ec)) bad("is a folder");
+    if (path.empty()) bad("an empty name");
+    struct stat st {};
+    if (::lstat(path.c_str(), &st) == 0) {
+        if (S_ISLNK(st.st_mode)) bad("is a symbolic link (name the file it points to: an output is renamed over its path)");
+        if (S_ISDIR(st.st_mode)) bad("is a folder");
+        if (!S_ISREG(st.st_mode)) bad("is not a regular file (a device, FIFO or socket); an output is a file of its own");
+    } else if (errno != ENOENT) {
+        bad(std::strerror(errno));
+    }
     const std::string folder = folderOf(path);
+    std::error_code ec;
     if (!fs::is_directory(folder, ec)) bad("no such folder: " + folder);
     int err = 0;
     const std::string t = makeTemp(path, err);
@@ -51,10 +101,40 @@ void checkWritable(const std::string& flag, const std::string& path) {
     std::remove(t.c_str());
 }
 
+void checkExtension(const std::string& flag, const std::string& path, const std::vector<std::string>& extensions) {
+    const std::string p = lower(path);
+    std::string list;
+    for (const std::string& e : extensions) {
+        if (p.size() > e.size() && p.compare(p.size() - e.size(), e.size(), e) == 0) return;
+        list += (list.empty() ? "" : ", ") + e;
+    }
+    throw OutputError(flag + ": " + path + ": the name must end in " + list + " (the format written)");
+}
+
+void checkDistinct(const std::vector<NamedFile>& files) {
+    auto same = [](const std::string& a, const std::string& b) {
+        std::error_code ec1, ec2;
+        if (fs::weakly_canonical(a, ec1) == fs::weakly_canonical(b, ec2) && !ec1 && !ec2) return true;
+        struct stat sa {}, sb {};
+        return ::stat(a.c_str(), &sa) == 0 && ::stat(b.c_str(), &sb) == 0 && sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
+    };
+    for (size_t j = 0; j < files.size(); ++j)
+        for (size_t i = 0; i < j; ++i) {
+            const NamedFile &a = files[i], &b = files[j];
+            if (!a.output && !b.output) continue;
+            if (!same(a.path, b.path)) continue;
+            const NamedFile& out = b.output ? b : a;
+            const NamedFile& other = b.output ? a : b;
+            throw OutputError(out.flag + ": " + out.path + ": the same file as " + (other.output ? "" : "the input ") +
+                              other.flag + (other.path == out.path ? "" : " " + other.path));
+        }
+}
+
 AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
     int err = 0;
     temp_ = makeTemp(path_, err);
     if (temp_.empty()) throw std::runtime_error(path_ + ": cannot create a file beside it (" + std::strerror(err) + ")");
+    registerTempFile(temp_);
 }
 
 void AtomicFile::write(const std::string& text) const {
@@ -65,7 +145,9 @@ void AtomicFile::write(const std::string& text) const {
 }
 
 AtomicFile::~AtomicFile() {
-    if (!committed_) std::remove(temp_.c_str());
+    if (committed_) return;
+    forgetTempFile(temp_);
+    std::remove(temp_.c_str());
 }
 
 void AtomicFile::commit() {
@@ -75,6 +157,7 @@ void AtomicFile::commit() {
     ::chmod(temp_.c_str(), 0666 & ~mask);
     if (std::rename(temp_.c_str(), path_.c_str()) != 0)
         throw std::runtime_error(path_ + ": cannot write (" + std::strerror(errno) + ")");
+    forgetTempFile(temp_);
     committed_ = true;
 }
 

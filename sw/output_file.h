@@ -1,12 +1,20 @@
-// Output files (images, reports, stats, waveforms) written whole or not at
-// all. Before a run, each path is checked: it must not be a folder, and its
-// folder must exist and take a new file (a bad path is bad input: exit 2,
-// before hours of simulation, not after). At the end, each file is written
-// to a temporary file beside it and renamed over the path, so a failure
-// half way, or a run killed while writing, never leaves a truncated file
-// that looks like a result.
+// Output files (images, reports, stats, waveforms): the output policy
+// (doc/robustness.md, "Outputs").
+//  - Before a run, each path is checked: absent, or a regular file (not a
+//    folder, a device, a FIFO, a socket or a symbolic link, which a
+//    renamed file would replace), in a folder that takes a new file; no two
+//    outputs, and no output and input, name the same file; each output's
+//    name says its format. A bad path is bad input (exit 2), found before
+//    hours of simulation, not after.
+//  - Each output is written to a temporary file beside it, named
+//    NAME.incomplete-XXXXXX, and renamed over the path only when the run
+//    succeeds: a run that fails, or is killed while writing, never leaves a
+//    truncated file that looks like a result, and never removes a file it
+//    did not create. A temporary left behind (a run killed with SIGKILL)
+//    says so in its name.
 #pragma once
 #include <string>
+#include <vector>
 
 #include "scene_error.h"
 
@@ -17,8 +25,20 @@ struct OutputError : SceneError {
     using SceneError::SceneError;
 };
 
-// Throws OutputError ("FLAG: PATH: why") unless `path` can be written.
+// Throws OutputError ("FLAG: PATH: why") unless `path` can be an output.
 void checkWritable(const std::string& flag, const std::string& path);
+// Throws OutputError unless `path` ends in one of `extensions` (".png";
+// any case).
+void checkExtension(const std::string& flag, const std::string& path, const std::vector<std::string>& extensions);
+
+// A file a run names: an output or an input.
+struct NamedFile {
+    std::string flag, path;
+    bool output = true;
+};
+// Throws OutputError if an output names the same file as another output or
+// an input (by path, or by device and inode if both exist: a hard link).
+void checkDistinct(const std::vector<NamedFile>& files);
 
 class AtomicFile {
 public:
@@ -27,6 +47,7 @@ public:
     AtomicFile(const AtomicFile&) = delete;
     AtomicFile& operator=(const AtomicFile&) = delete;
 
+    const std::string& path() const { return path_; }
     // Where to write: a fresh file in the same folder as the path.
     const std::string& temp() const { return temp_; }
     // Writes `text` to the temporary file (throws, naming the path, if it
@@ -39,5 +60,12 @@ private:
     std::string path_, temp_;
     bool committed_ = false;
 };
+
+// The temporary files this process holds (AtomicFile's, and others it
+// registers), for a signal that ends the process at once: removes them.
+// Async-signal-safe (fixed slots, unlink only).
+void registerTempFile(const std::string& path);
+void forgetTempFile(const std::string& path);
+void removeTempFilesNow();
 
 }  // namespace rt

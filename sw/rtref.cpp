@@ -2,19 +2,21 @@
 //   rtref [SCENE.nff] -o OUT.png [--size WxH] [--stats OUT.json] [--max-depth D] [--threads T]
 // Without a scene file it renders the built-in procedural scene.
 #include <chrono>
-#include <optional>
 #include <fstream>
 #include <iostream>
+#include <optional>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
 #include "counters.h"
 #include "counters_json.h"
-#include "renderer.h"
-#include "scene_error.h"
+#include "grid.h"
 #include "memory_estimate.h"
 #include "output_file.h"
+#include "renderer.h"
+#include "scene_error.h"
 #include "scene_options.h"
 
 namespace {
@@ -65,12 +67,28 @@ int main(int argc, char** argv) {
         // Outputs first: a path that cannot be written is found now, not
         // after the render.
         rt::checkWritable("--output", out);
-        if (!stats.empty()) rt::checkWritable("--stats", stats);
+        rt::checkExtension("--output", out, {".png"});
+        std::vector<rt::NamedFile> files{{"--output", out, true}};
+        if (!stats.empty()) {
+            rt::checkWritable("--stats", stats);
+            rt::checkExtension("--stats", stats, {".json"});
+            files.push_back({"--stats", stats, true});
+        }
+        if (!sceneOpt.file.empty()) files.push_back({"the scene", sceneOpt.file, false});
+        rt::checkDistinct(files);  // (no output over another, or over the scene)
         const rt::Scene scene = sceneOpt.load();
         rt::RenderOptions ro;
         sceneOpt.imageSize(scene, ro.width, ro.height);
         rt::refuseIfTooBig("--size " + std::to_string(ro.width) + "x" + std::to_string(ro.height),
                            rt::kRtrefBytesPerPixel * ro.width * ro.height);
+        // Objects that overlap many cells make the grid's references grow as
+        // their count squared: refused with the estimate, not a bad_alloc.
+        const rt::UniformGrid::Size grid = rt::UniformGrid::sizeFor(scene.objects, scene.worldBox());
+        if (grid.references > rt::UniformGrid::kMaxReferences)
+            throw rt::SceneError(scene.name + ": a grid of " + std::to_string(grid.references) +
+                                 " references (objects listed in cells), more than a grid holds (2^32 - 1)");
+        rt::refuseIfTooBig(scene.name + ": its " + std::to_string(scene.objects.size()) + " objects binned into its grid",
+                           grid.bytes(scene.objects.size()) + rt::kRtrefBytesPerPixel * ro.width * ro.height);
         ro.maxDepth = depth;
         ro.threads = threads;
         const auto t0 = std::chrono::steady_clock::now();

@@ -15,7 +15,11 @@ Box Scene::worldBox() const {
     Box b = objectBounds();
     if (!declaredBounds.empty()) b.add(declaredBounds);
     if (b.empty()) b = Box{Vec3(-1.0), Vec3(1.0)};
-    const double size = std::max(b.maxExtent(), 1e-6);
+    // Padded by 1e-4 of its size, and of at least a millionth of its
+    // distance from the origin: a scene flat along an axis far from the
+    // origin (a polygon in the plane x = 1e9) is still a box whose planes
+    // are apart in doubles.
+    const double size = std::max({b.maxExtent(), 1e-6, 1e-6 * glm::length(b.lo), 1e-6 * glm::length(b.hi)});
     return b.expanded(1e-4 * size);
 }
 

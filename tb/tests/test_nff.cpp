@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "nff_reader.h"
+#include "partition.h"
 
 using namespace rt;
 
@@ -127,6 +128,17 @@ TEST(Nff, NegativeRadiiMeanInsideVisible) {
     EXPECT_TRUE(std::get<Cone>(s.objects.at(1).geometry).insideVisible);
 }
 
+// A scene flat along an axis far from the origin (a polygon in the plane
+// x = 1e9) still has a world box whose planes are apart: its padding grows
+// with the distance from the origin (the planes once collapsed, exit 1).
+TEST(Nff, AFlatSceneFarFromTheOriginStillSplitsIntoBoxes) {
+    const Scene s = parseNff(std::string(kHeader) + "p 3\n1e9 0 0\n1e9 1e-9 0\n1e9 0 1e-9\n", "far.nff");
+    const Box w = s.worldBox();
+    EXPECT_LT(w.lo.x, 1e9);
+    EXPECT_GT(w.hi.x, 1e9);
+    EXPECT_NO_THROW(Partition::uniform(s, {16, 16, 16}));
+}
+
 struct BadCase {
     const char* name;
     std::string text;
@@ -161,6 +173,10 @@ INSTANTIATE_TEST_SUITE_P(
                 "b 0.078 0.361 0.753\nv\nfrom 2.1 1.3 1.7\nat 0 0 0\nup 0 0 1\nangle 22\nhither 0.01\n"
                 "resolution 512 512\nl 4 3 2\nl 1 -0.544331 0.16666725667\ns 5.471405 -7045.041 1.11022e098 -1.4",
                 "bad.nff:11: expected a number of magnitude at most 1e9 for sphere centre"},
+        // A sphere with no extent at its centre (1e-9 at 1e9: the world
+        // box's planes collapsed, exit 1 naming no file).
+        BadCase{"SphereTooSmallForItsCentre", H("s 1e9 0 0 1e-9\n"),
+                "bad.nff:11: sphere radius 1e-09 is too small for a centre that far from the origin (1e+09)"},
         BadCase{"PolygonTwoVertices", H("p 2\n0 0 0\n1 0 0\n"), "bad.nff:11: polygon needs at least 3 vertices"},
         BadCase{"PolygonCollinear", H("p 3\n0 0 0\n1 1 1\n2 2 2\n"), "bad.nff:11: polygon vertices are collinear"},
         BadCase{"PolygonShort", H("p 3\n0 0 0\n1 0 0\n"), "expected vertex 3 of 'p', got end of file"},
