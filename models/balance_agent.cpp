@@ -184,7 +184,7 @@ void BalanceAgent::report(int i) {
     s.sentLength = l.end - s.sent.end;  // (the last report's end, or the frame's start)
     l.busy = s.span.busy;
     l.wait = s.span.wait;
-    l.backlog = s.span.steps ? Picos(double(waiting_) * double(s.span.stepCost) / double(s.span.steps)) : 0;
+    l.backlog = s.span.steps ? saturatedPicos(double(waiting_) * double(s.span.stepCost) / double(s.span.steps)) : 0;
     // The column's demand from the far end through this node: what the other
     // side last said, plus this node's own.
     const Side& other = sides_[1 - i];
@@ -201,7 +201,7 @@ void BalanceAgent::report(int i) {
     // Pacing: the next report from the next multiple of the period, a whole
     // number of intervals. Both ends of a link count the same multiples, so
     // their reports leave together and neither's loads wait for the other's.
-    const Picos gap = Picos(std::ceil(double(host_.reportTime(sideOf(i))) / cfg_.reportShare));
+    const Picos gap = saturatedPicos(std::ceil(double(host_.reportTime(sideOf(i))) / cfg_.reportShare));
     const Picos period = std::max<Picos>(1, (gap + cfg_.interval - 1) / cfg_.interval) * cfg_.interval;
     s.nextReport = (advanceAt_[i] / period + 1) * period;
     host_.sendReport(sideOf(i), Message::loadReport(s.reported, l.end, l.busy, l.wait, l.backlog, l.sum));

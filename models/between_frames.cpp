@@ -105,7 +105,7 @@ std::optional<InnerPlanes> ResplitSequence::next(const nlohmann::json& r, int fr
     const bool faster = t <= bestNs_;
     if (faster) {
         bestNs_ = t;
-        best_ = r;
+        best_ = lastBoundaries(r, m_);
     }
     if (bestNs_ > firstNs_) {  // no re-split frame has beaten the first yet
         if (resplits_ >= kTries) {
@@ -115,7 +115,7 @@ std::optional<InnerPlanes> ResplitSequence::next(const nlohmann::json& r, int fr
         return resplitTargets(r, m_);
     }
     if (!faster) {
-        held_ = lastBoundaries(best_, m_);
+        held_ = best_;
         return held_;
     }
     return resplitTargets(r, m_);

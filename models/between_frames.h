@@ -60,7 +60,7 @@ private:
     const MachineConfig& m_;
     double firstNs_ = 0, bestNs_ = 1e300;  // the first frame's time; the fastest re-split frame's
     int resplits_ = 0;                     // re-split frames so far
-    nlohmann::json best_;
+    InnerPlanes best_;  // where the fastest re-split frame left the boundaries (not its report: K frames keep one)
     InnerPlanes start_;  // where frame 1's boundaries started
     std::optional<InnerPlanes> held_;
     bool tryingStart_ = false, again_ = false, afresh_ = false;

@@ -57,6 +57,11 @@ void atObjectMedians(ColumnPlanes& planes, const ColumnGeometry& g, const Lattic
 
 }  // namespace
 
+double minThicknessOf(const MachineConfig& cfg, const Box& world) {
+    const int ax = cfg.balance.axis;
+    return cfg.balance.minThickness * world.extent()[ax] / cfg.dims[ax];
+}
+
 ColumnPlanes initialPlanes(const MachineConfig& cfg, const Lattice& cuts, const Box& world, const ObjectBins& bins,
                            double minThickness) {
     const ColumnGeometry g(cfg.balance.axis, cfg.dims);

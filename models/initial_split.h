@@ -20,6 +20,10 @@ namespace rt {
 // world's ends included.
 using ColumnPlanes = std::vector<std::vector<double>>;
 
+// The thinnest a node's box may become along the axis: --min-thickness of
+// a uniform slice of the world.
+double minThicknessOf(const MachineConfig& cfg, const Box& world);
+
 // The planes each column starts with: where a frame before left them
 // (cfg.startBoundaries, each box at least `minThickness`), or the policy's
 // own start: uniform (`cuts`, the paper), or for `median` at the quantiles

@@ -36,6 +36,11 @@ Link::Link(std::string name, const LinkParams& params, uint32_t smallest)
 // (Most messages on a link are of one size: rays, or full batches.)
 Picos Link::transferTime(uint32_t bytes) const {
     if (bytes != lastBytes_) {
+        // (A message of a size the configuration did not bound: a slab of
+        // many objects at a low bandwidth; machine_config.h checks the rest.)
+        if (!(wirePicos(bytes, params_.bandwidth) <= double(kMaxTimeValue)))
+            throw std::runtime_error(name_ + ": a message of " + std::to_string(bytes) + " bytes would take more than 1,000 s on the wire at " +
+                                     formatRate(params_.bandwidth) + " (--link-bandwidth, --link-set)");
         lastBytes_ = bytes;
         lastTransfer_ = wireTime(bytes, params_.bandwidth);
     }
@@ -135,6 +140,7 @@ void Link::putOnWire(int lane, Picos slot) {
         start = scheduleControl(ready, transfer);
     }
     const Picos arrival = start + transfer + params_.latency;
+    checkSimTime(arrival, name_.c_str());  // (a backlog of long messages can pass the counter)
     // Messages sent before this one and still off the wire when it was sent.
     if (distributions_) {
         while (!l.waitedUntil.empty() && l.waitedUntil.front() <= sent) l.waitedUntil.pop_front();

@@ -29,8 +29,7 @@ Machine::Machine(sc_core::sc_module_name name, const Scene& scene, const Machine
       units_("fb"),
       nodes_("node") {
     cfg_.validate();
-    const int ax = columns_.axis;
-    minThickness_ = cfg_.balance.minThickness * world_.extent()[ax] / cfg_.dims[ax];
+    minThickness_ = minThicknessOf(cfg_, world_);
     // Each node's objects (and the median's columns) found by binning, not by
     // scanning the scene once per box.
     const ObjectBins bins(scene_.objects, cuts_, roundingMargin(world_));
@@ -266,6 +265,7 @@ MachineResult Machine::collect(double wallSeconds) {
     r.primaryMisses = primaryMisses_;
     r.deltaCycles = sc_core::sc_delta_count();
     r.wallSeconds = wallSeconds;
+    r.gtkw = gtkw_;
     return r;
 }
 

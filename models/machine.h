@@ -63,6 +63,8 @@ struct MachineResult {
     Box worldBox;
     uint64_t deltaCycles = 0;
     double wallSeconds = 0;
+    // The VCD's GTKWave save file (trace_writer.h), if it was traced.
+    std::string gtkw;
     // Empty for a run that ended; otherwise why the watchdog stopped it
     // (renderTime is then when it stopped, and every figure is up to then).
     std::string incomplete;
@@ -79,7 +81,8 @@ public:
     // Checks the conservation laws at the end of a run; throws
     // std::runtime_error naming the first one broken (machine_checks.cpp).
     void checkConservation() const;
-    // Ends the VCD (if any) at the frame's end and writes its .gtkw.
+    // Ends the VCD (if any) at the frame's end and makes its .gtkw
+    // (MachineResult::gtkw).
     void closeTraces();
 
     size_t nodeIndex(const Cell& c) const { return rt::nodeIndex(c, cfg_.dims); }
@@ -115,6 +118,7 @@ private:
     void traceBoundaries(std::vector<NodeTrace>& traces);
     Picos traceHorizon() const;
     std::unique_ptr<VcdStream> vcd_;
+    std::string gtkw_;
     std::vector<const Link*> tracedLinks_;
 
     const Scene& scene_;

@@ -122,8 +122,11 @@ struct MachineConfig {
     // "Fidelity knobs"; doc/machine.md, the report).
     bool linkDistributions = true;
 
-    // Tracing (VCD); empty path: none.
-    std::string vcdPath;
+    // Tracing (VCD); empty path: none. The VCD is streamed into vcdPath;
+    // its .gtkw (MachineResult::gtkw) opens it by vcdName's file name (rtsim:
+    // streams into a temporary file, renamed to --vcd at the end; empty
+    // vcdName: vcdPath's).
+    std::string vcdPath, vcdName;
     std::vector<Cell> traceNodes;      // empty: every node
     // Links traced besides the traced nodes' own: (node, direction), the
     // direction kDirs for its frame-buffer port, -1 for all of them.
@@ -178,6 +181,14 @@ struct MachineConfig {
     Picos watchdogSpanOrDefault(size_t objects) const;
     // Throws std::invalid_argument("--flag: what") for the first bad value.
     void validate() const;
+    // The times the model derives from the flags for one event, each at
+    // most kMaxTimeValue (1,000 s) like any time given: a full message's
+    // time on each link's wire, a full frame-buffer message's handling,
+    // each cost at the slowest node's speed, a slide's grid update for all
+    // `objects`, a load report's pacing gap. Throws std::invalid_argument
+    // ("--flag: what") naming the flags (derived_times.cpp). Sums of them
+    // are checked in the run as they are made (units.h).
+    void checkDerivedTimes(size_t objects) const;
 };
 
 }  // namespace rt

@@ -19,7 +19,7 @@ void Machine::setupTraces() {
     if (cfg_.balance.policy != "none") traceBoundaries(traces);
     for (size_t i = 0; i < nodes_.size(); ++i) nodes_[i].enableTrace(traces[i]);
     vcd_->setHorizon([this] { return traceHorizon(); });
-    vcd_->open(cfg_.vcdPath, cfg_.traceFrom, cfg_.traceTo);
+    vcd_->open(cfg_.vcdPath, cfg_.traceFrom, cfg_.traceTo, cfg_.vcdName.empty() ? cfg_.vcdPath : cfg_.vcdName);
 }
 
 // Each traced node's signals, then its traced links'; a traced frame-buffer
@@ -113,7 +113,8 @@ void Machine::closeTraces() {
     if (!vcd_) return;
     const Picos end = frameEnd();
     vcd_->close(end, stopped() ? "incomplete: " + watchdog_->stall() : "");
-    writeGtkw(gtkwPathFor(cfg_.vcdPath), cfg_.vcdPath, *vcd_, cfg_.traceFrom, std::min(cfg_.traceTo, end));
+    const std::string name = cfg_.vcdName.empty() ? cfg_.vcdPath : cfg_.vcdName;
+    gtkw_ = gtkwText(gtkwPathFor(name), name, *vcd_, cfg_.traceFrom, std::min(cfg_.traceTo, end));
 }
 
 }  // namespace rt

@@ -1,11 +1,10 @@
 #include "trace_writer.h"
 
 #include <cmath>
-#include <fstream>
+#include <sstream>
 #include <stdexcept>
 #include <vector>
 
-#include "output_file.h"
 
 namespace rt {
 
@@ -16,10 +15,8 @@ std::string gtkwPathFor(const std::string& vcdPath) {
     return vcdPath + ".gtkw";
 }
 
-void writeGtkw(const std::string& path, const std::string& vcdPath, const VcdStream& vcd, Picos from, Picos to) {
-    AtomicFile out(path);  // written whole or not at all (output_file.h)
-    std::ofstream f(out.temp());
-    if (!f) throw std::runtime_error(path + ": cannot open for writing");
+std::string gtkwText(const std::string& path, const std::string& vcdPath, const VcdStream& vcd, Picos from, Picos to) {
+    std::ostringstream f;
     // Signal flags (GTKWave's TR_* bits, hex): 28 binary; 24 decimal;
     // 48020 real, analog step; 8024 integer, analog step; 20000 a blank row
     // stretching the analog trace above it; 800200 / 1000200 open / close a group.
@@ -63,9 +60,7 @@ void writeGtkw(const std::string& path, const std::string& vcdPath, const VcdStr
         }
     }
     closeTo(0);
-    f.close();
-    if (!f) throw std::runtime_error(path + ": write failed");
-    out.commit();
+    return f.str();
 }
 
 }  // namespace rt

@@ -9,8 +9,9 @@ namespace rt {
 // A .gtkw save file that groups the signals by their top scope (each node,
 // with its links in subgroups; the frame buffer; the boundaries), so
 // GTKWave opens straight to them: gtkwave -a FILE.gtkw. [from, to] is the
-// traced window, which it opens zoomed to.
-void writeGtkw(const std::string& path, const std::string& vcdPath, const VcdStream& vcd, Picos from, Picos to);
+// traced window, which it opens zoomed to. `path`: the save file's name,
+// `vcdPath`: the VCD's (the file it opens). Its text; the caller writes it.
+std::string gtkwText(const std::string& path, const std::string& vcdPath, const VcdStream& vcd, Picos from, Picos to);
 // FILE.vcd -> FILE.gtkw
 std::string gtkwPathFor(const std::string& vcdPath);
 

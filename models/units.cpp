@@ -25,7 +25,21 @@ bool splitNumber(const std::string& text, double& value, std::string& unit) {
 void checkSimTime(Picos t, const char* who) {
     if (t <= kMaxSimTime) return;
     throw std::runtime_error(std::string(who) + ": simulated time past " + formatTime(kMaxSimTime) +
-                             " (the picosecond counter would wrap); are the costs or latencies meant to be this large?");
+                             " (the picosecond counter would wrap); are the costs, latencies or bandwidths meant to be this large?");
+}
+
+Picos saturatedPicos(double ps) {
+    if (!(ps > 0)) return 0;
+    if (ps >= double(kMaxSimTime)) return kMaxSimTime;
+    return Picos(ps);
+}
+
+Picos timesCount(Picos a, uint64_t n, const std::string& what) {
+    Picos p = 0;
+    if (__builtin_mul_overflow(a, n, &p) || p > kMaxSimTime)
+        throw std::runtime_error(what + ": " + std::to_string(n) + " x " + formatTime(a) + " is past " + formatTime(kMaxSimTime) +
+                                 " (the picosecond counter would wrap)");
+    return p;
 }
 
 std::optional<Picos> parseTime(const std::string& text) {

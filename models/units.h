@@ -19,6 +19,14 @@ constexpr Picos kMaxTimeValue = Picos(1000) * 1000000000000;  // 1,000 s
 constexpr Picos kMaxSimTime = Picos(1) << 62;                  // about 53 days
 // Throws std::runtime_error naming `who` once `t` is past kMaxSimTime.
 void checkSimTime(Picos t, const char* who);
+// A time the model computes in floating point (an estimate, a wire time)
+// as picoseconds: truncated (as a cast), saturated at kMaxSimTime (converting
+// a larger double to an integer unchecked is undefined behaviour, and no
+// time the model reaches is beyond it). NaN or negative: 0.
+Picos saturatedPicos(double ps);
+// a * n (n a count of operations at a cost a): exact, or throws
+// std::runtime_error naming `what` if past kMaxSimTime.
+Picos timesCount(Picos a, uint64_t n, const std::string& what);
 
 // Parses a non-negative time ("0" may go without a unit); nullopt when
 // malformed (no unit, unknown unit, negative, not finite, not a whole

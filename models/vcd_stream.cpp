@@ -1,5 +1,8 @@
 #include "vcd_stream.h"
 
+#include <cerrno>
+#include <cstring>
+
 #include <algorithm>
 #include <cstdio>
 #include <map>
@@ -54,9 +57,10 @@ void VcdStream::declareLoad(const std::string& scope, int busy, int wait) {
     loads_.push_back({s, busy, wait});
 }
 
-void VcdStream::open(const std::string& path, Picos from, Picos to) {
+void VcdStream::open(const std::string& path, Picos from, Picos to, const std::string& name) {
+    name_ = name.empty() ? path : name;
     out_.open(path, std::ios::binary | std::ios::trunc);
-    if (!out_) throw std::runtime_error(path + ": cannot open for writing");
+    if (!out_) throw std::runtime_error(name_ + ": cannot open for writing");
     from_ = from;
     to_ = to;
     windowEnd_ = loadWindowAfter(0);
@@ -232,12 +236,15 @@ void VcdStream::close(Picos end, const std::string& comment) {
     if (!comment.empty()) buf_ += "$comment " + comment + " $end\n";
     writeOut(true);
     out_.close();
+    if (!out_) throw std::runtime_error(name_ + ": cannot write the VCD (" + std::strerror(errno) + ")");
 }
 
 void VcdStream::writeOut(bool force) {
     if (buf_.empty() || (!force && buf_.size() < kWriteBytes)) return;
     out_.write(buf_.data(), std::streamsize(buf_.size()));
     out_.flush();  // whole lines on disk: a run killed now leaves a valid VCD up to here
+    // (A full disk: an error now, not a VCD that ends early and a run that says it succeeded.)
+    if (!out_) throw std::runtime_error(name_ + ": cannot write the VCD (" + std::strerror(errno) + ")");
     buf_.clear();
 }
 

@@ -43,8 +43,9 @@ public:
     void declareLoad(const std::string& scope, int busy, int wait);
 
     // Writes the header; changes before `from` set the values shown at
-    // `from`, changes after `to` are not written.
-    void open(const std::string& path, Picos from, Picos to);
+    // `from`, changes after `to` are not written. `name`: the VCD's name in
+    // messages (a write that fails throws std::runtime_error naming it).
+    void open(const std::string& path, Picos from, Picos to, const std::string& name = "");
     bool isOpen() const { return out_.is_open(); }
 
     // A change at `t`: a new value, or (counters) a step up or down.
@@ -108,6 +109,7 @@ private:
     size_t flushAt_ = kMaxWaiting;
     uint64_t seq_ = 0;
     std::ofstream out_;
+    std::string name_;
     std::string buf_;  // written in whole lines
     Picos from_ = 0, to_ = ~Picos(0);
     Picos windowEnd_ = 0;  // the end of the current load window

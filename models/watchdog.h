@@ -25,6 +25,14 @@ namespace rt {
 // the report and VCD so far ("interrupted by signal N"). Set from a signal
 // handler (tb/rtsim.cpp), hence a plain global.
 extern volatile std::sig_atomic_t stopSignal;
+// Set by a timer (tb/stops.h): --watchdog-wall has passed.
+extern volatile std::sig_atomic_t wallExpired;
+// Set at the watchdog's first wake: the machine runs, and a stop is the
+// watchdog's to make (before it, tb/stops.h ends the program at once).
+extern volatile std::sig_atomic_t simulationRunning;
+// When the program started (its first call; rtsim makes it first thing):
+// --watchdog-wall counts from here, start-up included.
+std::chrono::steady_clock::time_point programStart();
 
 class Watchdog : public sc_core::sc_module {
 public:
@@ -37,7 +45,7 @@ public:
     };
     SC_HAS_PROCESS(Watchdog);
     // `span`: simulated time without progress before it stops the run;
-    // `wallLimit`: seconds of wall-clock time (0: none).
+    // `wallLimit`: seconds of wall-clock time since programStart() (0: none).
     Watchdog(sc_core::sc_module_name name, Picos span, double wallLimit, Machine machine);
 
     // Marked by the nodes and links whenever a ray, contribution or credit moves.
@@ -54,8 +62,8 @@ private:
     double wallLimit_;
     Machine machine_;
     bool started_ = false;
-    std::chrono::steady_clock::time_point start_;
     Progress progress_;
+    sc_core::sc_event wakeNow_;  // a stop asked from outside (progress.h)
     std::string stall_;
     Picos stalledAt_ = 0;
 };

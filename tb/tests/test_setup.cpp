@@ -88,7 +88,9 @@ TEST(InitialSplit, EveryPrimaryRayGoesToTheNodeThatOwnsItsStart) {
             }
         }
         for (const RayJob& j : r.misses) all.push_back(j.pixel);
-        if (v.from == p.eye) EXPECT_TRUE(r.misses.empty());  // from inside the world no ray misses it
+        if (v.from == p.eye) {
+            EXPECT_TRUE(r.misses.empty());  // from inside the world no ray misses it
+        }
         std::sort(all.begin(), all.end());
         std::vector<uint32_t> each(24 * 20);
         std::iota(each.begin(), each.end(), 0u);
