@@ -1,79 +1,95 @@
 #include "frame_sequence.h"
 
-#include <cstdio>
+#include <csignal>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "between_frames.h"
+#include "stops.h"
 #include "subprocess.h"
+#include "watchdog.h"
 
 namespace rt {
 namespace {
 
-// Writes `j` to a fresh temporary file; its path.
-std::string tempJson(const nlohmann::json& j) { return makeTempFile("rtsim-frame", j.dump() + "\n"); }
+// jemalloc's (tb/rtsim.cpp links it; a sanitizer build has none).
+extern "C" int mallctl(const char* name, void* old, size_t* oldLength, void* value, size_t length) __attribute__((weak));
+
+// A frame's report is parsed, used and freed; the allocator would keep its
+// pages for 30 s (malloc_conf in rtsim.cpp), and at four frames a second a
+// 512-node mesh's parent grew by 5 MB a frame. Handed back at once instead.
+void releaseFreedPages() {
+    if (mallctl) mallctl("arena.4096.purge", nullptr, nullptr, nullptr, 0);  // (4096: every arena)
+}
 
 nlohmann::json frameEntry(int number, const nlohmann::json& report) {
     return {{"frame", number}, {"render_time_ns", report["render_time_ns"]}, {"slides", report["balance"].value("slides", 0)}};
 }
 
-// Frame k's child: its flags after the user's (frame 1, a frame that is the
-// first one again and the starting split's trial start where the user said:
-// --boundaries-from, or the policy's start).
-struct FrameFlags {
-    std::vector<std::string> extra;
-    std::string from, targets;  // temporary files, removed once the frame ran
-    ~FrameFlags() {
-        if (!from.empty()) std::remove(from.c_str());
-        if (!targets.empty()) std::remove(targets.c_str());
+// A sequence stopped in frame `k` (1-based) of `count`: the stopped frame's
+// report so far, if it wrote one, with the frames before it.
+nlohmann::json stoppedSequence(const std::optional<nlohmann::json>& partial, nlohmann::json frames, int k, int count,
+                               const std::string& why) {
+    const std::string which = "frame " + std::to_string(k) + " of " + std::to_string(count);
+    nlohmann::json r = partial ? *partial : nlohmann::json::object();
+    if (partial) {
+        nlohmann::json entry = frameEntry(k, r);
+        entry["incomplete"] = true;
+        frames.push_back(entry);
     }
-};
+    r["frames"] = frames;
+    r["incomplete"] = which + ": " + (partial ? r.value("incomplete", why) : why);
+    return r;
+}
 
 }  // namespace
 
-EarlierFrames runEarlierFrames(int argc, char** argv, RtsimOptions& o) {
+EarlierFrames runEarlierFrames(const std::vector<std::string>& args, RtsimOptions& o) {
     EarlierFrames out;
+    const OrderlyStops orderly;  // a stop is passed to the frame running, and the sequence so far written
     const bool carry = o.machine.balance.dynamic(), resplit = o.machine.balance.policy == "resplit";
     ResplitSequence sequence(o.machine);
     const MachineConfig first = o.machine;  // how frame 1 starts
     bool again = false;                     // resplit: every later frame is the first one again
     bool afresh = false;                    // resplit: the next frame starts where frame 1 did
+    std::optional<nlohmann::json> last;     // the frame before's report
     for (int k = 0; k + 1 < o.frames; ++k) {
-        FrameFlags f;
-        f.extra = {"--as-frame", "--frame-index", std::to_string(k)};
-        if (carry && k > 0 && !again && !afresh) {
-            f.from = tempJson(out.frames.back().at("report"));
-            f.extra.insert(f.extra.end(), {"--boundaries-from", f.from});
-        }
-        if (resplit && k > 0 && !again) {
-            f.targets = tempJson(o.machine.targetBoundaries);
-            f.extra.insert(f.extra.end(), {"--targets-from", f.targets});
-        }
-        Child child(argc, argv, f.extra);
-        const std::optional<nlohmann::json> report = child.report(), stopped = child.stoppedReport();
-        const std::string which = "frame " + std::to_string(k + 1) + " of " + std::to_string(o.frames);
-        if (stopped) {
-            // The watchdog stopped it (the child said why on stderr): its
-            // report so far, with the frames before it. No image, no VCD
-            // (those are of the last frame).
-            nlohmann::json r = *stopped;
-            nlohmann::json entry = frameEntry(k + 1, r);
-            entry["incomplete"] = true;
-            out.frames.push_back(entry);
-            for (auto& e : out.frames) e.erase("report");
-            r["frames"] = out.frames;
-            r["incomplete"] = which + ": " + r.value("incomplete", std::string());
-            out.stopped = r;
+        if (stopSignal || wallPassed()) {  // (between two frames)
+            out.exitCode = stopSignal ? 128 + int(stopSignal) : 3;
+            out.stopped = stoppedSequence(std::nullopt, out.frames, k + 1, o.frames,
+                                          stopSignal ? "stopped by signal " + std::to_string(int(stopSignal)) + " before it began"
+                                                     : "the wall-clock limit was reached before it began");
             return out;
         }
-        if (!report) throw std::runtime_error(which + " failed");
-        nlohmann::json entry = frameEntry(k + 1, *report);
-        entry["report"] = *report;
-        out.frames.push_back(entry);
-        if (carry) o.machine.startBoundaries = lastBoundaries(*report, o.machine);
+        std::vector<std::string> extra = {"--as-frame", "--frame-index", std::to_string(k)};
+        std::optional<TempFile> from, targets;  // (removed once the frame ran)
+        if (carry && k > 0 && !again && !afresh) {
+            from.emplace("rtsim-frame", ".json", last->dump() + "\n");
+            extra.insert(extra.end(), {"--boundaries-from", from->path()});
+        }
+        if (resplit && k > 0 && !again) {
+            targets.emplace("rtsim-frame", ".json", nlohmann::json(o.machine.targetBoundaries).dump() + "\n");
+            extra.insert(extra.end(), {"--targets-from", targets->path()});
+        }
+        Child child(args, extra);
+        const int code = child.exitCode();
+        if (code == 3 || code == 128 + SIGINT || code == 128 + SIGTERM) {
+            // Stopped (the child said why on stderr): its report so far, with
+            // the frames before it. No image, no VCD (those are of the last frame).
+            out.exitCode = code;
+            out.childSaid = true;
+            out.stopped = stoppedSequence(child.stoppedReport(), out.frames, k + 1, o.frames,
+                                          code == 3 ? "stopped by the watchdog" : "stopped by a signal");
+            return out;
+        }
+        last = child.report();
+        if (!last) throw std::runtime_error("frame " + std::to_string(k + 1) + " of " + std::to_string(o.frames) + " failed");
+        out.frames.push_back(frameEntry(k + 1, *last));
+        releaseFreedPages();  // (the report before this one's)
+        if (carry) o.machine.startBoundaries = lastBoundaries(*last, o.machine);
         if (!resplit) continue;
-        const auto next = sequence.next(*report, k + 1);
+        const auto next = sequence.next(*last, k + 1);
         if (next) {
             o.machine.targetBoundaries = *next;
             afresh = sequence.startsAfresh();
@@ -89,7 +105,6 @@ EarlierFrames runEarlierFrames(int argc, char** argv, RtsimOptions& o) {
 
 void listFrames(nlohmann::json& report, nlohmann::json frames, int count) {
     frames.push_back(frameEntry(count, report));
-    for (auto& f : frames) f.erase("report");
     report["frames"] = frames;
 }
 

@@ -1,65 +1,99 @@
 #include "outputs.h"
 
 #include <cstdio>
-#include <optional>
+#include <fstream>
 #include <stdexcept>
 
-#include "output_file.h"
 #include "subprocess.h"
 #include "trace_writer.h"
 
 namespace rt {
 namespace {
 
-// --map: scripts/mesh_map.py draws the run's report (written to a
-// temporary file if the run writes none).
-void drawMap(const std::string& reportText, const std::string& reportPath, const std::string& out) {
-    const std::string path = reportPath.empty() ? makeTempFile("rtsim-map", reportText) : reportPath;
-    const int code = waitExit(spawn({"/usr/bin/python3", std::string(RT_SCRIPTS_DIR) + "/mesh_map.py", path, "-o", out}, true));
-    if (reportPath.empty()) std::remove(path.c_str());
+const std::string kMapScript = std::string(RT_SCRIPTS_DIR) + "/mesh_map.py";
+const std::vector<std::string> kMapFormats = {".png", ".svg", ".pdf"};
+
+// --map's format, from its name (checked before the run).
+std::string mapFormat(const std::string& path) {
+    const size_t dot = path.find_last_of('.');
+    std::string f = path.substr(dot + 1);
+    for (char& c : f) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return f;
+}
+
+// --map draws with Debian's Python and matplotlib: there before the run,
+// not found missing after it.
+void checkMapPython() {
+    const int code = waitExit(spawn({"/usr/bin/python3", "-c", "import matplotlib"}, false, "/dev/null"));
     if (code != 0)
-        throw std::runtime_error("--map: scripts/mesh_map.py failed (it needs /usr/bin/python3 and python3-matplotlib: "
-                                 "scripts/setup.sh)");
+        throw OutputError("--map: needs /usr/bin/python3 with python3-matplotlib (scripts/setup.sh installs them)");
 }
 
 }  // namespace
 
-void checkOutputs(const RtsimOptions& o) {
-    if (!o.image.empty()) checkWritable("--image", o.image);
-    if (!o.report.empty()) checkWritable("--report", o.report);
-    if (!o.map.empty()) checkWritable("--map", o.map);
+void checkOutputs(const RtsimOptions& o, std::vector<NamedFile> files) {
+    for (NamedFile& f : files) f.output = false;
+    auto output = [&](const std::string& flag, const std::string& path, const std::vector<std::string>& formats) {
+        if (path.empty()) return;
+        checkWritable(flag, path);
+        checkExtension(flag, path, formats);
+        files.push_back({flag, path, true});
+    };
+    output("--image", o.image, {".png"});
+    output("--report", o.report, {".json"});
+    output("--map", o.map, kMapFormats);
     if (!o.vcd.empty()) {
-        checkWritable("--vcd", o.vcd);
+        output("--vcd", o.vcd, {".vcd"});
         checkWritable("--vcd", gtkwPathFor(o.vcd));
+        files.push_back({"--vcd's .gtkw", gtkwPathFor(o.vcd), true});
+    }
+    checkDistinct(files);
+    if (!o.map.empty()) checkMapPython();
+}
+
+AtomicFile& RunOutputs::open(std::optional<AtomicFile>& f, const std::string& path) {
+    if (!f) f.emplace(path);
+    return *f;
+}
+
+std::string RunOutputs::vcdStream() { return o_.vcd.empty() ? "" : open(vcd_, o_.vcd).temp(); }
+
+void RunOutputs::image(const Image& image) {
+    if (!o_.image.empty()) writePng(image, open(image_, o_.image).temp());
+}
+
+void RunOutputs::report(const nlohmann::json& report) {
+    if (!o_.report.empty()) open(report_, o_.report).write(report.dump(2) + "\n");
+}
+
+void RunOutputs::gtkw(const std::string& text) {
+    if (!o_.vcd.empty() && !text.empty()) open(gtkw_, gtkwPathFor(o_.vcd)).write(text);
+}
+
+void RunOutputs::map(const nlohmann::json& report) {
+    if (o_.map.empty()) return;
+    // The report's temporary, or one of its own in /tmp.
+    std::optional<TempFile> own;
+    if (!report_) own.emplace("rtsim-map", ".json", report.dump());
+    const std::string from = report_ ? report_->temp() : own->path();
+    const TempFile log("rtsim-map", ".log");
+    const int code = waitExit(spawn({"/usr/bin/python3", kMapScript, from, "-o", open(map_, o_.map).temp(), "--format",
+                                     mapFormat(o_.map)},
+                                    true, log.path()));
+    if (code != 0) {
+        std::ifstream f(log.path());
+        std::string line, last;
+        while (std::getline(f, line))
+            if (!line.empty()) last = line;
+        throw std::runtime_error("--map: scripts/mesh_map.py failed: " + (last.empty() ? "exit " + std::to_string(code) : last));
     }
 }
 
-void writeReport(const std::string& path, const nlohmann::json& report) {
-    if (path.empty()) return;
-    AtomicFile f(path);
-    f.write(report.dump(2) + "\n");
-    f.commit();
-}
-
-void writeOutputs(const RtsimOptions& o, const Image& image, const nlohmann::json& report) {
-    std::optional<AtomicFile> imageFile, reportFile;
-    if (!o.image.empty()) {
-        imageFile.emplace(o.image);
-        writePng(image, imageFile->temp());
-    }
-    if (!o.report.empty()) {
-        reportFile.emplace(o.report);
-        reportFile->write(report.dump(2) + "\n");
-    }
-    if (imageFile) imageFile->commit();
-    if (reportFile) reportFile->commit();
-    if (!o.map.empty()) drawMap(o.report.empty() ? report.dump() : std::string(), o.report, o.map);
-}
-
-void removeFailedTrace(const std::string& vcd) {
-    if (vcd.empty()) return;
-    std::remove(vcd.c_str());
-    std::remove(gtkwPathFor(vcd).c_str());
+void RunOutputs::commit() {
+    // The VCD before its .gtkw, the report last: a report on disk means the
+    // outputs beside it are this run's.
+    for (std::optional<AtomicFile>* f : {&vcd_, &gtkw_, &image_, &map_, &report_})
+        if (*f) (*f)->commit();
 }
 
 }  // namespace rt

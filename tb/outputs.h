@@ -1,26 +1,49 @@
-// What a run writes: the image, the report, the mesh picture (--map), and
-// the VCD that the machine streams as it runs (models/vcd_stream.h). Each
-// output path is checked before the run (a path that cannot be written is
-// bad input, exit 2); the image and the report are written whole or not at
-// all, to a temporary file renamed over the path (sw/output_file.h).
+// What a run writes: the image, the report, the VCD and its .gtkw, the mesh
+// picture (--map), under the output policy of sw/output_file.h. Every
+// output is checked before the run (exit 2: a path that cannot be an
+// output, a name whose format is not the one written, two outputs naming
+// one file, an output naming an input, --map without its Python). During
+// the run each goes to a temporary file beside it (the VCD is streamed
+// into its own); commit() renames them all at the end. A run that fails
+// (exit 1) commits nothing, and leaves nothing: the temporaries go with
+// this object; a run stopped by the watchdog or a signal commits the
+// report and the VCD so far (marked incomplete inside).
 #pragma once
+#include <memory>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "image.h"
+#include "output_file.h"
 #include "rtsim_cli.h"
 
 namespace rt {
 
-// Throws OutputError for the first output path that cannot be written.
-void checkOutputs(const RtsimOptions& o);
-// The report (nothing if `path` is empty).
-void writeReport(const std::string& path, const nlohmann::json& report);
-// The image and the report, each renamed over its path once both are
-// written; then the mesh picture, drawn from the report.
-void writeOutputs(const RtsimOptions& o, const Image& image, const nlohmann::json& report);
-// A failed run leaves no waveform that looks like a result.
-void removeFailedTrace(const std::string& vcd);
+// Throws OutputError for the first output that cannot be written, or that
+// names the same file as another output or as one of `inputs`.
+void checkOutputs(const RtsimOptions& o, std::vector<NamedFile> inputs);
+
+class RunOutputs {
+public:
+    explicit RunOutputs(const RtsimOptions& o) : o_(o) {}
+    // Where the machine streams the VCD: a temporary beside --vcd (empty
+    // without --vcd).
+    std::string vcdStream();
+    void image(const Image& image);
+    void report(const nlohmann::json& report);
+    void gtkw(const std::string& text);
+    // scripts/mesh_map.py draws the report (call after report()).
+    void map(const nlohmann::json& report);
+    // Renames every temporary written over its path.
+    void commit();
+
+private:
+    AtomicFile& open(std::optional<AtomicFile>& f, const std::string& path);
+    const RtsimOptions& o_;
+    std::optional<AtomicFile> image_, report_, vcd_, gtkw_, map_;
+};
 
 }  // namespace rt

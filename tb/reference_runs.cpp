@@ -1,12 +1,13 @@
 #include "reference_runs.h"
 
 #include <chrono>
+#include <csignal>
 #include <optional>
-#include <string>
-#include <vector>
 
 #include "messages.h"
+#include "stops.h"
 #include "subprocess.h"
+#include "watchdog.h"
 
 namespace rt {
 namespace {
@@ -22,32 +23,43 @@ nlohmann::json comparison(const nlohmann::json& balanced, const nlohmann::json& 
             {"perfect_bound", unbalanced["bounds"]["perfect"]["fraction"]}};
 }
 
+bool stoppedCode(int code) { return code == 3 || code == 128 + SIGINT || code == 128 + SIGTERM; }
+
 }  // namespace
 
-double addReferenceRuns(nlohmann::json& report, int argc, char** argv, const RtsimOptions& o) {
+ReferenceRuns addReferenceRuns(nlohmann::json& report, const std::vector<std::string>& args, const RtsimOptions& o) {
+    ReferenceRuns out;
     const bool single = o.machine.dims == std::array<int, 3>{1, 1, 1};
-    double baselineNs = single ? report["render_time_ns"].get<double>() : -1;
+    if (single) out.baselineNs = report["render_time_ns"].get<double>();
     const std::string policy = o.machine.balance.policy;
     const bool base = o.baseline && !single, compare = o.baseline && o.machine.dims[size_t(o.machine.balance.axis)] > 1;
     if (base) msg::info("reference runs: the 1x1x1 baseline" + std::string(compare ? " and the balancing comparison" : "") + ", in child processes");
+    const OrderlyStops orderly;  // a stop is passed to them; the frame's outputs are still written
     const auto t0 = std::chrono::steady_clock::now();
     std::optional<Child> baseRun, otherRun;
-    if (base) baseRun.emplace(argc, argv, std::vector<std::string>{"--as-baseline"});
-    if (compare) otherRun.emplace(argc, argv, std::vector<std::string>{"--as-comparison", "--balance", policy == "none" ? "default" : "none"});
+    if (base) baseRun.emplace(args, std::vector<std::string>{"--as-baseline"});
+    if (compare) otherRun.emplace(args, std::vector<std::string>{"--as-comparison", "--balance", policy == "none" ? "default" : "none"});
     const std::optional<nlohmann::json> baseReport = baseRun ? baseRun->report() : std::nullopt;
     const std::optional<nlohmann::json> other = otherRun ? otherRun->report() : std::nullopt;
+    std::string stopped;
+    for (auto& [run, what] : {std::pair{&baseRun, "the 1x1x1 baseline"}, std::pair{&otherRun, "the balancing comparison"}})
+        if (*run && stoppedCode((*run)->exitCode())) {
+            stopped += (stopped.empty() ? "" : " and ") + std::string(what);
+            out.stopCode = stopSignal ? 128 + int(stopSignal) : (*run)->exitCode();
+        }
+    if (!stopped.empty()) report["reference_runs_stopped"] = stopped + (out.stopCode == 3 ? " (the watchdog)" : " (a signal)");
     if (base) {
         report["baseline"]["wall_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        if (baseReport) baselineNs = (*baseReport)["render_time_ns"].get<double>();
-        else msg::warning(msg::kReference, "the 1x1x1 baseline run failed; no speed-up");
+        if (baseReport) out.baselineNs = (*baseReport)["render_time_ns"].get<double>();
+        else if (!out.stopCode) msg::warning(msg::kReference, "the 1x1x1 baseline run failed; no speed-up");
     }
-    if (baselineNs > 0) {
-        report["baseline"]["render_time_ns"] = baselineNs;
-        report["baseline"]["speedup"] = baselineNs / report["render_time_ns"].get<double>();
+    if (out.baselineNs > 0) {
+        report["baseline"]["render_time_ns"] = out.baselineNs;
+        report["baseline"]["speedup"] = out.baselineNs / report["render_time_ns"].get<double>();
     }
-    if (compare && !other) msg::warning(msg::kReference, "the balancing comparison run failed; no ratio");
+    if (compare && !other && !out.stopCode) msg::warning(msg::kReference, "the balancing comparison run failed; no ratio");
     if (other) report["comparison"] = policy == "none" ? comparison(*other, report) : comparison(report, *other);
-    return baselineNs;
+    return out;
 }
 
 }  // namespace rt

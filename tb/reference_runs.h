@@ -4,15 +4,24 @@
 // balance, no balancing if it does: the paper's Fig. 4 ratio, beside its
 // bound). --no-baseline skips both.
 #pragma once
+#include <string>
+#include <vector>
+
 #include <nlohmann/json.hpp>
 
 #include "rtsim_cli.h"
 
 namespace rt {
 
-// Adds `baseline` and `comparison` to `report` (the run's); returns the
-// 1x1x1 run's render time in ns (<= 0: none). A reference run that fails is
-// a warning, not an error.
-double addReferenceRuns(nlohmann::json& report, int argc, char** argv, const RtsimOptions& o);
+struct ReferenceRuns {
+    double baselineNs = -1;  // the 1x1x1 run's render time in ns (<= 0: none)
+    // A stop while they ran (the wall-clock limit: 3; a signal: 128 + N):
+    // the report says which was stopped (reference_runs_stopped); 0: none.
+    int stopCode = 0;
+};
+
+// Adds `baseline` and `comparison` to `report` (the run's). A reference run
+// that fails is a warning, not an error.
+ReferenceRuns addReferenceRuns(nlohmann::json& report, const std::vector<std::string>& args, const RtsimOptions& o);
 
 }  // namespace rt

@@ -1,52 +1,56 @@
 #include "rerun.h"
 
-#include "subprocess.h"
-
 #include <openssl/evp.h>
 
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 #include <stdexcept>
+
+#include "command_line.h"
+#include "config_echo.h"
+#include "config_file.h"
+#include "json_input.h"
 
 namespace rt {
 namespace {
 
-// Not part of what a run computes: where it writes, and the flags the
-// parent process gives its reference runs.
-bool isOutput(const std::string& name) {
-    for (const char* o : {"image", "report", "vcd", "quiet", "verbose", "map", "config", "rerun", "as-frame", "as-baseline",
-                          "as-comparison", "frame-index", "targets-from"})
-        if (name == o) return true;
-    return false;
-}
+using json = nlohmann::json;
 
-bool takesNoValue(const std::string& arg) {
-    return arg == "-q" || arg == "--quiet" || arg == "--verbose" || (arg.size() >= 2 && arg[0] == '-' && arg[1] == 'v' &&
-                                                                     arg.find_first_not_of('v', 1) == std::string::npos);
-}
+// A report, with the per-interval history bounded, is a few MB; one of a
+// long --frames sequence at N = 16 some hundreds.
+constexpr uintmax_t kMaxReportBytes = uintmax_t(1) << 30;
+
+std::string absolutePath(const std::string& p) { return std::filesystem::absolute(p).lexically_normal().string(); }
 
 }  // namespace
 
 std::string flagsGiven(const CLI::App& app) {
-    std::istringstream all(app.config_to_str(false, false));
-    std::string line, out;
-    while (std::getline(all, line)) {
-        const size_t eq = line.find('=');
-        if (eq == std::string::npos) continue;
-        const std::string name = line.substr(0, eq);
-        if (isOutput(name)) continue;
-        if (name == "scene" || name == "boundaries-from") {  // files: by absolute path
-            const std::string path = app.get_option("--" + name)->as<std::string>();
-            line = name + "=" + nlohmann::json(std::filesystem::absolute(path).lexically_normal().string()).dump();
+    // In the order CLI11's config_to_str writes them (group by group, the
+    // unnamed group first), which reports have always used.
+    std::vector<std::string> groups = app.get_groups();
+    groups.insert(groups.begin(), "Options");
+    std::string out;
+    bool unnamedDone = false;
+    for (const std::string& group : groups) {
+        const bool unnamed = group == "Options" || group.empty();
+        if (unnamed && unnamedDone) continue;
+        unnamedDone = unnamedDone || unnamed;
+        for (const CLI::Option* opt : app.get_options({})) {
+            if (!opt->get_configurable() || !(opt->get_group() == group || (unnamed && opt->get_group().empty()))) continue;
+            const std::string name = opt->get_single_name();
+            std::vector<std::string> values = opt->reduced_results();
+            if (values.empty() || isOutputOrInternal(name)) continue;
+            if (name == "scene" || name == "boundaries-from") values = {absolutePath(values.front())};  // files: by absolute path
+            out += configLine(name, values) + "\n";
         }
-        out += line + "\n";
     }
     return out;
 }
 
 std::string sha256OfFile(const std::string& path) {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec)) throw std::runtime_error(path + ": not a regular file");  // (/dev/zero never ends)
     std::ifstream f(path, std::ios::binary);
     if (!f) throw std::runtime_error(path + ": cannot read");
     EVP_MD_CTX* ctx = EVP_MD_CTX_new();
@@ -66,85 +70,72 @@ std::string sha256OfFile(const std::string& path) {
     return hex;
 }
 
-Rerun::Rerun(Rerun&& o) noexcept
-    : report(std::move(o.report)), configPath(std::move(o.configPath)), args(std::move(o.args)), overrides(o.overrides) {
-    o.configPath.clear();
-}
-
-Rerun& Rerun::operator=(Rerun&& o) noexcept {
-    if (this != &o) {
-        if (!configPath.empty()) std::remove(configPath.c_str());
-        report = std::move(o.report);
-        configPath = std::move(o.configPath);
-        args = std::move(o.args);
-        overrides = o.overrides;
-        o.configPath.clear();
-    }
-    return *this;
-}
-
-Rerun::~Rerun() {
-    if (!configPath.empty()) std::remove(configPath.c_str());
-}
-
-std::optional<Rerun> prepareRerun(int argc, char** argv) {
-    std::string path;
-    std::vector<std::string> rest;
-    bool config = false;
-    for (int i = 1; i < argc; ++i) {
-        const std::string a = argv[i];
-        if (a == "--rerun" || a.rfind("--rerun=", 0) == 0) {
-            if (a == "--rerun" && i + 1 >= argc) throw std::invalid_argument("--rerun: expected a report (REPORT.json)");
-            path = a == "--rerun" ? argv[++i] : a.substr(8);
-            continue;
-        }
-        if (a == "--config" || a.rfind("--config=", 0) == 0) config = true;
-        rest.push_back(a);
-    }
-    if (path.empty()) return std::nullopt;
-    if (config) throw std::invalid_argument("--rerun: cannot be combined with --config (give the flags to change instead)");
-    std::error_code ec;
-    if (!std::filesystem::is_regular_file(path, ec)) throw std::invalid_argument("--rerun: not a regular file: '" + path + "'");
-    if (std::filesystem::file_size(path, ec) > (uintmax_t(1) << 30))
-        throw std::invalid_argument("--rerun: '" + path + "' is larger than 1 GB");
-    Rerun r;
+Rerun readRerun(const std::string& path) {
+    json report;
     try {
-        std::ifstream f(path);
-        r.report = nlohmann::json::parse(f);
-    } catch (const std::exception&) {
-        throw std::invalid_argument("--rerun: " + path + ": not a JSON report");
+        report = readJsonFile(path, kMaxReportBytes);
+    } catch (const JsonInputError& e) {
+        throw JsonInputError("--rerun " + std::string(e.what()));
     }
-    if (!r.report.is_object() || !r.report.contains("rerun") || !r.report["rerun"].contains("flags") ||
-        !r.report["rerun"]["flags"].is_string())
-        throw std::invalid_argument("--rerun: " + path + ": no rerun.flags (not an rtsim report, or one from before they were recorded)");
-    // The scene file must be the one the report's run read.
-    const nlohmann::json& scene = r.report["config"]["scene"];
+    return rerunOf(std::move(report), path);
+}
+
+Rerun rerunOf(json report, const std::string& path) {
+    const std::string origin = "--rerun " + path;
+    using T = json::value_t;
+    if (!report.is_object()) throw JsonInputError(origin + ": not an rtsim report (not a JSON object)");
+    if (!hasJsonField(report, "rerun.flags"))
+        throw JsonInputError(origin + ": rerun.flags: missing (not an rtsim report, or one from before they were recorded)");
+    jsonField(report, "rerun.flags", T::string, origin);
+    if (hasJsonField(report, "rerun.version")) jsonField(report, "rerun.version", T::string, origin);
+    const json& scene = jsonField(report, "config.scene", T::object, origin);
     if (scene.contains("file")) {
-        const std::string file = scene["file"].get<std::string>();
-        std::string now;
-        try {
-            now = sha256OfFile(file);
-        } catch (const std::exception& e) {
-            throw std::invalid_argument("--rerun: the report's scene " + std::string(e.what()));
-        }
-        if (now != scene["sha256"].get<std::string>())
-            throw std::invalid_argument("--rerun: the scene " + file + " has changed since " + path + " was written (sha256 " +
-                                        now.substr(0, 12) + "..., was " + scene["sha256"].get<std::string>().substr(0, 12) + "...)");
+        jsonField(report, "config.scene.file", T::string, origin);
+        const std::string sha = jsonField(report, "config.scene.sha256", T::string, origin).get<std::string>();
+        if (sha.size() != 64 || sha.find_first_not_of("0123456789abcdef") != std::string::npos)
+            throw JsonInputError(origin + ": config.scene.sha256: not a SHA-256 in hex");
     }
-    r.configPath = makeTempFile("rtsim-rerun", r.report["rerun"]["flags"].get<std::string>());
-    r.args = {"--config", r.configPath};
-    for (size_t i = 0; i < rest.size(); ++i) {
-        r.args.push_back(rest[i]);
-        std::string name = rest[i].rfind("--", 0) == 0 ? rest[i].substr(2) : "";
-        name = name.substr(0, name.find('='));
-        if (takesNoValue(rest[i])) continue;
-        if (isOutput(name)) {
-            if (rest[i].find('=') == std::string::npos && i + 1 < rest.size()) r.args.push_back(rest[++i]);  // its value
-            continue;
-        }
-        if (rest[i].rfind("-", 0) == 0) r.overrides = true;
-    }
+    Rerun r;
+    r.path = path;
+    r.rerun = {{"flags", report["rerun"]["flags"]}, {"version", report["rerun"].value("version", "an unknown build")}};
+    r.config = std::move(report["config"]);
     return r;
+}
+
+bool isSceneFlag(const std::string& name) {
+    for (const char* s : {"scene", "spheres", "radius", "concentration", "seed", "axis"})
+        if (name == s) return true;
+    return false;
+}
+
+void checkRerunSceneFile(const Rerun& r, const SceneOptions& scene) {
+    const json& recorded = r.config["scene"];
+    const std::string origin = "--rerun " + r.path + ": ";
+    if (scene.file.empty()) {
+        if (recorded.contains("file")) throw std::invalid_argument(origin + "its flags name no scene file, config.scene names one");
+        return;
+    }
+    if (!recorded.contains("file"))
+        throw std::invalid_argument(origin + "its flags name the scene " + scene.file + ", config.scene names none");
+    const std::string file = recorded["file"].get<std::string>(), sha = recorded["sha256"].get<std::string>();
+    if (absolutePath(scene.file) != file)
+        throw std::invalid_argument(origin + "its flags name the scene " + scene.file + ", config.scene " + file);
+    std::string now;
+    try {
+        now = sha256OfFile(scene.file);
+    } catch (const std::exception& e) {
+        throw std::invalid_argument(origin + "the report's scene " + e.what());
+    }
+    if (now != sha)
+        throw std::invalid_argument(origin + "the scene " + file + " has changed since the report was written (sha256 " +
+                                    now.substr(0, 12) + "..., was " + sha.substr(0, 12) + "...)");
+}
+
+std::string rerunSceneDifference(const Rerun& r, const json& config) {
+    json there = json::object(), here = json::object();
+    there["scene"] = r.config["scene"];
+    here["scene"] = config["scene"];
+    return firstDifference(there, here);
 }
 
 }  // namespace rt

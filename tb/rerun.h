@@ -7,40 +7,54 @@
 // with no flags of its own checks that it arrives at the same `config` (a
 // default changed since, or a scene file edited, is an error, not a
 // different run under the same name).
+//
+// A report is data people pass around, so a rerun trusts none of it
+// (doc/robustness.md, "Trust"): the fields it reads are type-checked, its
+// flags may not name an output or start a program (tb/command_line.h), and
+// the scene a rerun loads is the one the report records, by path and
+// SHA-256 (checked before the file is parsed) and by every parameter in
+// `config.scene`, what-ifs included, unless the command line itself
+// names another scene.
 #pragma once
-#include <optional>
+#include <set>
 #include <string>
-#include <vector>
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "rtsim_cli.h"
+#include "scene.h"
+
 namespace rt {
 
-// The flags given to `app` as a config file CLI11 reads back (--config),
-// without outputs (--image --report --vcd -q --map) and internal flags.
+// The flags given to `app` (config_file.h's form), without outputs and
+// internal flags.
 std::string flagsGiven(const CLI::App& app);
 
 // SHA-256 of a file's bytes, in hex; throws std::runtime_error if unreadable.
 std::string sha256OfFile(const std::string& path);
 
 struct Rerun {
-    nlohmann::json report;          // the report being rerun
-    std::string configPath;         // its flags, written to a temporary config file (removed by the destructor)
-    std::vector<std::string> args;  // the command line to parse: --config configPath, then the flags given after --rerun
-    bool overrides = false;         // flags other than outputs given with --rerun
-    Rerun() = default;
-    Rerun(Rerun&& o) noexcept;  // (the file has one owner)
-    Rerun(const Rerun&) = delete;
-    Rerun& operator=(const Rerun&) = delete;
-    Rerun& operator=(Rerun&& o) noexcept;
-    ~Rerun();
+    std::string path;            // the report given
+    nlohmann::json rerun;        // its `rerun` (flags, version)
+    nlohmann::json config;       // its `config`
+    bool overrides = false;      // flags other than outputs given with --rerun
 };
 
-// If the command line has --rerun FILE: FILE read (a regular file of at
-// most 1 GB, a report of rtsim with `rerun.flags`) and the arguments to
-// parse instead; nothing otherwise. Throws std::invalid_argument with a
-// one-line message naming what is wrong (exit 2).
-std::optional<Rerun> prepareRerun(int argc, char** argv);
+// Reads REPORT.json (a regular file of at most 1 GB, JSON within limits,
+// `rerun.flags` a string, `config.scene` an object). Throws
+// std::invalid_argument naming the field (exit 2).
+Rerun readRerun(const std::string& path);
+// The same checks on a report already read (`path` names it in errors).
+Rerun rerunOf(nlohmann::json report, const std::string& path);
+
+// The flags that choose the scene (config.scene's fields).
+bool isSceneFlag(const std::string& name);
+
+// Before the scene is read: the file the flags name is the report's, by
+// path and SHA-256 (or neither names a file). Throws std::invalid_argument.
+void checkRerunSceneFile(const Rerun& r, const SceneOptions& scene);
+// After: this run's config.scene is the report's; "" or the difference.
+std::string rerunSceneDifference(const Rerun& r, const nlohmann::json& config);
 
 }  // namespace rt

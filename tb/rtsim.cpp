@@ -11,6 +11,7 @@
 // machine itself (models/machine.h), the reference runs
 // (reference_runs.h), the outputs (outputs.h) and the summary (summary.h).
 #include <signal.h>
+#include <sys/prctl.h>
 #include <unistd.h>
 
 #include <cstdlib>
@@ -23,14 +24,18 @@
 #include <systemc>
 
 #include "between_frames.h"
+#include "binning_memory.h"
+#include "command_line.h"
 #include "config_echo.h"
 #include "frame_sequence.h"
+#include "grid.h"
 #include "machine.h"
 #include "memory_estimate.h"
 #include "messages.h"
 #include "output_file.h"
 #include "outputs.h"
 #include "reference_runs.h"
+#include "stops.h"
 #include "report.h"
 #include "rerun.h"
 #include "rtsim_cli.h"
@@ -59,8 +64,9 @@ namespace {
 // run go on returns nothing.
 using Stop = std::optional<int>;
 
-// The command line (or a report's, with --rerun): parsed and checked.
-Stop readCommandLine(CLI::App& app, rt::RtsimOptions& o, std::optional<rt::Rerun>& rerun, int argc, char** argv) {
+// The command line, with the flags of its --config files or --rerun report
+// before it (command_line.h): parsed and checked.
+Stop readCommandLine(CLI::App& app, rt::RtsimOptions& o, rt::CommandLine& cl, int argc, char** argv) {
     // (The level --verbose gives, before parsing: a bad flag says its ID too.)
     int verbose = 0;
     for (int i = 1; i < argc; ++i) {
@@ -71,30 +77,21 @@ Stop readCommandLine(CLI::App& app, rt::RtsimOptions& o, std::optional<rt::Rerun
     }
     rt::msg::install(verbose);
     try {
-        rerun = rt::prepareRerun(argc, argv);
+        cl = rt::assembleCommandLine(argc, argv);
     } catch (const std::exception& e) {
         rt::msg::error(rt::msg::kConfig, e.what());
         return 2;
     }
     try {
-        if (rerun) {
-            std::vector<std::string> args{argv[0]};
-            args.insert(args.end(), rerun->args.begin(), rerun->args.end());
-            std::vector<char*> av;
-            for (std::string& a : args) av.push_back(a.data());
-            app.parse(int(av.size()), av.data());
-        } else {
-            app.parse(argc, argv);
-        }
+        std::vector<std::string> reversed(cl.args.rbegin(), cl.args.rend() - 1);  // (CLI11 takes them reversed, without argv[0])
+        app.parse(reversed);
         o.finish();
         rt::msg::install(o.verbose);  // (0 in a reference run)
+        rt::setWallLimit(o.machine.watchdogWall);
     } catch (const CLI::CallForHelp& e) {
         return app.exit(e);
-    } catch (const CLI::FileError& e) {
-        rt::msg::error(rt::msg::kConfig, std::string("--config: ") + e.what());
-        return 2;
     } catch (const CLI::ParseError& e) {
-        rt::msg::error(rt::msg::kConfig, e.what());
+        rt::msg::error(rt::msg::kConfig, cl.originOf(e.what()) + e.what());
         return 2;
     }
     return std::nullopt;
@@ -102,11 +99,13 @@ Stop readCommandLine(CLI::App& app, rt::RtsimOptions& o, std::optional<rt::Rerun
 
 // The outputs checked (before the run, not after it), the scene read, the
 // image's size checked against the machine's memory.
-Stop loadScene(rt::RtsimOptions& o, rt::Scene& scene) {
+Stop loadScene(rt::RtsimOptions& o, const rt::CommandLine& cl, rt::Scene& scene) {
     try {
-        rt::checkOutputs(o);
+        rt::checkOutputs(o, cl.inputs(o));
+        if (cl.rerun && !cl.givesScene()) rt::checkRerunSceneFile(*cl.rerun, o.scene);  // (before the file is parsed)
         scene = o.scene.load();
         o.scene.imageSize(scene, o.machine.width, o.machine.height);
+        o.machine.checkDerivedTimes(scene.objects.size());  // (std::invalid_argument: exit 2 naming the flags)
         try {
             rt::refuseIfTooBig("--size " + std::to_string(o.machine.width) + "x" + std::to_string(o.machine.height),
                                rt::kRtsimBytesPerPixel * o.machine.width * o.machine.height);
@@ -119,7 +118,7 @@ Stop loadScene(rt::RtsimOptions& o, rt::Scene& scene) {
     } catch (const rt::SceneError& e) {
         rt::msg::error(rt::msg::kScene, e.what());
         return 2;
-    } catch (const std::exception& e) {  // --size
+    } catch (const std::exception& e) {  // --size, --rerun's scene
         rt::msg::error(rt::msg::kConfig, e.what());
         return 2;
     }
@@ -131,20 +130,24 @@ Stop loadScene(rt::RtsimOptions& o, rt::Scene& scene) {
 
 // Every setting as this run uses it (the report's `config`); a rerun
 // without flags of its own must arrive at the report's.
-Stop echoConfig(const rt::RtsimOptions& o, const rt::Scene& scene, const std::optional<rt::Rerun>& rerun,
-                nlohmann::json& config) {
+Stop echoConfig(const rt::RtsimOptions& o, const rt::Scene& scene, const rt::CommandLine& cl, nlohmann::json& config) {
     try {
         config = rt::configEcho(o, scene);
     } catch (const std::exception& e) {
         rt::msg::error(rt::msg::kScene, e.what());
         return 2;
     }
-    if (rerun && !rerun->overrides && !o.asBaseline && !o.asComparison && !o.asFrame) {  // (a reference run differs by design)
-        const std::string differs = rt::firstDifference(rerun->report["config"], config);
+    if (!cl.rerun || o.asBaseline || o.asComparison || o.asFrame) return std::nullopt;  // (a reference run differs by design)
+    const std::string where = "--rerun " + cl.rerun->path + ": ";
+    if (cl.rerun->overrides) {  // a what-if: of the report's scene, unless the command line names another
+        const std::string differs = cl.givesScene() ? "" : rt::rerunSceneDifference(*cl.rerun, config);
         if (!differs.empty()) {
-            rt::msg::error(rt::msg::kConfig, "--rerun: this build arrives at other settings than the report's: " + differs);
+            rt::msg::error(rt::msg::kConfig, where + "its flags give another scene than its config.scene records: " + differs);
             return 2;
         }
+    } else if (const std::string differs = rt::firstDifference(cl.rerun->config, config); !differs.empty()) {
+        rt::msg::error(rt::msg::kConfig, where + "this run arrives at other settings than the report's: " + differs);
+        return 2;
     }
     return std::nullopt;
 }
@@ -175,11 +178,31 @@ Stop startBoundaries(rt::RtsimOptions& o) {
     return std::nullopt;
 }
 
+// The scene binned into the nodes' grids must fit the machine's memory
+// (models/binning_memory.h): refused with the estimate, not a bad_alloc.
+Stop checkMemory(const rt::RtsimOptions& o, const rt::Scene& scene) {
+    try {
+        const rt::BinningSize b = rt::binningSize(scene, o.machine);
+        const std::string what = (o.scene.file.empty() ? std::string("the scene") : "--scene " + o.scene.file) + ": its " +
+                                 std::to_string(scene.objects.size()) + " objects binned into the " +
+                                 std::to_string(o.machine.nodeCount()) + " nodes' grids";
+        if (b.largestGrid > double(rt::UniformGrid::kMaxReferences))
+            throw rt::SceneError(what + ": a grid of " + std::to_string(uint64_t(b.largestGrid)) +
+                                 " references (objects listed in cells), more than a grid holds (2^32 - 1)");
+        rt::refuseIfTooBig(what, b.bytes + rt::kRtsimBytesPerPixel * o.machine.width * o.machine.height);
+        rt::msg::info("the nodes' grids at the frame's start: about " + std::to_string(int(b.bytes / (1 << 20))) + " MiB");
+    } catch (const rt::SceneError& e) {
+        rt::msg::error(rt::msg::kScene, e.what());
+        return 2;
+    } catch (const std::exception& e) {  // (start boundaries that do not fit: the run says so)
+    }
+    return std::nullopt;
+}
+
 void sayWhatRuns(const rt::RtsimOptions& o, const std::optional<rt::Rerun>& rerun, const rt::Scene& scene) {
     if (rerun)
-        rt::msg::info("running again the flags of a report written by " +
-                      rerun->report["rerun"].value("version", std::string("an unknown build")) + " (this is " RTSIM_VERSION ")" +
-                      (rerun->overrides ? ", with the flags given after --rerun on top" : ""));
+        rt::msg::info("running again the flags of a report written by " + rerun->rerun["version"].get<std::string>() +
+                      " (this is " RTSIM_VERSION ")" + (rerun->overrides ? ", with the flags given after --rerun on top" : ""));
     const rt::MachineConfig& m = o.machine;
     rt::msg::info((m.lookaheadQuantum ? "quantum: each process's lookahead (the smallest " + rt::formatTime(m.lookahead()) + ")"
                                       : "quantum " + rt::formatTime(m.quantum) + " (lookahead " +
@@ -188,73 +211,90 @@ void sayWhatRuns(const rt::RtsimOptions& o, const std::optional<rt::Rerun>& reru
                   " of simulated time without progress");
 }
 
-// A run the watchdog or a signal stopped: its report so far (the VCD is written).
-int stopped(const rt::RtsimOptions& o, const nlohmann::json& report, const std::string& why) {
-    rt::writeReport(o.report, report);
-    if (rt::stopSignal) {  // Ctrl-C or kill: as a shell reports a signal, 128 + its number
-        rt::msg::note(rt::msg::kSignal, why);
-        return 128 + int(rt::stopSignal);
-    }
-    rt::msg::error(rt::msg::kWatchdog, "watchdog: " + why);
-    return 3;
+// How a stopped run ends (its report so far written): 3 for the watchdog,
+// 128 + N for signal N (as a shell reports one).
+int stopped(int code, const std::string& why) {
+    if (code == 3) rt::msg::error(rt::msg::kWatchdog, "watchdog: " + why);
+    else rt::msg::note(rt::msg::kSignal, why);
+    return code;
 }
 
 // The frames before the last, the last one, the reference runs, the outputs.
-int run(int argc, char** argv, const CLI::App& app, rt::RtsimOptions& o, const std::optional<rt::Rerun>& rerun,
-        const rt::Scene& scene, const nlohmann::json& config) {
-    const rt::EarlierFrames earlier = rt::runEarlierFrames(argc, argv, o);
+int run(const rt::CommandLine& cl, const CLI::App& app, rt::RtsimOptions& o, const rt::Scene& scene,
+        const nlohmann::json& config, rt::RunOutputs& out) {
+    const rt::EarlierFrames earlier = rt::runEarlierFrames(cl.args, o);
     if (earlier.stopped) {
-        rt::writeReport(o.report, *earlier.stopped);
-        return 3;
+        out.report(*earlier.stopped);
+        out.commit();
+        if (earlier.childSaid) return earlier.exitCode;
+        return stopped(earlier.exitCode, (*earlier.stopped)["incomplete"].get<std::string>());
     }
+    o.machine.vcdPath = out.vcdStream();  // (renamed to --vcd at the end)
+    o.machine.vcdName = o.vcd;
     const rt::MachineResult r = rt::runMachine(scene, o.machine);
+    const rt::OrderlyStops orderly;  // from here on a stop still writes the frame's outputs
     nlohmann::json report = rt::machineReport(r, o.machine);
     report["config"] = config;
     report["rerun"] = {{"flags", rt::flagsGiven(app)}, {"version", RTSIM_VERSION}};
-    if (rerun) report["rerun"]["of"] = rerun->report["rerun"];  // what it reran
+    if (cl.rerun) report["rerun"]["of"] = cl.rerun->rerun;  // what it reran (its flags and version)
     if (o.frames > 1) rt::listFrames(report, earlier.frames, o.frames);
-    if (!r.incomplete.empty()) return stopped(o, report, r.incomplete);
-    const double baselineNs = rt::addReferenceRuns(report, argc, argv, o);
-    rt::writeOutputs(o, r.image, report);
-    if (!o.quiet) rt::printSummary(scene, o, r, report, baselineNs);
+    out.gtkw(r.gtkw);
+    if (!r.incomplete.empty()) {  // the watchdog or a signal: the report and VCD so far
+        out.report(report);
+        out.commit();
+        return stopped(rt::stopSignal ? 128 + int(rt::stopSignal) : 3, r.incomplete);
+    }
+    const rt::ReferenceRuns ref = rt::addReferenceRuns(report, cl.args, o);
+    out.image(r.image);
+    out.report(report);
+    out.map(report);
+    out.commit();
+    if (rt::stopSignal || ref.stopCode)
+        return stopped(rt::stopSignal ? 128 + int(rt::stopSignal) : ref.stopCode,
+                       "the frame is done and written; its reference runs were stopped");
+    if (!o.quiet) rt::printSummary(scene, o, r, report, ref.baselineNs);
     return 0;
 }
 
 }  // namespace
 
 int sc_main(int argc, char** argv) {
-    CLI::App app{"rtsim: a SystemC model of the sliding-boundary ray-tracing multicomputer (one frame, or a sequence with --frames)"};
+    CLI::App app{"rtsim: a SystemC model of the sliding-boundary ray-tracing multicomputer (one frame, or a sequence with --frames)",
+                 "rtsim"};
     rt::RtsimOptions o;
     o.addTo(app);
-    std::optional<rt::Rerun> rerun;  // --rerun REPORT.json: its flags, then those given after (rerun.h)
+    rt::CommandLine cl;  // the flags of --config files or a --rerun report, then the command line's
     rt::Scene scene;
     nlohmann::json config;
-    if (Stop s = readCommandLine(app, o, rerun, argc, argv)) return *s;
-    if (Stop s = loadScene(o, scene)) return *s;
-    if (Stop s = echoConfig(o, scene, rerun, config)) return *s;
+    if (Stop s = readCommandLine(app, o, cl, argc, argv)) return *s;
+    if (Stop s = loadScene(o, cl, scene)) return *s;
+    if (Stop s = echoConfig(o, scene, cl, config)) return *s;
     if (Stop s = startBoundaries(o)) return *s;
-    sayWhatRuns(o, rerun, scene);
+    if (Stop s = checkMemory(o, scene)) return *s;
+    sayWhatRuns(o, cl.rerun, scene);
     o.machine.showProgress = !o.quiet && isatty(2);
+    rt::RunOutputs out(o);  // each to a temporary file until the end (outputs.h)
     try {
-        return run(argc, argv, app, o, rerun, scene, config);
+        return run(cl, app, o, scene, config, out);
     } catch (const std::exception& e) {
         rt::msg::error(rt::msg::kRun, e.what());
-        rt::removeFailedTrace(o.vcd);
-        return 1;
+        return 1;  // (nothing committed; `out` removes its temporaries)
     }
 }
 
-extern "C" void onStopSignal(int sig) { rt::stopSignal = sig; }
-
 int main(int argc, char** argv) {
     setenv("SYSTEMC_DISABLE_COPYRIGHT_MESSAGE", "1", 0);
-    // Ctrl-C (or SIGTERM) stops the run at the watchdog's next wake, with
-    // the report and VCD so far; a second one ends it at once.
-    struct sigaction stop {};
-    stop.sa_handler = onStopSignal;
-    stop.sa_flags = SA_RESETHAND;
-    sigaction(SIGINT, &stop, nullptr);
-    sigaction(SIGTERM, &stop, nullptr);
+    // Ctrl-C, SIGTERM and --watchdog-wall wherever rtsim is (stops.h).
+    rt::installStopHandlers();
+    // A child run (a reference run, an earlier frame) ends with its parent.
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        if (a == "--as-frame" || a == "--as-baseline" || a == "--as-comparison") {
+            prctl(PR_SET_PDEATHSIG, SIGTERM);
+            if (getppid() == 1) return 128 + SIGTERM;  // (it died before that)
+            break;
+        }
+    }
     // A SystemC warning is a failed run, not a line to scroll past.
     sc_core::sc_report_handler::set_actions(sc_core::SC_WARNING, sc_core::SC_DISPLAY | sc_core::SC_THROW);
     // The host ends the frame with sc_stop(); that is not news.

@@ -7,9 +7,9 @@
 
 namespace rt {
 namespace {
-// A --config file is a few dozen lines; a report, with the per-interval
-// history bounded, a few MB.
-constexpr uintmax_t kMaxConfigBytes = 1 << 20, kMaxReportBytes = uintmax_t(1) << 30;
+// A report given to --boundaries-from: with the per-interval history
+// bounded, a few MB (tb/rerun.cpp reads --rerun's).
+constexpr uintmax_t kMaxReportBytes = uintmax_t(1) << 30;
 const std::string gm = "Machine", gc = "Costs", gl = "Links", go = "Outputs", gb = "Balancing (sliding boundaries)",
                   gf = "Frames";
 
@@ -73,11 +73,10 @@ void RtsimOptions::addTo(CLI::App& app) {
     addBalanceFlags(app);
     addOutputFlags(app);
     addFrameFlags(app);
-    // A regular file of bounded size: CLI11 reads it whole, so /dev/urandom
-    // or a fifo would never end.
-    app.set_config("--config", "", "read flags from a file (INI/TOML: name = value, one per line)")
-        ->check(regularFileAtMost(kMaxConfigBytes));
-    app.allow_config_extras(CLI::config_extras_mode::error);  // a misspelt name is an error, not ignored
+    // (Read before parsing, tb/command_line.h; here for --help.)
+    app.add_option("--config", configs_,
+                   "read flags from a file: name = value, one per line (repeatable: the files in order, then the "
+                   "command line; the last value of a flag wins)");
 }
 
 void RtsimOptions::addMachineFlags(CLI::App& app) {
@@ -294,6 +293,15 @@ void RtsimOptions::finish() {
         const std::string msg = e.what();
         const size_t colon = msg.find(':');
         throw CLI::ValidationError(msg.substr(0, colon), msg.substr(colon + 2));
+    }
+}
+
+void RtsimOptions::checkAlone() {
+    try {
+        readSpecs();
+        setQuantum();
+    } catch (const OptionError& e) {
+        throw CLI::ValidationError(e.flag, e.what());
     }
 }
 

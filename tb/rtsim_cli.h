@@ -36,6 +36,9 @@ struct RtsimOptions {
     // After parsing: fills `machine` (mesh, size) and validates it; throws
     // CLI::ValidationError naming the flag.
     void finish();
+    // The checks of finish() that need no other flag (a --config line's
+    // value, checked alone: tb/command_line.h).
+    void checkAlone();
 
 private:
     void addMachineFlags(CLI::App& app);
@@ -51,7 +54,8 @@ private:
     std::vector<std::string> nodeCostSpecs_, linkSpecs_, traceSpecs_, traceLinkSpecs_;
     std::string traceWindow_;
     bool noGuard_ = false, noBaseline_ = false;
-    std::string rerun_;  // --rerun: handled before parsing (rerun.h)
+    std::string rerun_;                 // --rerun: handled before parsing (command_line.h)
+    std::vector<std::string> configs_;  // --config: likewise
     std::string quantum_ = "lookahead";  // --quantum: a time, or the lookahead
 };
 

@@ -1,27 +1,70 @@
 #include "subprocess.h"
 
 #include <fcntl.h>
+#include <signal.h>
 #include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cerrno>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <stdexcept>
 
-namespace rt {
+#include "json_input.h"
+#include "output_file.h"
+#include "stops.h"
 
-std::string makeTempFile(const std::string& prefix, const std::string& text) {
-    std::string path = "/tmp/" + prefix + "-XXXXXX";
-    const int fd = mkstemp(path.data());
-    if (fd < 0) throw std::runtime_error("cannot create a temporary file in /tmp");
-    close(fd);
-    if (!text.empty()) std::ofstream(path) << text;
-    return path;
+namespace rt {
+namespace {
+
+// The children running: fixed slots a signal handler may read.
+constexpr int kChildSlots = 16;
+std::atomic<pid_t> children[kChildSlots];
+
+void registerChild(pid_t pid) {
+    for (auto& c : children) {
+        pid_t none = 0;
+        if (c.compare_exchange_strong(none, pid)) return;
+    }
 }
 
-pid_t spawn(std::vector<std::string> args, bool keepStdout) {
+void forgetChild(pid_t pid) {
+    for (auto& c : children) {
+        pid_t p = pid;
+        if (c.compare_exchange_strong(p, 0)) return;
+    }
+}
+
+// A child's report: rtsim's own output, still read within limits.
+constexpr uintmax_t kMaxChildReportBytes = uintmax_t(1) << 30;
+
+}  // namespace
+
+TempFile::TempFile(const std::string& prefix, const std::string& suffix, const std::string& text) {
+    const char* dir = std::getenv("TMPDIR");  // (as mkstemp's callers do; the tests give their own)
+    std::string path = std::string(dir && *dir ? dir : "/tmp") + "/" + prefix + "-XXXXXX" + suffix;
+    const int fd = mkstemps(path.data(), int(suffix.size()));
+    if (fd < 0) throw std::runtime_error("cannot create a temporary file " + path);
+    registerTempFile(path);
+    path_ = path;
+    const bool ok = text.empty() || ::write(fd, text.data(), text.size()) == ssize_t(text.size());
+    ::close(fd);
+    if (!ok) {
+        forgetTempFile(path_);
+        std::remove(path_.c_str());
+        throw std::runtime_error("cannot write the temporary file " + path_);
+    }
+}
+
+TempFile::~TempFile() {
+    forgetTempFile(path_);
+    std::remove(path_.c_str());
+}
+
+pid_t spawn(std::vector<std::string> args, bool keepStdout, const std::string& stderrPath) {
     std::vector<char*> av;
     for (std::string& a : args) av.push_back(a.data());
     av.push_back(nullptr);
@@ -29,9 +72,20 @@ pid_t spawn(std::vector<std::string> args, bool keepStdout) {
     posix_spawn_file_actions_init(&io);
     posix_spawn_file_actions_addopen(&io, 0, "/dev/null", O_RDONLY, 0);
     if (!keepStdout) posix_spawn_file_actions_addopen(&io, 1, "/dev/null", O_WRONLY, 0);
+    if (!stderrPath.empty()) posix_spawn_file_actions_addopen(&io, 2, stderrPath.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
+    posix_spawnattr_t attr;
+    posix_spawnattr_init(&attr);
+    posix_spawnattr_setpgroup(&attr, 0);  // a group of its own (see the header)
+    sigset_t defaults;                    // and rtsim's own signal handling, not ours
+    sigemptyset(&defaults);
+    for (int s : {SIGINT, SIGTERM, SIGALRM}) sigaddset(&defaults, s);
+    posix_spawnattr_setsigdefault(&attr, &defaults);
+    posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETPGROUP | POSIX_SPAWN_SETSIGDEF);
     pid_t pid = -1;
-    if (posix_spawn(&pid, av[0], &io, nullptr, av.data(), environ) != 0) pid = -1;
+    if (posix_spawn(&pid, av[0], &io, &attr, av.data(), environ) != 0) pid = -1;
+    posix_spawnattr_destroy(&attr);
     posix_spawn_file_actions_destroy(&io);
+    if (pid > 0) registerChild(pid);
     return pid;
 }
 
@@ -39,37 +93,47 @@ int waitExit(pid_t pid) {
     if (pid <= 0) return -1;
     int status = 0;
     while (waitpid(pid, &status, 0) < 0)
-        if (errno != EINTR) return -1;
-    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+        if (errno != EINTR) {
+            forgetChild(pid);
+            return -1;
+        }
+    forgetChild(pid);
+    if (WIFEXITED(status)) return WEXITSTATUS(status);
+    return WIFSIGNALED(status) ? 128 + WTERMSIG(status) : -1;
 }
 
-Child::Child(int argc, char** argv, const std::vector<std::string>& extra) {
+void signalChildrenNow(int sig) {
+    for (auto& c : children) {
+        const pid_t p = c.load();
+        if (p > 0) ::kill(p, sig);
+    }
+}
+
+Child::Child(const std::vector<std::string>& command, const std::vector<std::string>& extra) {
     try {
-        report_ = makeTempFile("rtsim-child");
+        report_.emplace("rtsim-child", ".json");
     } catch (const std::exception&) {
         return;  // (it did not start: no report)
     }
     std::vector<std::string> args{"/proc/self/exe"};  // this very program
-    args.insert(args.end(), argv + 1, argv + argc);
+    args.insert(args.end(), command.begin() + 1, command.end());
     args.insert(args.end(), extra.begin(), extra.end());
-    args.insert(args.end(), {"--report", report_});
+    // The wall-clock limit is the whole run's: a child gets what is left.
+    if (const double left = wallLeft(); left > 0) args.insert(args.end(), {"--watchdog-wall", std::to_string(left)});
+    args.insert(args.end(), {"--report", report_->path()});
     pid_ = spawn(std::move(args), false);
 }
 
-Child::~Child() {
-    wait();
-    if (!report_.empty()) std::remove(report_.c_str());
-}
+Child::~Child() { wait(); }
 
 int Child::wait() {
     if (pid_ > 0) {
         exitCode_ = waitExit(pid_);
         pid_ = -1;
-        if (exitCode_ == 0 || exitCode_ == 3) {
-            std::ifstream f(report_);
+        if (exitCode_ == 0 || exitCode_ == 3 || exitCode_ > 128) {
             try {
-                result_ = nlohmann::json::parse(f);
-            } catch (const std::exception&) {
+                result_ = readJsonFile(report_->path(), kMaxChildReportBytes);
+            } catch (const std::exception&) {  // (stopped before it wrote one)
             }
         }
     }
@@ -83,7 +147,7 @@ std::optional<nlohmann::json> Child::report() {
 
 std::optional<nlohmann::json> Child::stoppedReport() {
     wait();
-    return exitCode_ == 3 ? result_ : std::nullopt;
+    return exitCode_ == 3 || exitCode_ > 128 ? result_ : std::nullopt;
 }
 
 }  // namespace rt

@@ -4,6 +4,10 @@
 // temporary files it hands them. Started with posix_spawn: no shell, no
 // thread (a thread around system() left LeakSanitizer's tracer a stale
 // stack to read), so two can run at once by starting both, then waiting.
+//
+// Each child runs in a process group of its own, so that Ctrl-C at the
+// terminal reaches rtsim alone, which passes the stop on to each child
+// once (tb/stops.h); a child rtsim ends if its parent dies.
 #pragma once
 #include <sys/types.h>
 
@@ -15,34 +19,54 @@
 
 namespace rt {
 
-// A new empty file /tmp/PREFIX-XXXXXX holding `text`; throws
-// std::runtime_error if it cannot be made.
-std::string makeTempFile(const std::string& prefix, const std::string& text = "");
+// A new file $TMPDIR/PREFIX-XXXXXXSUFFIX (/tmp without TMPDIR) holding
+// `text`, removed with this
+// object (and by a signal that ends rtsim at once). Throws
+// std::runtime_error if it cannot be made or written.
+class TempFile {
+public:
+    TempFile(const std::string& prefix, const std::string& suffix, const std::string& text = "");
+    ~TempFile();
+    TempFile(const TempFile&) = delete;
+    TempFile& operator=(const TempFile&) = delete;
+    const std::string& path() const { return path_; }
 
-// Starts args[0] (a path) with the rest; stdin from /dev/null, and stdout
-// too unless `keepStdout`; stderr is rtsim's. -1 if it could not start.
-pid_t spawn(std::vector<std::string> args, bool keepStdout);
-// Waits for it: its exit code, or -1 if it did not exit by itself.
+private:
+    std::string path_;
+};
+
+// Starts args[0] (a path) with the rest; stdin from /dev/null, stdout too
+// unless `keepStdout`, stderr to `stderrPath` if given (else rtsim's). -1 if
+// it could not start.
+pid_t spawn(std::vector<std::string> args, bool keepStdout, const std::string& stderrPath = "");
+// Waits for it: its exit code, 128 + N if signal N ended it, -1 if unknown.
 int waitExit(pid_t pid);
 
-// rtsim's own command (argv) with `extra` flags after the user's and a
+// Sends `sig` to every child still running (async-signal-safe).
+void signalChildrenNow(int sig);
+
+// rtsim's own command (`command`, argv[0] first: the flags of the files
+// and the command line, tb/command_line.h) with `extra` flags after them and a
 // report to a temporary file: how it exited, and the report it wrote.
 class Child {
 public:
-    Child(int argc, char** argv, const std::vector<std::string>& extra);
+    Child(const std::vector<std::string>& command, const std::vector<std::string>& extra);
     Child(const Child&) = delete;
     Child& operator=(const Child&) = delete;
     ~Child();
     int wait();
     // Its report, if it ended normally and wrote one.
     std::optional<nlohmann::json> report();
-    // Its report so far, if the watchdog stopped it (exit 3).
+    // Its report so far, if the watchdog or a signal stopped it (exit 3,
+    // 128 + N).
     std::optional<nlohmann::json> stoppedReport();
+    // 0 done, 3 or 128 + N stopped, anything else failed.
+    int exitCode() { return wait(); }
 
 private:
     pid_t pid_ = -1;
     int exitCode_ = -1;
-    std::string report_;
+    std::optional<TempFile> report_;
     std::optional<nlohmann::json> result_;
 };
 

@@ -664,9 +664,11 @@ TEST_F(RtsimTimed, WatchdogInAnEarlierFrameStopsTheSequenceWithExit3) {
     EXPECT_TRUE(r["frames"][0].value("incomplete", false));
 }
 
-// The VCD is written as the run goes: a run killed outright leaves one
-// that vcd2fst accepts (up to the last flush); Ctrl-C stops the run like
-// the watchdog (exit 128 + 2, the report and the VCD so far, marked).
+// The VCD is written as the run goes, into VCD.incomplete-XXXXXX beside
+// it (renamed at the end): a run killed outright leaves that, which
+// vcd2fst accepts (up to the last flush), and no VCD under the name given;
+// Ctrl-C stops the run like the watchdog (exit 128 + 2, the report and the
+// VCD so far, marked).
 TEST_F(RtsimTimed, AKilledOrInterruptedRunLeavesAValidVcd) {
     const std::string job = " --scene " + scene("balls-4") + " --mesh 4 --size 256x256 --no-baseline -q --image " +
                             (dir_ / "never.png").string();
@@ -677,10 +679,22 @@ TEST_F(RtsimTimed, AKilledOrInterruptedRunLeavesAValidVcd) {
         // this build runs), within a minute.
         const std::string cmd = "bash -c '" + std::string(RTSIM_EXE) + job + " --vcd " + vcd.string() + " --report " +
                                 rep.string() + " 2>" + (dir_ / "err").string() + " & p=$!; for i in $(seq 1200); do "
-                                "[ $(stat -c %s " + vcd.string() + " 2>/dev/null || echo 0) -gt 200000 ] && break; sleep 0.05; done; "
+                                "[ $(cat " + vcd.string() + ".incomplete-* 2>/dev/null | wc -c) -gt 200000 ] && break; sleep 0.05; done; "
                                 "kill -" + sig + " $p; wait $p'";
         const int status = std::system(cmd.c_str());
         const int code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+        std::vector<fs::path> left;  // the temporaries left behind
+        for (const auto& e : fs::directory_iterator(dir_))
+            if (e.path().filename().string().rfind(std::string(sig) + ".", 0) == 0 &&
+                e.path().string().find(".incomplete-") != std::string::npos)
+                left.push_back(e.path());
+        if (std::string(sig) == "KILL") {
+            EXPECT_FALSE(fs::exists(vcd));  // nothing under the name given: the run did not end
+            ASSERT_EQ(left.size(), 1u);     // the VCD so far, under a name that says so
+            fs::rename(left[0], vcd);
+        } else {
+            EXPECT_TRUE(left.empty());  // renamed: an interrupted run ends in order
+        }
         ASSERT_TRUE(fs::exists(vcd));
         const std::string text = slurp(vcd);
         EXPECT_NE(text.find("$enddefinitions $end"), std::string::npos);
@@ -1199,8 +1213,8 @@ TEST_F(Rtsim, AReportRerunsToTheSameRun) {
     expectBad("--rerun " + (dir_ / "file.json").string(), "scene.nff has changed since");
     // Not a report with flags.
     std::ofstream(dir_ / "old.json") << "{\"config\": {}}";
-    expectBad("--rerun " + (dir_ / "old.json").string(), "no rerun.flags");
-    expectBad("--rerun " + (dir_ / "file.png").string(), "not a JSON report");
+    expectBad("--rerun " + (dir_ / "old.json").string(), "rerun.flags: missing");
+    expectBad("--rerun " + (dir_ / "file.png").string(), "not JSON");
     expectBad("--rerun " + (dir_ / "file.json").string() + " --config " + (dir_ / "more.conf").string(), "cannot be combined");
 }
 

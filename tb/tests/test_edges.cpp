@@ -1,0 +1,353 @@
+// rtsim's edges end to end, as a hostile but fair user meets them
+// (doc/robustness.md, "Edges"): a received report that tries to write or
+// read where it should not, outputs that are not files of their own, derived
+// times past the picosecond counter, stops in start-up, between frames and
+// in the reference runs, a scene too big to bin, config files read whole.
+// Each run gets its own TMPDIR, so that a temporary left behind is seen.
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+
+#include <fstream>
+#include <random>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "command_test.h"
+
+using nlohmann::json;
+using namespace rt::test;
+
+namespace {
+
+const char* kSmall = " --spheres 200 --radius 0.04 --size 16x16 --mesh 2";
+
+class Edges : public CommandTest {
+protected:
+    Edges() : CommandTest("env") {}
+    void SetUp() override {
+        CommandTest::SetUp();
+        fs::create_directories(tmp());
+    }
+    fs::path tmp() const { return dir_ / "tmp"; }
+    // rtsim with `args`, its temporary files in tmp(), stopped after a minute.
+    Outcome rtsim(const std::string& args) {
+        return run("TMPDIR=" + tmp().string() + " timeout 60 " + RTSIM_EXE + " " + args);
+    }
+    // Bad input: exit 2, one line mentioning `mention`.
+    void bad(const std::string& args, const std::string& mention) {
+        SCOPED_TRACE(args);
+        const Outcome o = rtsim(args);
+        EXPECT_EQ(o.code, 2) << o.err;
+        EXPECT_EQ(std::count(o.err.begin(), o.err.end(), '\n'), 1) << o.err;
+        EXPECT_NE(o.err.find(mention), std::string::npos) << o.err;
+    }
+    // Temporary files anywhere they could be: rtsim's own (tmp()), and
+    // outputs' (NAME.incomplete-XXXXXX beside them).
+    std::vector<std::string> leftBehind() const {
+        std::vector<std::string> out;
+        for (const auto& e : fs::recursive_directory_iterator(dir_)) {
+            const std::string p = e.path().string();
+            if (p.find(".incomplete-") != std::string::npos || e.path().parent_path() == tmp()) out.push_back(p);
+        }
+        return out;
+    }
+    void write(const fs::path& p, const std::string& text) const { std::ofstream(p) << text; }
+    std::string p(const std::string& name) const { return (dir_ / name).string(); }
+    // A report of a small run, to be tampered with.
+    json baseReport() {
+        const Outcome o = rtsim(std::string(kSmall) + " --no-baseline -q --image '' --report " + p("base.json"));
+        EXPECT_EQ(o.code, 0) << o.err;
+        return json::parse(slurp(dir_ / "base.json"));
+    }
+};
+
+// How a run stopped by a signal ended: its exit code, the milliseconds from
+// the signal to its end, its standard error.
+struct Stopped {
+    int code = -1;
+    long ms = -1;
+    std::string err;
+};
+
+class EdgesTimed : public Edges {
+protected:
+    // rtsim `args` in the background; once the bash condition `ready` holds
+    // (within a minute), signal `sig` to it.
+    Stopped stopWhen(const std::string& args, const std::string& ready, const std::string& sig) {
+        const fs::path err = dir_ / "err", out = dir_ / "timing";
+        const std::string script = "TMPDIR=" + tmp().string() + " " + RTSIM_EXE + " " + args + " 2>" + err.string() +
+                                   " & p=$!; for i in $(seq 1200); do " + ready + " && break; sleep 0.05; done; "
+                                   "t0=$(date +%s%N); kill -" + sig + " $p; wait $p; c=$?; t1=$(date +%s%N); "
+                                   "echo $c $(( (t1 - t0) / 1000000 )) >" + out.string();
+        std::ofstream(dir_ / "stop.sh") << script << "\n";
+        std::system(("bash " + (dir_ / "stop.sh").string()).c_str());
+        Stopped s;
+        std::istringstream(slurp(out)) >> s.code >> s.ms;
+        s.err = withoutSanitizerNoise(slurp(err));
+        return s;
+    }
+    std::string sawLine(const std::string& text) const { return "grep -q '" + text + "' " + (dir_ / "err").string(); }
+};
+
+}  // namespace
+
+// ---- 1. A received report is untrusted input ----
+
+TEST_F(Edges, AReportsFlagsCannotWriteAnywhereOrStartAProgram) {
+    const json base = baseReport();
+    write(dir_ / "victim.png", "precious");
+    const std::pair<std::string, std::string> hostile[] = {
+        {"image=\"" + p("victim.png") + "\"", "'image'"},
+        {"report=\"../elsewhere.json\"", "'report'"},
+        {"vcd=\"" + p("w.vcd") + "\"", "'vcd'"},
+        {"map=\"" + p("m.png") + "\"", "'map'"},
+        {"as-baseline=true", "'as-baseline'"},
+        {"targets-from=\"" + p("base.json") + "\"", "'targets-from'"},
+    };
+    for (const auto& [line, mention] : hostile) {
+        json r = base;
+        r["rerun"]["flags"] = r["rerun"]["flags"].get<std::string>() + line + "\n";
+        write(dir_ / "h.json", r.dump());
+        bad("--rerun " + p("h.json") + " -q --image ''", mention);
+    }
+    EXPECT_EQ(slurp(dir_ / "victim.png"), "precious");
+    for (const char* made : {"w.vcd", "m.png", "elsewhere.json"}) EXPECT_FALSE(fs::exists(dir_ / made)) << made;
+    EXPECT_FALSE(fs::exists(dir_.parent_path() / "elsewhere.json"));
+    EXPECT_TRUE(leftBehind().empty());
+}
+
+TEST_F(Edges, ARerunLoadsOnlyTheSceneItsReportRecords) {
+    const json base = baseReport();  // procedural: 200 spheres
+    // Flags naming a scene file that config.scene does not: refused before
+    // the file is read (nothing of it echoed).
+    json r = base;
+    r["rerun"]["flags"] = r["rerun"]["flags"].get<std::string>() + "scene=\"" + scene("balls-1") + "\"\n";
+    write(dir_ / "h.json", r.dump());
+    bad("--rerun " + p("h.json") + " -q --image ''", "config.scene names none");
+    // config.scene removed: no longer a report.
+    r = base;
+    r["config"].erase("scene");
+    r["rerun"]["flags"] = r["rerun"]["flags"].get<std::string>() + "scene=\"/etc/passwd\"\n";
+    write(dir_ / "h.json", r.dump());
+    bad("--rerun " + p("h.json") + " -q --image ''", "config.scene: missing");
+    // Another procedural scene in a what-if: refused; the command line's own choice is not.
+    r = base;
+    r["rerun"]["flags"] = r["rerun"]["flags"].get<std::string>() + "spheres=5000\n";
+    write(dir_ / "h.json", r.dump());
+    bad("--rerun " + p("h.json") + " --mesh 1 -q --image ''", "its flags give another scene than its config.scene records");
+    EXPECT_EQ(rtsim("--rerun " + p("h.json") + " --spheres 300 -q --image ''").code, 0);
+    // A scene file edited since.
+    fs::copy_file(scene("balls-1"), dir_ / "s.nff");
+    ASSERT_EQ(rtsim("--scene " + p("s.nff") + " --size 8x8 --mesh 1 --no-baseline -q --image '' --report " + p("f.json")).code, 0);
+    std::ofstream(dir_ / "s.nff", std::ios::app) << "s 0 0 0 0.1\n";
+    bad("--rerun " + p("f.json") + " --mesh 2 -q --image ''", "has changed since the report was written");
+}
+
+TEST_F(Edges, AMalformedReportIsOneLineNamingTheField) {
+    const json base = baseReport();
+    auto with = [&](auto change, const std::string& mention) {
+        json r = base;
+        change(r);
+        write(dir_ / "h.json", r.dump());
+        bad("--rerun " + p("h.json") + " -q --image ''", mention);
+    };
+    with([](json& r) { r["rerun"]["flags"] = 5; }, "rerun.flags: expected a string, got an integer");
+    with([](json& r) { r["config"]["scene"] = "x"; }, "config.scene: expected an object, got a string");
+    with([](json& r) { r["rerun"]["flags"] = "mesh = [2\n"; }, "rerun.flags:1: expected ',' or ']'");
+    with([](json& r) { r["rerun"]["flags"] = "mesh = 99\n"; }, "rerun.flags:1: mesh = 99: --mesh");
+    // Nested 300,000 deep (it crashed the comparison, SIGSEGV): refused as it is read.
+    std::string deep = base.dump();
+    deep.insert(deep.find("\"config\":{") + 10, "\"deep\":" + std::string(300000, '[') + std::string(300000, ']') + ",");
+    write(dir_ / "deep.json", deep);
+    bad("--rerun " + p("deep.json") + " -q --image ''", "nested more than 64 deep");
+    EXPECT_TRUE(leftBehind().empty());
+}
+
+TEST_F(Edges, ARerunOfARerunRecordsOnlyWhatItReran) {
+    baseReport();
+    std::string from = p("base.json");
+    for (int i = 0; i < 3; ++i) {  // (each used to nest the one before: depth grew with every rerun)
+        const std::string to = p("again" + std::to_string(i) + ".json");
+        ASSERT_EQ(rtsim("--rerun " + from + " -q --image '' --report " + to).code, 0);
+        from = to;
+    }
+    const json r = json::parse(slurp(from));
+    EXPECT_TRUE(r["rerun"]["of"].contains("flags"));
+    EXPECT_FALSE(r["rerun"]["of"].contains("of"));
+}
+
+// ---- 2. Outputs never destroy what the run did not create ----
+
+TEST_F(Edges, AnOutputThatIsNotAFileOfItsOwnIsRefusedBeforeTheRun) {
+    ASSERT_EQ(::mkfifo(p("fifo.vcd").c_str(), 0600), 0);
+    bad(std::string(kSmall) + " --vcd " + p("fifo.vcd"), "--vcd: " + p("fifo.vcd") + ": is not a regular file");  // (it hung, opening it)
+    EXPECT_TRUE(fs::is_fifo(p("fifo.vcd")));
+    bad(std::string(kSmall) + " --report /dev/null", "--report: /dev/null: is not a regular file");
+    EXPECT_TRUE(fs::is_character_file("/dev/null"));
+    write(dir_ / "target.json", "mine");
+    fs::create_symlink(p("target.json"), p("link.json"));
+    bad(std::string(kSmall) + " --report " + p("link.json"), "is a symbolic link");
+    EXPECT_EQ(slurp(dir_ / "target.json"), "mine");
+    EXPECT_TRUE(fs::is_symlink(p("link.json")));
+    // A name whose format is not the one written, --map's too, before the run.
+    bad(std::string(kSmall) + " --map " + p("m.xyz") + " --report " + p("r.json"), "--map: " + p("m.xyz") + ": the name must end in .png, .svg, .pdf");
+    EXPECT_FALSE(fs::exists(dir_ / "r.json"));
+    bad(std::string(kSmall) + " --image " + p("x.jpg"), "must end in .png");
+    EXPECT_TRUE(leftBehind().empty());
+}
+
+TEST_F(Edges, NoTwoOutputsAndNoOutputAndInputNameOneFile) {
+    fs::copy_file(scene("balls-1"), dir_ / "scene.json");  // (an NFF scene, whatever its name)
+    write(dir_ / "c.json", "mesh = 2\n");
+    const json base = baseReport();
+    const std::pair<std::string, std::string> clashes[] = {
+        {" --image " + p("x.png") + " --map " + p("x.png"), "--map: " + p("x.png") + ": the same file as --image"},
+        {" --vcd " + p("w.vcd") + " --map " + p("w.gtkw.png") + " --image " + p("./w.gtkw.png"), "the same file as --image"},
+        {" --scene " + p("scene.json") + " --size 8x8 --report " + p("scene.json"), "the same file as the input --scene"},
+        {" --config " + p("c.json") + " --report " + p("c.json"), "the same file as the input --config"},
+        {" --boundaries-from " + p("base.json") + " --report " + p("base.json"), "the same file as the input --boundaries-from"},
+        {" --rerun " + p("base.json") + " --report " + p("base.json"), "the same file as the input --rerun"},
+    };
+    for (const auto& [args, mention] : clashes) bad(std::string(args.find("--rerun") != std::string::npos ? "" : kSmall) + args, mention);
+    EXPECT_EQ(json::parse(slurp(dir_ / "base.json")), base);
+    EXPECT_EQ(slurp(dir_ / "c.json"), "mesh = 2\n");
+}
+
+TEST_F(Edges, AFailedRunLeavesEveryFileAsItWasAndNoTemporary) {
+    for (const char* f : {"w.vcd", "w.gtkw", "r.json", "i.png"}) write(dir_ / f, std::string("old ") + f);
+    // 1,000 s a sphere test: past 2^62 ps at a node (exit 1, in the run).
+    const Outcome o = rtsim(" --size 64x64 --mesh 2 --cost-sphere 1000s --no-baseline -q --vcd " + p("w.vcd") + " --report " +
+                            p("r.json") + " --image " + p("i.png"));
+    EXPECT_EQ(o.code, 1) << o.err;
+    EXPECT_EQ(std::count(o.err.begin(), o.err.end(), '\n'), 1) << o.err;
+    for (const char* f : {"w.vcd", "w.gtkw", "r.json", "i.png"}) EXPECT_EQ(slurp(dir_ / f), std::string("old ") + f) << f;
+    EXPECT_TRUE(leftBehind().empty());
+}
+
+// ---- 3. Derived times are checked against the picosecond range ----
+
+TEST_F(Edges, ADerivedTimePastTheCounterIsRefusedNamingItsFlags) {
+    // Each gave a normal-looking render time with exit 0 (the counter wrapped).
+    bad(std::string(kSmall) + " --link-bandwidth 1e-6B/s", "--link-bandwidth with --ray-batch: a full ray message (132 bytes)");
+    bad(std::string(kSmall) + " --link-set 1,0,0,-x:bandwidth=1e-9B/s", "--link-set 1,0,0,-x: a full ray message");
+    bad(std::string(kSmall) + " --cost-host 1000s --fb-batch 65536", "--cost-host with --fb-batch");
+    bad(std::string(kSmall) + " --speed 1e-15", "--speed 1e-15 with --cost-sphere");
+    bad(std::string(kSmall) + " --node-speed 1,1,1=1e-15", "--node-speed 1,1,1=1e-15 with --cost-sphere");
+    bad(std::string(kSmall) + " --balance slide --cost-rebuild 1000s", "--cost-rebuild: a slide's grid update for all 200 objects");
+    bad(std::string(kSmall) + " --balance slide --link-bandwidth 10B/s --link-control-depth 2 --report-share 1e-6",
+        "--link-bandwidth with --report-share");
+}
+
+TEST_F(Edges, ABacklogPastTheCounterStopsTheRunNamingTheLink) {
+    // Each ray message 132 s on the wire, a million of them queued.
+    const Outcome o = rtsim(" --size 1024x1024 --mesh 2 --link-bandwidth 1B/s --no-baseline -q --image ''");
+    EXPECT_EQ(o.code, 1) << o.err;
+    EXPECT_EQ(std::count(o.err.begin(), o.err.end(), '\n'), 1) << o.err;
+    EXPECT_NE(o.err.find("_p"), std::string::npos) << o.err;  // a link: node_X_Y_Z_px ...
+    EXPECT_NE(o.err.find("the picosecond counter would wrap"), std::string::npos) << o.err;
+}
+
+// ---- 4. Stops that stop; memory bounded ----
+
+TEST_F(EdgesTimed, ASignalInStartUpEndsRtsimAtOnceLeavingNothing) {
+    // 300,000 spheres: binning them into 64 grids takes seconds; the signal
+    // comes once the estimate is out (-v), while the grids are built.
+    const Stopped s = stopWhen("--spheres 300000 --size 8x8 --no-baseline -q -v --vcd " + p("w.vcd") + " --report " + p("r.json"),
+                               sawLine("grids at the frame"), "TERM");
+    EXPECT_EQ(s.code, 143) << s.err;
+    EXPECT_LT(s.ms, 1000);
+    EXPECT_NE(s.err.find("rtsim: stopped by signal 15 (SIGTERM) during start-up"), std::string::npos) << s.err;
+    EXPECT_FALSE(fs::exists(dir_ / "w.vcd"));
+    EXPECT_FALSE(fs::exists(dir_ / "r.json"));
+    EXPECT_TRUE(leftBehind().empty());
+    // The wall-clock limit there too: exit 3.
+    const Outcome w = rtsim("--spheres 300000 --size 8x8 --no-baseline -q --watchdog-wall 0.3");
+    EXPECT_EQ(w.code, 3) << w.err;
+    EXPECT_NE(w.err.find("the wall-clock limit of 0.3 s was reached during start-up"), std::string::npos) << w.err;
+}
+
+TEST_F(EdgesTimed, ASignalBetweenFramesStopsTheSequenceWithItsFramesSoFar) {
+    // 200 frames: a signal at the second second (it ran them all, once).
+    const Stopped s = stopWhen(std::string(kSmall) + " --frames 200 --balance slide --no-baseline -q --image '' --report " + p("r.json"),
+                               "sleep 1", "TERM");
+    EXPECT_EQ(s.code, 143) << s.err;
+    EXPECT_LT(s.ms, 1000);
+    const json r = json::parse(slurp(dir_ / "r.json"));
+    ASSERT_TRUE(r.contains("incomplete"));
+    EXPECT_NE(r["incomplete"].get<std::string>().find(" of 200: "), std::string::npos) << r["incomplete"];
+    EXPECT_LT(r["frames"].size(), 200u);
+    EXPECT_GT(r["frames"].size(), 1u);
+    EXPECT_TRUE(leftBehind().empty());
+    // The wall-clock limit: the whole sequence's, not each frame's.
+    const Outcome w = rtsim(std::string(kSmall) + " --frames 200 --balance slide --no-baseline -q --image '' --watchdog-wall 1 --report " + p("w.json"));
+    EXPECT_EQ(w.code, 3) << w.err;
+    EXPECT_LT(json::parse(slurp(dir_ / "w.json"))["frames"].size(), 200u);
+}
+
+TEST_F(EdgesTimed, ASignalInTheReferenceRunsWritesTheFinishedFrame) {
+    // The 1x1x1 baseline of a 256x256 frame runs for seconds after the frame.
+    const Stopped s = stopWhen(" --spheres 2000 --size 256x256 --mesh 4 -v --report " + p("r.json") + " --image " + p("i.png"),
+                               sawLine("reference runs:"), "TERM");
+    EXPECT_EQ(s.code, 143) << s.err;
+    EXPECT_LT(s.ms, 1000);
+    const json r = json::parse(slurp(dir_ / "r.json"));
+    EXPECT_FALSE(r.contains("incomplete"));  // the frame itself is done
+    EXPECT_NE(r.value("reference_runs_stopped", "").find("(a signal)"), std::string::npos) << r.dump().substr(0, 300);
+    EXPECT_TRUE(fs::exists(dir_ / "i.png"));
+    EXPECT_TRUE(leftBehind().empty());
+}
+
+TEST_F(Edges, AFrameSequenceKeepsOneReportNotOnePerFrame) {
+    // Peak memory of rtsim itself (not its children) for 2 and for 24 frames
+    // of a 512-node mesh, whose report is several MB.
+    auto peakKb = [&](int frames) {
+        const std::string cmd = std::string(RTSIM_EXE) + " --spheres 500 --size 16x16 --mesh 8 --balance slide --frames " +
+                                std::to_string(frames) + " --no-baseline -q --image ''";
+        const pid_t pid = fork();
+        if (pid == 0) {
+            execl("/bin/sh", "sh", "-c", ("exec " + cmd).c_str(), (char*)nullptr);
+            _exit(127);
+        }
+        int status = 0;
+        rusage u{};
+        wait4(pid, &status, 0, &u);
+        EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0);
+        return long(u.ru_maxrss);
+    };
+    const long two = peakKb(2), many = peakKb(24);
+    EXPECT_LT(many, two + 60 * 1024) << two << " KB for 2 frames, " << many << " KB for 24";
+}
+
+TEST_F(Edges, ASceneTooBigToBinIsRefusedWithAnEstimate) {
+    // 40,000 spheres that all overlap: every grid lists every sphere in
+    // every cell (billions of references at N = 4).
+    std::ostringstream nff;
+    nff << "v\nfrom 0 0 -3\nat 0 0 0\nup 0 1 0\nangle 45\nhither 1\nresolution 8 8\nl 0 10 -10\nf 1 0 0 0.5 0.5 0 0 1\n";
+    std::mt19937 rng(1);
+    std::uniform_real_distribution<double> u(0, 1);
+    for (int i = 0; i < 40000; ++i) nff << "s " << u(rng) << " " << u(rng) << " " << u(rng) << " 2\n";
+    write(dir_ / "overlap.nff", nff.str());
+    bad("--scene " + p("overlap.nff") + " --mesh 4 --no-baseline -q --image ''", "objects binned into the 64 nodes' grids");
+    const Outcome ref = run(std::string("timeout 60 ") + RTREF_EXE + " " + p("overlap.nff") + " -o " + p("o.png"));
+    EXPECT_EQ(ref.code, 2) << ref.err;
+    EXPECT_NE(ref.err.find("references (objects listed in cells), more than a grid holds"), std::string::npos) << ref.err;
+}
+
+// ---- 5. Config files: the last value wins, each value checked ----
+
+TEST_F(Edges, ConfigFilesAreReadWholeInOrderAndTheLastValueWins) {
+    write(dir_ / "a.conf", "mesh = 3\nspheres = 200\nsize = 16x16\nmesh = 2  # adjacent or not, the last one\n");
+    write(dir_ / "b.conf", "link-latency = 250ns\nfb-units = 3\n");
+    const Outcome o = rtsim("--config " + p("a.conf") + " --config " + p("b.conf") + " --fb-units 2 -q --no-baseline --image '' --report " + p("r.json"));
+    ASSERT_EQ(o.code, 0) << o.err;
+    const json r = json::parse(slurp(dir_ / "r.json"));
+    EXPECT_EQ(r["config"]["mesh"], json({2, 2, 2}));                       // a.conf's last line
+    EXPECT_EQ(r["config"]["link"]["latency_ns"].get<double>(), 250.0);     // b.conf was read too
+    EXPECT_EQ(r["config"]["fb_units"].get<int>(), 2);                     // the command line last
+    write(dir_ / "c.conf", "mesh = 2\nmesh = abc\n");
+    bad("--config " + p("c.conf"), p("c.conf") + ":2: mesh = abc: --mesh");  // it was silently ignored
+    write(dir_ / "d.conf", "mesh = 2\nnode-speed = 5,5,5=2\n");
+    bad("--config " + p("d.conf") + " -q --no-baseline --image ''", p("d.conf") + ":2: --node-speed: node outside the mesh");
+}

@@ -1,0 +1,375 @@
+// rtsim's edges, part by part (doc/robustness.md, "Edges"): the config
+// reader, the JSON reader, the merge of files, reports and command line,
+// the output policy, and the derived times. End to end, as a user meets
+// them: test_edges.cpp.
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "command_line.h"
+#include "config_file.h"
+#include "cost_model.h"
+#include "grid.h"
+#include "json_input.h"
+#include "machine_config.h"
+#include "output_file.h"
+#include "rtsim_cli.h"
+#include "sphere.h"
+#include "units.h"
+#include "vcd_stream.h"
+
+using namespace rt;
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+// The message of what `f` throws as E; fails the test if it throws nothing.
+template <class E, class F>
+std::string thrown(F&& f) {
+    try {
+        f();
+    } catch (const E& e) {
+        return e.what();
+    }
+    ADD_FAILURE() << "nothing thrown";
+    return "";
+}
+
+// A fresh folder per test.
+class Folder : public testing::Test {
+protected:
+    void SetUp() override {
+        dir_ = fs::temp_directory_path() / ("rt_inputs_" + std::to_string(::getpid()) + "_" +
+                                            testing::UnitTest::GetInstance()->current_test_info()->name());
+        fs::create_directories(dir_);
+    }
+    void TearDown() override { fs::remove_all(dir_); }
+    std::string path(const std::string& name) const { return (dir_ / name).string(); }
+    void write(const std::string& name, const std::string& text) const { std::ofstream(dir_ / name) << text; }
+    std::string read(const std::string& name) const {
+        std::ifstream in(dir_ / name);
+        return std::string(std::istreambuf_iterator<char>(in), {});
+    }
+    std::vector<std::string> left() const {  // temporaries left in the folder
+        std::vector<std::string> out;
+        for (const auto& e : fs::directory_iterator(dir_))
+            if (e.path().string().find(".incomplete-") != std::string::npos) out.push_back(e.path().string());
+        return out;
+    }
+    fs::path dir_;
+};
+
+}  // namespace
+
+// ---- The config reader (config_file.h) ----
+
+TEST(ConfigFile, ReadsEachFormOfAValue) {
+    const auto lines = parseConfig(
+        "# a comment\n; another\n\nmesh = 4\nlink-latency = 100ns   # why\nscene = \"/data/my #1 scene.nff\"\n"
+        "image = 'C:\\raw'\nlight = [1, 2, 3, 4, 5, 6]\nno-baseline\nsize=16x16\nname = a b c\nq = \"tab\\there\"\n",
+        "c.conf");
+    ASSERT_EQ(lines.size(), 9u);
+    EXPECT_EQ(lines[0].name, "mesh");
+    EXPECT_EQ(lines[0].values, std::vector<std::string>{"4"});
+    EXPECT_EQ(lines[0].where, "c.conf:4");
+    EXPECT_EQ(lines[1].values, std::vector<std::string>{"100ns"});       // the comment cut
+    EXPECT_EQ(lines[2].values, std::vector<std::string>{"/data/my #1 scene.nff"});  // a '#' inside quotes kept
+    EXPECT_EQ(lines[3].values, std::vector<std::string>{"C:\\raw"});    // no escapes in '...'
+    EXPECT_EQ(lines[4].values, (std::vector<std::string>{"1", "2", "3", "4", "5", "6"}));
+    EXPECT_TRUE(lines[4].list);
+    EXPECT_EQ(lines[5].values, std::vector<std::string>{"true"});  // a flag alone
+    EXPECT_EQ(lines[6].values, std::vector<std::string>{"16x16"});
+    EXPECT_EQ(lines[7].values, std::vector<std::string>{"a b c"});  // a bare value keeps its spaces
+    EXPECT_EQ(lines[8].values, std::vector<std::string>{"tab\there"});
+    EXPECT_EQ(lines[8].where, "c.conf:12");
+}
+
+TEST(ConfigFile, EachBadLineNamesItsFileAndLine) {
+    const std::pair<const char*, const char*> bad[] = {
+        {"mesh = 2\n[section]\n", "c.conf:2: sections"},
+        {"scene = \"open\n", "c.conf:1: a string not closed"},
+        {"image = 'open\n", "c.conf:1: a string not closed"},
+        {"light = [1, 2\n", "c.conf:1: expected ',' or ']'"},
+        {"mesh =\n", "c.conf:1: no value"},
+        {"mesh = 2\n= 3\n", "c.conf:2: expected a flag's name"},
+        {"mesh \"2\"\n", "c.conf:1: expected '='"},
+        {"scene = \"a\" b\n", "c.conf:1: more after the value"},
+        {"scene = \"\\q\"\n", "c.conf:1: a string with an escape"},
+    };
+    for (const auto& [text, mention] : bad) {
+        SCOPED_TRACE(text);
+        EXPECT_NE(thrown<ConfigError>([&] { parseConfig(text, "c.conf"); }).find(mention), std::string::npos);
+    }
+    EXPECT_NE(thrown<ConfigError>([] { parseConfig(std::string("mesh = 2\0\n", 10), "c.conf"); }).find("c.conf:1: a NUL byte"),
+              std::string::npos);
+}
+
+TEST(ConfigFile, WhatItWritesItReadsBack) {
+    // Strings of every awkward kind: quotes, backslashes, '#', spaces, a
+    // lone character, numbers, control characters.
+    std::mt19937 rng(7);
+    const std::string alphabet = "ab #\"'\\[],=;\t1.e-x/";
+    for (int i = 0; i < 2000; ++i) {
+        std::vector<std::string> values(1 + rng() % 3);
+        for (auto& v : values) {
+            const size_t n = rng() % 8;
+            for (size_t k = 0; k < n; ++k) v += alphabet[rng() % alphabet.size()];
+        }
+        const std::string line = configLine("flag", values);
+        SCOPED_TRACE(line);
+        const auto back = parseConfig(line + "\n", "x");
+        ASSERT_EQ(back.size(), 1u);
+        EXPECT_EQ(back[0].values, values);
+    }
+}
+
+// ---- The JSON reader (json_input.h) ----
+
+TEST_F(Folder, JsonIsReadWithinLimitsAndEachFieldByItsPath) {
+    write("deep.json", std::string(kMaxJsonDepth + 1, '[') + std::string(kMaxJsonDepth + 1, ']'));
+    EXPECT_NE(thrown<JsonInputError>([&] { readJsonFile(path("deep.json"), 1 << 20); }).find("nested more than 64 deep"),
+              std::string::npos);
+    write("ok.json", std::string(kMaxJsonDepth, '[') + std::string(kMaxJsonDepth, ']'));
+    EXPECT_NO_THROW(readJsonFile(path("ok.json"), 1 << 20));
+    write("bad.json", "{\"a\": [1, 2,}");
+    EXPECT_NE(thrown<JsonInputError>([&] { readJsonFile(path("bad.json"), 1 << 20); }).find("not JSON (at byte 13)"), std::string::npos);
+    EXPECT_NE(thrown<JsonInputError>([&] { readJsonFile(path("ok.json"), 10); }).find("larger than 10 bytes"), std::string::npos);
+    EXPECT_NE(thrown<JsonInputError>([&] { readJsonFile("/dev/null", 10); }).find("not a regular file"), std::string::npos);
+    const json r = json::parse(R"({"config": {"scene": {"file": 3}}, "rerun": {"flags": "mesh=2\n"}})");
+    EXPECT_EQ(jsonField(r, "rerun.flags", json::value_t::string, "r.json").get<std::string>(), "mesh=2\n");
+    EXPECT_EQ(thrown<JsonInputError>([&] { jsonField(r, "config.scene.file", json::value_t::string, "r.json"); }),
+              "r.json: config.scene.file: expected a string, got an integer");
+    EXPECT_EQ(thrown<JsonInputError>([&] { jsonField(r, "config.mesh", json::value_t::array, "r.json"); }),
+              "r.json: config.mesh: missing");
+}
+
+// ---- The merge: files, reports, command line (command_line.h) ----
+
+namespace {
+
+CommandLine merge(const std::vector<std::pair<std::string, bool>>& texts, const std::vector<std::string>& rest) {
+    std::vector<ConfigSource> sources;
+    for (size_t i = 0; i < texts.size(); ++i)
+        sources.push_back({parseConfig(texts[i].first, "f" + std::to_string(i + 1)), texts[i].second});
+    return mergeFlags(sources, rest, "rtsim");
+}
+
+// The options a merged command line gives.
+RtsimOptions parsed(const CommandLine& cl) {
+    RtsimOptions o;
+    CLI::App app;
+    o.addTo(app);
+    std::vector<std::string> reversed(cl.args.rbegin(), cl.args.rend() - 1);
+    app.parse(reversed);
+    o.finish();
+    return o;
+}
+
+}  // namespace
+
+TEST(CommandLine, TheLastValueWinsEverywhere) {
+    // Within a file (adjacent or not), across files in order, then the command line.
+    EXPECT_EQ(parsed(merge({{"mesh = 2\nmesh = 3\n", false}}, {})).mesh, 3);
+    EXPECT_EQ(parsed(merge({{"mesh = 2\nfb-units = 3\nmesh = 3\n", false}}, {})).mesh, 3);
+    EXPECT_EQ(parsed(merge({{"mesh = 2\n", false}, {"mesh = 3\n", false}}, {})).mesh, 3);
+    EXPECT_EQ(parsed(merge({{"mesh = 2\n", false}, {"mesh = 3\n", false}}, {"--mesh", "1"})).mesh, 1);
+    // A repeatable flag's list is replaced whole, not added to.
+    const RtsimOptions o = parsed(merge({{"mesh = 2\nnode-speed = [\"0,0,0=2\", \"1,1,1=3\"]\n", false},
+                                         {"node-speed = \"1,0,0=5\"\n", false}},
+                                        {}));
+    EXPECT_EQ(o.machine.nodeSpeed.size(), 1u);
+    EXPECT_EQ(o.machine.nodeSpeed.count({1, 0, 0}), 1u);
+    const RtsimOptions c = parsed(merge({{"mesh = 2\nnode-speed = \"1,0,0=5\"\n", false}}, {"--node-speed", "0,1,0=2"}));
+    EXPECT_EQ(c.machine.nodeSpeed.size(), 1u);
+    EXPECT_EQ(c.machine.nodeSpeed.count({0, 1, 0}), 1u);
+    // Where each value came from, for errors found after the merge.
+    const CommandLine cl = merge({{"mesh = 2\n", false}, {"\nnode-speed = \"5,5,5=2\"\n", false}}, {});
+    EXPECT_EQ(cl.originOf("--node-speed: node outside the mesh"), "f2:2: ");
+    EXPECT_EQ(cl.originOf("--fb-units: x"), "");
+}
+
+TEST(CommandLine, EachValueOfAFileIsCheckedAloneNamingItsLine) {
+    const std::pair<std::string, std::string> bad[] = {
+        {"mesh = 2\nmesh = abc\n", "f1:2: mesh = abc: --mesh"},   // was silently ignored
+        {"no-such-flag = 3\n", "f1:1: no flag --no-such-flag"},
+        {"config = other.conf\n", "f1:1: --config is read only from the command line"},
+        {"mesh = [2, 3]\n", "f1:1: mesh takes one value, not a list of 2"},
+        {"link-latency = 5\n", "f1:1: link-latency = 5: --link-latency"},
+        {"quantum = soon\n", "f1:1: quantum = soon: --quantum"},
+        {"mesh-dims = 2x2\n", "f1:1: mesh-dims = 2x2: --mesh-dims"},
+        {"no-baseline = [true, false]\n", "f1:1: no-baseline is a flag"},
+    };
+    for (const auto& [text, mention] : bad) {
+        SCOPED_TRACE(text);
+        EXPECT_NE(thrown<ConfigError>([&] { merge({{text, false}}, {}); }).find(mention), std::string::npos);
+    }
+}
+
+TEST(CommandLine, AReportsFlagsNeverNameAnOutputOrAnInternalFlag) {
+    for (const char* line : {"image = \"/tmp/x.png\"", "report = \"../elsewhere.json\"", "vcd = \"w.vcd\"", "map = \"m.png\"",
+                             "quiet = true", "verbose = 2", "config = \"c.conf\"", "rerun = \"r.json\"", "as-frame = true",
+                             "as-baseline = true", "as-comparison = true", "frame-index = 3", "targets-from = \"t.json\""}) {
+        SCOPED_TRACE(line);
+        const std::string e = thrown<ConfigError>([&] { merge({{std::string("mesh = 2\n") + line + "\n", true}}, {}); });
+        EXPECT_NE(e.find("f1:2: '"), std::string::npos) << e;
+        EXPECT_NE(e.find("never name an output"), std::string::npos) << e;
+    }
+    // From the command line they are the user's own.
+    EXPECT_EQ(parsed(merge({{"mesh = 2\n", true}}, {"--image", "mine.png"})).image, "mine.png");
+}
+
+// ---- The output policy (sw/output_file.h) ----
+
+TEST_F(Folder, AnOutputIsAbsentOrARegularFileOfItsOwn) {
+    EXPECT_NO_THROW(checkWritable("--report", path("new.json")));
+    write("old.json", "{}");
+    EXPECT_NO_THROW(checkWritable("--report", path("old.json")));
+    ASSERT_EQ(::mkfifo(path("fifo").c_str(), 0600), 0);
+    fs::create_symlink(path("old.json"), path("link.json"));
+    const std::pair<std::string, std::string> bad[] = {
+        {path("fifo"), "is not a regular file"},
+        {"/dev/null", "is not a regular file"},
+        {path("link.json"), "is a symbolic link"},
+        {dir_.string(), "is a folder"},
+        {path("no/such/x.json"), "no such folder"},
+        {"", "an empty name"},
+    };
+    for (const auto& [p, mention] : bad) {
+        SCOPED_TRACE(p);
+        EXPECT_NE(thrown<OutputError>([&] { checkWritable("--report", p); }).find(mention), std::string::npos);
+    }
+    EXPECT_TRUE(fs::is_fifo(path("fifo")));  // all still there
+    EXPECT_EQ(fs::read_symlink(path("link.json")), path("old.json"));
+    EXPECT_NO_THROW(checkExtension("--image", "A.PNG", {".png"}));
+    EXPECT_NE(thrown<OutputError>([] { checkExtension("--map", "m.xyz", {".png", ".svg"}); }).find("must end in .png, .svg"),
+              std::string::npos);
+}
+
+TEST_F(Folder, NoTwoOutputsAndNoOutputAndInputNameOneFile) {
+    write("scene.nff", "s 0 0 0 1\n");
+    fs::create_hard_link(path("scene.nff"), path("hard.json"));
+    const std::pair<std::vector<NamedFile>, std::string> bad[] = {
+        {{{"--image", path("x.png")}, {"--map", path("x.png")}}, "--map: " + path("x.png") + ": the same file as --image"},
+        {{{"--image", path("x.png")}, {"--map", dir_.string() + "/./x.png"}}, "the same file as --image"},
+        {{{"--scene", path("scene.nff"), false}, {"--report", path("hard.json")}}, "the same file as the input --scene"},
+        {{{"--report", path("r.json")}, {"--boundaries-from", path("r.json"), false}}, "the same file as the input --boundaries-from"},
+    };
+    for (const auto& [files, mention] : bad) {
+        SCOPED_TRACE(mention);
+        EXPECT_NE(thrown<OutputError>([&] { checkDistinct(files); }).find(mention), std::string::npos);
+    }
+    EXPECT_NO_THROW(checkDistinct({{"--config", path("a"), false}, {"--scene", path("a"), false}, {"--image", path("b.png")}}));
+}
+
+TEST_F(Folder, AnOutputIsRenamedIntoPlaceOrLeavesNothing) {
+    write("keep.json", "before");
+    {
+        AtomicFile f(path("keep.json"));
+        EXPECT_EQ(fs::path(f.temp()).filename().string().rfind("keep.json.incomplete-", 0), 0u);  // a name that says so
+        f.write("after");
+    }  // not committed: the temporary goes, the file stays
+    EXPECT_TRUE(left().empty());
+    EXPECT_EQ(read("keep.json"), "before");
+    AtomicFile g(path("keep.json"));
+    g.write("after");
+    g.commit();
+    EXPECT_TRUE(left().empty());
+    EXPECT_EQ(read("keep.json"), "after");
+    // A signal that ends the process at once removes the temporaries held.
+    AtomicFile h(path("third.json"));
+    ASSERT_EQ(left().size(), 1u);
+    removeTempFilesNow();
+    EXPECT_TRUE(left().empty());
+}
+
+TEST(VcdStream, AWriteThatFailsIsAnErrorNamingTheVcd) {
+    VcdStream v;
+    const int s = v.declare("node_0_0_0", "busy", VcdStream::Kind::Bit);
+    const std::string e = thrown<std::runtime_error>([&] {
+        v.open("/dev/full", 0, ~Picos(0), "w.vcd");  // (a full disk)
+        for (Picos t = 1; t < 400000; ++t) v.set(t, s, int64_t(t % 2));
+        v.close(400000, "");
+    });
+    EXPECT_NE(e.find("w.vcd: cannot write the VCD"), std::string::npos) << e;
+}
+
+// ---- Derived times (machine_config.h, cost_model.h, units.h) ----
+
+TEST(DerivedTimes, EachIsBoundedAtConfigurationNamingItsFlags) {
+    auto bad = [](auto change, const std::string& mention) {
+        MachineConfig m;
+        change(m);
+        SCOPED_TRACE(mention);
+        const std::string e = thrown<std::invalid_argument>([&] { m.checkDerivedTimes(1000); });
+        EXPECT_EQ(e.rfind(mention, 0), 0u) << e;
+        EXPECT_NE(e.find("more than 1,000 s"), std::string::npos) << e;
+    };
+    bad([](MachineConfig& m) { m.link.bandwidth = 1e-6; }, "--link-bandwidth with --ray-batch");
+    bad([](MachineConfig& m) { m.linkOverride[{{1, 0, 0}, 1}] = LinkParams{0, 1e-9, 16, 0, 0}; }, "--link-set 1,0,0,-x");
+    bad([](MachineConfig& m) { m.fbPort.bandwidth = 1; m.fbBatch = 65536; }, "--fb-bandwidth with --fb-batch");
+    bad([](MachineConfig& m) { m.hostCost = kMaxTimeValue; m.fbBatch = 65536; }, "--cost-host with --fb-batch");
+    bad([](MachineConfig& m) { m.speed = 1e-15; }, "--speed 1e-15 with --cost-sphere");
+    bad([](MachineConfig& m) { m.nodeSpeed[{0, 1, 0}] = 1e-12; }, "--node-speed 0,1,0=1e-12 with --cost-sphere");
+    bad([](MachineConfig& m) { m.balance.policy = "slide"; m.balance.rebuildCost = kMaxTimeValue; }, "--cost-rebuild");
+    bad([](MachineConfig& m) {
+        m.balance.policy = "slide";
+        m.link.bandwidth = 10;
+        m.link.controlDepth = 2;
+        m.balance.reportShare = 1e-6;
+    }, "--link-bandwidth with --report-share");
+    MachineConfig fine;
+    fine.speed = 1e-9;  // 10 s a sphere test: slow, but a time the model can count
+    EXPECT_NO_THROW(fine.checkDerivedTimes(1000));
+}
+
+TEST(DerivedTimes, ARunsSumsAreCheckedAsTheyAreMade) {
+    Costs c;
+    c.test = {kMaxTimeValue, 1, 1};
+    Counters before, after;
+    after.tests = {5000, 0, 0};  // 5,000 sphere tests of 1,000 s: past 2^62 ps
+    EXPECT_NE(thrown<std::runtime_error>([&] { CostModel(c, 1.0, 0).step(before, after, 0, 0, 0); }).find("would wrap"),
+              std::string::npos);
+    after.tests = {4000, 0, 0};  // 4,000: within it, exact
+    EXPECT_EQ(CostModel(c, 1.0, 0).step(before, after, 0, 0, 0), 4000 * kMaxTimeValue);
+    // ... but not at half the speed.
+    EXPECT_NE(thrown<std::runtime_error>([&] { CostModel(c, 0.5, 0).step(before, after, 0, 0, 0); }).find("speed factor"),
+              std::string::npos);
+    EXPECT_NE(thrown<std::runtime_error>([&] { CostModel(c, 1.0, kMaxTimeValue).rebuild(10000); }).find("--cost-rebuild"),
+              std::string::npos);
+    EXPECT_NE(thrown<std::runtime_error>([] { timesCount(Picos(1) << 40, uint64_t(1) << 30, "x"); }).find("x: "),
+              std::string::npos);
+    EXPECT_EQ(saturatedPicos(1e300), kMaxSimTime);
+    EXPECT_EQ(saturatedPicos(std::nan("")), 0u);
+    EXPECT_EQ(saturatedPicos(-5), 0u);
+    EXPECT_EQ(saturatedPicos(12.9), 12u);  // (truncated, as the casts it replaces)
+}
+
+// ---- The grids' memory, counted before it is taken (grid.h) ----
+
+TEST(GridSize, CountedBeforeBuildingIsWhatTheGridHolds) {
+    std::vector<Shape> objects;
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> u(0, 1);
+    for (int i = 0; i < 300; ++i) {
+        Shape s;
+        s.geometry = Sphere{Vec3(u(rng), u(rng), u(rng)), i % 3 ? 0.02 : 0.6, false};  // a third of them overlapping much
+        s.id = uint32_t(i);
+        objects.push_back(s);
+    }
+    const Box box{Vec3(-0.7), Vec3(1.7)};
+    const UniformGrid g(objects, box);
+    const UniformGrid::Size size = UniformGrid::sizeFor(objects, box);
+    uint64_t references = 0;
+    const Lattice& l = g.lattice();
+    for (int z = 0; z < l.cells(2); ++z)
+        for (int y = 0; y < l.cells(1); ++y)
+            for (int x = 0; x < l.cells(0); ++x) references += g.cellObjects({x, y, z}).size();
+    EXPECT_EQ(size.references, references);
+    EXPECT_EQ(size.cells, uint64_t(l.cellCount()));
+}
