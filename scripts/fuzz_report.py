@@ -2,7 +2,11 @@
 """The figures of a scripts/fuzz.sh run, as Markdown: executions, coverage,
 corpus and findings (crash, timeout, out-of-memory and leak reproducers).
 
-usage: fuzz_report.py LOG EXIT_STATUS SECONDS OUT_DIR
+usage: fuzz_report.py LOG EXIT_STATUS SECONDS OUT_DIR [TARGET]
+
+TARGET (nff, report or config; default nff) names the table: doc/results/
+fuzz.md and the `fuzz` section of doc/robustness.md for nff, fuzz-TARGET
+for the others.
 """
 import glob
 import os
@@ -15,6 +19,8 @@ from project import ROOT, publish_table  # noqa: E402
 
 def main():
     log_path, status, seconds, out = sys.argv[1], int(sys.argv[2]), int(sys.argv[3]), sys.argv[4]
+    target = sys.argv[5] if len(sys.argv) > 5 else "nff"
+    name = "fuzz" if target == "nff" else "fuzz-" + target
     text = open(log_path, errors="replace").read()
     stats = dict(re.findall(r"^stat::(\w+):\s+(\d+)", text, re.M))
     progress = re.findall(r"^#(\d+)\s+\w+\s+cov: (\d+) ft: (\d+) corp: (\d+)/(\S+)", text, re.M)
@@ -32,8 +38,7 @@ def main():
     lines += [f"| peak memory | {stats.get('peak_rss_mb', '?')} MB |",
               f"| libFuzzer's exit status | {status} |",
               f"| findings | {len(findings)}{': ' + ', '.join(findings) if findings else ''} |"]
-    publish_table(lines, os.path.join(ROOT, "doc", "results", "fuzz.md"), os.path.join(ROOT, "doc", "robustness.md"),
-                  "fuzz")
+    publish_table(lines, os.path.join(ROOT, "doc", "results", name + ".md"), os.path.join(ROOT, "doc", "robustness.md"), name)
 
 
 if __name__ == "__main__":

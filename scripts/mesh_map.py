@@ -4,8 +4,10 @@ balancing axis as a grid of nodes coloured by load, the links between them
 drawn by wire utilisation (within a layer as lines; towards the next layer
 as a triangle in the node, pointing up the axis); and, when balancing ran,
 a second panel with every boundary's position over time, one colour per
-column. Usage: mesh_map.py REPORT.json -o OUT.png. Run with /usr/bin/python3
-(Debian's python3-matplotlib)."""
+column. Usage: mesh_map.py REPORT.json -o OUT.png [--format png|svg|pdf]
+(the format: the output's extension, unless given). Run with
+/usr/bin/python3 (Debian's python3-matplotlib). The same report gives the
+same file, byte for byte (no dates in it)."""
 import argparse
 import json
 import sys
@@ -19,7 +21,12 @@ from matplotlib import cm, colors  # noqa: E402
 AXES = "xyz"
 
 
-def draw(r, out):
+FORMATS = ("png", "svg", "pdf")
+# No date or random id in the file: the same report, the same bytes.
+NO_DATES = {"png": {}, "svg": {"Date": None}, "pdf": {"CreationDate": None, "ModDate": None}}
+
+
+def draw(r, out, fmt):
     cfg = r["config"]
     dims = cfg["mesh"]
     ax = AXES.index(cfg["balance"]["axis"])
@@ -96,14 +103,19 @@ def draw(r, out):
     title = (f"{dims[0]}x{dims[1]}x{dims[2]} mesh, render time {r['render_time_ns'] / 1000:.1f} us; "
              f"busiest: " + ", ".join(f"{x['name']} {100 * x['utilisation']:.0f} %" for x in r.get("busiest_links", [])))
     fig.suptitle(title, fontsize=10)
-    fig.savefig(out, dpi=110)
+    plt.rcParams["svg.hashsalt"] = "rtsim"
+    fig.savefig(out, dpi=110, format=fmt, metadata=NO_DATES[fmt])
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("report")
     ap.add_argument("-o", "--out", required=True)
+    ap.add_argument("--format", choices=FORMATS, help="png, svg or pdf (default: the output's extension)")
     a = ap.parse_args()
+    fmt = a.format or a.out.rsplit(".", 1)[-1].lower()
+    if fmt not in FORMATS:
+        sys.exit(f"mesh_map: {a.out}: the name must end in .png, .svg or .pdf (or give --format)")
     try:
         with open(a.report) as f:
             r = json.load(f)
@@ -112,7 +124,7 @@ def main():
                 raise ValueError(f"no '{k}' (not an rtsim report)")
     except (OSError, ValueError) as e:
         sys.exit(f"mesh_map: {a.report}: {e}")
-    draw(r, a.out)
+    draw(r, a.out, fmt)
 
 
 if __name__ == "__main__":

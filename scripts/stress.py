@@ -3,14 +3,20 @@
 speeds, policies, intervals, gains, quanta, batches and frame-buffer layouts
 on small scenes. Every run must exit 0 (the run checks its own
 conservation), give the image rtref gives for the same scene and size, and
-give the same image and report again when rerun (wall-clock fields aside).
-A seed fixes the configurations.
+give the same image and report again when run a second time through
+--config files (its flags spread over two files and the command line, with
+decoy values that later ones must replace) and a third time with --rerun
+of its report from another folder (wall-clock fields and rerun.of aside).
+Each report is then turned hostile (a flag naming an output, a field of
+the wrong type, nesting too deep): that rerun must exit 2 with one line and
+write nothing. A seed fixes the configurations.
 
   /usr/bin/python3 scripts/stress.py --count 1000 --doc   # the full run; figures to doc/results/stress.md
   /usr/bin/python3 scripts/stress.py --count 50           # the slice ctest runs (StressSlice)
 """
 import argparse
 import concurrent.futures
+import json
 import os
 import random
 import shlex
@@ -20,7 +26,7 @@ import tempfile
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from project import RESULTS, ROOT, RTREF, RTSIM, publish_table, run_rtsim, spd_scene  # noqa: E402
+from project import RESULTS, ROOT, RTREF, RTSIM, publish_table, spd_scene  # noqa: E402
 
 POLICIES = ["none", "slide", "work", "quantile", "resplit", "median", "default"]
 DIRS = ["+x", "-x", "+y", "-y", "+z", "-z"]
@@ -73,6 +79,80 @@ def configuration(rng):
     return scene, rtsim_scene + a
 
 
+# Valid values that a later file or the command line must replace.
+DECOYS = {"--link-depth": "3", "--fb-units": "2", "--balance": "none", "--quantum": "0", "--mesh-dims": "1x1x1",
+          "--gain": "0.5", "--fb-batch": "7", "--node-speed": "0,0,0=3"}
+REPEATABLE = {"--node-speed", "--link-set"}
+# Flags a report may never carry (tb/command_line.h), and the hostile
+# changes a received report may carry instead.
+FORBIDDEN = ["image", "report", "vcd", "map", "quiet", "as-frame", "as-baseline", "as-comparison", "targets-from"]
+
+
+def flag_groups(args):
+    """args as [(flag, [values])], in order; a repeatable flag's values together."""
+    groups = []
+    for i in range(0, len(args), 2):
+        flag, value = args[i], args[i + 1]
+        if flag in REPEATABLE and any(g[0] == flag for g in groups):
+            next(g for g in groups if g[0] == flag)[1].append(value)
+        else:
+            groups.append((flag, [value]))
+    return groups
+
+
+def config_value(rng, v):
+    """v as a config file may write it: bare when it can be, else quoted."""
+    plain = v and v.strip() == v and not any(c in v for c in "#\"'[],")
+    return v if plain and rng.random() < 0.5 else json.dumps(v)
+
+
+def config_line(rng, flag, values):
+    name = flag[2:]
+    if flag in REPEATABLE and (len(values) > 1 or rng.random() < 0.5):
+        text = f"{name} = [{', '.join(json.dumps(v) for v in values)}]"
+    else:
+        text = f"{name} = {config_value(rng, values[0])}"
+    return text + ("  # a comment" if rng.random() < 0.2 else "")
+
+
+def through_configs(rng, args, d):
+    """The same run's arguments given through two --config files and the
+    command line, with decoys that the later values must replace."""
+    files, rest = {"a": ["# stress: the first file"], "b": [""]}, []
+    for flag, values in flag_groups(args):
+        where = rng.choice(["a", "b", "cli"])
+        if where != "a" and flag in DECOYS and rng.random() < 0.5:
+            files["a"].append(config_line(rng, flag, [DECOYS[flag]]))
+        if where == "cli":
+            for v in values:
+                rest += [flag, v]
+        else:
+            files[where].append(config_line(rng, flag, values))
+    paths = []
+    for name, lines in files.items():
+        paths += ["--config", os.path.join(d, name + ".conf")]
+        with open(paths[-1], "w") as f:
+            f.write("\n".join(lines) + "\n")
+    return paths + rest
+
+
+def hostile(rng, report, d):
+    """A received report turned hostile in one of the ways a rerun must refuse."""
+    r = json.loads(json.dumps(report))
+    kind = rng.randrange(4)
+    if kind == 0:
+        name = rng.choice(FORBIDDEN)
+        value = json.dumps(os.path.join(d, "victim.png")) if name not in ("quiet", "as-frame", "as-baseline", "as-comparison") else "true"
+        r["rerun"]["flags"] += f"{name}={value}\n"
+    elif kind == 1:
+        r["rerun"]["flags"] = rng.choice([5, None, ["mesh=2"]])
+    elif kind == 2:
+        r["config"]["scene"] = rng.choice(["x", 3, []])
+    else:
+        r["config"]["deep"] = json.loads("[" * 100 + "]" * 100)
+    return r
+
+
 def without_wall(report):
     """The report without what depends on the wall clock."""
     if isinstance(report, dict):
@@ -90,30 +170,57 @@ def check(index, scene, args, rtsim, rtref, tmp):
         return f"could not run: {e}"
 
 
+def rtsim_run(rtsim, args, d, name, cwd=None):
+    """rtsim with `args`, its image and report as d/name.png and .json:
+    (exit code, stderr, image bytes, report) (the last two None if it failed)."""
+    image, report = os.path.join(d, name + ".png"), os.path.join(d, name + ".json")
+    p = subprocess.run([rtsim] + args + ["-q", "--no-baseline", "--image", image, "--report", report], capture_output=True,
+                       text=True, timeout=120, cwd=cwd)
+    if p.returncode != 0:
+        return p.returncode, p.stderr.strip(), None, None
+    with open(image, "rb") as f, open(report) as g:
+        return 0, "", f.read(), json.load(g)
+
+
 def run_and_compare(index, scene, args, rtsim, rtref, tmp):
     d = os.path.join(tmp, str(index))
-    os.makedirs(d)
+    os.makedirs(os.path.join(d, "elsewhere"))
+    rng = random.Random(index)
     ref = subprocess.run([rtref] + scene + ["-o", os.path.join(d, "ref.png")], capture_output=True, text=True)
     if ref.returncode != 0:
         return f"rtref failed: {ref.stderr.strip()}"
-    runs = []
-    for k in (1, 2):
-        image = os.path.join(d, f"{k}.png")
-        try:
-            report, _ = run_rtsim(args, rtsim, timeout=120, image=image, report=os.path.join(d, f"{k}.json"))
-        except subprocess.TimeoutExpired:
-            return "timed out after 120 s"
-        except RuntimeError as e:
-            return str(e)
-        with open(image, "rb") as f:
-            runs.append((f.read(), without_wall(report)))
+    runs = {}
+    try:
+        for name, given, cwd in (("direct", args, None), ("configs", through_configs(rng, args, d), None),
+                                 ("rerun", ["--rerun", os.path.join(d, "direct.json")], os.path.join(d, "elsewhere"))):
+            code, err, image, report = rtsim_run(rtsim, given, d, name, cwd)
+            if code != 0:
+                return f"{name}: exit {code}: {err}"
+            report["rerun"].pop("of", None)
+            runs[name] = (image, without_wall(report))
+    except subprocess.TimeoutExpired:
+        return "timed out after 120 s"
     with open(os.path.join(d, "ref.png"), "rb") as f:
-        if runs[0][0] != f.read():
+        if runs["direct"][0] != f.read():
             return "image differs from rtref's"
-    if runs[0][0] != runs[1][0]:
-        return "rerun: image differs"
-    if runs[0][1] != runs[1][1]:
-        return "rerun: report differs"
+    for name in ("configs", "rerun"):
+        if runs[name][0] != runs["direct"][0]:
+            return f"{name}: image differs"
+        if runs[name][1] != runs["direct"][1]:
+            return f"{name}: report differs"
+    # The report, received hostile: refused in one line, nothing written.
+    with open(os.path.join(d, "direct.json")) as f, open(os.path.join(d, "hostile.json"), "w") as g:
+        json.dump(hostile(rng, json.load(f), d), g)
+    with open(os.path.join(d, "victim.png"), "w") as f:
+        f.write("precious")
+    before = sorted(os.listdir(d))
+    p = subprocess.run([rtsim, "--rerun", os.path.join(d, "hostile.json"), "-q", "--image", ""], capture_output=True,
+                       text=True, timeout=120, cwd=os.path.join(d, "elsewhere"))
+    if p.returncode != 2 or p.stderr.count("\n") != 1:
+        return f"hostile report: exit {p.returncode}, {p.stderr.strip()!r}"
+    with open(os.path.join(d, "victim.png")) as f:
+        if f.read() != "precious" or sorted(os.listdir(d)) != before or os.listdir(os.path.join(d, "elsewhere")):
+            return "hostile report: a file was written"
     return ""
 
 
@@ -151,8 +258,12 @@ def main():
     if a.doc:
         lines = ["<!-- written by scripts/stress.py --doc; do not edit -->",
                  f"`scripts/stress.py --count {a.count} --seed {a.seed}`: {summary} on {a.jobs} workers.",
-                 "Each configuration: rtsim twice and rtref once; exit 0, the image rtref gives, and the same "
-                 "image and report (wall-clock fields aside) on the rerun.", "",
+                 "Each configuration: rtref once and rtsim three times, with its flags on the command line, "
+                 "spread over two --config files (with decoys a later value replaces) and the command line, and "
+                 "rerun from its report in another folder: exit 0, the image rtref gives, and the same image and "
+                 "report each time (wall-clock fields and rerun.of aside); then the report made hostile (a flag "
+                 "naming an output, a field of the wrong type, nesting 100 deep): exit 2, one line, nothing written.",
+                 "",
                  "| policy | configurations |", "|---|---:|"]
         lines += [f"| {p} | {n} |" for p, n in sorted(policies.items())]
         if failures:
