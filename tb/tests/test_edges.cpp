@@ -31,9 +31,11 @@ protected:
         fs::create_directories(tmp());
     }
     fs::path tmp() const { return dir_ / "tmp"; }
-    // rtsim with `args`, its temporary files in tmp(), stopped after a minute.
+    // rtsim with `args` in the test's folder (so a relative path a bug lets
+    // through lands where the test looks), its temporary files in tmp(),
+    // stopped after a minute.
     Outcome rtsim(const std::string& args) {
-        return run("TMPDIR=" + tmp().string() + " timeout 60 " + RTSIM_EXE + " " + args);
+        return run("TMPDIR=" + tmp().string() + " timeout 60 " + RTSIM_EXE + " " + args, dir_);
     }
     // Bad input: exit 2, one line mentioning `mention`.
     void bad(const std::string& args, const std::string& mention) {
