@@ -21,6 +21,10 @@ struct JsonInputError : std::invalid_argument {
 
 // Nesting deeper than any report has (a report is about 6 levels deep).
 constexpr int kMaxJsonDepth = 64;
+// A report given to --rerun or --boundaries-from: with the per-interval
+// history bounded, a few MB; one of a long --frames sequence at N = 16
+// some hundreds.
+constexpr uintmax_t kMaxReportBytes = uintmax_t(1) << 30;
 
 // `path`: a regular file of at most `maxBytes`, JSON nested at most
 // kMaxJsonDepth deep. Throws JsonInputError "PATH: why".

@@ -17,10 +17,6 @@ namespace {
 
 using json = nlohmann::json;
 
-// A report, with the per-interval history bounded, is a few MB; one of a
-// long --frames sequence at N = 16 some hundreds.
-constexpr uintmax_t kMaxReportBytes = uintmax_t(1) << 30;
-
 std::string absolutePath(const std::string& p) { return std::filesystem::absolute(p).lexically_normal().string(); }
 
 }  // namespace

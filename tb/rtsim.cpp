@@ -29,17 +29,18 @@
 #include "config_echo.h"
 #include "frame_sequence.h"
 #include "grid.h"
+#include "json_input.h"
 #include "machine.h"
 #include "memory_estimate.h"
 #include "messages.h"
 #include "output_file.h"
 #include "outputs.h"
 #include "reference_runs.h"
-#include "stops.h"
 #include "report.h"
 #include "rerun.h"
 #include "rtsim_cli.h"
 #include "scene_error.h"
+#include "stops.h"
 #include "summary.h"
 #include "version.h"
 
@@ -157,13 +158,7 @@ Stop echoConfig(const rt::RtsimOptions& o, const rt::Scene& scene, const rt::Com
 Stop startBoundaries(rt::RtsimOptions& o) {
     try {
         if (!o.boundariesFrom.empty()) {
-            std::ifstream f(o.boundariesFrom);
-            nlohmann::json prev;
-            try {
-                prev = nlohmann::json::parse(f);
-            } catch (const std::exception&) {
-                throw std::runtime_error("not JSON");
-            }
+            const nlohmann::json prev = rt::readJsonFile(o.boundariesFrom, rt::kMaxReportBytes);  // (limits as --rerun's)
             o.machine.startBoundaries = rt::lastBoundaries(prev, o.machine);
             if (o.machine.balance.policy == "resplit") o.machine.targetBoundaries = rt::resplitTargets(prev, o.machine);
         }
@@ -171,6 +166,9 @@ Stop startBoundaries(rt::RtsimOptions& o) {
             std::ifstream f(o.targetsFrom);
             o.machine.targetBoundaries = nlohmann::json::parse(f).get<std::vector<std::vector<double>>>();
         }
+    } catch (const rt::JsonInputError& e) {  // ("PATH: why")
+        rt::msg::error(rt::msg::kConfig, std::string("--boundaries-from ") + e.what());
+        return 2;
     } catch (const std::exception& e) {
         rt::msg::error(rt::msg::kConfig, "--boundaries-from " + o.boundariesFrom + ": " + e.what());
         return 2;

@@ -2,14 +2,12 @@
 
 #include <filesystem>
 
+#include "json_input.h"
 #include "option_parsers.h"
 #include "policy.h"
 
 namespace rt {
 namespace {
-// A report given to --boundaries-from: with the per-interval history
-// bounded, a few MB (tb/rerun.cpp reads --rerun's).
-constexpr uintmax_t kMaxReportBytes = uintmax_t(1) << 30;
 const std::string gm = "Machine", gc = "Costs", gl = "Links", go = "Outputs", gb = "Balancing (sliding boundaries)",
                   gf = "Frames";
 

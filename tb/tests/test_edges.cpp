@@ -164,6 +164,9 @@ TEST_F(Edges, AMalformedReportIsOneLineNamingTheField) {
     deep.insert(deep.find("\"config\":{") + 10, "\"deep\":" + std::string(300000, '[') + std::string(300000, ']') + ",");
     write(dir_ / "deep.json", deep);
     bad("--rerun " + p("deep.json") + " -q --image ''", "nested more than 64 deep");
+    // --boundaries-from takes a report too, read alike.
+    bad(std::string(kSmall) + " --balance slide --boundaries-from " + p("deep.json") + " -q --image ''",
+        "--boundaries-from " + p("deep.json") + ": nested more than 64 deep");
     EXPECT_TRUE(leftBehind().empty());
 }
 
