@@ -101,11 +101,12 @@ void checkWritable(const std::string& flag, const std::string& path) {
     std::remove(t.c_str());
 }
 
-void checkExtension(const std::string& flag, const std::string& path, const std::vector<std::string>& extensions) {
+const std::string& checkExtension(const std::string& flag, const std::string& path,
+                                  const std::vector<std::string>& extensions) {
     const std::string p = lower(path);
     std::string list;
     for (const std::string& e : extensions) {
-        if (p.size() > e.size() && p.compare(p.size() - e.size(), e.size(), e) == 0) return;
+        if (p.size() > e.size() && p.compare(p.size() - e.size(), e.size(), e) == 0) return e;
         list += (list.empty() ? "" : ", ") + e;
     }
     throw OutputError(flag + ": " + path + ": the name must end in " + list + " (the format written)");

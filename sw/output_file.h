@@ -29,7 +29,9 @@ struct OutputError : SceneError {
 void checkWritable(const std::string& flag, const std::string& path);
 // Throws OutputError unless `path` ends in one of `extensions` (".png";
 // any case).
-void checkExtension(const std::string& flag, const std::string& path, const std::vector<std::string>& extensions);
+// Returns the one it ends in.
+const std::string& checkExtension(const std::string& flag, const std::string& path,
+                                  const std::vector<std::string>& extensions);
 
 // A file a run names: an output or an input.
 struct NamedFile {

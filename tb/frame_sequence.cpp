@@ -1,6 +1,5 @@
 #include "frame_sequence.h"
 
-#include <csignal>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -73,8 +72,8 @@ EarlierFrames runEarlierFrames(const std::vector<std::string>& args, RtsimOption
             extra.insert(extra.end(), {"--targets-from", targets->path()});
         }
         Child child(args, extra);
-        const int code = child.exitCode();
-        if (code == 3 || code == 128 + SIGINT || code == 128 + SIGTERM) {
+        if (child.stopped()) {
+            const int code = child.exitCode();
             // Stopped (the child said why on stderr): its report so far, with
             // the frames before it. No image, no VCD (those are of the last frame).
             out.exitCode = code;

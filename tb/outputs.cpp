@@ -13,13 +13,8 @@ namespace {
 const std::string kMapScript = std::string(RT_SCRIPTS_DIR) + "/mesh_map.py";
 const std::vector<std::string> kMapFormats = {".png", ".svg", ".pdf"};
 
-// --map's format, from its name (checked before the run).
-std::string mapFormat(const std::string& path) {
-    const size_t dot = path.find_last_of('.');
-    std::string f = path.substr(dot + 1);
-    for (char& c : f) c = char(std::tolower(static_cast<unsigned char>(c)));
-    return f;
-}
+// --map's format, from its name (checked before the run): png, svg or pdf.
+std::string mapFormat(const std::string& path) { return checkExtension("--map", path, kMapFormats).substr(1); }
 
 // --map draws with Debian's Python and matplotlib: there before the run,
 // not found missing after it.

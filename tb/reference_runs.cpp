@@ -1,7 +1,6 @@
 #include "reference_runs.h"
 
 #include <chrono>
-#include <csignal>
 #include <optional>
 
 #include "messages.h"
@@ -23,8 +22,6 @@ nlohmann::json comparison(const nlohmann::json& balanced, const nlohmann::json& 
             {"perfect_bound", unbalanced["bounds"]["perfect"]["fraction"]}};
 }
 
-bool stoppedCode(int code) { return code == 3 || code == 128 + SIGINT || code == 128 + SIGTERM; }
-
 }  // namespace
 
 ReferenceRuns addReferenceRuns(nlohmann::json& report, const std::vector<std::string>& args, const RtsimOptions& o) {
@@ -43,7 +40,7 @@ ReferenceRuns addReferenceRuns(nlohmann::json& report, const std::vector<std::st
     const std::optional<nlohmann::json> other = otherRun ? otherRun->report() : std::nullopt;
     std::string stopped;
     for (auto& [run, what] : {std::pair{&baseRun, "the 1x1x1 baseline"}, std::pair{&otherRun, "the balancing comparison"}})
-        if (*run && stoppedCode((*run)->exitCode())) {
+        if (*run && (*run)->stopped()) {
             stopped += (stopped.empty() ? "" : " and ") + std::string(what);
             out.stopCode = stopSignal ? 128 + int(stopSignal) : (*run)->exitCode();
         }

@@ -9,6 +9,7 @@
 // terminal reaches rtsim alone, which passes the stop on to each child
 // once (tb/stops.h); a child rtsim ends if its parent dies.
 #pragma once
+#include <csignal>
 #include <sys/types.h>
 
 #include <optional>
@@ -62,6 +63,12 @@ public:
     std::optional<nlohmann::json> stoppedReport();
     // 0 done, 3 or 128 + N stopped, anything else failed.
     int exitCode() { return wait(); }
+    // Stopped as rtsim stops a run, with its report so far: by the watchdog
+    // (3), Ctrl-C or SIGTERM (130, 143).
+    bool stopped() {
+        const int code = wait();
+        return code == 3 || code == 128 + SIGINT || code == 128 + SIGTERM;
+    }
 
 private:
     pid_t pid_ = -1;
