@@ -19,10 +19,12 @@ BalanceAgent::BalanceAgent(const BalanceConfig& cfg, BalanceHost& host, const Bo
     empty.hi = world.hi[cfg.axis];
     empty.bins.assign(size_t(std::max(1, cfg.bins * count)), 0.0);
     for (Side& s : sides_) s.span.profile = s.sentProfile = empty;
+    if (cfg.betweenFrames()) stats_.work = WorkByPosition(empty.lo, empty.hi, count);
 }
 
 void BalanceAgent::recordStep(double where, Picos cost) {
     traced_ += cost;
+    stats_.work.add(where, double(cost));
     for (Side& s : sides_) {
         if (!s.present) continue;
         s.span.profile.add(where, double(cost));
@@ -94,6 +96,14 @@ void BalanceAgent::startAt(double lo, double hi) {
     startTo_[1] = hi;
     startLo_ = sides_[0].present && std::isfinite(lo);
     startHi_ = sides_[1].present && std::isfinite(hi);
+}
+
+void BalanceAgent::tookSlab() {
+    if (!hold_) return;
+    const Box& b = host_.box();
+    const int ax = cfg_.axis;
+    startLo_ = startLo_ || (sides_[0].present && std::isfinite(startTo_[0]) && startTo_[0] > b.lo[ax]);
+    startHi_ = startHi_ || (sides_[1].present && std::isfinite(startTo_[1]) && startTo_[1] < b.hi[ax]);
 }
 
 // Each give leaves the box at least the minimum thick; a target beyond the

@@ -50,6 +50,7 @@
 #include "machine_config.h"
 #include "message.h"
 #include "policy.h"
+#include "work_by_position.h"
 
 namespace rt {
 
@@ -71,6 +72,9 @@ struct BalanceStats {
     static constexpr double kAgeUnits = 1024;
     Histogram ages;
     uint64_t decisions = 0, gives = 0, skippedStale = 0, skippedLatency = 0, skippedCost = 0, skippedBusyLink = 0;
+    // The frame's tracing work by where it happened along the axis (each
+    // traced step's cost at the middle of its segment).
+    WorkByPosition work;
 };
 
 class BalanceHost {
@@ -135,6 +139,10 @@ public:
     // the frame: no reports, no decisions. Both nodes of a face know its
     // target, so exactly one of them gives.
     void startAt(double lo, double hi);
+    // A neighbour's slab was taken: with startAt's targets, the box may now
+    // reach one that lay beyond it (a plane that moves across several boxes
+    // moves in a chain of slides, each node passing on what it took).
+    void tookSlab();
 
     // --faces ideal-layer: the layer's faces, summed and decided without
     // messages (ideal_layer_faces.h); this node adds its loads to them and

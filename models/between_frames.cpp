@@ -28,6 +28,25 @@ auto readReport(F f) -> decltype(f()) {
     }
 }
 
+// A node's busy time in the frame of its report entry `node`, where it
+// happened: its tracing work by position (work_by_position, bins fixed in
+// the world), the rest spread evenly over [boxLo, boxHi].
+void addNodeWork(const nlohmann::json& node, double boxLo, double boxHi, std::vector<WorkPiece>& pieces) {
+    double rest = node.at("busy_ns").get<double>();
+    if (node.contains("work_by_position")) {
+        const auto& w = node.at("work_by_position");
+        const double from = w.at("axis_from").get<double>(), width = w.at("bin_width").get<double>();
+        double k = w.at("first_bin").get<double>();
+        for (const auto& v : w.at("ns")) {
+            const double work = v.get<double>();
+            pieces.push_back({from + k * width, from + (k + 1) * width, work});
+            rest -= work;
+            ++k;
+        }
+    }
+    pieces.push_back({boxLo, boxHi, std::max(0.0, rest)});
+}
+
 }  // namespace
 
 InnerPlanes lastBoundaries(const nlohmann::json& r, const MachineConfig& m, bool atStart) {
@@ -50,21 +69,19 @@ InnerPlanes lastBoundaries(const nlohmann::json& r, const MachineConfig& m, bool
     });
 }
 
-InnerPlanes resplitTargets(const nlohmann::json& r, const MachineConfig& m) {
+InnerPlanes resplitTargets(const nlohmann::json& r, const MachineConfig& m, double step) {
     const InnerPlanes check = lastBoundaries(r, m);  // the same mesh and axis
     const ColumnGeometry g(m.balance.axis, m.dims);
     const int ax = g.axis, n = g.length();
     return readReport([&] {
         const double end = r.at("render_time_ns").get<double>();
         double lo = 1e300, hi = -1e300;
-        std::vector<std::vector<double>> busy(check.size(), std::vector<double>(size_t(n), 0.0));
         for (const auto& node : r.at("nodes")) {
-            const auto c = node.at("node").get<std::array<int, 3>>();
             const auto box = node.at("box").get<std::array<std::array<double, 3>, 2>>();
             lo = std::min(lo, box[0][size_t(ax)]);
             hi = std::max(hi, box[1][size_t(ax)]);
-            busy.at(size_t(g.columnOf(c))).at(size_t(c[size_t(ax)])) = node.at("busy_ns").get<double>();
         }
+        // Each column's planes as they stood on average over the frame.
         std::vector<std::vector<double>> edges(check.size(), std::vector<double>(size_t(n + 1), 0.0));
         for (auto& e : edges) {
             e.front() = lo;
@@ -76,9 +93,21 @@ InnerPlanes resplitTargets(const nlohmann::json& r, const MachineConfig& m) {
             for (const auto& p : h.at("history")) history.push_back({p.at(0).get<double>(), p.at(1).get<double>()});
             edges[size_t(g.indexOf(col[0], col[1]))][size_t(h.at("index").get<int>())] = timeAveraged(history, end);
         }
+        std::vector<std::vector<WorkPiece>> pieces(check.size());
+        for (const auto& node : r.at("nodes")) {
+            const auto c = node.at("node").get<std::array<int, 3>>();
+            const size_t col = size_t(g.columnOf(c)), k = size_t(c[size_t(ax)]);
+            addNodeWork(node, edges.at(col).at(k), edges.at(col).at(k + 1), pieces[col]);
+        }
         const double minThickness = m.balance.minThickness * (hi - lo) / n;
         InnerPlanes targets;
-        for (size_t c = 0; c < edges.size(); ++c) targets.push_back(resplitPlanes(edges[c], busy[c], minThickness));
+        for (size_t c = 0; c < edges.size(); ++c) {
+            const std::vector<double> now(edges[c].begin() + 1, edges[c].end() - 1);
+            std::vector<double> t = resplitPlanes(pieces[c], lo, hi, n, minThickness, now);
+            if (step < 1)  // from where they ended
+                for (size_t k = 0; k < t.size(); ++k) t[k] = check[c][k] + step * (t[k] - check[c][k]);
+            targets.push_back(std::move(t));
+        }
         return targets;
     });
 }
@@ -112,13 +141,13 @@ std::optional<InnerPlanes> ResplitSequence::next(const nlohmann::json& r, int fr
             tryingStart_ = afresh_ = true;
             return start_;
         }
-        return resplitTargets(r, m_);
+        return resplitTargets(r, m_, kStep);
     }
     if (!faster) {
         held_ = best_;
         return held_;
     }
-    return resplitTargets(r, m_);
+    return resplitTargets(r, m_, kStep);
 }
 
 }  // namespace rt

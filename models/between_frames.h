@@ -23,9 +23,11 @@ using InnerPlanes = std::vector<std::vector<double>>;
 InnerPlanes lastBoundaries(const nlohmann::json& r, const MachineConfig& m, bool atStart = false);
 
 // `resplit`: each column's inner planes at the quantiles of its nodes' busy
-// time in the run of report `r` (resplit.h), each node's busy time spread
-// over its box as it stood on average over that frame.
-InnerPlanes resplitTargets(const nlohmann::json& r, const MachineConfig& m);
+// time in the run of report `r` (resplit.h): the tracing work where it
+// happened (work_by_position), the rest of a node's busy time spread over its
+// box as it stood on average over that frame. `step`: the share of the way
+// from where the planes ended to those quantiles.
+InnerPlanes resplitTargets(const nlohmann::json& r, const MachineConfig& m, double step = 1);
 
 // `resplit` over a sequence of frames: what the next frame does. Each frame
 // re-splits at the quantiles of the one before, as long as that keeps making
@@ -57,6 +59,12 @@ public:
 
 private:
     static constexpr int kTries = 2;
+    // How far each re-split after the first moves the planes towards their
+    // quantiles (the first goes all the way): the work moves with the
+    // planes (rays cross more boxes, and cross from column to column), so
+    // full steps overshoot and the sequence stops at the first frame that
+    // is slower; half steps settle (doc/balancing.md, "Why it settles").
+    static constexpr double kStep = 0.5;
     const MachineConfig& m_;
     double firstNs_ = 0, bestNs_ = 1e300;  // the first frame's time; the fastest re-split frame's
     int resplits_ = 0;                     // re-split frames so far

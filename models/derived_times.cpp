@@ -30,7 +30,7 @@ std::string number(double v) {
 }
 
 void boundWire(const LinkParams& l, const std::string& flag, uint32_t bytes, const std::string& message) {
-    bound(wirePicos(bytes, l.bandwidth), flag, message + " (" + std::to_string(bytes) + " bytes) at " + formatRate(l.bandwidth) + " on the wire");
+    bound(wirePicos(l, bytes), flag, message + " (" + std::to_string(bytes) + " bytes) at " + formatRate(l.bandwidth) + " on the wire");
 }
 
 const char* const kCostNames[] = {"--cost-sphere", "--cost-polygon", "--cost-cone"};
@@ -72,7 +72,7 @@ void MachineConfig::checkDerivedTimes(size_t objects) const {
     // --report-share before the next (balance_agent.cpp).
     auto paced = [&](const LinkParams& l, const std::string& flag) {
         if (l.controlDepth > 0)
-            bound(wirePicos(kHeaderBytes + kLoadReportBytes, l.bandwidth) / balance.reportShare, flag + " with --report-share",
+            bound(wirePicos(l, kHeaderBytes + kLoadReportBytes) / balance.reportShare, flag + " with --report-share",
                   "the gap between two load reports");
     };
     paced(link, "--link-bandwidth");

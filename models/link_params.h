@@ -28,16 +28,23 @@ struct LinkParams {
     // until the receiver frees a slot. 0 (the default): unbounded, a sender
     // never blocks.
     int outDepth = 0;
+    // The sending end's link engine: its time to take one message, before
+    // the message's bytes go out; the wire is held meanwhile. 0 unless the
+    // links handle the hops (MachineConfig::hopsByLinks, --hop-handling link),
+    // when it is the sender's --cost-send.
+    Picos engine = 0;
 };
 
-// A message of `bytes` on a wire of `bandwidth` bytes per second: its time
-// on the wire in picoseconds, unrounded (the balancing guard's estimates).
-inline double wirePicos(uint32_t bytes, double bandwidth) { return double(bytes) * 1e12 / bandwidth; }
+// A message of `bytes` on a link of `p`: its time on the wire in
+// picoseconds (the engine's handling, then the bytes at the bandwidth),
+// unrounded (the balancing guard's estimates).
+inline double bytesPicos(uint32_t bytes, double bandwidth) { return double(bytes) * 1e12 / bandwidth; }
+inline double wirePicos(const LinkParams& p, uint32_t bytes) { return double(p.engine) + bytesPicos(bytes, p.bandwidth); }
 
-// The same rounded up to whole picoseconds, at least 1 ps: what a link
-// charges.
-inline Picos wireTime(uint32_t bytes, double bandwidth) {
-    return std::max<Picos>(1, Picos(std::ceil(wirePicos(bytes, bandwidth))));
+// The same with the bytes' time rounded up to whole picoseconds, at least
+// 1 ps: what a link charges.
+inline Picos wireTime(const LinkParams& p, uint32_t bytes) {
+    return p.engine + std::max<Picos>(1, Picos(std::ceil(bytesPicos(bytes, p.bandwidth))));
 }
 
 // How long a message `wire` ps long keeps a link of `p` busy, by the
@@ -52,6 +59,6 @@ inline double occupancy(const LinkParams& p, double wire) {
 
 // The soonest after its sender's time that a message on a link of `p`
 // arrives: the latency and the smallest message's time on the wire.
-inline Picos linkLookahead(const LinkParams& p, uint32_t smallest) { return p.latency + wireTime(smallest, p.bandwidth); }
+inline Picos linkLookahead(const LinkParams& p, uint32_t smallest) { return p.latency + wireTime(p, smallest); }
 
 }  // namespace rt

@@ -77,7 +77,7 @@ void Machine::buildNodes(const ObjectBins& bins) {
     nodes_.init(size_t(cfg_.nodeCount()), [&](const char*, size_t i) {
         const Cell c = cellAt(i, cfg_.dims);
         const Box b = nodeBox(c, cuts_, columns_, columnPlanes_);
-        return new Node(nodeName(c).c_str(), c, b, bins.overlapping(b), *nodeParams_, cfg_.costsOf(c), cfg_.speedOf(c));
+        return new Node(nodeName(c).c_str(), c, b, bins.overlapping(b), *nodeParams_, cfg_.processorCostsOf(c), cfg_.speedOf(c));
     });
     if (cfg_.targetBoundaries.empty()) return;
     for (Node& node : nodes_) {  // resplit: where each node's faces go at the frame's start
@@ -118,7 +118,7 @@ void Machine::linkNeighbours(Node& n, std::vector<Picos>& nodeLookahead) {
         const std::string lname = nodeName(c) + "_" + linkSuffix(d);
         // Without a dynamic policy there is no control traffic and the
         // lane stays empty: one FIFO is the same link, cheaper to simulate.
-        LinkParams p = cfg_.linkOf(c, d);
+        LinkParams p = cfg_.meshLinkOf(c, d);
         if (!cfg_.balance.dynamic()) p.controlDepth = 0;
         links_.push_back(std::make_unique<Link>(lname, p, smallestMeshMessage(cfg_.balance.dynamic())));
         n.out[d].bind(*links_.back());
@@ -143,14 +143,15 @@ void Machine::linkNeighbours(Node& n, std::vector<Picos>& nodeLookahead) {
 void Machine::linkToFrameBuffer(Node& n, std::vector<Picos>& unitLookahead) {
     const int k = cfg_.fbUnits;
     const std::string fname = nodeName(n.cell()) + "_fb";
+    const LinkParams port = cfg_.fbPortOf(n.cell());
     for (int u = 0; u < k; ++u) {
-        links_.push_back(std::make_unique<Link>(k > 1 ? fname + std::to_string(u) : fname, cfg_.fbPort));
+        links_.push_back(std::make_unique<Link>(k > 1 ? fname + std::to_string(u) : fname, port));
         n.fb.bind(*links_.back());                   // the node's u-th binding
         units_[size_t(u)].in.bind(*links_.back());   // the unit's binding for this node (nodes in order)
         unitLookahead[size_t(u)] = std::min(unitLookahead[size_t(u)], links_.back()->lookahead());
         reportOf_.push_back(linkInfo_.size());
     }
-    linkInfo_.push_back({fname, n.cell(), -1, cfg_.fbPort, k, {}});
+    linkInfo_.push_back({fname, n.cell(), -1, port, k, {}});
 }
 
 // Unit 0 and each other unit: a port each way, for the end-of-frame check.

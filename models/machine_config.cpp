@@ -36,15 +36,46 @@ const LinkParams& MachineConfig::linkOf(const Cell& from, int dir) const {
     return it == linkOverride.end() ? link : it->second;
 }
 
+LinkParams MachineConfig::meshLinkOf(const Cell& from, int dir) const {
+    LinkParams p = linkOf(from, dir);
+    if (hopsByLinks) {
+        p.engine = costsOf(from).send;
+        p.latency += costsOf(neighbour(from, dir)).recv;
+    }
+    return p;
+}
+
+LinkParams MachineConfig::fbPortOf(const Cell& from) const {
+    LinkParams p = fbPort;
+    if (hopsByLinks) p.engine = costsOf(from).send;  // a unit's work is --cost-host
+    return p;
+}
+
+Costs MachineConfig::processorCostsOf(const Cell& c) const {
+    Costs k = costsOf(c);
+    if (hopsByLinks) k.send = k.recv = 0;
+    return k;
+}
+
 Picos MachineConfig::lookahead() const {
     const uint32_t mesh = smallestMeshMessage(balance.dynamic());
-    Picos l = linkLookahead(fbPort, kSmallestFbMessage);
+    Picos l = kMaxSimTime;
     auto meshLink = [&](const LinkParams& p) {
         l = std::min(l, linkLookahead(p, mesh));
         if (balance.dynamic() && p.controlDepth > 0) l = std::min(l, p.latency);  // its sender's (Machine::setLookaheads)
     };
-    meshLink(link);
-    for (const auto& [where, p] : linkOverride) meshLink(p);
+    if (!hopsByLinks && nodeCosts.empty()) {  // the links are the same everywhere but the overrides
+        l = linkLookahead(fbPort, kSmallestFbMessage);
+        meshLink(link);
+        for (const auto& [where, p] : linkOverride) meshLink(p);
+        return l;
+    }
+    for (int i = 0; i < nodeCount(); ++i) {
+        const Cell c = cellAt(size_t(i), dims);
+        l = std::min(l, linkLookahead(fbPortOf(c), kSmallestFbMessage));
+        for (int d = 0; d < kDirs; ++d)
+            if (inMesh(neighbour(c, d), dims)) meshLink(meshLinkOf(c, d));
+    }
     return l;
 }
 
@@ -64,7 +95,7 @@ Picos MachineConfig::watchdogSpanOrDefault(size_t objects) const {
     // (at worst every object tested once, at the slowest node's speed).
     const uint32_t bytes = std::max(kHeaderBytes + uint32_t(rayBatch) * kRayBytes, kHeaderBytes + uint32_t(fbBatch) * kContributionBytes);
     double longest = double(hostCost) * fbBatch;
-    auto link = [&](const LinkParams& l) { longest = std::max(longest, double(l.latency) + wirePicos(bytes, l.bandwidth)); };
+    auto link = [&](const LinkParams& l) { longest = std::max(longest, double(l.latency) + wirePicos(l, bytes)); };
     link(this->link);
     link(fbPort);
     for (const auto& [where, l] : linkOverride) link(l);

@@ -70,6 +70,7 @@ struct BalanceConfig {
     bool idealLayerFaces = false;
 
     bool dynamic() const;         // a policy that moves boundaries during the frame
+    bool betweenFrames() const { return policy == "resplit"; }  // one that re-splits from the frame before's work
     double gainOf() const;        // gain, or the policy's default
     // Throws std::invalid_argument("--flag: what") for the first bad value.
     // `reportFloor`: the shortest interval a node can report in;
@@ -89,6 +90,15 @@ struct MachineConfig {
 
     LinkParams link;
     std::map<std::pair<Cell, int>, LinkParams> linkOverride;  // (source node, direction)
+
+    // Who pays for a hop (doc/machine.md, "Who pays for a hop"): the node's
+    // processor handles each message it sends and receives (--cost-send,
+    // --cost-recv charged to its busy time, as a node whose routing runs in
+    // software), or the links' own engines do (DMA, as the paper's simulator
+    // assumes): then the sender's --cost-send holds the wire before each
+    // message (LinkParams::engine) and the receiver's --cost-recv adds to the
+    // link's latency, and the processors pay nothing for a hop.
+    bool hopsByLinks = false;  // --hop-handling link
 
     // The frame buffer (doc/machine.md, "The frame buffer"): fbUnits units,
     // pixel-interleaved (pixel p in unit p mod fbUnits); 1 is a single host.
@@ -170,6 +180,12 @@ struct MachineConfig {
     double speedOf(const Cell& c) const;
     const Costs& costsOf(const Cell& c) const;
     const LinkParams& linkOf(const Cell& from, int dir) const;
+    // As the machine builds them, with the hop handling applied: the mesh
+    // link from `from` towards `dir`, the node's frame-buffer port, the
+    // costs its processor pays.
+    LinkParams meshLinkOf(const Cell& from, int dir) const;
+    LinkParams fbPortOf(const Cell& from) const;
+    Costs processorCostsOf(const Cell& c) const;
     // The machine's lookahead: the smallest of its processes' (see
     // lookaheadQuantum): over every mesh link and frame-buffer port, its
     // latency plus the smallest message it carries on its wire (a link with

@@ -82,13 +82,14 @@ void Node::takeSlab(int side, double boundary, std::vector<Shape> objects) {
     outbox_.push_back({sideDir(side), Message::ack(boundary)});
     rebuild(own, uniteObjects(region_->objects(), std::move(objects)));
     finishControlStep(1, moved);
+    balance_->tookSlab();
 }
 
 // ---- The guard's view of the links to the column neighbours ----
 
 Picos Node::hopTime(int side) const {
     const LinkParams& l = linkTo(side);
-    return l.latency + saturatedPicos(wirePicos(kHeaderBytes + kRayBytes, l.bandwidth));
+    return l.latency + saturatedPicos(wirePicos(l, kHeaderBytes + kRayBytes));
 }
 
 // Only a report on a control lane is paced: it goes ahead of the rays, so
@@ -97,14 +98,14 @@ Picos Node::hopTime(int side) const {
 Picos Node::reportTime(int side) const {
     const LinkParams& l = linkTo(side);
     if (l.controlDepth == 0) return 0;
-    return saturatedPicos(wirePicos(kHeaderBytes + kLoadReportBytes, l.bandwidth));
+    return saturatedPicos(wirePicos(l, kHeaderBytes + kLoadReportBytes));
 }
 
 Picos Node::linkOccupied(int side) const { return out[sideDir(side)]->occupied(); }
 
 Picos Node::rayOccupies(int side) const {
     const LinkParams& l = linkTo(side);
-    return saturatedPicos(occupancy(l, wirePicos(kHeaderBytes + kRayBytes, l.bandwidth)));
+    return saturatedPicos(occupancy(l, wirePicos(l, kHeaderBytes + kRayBytes)));
 }
 
 // What giving the slab would cost: both nodes handle a message and update
@@ -113,7 +114,7 @@ Picos Node::rayOccupies(int side) const {
 Picos Node::slabCost(int side, double boundary) const {
     const SlabLoad load = slabLoad(region_->objects(), slabOf(region_->box(), params_.balance.axis, side, boundary), margin_);
     const LinkParams& l = linkTo(side);
-    return saturatedPicos(costs_.slabHandling(load.objects) + double(l.latency) + wirePicos(load.bytes, l.bandwidth));
+    return saturatedPicos(costs_.slabHandling(load.objects) + double(l.latency) + wirePicos(l, load.bytes));
 }
 
 }  // namespace rt

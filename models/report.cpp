@@ -20,11 +20,13 @@ nlohmann::json costsJson(const Costs& c) {
 }
 
 nlohmann::json linkJson(const LinkParams& l) {
-    return {{"latency_ns", ns(l.latency)},
-            {"bandwidth_bytes_per_s", l.bandwidth},
-            {"depth", l.depth},
-            {"control_depth", l.controlDepth},
-            {"out_depth", l.outDepth}};
+    nlohmann::json j = {{"latency_ns", ns(l.latency)},
+                        {"bandwidth_bytes_per_s", l.bandwidth},
+                        {"depth", l.depth},
+                        {"control_depth", l.controlDepth},
+                        {"out_depth", l.outDepth}};
+    if (l.engine) j["engine_ns"] = ns(l.engine);  // --hop-handling link: the sending engine's time per message
+    return j;
 }
 
 // Latencies in ps: p50, p95 and max in ns (histogram.h: exact for a few
@@ -44,6 +46,7 @@ nlohmann::json machineConfigJson(const MachineConfig& cfg, int width, int height
     c["speed"] = cfg.speed;
     for (const auto& [cell, s] : cfg.nodeSpeed) c["node_speed"].push_back({{"node", cellJson(cell)}, {"speed", s}});
     for (const auto& [cell, k] : cfg.nodeCosts) c["node_costs"].push_back({{"node", cellJson(cell)}, {"costs", costsJson(k)}});
+    c["hop_handling"] = cfg.hopsByLinks ? "link" : "processor";
     c["link"] = linkJson(cfg.link);
     for (const auto& [key, l] : cfg.linkOverride)
         c["link_overrides"].push_back({{"node", cellJson(key.first)}, {"dir", dirName(key.second)}, {"link", linkJson(l)}});
@@ -106,6 +109,14 @@ nlohmann::json nodeJson(const MachineResult& r, size_t i) {
     n["slides_taken"] = s.slidesTaken;
     n["objects_sent"] = s.objectsSent;
     n["objects_received"] = s.objectsReceived;
+    if (const WorkByPosition& w = s.balance.work; !w.bins().empty()) {
+        auto& wj = n["work_by_position"];  // bin k: axis_from + [k, k + 1) x bin_width
+        wj["axis_from"] = w.from();
+        wj["bin_width"] = w.binWidth();
+        wj["first_bin"] = w.firstBin();
+        wj["ns"] = nlohmann::json::array();
+        for (double b : w.bins()) wj["ns"].push_back(b / 1000.0);
+    }
     if (!s.balance.intervals.empty()) {
         auto& iv = n["intervals"];
         iv["intervals_per_record"] = s.balance.intervalsPerRecord;  // > 1: merged to bound the report

@@ -47,7 +47,7 @@ nlohmann::json stoppedSequence(const std::optional<nlohmann::json>& partial, nlo
 EarlierFrames runEarlierFrames(const std::vector<std::string>& args, RtsimOptions& o) {
     EarlierFrames out;
     const OrderlyStops orderly;  // a stop is passed to the frame running, and the sequence so far written
-    const bool carry = o.machine.balance.dynamic(), resplit = o.machine.balance.policy == "resplit";
+    const bool carry = o.machine.balance.dynamic(), resplit = o.machine.balance.betweenFrames();
     ResplitSequence sequence(o.machine);
     const MachineConfig first = o.machine;  // how frame 1 starts
     bool again = false;                     // resplit: every later frame is the first one again

@@ -95,6 +95,11 @@ void RtsimOptions::addCostFlags(CLI::App& app) {
     addTime(app, "--cost-shade", m.costs.shade, "shading one hit", gc);
     addTime(app, "--cost-send", m.costs.send, "handling one outgoing message", gc);
     addTime(app, "--cost-recv", m.costs.recv, "handling one incoming message", gc);
+    addChoice(app, "--hop-handling", m.hopsByLinks, "link", "processor",
+              "who pays for a hop: processor (each node's busy time pays --cost-send and --cost-recv per message) or "
+              "link (the links' engines do: --cost-send holds the wire before each message, --cost-recv adds to the "
+              "latency; the processors pay nothing for a hop)",
+              gc);
     addTime(app, "--cost-host", m.hostCost, "frame buffer: accumulating one contribution", gc);
     app.add_option_function<double>("--speed", [&m](double s) {
            if (!(s > 0)) throw CLI::ValidationError("--speed", "must be positive");

@@ -17,18 +17,18 @@ import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # scripts/: project, sweep
 import sweep as driver  # noqa: E402
-from project import PAPER_SCENE, ROOT, RTSIM, VIEWS, preset_flags, publish_table  # noqa: E402
+from project import PAPER_SCENE, ROOT, VIEWS, preset_flags, publish_table  # noqa: E402
 from sweep import write_csv  # noqa: E402
 
 
 def args_of(a, n, f):
     return (preset_flags(a.preset) + PAPER_SCENE + VIEWS[a.view] +
-            ["--mesh", n, "--concentration", f"{f:.6f}", "--balance", "none"])
+            ["--mesh", n, "--concentration", f"{f:.6f}", "--balance", "none"] + a.extra.split())
 
 
 def unbalanced(a, n, f):
     """The frame on the uniform split: (render time in ns, the world's extent along x)."""
-    report, _ = driver.run_rtsim(RTSIM, args_of(a, n, f))
+    report, _ = driver.run_rtsim(args_of(a, n, f))
     boxes = [node["box"] for node in report["nodes"]]
     return report["render_time_ns"], min(b[0][0] for b in boxes), max(b[1][0] for b in boxes)
 
@@ -42,7 +42,7 @@ def run(a, n, f, planes):
     with os.fdopen(fd, "w") as fh:
         json.dump(rep, fh)
     try:
-        report, _ = driver.run_rtsim(RTSIM, args_of(a, n, f) + ["--boundaries-from", path])
+        report, _ = driver.run_rtsim(args_of(a, n, f) + ["--boundaries-from", path])
         return report["render_time_ns"]
     finally:
         os.remove(path)
@@ -87,6 +87,7 @@ def main():
     ap.add_argument("--n", default="4,5")
     ap.add_argument("--view", default="along", choices=sorted(VIEWS))
     ap.add_argument("--preset", default="modern")
+    ap.add_argument("--extra", default="", help="more rtsim flags for every run")
     ap.add_argument("--min-step", type=float, default=0.004, help="stop when the step is below this (world units)")
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
     driver.add_output_arguments(ap, os.path.join(ROOT, "doc", "balancing.md"))

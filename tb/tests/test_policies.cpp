@@ -839,6 +839,28 @@ TEST(Resplit, PlanesAtTheQuantilesOfTheBusyTimeByHand) {
     EXPECT_THROW(resplitPlanes({0, 1, 2}, {1, 1, 1}, 0.1), std::invalid_argument);
 }
 
+TEST(Resplit, PlanesFromPiecesOfWorkByHand) {
+    // Over [0, 4]: 10 evenly over [0, 1], 10 over [1, 2], 20 over [2, 4],
+    // and, overlapping, 8 more over [0, 2] (4 per unit), a point mass of 2
+    // at 3. Total 50; quarters 12.5, 25, 37.5. Below x (x in [0, 1]):
+    // 14 x, so 12.5 at 12.5/14; in [1, 2]: 14 + 14 (x - 1): 25 at 1 + 11/14;
+    // 28 by 2, then 10 per unit: 37.5 at 2.95 (the point mass at 3 after).
+    const std::vector<WorkPiece> pieces{{0, 1, 10}, {1, 2, 10}, {2, 4, 20}, {0, 2, 8}, {3, 3, 2}};
+    const std::vector<double> p = resplitPlanes(pieces, 0, 4, 4, 0.1, {1, 2, 3});
+    ASSERT_EQ(p.size(), 3u);
+    EXPECT_NEAR(p[0], 12.5 / 14, 1e-12);
+    EXPECT_NEAR(p[1], 1 + 11.0 / 14, 1e-12);
+    EXPECT_NEAR(p[2], 2.95, 1e-12);
+    // A point mass holds a quantile at it: 12 at 0.5 of 14 in all: 7 below 0.5 with it.
+    const std::vector<double> q = resplitPlanes({{0, 1, 2}, {0.5, 0.5, 12}}, 0, 1, 2, 0.01, {0.9});
+    EXPECT_NEAR(q[0], 0.5, 1e-12);
+    // No work: the planes given stay; pieces outside [lo, hi] count at its ends.
+    EXPECT_EQ(resplitPlanes({{0, 1, 0}}, 0, 4, 4, 0.1, {1, 2, 3}), (std::vector<double>{1, 2, 3}));
+    const std::vector<double> e = resplitPlanes({{-1, 0, 6}, {0, 4, 2}}, 0, 4, 2, 0.5, {2});
+    EXPECT_NEAR(e[0], 0.5, 1e-12);  // half of 8 is at 0 (a point mass there), pushed up to the minimum thickness
+    EXPECT_THROW(resplitPlanes(pieces, 0, 4, 4, 0.1, {1, 2}), std::invalid_argument);
+}
+
 TEST(Resplit, TimeAveragedPosition) {
     // At 1 for 2 ns, then at 3 for 2 ns.
     EXPECT_DOUBLE_EQ(timeAveraged({{0, 1}, {2, 3}}, 4), 2.0);

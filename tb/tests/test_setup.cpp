@@ -156,6 +156,26 @@ TEST(BetweenFrames, ResplitTargetsSplitTheBusyTimeEvenly) {
     EXPECT_NEAR(t[0][1], 5.0 / 9, 1e-12);
 }
 
+TEST(BetweenFrames, ResplitTargetsPlaceTheWorkWhereItHappened) {
+    // As above, but node 0's work happened where its profile says: 1.5 of
+    // its 2 in [0, 0.1) (bins of 0.05 from 0: bins 0 and 1, 0.75 each), the
+    // rest (0.5) spread over its box [0, 1/3]. Total 4, 4/3 per node: the
+    // first plane where 4/3 lies below: 1.5 by 0.1 already, so within
+    // [0.05, 0.1): 0.75 + 0.5 x 0.05 / (1/3) below 0.05 (0.825), and
+    // 0.75 / 0.05 + 0.5 / (1/3) per unit above it: (4/3 - 0.825) / 16.5.
+    nlohmann::json r = report(10, 1.0 / 3, 1.0 / 3, {2, 1, 1});
+    r["nodes"][0]["work_by_position"] = {{"axis_from", 0.0}, {"bin_width", 0.05}, {"first_bin", 0}, {"ns", {0.75, 0.75}}};
+    const InnerPlanes t = resplitTargets(r, mesh({3, 1, 1}));
+    ASSERT_EQ(t.size(), 1u);
+    EXPECT_NEAR(t[0][0], 0.05 + (4.0 / 3 - 0.825) / 16.5, 1e-12);
+    // The second: 2 below 1/3 (node 0), then node 1's 1 over [1/3, 2/3]: 8/3 at 1/3 + 2/9.
+    EXPECT_NEAR(t[0][1], 5.0 / 9, 1e-12);
+    // A half step goes half the way from where the planes ended (1/3, 2/3).
+    const InnerPlanes h = resplitTargets(r, mesh({3, 1, 1}), 0.5);
+    EXPECT_NEAR(h[0][0], (1.0 / 3 + t[0][0]) / 2, 1e-12);
+    EXPECT_NEAR(h[0][1], (2.0 / 3 + t[0][1]) / 2, 1e-12);
+}
+
 TEST(BetweenFrames, ResplitHoldsTheFastestFrameOnceAResplitLoses) {
     const MachineConfig m = mesh({3, 1, 1});
     ResplitSequence s(m);

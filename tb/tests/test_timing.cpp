@@ -33,6 +33,7 @@
 #include "link.h"
 #include "machine.h"
 #include "nff_reader.h"
+#include "renderer.h"
 
 using namespace rt;
 
@@ -363,11 +364,14 @@ TEST(RayOnTheWire, ArrivesAsTheSameJobToTheBit) {
 // the last: nodes 1 .. N-2 are empty and do one step each (receive, 3D-DDA
 // through the box, send). Each hop adds the message's wire time and the
 // link's latency. The link out of node 0 is overridden, node 1 has its own
-// cost set and node 2 half the speed, so each of those terms shows.
-class RayAcrossEmptyNodes : public testing::TestWithParam<int> {};
+// cost set and node 2 half the speed, so each of those terms shows. With
+// the links handling the hops (--hop-handling link) the processors pay no
+// send or receive: the sender's send cost holds the wire before each
+// message, and the receiver's receive cost adds to the latency.
+class RayAcrossEmptyNodes : public testing::TestWithParam<std::tuple<int, bool>> {};
 
 TEST_P(RayAcrossEmptyNodes, EveryHopCostsWhatItShould) {
-    const int n = GetParam();
+    const auto [n, byLinks] = GetParam();
     // Sphere A (off the ray's line) and sphere B stretch the world along x
     // from -0.1 to 11; B (x 9 .. 11) lies in the last node for N <= 5. The
     // light is off to -y: the shadow ray leaves the world in B's node.
@@ -399,37 +403,47 @@ s 10 0 0 1
     c.fbUnits = 1;
     c.fbPort = LinkParams{700000, 1e9, 16};
     c.hostCost = 5000;
+    c.hopsByLinks = byLinks;
     const MachineResult r = runMachine(scene, c);
     ASSERT_EQ(r.nodes.size(), size_t(n));
     auto costs = [&](int i) { return i == 1 ? own : c.costs; };
     auto speed = [&](int i) { return i == 2 ? 0.5 : 1.0; };
+    auto processor = [&](int i) {  // what node i's processor pays
+        Costs k = costs(i);
+        if (byLinks) k.send = k.recv = 0;
+        return k;
+    };
+    // The link engines' shares of a hop from node i to node j (not at the node's speed).
+    auto engine = [&](int i) { return byLinks ? costs(i).send : Picos(0); };
+    auto taking = [&](int j) { return byLinks ? costs(j).recv : Picos(0); };
 
     // Node 0: generates the ray and sends it on, in one step.
     const NodeStats& first = r.nodes[0];
     EXPECT_EQ(first.raysGenerated, 1u);
     EXPECT_EQ(first.messagesSent, 1u);
-    EXPECT_EQ(first.busy, test::busyByHand(first, c.costs, 1.0));
+    EXPECT_EQ(first.busy, test::busyByHand(first, processor(0), 1.0));
     EXPECT_EQ(first.lastActive, first.busy);
     Picos sent = first.lastActive;
     const Picos rayWire = wire(kHeader + kRay, 1e9);
-    Picos arrival = sent + wire(kHeader + kRay, 2e8) + 1300000;  // over the overridden link
+    Picos arrival = sent + engine(0) + wire(kHeader + kRay, 2e8) + 1300000 + taking(1);  // over the overridden link
     for (int i = 1; i + 1 < n; ++i) {  // the empty nodes
         const NodeStats& s = r.nodes[size_t(i)];
         EXPECT_EQ(r.objectsPerNode[size_t(i)], 0u);
         EXPECT_EQ(s.messagesReceived, 1u);
         EXPECT_EQ(s.messagesSent, 1u);
         EXPECT_GT(s.counters.voxelSteps, 0u);
-        const Picos by = Picos(std::llround(double(costs(i).recv + s.counters.voxelSteps * costs(i).voxelStep + costs(i).send) / speed(i)));
+        const Costs k = processor(i);
+        const Picos by = Picos(std::llround(double(k.recv + s.counters.voxelSteps * k.voxelStep + k.send) / speed(i)));
         EXPECT_EQ(s.busy, by) << "node " << i;
         EXPECT_EQ(s.lastActive, arrival + by) << "node " << i;
-        arrival = s.lastActive + rayWire + 500000;
+        arrival = s.lastActive + engine(i) + rayWire + 500000 + taking(i + 1);
     }
     // The last node: the ray and its shadow ray back to back, then the
     // frame buffer's share: the contributions and the credit, in one step.
     const NodeStats& last = r.nodes[size_t(n - 1)];
     EXPECT_GT(last.counters.tests[0], 0u);
     EXPECT_EQ(last.counters.shadings, 1u);
-    EXPECT_EQ(last.busy, test::busyByHand(last, costs(n - 1), speed(n - 1)));
+    EXPECT_EQ(last.busy, test::busyByHand(last, processor(n - 1), speed(n - 1)));
     EXPECT_EQ(last.lastActive, arrival + last.busy);
     uint64_t creditBytes = 0;
     for (const LinkReport& l : r.links)
@@ -445,7 +459,8 @@ s 10 0 0 1
     for (const LinkReport& l : r.links)
         if (l.dir == PosX) {
             const bool first = l.from == Cell{0, 0, 0};
-            const Picos T = wire(kHeader + kRay, first ? 2e8 : 1e9), L = first ? 1300000 : 500000;
+            const int i = l.from[0];
+            const Picos T = engine(i) + wire(kHeader + kRay, first ? 2e8 : 1e9), L = (first ? 1300000 : 500000) + taking(i + 1);
             EXPECT_EQ(l.stats.wireBusy(), T) << l.name;
             EXPECT_EQ(l.stats.latency.count(), 1u) << l.name;
             EXPECT_EQ(l.stats.latency.max(), uint64_t(T + L)) << l.name;
@@ -455,14 +470,17 @@ s 10 0 0 1
     EXPECT_EQ(hops, n - 1);
     const uint64_t k = last.contributionsSent;
     ASSERT_GT(k, 0u);
-    const Picos contributionsIn = last.lastActive + wire(kHeader + k * kContribution, 1e9) + 700000;
-    const Picos creditIn = contributionsIn + wire(creditBytes, 1e9);  // behind it on the port's wire
+    // (A unit's work is --cost-host: the port's engine sends, nothing is added at the unit's end.)
+    const Picos contributionsIn = last.lastActive + engine(n - 1) + wire(kHeader + k * kContribution, 1e9) + 700000;
+    const Picos creditIn = contributionsIn + engine(n - 1) + wire(creditBytes, 1e9);  // behind it on the port's wire
     EXPECT_EQ(r.frameBuffer[0].stats.busy, Picos(k) * 5000);
     EXPECT_EQ(r.renderTime, std::max(creditIn, contributionsIn + Picos(k) * 5000));
 }
 
-INSTANTIATE_TEST_SUITE_P(Nodes, RayAcrossEmptyNodes, testing::Values(2, 3, 4, 5),
-                         [](const testing::TestParamInfo<int>& i) { return "N" + std::to_string(i.param); });
+INSTANTIATE_TEST_SUITE_P(Nodes, RayAcrossEmptyNodes, testing::Combine(testing::Values(2, 3, 4, 5), testing::Bool()),
+                         [](const testing::TestParamInfo<std::tuple<int, bool>>& i) {
+                             return "N" + std::to_string(std::get<0>(i.param)) + (std::get<1>(i.param) ? "HopsByLinks" : "HopsByProcessors");
+                         });
 
 // The frame buffer as the bottleneck: two nodes each send two batches of 4
 // contributions (16 rays that miss everything) into one host that takes
@@ -538,6 +556,51 @@ s 5.3 2 8 0.1
     const Picos ackIn = taker.lastActive + wire(kHeader + kAck, 5e8) + 300000;
     EXPECT_EQ(giver.lastActive, ackIn + 29000);
     EXPECT_EQ(giver.busy, test::busyByHand(giver, c.costs, 1.0, 3 * 70000));
+}
+
+// A plane that moves across more than one box at the frame's start: on a
+// line of 4 nodes, the third plane goes from 3/4 of the world to 0.3 of it,
+// past node 2's box ([1/2, 3/4]). Node 2 gives what it has (down to the
+// minimum thickness); node 1's give of [0.2, 1/2] to node 2 (the second
+// plane's move) then lets node 2 pass on [0.3, ...] to node 3: every plane
+// ends at its target, and the image is the reference's.
+TEST(SlideOracle, APlaneMovesAcrossBoxesInAChainOfSlides) {
+    const Scene scene = sceneFrom("chain", R"(b 0 0 0
+v
+from -30 5 5
+at 8 5 5
+up 0 0 1
+angle 30
+hither 0.01
+resolution 4 4
+l 8 5 40
+f 1 1 1 1 0 0 0 1
+s 0.5 0.5 0.5 0.5
+s 9.5 9.5 9.5 0.5
+s 2 5 5 1
+s 4 2 2 0.5
+s 6 8 5 0.5
+s 8 4 7 0.5
+)");
+    MachineConfig c;
+    c.dims = {4, 1, 1};
+    c.width = c.height = 4;
+    c.balance.policy = "resplit";
+    c.balance.interval = 1000000000;  // no load report within the frame
+    const Box w = scene.worldBox();
+    auto at = [&](double f) { return w.lo[0] + f * (w.hi[0] - w.lo[0]); };
+    c.targetBoundaries = {{at(0.1), at(0.2), at(0.3)}};
+    const MachineResult r = runMachine(scene, c);
+    ASSERT_EQ(r.boxes.size(), 4u);
+    EXPECT_EQ(r.boxes[0].hi[0], at(0.1));
+    EXPECT_EQ(r.boxes[1].hi[0], at(0.2));
+    EXPECT_EQ(r.boxes[2].hi[0], at(0.3));
+    EXPECT_EQ(r.boxes[3].lo[0], at(0.3));
+    EXPECT_EQ(r.nodes[2].slides.size(), 2u);  // down to the minimum thickness, then on from what node 1 gave
+    RenderOptions ro;
+    ro.width = c.width;
+    ro.height = c.height;
+    EXPECT_TRUE(r.image == render(scene, Partition::whole(scene), ro).image);
 }
 
 // The same two senders with one-message ports and one-message output
