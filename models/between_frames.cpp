@@ -132,18 +132,23 @@ std::optional<InnerPlanes> ResplitSequence::next(const nlohmann::json& r, int fr
     }
     ++resplits_;
     const bool faster = t <= bestNs_;
+    misses_ = faster ? 0 : misses_ + 1;
     if (faster) {
         bestNs_ = t;
         best_ = lastBoundaries(r, m_);
     }
     if (bestNs_ > firstNs_) {  // no re-split frame has beaten the first yet
         if (resplits_ >= kTries) {
+            if (firstHolds_) {  // frame 1 was the starting split: hold it
+                held_ = start_;
+                return held_;
+            }
             tryingStart_ = afresh_ = true;
             return start_;
         }
         return resplitTargets(r, m_, kStep);
     }
-    if (!faster) {
+    if (misses_ >= kPatience) {
         held_ = best_;
         return held_;
     }

@@ -47,7 +47,7 @@ InnerPlanes resplitTargets(const nlohmann::json& r, const MachineConfig& m, doub
 //    held; otherwise every later frame is the first one again.
 class ResplitSequence {
 public:
-    explicit ResplitSequence(const MachineConfig& m) : m_(m) {}
+    explicit ResplitSequence(const MachineConfig& m) : m_(m), firstHolds_(m.balance.firstFrameHolds()) {}
     // After frame `frame` (1-based), whose report is `r`: the next frame's
     // targets, or nothing if the next frame is to be the first one again.
     std::optional<InnerPlanes> next(const nlohmann::json& r, int frame);
@@ -65,9 +65,12 @@ private:
     // full steps overshoot and the sequence stops at the first frame that
     // is slower; half steps settle (doc/balancing.md, "Why it settles").
     static constexpr double kStep = 0.5;
+    static constexpr int kPatience = 2;  // such frames in a row before the fastest one's planes are held
     const MachineConfig& m_;
+    bool firstHolds_;  // frame 1 held the starting split (measured): it needs no trial
     double firstNs_ = 0, bestNs_ = 1e300;  // the first frame's time; the fastest re-split frame's
     int resplits_ = 0;                     // re-split frames so far
+    int misses_ = 0;                       // re-split frames in a row not faster than the fastest
     InnerPlanes best_;  // where the fastest re-split frame left the boundaries (not its report: K frames keep one)
     InnerPlanes start_;  // where frame 1's boundaries started
     std::optional<InnerPlanes> held_;

@@ -100,6 +100,7 @@ void Node::start() {
                                                   out[sideDir(+1)].size() > 0, params_.minThickness);
         balance_->shareFaces(params_.layerFaces);
         if (startTargets_) balance_->startAt((*startTargets_)[0], (*startTargets_)[1]);
+        else if (bal.firstFrameHolds()) balance_->startAt(std::nan(""), std::nan(""));  // hold, and measure
     }
     runAhead_ = runAhead_ && !balance_ && trace_.busy < 0;
     ledger_.configure(time_.decoupled(), time_.decoupled() && balance_);

@@ -20,6 +20,10 @@ const std::vector<PolicyInfo>& policies() {
          "between frames, each boundary moves to its quantile of the column's busy time in the frame before, placed "
          "where the work happened, and stays for the frame (the first frame, with no frame before, balances as slide)",
          PolicyKind::Dynamic, 0.25, makeSlidePolicy},
+        {"measured",
+         "as resplit, but the first frame keeps its starting split and only measures where the work is (no slides "
+         "within a frame: the first frame is never slower than without balancing)",
+         PolicyKind::Dynamic, 0.25, makeSlidePolicy},
         {"median", "a static split at the object-median, no messages", PolicyKind::Static, 0.0, nullptr},
     };
     return all;

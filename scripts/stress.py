@@ -28,7 +28,7 @@ import time
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from project import RESULTS, ROOT, RTREF, RTSIM, publish_table, spd_scene  # noqa: E402
 
-POLICIES = ["none", "slide", "work", "quantile", "resplit", "median", "default"]
+POLICIES = ["none", "slide", "work", "quantile", "resplit", "measured", "median", "default"]
 DIRS = ["+x", "-x", "+y", "-y", "+z", "-z"]
 
 

@@ -15,6 +15,7 @@ namespace {
 // bounds as fractions of its time: what the ratio could at best be.
 nlohmann::json comparison(const nlohmann::json& balanced, const nlohmann::json& unbalanced) {
     return {{"balanced_policy", balanced["config"]["balance"]["policy"]},
+            {"balanced_frame", balanced.contains("frames") ? balanced["frames"].size() : 1},  // of a sequence: its last
             {"balanced_ns", balanced["render_time_ns"]},
             {"unbalanced_ns", unbalanced["render_time_ns"]},
             {"ratio", balanced["render_time_ns"].get<double>() / unbalanced["render_time_ns"].get<double>()},
@@ -35,7 +36,13 @@ ReferenceRuns addReferenceRuns(nlohmann::json& report, const std::vector<std::st
     const auto t0 = std::chrono::steady_clock::now();
     std::optional<Child> baseRun, otherRun;
     if (base) baseRun.emplace(args, std::vector<std::string>{"--as-baseline"});
-    if (compare) otherRun.emplace(args, std::vector<std::string>{"--as-comparison", "--balance", policy == "none" ? "default" : "none"});
+    std::vector<std::string> otherArgs{"--as-comparison", "--balance", policy == "none" ? "default" : "none"};
+    // The default keeps a first frame's split and re-splits from the
+    // second: a single frame is compared with its second frame.
+    MachineConfig byDefault = o.machine;
+    byDefault.balance.policy = kDefaultPolicy;
+    if (policy == "none" && o.frames == 1 && byDefault.balance.firstFrameHolds()) otherArgs.insert(otherArgs.end(), {"--frames", "2"});
+    if (compare) otherRun.emplace(args, otherArgs);
     const std::optional<nlohmann::json> baseReport = baseRun ? baseRun->report() : std::nullopt;
     const std::optional<nlohmann::json> other = otherRun ? otherRun->report() : std::nullopt;
     std::string stopped;

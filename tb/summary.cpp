@@ -64,9 +64,11 @@ void printBalancing(const RtsimOptions& o, const nlohmann::json& report) {
     }
     if (report.contains("comparison")) {
         const auto& c = report["comparison"];
+        const int frame = c.value("balanced_frame", 1);
+        const std::string which = c["balanced_policy"].get<std::string>() + (frame > 1 ? ", frame " + std::to_string(frame) : "");
         std::printf("  with / without   %s: %s, none: %s; ratio %.2f (bound %.2f: the heaviest column along %c spread "
                     "evenly; paper about 0.2 at f = 1/N)\n",
-                    c["balanced_policy"].get<std::string>().c_str(), nsTime(c["balanced_ns"]).c_str(),
+                    which.c_str(), nsTime(c["balanced_ns"]).c_str(),
                     nsTime(c["unbalanced_ns"]).c_str(), c["ratio"].get<double>(), c["column_bound"].get<double>(), axis);
     }
     if (report.contains("frames")) {

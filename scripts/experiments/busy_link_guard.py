@@ -3,8 +3,9 @@
 wire would take more than U of an interval after the slide: the last
 interval's share plus a ray message for each ray step the slab's work
 took) does where balancing is judged:
-every point of the link sweep (latency and bandwidth, N = 2..8, the default
-policy's first frame) and of Fig. 4 (`slide`'s first frame, both views,
+every point of the link sweep (latency and bandwidth, N = 2..8, `slide`'s
+first frame: the default policy's until `measured`, whose first frame does
+not slide) and of Fig. 4 (`slide`'s first frame, both views,
 every f), on the modern and the 1987 machine, each run without balancing,
 with the guard's other terms alone (--guard-wire 0), and with the busy-link
 guard at each share (1, the default, and 0.8). Counts the
@@ -41,7 +42,7 @@ def points():
                 for n in range(2, 9):
                     out.append(("link sweep", preset, f"{swept} {v}, N = {n}",
                                 cfg + link_sweep.SCENE + ["--mesh", n, "--link-latency", lat, "--link-bandwidth", bw],
-                                "default"))
+                                "slide"))
         for view, cam in VIEWS.items():
             for n in range(2, 9):
                 for k in range(1, n + 1):

@@ -28,8 +28,9 @@ from sweep import read_csv, write_csv  # noqa: E402
 # The experiment (doc/balancing.md, "Fig. 4"): the paper's scene, progress
 # axis x, the camera looking along x or across it (project.VIEWS).
 POLICIES = "median,slide,work"
-STEADY = "slide,resplit"  # their steady state too: "resplit@6" is resplit's frame 6
+STEADY = "slide,resplit,measured"  # their steady state too: "resplit@6" is resplit's frame 6
 PAPER = 0.2
+STEADY_GAP = "measured"  # the policy whose steady state the gap table takes apart (the default)
 
 
 def main():
@@ -55,10 +56,13 @@ def main():
     for r in rows:
         r["N"] = int(r["N"])
         for k in ("f", "ratio", "column_bound", "perfect_bound", "fb_bound", "time_none_ns", "time_ns", "busy_ratio",
-                  "own_column_bound"):
+                  "own_column_bound", "max_busy"):
             r[k] = float(r[k])
     plot(a, rows, ns, policies, os.path.join(a.out, stem + ".png"))
     table(a, rows, ns, policies, os.path.join(a.out, stem + ".md"))
+    gap = STEADY_GAP if STEADY_GAP + f"@{a.frames}" in policies else None
+    if gap:
+        gap_table(a, rows, ns, f"{gap}@{a.frames}", os.path.join(a.out, stem + "-gap.md"))
 
 
 def sweep(a, ns, policies):
@@ -93,6 +97,9 @@ def sweep(a, ns, policies):
                                  # the balanced run's own column bound, as a fraction of none's time:
                                  # what sliding could reach with the work this run did
                                  "own_column_bound": r["column_bound"] * r["render_time_ns"] / none["render_time_ns"],
+                                 # its busiest node's busy time, as a fraction of none's time: what is
+                                 # left beyond it is waiting (fill and drain)
+                                 "max_busy": r["max_busy_ns"] / none["render_time_ns"],
                                  "max_over_mean_load": r["max_over_mean_load"], "stability": r["stability"],
                                  "frames_ns": r["frames_ns"], "settled": r["settled"],
                                  "version": r["version"], "command": r["command"]})
@@ -105,6 +112,7 @@ def extract(r):
             "max_over_mean_load": b["max_over_mean_load"], "stability": b["stability"],
             "column_bound": bd["column"]["fraction"], "perfect_bound": bd["perfect"]["fraction"],
             "fb_bound": bd["frame_buffer"]["fraction"], "busy_ns": r["totals"]["busy_ns"],
+            "max_busy_ns": max(n["busy_ns"] for n in r["nodes"]),
             # a sequence of frames (rtsim --frames): each frame's render time, and whether the last two agree
             # within 1 % (settled)
             "frames_ns": " ".join(f"{f['render_time_ns']:.0f}" for f in r.get("frames", [])),
@@ -115,7 +123,7 @@ def extract(r):
 def plot(a, rows, ns, policies, path):
     plt = project.pyplot()
     colours = {"median": "#7a7a7a", "slide": "#1f77b4", "work": "#d62728", "resplit": "#2a9d55",
-               "quantile": "#9467bd"}
+               "quantile": "#9467bd", "measured": "#e07b00"}
     fig, axes = plt.subplots(len(VIEWS), len(ns), figsize=(2.6 * len(ns) + 1, 2.7 * len(VIEWS) + 0.8),
                              sharey=True, squeeze=False)
     for row, view in enumerate(VIEWS):
@@ -167,6 +175,47 @@ def table(a, rows, ns, policies, md_path):
                          f" | {1 / n:.2f} | {PAPER} | {100 * (m['busy_ratio'] - 1):+.0f} % | {m['own_column_bound']:.2f} |")
     doc = a.doc if a.doc else None
     publish_table(lines, md_path, doc, f"fig4 table {a.preset}")
+
+
+def best_static(a):
+    """The best static split's ratio per (view, N) at f = 1/N, where
+    scripts/experiments/partition_search.py has found it for this preset."""
+    best = {}
+    for view in VIEWS:
+        stem = "partition_search" + ("" if a.preset == "modern" else f"-{a.preset}") + ("" if view == "along" else f"-{view}")
+        path = os.path.join(a.out, stem + ".csv")
+        if os.path.exists(path):
+            for r in read_csv(path):
+                best[(r["view"], int(r["N"]))] = float(r["ratio"])
+    return best
+
+
+def gap_table(a, rows, ns, policy, md_path):
+    """Where the distance from 1/N goes, at f = 1/N, for `policy`'s steady
+    state, as fractions of the unbalanced frame: the perfect bound (all the
+    work over all the nodes), what the columns' unequal loads add (the
+    column bound of the unbalanced work), the work balancing adds (thin
+    boxes: more hops, passed rays, slabs; the column bound of the work it
+    did), the imbalance left within the columns (its busiest node's busy
+    time), and fill and drain (the busiest node's waiting). The parts sum
+    to the ratio; the best static split beside it where searched."""
+    best = best_static(a)
+    lines = [f"<!-- written by scripts/experiments/fig4.py --preset {a.preset}; do not edit -->",
+             f"| view | N | 1/N | perfect bound | + unequal columns | + work balancing added | + imbalance left | "
+             f"+ fill and drain | = {policy} | best static split | {policy} / max(1/N, best static) |",
+             "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+    for view in VIEWS:
+        for n in ns:
+            r = next(x for x in rows if x["view"] == view and x["N"] == n and abs(x["f"] - 1 / n) < 1e-6
+                     and x["policy"] == policy)
+            perfect, column, own, busiest, ratio = (r["perfect_bound"], r["column_bound"], r["own_column_bound"],
+                                                    r["max_busy"], r["ratio"])
+            b = best.get((view, n))
+            floor = max(1 / n, b) if b else 1 / n
+            lines.append(f"| {view} | {n} | {1 / n:.3f} | {perfect:.3f} | {column - perfect:+.3f} | {own - column:+.3f} | "
+                         f"{busiest - own:+.3f} | {ratio - busiest:+.3f} | {ratio:.3f} | "
+                         f"{f'{b:.3f}' if b else '-'} | {ratio / floor:.2f} |")
+    publish_table(lines, md_path, a.doc or None, f"fig4 gap {a.preset}")
 
 
 if __name__ == "__main__":

@@ -107,7 +107,8 @@ def main():
                          "best_ns": t, "ratio": t / none, "planes": " ".join(f"{p:.4f}" for p in planes),
                          "runs": runs, "version": driver.version()})
             print(f"N = {n}: {t / 1e3:.1f} us, ratio {t / none:.3f}, planes {planes} ({runs} runs)", file=sys.stderr)
-    stem = "partition_search" if a.preset == "modern" else f"partition_search-{a.preset}"
+    stem = ("partition_search" + ("" if a.preset == "modern" else f"-{a.preset}") +
+            ("" if a.view == "along" else f"-{a.view}"))
     write_csv(os.path.join(a.out, stem + ".csv"), rows)
     lines = [f"<!-- written by scripts/experiments/partition_search.py --preset {a.preset} --view {a.view}; do not edit -->",
              "| view | N | f | none | best static partition | ratio | its planes along x | runs |",
@@ -115,7 +116,8 @@ def main():
     for r in rows:
         lines.append(f"| {r['view']} | {r['N']} | 1/{r['N']} | {r['time_none_ns'] / 1e3:,.1f} us | "
                      f"{r['best_ns'] / 1e3:,.1f} us | {r['ratio']:.3f} | {r['planes']} | {r['runs']} |")
-    publish_table(lines, os.path.join(a.out, stem + ".md"), a.doc or None, f"partition search {a.preset}")
+    section = f"partition search {a.preset}" + ("" if a.view == "along" else f" {a.view}")
+    publish_table(lines, os.path.join(a.out, stem + ".md"), a.doc or None, section)
 
 
 if __name__ == "__main__":

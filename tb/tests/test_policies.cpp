@@ -17,6 +17,7 @@
 #include "link.h"
 #include "policy.h"
 #include "resplit.h"
+#include "work_by_position.h"
 
 using namespace rt;
 
@@ -859,6 +860,29 @@ TEST(Resplit, PlanesFromPiecesOfWorkByHand) {
     const std::vector<double> e = resplitPlanes({{-1, 0, 6}, {0, 4, 2}}, 0, 4, 2, 0.5, {2});
     EXPECT_NEAR(e[0], 0.5, 1e-12);  // half of 8 is at 0 (a point mass there), pushed up to the minimum thickness
     EXPECT_THROW(resplitPlanes(pieces, 0, 4, 4, 0.1, {1, 2}), std::invalid_argument);
+}
+
+TEST(Resplit, WorkByPositionKeepsOnlyTheSpanTraced) {
+    // The world [0, 4] in 2 boxes: 256 bins of 1/64. Steps at 1.001 and
+    // 1.01 share bin 64; one at 0.5 (bin 32) grows the span downwards, one
+    // at 3.99 (bin 255) upwards; NaN is no position.
+    WorkByPosition w(0, 4, 2);
+    EXPECT_DOUBLE_EQ(w.binWidth(), 1.0 / 64);
+    w.add(1.001, 3);
+    w.add(1.01, 4);
+    EXPECT_EQ(w.firstBin(), 64);
+    EXPECT_EQ(w.bins(), (std::vector<double>{7}));
+    w.add(0.5, 2);
+    w.add(3.99, 1);
+    w.add(std::nan(""), 100);
+    EXPECT_EQ(w.firstBin(), 32);
+    ASSERT_EQ(w.bins().size(), size_t(255 - 32 + 1));
+    EXPECT_EQ(w.bins().front(), 2);
+    EXPECT_EQ(w.bins()[64 - 32], 7);
+    EXPECT_EQ(w.bins().back(), 1);
+    double sum = 0;
+    for (double b : w.bins()) sum += b;
+    EXPECT_EQ(sum, 10);
 }
 
 TEST(Resplit, TimeAveragedPosition) {

@@ -176,7 +176,7 @@ TEST(BetweenFrames, ResplitTargetsPlaceTheWorkWhereItHappened) {
     EXPECT_NEAR(h[0][1], (2.0 / 3 + t[0][1]) / 2, 1e-12);
 }
 
-TEST(BetweenFrames, ResplitHoldsTheFastestFrameOnceAResplitLoses) {
+TEST(BetweenFrames, ResplitHoldsTheFastestFrameOnceTwoResplitsInARowLose) {
     const MachineConfig m = mesh({3, 1, 1});
     ResplitSequence s(m);
     const auto first = s.next(report(100, 0.30, 0.31, {2, 1, 1}), 1);  // re-split after frame 1
@@ -184,10 +184,32 @@ TEST(BetweenFrames, ResplitHoldsTheFastestFrameOnceAResplitLoses) {
     const auto second = s.next(report(80, 0.31, 0.32, {1, 1, 1}), 2);  // faster: re-split again
     ASSERT_TRUE(second);
     EXPECT_FALSE(s.startsAfresh());
-    const auto third = s.next(report(90, 0.32, 0.33, {1, 1, 1}), 3);  // slower: back to frame 2's planes, held
+    const auto third = s.next(report(90, 0.32, 0.33, {1, 1, 1}), 3);  // slower, once: one more (half) step
     ASSERT_TRUE(third);
-    EXPECT_EQ(*third, (InnerPlanes{{0.32, 2.0 / 3}}));
-    EXPECT_EQ(*s.next(report(70, 0.5, 0.5, {1, 1, 1}), 4), *third);
+    EXPECT_NE(*third, (InnerPlanes{{0.32, 2.0 / 3}}));
+    // Half the way from where frame 3 ended (0.33, 2/3) to the quantiles of
+    // its equal busy times (1/3, 2/3): the targets of a full step, halved.
+    const InnerPlanes full = resplitTargets(report(90, 0.32, 0.33, {1, 1, 1}), m);
+    EXPECT_NEAR((*third)[0][0], 0.33 + 0.5 * (full[0][0] - 0.33), 1e-12);
+    const auto fourth = s.next(report(85, 0.33, 0.34, {1, 1, 1}), 4);  // slower again: back to frame 2's planes, held
+    ASSERT_TRUE(fourth);
+    EXPECT_EQ(*fourth, (InnerPlanes{{0.32, 2.0 / 3}}));
+    EXPECT_EQ(*s.next(report(70, 0.5, 0.5, {1, 1, 1}), 5), *fourth);
+}
+
+TEST(BetweenFrames, MeasuredHoldsItsStartingSplitWhenReSplittingDoesNotPay) {
+    // measured's frame 1 was the starting split itself: when neither of the
+    // first two re-split frames beats it, the start is held, with no trial.
+    MachineConfig m = mesh({3, 1, 1});
+    m.balance.policy = "measured";
+    ResplitSequence s(m);
+    ASSERT_TRUE(s.next(report(100, 0.30, 0.30, {2, 1, 1}), 1));
+    ASSERT_TRUE(s.next(report(110, 0.30, 0.31, {1, 1, 1}), 2));
+    const auto held = s.next(report(105, 0.31, 0.32, {1, 1, 1}), 3);
+    ASSERT_TRUE(held);
+    EXPECT_FALSE(s.startsAfresh());
+    EXPECT_EQ(*held, (InnerPlanes{{0.30, 2.0 / 3}}));  // where frame 1 started
+    EXPECT_EQ(*s.next(report(100, 0.30, 0.30, {5, 1, 1}), 4), *held);
 }
 
 TEST(BetweenFrames, ResplitThatDoesNotPayTriesTheStartingSplit) {

@@ -1,0 +1,89 @@
+#!/usr/bin/python3
+"""Does the default balancing ever hurt on real scenes? Eric Haines' SPD
+scenes (balls-4, balls-5, tetra-3, gears-2, rings-2) on N x N x N meshes
+(N = 4, 6, 8) over a sweep of link bandwidths, each rendered without
+balancing and with the default policy over --frames frames of the same
+view: every frame's time against the unbalanced frame's, the first frame
+and the steady state (the last) apart. Writes doc/results/spd_never_hurts.{csv,md}
+and, with --doc, the table of the worst points into doc/balancing.md.
+Run with /usr/bin/python3."""
+import argparse
+import os
+import statistics
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # scripts/: project, sweep
+import sweep as driver  # noqa: E402
+from project import ROOT, SPD, publish_table  # noqa: E402
+from sweep import read_csv  # noqa: E402
+
+SCENES = "balls-4,balls-5,tetra-3,gears-2,rings-2"
+WORST = 10  # rows of the worst points in the table
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--scenes", default=SCENES)
+    ap.add_argument("--n", default="4,6,8")
+    ap.add_argument("--bandwidths", default="100MB/s,200MB/s,400MB/s,1GB/s")
+    ap.add_argument("--size", default="256x256")
+    ap.add_argument("--policy", default="default")
+    ap.add_argument("--frames", type=int, default=6)
+    ap.add_argument("--extra", default="", help="more rtsim flags for every run")
+    driver.add_output_arguments(ap, os.path.join(ROOT, "doc", "balancing.md"))
+    driver.add_arguments(ap)
+    a = ap.parse_args()
+    csv_path = os.path.join(a.out, "spd_never_hurts.csv")
+    if not a.plot_only:
+        points = []
+        for scene in a.scenes.split(","):
+            for n in a.n.split(","):
+                for bw in a.bandwidths.split(","):
+                    base = ["--scene", os.path.join(SPD, scene + ".nff"), "--size", a.size, "--mesh", n,
+                            "--link-bandwidth", bw] + a.extra.split()
+                    for policy in ("none", a.policy):
+                        frames = ["--frames", a.frames] if policy != "none" else []
+                        points.append({"params": {"scene": scene, "N": int(n), "bandwidth": bw, "policy": policy},
+                                       "args": base + ["--balance", policy] + frames})
+        driver.run("spd-never-hurts", points, extract, csv_path, a)
+    table(a, read_csv(csv_path), os.path.join(a.out, "spd_never_hurts.md"))
+
+
+def extract(r):
+    return {"render_time_ns": r["render_time_ns"],
+            "frames_ns": " ".join(f"{f['render_time_ns']:.0f}" for f in r.get("frames", [])) or
+            f"{r['render_time_ns']:.0f}"}
+
+
+def table(a, rows, md_path):
+    """Per point: each frame against the unbalanced frame; the worst points
+    by their worst frame, and a summary line."""
+    none = {(r["scene"], r["N"], r["bandwidth"]): float(r["render_time_ns"]) for r in rows if r["policy"] == "none"}
+    points = []
+    for r in rows:
+        if r["policy"] == "none":
+            continue
+        t0 = none[(r["scene"], r["N"], r["bandwidth"])]
+        ratios = [float(x) / t0 for x in r["frames_ns"].split()]
+        points.append({"scene": r["scene"], "N": r["N"], "bandwidth": r["bandwidth"], "none": t0, "ratios": ratios})
+    points.sort(key=lambda p: -max(p["ratios"]))
+    lines = ["<!-- written by scripts/experiments/spd_never_hurts.py; do not edit -->",
+             f"{len(points)} points ({a.scenes.replace(',', ', ')}; N = {a.n.replace(',', ', ')}; links "
+             f"{a.bandwidths.replace(',', ', ')}; {a.size}); `--balance {a.policy}` over {a.frames} frames, each "
+             f"frame's time / the unbalanced frame's. First frame: worst {max(p['ratios'][0] for p in points):.3f}; "
+             f"any frame: worst {max(max(p['ratios']) for p in points):.3f}, points with a frame above 1.02: "
+             f"{sum(1 for p in points if max(p['ratios']) > 1.02)}; last frame: median "
+             f"{statistics.median(p['ratios'][-1] for p in points):.3f}, worst "
+             f"{max(p['ratios'][-1] for p in points):.3f}.",
+             "",
+             "| scene | N | links | none | " + " | ".join(f"frame {k + 1}" for k in range(a.frames)) + " | worst |",
+             "|---|---:|---|---:|" + "---:|" * (a.frames + 1)]
+    for p in points[:WORST]:
+        t = p["none"] / 1e6
+        lines.append(f"| {p['scene']} | {p['N']} | {p['bandwidth']} | {t:,.2f} ms | " +
+                     " | ".join(f"{x:.3f}" for x in p["ratios"]) + f" | {max(p['ratios']):.3f} |")
+    publish_table(lines, md_path, a.doc or None, "spd never hurts")
+
+
+if __name__ == "__main__":
+    main()
