@@ -36,7 +36,7 @@ VIEWS = {
 }
 
 # The machine presets (configs/NAME.conf; doc/machine.md, "Machine presets").
-PRESETS = ["modern", "transputer-1987"]
+PRESETS = ["modern", "transputer-1987", "paper"]
 
 
 def preset_flags(name):

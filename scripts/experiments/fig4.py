@@ -60,6 +60,7 @@ def main():
             r[k] = float(r[k])
     plot(a, rows, ns, policies, os.path.join(a.out, stem + ".png"))
     table(a, rows, ns, policies, os.path.join(a.out, stem + ".md"))
+    frames_table(a, rows, policies, os.path.join(a.out, stem + "-frames.md"))
     gap = STEADY_GAP if STEADY_GAP + f"@{a.frames}" in policies else None
     if gap:
         gap_table(a, rows, ns, f"{gap}@{a.frames}", os.path.join(a.out, stem + "-gap.md"))
@@ -175,6 +176,24 @@ def table(a, rows, ns, policies, md_path):
                          f" | {1 / n:.2f} | {PAPER} | {100 * (m['busy_ratio'] - 1):+.0f} % | {m['own_column_bound']:.2f} |")
     doc = a.doc if a.doc else None
     publish_table(lines, md_path, doc, f"fig4 table {a.preset}")
+
+
+def frames_table(a, rows, policies, md_path):
+    """Over every point (both views, every N and f): how often each policy
+    loses more than 2 % against the unbalanced frame, in its last frame and
+    in any frame of its sequence, and its worst frame."""
+    lines = [f"<!-- written by scripts/experiments/fig4.py --preset {a.preset}; do not edit -->",
+             "| policy | points | last frame above 1.02 | worst last frame | any frame above 1.02 | worst frame, where |",
+             "|---|---:|---:|---:|---:|---|"]
+    for p in policies:
+        rs = [r for r in rows if r["policy"] == p]
+        seqs = [([float(x) / r["time_none_ns"] for x in str(r["frames_ns"]).split()] or [r["ratio"]], r) for r in rs]
+        worst, at = max(((max(x), r) for x, r in seqs), key=lambda w: w[0])
+        frame = next(k for k, x in enumerate(next(x for x, r in seqs if r is at)) if x == worst) + 1
+        lines.append(f"| {p} | {len(rs)} | {sum(1 for r in rs if r['ratio'] > 1.02)} | {max(r['ratio'] for r in rs):.3f} | "
+                     f"{sum(1 for x, r in seqs if max(x) > 1.02)} | {worst:.3f} ({at['view']}, N = {at['N']}, "
+                     f"f = {at['f']:.3g}, frame {frame}) |")
+    publish_table(lines, md_path, a.doc or None, f"fig4 frames {a.preset}")
 
 
 def best_static(a):

@@ -18,7 +18,7 @@ import tempfile
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # scripts/: project, sweep
 import sweep as driver  # noqa: E402
 from project import PAPER_SCENE, ROOT, VIEWS, preset_flags, publish_table  # noqa: E402
-from sweep import write_csv  # noqa: E402
+from sweep import read_csv, write_csv  # noqa: E402
 
 
 def args_of(a, n, f):
@@ -90,11 +90,15 @@ def main():
     ap.add_argument("--extra", default="", help="more rtsim flags for every run")
     ap.add_argument("--min-step", type=float, default=0.004, help="stop when the step is below this (world units)")
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
+    ap.add_argument("--merge", metavar="CSV", action="append", default=[],
+                    help="search nothing: add the rows of these CSVs (other runs' N) to --out's and write the table")
     driver.add_output_arguments(ap, os.path.join(ROOT, "doc", "balancing.md"))
     a = ap.parse_args()
     rows = []
+    for path in a.merge:
+        rows += read_csv(path)
     with concurrent.futures.ThreadPoolExecutor(a.jobs) as pool:
-        for n in (int(x) for x in a.n.split(",")):
+        for n in ([] if a.merge else (int(x) for x in a.n.split(","))):
             f = 1 / n
             none, lo, hi = unbalanced(a, n, f)
             # Two starts (the planes spread over the whole crowded layer, and
@@ -109,13 +113,19 @@ def main():
             print(f"N = {n}: {t / 1e3:.1f} us, ratio {t / none:.3f}, planes {planes} ({runs} runs)", file=sys.stderr)
     stem = ("partition_search" + ("" if a.preset == "modern" else f"-{a.preset}") +
             ("" if a.view == "along" else f"-{a.view}"))
-    write_csv(os.path.join(a.out, stem + ".csv"), rows)
+    csv_path = os.path.join(a.out, stem + ".csv")
+    # Rows of other N already there are kept: searches of different N add up.
+    if os.path.exists(csv_path):
+        ns = {int(r["N"]) for r in rows}
+        rows += [r for r in read_csv(csv_path) if int(r["N"]) not in ns and r["view"] == a.view]
+    rows.sort(key=lambda r: int(r["N"]))
+    write_csv(csv_path, rows)
     lines = [f"<!-- written by scripts/experiments/partition_search.py --preset {a.preset} --view {a.view}; do not edit -->",
              "| view | N | f | none | best static partition | ratio | its planes along x | runs |",
              "|---|---:|---:|---:|---:|---:|---|---:|"]
     for r in rows:
-        lines.append(f"| {r['view']} | {r['N']} | 1/{r['N']} | {r['time_none_ns'] / 1e3:,.1f} us | "
-                     f"{r['best_ns'] / 1e3:,.1f} us | {r['ratio']:.3f} | {r['planes']} | {r['runs']} |")
+        lines.append(f"| {r['view']} | {r['N']} | 1/{r['N']} | {float(r['time_none_ns']) / 1e3:,.1f} us | "
+                     f"{float(r['best_ns']) / 1e3:,.1f} us | {float(r['ratio']):.3f} | {r['planes']} | {r['runs']} |")
     section = f"partition search {a.preset}" + ("" if a.view == "along" else f" {a.view}")
     publish_table(lines, os.path.join(a.out, stem + ".md"), a.doc or None, section)
 

@@ -76,6 +76,18 @@ def table(a, rows, md_path):
              f"{statistics.median(p['ratios'][-1] for p in points):.3f}, worst "
              f"{max(p['ratios'][-1] for p in points):.3f}.",
              "",
+             "| scene | points | worst first frame | worst frame | points with a frame above 1.02 | last frame, median "
+             "| last frame, worst |",
+             "|---|---:|---:|---:|---:|---:|---:|"]
+    for scene in a.scenes.split(","):
+        ps = [p for p in points if p["scene"] == scene]
+        if ps:
+            lines.append(f"| {scene} | {len(ps)} | {max(p['ratios'][0] for p in ps):.3f} | "
+                         f"{max(max(p['ratios']) for p in ps):.3f} | {sum(1 for p in ps if max(p['ratios']) > 1.02)} | "
+                         f"{statistics.median(p['ratios'][-1] for p in ps):.3f} | {max(p['ratios'][-1] for p in ps):.3f} |")
+    lines += ["",
+             f"The {WORST} worst points:",
+             "",
              "| scene | N | links | none | " + " | ".join(f"frame {k + 1}" for k in range(a.frames)) + " | worst |",
              "|---|---:|---|---:|" + "---:|" * (a.frames + 1)]
     for p in points[:WORST]:
