@@ -29,22 +29,25 @@ InnerPlanes lastBoundaries(const nlohmann::json& r, const MachineConfig& m, bool
 // from where the planes ended to those quantiles.
 InnerPlanes resplitTargets(const nlohmann::json& r, const MachineConfig& m, double step = 1);
 
-// `resplit` over a sequence of frames: what the next frame does. Each frame
-// re-splits at the quantiles of the one before, as long as that keeps making
-// frames faster:
-//  - a re-split frame slower than the fastest re-split frame so far, when
-//    that one beat the first frame, returns the boundaries to its planes,
-//    and they hold from then on (equal busy times are not always the fastest
-//    frame: across the axis the frame also waits for work to arrive, and
-//    re-splitting to equal busy times crept from 825 to 953 us over ten
-//    frames);
+// `resplit` and `measured` over a sequence of frames: what the next frame
+// does. Each frame re-splits towards the quantiles of the one before (the
+// first re-split all the way, later ones half the way), as long as that
+// keeps making frames faster:
+//  - once two re-split frames in a row are not faster than the fastest
+//    re-split frame so far, when that one beat the first frame, the
+//    boundaries return to its planes and hold from then on (equal busy
+//    times are not always the fastest frame: across the axis the frame also
+//    waits for work to arrive, and re-splitting to equal busy times crept
+//    from 825 to 953 us over ten frames);
 //  - if neither of the first two re-split frames beats the first frame,
 //    re-splitting does not pay here (past the links' knee thinner boxes
 //    cost more link time than they save). (Two tries, not one: a first
 //    re-split a few per cent slower than the first frame is often followed
-//    by faster ones.) Then one frame holds the split the first frame started
-//    from: where even the first frame's slides lose, that one wins and is
-//    held; otherwise every later frame is the first one again.
+//    by faster ones.) `measured`'s first frame was the starting split: it is
+//    held. `resplit`'s was balanced by `slide`: one frame holds the split
+//    the first frame started from; where even the first frame's slides
+//    lose, that one wins and is held; otherwise every later frame is the
+//    first one again.
 class ResplitSequence {
 public:
     explicit ResplitSequence(const MachineConfig& m) : m_(m), firstHolds_(m.balance.firstFrameHolds()) {}
@@ -62,8 +65,8 @@ private:
     // How far each re-split after the first moves the planes towards their
     // quantiles (the first goes all the way): the work moves with the
     // planes (rays cross more boxes, and cross from column to column), so
-    // full steps overshoot and the sequence stops at the first frame that
-    // is slower; half steps settle (doc/balancing.md, "Why it settles").
+    // full steps overshoot once the planes are near; half steps settle
+    // (doc/balancing.md, "Why it settles").
     static constexpr double kStep = 0.5;
     static constexpr int kPatience = 2;  // such frames in a row before the fastest one's planes are held
     const MachineConfig& m_;
