@@ -64,7 +64,7 @@ Picos MachineConfig::lookahead() const {
         l = std::min(l, linkLookahead(p, mesh));
         if (balance.dynamic() && p.controlDepth > 0) l = std::min(l, p.latency);  // its sender's (Machine::setLookaheads)
     };
-    if (!hopsByLinks && nodeCosts.empty()) {  // the links are the same everywhere but the overrides
+    if (!hopsByLinks) {  // the links are the same everywhere but the overrides
         l = linkLookahead(fbPort, kSmallestFbMessage);
         meshLink(link);
         for (const auto& [where, p] : linkOverride) meshLink(p);

@@ -8,29 +8,11 @@ namespace rt {
 std::vector<double> resplitPlanes(const std::vector<double>& edges, const std::vector<double>& busy, double minThickness) {
     const size_t n = busy.size();
     if (n == 0 || edges.size() != n + 1) throw std::invalid_argument("resplit: N + 1 planes and N busy times");
-    double total = 0;
-    for (double b : busy) total += std::max(0.0, b);
-    std::vector<double> out(edges);
-    if (total > 0) {
-        // Plane k where the busy time below it, spread evenly over each box,
-        // reaches k / N of the column's.
-        size_t box = 0;
-        double below = 0;  // busy time of the boxes before `box`
-        for (size_t k = 1; k < n; ++k) {
-            const double target = total * double(k) / double(n);
-            while (box < n && below + std::max(0.0, busy[box]) < target) below += std::max(0.0, busy[box++]);
-            if (box == n) {
-                out[k] = edges[n];
-                continue;
-            }
-            const double share = busy[box] > 0 ? (target - below) / busy[box] : 0.0;
-            out[k] = edges[box] + share * (edges[box + 1] - edges[box]);
-        }
-    }
-    // Every box at least the minimum thick: push up from the bottom, then down from the top.
-    for (size_t k = 1; k < n; ++k) out[k] = std::max(out[k], out[k - 1] + minThickness);
-    for (size_t k = n - 1; k >= 1; --k) out[k] = std::min(out[k], out[k + 1] - minThickness);
-    return std::vector<double>(out.begin() + 1, out.end() - 1);
+    // Each box's busy time, spread evenly over it: one piece per box.
+    std::vector<WorkPiece> pieces;
+    for (size_t k = 0; k < n; ++k) pieces.push_back({edges[k], edges[k + 1], busy[k]});
+    return resplitPlanes(pieces, edges.front(), edges.back(), int(n), minThickness,
+                         std::vector<double>(edges.begin() + 1, edges.end() - 1));
 }
 
 std::vector<double> resplitPlanes(const std::vector<WorkPiece>& pieces, double lo, double hi, int count,

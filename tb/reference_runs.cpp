@@ -39,9 +39,9 @@ ReferenceRuns addReferenceRuns(nlohmann::json& report, const std::vector<std::st
     std::vector<std::string> otherArgs{"--as-comparison", "--balance", policy == "none" ? "default" : "none"};
     // The default keeps a first frame's split and re-splits from the
     // second: a single frame is compared with its second frame.
-    MachineConfig byDefault = o.machine;
-    byDefault.balance.policy = kDefaultPolicy;
-    if (policy == "none" && o.frames == 1 && byDefault.balance.firstFrameHolds()) otherArgs.insert(otherArgs.end(), {"--frames", "2"});
+    BalanceConfig byDefault;
+    byDefault.policy = kDefaultPolicy;
+    if (policy == "none" && o.frames == 1 && byDefault.firstFrameHolds()) otherArgs.insert(otherArgs.end(), {"--frames", "2"});
     if (compare) otherRun.emplace(args, otherArgs);
     const std::optional<nlohmann::json> baseReport = baseRun ? baseRun->report() : std::nullopt;
     const std::optional<nlohmann::json> other = otherRun ? otherRun->report() : std::nullopt;
