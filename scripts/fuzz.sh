@@ -7,13 +7,20 @@
 #   config  the --config reader (tb/fuzz/fuzz_config.cpp), seeded with
 #           configs/*.conf and the flags of those reports.
 # The corpus grows in out/fuzz[-TARGET]/corpus and findings land beside it.
-# Writes the figures (executions, coverage, findings) to
-# doc/results/fuzz[-TARGET].md and doc/robustness.md.
-#   bash scripts/fuzz.sh [--target nff|report|config] [SECONDS]
+# Writes the figures (executions, coverage, findings) to out/fuzz[-TARGET]/
+# fuzz.md; with --doc, to doc/results/fuzz[-TARGET].md and doc/robustness.md.
+#   bash scripts/fuzz.sh [--target nff|report|config] [--doc] [SECONDS]
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 target=nff
-if [ "${1:-}" = "--target" ]; then target=$2; shift 2; fi
+doc=
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --target) target=${2:-}; shift 2 ;;
+    --doc) doc=doc; shift ;;
+    *) break ;;
+  esac
+done
 case "$target" in nff|report|config) ;; *) echo "fuzz.sh: --target: nff, report or config, not '$target'" >&2; exit 2;; esac
 seconds=${1:-1800}
 "$root/scripts/setup.sh" fuzz
@@ -56,4 +63,4 @@ set +e
   -rss_limit_mb=4096 -print_final_stats=1 corpus) >"$log" 2>&1
 status=$?
 set -e
-/usr/bin/python3 "$root/scripts/fuzz_report.py" "$log" "$status" "$seconds" "$out" "$target"
+/usr/bin/python3 "$root/scripts/fuzz_report.py" "$log" "$status" "$seconds" "$out" "$target" $doc

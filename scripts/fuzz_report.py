@@ -2,11 +2,11 @@
 """The figures of a scripts/fuzz.sh run, as Markdown: executions, coverage,
 corpus and findings (crash, timeout, out-of-memory and leak reproducers).
 
-usage: fuzz_report.py LOG EXIT_STATUS SECONDS OUT_DIR [TARGET]
+usage: fuzz_report.py LOG EXIT_STATUS SECONDS OUT_DIR [TARGET [doc]]
 
-TARGET (nff, report or config; default nff) names the table: doc/results/
-fuzz.md and the `fuzz` section of doc/robustness.md for nff, fuzz-TARGET
-for the others.
+TARGET (nff, report or config; default nff) names the table: fuzz.md for
+nff, fuzz-TARGET.md for the others, in OUT_DIR; with `doc` (fuzz.sh --doc),
+in doc/results/ and its section of doc/robustness.md instead.
 """
 import glob
 import os
@@ -38,7 +38,10 @@ def main():
     lines += [f"| peak memory | {stats.get('peak_rss_mb', '?')} MB |",
               f"| libFuzzer's exit status | {status} |",
               f"| findings | {len(findings)}{': ' + ', '.join(findings) if findings else ''} |"]
-    publish_table(lines, os.path.join(ROOT, "doc", "results", name + ".md"), os.path.join(ROOT, "doc", "robustness.md"), name)
+    if sys.argv[6:7] == ["doc"]:
+        publish_table(lines, os.path.join(ROOT, "doc", "results", name + ".md"), os.path.join(ROOT, "doc", "robustness.md"), name)
+    else:
+        publish_table(lines, os.path.join(out, name + ".md"), None, name)
 
 
 if __name__ == "__main__":

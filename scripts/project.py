@@ -44,6 +44,13 @@ def preset_flags(name):
     return ["--config", os.path.join(ROOT, "configs", name + ".conf")]
 
 
+def variant(preset, tag=""):
+    """The suffix that names an experiment's files for a machine: '' for the
+    modern preset, '-PRESET' for another, and '-TAG' after it when the run
+    is a variant of the preset (its --extra flags, named by --tag)."""
+    return "".join("-" + x for x in ([] if preset == "modern" else [preset]) + ([tag] if tag else []))
+
+
 def spd_scene(name):
     """The path of an SPD scene: 'balls-4' -> .../shared/scenes/spd/balls-4.nff."""
     return os.path.join(SPD, name + ".nff")

@@ -12,6 +12,9 @@ parameters (a dict) and given as its command-line flags. The driver
 - writes the CSV in point order, with each point's exact command and the
   version (git describe) of the tree that ran it.
 
+From the command line it sweeps any flags of any scene (scripts/sweep.py
+--help; the grid and its rows are in scripts/sweep_grid.py).
+
 Standard library only, except python3-distributed for --dask. Runs rtsim
 through project.run_rtsim (scripts/project.py).
 Dask workers must see the same checkout at the same path (a shared file
@@ -47,14 +50,28 @@ def add_arguments(ap):
 
 def add_output_arguments(ap, doc_page=None):
     """Where a sweep script writes, shared by every one: --out (the results
-    folder) and --plot-only; with `doc_page` (a script that publishes a table,
-    publish_table), also --doc, the page whose generated section it updates."""
-    ap.add_argument("--out", default=os.path.join(ROOT, "doc", "results"))
+    folder), --plot-only, and --doc, which publishes into doc/results/ and,
+    with `doc_page` (a script that publishes a table, publish_table), that
+    page's generated sections. Read them with parse_outputs."""
+    ap.add_argument("--out", help="the results folder (default: out/results/; with --doc, doc/results/)")
     what = "chart and table" if doc_page else "chart"
     ap.add_argument("--plot-only", action="store_true", help=f"redraw the {what} from the CSV")
-    if doc_page:
-        ap.add_argument("--doc", default=doc_page,
-                        help="doc page whose generated table section to update ('' for none)")
+    page = f", and the generated tables of {os.path.relpath(doc_page, ROOT)}" if doc_page else ""
+    ap.add_argument("--doc", action="store_true",
+                    help="publish: write the results into doc/results/" + page + " (without it nothing in doc/ changes)")
+    ap.set_defaults(doc_page=doc_page)
+
+
+def parse_outputs(ap):
+    """Parses the flags of a script set up by add_output_arguments: a.out is
+    the results folder (made if missing); a.doc the page to publish into, or
+    None. A user's run writes under out/ and leaves doc/ as committed."""
+    a = ap.parse_args()
+    publish = bool(getattr(a, "doc", False))
+    a.out = a.out or (project.RESULTS if publish else os.path.join(ROOT, "out", "results"))
+    a.doc = a.doc_page if publish else None
+    os.makedirs(a.out, exist_ok=True)
+    return a
 
 
 def point_id(args):
@@ -239,3 +256,8 @@ def write_csv(path, rows):
 def read_csv(path):
     with open(path, newline="") as f:
         return list(csv.DictReader(f))
+
+
+if __name__ == "__main__":  # the command line: sweeps of any flags (scripts/sweep_grid.py)
+    import sweep_grid
+    sys.exit(sweep_grid.main())

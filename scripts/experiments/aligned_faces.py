@@ -7,7 +7,7 @@ balancing, with `slide` (each column moves its own faces) and with `slide
 the layer's summed loads, read without messages: an optimistic bound on any
 layer agreement built from messages; models/ideal_layer_faces.h). Reports
 the ratios to the unbalanced frame, the busy time, the rays passed on
-untraced between columns and the slides. Writes
+untraced between columns and the slides. With --doc, writes
 doc/results/aligned_faces.{csv,md} and the table into doc/fig4.md.
 Run with /usr/bin/python3."""
 import argparse
@@ -38,7 +38,7 @@ def main():
                     help="Fig. 4's results, for the points where slide loses")
     driver.add_output_arguments(ap, os.path.join(ROOT, "doc", "fig4.md"))
     driver.add_arguments(ap)
-    a = ap.parse_args()
+    a = driver.parse_outputs(ap)
     losing = losing_points(a.fig4, 1.02)
     if not losing:
         sys.exit(f"aligned_faces.py: no point of {a.fig4} where slide loses more than 2 %")

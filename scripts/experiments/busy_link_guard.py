@@ -11,7 +11,7 @@ with the guard's other terms alone (--guard-wire 0), and with the busy-link
 guard at each share (1, the default, and 0.8). Counts the
 points where balancing loses more than 2 % (issue 11's "never hurts":
 time(none) / time(balanced) >= 0.98), the lowest gain and the geometric
-mean, and lists the points that still lose. Writes
+mean, and lists the points that still lose. With --doc, writes
 doc/results/busy_link_guard.{csv,md} and the table into doc/balancing.md.
 Run with /usr/bin/python3."""
 import argparse
@@ -60,7 +60,7 @@ def main():
     ap.add_argument("--shares", default="1,0.8", help="busy-link guard shares to try (1: a full link)")
     driver.add_output_arguments(ap, os.path.join(ROOT, "doc", "balancing.md"))
     driver.add_arguments(ap)
-    a = ap.parse_args()
+    a = driver.parse_outputs(ap)
     shares = a.shares.split(",")
     vs = variants(shares)
     pts = points()

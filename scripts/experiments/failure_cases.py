@@ -7,7 +7,7 @@ the ratios to the unbalanced frame and the 95th percentile age of the
 loads the first frame's decisions used. Also `resplit`'s sequence of
 --sequence frames along and across the axis, and what `slide`'s slides
 cost at Fig. 4's best and worst points (rays forwarded and passed on
-untraced). Writes doc/results/failure_cases.{csv,md}, resplit_sequences.md,
+untraced). With --doc, writes doc/results/failure_cases.{csv,md}, resplit_sequences.md,
 slide_costs.md and the tables into doc/balancing.md (slide costs: doc/fig4.md).
 Run with /usr/bin/python3."""
 import argparse
@@ -49,7 +49,7 @@ def main():
     ap.add_argument("--sequence", type=int, default=10, help="frames of the resplit sequences")
     driver.add_output_arguments(ap, os.path.join(ROOT, "doc", "balancing.md"))
     driver.add_arguments(ap)
-    a = ap.parse_args()
+    a = driver.parse_outputs(ap)
     runs = [("none", []), ("slide", []), (f"slide@{a.frames}", ["--frames", a.frames]),
             (f"resplit@{a.frames}", ["--frames", a.frames]), (f"measured@{a.frames}", ["--frames", a.frames])]
     points = [{"params": {"case": case, "run": name},

@@ -5,7 +5,7 @@ with the fastest links of the link sweep (10 ns, 100 GB/s), N = 2..8, with
 one frame-buffer unit (the single host) and with the default 16. For each:
 the render time, the busiest unit's busy time as a share of it, and the
 busiest node's busy time, which no frame buffer can take off the frame.
-Writes doc/results/fb_scaling.{csv,md} and the table in doc/machine.md.
+With --doc, writes doc/results/fb_scaling.{csv,md} and the table in doc/machine.md.
 Standard library only; run with /usr/bin/python3."""
 import argparse
 import os
@@ -25,7 +25,7 @@ def main():
     ap.add_argument("--units", default="1,16")
     driver.add_output_arguments(ap, os.path.join(ROOT, "doc", "machine.md"))
     driver.add_arguments(ap)
-    a = ap.parse_args()
+    a = driver.parse_outputs(ap)
     ns = [int(n) for n in a.n.split(",")]
     units = [int(k) for k in a.units.split(",")]
     csv_path = os.path.join(a.out, "fb_scaling.csv")

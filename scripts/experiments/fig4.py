@@ -11,7 +11,7 @@ starting with the boundaries where the one before ended (rtsim --frames);
 `resplit` re-splits its columns between frames.
 
 Runs on a machine preset (--preset: configs/NAME.conf; modern is rtsim's
-defaults) with the project's default balancing settings. Writes
+defaults) with the project's default balancing settings. With --doc, writes
 doc/results/fig4[-PRESET].{csv,png,md} and the f = 1/N table into
 doc/fig4.md. Needs python3-matplotlib (bash scripts/setup.sh plots);
 run with /usr/bin/python3."""
@@ -22,7 +22,7 @@ import sys
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # scripts/: project, sweep
 import project  # noqa: E402
 import sweep as driver  # noqa: E402
-from project import PAPER_SCENE, ROOT, VIEWS, preset_flags, publish_table  # noqa: E402
+from project import PAPER_SCENE, RESULTS, ROOT, VIEWS, preset_flags, publish_table, variant  # noqa: E402
 from sweep import read_csv, write_csv  # noqa: E402
 
 # The experiment (doc/balancing.md, "Fig. 4"): the paper's scene, progress
@@ -39,16 +39,17 @@ def main():
     ap.add_argument("--policies", default=POLICIES, help="policies compared with none")
     ap.add_argument("--preset", default="modern", help="configs/PRESET.conf")
     ap.add_argument("--extra", default="", help="more rtsim flags for every run")
+    ap.add_argument("--tag", default="", help="name of the --extra variant: its files are fig4-PRESET-TAG.*")
     ap.add_argument("--steady", default=STEADY, help="policies whose steady state is drawn too ('': none)")
     ap.add_argument("--frames", type=int, default=6, help="frames of the steady-state curves (the last is plotted)")
     driver.add_output_arguments(ap, os.path.join(ROOT, "doc", "fig4.md"))
     driver.add_arguments(ap)
-    a = ap.parse_args()
+    a = driver.parse_outputs(ap)
     ns = [int(x) for x in a.n.split(",")]
     policies = a.policies.split(",")
     if a.steady and a.frames > 1:
         policies += [f"{p}@{a.frames}" for p in a.steady.split(",")]
-    stem = "fig4" if a.preset == "modern" else f"fig4-{a.preset}"
+    stem = "fig4" + variant(a.preset, a.tag)
     csv_path = os.path.join(a.out, stem + ".csv")
     if not a.plot_only:
         write_csv(csv_path, sweep(a, ns, policies))
@@ -66,6 +67,15 @@ def main():
         gap_table(a, rows, ns, f"{gap}@{a.frames}", os.path.join(a.out, stem + "-gap.md"))
 
 
+def machine(a):
+    """The machine's name in titles and table markers: the preset, and the tag of its variant."""
+    return a.preset + (f" {a.tag}" if a.tag else "")
+
+
+def invocation(a):
+    return f"--preset {a.preset}" + (f" --tag {a.tag} --extra={a.extra!r}" if a.tag else "")
+
+
 def sweep(a, ns, policies):
     points = []
     for view, cam in VIEWS.items():
@@ -77,7 +87,7 @@ def sweep(a, ns, policies):
                                    "args": preset_flags(a.preset) + PAPER_SCENE + cam +
                                    ["--mesh", n, "--concentration", f"{k / n:.6f}", "--balance", name] +
                                    (["--frames", frames] if frames else []) + a.extra.split()})
-    runs = driver.run(f"fig4-{a.preset}", points, extract, None, a)
+    runs = driver.run("fig4" + (variant(a.preset, a.tag) or "-modern"), points, extract, None, a)
     by = {(r["view"], r["N"], r["f"], r["policy"]): r for r in runs}
     rows = []
     for view in VIEWS:
@@ -151,7 +161,7 @@ def plot(a, rows, ns, policies, path):
         axes[row][0].set_ylabel("time / time without", fontsize=9)
     handles, labels = axes[0][0].get_legend_handles_labels()
     fig.legend(handles, labels, loc="lower center", ncol=len(labels), fontsize=9)
-    fig.suptitle(f"Fig. 4 against its bounds, preset {a.preset}: 1,000 spheres crowded into the first f of x, "
+    fig.suptitle(f"Fig. 4 against its bounds, preset {machine(a)}: 1,000 spheres crowded into the first f of x, "
                  f"256x256, default balancing settings", fontsize=10)
     fig.tight_layout(rect=(0, 0.07, 1, 0.95))
     fig.savefig(path, dpi=90)
@@ -162,7 +172,7 @@ def table(a, rows, ns, policies, md_path):
     the paper's rule (slide) the work it added and its own column bound."""
     head = " | ".join(policies)
     main = "slide" if "slide" in policies else policies[0]
-    lines = [f"<!-- written by scripts/experiments/fig4.py --preset {a.preset}; do not edit -->",
+    lines = [f"<!-- written by scripts/experiments/fig4.py {invocation(a)}; do not edit -->",
              f"| view | N | {head} | column bound | perfect bound | frame buffer | 1/N | paper | "
              f"{main}: busy time added | {main}: its own column bound |",
              "|---|---:|" + "---:|" * (len(policies) + 7)]
@@ -175,14 +185,14 @@ def table(a, rows, ns, policies, md_path):
                          f" | {at[0]['column_bound']:.2f} | {at[0]['perfect_bound']:.2f} | {at[0]['fb_bound']:.3f}"
                          f" | {1 / n:.2f} | {PAPER} | {100 * (m['busy_ratio'] - 1):+.0f} % | {m['own_column_bound']:.2f} |")
     doc = a.doc if a.doc else None
-    publish_table(lines, md_path, doc, f"fig4 table {a.preset}")
+    publish_table(lines, md_path, doc, f"fig4 table {machine(a)}")
 
 
 def frames_table(a, rows, policies, md_path):
     """Over every point (both views, every N and f): how often each policy
     loses more than 2 % against the unbalanced frame, in its last frame and
     in any frame of its sequence, and its worst frame."""
-    lines = [f"<!-- written by scripts/experiments/fig4.py --preset {a.preset}; do not edit -->",
+    lines = [f"<!-- written by scripts/experiments/fig4.py {invocation(a)}; do not edit -->",
              "| policy | points | last frame above 1.02 | worst last frame | any frame above 1.02 | worst frame, where |",
              "|---|---:|---:|---:|---:|---|"]
     for p in policies:
@@ -193,7 +203,7 @@ def frames_table(a, rows, policies, md_path):
         lines.append(f"| {p} | {len(rs)} | {sum(1 for r in rs if r['ratio'] > 1.02)} | {max(r['ratio'] for r in rs):.3f} | "
                      f"{sum(1 for x, r in seqs if max(x) > 1.02)} | {worst:.3f} ({at['view']}, N = {at['N']}, "
                      f"f = {at['f']:.3g}, frame {frame}) |")
-    publish_table(lines, md_path, a.doc or None, f"fig4 frames {a.preset}")
+    publish_table(lines, md_path, a.doc or None, f"fig4 frames {machine(a)}")
 
 
 def best_static(a):
@@ -201,8 +211,10 @@ def best_static(a):
     scripts/experiments/partition_search.py has found it for this preset."""
     best = {}
     for view in VIEWS:
-        stem = "partition_search" + ("" if a.preset == "modern" else f"-{a.preset}") + ("" if view == "along" else f"-{view}")
+        stem = "partition_search" + variant(a.preset, a.tag) + ("" if view == "along" else f"-{view}")
         path = os.path.join(a.out, stem + ".csv")
+        if not os.path.exists(path):  # a run under out/ uses the published search
+            path = os.path.join(RESULTS, stem + ".csv")
         if os.path.exists(path):
             for r in read_csv(path):
                 best[(r["view"], int(r["N"]))] = float(r["ratio"])
@@ -219,7 +231,7 @@ def gap_table(a, rows, ns, policy, md_path):
     time), and fill and drain (the busiest node's waiting). The parts sum
     to the ratio; the best static split beside it where searched."""
     best = best_static(a)
-    lines = [f"<!-- written by scripts/experiments/fig4.py --preset {a.preset}; do not edit -->",
+    lines = [f"<!-- written by scripts/experiments/fig4.py {invocation(a)}; do not edit -->",
              f"| view | N | 1/N | perfect bound | + unequal columns | + work balancing added | + imbalance left | "
              f"+ fill and drain | = {policy} | best static split | {policy} / max(1/N, best static) |",
              "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
@@ -234,7 +246,7 @@ def gap_table(a, rows, ns, policy, md_path):
             lines.append(f"| {view} | {n} | {1 / n:.3f} | {perfect:.3f} | {column - perfect:+.3f} | {own - column:+.3f} | "
                          f"{busiest - own:+.3f} | {ratio - busiest:+.3f} | {ratio:.3f} | "
                          f"{f'{b:.3f}' if b else '-'} | {ratio / floor:.2f} |")
-    publish_table(lines, md_path, a.doc or None, f"fig4 gap {a.preset}")
+    publish_table(lines, md_path, a.doc or None, f"fig4 gap {machine(a)}")
 
 
 if __name__ == "__main__":

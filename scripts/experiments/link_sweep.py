@@ -5,7 +5,7 @@ and without balancing, on rtsim's default experiment (1,000 spheres crowded
 into the first quarter of x, 256x256), on a machine preset (--preset:
 configs/NAME.conf; the sweep spans the same decades around the preset's own
 link). Charts render time, speed-up over one node and balancing gain; finds
-the knee where links start to dominate. Writes
+the knee where links start to dominate. With --doc, writes
 doc/results/link_sweep[-PRESET].{csv,png,md}.
 
 Knee: the link speed at which the render time has doubled from its value
@@ -63,7 +63,7 @@ def main():
     ap.add_argument("--deep-depth", type=int, help="link depth of the repeated latency sweep (default: 4x the preset's)")
     driver.add_output_arguments(ap, os.path.join(ROOT, "doc", "exploration.md"))
     driver.add_arguments(ap)
-    a = ap.parse_args()
+    a = driver.parse_outputs(ap)
     a.steady = f"{a.balance}@{a.frames}" if a.frames > 1 else None
     p = PRESETS[a.preset]
     a.default_latency, a.default_bandwidth, a.default_depth = p["latency"], p["bandwidth"], p["depth"]

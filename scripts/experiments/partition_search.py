@@ -6,7 +6,7 @@ candidate a full rtsim run without balancing that starts at those planes
 (--boundaries-from). It is what a balancer that slides boundaries could at
 best settle on, all costs of thin boxes included (rays crossing more boxes,
 their messages), unlike the column bound, which spreads the unbalanced run's
-work. Writes doc/results/partition_search.{csv,md} and its table into
+work. With --doc, writes doc/results/partition_search.{csv,md} and its table into
 doc/balancing.md. Run with /usr/bin/python3."""
 import argparse
 import concurrent.futures
@@ -17,7 +17,7 @@ import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # scripts/: project, sweep
 import sweep as driver  # noqa: E402
-from project import PAPER_SCENE, ROOT, VIEWS, preset_flags, publish_table  # noqa: E402
+from project import PAPER_SCENE, ROOT, VIEWS, preset_flags, publish_table, variant  # noqa: E402
 from sweep import read_csv, write_csv  # noqa: E402
 
 
@@ -88,12 +88,13 @@ def main():
     ap.add_argument("--view", default="along", choices=sorted(VIEWS))
     ap.add_argument("--preset", default="modern")
     ap.add_argument("--extra", default="", help="more rtsim flags for every run")
+    ap.add_argument("--tag", default="", help="name of the --extra variant: its files are partition_search-PRESET-TAG.*")
     ap.add_argument("--min-step", type=float, default=0.004, help="stop when the step is below this (world units)")
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
     ap.add_argument("--merge", metavar="CSV", action="append", default=[],
                     help="search nothing: add the rows of these CSVs (other runs' N) to --out's and write the table")
     driver.add_output_arguments(ap, os.path.join(ROOT, "doc", "balancing.md"))
-    a = ap.parse_args()
+    a = driver.parse_outputs(ap)
     rows = []
     for path in a.merge:
         rows += read_csv(path)
@@ -111,8 +112,7 @@ def main():
                          "best_ns": t, "ratio": t / none, "planes": " ".join(f"{p:.4f}" for p in planes),
                          "runs": runs, "version": driver.version()})
             print(f"N = {n}: {t / 1e3:.1f} us, ratio {t / none:.3f}, planes {planes} ({runs} runs)", file=sys.stderr)
-    stem = ("partition_search" + ("" if a.preset == "modern" else f"-{a.preset}") +
-            ("" if a.view == "along" else f"-{a.view}"))
+    stem = "partition_search" + variant(a.preset, a.tag) + ("" if a.view == "along" else f"-{a.view}")
     csv_path = os.path.join(a.out, stem + ".csv")
     # Rows of other N already there are kept: searches of different N add up.
     if os.path.exists(csv_path):
@@ -120,13 +120,14 @@ def main():
         rows += [r for r in read_csv(csv_path) if int(r["N"]) not in ns and r["view"] == a.view]
     rows.sort(key=lambda r: int(r["N"]))
     write_csv(csv_path, rows)
-    lines = [f"<!-- written by scripts/experiments/partition_search.py --preset {a.preset} --view {a.view}; do not edit -->",
+    lines = [f"<!-- written by scripts/experiments/partition_search.py --preset {a.preset} --view {a.view}"
+             f"{' --tag ' + a.tag + ' --extra=' + repr(a.extra) if a.tag else ''}; do not edit -->",
              "| view | N | f | none | best static partition | ratio | its planes along x | runs |",
              "|---|---:|---:|---:|---:|---:|---|---:|"]
     for r in rows:
         lines.append(f"| {r['view']} | {r['N']} | 1/{r['N']} | {float(r['time_none_ns']) / 1e3:,.1f} us | "
                      f"{float(r['best_ns']) / 1e3:,.1f} us | {float(r['ratio']):.3f} | {r['planes']} | {r['runs']} |")
-    section = f"partition search {a.preset}" + ("" if a.view == "along" else f" {a.view}")
+    section = f"partition search {a.preset}" + (f" {a.tag}" if a.tag else "") + ("" if a.view == "along" else f" {a.view}")
     publish_table(lines, os.path.join(a.out, stem + ".md"), a.doc or None, section)
 
 

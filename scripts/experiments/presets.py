@@ -5,7 +5,7 @@ x, 256x256, N = 4) viewed across the progress axis (the default camera) and
 along it, without balancing. Splits the total node busy time into
 intersection tests, voxel steps, shading, ray generation and message
 handling (operation counts from the report times the preset's costs), and
-gives the render time and speed-up. Writes doc/results/presets.{csv,md} and
+gives the render time and speed-up. With --doc, writes doc/results/presets.{csv,md} and
 the table in doc/machine.md. Standard library only; run with /usr/bin/python3."""
 import argparse
 import os
@@ -24,7 +24,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     driver.add_output_arguments(ap, os.path.join(ROOT, "doc", "machine.md"))
     driver.add_arguments(ap)
-    a = ap.parse_args()
+    a = driver.parse_outputs(ap)
     csv_path = os.path.join(a.out, "presets.csv")
     if not a.plot_only:
         points = [{"params": {"preset": p, "view": v, "mesh": m},

@@ -4,7 +4,7 @@ scenes (balls-4, balls-5, tetra-3, gears-2, rings-2) on N x N x N meshes
 (N = 4, 6, 8) over a sweep of link bandwidths, each rendered without
 balancing and with the default policy over --frames frames of the same
 view: every frame's time against the unbalanced frame's, the first frame
-and the steady state (the last) apart. Writes doc/results/spd_never_hurts.{csv,md}
+and the steady state (the last) apart. With --doc, writes doc/results/spd_never_hurts.{csv,md}
 and, with --doc, the table of the worst points into doc/balancing.md.
 Run with /usr/bin/python3."""
 import argparse
@@ -32,7 +32,7 @@ def main():
     ap.add_argument("--extra", default="", help="more rtsim flags for every run")
     driver.add_output_arguments(ap, os.path.join(ROOT, "doc", "balancing.md"))
     driver.add_arguments(ap)
-    a = ap.parse_args()
+    a = driver.parse_outputs(ap)
     csv_path = os.path.join(a.out, "spd_never_hurts.csv")
     if not a.plot_only:
         points = []

@@ -4,7 +4,7 @@ decoupling, rays per link message) on balls-4 and on the concentrated
 procedural scene, N = 4 and 8, with and without balancing; charts wall-clock
 time against the render-time error relative to the exact mode (quantum 0,
 one ray per message) and against the balancing outcome, with the Pareto
-front marked. Writes doc/results/speed_accuracy.{csv,png,md}.
+front marked. With --doc, writes doc/results/speed_accuracy.{csv,png,md}.
 
 Timing: the points run one at a time (--jobs 1 unless told otherwise), each
 --repeats times, wall = the median. Needs python3-matplotlib
@@ -36,7 +36,7 @@ def main():
     ap.add_argument("--repeats", type=int, default=3)
     driver.add_output_arguments(ap, os.path.join(ROOT, "doc", "exploration.md"))
     driver.add_arguments(ap)
-    a = ap.parse_args()
+    a = driver.parse_outputs(ap)
     a.jobs = a.jobs or 1  # timing: one run at a time unless asked
     csv_path = os.path.join(a.out, "speed_accuracy.csv")
     if not a.plot_only:

@@ -4,7 +4,7 @@ interval, at two link latencies, on the paper's experiment at rtsim's
 defaults (1,000 spheres crowded into the first quarter of x, 4x4x4 mesh).
 Each point is judged converged, oscillating or diverging from its boundaries'
 movement after the transient (the report's balance.stability, computed by
-models/stability.cpp). Writes doc/results/stability[-PRESET].csv and .png;
+models/stability.cpp). With --doc, writes doc/results/stability[-PRESET].csv and .png;
 --preset transputer-1987 maps the 1987 machine (intervals in ms, its link
 latency and 30 times it). `resplit` balances a frame as `slide` does, so
 this map is its within-frame map too; its between-frame behaviour is in
@@ -38,7 +38,7 @@ def main():
     ap.add_argument("--policy", default="slide")
     driver.add_output_arguments(ap)
     driver.add_arguments(ap)
-    a = ap.parse_args()
+    a = driver.parse_outputs(ap)
     p = PRESETS[a.preset]
     a.intervals_us = a.intervals_us or p["intervals_us"]
     a.latencies = a.latencies or p["latencies"]
