@@ -11,6 +11,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "busy_parts.h"
 #include "counters.h"
 #include "machine_config.h"
 
@@ -31,6 +32,31 @@ public:
         ps += (c.voxelSteps - before.voxelSteps) * costs_.voxelStep;
         ps += (c.shadings - before.shadings) * costs_.shade;
         return atSpeed(ps);
+    }
+    // The same step's cost by kind of work (busy_parts.h): parts that sum to
+    // step(...) exactly.
+    BusyParts stepParts(const Counters& before, const Counters& c, uint64_t sends, uint64_t recvs, uint64_t generated) const {
+        BusyParts p{};
+        for (int k = 0; k < kPrimitiveKinds; ++k) p[size_t(k)] = (c.tests[k] - before.tests[k]) * costs_.test[k];
+        p[kVoxelSteps] = (c.voxelSteps - before.voxelSteps) * costs_.voxelStep;
+        p[kShading] = (c.shadings - before.shadings) * costs_.shade;
+        p[kRayGeneration] = costs_.rayGen * generated;
+        p[kSend] = sends * costs_.send;
+        p[kReceive] = recvs * costs_.recv;
+        return scaledTo(p, step(before, c, sends, recvs, generated));
+    }
+    // A step of messages alone: its messages' handling (balancing's, or a
+    // flush of rays and contributions) and the grid update for `objects`
+    // moved; they sum to step(c, c, sends, recvs, 0) + rebuild(objects).
+    BusyParts messageParts(uint64_t sends, uint64_t recvs, uint64_t objects, bool balancing) const {
+        BusyParts p{};
+        const int send = balancing ? kBalancingSend : kSend, recv = balancing ? kBalancingReceive : kReceive;
+        p[size_t(send)] = sends * costs_.send;
+        p[size_t(recv)] = recvs * costs_.recv;
+        const Counters none{};
+        p = scaledTo(p, step(none, none, sends, recvs, 0), send);
+        p[kSlabRebuild] = rebuild(objects);
+        return p;
     }
     // Updating the node's grid for `objects` moved in or out by a slide.
     Picos rebuild(uint64_t objects) const {

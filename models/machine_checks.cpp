@@ -37,6 +37,9 @@ void Machine::checkConservation() const {
             throw std::runtime_error(std::string("time accounting: busy + wait != render time at ") + n.name() +
                                      " (busy " + std::to_string(s.busy) + ", wait " + std::to_string(s.wait) +
                                      ", last active " + std::to_string(s.lastActive) + ", end " + std::to_string(end) + " ps)");
+        if (sumOf(s.busyBy) != s.busy)  // the report's busy_by_category sums to busy_ns
+            throw std::runtime_error(std::string("time accounting: busy by kind of work sums to ") +
+                                     std::to_string(sumOf(s.busyBy)) + " ps, not busy " + std::to_string(s.busy) + " ps at " + n.name());
     }
     // Rays and frame-buffer traffic must all be delivered; balancing messages
     // (load reports, slides, acks) may still be on their way when the frame ends.

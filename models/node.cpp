@@ -263,10 +263,11 @@ void Node::step(Work& w) {
     if (dir >= 0) forward(w, dir, passing);
     fbOut_.add(contributions_, outbox_);
     stats_.contributionsSent += contributions_.size();
-    const Picos cost = costs_.step(before, stats_.counters, outbox_.size(), w.fromLink ? 1 : 0, w.generated ? 1 : 0);
+    const BusyParts parts = costs_.stepParts(before, stats_.counters, outbox_.size(), w.fromLink ? 1 : 0, w.generated ? 1 : 0);
+    const Picos cost = sumOf(parts);
     if (balance_ && std::isfinite(where)) balance_->recordStep(where, cost);
     markQueueDepth();
-    chargeAndSend(cost, true);
+    chargeAndSend(parts, true);
 }
 
 // Traces the ray's segment in the box: -2 if it ended here, else the link
@@ -336,18 +337,19 @@ void Node::markQueueDepth() {
 
 // A step takes `cost`: the node is busy until then, and what it produced
 // leaves at the end of it.
-void Node::chargeAndSend(Picos cost, bool mayWaitForWork) {
+void Node::chargeAndSend(const BusyParts& parts, bool mayWaitForWork) {
+    const Picos cost = sumOf(parts);
     now_ += cost;
     checkSimTime(now_, name());
-    ledger_.charge(cost, now_, [this] { return kernel(); });
+    ledger_.charge(parts, now_, [this] { return kernel(); });
     sendCost_ = cost;
     sendMayWait_ = mayWaitForWork;
     sendBlocked_ = 0;
     if (sendOutbox()) endSend();
 }
 
-void Node::finishControlStep(uint64_t recvs, size_t movedObjects) {
-    chargeAndSend(costs_.step(stats_.counters, stats_.counters, outbox_.size(), recvs, 0) + costs_.rebuild(movedObjects));
+void Node::finishControlStep(uint64_t recvs, size_t movedObjects, bool balancing) {
+    chargeAndSend(costs_.messageParts(outbox_.size(), recvs, movedObjects, balancing));
 }
 
 // The step's messages are sent, each after any wait for room: the step, then
@@ -417,7 +419,7 @@ bool Node::flushRays() {
     batcher_.flush(outbox_);
     if (outbox_.empty()) return false;
     traceState(true, false);
-    finishControlStep(0, 0);
+    finishControlStep(0, 0, false);
     return true;
 }
 
@@ -425,7 +427,7 @@ bool Node::flushRays() {
 void Node::flushToFrameBuffer() {
     traceState(true, false);
     fbOut_.flush(outbox_, name());
-    finishControlStep(0, 0);
+    finishControlStep(0, 0, false);
 }
 
 }  // namespace rt

@@ -123,10 +123,11 @@ private:
     // leaves nothing to do, by waiting for work at once: mayWaitForWork).
     // The node may be suspended when it returns: nothing may follow it in a
     // turn that reads the input or acts on the machine.
-    void chargeAndSend(Picos cost, bool mayWaitForWork = false);
+    void chargeAndSend(const BusyParts& parts, bool mayWaitForWork = false);
     // A step of messages alone (flushes, balancing): sends and receives
     // handled, and the grid updated for the objects that moved in or out.
-    void finishControlStep(uint64_t recvs, size_t movedObjects);
+    // `balancing`: its messages are balancing's (busy_by_category), not a flush of rays or contributions.
+    void finishControlStep(uint64_t recvs, size_t movedObjects, bool balancing = true);
     bool sendOutbox();  // false: suspended, waiting for room
     void endSend();
     void waitForWork();

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "balance_agent.h"
+#include "busy_parts.h"
 #include "counters.h"
 #include "units.h"
 
@@ -22,6 +23,7 @@ struct SlideEvent {
 // kept by its TimeLedger (time_ledger.h).
 struct NodeTimes {
     Picos busy = 0, wait = 0;
+    BusyParts busyBy{};            // busy by kind of work: sums to busy (busy_parts.h)
     Picos lastActive = 0;          // end of the last busy step
     bool waiting = false;          // waiting for work when the frame ended
     Picos waitingSince = 0;

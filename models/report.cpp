@@ -81,6 +81,12 @@ nlohmann::json machineConfigJson(const MachineConfig& cfg, int width, int height
 
 namespace {
 
+nlohmann::json busyPartsJson(const BusyParts& p) {
+    nlohmann::json j = nlohmann::json::object();
+    for (int k = 0; k < kBusyKinds; ++k) j[busyKindName(k)] = ns(p[size_t(k)]);
+    return j;
+}
+
 // Per node: its box, time, counts and balancing intervals.
 nlohmann::json nodeJson(const MachineResult& r, size_t i) {
     const NodeStats& s = r.nodes[i];
@@ -91,6 +97,7 @@ nlohmann::json nodeJson(const MachineResult& r, size_t i) {
     n["busy_ns"] = ns(s.busy);
     n["wait_ns"] = ns(s.wait);  // busy + wait = render time (checked at the end of every run)
     n["blocked_ns"] = ns(s.blocked);  // of the wait: on a full output buffer (--link-out-depth)
+    n["busy_by_category"] = busyPartsJson(s.busyBy);  // sums to busy_ns (in whole ps)
     n["load"] = s.busy + s.wait ? double(s.busy) / double(s.busy + s.wait) : 0.0;
     n["rays_traced"] = s.raysTraced;
     n["rays_generated"] = s.raysGenerated;
@@ -273,6 +280,7 @@ nlohmann::json machineReport(const MachineResult& r, const MachineConfig& cfg) {
     for (size_t i = 0; i < r.nodes.size(); ++i) {
         const NodeStats& s = r.nodes[i];
         total.busy += s.busy;
+        total.busyBy += s.busyBy;
         total.blocked += s.blocked;
         total.raysForwarded += s.raysForwarded;
         total.raysPassed += s.raysPassed;
@@ -281,6 +289,7 @@ nlohmann::json machineReport(const MachineResult& r, const MachineConfig& cfg) {
     }
     addLinks(j, r, cfg);
     j["totals"]["busy_ns"] = ns(total.busy);
+    j["totals"]["busy_by_category"] = busyPartsJson(total.busyBy);
     j["totals"]["blocked_ns"] = ns(total.blocked);
     j["totals"]["rays_forwarded"] = total.raysForwarded;
     j["totals"]["rays_passed"] = total.raysPassed;

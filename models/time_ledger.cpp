@@ -11,13 +11,14 @@ void TimeLedger::record(Picos now, Picos kernel) {
         timeline_.erase(timeline_.begin(), timeline_.begin() + std::ptrdiff_t(timelineStart_));
         timelineStart_ = 0;
     }
-    timeline_.push_back({now, t_.busy, t_.lastActive});
+    timeline_.push_back({now, t_.busy, t_.lastActive, t_.busyBy});
 }
 
 void TimeLedger::endFrame(Picos end, bool complete, const std::string& who) {
     if (settleBlocked(end) || settleWaiting(end)) return;
     if (!decoupled_) {  // lockstep: at most the last step runs past the end
         if (t_.lastActive > end) {
+            trim(t_.busyBy, last_, t_.lastActive - end);
             t_.busy -= t_.lastActive - end;
             t_.lastActive = end;
         }
@@ -61,7 +62,9 @@ void TimeLedger::endWithoutTimeline(Picos end, bool complete, const std::string&
         // kept, so it counts as busy from the stop to the end of its last
         // step (an incomplete report's figures are the run's so far; busy +
         // wait is still the time).
-        t_.busy -= std::min(t_.busy, t_.lastActive - end);
+        const Picos cut = std::min(t_.busy, t_.lastActive - end);
+        trim(t_.busyBy, last_, cut);
+        t_.busy -= cut;
         t_.lastActive = end;
     }
     t_.wait = end - t_.busy;
@@ -72,13 +75,17 @@ void TimeLedger::endWithoutTimeline(Picos end, bool complete, const std::string&
 // whatever of that step lies before `end`. (The kernel stopped at or before
 // `end`, so the timeline reaches back to it.)
 void TimeLedger::endFromTimeline(Picos end, const std::string& who) {
-    Checkpoint prev{0, 0, 0};
+    Checkpoint prev{0, 0, 0, BusyParts{}};
     for (size_t i = timelineStart_; i < timeline_.size(); ++i) {
         const Checkpoint& c = timeline_[i];
         if (c.t > end) {
             const Picos stepStart = c.t - (c.busy - prev.busy);
             const bool running = end > stepStart;  // a step was running at the end
             t_.busy = prev.busy + (running ? end - stepStart : 0);
+            BusyParts step = c.busyBy;  // the step's parts, and of them the share before the end
+            step -= prev.busyBy;
+            t_.busyBy = prev.busyBy;
+            t_.busyBy += scaledTo(step, t_.busy - prev.busy);
             t_.wait = end - t_.busy;
             t_.lastActive = running ? end : prev.lastActive;
             return;

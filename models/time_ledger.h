@@ -30,10 +30,13 @@ public:
         keeps_ = keepsTimeline;
     }
 
-    // A step took `cost` and ended at local time `now`.
+    // A step took the sum of `parts` (its cost by kind of work) and ended
+    // at local time `now`.
     template <class Kernel>
-    void charge(Picos cost, Picos now, Kernel kernel) {
-        t_.busy += cost;
+    void charge(const BusyParts& parts, Picos now, Kernel kernel) {
+        t_.busy += sumOf(parts);
+        t_.busyBy += parts;
+        last_ = parts;
         t_.lastActive = now;
         checkpoint(now, kernel);
     }
@@ -82,6 +85,7 @@ public:
 private:
     struct Checkpoint {
         Picos t, busy, lastActive;
+        BusyParts busyBy;
     };
     void record(Picos now, Picos kernel);
     bool settleBlocked(Picos end);
@@ -90,6 +94,7 @@ private:
     void endFromTimeline(Picos end, const std::string& who);
 
     NodeTimes& t_;
+    BusyParts last_{};  // the last step's parts: what a cut at the frame's end takes first
     bool decoupled_ = false, keeps_ = false;
     std::vector<Checkpoint> timeline_;  // from timelineStart_ on (the older ones are dropped in bulk)
     size_t timelineStart_ = 0;

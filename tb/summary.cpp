@@ -3,6 +3,10 @@
 #include <algorithm>
 #include <cstdio>
 #include <string>
+#include <utility>
+#include <vector>
+
+#include "trace_writer.h"
 
 namespace rt {
 namespace {
@@ -26,6 +30,28 @@ void printSpread(const nlohmann::json& nodes, const char* label, const char* key
                     mean > 0 ? hi / mean : 0.0);
 }
 
+// The busiest node and where its busy time went (busy_by_category), largest
+// kinds first, down to 1 %.
+void printBusiestNode(const nlohmann::json& nodes) {
+    const auto& n = *std::max_element(nodes.begin(), nodes.end(), [](const auto& a, const auto& b) {
+        return a["busy_ns"].template get<double>() < b["busy_ns"].template get<double>();
+    });
+    const auto& c = n["node"];
+    const double busy = n["busy_ns"].get<double>();
+    std::printf("  busiest node     node_%d_%d_%d busy %s:", c[0].get<int>(), c[1].get<int>(), c[2].get<int>(),
+                nsTime(n["busy_ns"]).c_str());
+    std::vector<std::pair<double, std::string>> kinds;
+    for (const auto& [k, v] : n["busy_by_category"].items()) kinds.push_back({v.get<double>(), k});
+    std::stable_sort(kinds.begin(), kinds.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+    const char* sep = " ";
+    for (const auto& [v, k] : kinds) {
+        if (busy <= 0 || v < 0.01 * busy) break;
+        std::printf("%s%s %.0f %%", sep, k.c_str(), 100.0 * v / busy);
+        sep = ", ";
+    }
+    std::printf("\n");
+}
+
 // The frame buffer, the messages and the busiest wires.
 void printTraffic(const nlohmann::json& report) {
     const auto& fb = report["frame_buffer"];
@@ -43,7 +69,7 @@ void printTraffic(const nlohmann::json& report) {
     std::printf("  busiest links   ");
     for (const auto& l : report["busiest_links"])
         std::printf(" %s %.1f %%", l["name"].get<std::string>().c_str(), 100.0 * l["utilisation"].get<double>());
-    std::printf("  (wire busy, of the render time)\n");
+    std::printf("  (wire busy, of the render time; node_X_Y_Z_py: from node X,Y,Z towards +y, _fb: to its frame-buffer unit)\n");
 }
 
 // The balancing and the bounds (when it balances), the paper's Fig. 4
@@ -66,6 +92,10 @@ void printBalancing(const RtsimOptions& o, const nlohmann::json& report) {
         const auto& c = report["comparison"];
         const int frame = c.value("balanced_frame", 1);
         const std::string which = c["balanced_policy"].get<std::string>() + (frame > 1 ? ", frame " + std::to_string(frame) : "");
+        const bool balances = o.machine.balance.policy != "none";
+        std::printf("  comparison       this run: %s; the comparison run: %s\n",
+                    balances ? ("balancing with " + o.machine.balance.policy).c_str() : "no balancing",
+                    balances ? "no balancing" : ("balancing with " + which).c_str());
         std::printf("  with / without   %s: %s, none: %s; ratio %.2f (bound %.2f: the heaviest column along %c spread "
                     "evenly; paper about 0.2 at f = 1/N)\n",
                     which.c_str(), nsTime(c["balanced_ns"]).c_str(),
@@ -86,7 +116,7 @@ void printSummary(const Scene& scene, const RtsimOptions& o, const MachineResult
     const double renderNs = report["render_time_ns"].get<double>();
     std::printf("rtsim: %s (%zu objects), %dx%dx%d mesh, %dx%d image\n", scene.name.c_str(), scene.objects.size(), d[0],
                 d[1], d[2], r.image.width, r.image.height);
-    std::printf("  render time      %s", formatTime(r.renderTime).c_str());
+    std::printf("  render time      %s simulated", formatTime(r.renderTime).c_str());
     if (baselineNs > 0)
         std::printf("   (1x1x1 with the same costs: %s, speed-up %.2f)", formatTime(Picos(baselineNs * 1000 + 0.5)).c_str(),
                     baselineNs / renderNs);
@@ -96,9 +126,20 @@ void printSummary(const Scene& scene, const RtsimOptions& o, const MachineResult
     printSpread(nodes, "wait per node", "wait_ns", true);
     if (report["totals"]["blocked_ns"].get<double>() > 0) printSpread(nodes, "  of it blocked", "blocked_ns", true);  // full output buffers
     printSpread(nodes, "load per node", "load", false);
+    printBusiestNode(nodes);
     printTraffic(report);
     printBalancing(o, report);
-    std::printf("  wall clock       %.3f s%s\n", r.wallSeconds, o.image.empty() ? "" : ("; image " + o.image).c_str());
+    std::printf("  wall clock       %.3f s to simulate it\n", r.wallSeconds);
+    std::string files;
+    auto add = [&](const std::string& path, const char* what) {
+        if (!path.empty()) files += (files.empty() ? " " : ", ") + path + " (" + what + ")";
+    };
+    add(o.image, "image");
+    add(o.report, "report");
+    add(o.vcd, "waveforms");
+    add(o.vcd.empty() ? "" : gtkwPathFor(o.vcd), "GTKWave view");
+    add(o.map, "mesh map");
+    if (!files.empty()) std::printf("  wrote           %s\n", files.c_str());
 }
 
 }  // namespace rt

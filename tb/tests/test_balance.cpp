@@ -113,6 +113,20 @@ TEST_P(PolicyIdentity, ImageConservationGuardsUnderRandomLinks) {
     const MachineResult r = runAndCompare(s, c);
     if (c.balance.dynamic()) {
         EXPECT_GT(slidesIn(r), 0u);
+        // Balancing's messages and slabs are busy time of their own kinds
+        // (busy_by_category), and the kinds sum to the busy time in every
+        // node (runMachine checks that).
+        Picos balancing = 0, rebuild = 0;
+        uint64_t moved = 0;
+        for (const NodeStats& n : r.nodes) {
+            balancing += n.busyBy[kBalancingSend] + n.busyBy[kBalancingReceive];
+            rebuild += n.busyBy[kSlabRebuild];
+            moved += n.objectsSent + n.objectsReceived;
+        }
+        EXPECT_GT(balancing, 0u);
+        // Speed 1: each object moved, out and in, less what of a step ran past the frame's end.
+        EXPECT_LE(rebuild, moved * c.balance.rebuildCost);
+        EXPECT_GT(rebuild, 0u);
     }
 }
 

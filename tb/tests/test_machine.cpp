@@ -137,6 +137,17 @@ TEST(Timing, OneNodeTimeIsCountsTimesCosts) {
                            n.raysGenerated * 17000 + k.shadings * 19000 + n.messagesSent * 23000 +
                            n.messagesReceived * 29000;
     EXPECT_EQ(n.busy, expected);
+    // Each kind of work is its count times its cost (busy_by_category).
+    const BusyParts& by = n.busyBy;
+    EXPECT_EQ(by[0], k.tests[0] * 7000);
+    EXPECT_EQ(by[1], k.tests[1] * 11000);
+    EXPECT_EQ(by[2], k.tests[2] * 13000);
+    EXPECT_EQ(by[kVoxelSteps], k.voxelSteps * 3000);
+    EXPECT_EQ(by[kRayGeneration], n.raysGenerated * 17000);
+    EXPECT_EQ(by[kShading], k.shadings * 19000);
+    EXPECT_EQ(by[kSend], n.messagesSent * 23000);
+    EXPECT_EQ(by[kReceive], n.messagesReceived * 29000);
+    EXPECT_EQ(by[kBalancingSend] + by[kBalancingReceive] + by[kSlabRebuild], 0u);
     EXPECT_GT(k.tests[1], 0u);
     EXPECT_GT(k.tests[2], 0u);
     // The same operations as the reference renderer.

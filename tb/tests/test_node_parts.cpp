@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "busy_by_hand.h"
+#include "busy_parts.h"
 #include "cost_model.h"
 #include "fb_outbox.h"
 #include "mesh_geometry.h"
@@ -22,6 +23,13 @@
 using namespace rt;
 
 namespace {
+
+// A step of `cost`, all of it one kind of work.
+BusyParts of(Picos cost, int kind = kVoxelSteps) {
+    BusyParts p{};
+    p[size_t(kind)] = cost;
+    return p;
+}
 
 auto kernelAt(Picos t) {
     return [t] { return t; };
@@ -52,10 +60,10 @@ TEST(TimeLedger, LockstepCutsTheStepThatRunsPastTheEnd) {
     NodeTimes t;
     TimeLedger l(t);
     l.configure(false, false);
-    l.charge(300, 300, kernelAt(0));   // busy 0..300
+    l.charge(of(300), 300, kernelAt(0));   // busy 0..300
     l.startWaiting(300);
     l.endWaiting(500, kernelAt(500));  // waited 300..500
-    l.charge(200, 700, kernelAt(500));  // busy 500..700, the frame ends at 600
+    l.charge(of(200), 700, kernelAt(500));  // busy 500..700, the frame ends at 600
     l.endFrame(600, true, "n");
     EXPECT_EQ(t.busy, 400u);
     EXPECT_EQ(t.wait, 200u);
@@ -67,7 +75,7 @@ TEST(TimeLedger, WaitingOrBlockedAtTheEndLastsUntilIt) {
     NodeTimes w;
     TimeLedger waiting(w);
     waiting.configure(true, false);
-    waiting.charge(100, 100, kernelAt(0));
+    waiting.charge(of(100), 100, kernelAt(0));
     waiting.startWaiting(100);
     waiting.endFrame(1000, true, "n");
     EXPECT_EQ(w.busy, 100u);
@@ -77,7 +85,7 @@ TEST(TimeLedger, WaitingOrBlockedAtTheEndLastsUntilIt) {
     NodeTimes b;
     TimeLedger blocked(b);
     blocked.configure(true, false);
-    blocked.charge(100, 100, kernelAt(0));
+    blocked.charge(of(100), 100, kernelAt(0));
     blocked.startBlocked(100, kDirs + 2);
     EXPECT_TRUE(blocked.blocking());
     blocked.endFrame(400, true, "n");
@@ -101,7 +109,7 @@ TEST(TimeLedger, AheadWithoutATimelineIdledPastTheEnd) {
     NodeTimes t;
     TimeLedger l(t);
     l.configure(true, false);
-    l.charge(100, 100, kernelAt(0));
+    l.charge(of(100), 100, kernelAt(0));
     l.startWaiting(100);
     l.endWaiting(900, kernelAt(0));  // idled ahead of the kernel to 900
     l.endFrame(500, true, "n");      // the frame ended at 500
@@ -113,12 +121,12 @@ TEST(TimeLedger, AStepPastTheEndWithoutAPolicyIsABugUnlessTheRunWasStopped) {
     NodeTimes t;
     TimeLedger l(t);
     l.configure(true, false);
-    l.charge(1000, 1000, kernelAt(0));
+    l.charge(of(1000), 1000, kernelAt(0));
     EXPECT_THROW(l.endFrame(600, true, "n"), std::logic_error);
     NodeTimes s;
     TimeLedger stopped(s);
     stopped.configure(true, false);
-    stopped.charge(1000, 1000, kernelAt(0));
+    stopped.charge(of(1000), 1000, kernelAt(0));
     stopped.endFrame(600, false, "n");  // stopped at 600: busy up to then
     EXPECT_EQ(s.busy, 600u);
     EXPECT_EQ(s.wait, 0u);
@@ -129,17 +137,101 @@ TEST(TimeLedger, TheTimelineGivesTheFiguresAtTheEnd) {
     NodeTimes t;
     TimeLedger l(t);
     l.configure(true, true);
-    l.charge(100, 100, kernelAt(0));    // busy 0..100
+    l.charge(of(100), 100, kernelAt(0));    // busy 0..100
     l.startWaiting(100);
     l.endWaiting(400, kernelAt(0));     // wait 100..400
-    l.charge(300, 700, kernelAt(0));    // busy 400..700
+    l.charge(of(300), 700, kernelAt(0));    // busy 400..700
     l.startWaiting(700);
     l.endWaiting(800, kernelAt(0));     // wait 700..800
-    l.charge(100, 900, kernelAt(0));    // busy 800..900
+    l.charge(of(100), 900, kernelAt(0));    // busy 800..900
     l.endFrame(500, true, "n");         // in the second step: 100 of it before the end
     EXPECT_EQ(t.busy, 200u);
     EXPECT_EQ(t.wait, 300u);
     EXPECT_EQ(t.lastActive, 500u);
+}
+
+// ---- Busy time by kind of work (busy_parts.h) ----
+
+TEST(BusyParts, ScaledPartsSumExactlyAndFollowTheProportions) {
+    BusyParts p{};
+    p[0] = 1;
+    p[kSend] = 1;
+    p[kReceive] = 1;
+    const BusyParts q = scaledTo(p, 10);  // 10/3 each: the one picosecond left goes to the lowest kind
+    EXPECT_EQ(q[0], 4u);
+    EXPECT_EQ(q[kSend], 3u);
+    EXPECT_EQ(q[kReceive], 3u);
+    EXPECT_EQ(sumOf(q), 10u);
+    BusyParts big{};  // near the counter's end: 128-bit products
+    big[kShading] = Picos(1) << 61;
+    big[kSend] = (Picos(1) << 61) - 1;
+    EXPECT_EQ(sumOf(scaledTo(big, (Picos(1) << 62) - 7)), (Picos(1) << 62) - 7);
+    EXPECT_EQ(scaledTo(BusyParts{}, 5)[kVoxelSteps], 5u);  // nothing to follow: the fallback kind
+}
+
+TEST(BusyParts, TrimTakesFromTheLastStepFirst) {
+    BusyParts total = of(500, kShading);
+    total[kSend] = 100;
+    BusyParts last = of(100, kSend);
+    trim(total, last, 60);  // within the last step: all of it from its kind
+    EXPECT_EQ(total[kSend], 40u);
+    EXPECT_EQ(total[kShading], 500u);
+    trim(total, last, 140);  // more than is left of it: 40 from send, then 100 of the rest, in proportion
+    EXPECT_EQ(sumOf(total), 400u);
+    EXPECT_EQ(total[kSend], 0u);
+}
+
+TEST(TimeLedger, KindsOfWorkFollowTheCutAtTheEnd) {
+    NodeTimes t;
+    TimeLedger l(t);
+    l.configure(true, true);
+    l.charge(of(100, kShading), 100, kernelAt(0));
+    l.startWaiting(100);
+    l.endWaiting(400, kernelAt(0));
+    BusyParts mixed = of(200, kSend);
+    mixed[kReceive] = 100;
+    l.charge(mixed, 700, kernelAt(0));  // busy 400..700: a third of it runs before 500
+    l.endFrame(500, true, "n");
+    EXPECT_EQ(t.busyBy[kShading], 100u);
+    EXPECT_EQ(t.busyBy[kSend] + t.busyBy[kReceive], 100u);
+    EXPECT_EQ(t.busyBy[kSend], 67u);  // 200/3 = 66.7 and 100/3 = 33.3: the larger remainder gets the picosecond
+    EXPECT_EQ(sumOf(t.busyBy), t.busy);
+
+    NodeTimes u;  // lockstep: the last step cut
+    TimeLedger lock(u);
+    lock.configure(false, false);
+    lock.charge(of(300, kShading), 300, kernelAt(0));
+    lock.charge(of(200, kSend), 500, kernelAt(300));
+    lock.endFrame(400, true, "n");
+    EXPECT_EQ(u.busyBy[kShading], 300u);
+    EXPECT_EQ(u.busyBy[kSend], 100u);
+}
+
+TEST(CostModel, PartsSumToTheStepAtAnySpeed) {
+    Costs c;
+    c.test = {7000, 11000, 13000};
+    c.voxelStep = 3000;
+    c.rayGen = 17000;
+    c.shade = 19000;
+    c.send = 23000;
+    c.recv = 29000;
+    Counters before, after;
+    after.tests = {3, 1, 2};
+    after.voxelSteps = 5;
+    after.shadings = 1;
+    for (double speed : {1.0, 3.0, 0.7}) {
+        const CostModel m(c, speed, 20000);
+        const BusyParts p = m.stepParts(before, after, 2, 1, 1);
+        EXPECT_EQ(sumOf(p), m.step(before, after, 2, 1, 1)) << speed;
+        if (speed == 1.0) {
+            EXPECT_EQ(p[0], 21000u);
+            EXPECT_EQ(p[kSend], 46000u);
+            EXPECT_EQ(p[kVoxelSteps], 15000u);
+        }
+        const BusyParts q = m.messageParts(1, 2, 3, true);
+        EXPECT_EQ(sumOf(q), m.step(before, before, 1, 2, 0) + m.rebuild(3)) << speed;
+        EXPECT_EQ(q[kSlabRebuild], m.rebuild(3));
+    }
 }
 
 TEST(TimeLedger, TheTimelineKeepsWhatTheKernelHasNotPassed) {
@@ -149,7 +241,7 @@ TEST(TimeLedger, TheTimelineKeepsWhatTheKernelHasNotPassed) {
     Picos now = 0;
     for (int i = 0; i < 10000; ++i) {  // steps of 10 and waits of 10, the kernel 30 behind
         now += 10;
-        l.charge(10, now, kernelAt(now - 30));
+        l.charge(of(10), now, kernelAt(now - 30));
         l.startWaiting(now);
         now += 10;
         l.endWaiting(now, kernelAt(now - 30));
@@ -164,7 +256,7 @@ TEST(TimeLedger, TimeThatPassedWithoutACheckpointIsABugItSays) {
     NodeTimes t;
     TimeLedger l(t);
     l.configure(true, true);
-    l.charge(10, 10, kernelAt(0));
+    l.charge(of(10), 10, kernelAt(0));
     l.startBlocked(10, PosX);
     l.endBlocked(50);  // (the node checkpoints after a send that blocked: Node::endSend)
     EXPECT_THROW(l.endFrame(30, true, "n"), std::logic_error);
