@@ -170,6 +170,7 @@ void Link::endFrame(Picos end) {
             const Timed& m = l.onWire(i);
             const Picos done = m.start + m.transfer;
             if (done > end) byType_[size_t(m.type)].wire -= done - std::max(m.start, end);
+            if (m.ready < end) countSaturation(m.ready, std::min(m.start, end), std::min(done, end));
             if (late) {
                 trace_.vcd->step(m.sent, trace_.backlog, 1);
                 traceStart(m.start, m.transfer);
@@ -178,6 +179,17 @@ void Link::endFrame(Picos end) {
         if (late)
             for (size_t i = 0; i < l.waiting(); ++i) trace_.vcd->step(l.backlog[i].sent, trace_.backlog, 1);
     }
+}
+
+// (Messages are counted in the order they are consumed, in which their wire
+// waits end in order on each lane: the union is counted as it grows. A
+// control message overtaking data ones may end its wait before the last
+// counted: its overlap is not counted twice.)
+void Link::countSaturation(Picos ready, Picos start, Picos end) {
+    if (distributions_) stats_.windows.add(start, end);  // (--link-stats full)
+    const Picos from = std::max(ready, saturatedUntil_);
+    if (start > from) stats_.saturated += start - from;
+    saturatedUntil_ = std::max(saturatedUntil_, start);
 }
 
 Picos Link::scheduleControl(Picos ready, Picos transfer) {
@@ -250,6 +262,7 @@ Message Link::take(int lane, Picos t) {
     l.takenAt_[j] = t;
     stats_.slotWait += head.ready - head.sent;
     stats_.wireWait += head.start - head.ready;
+    countSaturation(head.ready, head.start, head.start + head.transfer);
     ++stats_.consumed;
     if (distributions_) (isControl(head.type) ? stats_.controlLatency : stats_.latency).add(t - head.sent);
     if (trace_.vcd) {

@@ -121,6 +121,9 @@ public:
     // Whether it keeps its latency distributions and high-water marks
     // (MachineConfig::linkDistributions); set before the first message.
     void keepDistributions(bool keep) { distributions_ = keep; }
+    // A message's time on the wire [start, end) and its wait for it from
+    // `ready`, in the saturation figures (LinkFlow::windows, saturated).
+    void countSaturation(Picos ready, Picos start, Picos end);
     void setTrace(const LinkTrace& t) { trace_ = t; }
     // Whether changes it records later may be earlier than the kernel's time
     // (with a control lane: Link::traceStart).
@@ -262,6 +265,7 @@ private:
     Picos owedWire_ = 0;     // every message sent: its time on the wire (occupied())
     Picos wireFree_ = 0;     // the end of the last transmission scheduled
     Picos controlFree_ = 0;  // the end of the last control transmission
+    Picos saturatedUntil_ = 0;  // LinkFlow::saturated counted up to here
     ArrivalListener* listener_ = nullptr;
     Progress* progress_ = nullptr;  // the watchdog's (machine.h)
     int listenerPort_ = 0;

@@ -6,6 +6,7 @@
 #include <array>
 #include <cstdint>
 
+#include "busy_windows.h"
 #include "histogram.h"
 #include "message.h"
 #include "units.h"
@@ -26,6 +27,12 @@ struct LinkFlow {
     size_t backlogHighWater = 0;  // messages sent and not yet on the wire, at once
     size_t bufferHighWater = 0;   // messages on the wire or arrived and not consumed, at once
     Histogram latency, controlLatency;
+    // Saturation in time: the wire's busy time over windows of the frame
+    // (--link-stats full), and the time it was busy while a message that
+    // had its slot waited for it (the union of the messages' wire waits:
+    // the link held rays back then).
+    BusyWindows windows;
+    Picos saturated = 0;
 };
 
 struct LinkStats : LinkFlow {
@@ -48,6 +55,8 @@ inline void mergeChannel(LinkStats& into, const LinkStats& s) {
         into.wire[t] += s.wire[t];
     }
     into.slotWait += s.slotWait;
+    into.windows.merge(s.windows);
+    into.saturated += s.saturated;
     into.wireWait += s.wireWait;
     into.consumed += s.consumed;
     into.latency.merge(s.latency);

@@ -1,6 +1,7 @@
 #include "report.h"
 
 #include <algorithm>
+#include <tuple>
 #include <vector>
 
 #include "bounds.h"
@@ -159,10 +160,13 @@ nlohmann::json linkJsonOf(const LinkReport& l, Picos renderTime, bool distributi
     lj["consumed"] = l.stats.consumed;
     lj["slot_wait_ns"] = ns(l.stats.slotWait);
     lj["wire_wait_ns"] = ns(l.stats.wireWait);
+    lj["saturated_ns"] = ns(l.stats.saturated);  // busy with a backlog waiting for the wire
     if (distributions) {  // (--link-stats counts: not kept)
         if (l.stats.latency.count()) lj["latency_ns"] = percentilesJson(l.stats.latency);
         if (l.stats.controlLatency.count()) lj["control_latency_ns"] = percentilesJson(l.stats.controlLatency);
         lj["backlog_high_water"] = l.stats.backlogHighWater;
+        lj["peak_utilisation"] = l.stats.windows.peak(renderTime, l.channels);
+        lj["peak_window_ns"] = ns(l.stats.windows.width());
         lj["buffer_high_water"] = l.stats.bufferHighWater;
     }
     return lj;
@@ -172,20 +176,28 @@ nlohmann::json linkJsonOf(const LinkReport& l, Picos renderTime, bool distributi
 // totals by message type.
 void addLinks(nlohmann::json& j, const MachineResult& r, const MachineConfig& cfg) {
     std::array<uint64_t, kMsgTypes> msgs{}, bytes{};
-    std::vector<std::pair<double, size_t>> busiest;  // (utilisation, index)
+    // Ranked by what held the frame back: the time the wire was busy with
+    // messages waiting for it, then its utilisation.
+    std::vector<std::tuple<Picos, double, size_t>> busiest;  // (saturated, utilisation, index)
     for (const LinkReport& l : r.links) {
         for (size_t t = 0; t < size_t(kMsgTypes); ++t) {
             msgs[t] += l.stats.messages[t];
             bytes[t] += l.stats.bytes[t];
         }
         nlohmann::json lj = linkJsonOf(l, r.renderTime, cfg.linkDistributions);
-        busiest.push_back({lj["utilisation"].get<double>(), j["links"].size()});
+        busiest.push_back({l.stats.saturated, lj["utilisation"].get<double>(), j["links"].size()});
         j["links"].push_back(std::move(lj));
     }
-    std::stable_sort(busiest.begin(), busiest.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+    std::stable_sort(busiest.begin(), busiest.end(), [](const auto& a, const auto& b) {
+        return std::get<0>(a) != std::get<0>(b) ? std::get<0>(a) > std::get<0>(b) : std::get<1>(a) > std::get<1>(b);
+    });
     j["busiest_links"] = nlohmann::json::array();
-    for (size_t i = 0; i < std::min<size_t>(3, busiest.size()); ++i)
-        j["busiest_links"].push_back({{"name", j["links"][busiest[i].second]["name"]}, {"utilisation", busiest[i].first}});
+    for (size_t i = 0; i < std::min<size_t>(3, busiest.size()); ++i) {
+        const auto& l = j["links"][std::get<2>(busiest[i])];
+        nlohmann::json b = {{"name", l["name"]}, {"utilisation", l["utilisation"]}, {"saturated_ns", l["saturated_ns"]}};
+        if (l.contains("peak_utilisation")) b["peak_utilisation"] = l["peak_utilisation"];
+        j["busiest_links"].push_back(std::move(b));
+    }
     for (int t = 0; t < kMsgTypes; ++t) {
         j["totals"]["messages"][msgTypeName(MsgType(t))] = msgs[size_t(t)];
         j["totals"]["bytes"][msgTypeName(MsgType(t))] = bytes[size_t(t)];

@@ -2,7 +2,9 @@
 """A picture of one run's mesh, from its report: each layer along the
 balancing axis as a grid of nodes coloured by load, the links between them
 drawn by wire utilisation (within a layer as lines; towards the next layer
-as a triangle in the node, pointing up the axis); and, when balancing ran,
+as a triangle in the node, pointing up the axis), saturated links in red
+(busy with messages waiting for the wire for at least SATURATED of the
+frame: the report's links[].saturated_ns); and, when balancing ran,
 a second panel with every boundary's position over time, one colour per
 column. Usage: mesh_map.py REPORT.json -o OUT.png [--format png|svg|pdf]
 (the format: the output's extension, unless given). Run with
@@ -19,6 +21,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib import cm, colors  # noqa: E402
 
 AXES = "xyz"
+SATURATED = 0.1  # a link busy with a backlog for this share of the frame or more is marked
 
 
 FORMATS = ("png", "svg", "pdf")
@@ -34,8 +37,11 @@ def draw(r, out, fmt):
     layers = dims[ax]
     load = {tuple(n["node"]): n["load"] for n in r["nodes"]}
     util = {}  # (node, dir) -> utilisation
+    saturated = set()  # (node, dir) of the links marked saturated
     for link in r["links"]:
         util[(tuple(link["from"]), link["to"])] = link["utilisation"]
+        if link.get("saturated_ns", 0) >= SATURATED * r["render_time_ns"] > 0:
+            saturated.add((tuple(link["from"]), link["to"]))
     balanced = cfg["balance"]["policy"] != "none" and bool(r.get("boundaries"))
     cols = max(1, min(4, int(layers ** 0.5 + 0.999)))
     rows = (layers + cols - 1) // cols
@@ -67,11 +73,12 @@ def draw(r, out, fmt):
                         continue
                     for sign, off in (("+", 0.06), ("-", -0.06)):
                         if sign == "+":
-                            w = util.get((c, "+" + AXES[axis]), 0)
+                            key = (c, "+" + AXES[axis])
                         else:
                             d = list(c)
                             d[axis] += 1
-                            w = util.get((tuple(d), "-" + AXES[axis]), 0)
+                            key = (tuple(d), "-" + AXES[axis])
+                        w = util.get(key, 0)
                         xs = [i, i + di]
                         ys = [j, j + dj]
                         if di:
@@ -79,16 +86,23 @@ def draw(r, out, fmt):
                         else:
                             xs = [x + off for x in xs]
                         a.plot(xs, ys, color=link_map(norm(w)), lw=1 + 5 * w, solid_capstyle="butt", zorder=1)
+                        if key in saturated:
+                            a.plot(xs, ys, color="red", lw=1, ls=":", zorder=1.5)
                 a.add_patch(plt.Rectangle((i - 0.3, j - 0.3), 0.6, 0.6, color=load_map(norm(load.get(c, 0))), zorder=2))
                 up = util.get((c, "+" + AXES[ax]))
                 if up is not None:  # towards the next layer
-                    a.plot([i], [j], marker="^", ms=4 + 8 * up, color=link_map(norm(up)), mec="white", mew=0.5, zorder=3)
+                    mark = (c, "+" + AXES[ax]) in saturated
+                    a.plot([i], [j], marker="^", ms=4 + 8 * up, color=link_map(norm(up)), mec="red" if mark else "white",
+                           mew=1.5 if mark else 0.5, zorder=3)
+                if (c, "-" + AXES[ax]) in saturated:  # towards the layer before: drawn only when saturated
+                    a.plot([i + 0.2], [j + 0.2], marker="v", ms=6, color="red", zorder=3)
                 a.text(i, j - 0.42, f"{load.get(c, 0):.2f}", ha="center", va="top", fontsize=6, zorder=4)
     layer_axes = list(fig.axes)
     fig.colorbar(cm.ScalarMappable(norm=norm, cmap=load_map), ax=layer_axes, shrink=0.6, location="right",
                  label="node load (busy / render time)")
     fig.colorbar(cm.ScalarMappable(norm=norm, cmap=link_map), ax=layer_axes, shrink=0.6, location="right",
-                 label="link utilisation (lines: in the layer;\ntriangles: to the next layer)")
+                 label="link utilisation (lines: in the layer;\ntriangles: to the next layer;\n"
+                       f"red: busy with a backlog >= {SATURATED:.0%} of the frame,\nred v: towards the layer before)")
     if balanced:
         b = fig.add_subplot(grid[rows, :])
         palette = cm.tab10
@@ -101,7 +115,10 @@ def draw(r, out, fmt):
         b.set_ylabel(f"boundary position along {AXES[ax]}")
         b.set_title(f"boundaries over time ({cfg['balance']['policy']}; a colour per column)", fontsize=9)
     title = (f"{dims[0]}x{dims[1]}x{dims[2]} mesh, render time {r['render_time_ns'] / 1000:.1f} us; "
-             f"busiest: " + ", ".join(f"{x['name']} {100 * x['utilisation']:.0f} %" for x in r.get("busiest_links", [])))
+             f"busiest: " + ", ".join(f"{x['name']} {100 * x['utilisation']:.0f} %" +
+                                      (f" (backlog {100 * x['saturated_ns'] / r['render_time_ns']:.0f} %)"
+                                       if "saturated_ns" in x and r["render_time_ns"] else "")
+                                      for x in r.get("busiest_links", [])))
     fig.suptitle(title, fontsize=10)
     plt.rcParams["svg.hashsalt"] = "rtsim"
     fig.savefig(out, dpi=110, format=fmt, metadata=NO_DATES[fmt])

@@ -140,8 +140,9 @@ void RtsimOptions::addLinkFlags(CLI::App& app) {
                    "buffer is full blocks (charged as wait, reported as blocked); 0: unbounded, senders never block")
         ->check(CLI::Range(0, 1000000))->capture_default_str()->group(gl);
     addChoice(app, "--link-stats", m.linkDistributions, "full", "counts",
-              "what the links keep beyond message counts, bytes, wire and wait times: full (also latency percentiles and "
-              "backlog and buffer high-water marks) or counts (not those: a 100 us run about 7 % faster; timing unchanged)",
+              "what the links keep beyond message counts, bytes, wire, wait and backlog times: full (also latency percentiles, "
+              "backlog and buffer high-water marks and the busiest window's utilisation) or counts (not those: a 100 us run "
+              "about 7 % faster; timing unchanged)",
               gl);
     app.add_option("--link-set", linkSpecs_, "one link: x,y,z,DIR:latency=T,bandwidth=R,depth=N,control_depth=N,out_depth=N (DIR +x -x +y -y +z -z; any subset; repeatable)")
         ->group(gl);

@@ -66,10 +66,15 @@ void printTraffic(const nlohmann::json& report) {
                 double(t["bytes"]["ray"].get<uint64_t>() + t["bytes"]["contributions"].get<uint64_t>() +
                        t["bytes"]["credit"].get<uint64_t>()) / 1e6);
     if (report["busiest_links"].empty()) return;
+    const double end = report["render_time_ns"].get<double>();
     std::printf("  busiest links   ");
-    for (const auto& l : report["busiest_links"])
-        std::printf(" %s %.1f %%", l["name"].get<std::string>().c_str(), 100.0 * l["utilisation"].get<double>());
-    std::printf("  (wire busy, of the render time; node_X_Y_Z_py: from node X,Y,Z towards +y, _fb: to its frame-buffer unit)\n");
+    for (const auto& l : report["busiest_links"]) {
+        std::printf(" %s %.1f %% (", l["name"].get<std::string>().c_str(), 100.0 * l["utilisation"].get<double>());
+        if (l.contains("peak_utilisation")) std::printf("peak %.0f %%, ", 100.0 * l["peak_utilisation"].get<double>());
+        std::printf("backlog %.0f %%)", end > 0 ? 100.0 * l["saturated_ns"].get<double>() / end : 0.0);
+    }
+    std::printf("\n                   (wire busy, of the render time; peak: of the busiest window; backlog: busy with "
+                "messages waiting for the wire; node_X_Y_Z_py: from node X,Y,Z towards +y, _fb: to its frame-buffer unit)\n");
 }
 
 // The balancing and the bounds (when it balances), the paper's Fig. 4

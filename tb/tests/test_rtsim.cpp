@@ -104,8 +104,8 @@ TEST_F(Rtsim, DoublingEveryCostDoublesRenderTime) {
     EXPECT_EQ(a["totals"]["messages"], b["totals"]["messages"]);
 }
 
-// --link-stats counts leaves the links' latency percentiles and high-water
-// marks out of the report and changes nothing else: every other field, the
+// --link-stats counts leaves the links' latency percentiles, high-water
+// marks and windowed peaks out of the report and changes nothing else: every other field, the
 // image and the VCD are the full run's, in lockstep, with a quantum past the
 // lookahead, and under a balancing policy with a control lane (whose data
 // messages move on the wire).
@@ -130,10 +130,14 @@ TEST_F(Rtsim, LinkCountsOnlyLeaveOutTheDistributionsAndChangeNothingElse) {
                 if (!kept) {
                     EXPECT_FALSE(l.contains("latency_ns"));
                 }
+                EXPECT_EQ(l.contains("peak_utilisation"), kept);
                 withLatency += l.erase("latency_ns") + l.erase("control_latency_ns");
                 l.erase("backlog_high_water");
                 l.erase("buffer_high_water");
+                l.erase("peak_utilisation");
+                l.erase("peak_window_ns");
             }
+            for (json& l : (*j)["busiest_links"]) l.erase("peak_utilisation");
         }
         EXPECT_GT(withLatency, 0u);
         EXPECT_EQ(full, counts);

@@ -164,6 +164,51 @@ TEST_P(LinkOracle, SaturatedLinkFollowsTheClosedForm) {
     EXPECT_EQ(link.stats().wireWait, wireWait);
     EXPECT_EQ(link.stats().wire[int(MsgType::Ray)], Picos(messages) * T);
     EXPECT_EQ(link.stats().consumed, uint64_t(messages));
+    // Saturation in time: the wire was busy with a message waiting for it
+    // over the union of [ready, start) (the waits end in order), and its
+    // busy time per window is that of [start, start + T) cut at the
+    // windows' edges, the width the smallest 1 ns x 2^j that holds the
+    // frame in 128 windows.
+    Picos saturated = 0, covered = 0;
+    for (int k = 0; k < messages; ++k) {
+        const Picos ready = k < s.depth ? 0 : (Picos(k) / D - 1) * period + Picos(k) % D * T + T + 2 * L;
+        saturated += f.start(k) > std::max(ready, covered) ? f.start(k) - std::max(ready, covered) : 0;
+        covered = std::max(covered, f.start(k));
+    }
+    EXPECT_EQ(link.stats().saturated, saturated);
+    const Picos last = f.start(messages - 1) + T;
+    Picos w = 1000;
+    while ((last - 1) / w >= 128) w *= 2;
+    const BusyWindows& win = link.stats().windows;
+    ASSERT_EQ(win.width(), w);
+    std::vector<Picos> byHand(size_t((last - 1) / w + 1), 0);
+    for (int k = 0; k < messages; ++k)
+        for (Picos t0 = f.start(k), t1 = t0 + T, j = t0 / w; j * w < t1; ++j)
+            byHand[size_t(j)] += std::min(t1, (j + 1) * w) - std::max(t0, j * w);
+    EXPECT_EQ(win.busy(), byHand);
+    const Picos most = *std::max_element(byHand.begin(), byHand.begin() + std::ptrdiff_t(last / w));  // those that end by `last`
+    EXPECT_DOUBLE_EQ(win.peak(last), double(most) / double(w));
+}
+
+// Windows widen by adding pairs, and two channels' windows add up at the
+// wider width (a frame-buffer port's wires side by side).
+TEST(BusyWindowsBy, WidenAndMergeByHand) {
+    BusyWindows a, b;
+    a.add(0, 500);           // window 0 (1 ns)
+    a.add(1500, 2500);       // windows 1 and 2
+    EXPECT_EQ(a.busy(), (std::vector<Picos>{500, 500, 500}));
+    b.add(200000, 201000);   // window 200 at 1 ns: past 128, so 2 ns wide, window 100
+    EXPECT_EQ(b.width(), 2000u);
+    EXPECT_EQ(b.busy().size(), 101u);
+    a.merge(b);
+    EXPECT_EQ(a.width(), 2000u);
+    EXPECT_EQ(a.busy()[0], 1000u);  // 500 + 500
+    EXPECT_EQ(a.busy()[1], 500u);
+    EXPECT_EQ(a.busy()[100], 1000u);
+    EXPECT_DOUBLE_EQ(a.peak(1000000, 2), 1000.0 / (2000.0 * 2));
+    BusyWindows c;
+    c.add(0, 600);
+    EXPECT_DOUBLE_EQ(c.peak(800), 600.0 / 800.0);  // a frame shorter than a window: that window up to the end
 }
 
 // The high-water marks, from the same closed form. Buffer: message k and
