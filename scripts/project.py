@@ -106,9 +106,9 @@ def update_doc_section(path, name, text):
         pages = {}
         for page in sorted(glob.glob(os.path.join(ROOT, "doc", "*.md"))):
             with open(page) as f:
-                text = f.read()
-            if begin in text and end in text:
-                pages[page] = text
+                other = f.read()  # (not `text`: that is the section's new text)
+            if begin in other and end in other:
+                pages[page] = other
         if len(pages) != 1:
             raise ValueError(f"{path}: no section markers for '{name}' (nor in one other page of doc/)")
         (path, doc), = pages.items()

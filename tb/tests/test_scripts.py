@@ -35,6 +35,28 @@ class Scripts(unittest.TestCase):
                 self.assertEqual(p.returncode, 0, p.stderr)
                 self.assertIn("usage:", p.stdout)
 
+    def test_a_section_that_moved_is_written_where_it_is(self):
+        """update_doc_section follows a section to the one page that has
+        its markers, and writes the new text there (not another page's)."""
+        with tempfile.TemporaryDirectory() as d:
+            os.makedirs(os.path.join(d, "doc"))
+            pages = {"a.md": "# A\n<!-- begin t (generated; do not edit) -->\nold\n<!-- end t -->\nafter\n",
+                     "b.md": "# B, asked\n", "z.md": "# Z, read last\n"}
+            for name, text in pages.items():
+                with open(os.path.join(d, "doc", name), "w") as f:
+                    f.write(text)
+            root, project.ROOT = project.ROOT, d
+            try:
+                project.update_doc_section(os.path.join(d, "doc", "b.md"), "t", "| new | table |")
+            finally:
+                project.ROOT = root
+            with open(os.path.join(d, "doc", "a.md")) as f:
+                self.assertEqual(f.read(), "# A\n<!-- begin t (generated; do not edit) -->\n| new | table |\n"
+                                           "<!-- end t -->\nafter\n")
+            for name in ("b.md", "z.md"):
+                with open(os.path.join(d, "doc", name)) as f:
+                    self.assertEqual(f.read(), pages[name])
+
     def test_the_paper_scene_is_the_one_rtsims_defaults_give(self):
         with tempfile.TemporaryDirectory() as d:
             def scene(flags):
