@@ -4,7 +4,10 @@
 # virtual display (Xvfb) and saves a screenshot to doc/images/gtkwave-2x2x2.png;
 # then the same with links of 20 MB/s, node 1,0,0 and its links traced:
 # its +y link saturated (waveforms/saturated-link.*,
-# doc/images/gtkwave-saturated-link.png).
+# doc/images/gtkwave-saturated-link.png); then the bottleneck of
+# doc/machine.md, "Finding a bottleneck": balls-4 at 256x256 on 6x6x6 with
+# 200 MB/s links, the busiest nodes and links traced
+# (doc/images/gtkwave-bottleneck.png; its VCD, about 40 MB, is not kept).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 need=()
@@ -20,16 +23,19 @@ cd "$root/waveforms"
   --vcd example-2x2x2.vcd
 "$root/build/rtsim" --mesh 2 --size 96x96 --concentration 0.5 --link-bandwidth 20MB/s --no-baseline -q --image '' \
   --trace-nodes 1,0,0 --trace-window 0,2ms --vcd saturated-link.vcd
+tmp=$(mktemp -d)
+"$root/build/rtsim" --scene "$root/../shared/scenes/spd/balls-4.nff" --size 256x256 --mesh 6 \
+  --link-bandwidth 200MB/s --no-baseline -q --image '' --trace-nodes busiest:3 --vcd "$tmp/bottleneck.vcd"
 display=:97
 Xvfb $display -screen 0 1400x900x24 >/dev/null 2>&1 &
 xvfb=$!
 gw=
-trap 'kill $gw $xvfb 2>/dev/null || true' EXIT
+trap 'kill $gw $xvfb 2>/dev/null || true; rm -rf "$tmp"' EXIT
 sleep 1
-shot() {  # shot NAME.gtkw OUT.png
+shot() {  # shot NAME.gtkw OUT.png [SECONDS to load]
   DISPLAY=$display gtkwave -a "$1" >/dev/null 2>&1 &
   gw=$!
-  sleep 6
+  sleep "${3:-6}"
   DISPLAY=$display xwd -root -silent | convert xwd:- "$2"
   kill $gw 2>/dev/null || true
   wait $gw 2>/dev/null || true
@@ -37,3 +43,5 @@ shot() {  # shot NAME.gtkw OUT.png
 }
 shot example-2x2x2.gtkw "$root/doc/images/gtkwave-2x2x2.png"
 shot saturated-link.gtkw "$root/doc/images/gtkwave-saturated-link.png"
+cd "$tmp"  # (the .gtkw names its VCD relative to itself)
+shot bottleneck.gtkw "$root/doc/images/gtkwave-bottleneck.png" 30

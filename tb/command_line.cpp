@@ -92,7 +92,7 @@ std::vector<std::string> checkedArgs(const ConfigLine& line, bool report, std::s
 
 bool isOutputOrInternal(const std::string& name) {
     for (const char* o : {"image", "report", "vcd", "quiet", "verbose", "map", "config", "rerun", "as-frame", "as-baseline",
-                          "as-comparison", "frame-index", "targets-from", "help"})
+                          "as-comparison", "as-first-pass", "frame-index", "targets-from", "help"})
         if (name == o) return true;
     return false;
 }

@@ -54,6 +54,14 @@ Cell parseCell(const std::string& flag, const std::string& text) {
     return c;
 }
 
+int parseBusiest(const std::string& text) {
+    if (text == "busiest") return 4;
+    int k = 0;
+    if (text.rfind("busiest:", 0) != 0 || !readInt(text.substr(8), k, 1) || k > 64)
+        throw OptionError("--trace-nodes", "expected x,y,z, busiest or busiest:K with K in 1..64, got '" + text + "'");
+    return k;
+}
+
 Picos parseTimeOf(const std::string& flag, const std::string& text) {
     const auto t = parseTime(text);
     if (!t)

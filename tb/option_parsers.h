@@ -23,6 +23,8 @@ struct OptionError : std::invalid_argument {
 
 // "x,y,z" node coordinates.
 Cell parseCell(const std::string& flag, const std::string& text);
+// --trace-nodes busiest[:K]: K, 1..64 (4 without it).
+int parseBusiest(const std::string& text);
 // A non-negative time with a unit ("20ns"), at most 1,000 s.
 Picos parseTimeOf(const std::string& flag, const std::string& text);
 // A positive rate with a unit ("1GB/s", "10Gb/s").

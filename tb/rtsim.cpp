@@ -42,6 +42,7 @@
 #include "scene_error.h"
 #include "stops.h"
 #include "summary.h"
+#include "trace_busiest.h"
 #include "version.h"
 
 // The allocator: jemalloc, told to back the heap with transparent huge
@@ -227,6 +228,8 @@ int run(const rt::CommandLine& cl, const CLI::App& app, rt::RtsimOptions& o, con
         if (earlier.childSaid) return earlier.exitCode;
         return stopped(earlier.exitCode, (*earlier.stopped)["incomplete"].get<std::string>());
     }
+    std::optional<rt::TraceChoice> chosen;
+    if (o.traceBusiest > 0 && !o.vcd.empty()) chosen = rt::traceBusiest(cl.args, o);
     o.machine.vcdPath = out.vcdStream();  // (renamed to --vcd at the end)
     o.machine.vcdName = o.vcd;
     const rt::MachineResult r = rt::runMachine(scene, o.machine);
@@ -236,6 +239,7 @@ int run(const rt::CommandLine& cl, const CLI::App& app, rt::RtsimOptions& o, con
     report["rerun"] = {{"flags", rt::flagsGiven(app)}, {"version", RTSIM_VERSION}};
     if (cl.rerun) report["rerun"]["of"] = cl.rerun->rerun;  // what it reran (its flags and version)
     if (o.frames > 1) rt::listFrames(report, earlier.frames, o.frames);
+    if (chosen) report["trace_busiest"] = rt::traceChoiceJson(o.traceBusiest, *chosen);
     out.gtkw(r.gtkw);
     if (!r.incomplete.empty()) {  // the watchdog or a signal: the report and VCD so far
         out.report(report);

@@ -237,7 +237,11 @@ void RtsimOptions::addOutputFlags(CLI::App& app) {
                                  "scripts/mesh_map.py, with Debian's python3-matplotlib)")
         ->group(go);
     app.add_option("--vcd", vcd, "VCD waveform (a .gtkw save file is written beside it)")->group(go);
-    app.add_option("--trace-nodes", traceSpecs_, "nodes to trace in the VCD: x,y,z (repeatable; default all)")->group(go);
+    app.add_option("--trace-nodes", traceSpecs_,
+                   "nodes to trace in the VCD: x,y,z (repeatable; default all), or busiest[:K]: the K (default 4) busiest "
+                   "nodes and the K links busy longest with a backlog, chosen by a first pass of the same run without "
+                   "waveforms (the run takes twice as long)")
+        ->group(go);
     app.add_option("--trace-links", traceLinkSpecs_,
                    "links to trace in the VCD besides the traced nodes' own: x,y,z (all of the node's), x,y,z,DIR "
                    "(DIR +x -x +y -y +z -z) or x,y,z,fb (its frame-buffer port) (repeatable)")
@@ -272,6 +276,7 @@ void RtsimOptions::addFrameFlags(CLI::App& app) {
     app.add_flag("--as-frame", asFrame, "internal: run as an earlier frame of another run's sequence")->group("");
     app.add_flag("--as-baseline", asBaseline, "internal: run as the 1x1x1 baseline of another run")->group("");
     app.add_flag("--as-comparison", asComparison, "internal: run as the balancing comparison of another run")->group("");
+    app.add_flag("--as-first-pass", asFirstPass, "internal: run as the first pass of --trace-nodes busiest")->group("");
 }
 
 void RtsimOptions::finish() {
@@ -284,7 +289,7 @@ void RtsimOptions::finish() {
         machine.dims = {mesh, mesh, mesh};
         if (frameIndex < 0) frameIndex = frames - 1;  // this process renders the last frame of its sequence
         if (asBaseline || asFrame) frames = 1;        // the baseline is of the last frame's view; a frame is one frame
-        if (asBaseline || asComparison || asFrame) actAsReference();
+        if (asBaseline || asComparison || asFrame || asFirstPass) actAsReference();
         readSpecs();
         setQuantum();
         machine.balance.axis = scene.axis == "x" ? 0 : scene.axis == "y" ? 1 : 2;  // one progress axis for scene and balancing
@@ -343,7 +348,14 @@ void RtsimOptions::readSpecs() {
         const auto [where, params] = parseLinkSet(s, m.link);
         m.linkOverride[where] = params;
     }
-    for (const std::string& s : traceSpecs_) m.traceNodes.push_back(parseCell("--trace-nodes", s));
+    for (const std::string& s : traceSpecs_) {
+        if (s.rfind("busiest", 0) == 0) {
+            traceBusiest = parseBusiest(s);
+            if (traceSpecs_.size() > 1) throw OptionError("--trace-nodes", "busiest chooses the nodes itself: not with x,y,z");
+        } else {
+            m.traceNodes.push_back(parseCell("--trace-nodes", s));
+        }
+    }
     for (const std::string& s : traceLinkSpecs_) m.traceLinks.push_back(parseTraceLink(s));
     if (!traceWindow_.empty()) std::tie(m.traceFrom, m.traceTo) = parseTraceWindow(traceWindow_);
     m.vcdPath = vcd;

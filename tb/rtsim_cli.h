@@ -30,6 +30,8 @@ struct RtsimOptions {
     std::string boundariesFrom;     // a report whose last boundaries this run starts from
     std::string targetsFrom;        // internal: resplit's targets for this frame (JSON), from the frame loop
     bool asFrame = false;           // internal: an earlier frame of another run's sequence
+    bool asFirstPass = false;       // internal: the first pass of --trace-nodes busiest (trace_busiest.h)
+    int traceBusiest = 0;           // --trace-nodes busiest[:K]: K (0: not asked)
 
     // Registers every flag on `app`.
     void addTo(CLI::App& app);
