@@ -125,7 +125,11 @@ void checkNode(const Cell& c, const std::array<int, 3>& dims, const std::string&
 
 void MachineConfig::validate() const {
     for (int a = 0; a < 3; ++a)
-        if (dims[a] < 1 || dims[a] > 16) throw std::invalid_argument("--mesh: nodes per axis must be in 1..16");
+        if (dims[a] < 1 || dims[a] > kMaxNodesPerAxis)
+            throw std::invalid_argument("--mesh: nodes per axis must be in 1.." + std::to_string(kMaxNodesPerAxis));
+    if (long(dims[0]) * dims[1] * dims[2] > kMaxNodes)
+        throw std::invalid_argument("--mesh: at most " + std::to_string(kMaxNodes) + " nodes (32 x 32 x 32), not " +
+                                    std::to_string(long(dims[0]) * dims[1] * dims[2]));
     if (width < 0 || height < 0) throw std::invalid_argument("--size: must be positive");
     if (maxDepth < 0 || maxDepth > 39) throw std::invalid_argument("--max-depth: must be in 0..39");
     if (!(speed > 0) || !std::isfinite(speed)) throw std::invalid_argument("--speed: must be positive");

@@ -83,6 +83,13 @@ struct BalanceConfig {
     void validate(Picos reportFloor, bool carriedBoundaries) const;
 };
 
+// The mesh's limits: nodes per axis, and nodes in all (32 x 32 x 32, or a
+// flatter shape such as 64 x 64 x 8); a run that would not fit the
+// machine's memory is refused before it starts with its estimate
+// (binning_memory.h).
+constexpr int kMaxNodesPerAxis = 64;
+constexpr long kMaxNodes = 32768;
+
 struct MachineConfig {
     std::array<int, 3> dims{4, 4, 4};  // nodes along x, y, z
     int width = 0, height = 0;         // image size (0: the scene's)

@@ -79,9 +79,13 @@ std::array<int, 3> parseMeshDims(const std::string& text) {
     int x, y, z;
     char a = 0, b = 0;
     std::istringstream in(text);
-    if (!(in >> x >> a >> y >> b >> z) || a != 'x' || b != 'x' || !in.eof() || x < 1 || y < 1 || z < 1 || x > 16 ||
-        y > 16 || z > 16)
-        throw OptionError("--mesh-dims", "expected XxYxZ with each in 1..16, got '" + text + "'");
+    const int most = kMaxNodesPerAxis;
+    if (!(in >> x >> a >> y >> b >> z) || a != 'x' || b != 'x' || !in.eof() || x < 1 || y < 1 || z < 1 || x > most ||
+        y > most || z > most)
+        throw OptionError("--mesh-dims", "expected XxYxZ with each in 1.." + std::to_string(most) + ", got '" + text + "'");
+    if (long(x) * y * z > kMaxNodes)
+        throw OptionError("--mesh-dims", "at most " + std::to_string(kMaxNodes) + " nodes (32x32x32, or 64x64x8), not " +
+                                             std::to_string(long(x) * y * z) + " ('" + text + "')");
     return {x, y, z};
 }
 

@@ -79,8 +79,12 @@ void RtsimOptions::addTo(CLI::App& app) {
 
 void RtsimOptions::addMachineFlags(CLI::App& app) {
     MachineConfig& m = machine;
-    app.add_option("--mesh", mesh, "nodes per axis: an N x N x N mesh")->check(CLI::Range(1, 16))->capture_default_str()->group(gm);
-    app.add_option("--mesh-dims", meshDims, "mesh shape XxYxZ (each 1..16), instead of --mesh")->group(gm);
+    app.add_option("--mesh", mesh, "nodes per axis: an N x N x N mesh (at most 32: 32,768 nodes)")
+        ->check(CLI::Range(1, 32))->capture_default_str()->group(gm);
+    app.add_option("--mesh-dims", meshDims,
+                   "mesh shape XxYxZ instead of --mesh: each 1..64, at most 32,768 nodes (such as 64x64x8); a mesh "
+                   "whose grids would not fit in memory is refused with the estimate")
+        ->group(gm);
     app.add_option("--max-depth", m.maxDepth, "mirror/refraction levels below the primary ray")
         ->check(CLI::Range(0, 39))->capture_default_str()->group(gm);
 }

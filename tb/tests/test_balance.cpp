@@ -130,6 +130,25 @@ TEST_P(PolicyIdentity, ImageConservationGuardsUnderRandomLinks) {
     }
 }
 
+// Meshes 32 long on one axis (32x2x2: the balancing axis; 2x2x32, 2x32x2:
+// across it): the image is rtref's, rays and contributions are conserved
+// (runMachine), and the boundaries slide, along a column of 32 nodes too.
+class LongMesh : public testing::TestWithParam<std::array<int, 3>> {};
+
+TEST_P(LongMesh, ImageConservationAndSlides) {
+    MachineConfig c = slidingMesh("slide", 2000000);
+    c.dims = GetParam();
+    const MachineResult r = runAndCompare(crowded(0.3), c);
+    EXPECT_EQ(r.nodes.size(), 128u);
+    EXPECT_GT(slidesIn(r), 0u);
+}
+
+INSTANTIATE_TEST_SUITE_P(Along32, LongMesh,
+                         testing::Values(std::array<int, 3>{32, 2, 2}, std::array<int, 3>{2, 2, 32}, std::array<int, 3>{2, 32, 2}),
+                         [](const testing::TestParamInfo<std::array<int, 3>>& i) {
+                             return std::to_string(i.param[0]) + "x" + std::to_string(i.param[1]) + "x" + std::to_string(i.param[2]);
+                         });
+
 static std::vector<Case> policyCases() {
     std::vector<Case> v;
     for (const char* s : {"balls-3", "procedural"})

@@ -31,7 +31,9 @@ TEST(Options, NodesTimesRatesAndTheMeshShape) {
     EXPECT_EQ(parseRateOf("--r", "10Gb/s"), 1.25e9);
     EXPECT_EQ(refusedBy([] { parseRateOf("--r", "0B/s"); }), "--r");
     EXPECT_EQ(parseMeshDims("2x3x16"), (std::array<int, 3>{2, 3, 16}));
-    for (const char* bad : {"2x3", "2x3x17", "0x1x1", "2*3*4", "2x3x4x"})
+    EXPECT_EQ(parseMeshDims("32x32x32"), (std::array<int, 3>{32, 32, 32}));
+    EXPECT_EQ(parseMeshDims("64x64x8"), (std::array<int, 3>{64, 64, 8}));  // 32,768 nodes: the most
+    for (const char* bad : {"2x3", "65x1x1", "64x64x9", "33x32x32", "0x1x1", "2*3*4", "2x3x4x"})
         EXPECT_EQ(refusedBy([&] { parseMeshDims(bad); }), "--mesh-dims") << bad;
 }
 

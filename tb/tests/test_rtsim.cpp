@@ -606,7 +606,8 @@ TEST_F(Rtsim, ConfigFileGivesEveryFlag) {
 
 TEST_F(Rtsim, BadConfigurationExits2NamingTheFlag) {
     expectBad("--mesh 0", "--mesh");
-    expectBad("--mesh 17", "--mesh");
+    expectBad("--mesh 33", "--mesh");
+    expectBad("--mesh-dims 64x64x9", "--mesh-dims");
     expectBad("--link-latency -5ns", "--link-latency");
     expectBad("--link-latency 5", "--link-latency");
     expectBad("--link-bandwidth 0GB/s", "--link-bandwidth");
