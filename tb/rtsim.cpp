@@ -184,11 +184,12 @@ Stop checkMemory(const rt::RtsimOptions& o, const rt::Scene& scene) {
         const rt::BinningSize b = rt::binningSize(scene, o.machine);
         const std::string what = (o.scene.file.empty() ? std::string("the scene") : "--scene " + o.scene.file) + ": its " +
                                  std::to_string(scene.objects.size()) + " objects binned into the " +
-                                 std::to_string(o.machine.nodeCount()) + " nodes' grids";
+                                 std::to_string(o.machine.nodeCount()) + " nodes' grids (with the nodes themselves and the image)";
         if (b.largestGrid > double(rt::UniformGrid::kMaxReferences))
             throw rt::SceneError(what + ": a grid of " + std::to_string(uint64_t(b.largestGrid)) +
                                  " references (objects listed in cells), more than a grid holds (2^32 - 1)");
-        rt::refuseIfTooBig(what, b.bytes + rt::kRtsimBytesPerPixel * o.machine.width * o.machine.height);
+        rt::refuseIfTooBig(what, b.bytes + rt::kRtsimBytesPerPixel * o.machine.width * o.machine.height +
+                                     rt::kRtsimBytesPerNode * double(o.machine.nodeCount()));
         rt::msg::info("the nodes' grids at the frame's start: about " + std::to_string(int(b.bytes / (1 << 20))) + " MiB");
     } catch (const rt::SceneError& e) {
         rt::msg::error(rt::msg::kScene, e.what());

@@ -21,6 +21,10 @@ def png_size(path):
     return struct.unpack(">II", head[16:24])
 
 
+sys.path.insert(0, os.path.join(ROOT, "scripts"))
+import mesh_map  # noqa: E402
+
+
 class MeshMap(unittest.TestCase):
     def setUp(self):
         self.dir = tempfile.TemporaryDirectory()
@@ -32,6 +36,25 @@ class MeshMap(unittest.TestCase):
     def run_rtsim(self, *args):
         p = subprocess.run([RTSIM, *SMALL, *args], capture_output=True, text=True)
         self.assertEqual(p.returncode, 0, p.stderr)
+
+    def test_a_long_mesh_shows_its_busiest_layers(self):
+        # 12 layers along x: the 8 whose busiest node is busiest, in order.
+        nodes = [{"node": [k, 0, 0], "load": load} for k, load in
+                 enumerate([0.1, 0.9, 0.2, 0.8, 0.3, 0.7, 0.05, 0.6, 0.5, 0.4, 0.01, 0.02])]
+        # (by hand: loads 0.9, 0.8, 0.7, 0.6, 0.5, 0.4, 0.3, 0.2 are layers 1, 3, 5, 7, 8, 9, 4, 2)
+        self.assertEqual(mesh_map.chosen_layers({"nodes": nodes}, 0, 12, None), [1, 2, 3, 4, 5, 7, 8, 9])
+        self.assertEqual(mesh_map.chosen_layers({"nodes": nodes}, 0, 12, "3:5"), [3, 4, 5])
+        self.assertEqual(mesh_map.chosen_layers({"nodes": nodes[:4]}, 0, 4, None), [0, 1, 2, 3])
+        # A real run 32 long on the balancing axis and 16 wide: drawn, and a layer range outside it refused.
+        report, out = os.path.join(self.d, "long.json"), os.path.join(self.d, "long.png")
+        p = subprocess.run([RTSIM, "--spheres", "100", "--size", "16x16", "--mesh-dims", "32x16x2", "--no-baseline",
+                            "-q", "--image", "", "--report", report, "--map", out], capture_output=True, text=True)
+        self.assertEqual(p.returncode, 0, p.stderr)
+        self.assertGreater(png_size(out)[0], 0)
+        p = subprocess.run(["/usr/bin/python3", os.path.join(ROOT, "scripts", "mesh_map.py"), report, "-o", out,
+                            "--layers", "30:40"], capture_output=True, text=True)
+        self.assertNotEqual(p.returncode, 0)
+        self.assertEqual(p.stderr.strip(), "mesh_map: --layers 30:40: the mesh has layers 0..31")
 
     def test_map_of_a_run_with_and_without_balancing(self):
         plain, balanced = os.path.join(self.d, "plain.png"), os.path.join(self.d, "balanced.png")
