@@ -21,6 +21,9 @@ SWEEPS = sweep.JOURNALS  # out/sweeps: the CSV beside its journal
 DRIVER_OWNS = {"--report": "the driver reads each run's report itself",
                "--image": "sweeps write no images", "--map": "sweeps draw no maps", "--vcd": "sweeps write no VCD"}
 
+# Settings of particular nodes and links: not for the one-node run.
+PER_NODE = ("--node-speed", "--node-cost", "--link-set", "--trace-nodes", "--trace-links", "--boundaries-from")
+
 EXAMPLES = """examples:
   /usr/bin/python3 scripts/sweep.py links --set link-bandwidth=100MB/s,200MB/s,1GB/s --gain -- \\
       --scene ../shared/scenes/spd/balls-4.nff --size 256x256 --mesh 6
@@ -95,8 +98,11 @@ def runs_of(args, frames, gain, speedup):
     out = {"point": main}
     if gain:
         out["none"] = without(args, "--balance") + ["--balance", "none"]
-    if speedup:
-        out["one"] = without(without(args, "--mesh"), "--mesh-dims") + ["--mesh", "1"]
+    if speedup:  # one node with the global settings, as rtsim's own baseline (--as-baseline) runs it
+        one = args
+        for flag in ("--mesh", "--mesh-dims") + PER_NODE:
+            one = without(one, flag)
+        out["one"] = one + ["--mesh", "1"]
     return out
 
 

@@ -89,6 +89,13 @@ class SweepCommand(unittest.TestCase):
                    "--", *SMALL)
         self.assertEqual(self.calls(), ran)  # everything resumed from the journal
 
+    def test_the_one_node_run_drops_settings_of_particular_nodes(self):
+        # A node 1,1,1 of a 2x2x2 mesh has no place on one node: the one-node
+        # run is the flags without it, as rtsim's own baseline is.
+        self.sweep("one", "--set", "mesh=2", "--speedup", "--", *SMALL, "--node-speed", "1,1,1=2")
+        row = self.rows("one")[0]
+        self.assertEqual(float(row["time_one_ns"]), self.direct(SMALL + ["--mesh", "1"]))
+
     def test_bad_input_gets_one_line_and_a_nonzero_exit(self):
         for args, says in ((["--set", "mesh"], "expected FLAG=V1,V2"),
                            (["--set", "mesh=1,1"], "a value given twice"),
