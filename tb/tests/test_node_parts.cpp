@@ -208,13 +208,7 @@ TEST(TimeLedger, KindsOfWorkFollowTheCutAtTheEnd) {
 }
 
 TEST(CostModel, PartsSumToTheStepAtAnySpeed) {
-    Costs c;
-    c.test = {7000, 11000, 13000};
-    c.voxelStep = 3000;
-    c.rayGen = 17000;
-    c.shade = 19000;
-    c.send = 23000;
-    c.recv = 29000;
+    const Costs c = test::distinctCosts();  // sphere 7, voxel 3, send 23 ns, ...
     Counters before, after;
     after.tests = {3, 1, 2};
     after.voxelSteps = 5;
