@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "busy_parts.h"
 #include "counters.h"
@@ -25,36 +26,24 @@ public:
     // A step: the operations counted from `before` to `after`, the
     // messages it sent and received and the primary rays it generated.
     Picos step(const Counters& before, const Counters& c, uint64_t sends, uint64_t recvs, uint64_t generated) const {
-        // (Past safeOps_ operations the sum below could wrap: summed apart, checked.)
-        if (operations(before, c) + sends + recvs + generated > safeOps_) checkStep(before, c, sends, recvs, generated);
-        Picos ps = sends * costs_.send + recvs * costs_.recv + generated * costs_.rayGen;
-        for (int k = 0; k < kPrimitiveKinds; ++k) ps += (c.tests[k] - before.tests[k]) * costs_.test[k];
-        ps += (c.voxelSteps - before.voxelSteps) * costs_.voxelStep;
-        ps += (c.shadings - before.shadings) * costs_.shade;
-        return atSpeed(ps);
+        return atSpeed(sumOf(operationParts(before, c, sends, recvs, generated)));
     }
     // The same step's cost by kind of work (busy_parts.h): parts that sum to
     // step(...) exactly.
     BusyParts stepParts(const Counters& before, const Counters& c, uint64_t sends, uint64_t recvs, uint64_t generated) const {
-        BusyParts p{};
-        for (int k = 0; k < kPrimitiveKinds; ++k) p[size_t(k)] = (c.tests[k] - before.tests[k]) * costs_.test[k];
-        p[kVoxelSteps] = (c.voxelSteps - before.voxelSteps) * costs_.voxelStep;
-        p[kShading] = (c.shadings - before.shadings) * costs_.shade;
-        p[kRayGeneration] = costs_.rayGen * generated;
-        p[kSend] = sends * costs_.send;
-        p[kReceive] = recvs * costs_.recv;
-        return scaledTo(p, step(before, c, sends, recvs, generated));
+        const BusyParts p = operationParts(before, c, sends, recvs, generated);
+        return scaledTo(p, atSpeed(sumOf(p)));
     }
     // A step of messages alone: its messages' handling (balancing's, or a
     // flush of rays and contributions) and the grid update for `objects`
     // moved; they sum to step(c, c, sends, recvs, 0) + rebuild(objects).
     BusyParts messageParts(uint64_t sends, uint64_t recvs, uint64_t objects, bool balancing) const {
-        BusyParts p{};
-        const int send = balancing ? kBalancingSend : kSend, recv = balancing ? kBalancingReceive : kReceive;
-        p[size_t(send)] = sends * costs_.send;
-        p[size_t(recv)] = recvs * costs_.recv;
         const Counters none{};
-        p = scaledTo(p, step(none, none, sends, recvs, 0), send);
+        BusyParts p = stepParts(none, none, sends, recvs, 0);
+        if (balancing) {
+            p[kBalancingSend] = std::exchange(p[kSend], 0);
+            p[kBalancingReceive] = std::exchange(p[kReceive], 0);
+        }
         p[kSlabRebuild] = rebuild(objects);
         return p;
     }
@@ -68,6 +57,20 @@ public:
     double slabHandling(uint64_t objects) const { return double(costs_.send + costs_.recv + 2 * objects * rebuild_) / speed_; }
 
 private:
+    // Each kind's operations times its cost, before the speed factor.
+    BusyParts operationParts(const Counters& before, const Counters& c, uint64_t sends, uint64_t recvs,
+                             uint64_t generated) const {
+        // (Past safeOps_ operations their sum could wrap: summed apart, checked.)
+        if (operations(before, c) + sends + recvs + generated > safeOps_) checkStep(before, c, sends, recvs, generated);
+        BusyParts p{};
+        p[kSend] = sends * costs_.send;
+        p[kReceive] = recvs * costs_.recv;
+        p[kRayGeneration] = generated * costs_.rayGen;
+        for (int k = 0; k < kPrimitiveKinds; ++k) p[size_t(k)] = (c.tests[k] - before.tests[k]) * costs_.test[k];
+        p[kVoxelSteps] = (c.voxelSteps - before.voxelSteps) * costs_.voxelStep;
+        p[kShading] = (c.shadings - before.shadings) * costs_.shade;
+        return p;
+    }
     // Exact when the speed is 1; otherwise rounded to the nearest picosecond
     // (and checked: a slow node's step can pass the counter).
     Picos atSpeed(Picos ps) const {
