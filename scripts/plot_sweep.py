@@ -25,24 +25,30 @@ KNEES = (1.1, 2.0)  # +10 % and x2 of a line's best value
 DECADE = 10.0       # values spanning this ratio or more get a log axis
 
 
-def quantity(text):
-    """'100MB/s' -> 1e8 (B/s), '2us' -> 2e-6 (s), '4' -> 4.0; None if not a number."""
+def split(text):
+    """'100MB/s' -> (100.0, 'MB/s'), '4' -> (4.0, ''); None if not a number with a unit rtsim takes."""
     m = re.fullmatch(r"\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*([A-Za-z/]*)\s*", str(text))
     if not m or (m.group(2) and m.group(2) not in UNITS):
         return None
-    return float(m.group(1)) * UNITS.get(m.group(2), 1.0)
+    return float(m.group(1)), m.group(2)
+
+
+def quantity(text):
+    """'100MB/s' -> 1e8 (B/s), '2us' -> 2e-6 (s), '4' -> 4.0; None if not a number."""
+    q = split(text)
+    return q[0] * UNITS.get(q[1], 1.0) if q else None
 
 
 def in_units_of(value, sample):
     """`value` (SI base units) written in the unit of the x value `sample` ('100MB/s' -> '971.3MB/s')."""
-    unit = re.sub(r"^[-+0-9.eE\s]*", "", str(sample))
-    return f"{value / UNITS[unit]:.4g}{unit}" if unit in UNITS else f"{value:.4g}"
+    unit = (split(sample) or (0, ""))[1]
+    return f"{value / UNITS[unit]:.4g}{unit}" if unit else f"{value:.4g}"
 
 
 def base_unit(sample):
     """The axis label's unit for x values like `sample`: ' (B/s)' for rates, ' (s)' for times."""
-    unit = re.sub(r"^[-+0-9.eE\s]*", "", str(sample))
-    return "" if unit not in UNITS else " (B/s)" if unit.endswith("/s") else " (s)"
+    unit = (split(sample) or (0, ""))[1]
+    return "" if not unit else " (B/s)" if unit.endswith("/s") else " (s)"
 
 
 def spans_decades(values):
