@@ -19,12 +19,24 @@ BalanceAgent::BalanceAgent(const BalanceConfig& cfg, BalanceHost& host, const Bo
     empty.hi = world.hi[cfg.axis];
     empty.bins.assign(size_t(std::max(1, cfg.bins * count)), 0.0);
     for (Side& s : sides_) s.span.profile = s.sentProfile = empty;
-    if (cfg.betweenFrames()) stats_.work = WorkByPosition(empty.lo, empty.hi, count);
+    if (cfg.betweenFrames()) {
+        stats_.work = WorkByPosition(empty.lo, empty.hi, count);
+        stats_.spans.fill(stats_.work);
+        stats_.lateral.fill(stats_.work);
+    }
 }
 
-void BalanceAgent::recordStep(double where, Picos cost) {
+void BalanceAgent::recordStep(double where, Picos cost, const FaceCrossings& faces) {
     traced_ += cost;
-    stats_.work.add(where, double(cost));
+    stats_.work.add(where, double(cost - faces.cost));
+    stats_.faceCost += faces.cost;
+    stats_.faceCrossings += uint64_t(faces.crossings);
+    if (std::isfinite(faces.from) && std::isfinite(faces.to)) {
+        WorkByPosition& spans = stats_.spans[faces.to >= faces.from ? 0 : 1];
+        spans.add(std::min(faces.from, faces.to), 1.0);
+        spans.add(std::max(faces.from, faces.to), -1.0);
+    }
+    if (faces.lateral >= 0) stats_.lateral[size_t(faces.lateral)].add(faces.to, 1.0);
     for (Side& s : sides_) {
         if (!s.present) continue;
         s.span.profile.add(where, double(cost));

@@ -40,6 +40,7 @@
 //    (a load already even, a frame about to end: little work left).
 #pragma once
 #include <array>
+#include <cmath>
 #include <map>
 #include <memory>
 #include <vector>
@@ -59,6 +60,16 @@ struct IntervalRecord {
     Picos end, busy, wait;
 };
 
+// A traced ray segment's span along the axis, and its crossings of the
+// node's faces along the axis (in from a column neighbour, out to one) with
+// what handling them cost the node.
+struct FaceCrossings {
+    double from = std::nan(""), to = std::nan("");
+    int crossings = 0;
+    Picos cost = 0;
+    int lateral = -1;  // the direction it left by to another column (-1: none)
+};
+
 struct BalanceStats {
     // Busy and wait per interval, for the report. Bounded: once a node has
     // kMaxIntervalRecords, neighbouring records are merged pairwise and each
@@ -73,8 +84,19 @@ struct BalanceStats {
     Histogram ages;
     uint64_t decisions = 0, gives = 0, skippedStale = 0, skippedLatency = 0, skippedCost = 0, skippedBusyLink = 0;
     // The frame's tracing work by where it happened along the axis (each
-    // traced step's cost at the middle of its segment).
+    // traced step's cost at the middle of its segment, less its handling of
+    // rays across the faces along the axis, which `faceCost` holds for
+    // `faceCrossings` crossings).
     WorkByPosition work;
+    Picos faceCost = 0;
+    uint64_t faceCrossings = 0;
+    // The traced segments by span, of rays going up the axis and down it:
+    // +1 where one starts, -1 where it stops (the running sum is how many a
+    // plane there would cut).
+    std::array<WorkByPosition, 2> spans;
+    // Rays sent to the neighbouring columns, by where they left, per link
+    // direction (those along the axis stay empty).
+    std::array<WorkByPosition, 6> lateral;
 };
 
 class BalanceHost {
@@ -111,8 +133,9 @@ public:
 
     bool due(Picos now) const { return now >= next_; }
     Picos nextClose() const { return next_; }
-    // A ray step: its cost, and where along the axis its work happened.
-    void recordStep(double where, Picos cost);
+    // A ray step: its cost, where along the axis its work happened, and
+    // its part in the faces along the axis (for `resplit`'s next planes).
+    void recordStep(double where, Picos cost, const FaceCrossings& faces = {});
     // The interval ends at `now`: the node's busy and wait totals, and the
     // rays and primaries waiting in it.
     void closeInterval(Picos now, Picos busyTotal, Picos waitTotal, uint64_t waiting);

@@ -5,7 +5,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "resplit.h"
+#include "frame_forecast.h"
 
 namespace rt {
 namespace {
@@ -26,25 +26,6 @@ auto readReport(F f) -> decltype(f()) {
     } catch (const nlohmann::json::exception& e) {
         throw std::runtime_error(std::string("not an rtsim report (") + e.what() + ")");
     }
-}
-
-// A node's busy time in the frame of its report entry `node`, where it
-// happened: its tracing work by position (work_by_position, bins fixed in
-// the world), the rest spread evenly over [boxLo, boxHi].
-void addNodeWork(const nlohmann::json& node, double boxLo, double boxHi, std::vector<WorkPiece>& pieces) {
-    double rest = node.at("busy_ns").get<double>();
-    if (node.contains("work_by_position")) {
-        const auto& w = node.at("work_by_position");
-        const double from = w.at("axis_from").get<double>(), width = w.at("bin_width").get<double>();
-        double k = w.at("first_bin").get<double>();
-        for (const auto& v : w.at("ns")) {
-            const double work = v.get<double>();
-            pieces.push_back({from + k * width, from + (k + 1) * width, work});
-            rest -= work;
-            ++k;
-        }
-    }
-    pieces.push_back({boxLo, boxHi, std::max(0.0, rest)});
 }
 
 }  // namespace
@@ -69,58 +50,67 @@ InnerPlanes lastBoundaries(const nlohmann::json& r, const MachineConfig& m, bool
     });
 }
 
-InnerPlanes resplitTargets(const nlohmann::json& r, const MachineConfig& m, double step) {
-    const InnerPlanes check = lastBoundaries(r, m);  // the same mesh and axis
+double timeAveraged(const std::vector<std::pair<double, double>>& history, double end) {
+    if (history.empty()) throw std::invalid_argument("resplit: an empty boundary history");
+    if (!(end > 0)) return history.back().second;
+    double sum = 0;
+    for (size_t i = 0; i < history.size(); ++i) {
+        const double from = i == 0 ? 0.0 : std::min(history[i].first, end);  // the first position holds from 0
+        const double to = i + 1 < history.size() ? std::min(history[i + 1].first, end) : end;
+        sum += history[i].second * std::max(0.0, to - from);
+    }
+    return sum / end;
+}
+
+InnerPlanes averagedBoundaries(const nlohmann::json& r, const MachineConfig& m) {
+    InnerPlanes planes = lastBoundaries(r, m);  // the same mesh and axis, and every plane there
     const ColumnGeometry g(m.balance.axis, m.dims);
-    const int ax = g.axis, n = g.length();
     return readReport([&] {
         const double end = r.at("render_time_ns").get<double>();
-        double lo = 1e300, hi = -1e300;
-        for (const auto& node : r.at("nodes")) {
-            const auto box = node.at("box").get<std::array<std::array<double, 3>, 2>>();
-            lo = std::min(lo, box[0][size_t(ax)]);
-            hi = std::max(hi, box[1][size_t(ax)]);
-        }
-        // Each column's planes as they stood on average over the frame.
-        std::vector<std::vector<double>> edges(check.size(), std::vector<double>(size_t(n + 1), 0.0));
-        for (auto& e : edges) {
-            e.front() = lo;
-            e.back() = hi;
-        }
         for (const auto& h : r.at("boundaries")) {
             const auto col = h.at("column").get<std::array<int, 2>>();
             std::vector<std::pair<double, double>> history;
             for (const auto& p : h.at("history")) history.push_back({p.at(0).get<double>(), p.at(1).get<double>()});
-            edges[size_t(g.indexOf(col[0], col[1]))][size_t(h.at("index").get<int>())] = timeAveraged(history, end);
+            planes[size_t(g.indexOf(col[0], col[1]))][size_t(h.at("index").get<int>() - 1)] = timeAveraged(history, end);
         }
-        std::vector<std::vector<WorkPiece>> pieces(check.size());
-        for (const auto& node : r.at("nodes")) {
-            const auto c = node.at("node").get<std::array<int, 3>>();
-            const size_t col = size_t(g.columnOf(c)), k = size_t(c[size_t(ax)]);
-            addNodeWork(node, edges.at(col).at(k), edges.at(col).at(k + 1), pieces[col]);
-        }
-        const double minThickness = m.balance.minThickness * (hi - lo) / n;
-        InnerPlanes targets;
-        for (size_t c = 0; c < edges.size(); ++c) {
-            const std::vector<double> now(edges[c].begin() + 1, edges[c].end() - 1);
-            std::vector<double> t = resplitPlanes(pieces[c], lo, hi, n, minThickness, now);
-            if (step < 1)  // from where they ended
-                for (size_t k = 0; k < t.size(); ++k) t[k] = check[c][k] + step * (t[k] - check[c][k]);
-            targets.push_back(std::move(t));
-        }
-        return targets;
+        return planes;
     });
+}
+
+ResplitChoice resplitChoice(const nlohmann::json& r, const MachineConfig& m) {
+    const InnerPlanes now = lastBoundaries(r, m);
+    return readReport([&] {
+        const FrameForecast f(r, m, averagedBoundaries(r, m));
+        ResplitChoice c{"held", now, f.forecast(now).frameNs, 0};
+        c.heldNs = c.forecastNs;
+        const std::pair<const char*, InnerPlanes> candidates[] = {{"per column", f.perColumn()}, {"aligned", f.aligned()}};
+        for (const auto& [name, planes] : candidates) {
+            const double t = f.forecast(planes).frameNs;
+            if (t < c.forecastNs && t < (1 - kMinForecastGain) * c.heldNs) c = {name, planes, t, c.heldNs};
+        }
+        return c;
+    });
+}
+
+InnerPlanes resplitTargets(const nlohmann::json& r, const MachineConfig& m) { return resplitChoice(r, m).planes; }
+
+std::optional<InnerPlanes> ResplitSequence::forecast(const nlohmann::json& r) {
+    const ResplitChoice c = resplitChoice(r, m_);
+    said_ = {{"next", c.what}, {"forecast_ns", c.forecastNs}, {"held_forecast_ns", c.heldNs}};
+    return c.planes;
 }
 
 std::optional<InnerPlanes> ResplitSequence::next(const nlohmann::json& r, int frame) {
     afresh_ = false;
+    said_ = {{"next", "frame 1 again"}};
     if (again_) return std::nullopt;
+    said_ = {{"next", "held"}};
     if (held_) return held_;
     const double t = r.at("render_time_ns").get<double>();
     if (frame == 1) {
         firstNs_ = t;
         start_ = lastBoundaries(r, m_, true);
-        return resplitTargets(r, m_);
+        return forecast(r);
     }
     if (tryingStart_) {  // the frame just run held the starting split
         if (t < firstNs_) {
@@ -128,6 +118,7 @@ std::optional<InnerPlanes> ResplitSequence::next(const nlohmann::json& r, int fr
             return held_;
         }
         again_ = true;
+        said_ = {{"next", "frame 1 again"}};
         return std::nullopt;
     }
     ++resplits_;
@@ -139,6 +130,7 @@ std::optional<InnerPlanes> ResplitSequence::next(const nlohmann::json& r, int fr
     }
     if (bestNs_ > firstNs_) {  // no re-split frame has beaten the first yet
         if (resplits_ >= kTries) {
+            said_ = {{"next", "the starting split"}};
             if (firstHolds_) {  // frame 1 was the starting split: hold it
                 held_ = start_;
                 return held_;
@@ -146,13 +138,14 @@ std::optional<InnerPlanes> ResplitSequence::next(const nlohmann::json& r, int fr
             tryingStart_ = afresh_ = true;
             return start_;
         }
-        return resplitTargets(r, m_, kStep);
+        return forecast(r);
     }
     if (misses_ >= kPatience) {
+        said_ = {{"next", "the fastest frame's planes"}};
         held_ = best_;
         return held_;
     }
-    return resplitTargets(r, m_, kStep);
+    return forecast(r);
 }
 
 }  // namespace rt

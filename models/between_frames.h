@@ -5,16 +5,15 @@
 // the child processes that render the frames.
 #pragma once
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "frame_forecast.h"
 #include "machine_config.h"
 
 namespace rt {
-
-// Per column (ColumnGeometry order): its N - 1 inner planes along the axis.
-using InnerPlanes = std::vector<std::vector<double>>;
 
 // Each column's inner planes where the run of report `r` ended them (their
 // last positions in its boundary histories), for MachineConfig::
@@ -22,17 +21,31 @@ using InnerPlanes = std::vector<std::vector<double>>;
 // std::runtime_error if `r` is not a report of this mesh and axis.
 InnerPlanes lastBoundaries(const nlohmann::json& r, const MachineConfig& m, bool atStart = false);
 
-// `resplit`: each column's inner planes at the quantiles of its nodes' busy
-// time in the run of report `r` (resplit.h): the tracing work where it
-// happened (work_by_position), the rest of a node's busy time spread over its
-// box as it stood on average over that frame. `step`: the share of the way
-// from where the planes ended to those quantiles.
-InnerPlanes resplitTargets(const nlohmann::json& r, const MachineConfig& m, double step = 1);
+// The time-weighted mean position of a boundary over [0, end]: `history`
+// holds (time, position) from time 0 on, in time order.
+double timeAveraged(const std::vector<std::pair<double, double>>& history, double end);
+
+// Each column's planes as they stood on average over the frame of report `r`.
+InnerPlanes averagedBoundaries(const nlohmann::json& r, const MachineConfig& m);
+
+// `resplit`'s planes for the frame after report `r`'s (frame_forecast.h):
+// of the planes where `r`'s frame ended, the best per column and the best
+// for all columns, the ones of the shortest forecast frame; the planes
+// move only if that forecast is at least kMinForecastGain shorter than the
+// forecast for holding them (the forecast is within about 10 % of the frames
+// measured; a move that gains less can lose).
+constexpr double kMinForecastGain = 0.05;
+struct ResplitChoice {
+    const char* what;  // "held", "per column" or "aligned"
+    InnerPlanes planes;
+    double forecastNs, heldNs;  // the next frame, forecast: with these planes; with the planes held
+};
+ResplitChoice resplitChoice(const nlohmann::json& r, const MachineConfig& m);
+InnerPlanes resplitTargets(const nlohmann::json& r, const MachineConfig& m);
 
 // `resplit` and `measured` over a sequence of frames: what the next frame
-// does. Each frame re-splits towards the quantiles of the one before (the
-// first re-split all the way, later ones half the way), as long as that
-// keeps making frames faster:
+// does. Each frame re-splits by the forecast from the one before
+// (resplitChoice), as long as that keeps making frames faster:
 //  - once two re-split frames in a row are not faster than the fastest
 //    re-split frame so far, when that one beat the first frame, the
 //    boundaries return to its planes and hold from then on (equal busy
@@ -59,15 +72,13 @@ public:
     // state the faces would be moved back once, and that frame is to show
     // the split itself.
     bool startsAfresh() const { return afresh_; }
+    // What next() chose and why, for the report's frames: {"next": "per
+    // column" | "aligned" | "held" | "the fastest frame's planes" | "the
+    // starting split" | "frame 1 again"}, with the forecasts when it re-split.
+    const nlohmann::json& said() const { return said_; }
 
 private:
     static constexpr int kTries = 2;
-    // How far each re-split after the first moves the planes towards their
-    // quantiles (the first goes all the way): the work moves with the
-    // planes (rays cross more boxes, and cross from column to column), so
-    // full steps overshoot once the planes are near; half steps settle
-    // (doc/balancing.md, "Why it settles").
-    static constexpr double kStep = 0.5;
     static constexpr int kPatience = 2;  // such frames in a row before the fastest one's planes are held
     const MachineConfig& m_;
     bool firstHolds_;  // frame 1 held the starting split (measured): it needs no trial
@@ -78,6 +89,8 @@ private:
     InnerPlanes start_;  // where frame 1's boundaries started
     std::optional<InnerPlanes> held_;
     bool tryingStart_ = false, again_ = false, afresh_ = false;
+    nlohmann::json said_;
+    std::optional<InnerPlanes> forecast(const nlohmann::json& r);  // resplitChoice, said
 };
 
 }  // namespace rt

@@ -197,7 +197,12 @@ void Machine::startWatchdog() {
 // The host's job description (initial_split.h): each node's primary rays
 // and credit, and the background of the rays that miss the world.
 void Machine::giveOutPrimaryRays() {
-    PrimaryRays primaries = assignPrimaryRays(camera_, world_, cuts_, columns_, columnPlanes_);
+    // With targets for the frame's start (resplit), each node generates the
+    // primary rays of the box it is to have, once it has it (Node::takeWork).
+    ColumnPlanes planes = columnPlanes_;
+    for (size_t c = 0; c < cfg_.targetBoundaries.size(); ++c)
+        std::copy(cfg_.targetBoundaries[c].begin(), cfg_.targetBoundaries[c].end(), planes[c].begin() + 1);
+    PrimaryRays primaries = assignPrimaryRays(camera_, world_, cuts_, columns_, planes);
     Counters hostCounters;
     for (const RayJob& j : primaries.misses)
         units_[j.pixel % uint32_t(cfg_.fbUnits)].addOwn(shader_.miss(j, hostCounters));

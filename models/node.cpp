@@ -224,7 +224,7 @@ bool Node::takeWork(Work& w, std::optional<Message>& control, int& controlDir) {
         takeMessage(best, next, w, control, controlDir);
         return true;
     }
-    if (input_.nextPrimary(w, params_.camera, params_.world)) {
+    if (!holdsPrimaries() && input_.nextPrimary(w, params_.camera, params_.world)) {
         ++stats_.raysGenerated;
         ++stats_.raysCreated;
         ++stats_.counters.primaryRays;
@@ -258,28 +258,32 @@ void Node::step(Work& w) {
     const BoxSlabs box = boxSlabs(w.job.ray, region_->box());
     int dir = routeRay(w.job, box, region_->box());
     const bool passing = dir >= 0;  // not this box's: sent on without tracing
-    double where = std::nan("");  // where along the axis the work happened (work histogram)
-    if (dir < 0) dir = traceInBox(w, box, where);
+    TracedSpan span;  // where along the axis the work happened (work histogram)
+    if (dir < 0) dir = traceInBox(w, box, span);
     if (dir >= 0) forward(w, dir, passing);
     fbOut_.add(contributions_, outbox_);
     stats_.contributionsSent += contributions_.size();
     const BusyParts parts = costs_.stepParts(before, stats_.counters, outbox_.size(), w.fromLink ? 1 : 0, w.generated ? 1 : 0);
     const Picos cost = sumOf(parts);
-    if (balance_ && std::isfinite(where)) balance_->recordStep(where, cost);
+    if (balance_ && std::isfinite(span.where)) balance_->recordStep(span.where, cost, axialFaces(w, parts, span));
     markQueueDepth();
     chargeAndSend(parts, true);
 }
 
 // Traces the ray's segment in the box: -2 if it ended here, else the link
 // direction of the face it left by.
-int Node::traceInBox(Work& w, const BoxSlabs& box, double& where) {
+int Node::traceInBox(Work& w, const BoxSlabs& box, TracedSpan& span) {
     ++stats_.raysTraced;
-    if (balance_) {  // the middle of the segment traced stands for where its work is
-        const double end = std::min(w.job.tEnd, box.span.hi);
-        where = w.job.ray.at(0.5 * (w.job.t0 + end))[params_.balance.axis];
-    }
+    const double t0 = w.job.t0;
+    double stop = t0;
     const Region::Step s =
-        region_->trace(w.job, box.span.hi, params_.shader, mailbox_, stats_.counters, spawned_, contributions_);
+        region_->trace(w.job, box.span.hi, params_.shader, mailbox_, stats_.counters, spawned_, contributions_, &stop);
+    if (balance_) {  // the middle of the segment traced stands for where its work is
+        const int ax = params_.balance.axis;
+        span.where = w.job.ray.at(0.5 * (t0 + std::min(w.job.tEnd, box.span.hi)))[ax];
+        span.from = w.job.ray.at(t0)[ax];
+        span.to = w.job.ray.at(stop)[ax];
+    }
     if (s == Region::Step::Terminated) {
         terminate(w, spawned_);
         return -2;
@@ -287,7 +291,8 @@ int Node::traceInBox(Work& w, const BoxSlabs& box, double& where) {
     // It left the box at job.t0 = box.span.hi: by the face routeRay would pick there.
     const auto [axis, step] = box.exitFace(w.job.ray);
     if (axis < 0) throw std::logic_error(std::string(name()) + ": a ray left its box by no face");
-    return dirOf(axis, step);
+    span.exit = dirOf(axis, step);
+    return span.exit;
 }
 
 // Where a ray is forwarded: to the neighbour in `dir`, or, with none that

@@ -114,7 +114,15 @@ private:
     bool takeControl(std::optional<Message>& control, int& controlDir);  // control messages first
     void takeMessage(int dir, Picos arrival, Work& w, std::optional<Message>& control, int& controlDir);
     void step(Work& w);
-    int traceInBox(Work& w, const BoxSlabs& box, double& where);  // -2: ended here; else the exit's direction
+    // A traced segment along the progress axis: the middle (where its work
+    // is), its ends, and the face it left by (-1: it ended in the box).
+    struct TracedSpan {
+        double where = std::nan(""), from = std::nan(""), to = std::nan("");
+        int exit = -1;
+    };
+    bool holdsPrimaries();
+    int traceInBox(Work& w, const BoxSlabs& box, TracedSpan& span);  // -2: ended here; else the exit's direction
+    FaceCrossings axialFaces(const Work& w, const BusyParts& parts, const TracedSpan& span) const;
     void forward(const Work& w, int dir, bool passing);
     void terminate(const Work& w, std::vector<RayJob>& spawned);
     void markQueueDepth();

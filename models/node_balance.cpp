@@ -3,6 +3,7 @@
 // carries the messages, hands over and takes slabs (slab.h), and tells the
 // guard its links' timing.
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <stdexcept>
 
@@ -21,6 +22,39 @@ void Node::rebuild(const Box& box, std::vector<Shape> objects) {
         }
     std::sort(objects.begin(), objects.end(), [](const Shape& a, const Shape& b) { return a.id < b.id; });
     region_ = std::make_unique<Region>(box, std::move(objects), AccelKind::Grid);
+}
+
+// With targets for the frame's start, the node's primary rays are those of
+// its target box: it generates them once its faces are there (else it would
+// trace them where it does not yet have the objects, or pass them on).
+bool Node::holdsPrimaries() {
+    if (!startTargets_) return false;
+    const int ax = params_.balance.axis;
+    const Box& b = region_->box();
+    const auto [lo, hi] = *startTargets_;
+    if ((std::isfinite(lo) && b.lo[ax] != lo) || (std::isfinite(hi) && b.hi[ax] != hi)) return true;
+    startTargets_.reset();
+    return false;
+}
+
+// The step's share in the faces along the axis, for `resplit`'s next
+// planes: the ray's crossings of those faces (in from a column neighbour, out
+// to one) and what handling them cost here, and the span it was traced over.
+FaceCrossings Node::axialFaces(const Work& w, const BusyParts& parts, const TracedSpan& span) const {
+    const int ax = params_.balance.axis;
+    FaceCrossings f{span.from, span.to, 0, 0};
+    if (w.from >= 0 && dirAxis(w.from) == ax) {
+        ++f.crossings;
+        if (w.fromLink) f.cost += parts[kReceive];
+    }
+    size_t axial = 0;
+    for (const auto& [d, m] : outbox_) axial += d >= 0 && d < 6 && dirAxis(d) == ax && m.type == MsgType::Ray;
+    if (span.exit >= 0 && outLinks_[size_t(span.exit)]) {
+        if (dirAxis(span.exit) == ax) ++f.crossings;
+        else f.lateral = span.exit;
+    }
+    if (axial) f.cost += parts[kSend] * Picos(axial) / Picos(outbox_.size());
+    return f;
 }
 
 // At the end of each interval: the agent records the node's load over it,

@@ -88,6 +88,36 @@ nlohmann::json busyPartsJson(const BusyParts& p) {
     return j;
 }
 
+// Where along the axis the node's work happened (`resplit`'s forecast,
+// frame_forecast.h).
+nlohmann::json workByPositionJson(const BalanceStats& stats) {
+    const WorkByPosition& w = stats.work;
+    nlohmann::json wj;  // bin k: axis_from + [k, k + 1) x bin_width
+    wj["axis_from"] = w.from();
+    wj["bin_width"] = w.binWidth();
+    wj["first_bin"] = w.firstBin();
+    wj["ns"] = nlohmann::json::array();
+    for (double b : w.bins()) wj["ns"].push_back(b / 1000.0);
+    // Handling rays across the faces along the axis (not in the bins)
+    wj["face_handling_ns"] = ns(stats.faceCost);
+    wj["face_crossings"] = stats.faceCrossings;
+    // and, by position, how many traced segments a plane there would
+    // cut: cuts[k] at the upper edge of bin first_bin + k.
+    for (int up = 0; up < 2; ++up) {
+        const WorkByPosition& sp = stats.spans[size_t(up)];
+        auto& cj = wj[up == 0 ? "cuts_up" : "cuts_down"];
+        cj["first_bin"] = sp.firstBin();
+        auto& cuts = cj["rays"] = nlohmann::json::array();
+        double running = 0;
+        for (double b : sp.bins()) cuts.push_back(running += b);
+    }
+    // Rays sent to each neighbouring column, by where they left.
+    for (int d = 0; d < 6; ++d)
+        if (const WorkByPosition& l = stats.lateral[size_t(d)]; !l.bins().empty())
+            wj["lateral"][linkSuffix(d)] = {{"first_bin", l.firstBin()}, {"rays", l.bins()}};
+    return wj;
+}
+
 // Per node: its box, time, counts and balancing intervals.
 nlohmann::json nodeJson(const MachineResult& r, size_t i) {
     const NodeStats& s = r.nodes[i];
@@ -117,14 +147,7 @@ nlohmann::json nodeJson(const MachineResult& r, size_t i) {
     n["slides_taken"] = s.slidesTaken;
     n["objects_sent"] = s.objectsSent;
     n["objects_received"] = s.objectsReceived;
-    if (const WorkByPosition& w = s.balance.work; !w.bins().empty()) {
-        auto& wj = n["work_by_position"];  // bin k: axis_from + [k, k + 1) x bin_width
-        wj["axis_from"] = w.from();
-        wj["bin_width"] = w.binWidth();
-        wj["first_bin"] = w.firstBin();
-        wj["ns"] = nlohmann::json::array();
-        for (double b : w.bins()) wj["ns"].push_back(b / 1000.0);
-    }
+    if (!s.balance.work.bins().empty()) n["work_by_position"] = workByPositionJson(s.balance);
     if (!s.balance.intervals.empty()) {
         auto& iv = n["intervals"];
         iv["intervals_per_record"] = s.balance.intervalsPerRecord;  // > 1: merged to bound the report

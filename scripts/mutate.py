@@ -58,7 +58,7 @@ MUTANTS = [
     ("link-receive-free", "models/machine_config.cpp",
      "p.latency += costsOf(neighbour(from, dir)).recv;", "p.latency += 0;",
      "with --hop-handling link the receiving engine's handling adds nothing to the latency"),
-    ("resplit-ignores-where-work-happened", "models/between_frames.cpp",
+    ("resplit-ignores-where-work-happened", "models/frame_forecast.cpp",
      'if (node.contains("work_by_position")) {', "if (false) {",
      "resplit spreads each node's busy time evenly over its box, as before the work profile"),
     ("start-moves-stop-at-the-box", "models/balance_agent.cpp",

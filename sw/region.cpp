@@ -50,9 +50,10 @@ Region::Region(const Box& box, std::vector<Shape> objects, AccelKind kind)
 }
 
 Region::Step Region::trace(RayJob& job, double tOut, const Shader& shader, Mailbox& mailbox, Counters& counters,
-                           std::vector<RayJob>& spawned, std::vector<Contribution>& out) const {
+                           std::vector<RayJob>& spawned, std::vector<Contribution>& out, double* stop) const {
     const double end = std::min(tOut, job.tEnd);
     const Hit hit = accel_->closestHit(job.ray, job.t0, end, mailbox, counters);
+    if (stop) *stop = hit.valid() ? hit.t : end;
     if (hit.valid()) {
         shader.hit(job, hit.t, (*objects_)[hit.object], counters, spawned, out);
         return Step::Terminated;

@@ -65,9 +65,10 @@ public:
         return trace(job, boxInterval(job.ray, box_).hi, shader, mailbox, counters, spawned, out);
     }
     // The same, for a caller that has the exit parameter already
-    // (tOut == boxInterval(job.ray, box()).hi).
+    // (tOut == boxInterval(job.ray, box()).hi); `stop`, if given, gets the
+    // parameter where the segment ended (the hit, the ray's end or tOut).
     Step trace(RayJob& job, double tOut, const Shader& shader, Mailbox& mailbox, Counters& counters,
-               std::vector<RayJob>& spawned, std::vector<Contribution>& out) const;
+               std::vector<RayJob>& spawned, std::vector<Contribution>& out, double* stop = nullptr) const;
 
 private:
     Box box_;

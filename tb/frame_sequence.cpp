@@ -89,6 +89,7 @@ EarlierFrames runEarlierFrames(const std::vector<std::string>& args, RtsimOption
         if (carry) o.machine.startBoundaries = lastBoundaries(*last, o.machine);
         if (!resplit) continue;
         const auto next = sequence.next(*last, k + 1);
+        out.frames.back()["then"] = sequence.said();
         if (next) {
             o.machine.targetBoundaries = *next;
             afresh = sequence.startsAfresh();

@@ -161,7 +161,8 @@ Stop startBoundaries(rt::RtsimOptions& o) {
         if (!o.boundariesFrom.empty()) {
             const nlohmann::json prev = rt::readJsonFile(o.boundariesFrom, rt::kMaxReportBytes);  // (limits as --rerun's)
             o.machine.startBoundaries = rt::lastBoundaries(prev, o.machine);
-            if (o.machine.balance.betweenFrames()) o.machine.targetBoundaries = rt::resplitTargets(prev, o.machine);
+            if (o.machine.balance.betweenFrames() && o.targetsFrom.empty())  // (a frame loop gives its own)
+                o.machine.targetBoundaries = rt::resplitTargets(prev, o.machine);
         }
         if (!o.targetsFrom.empty()) {
             std::ifstream f(o.targetsFrom);

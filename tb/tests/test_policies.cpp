@@ -6,6 +6,7 @@
 #include <set>
 #include <cmath>
 #include <deque>
+#include <map>
 #include <memory>
 #include <random>
 #include <vector>
@@ -14,9 +15,11 @@
 
 #include "balance_agent.h"
 #include "fifo.h"
+#include "frame_forecast.h"
 #include "link.h"
+#include "minimax_split.h"
 #include "policy.h"
-#include "resplit.h"
+#include "between_frames.h"
 #include "work_by_position.h"
 
 using namespace rt;
@@ -813,53 +816,142 @@ TEST(IdealLayerFaces, SlideRuleOnTheLayersSummedLoadsByHand) {
     EXPECT_THROW(g.face(1, 1), std::logic_error);
 }
 
-// ---- resplit: between frames (models/resplit.h) ----
+// ---- resplit: between frames (models/frame_forecast.h, minimax_split.h, between_frames.h) ----
 
-TEST(Resplit, PlanesAtTheQuantilesOfTheBusyTimeByHand) {
-    // Boxes [0,1] [1,2] [2,3] [3,4] with busy 3, 1, 1, 3 (total 8): the
-    // planes where 2, 4 and 6 of it lie below, each box's busy time spread
-    // evenly over it: 2/3 into the first box, the end of the second, 1/3
-    // into the fourth.
-    const std::vector<double> p = resplitPlanes({0, 1, 2, 3, 4}, {3, 1, 1, 3}, 0.1);
-    ASSERT_EQ(p.size(), 3u);
-    EXPECT_NEAR(p[0], 2.0 / 3, 1e-12);
-    EXPECT_NEAR(p[1], 2.0, 1e-12);
-    EXPECT_NEAR(p[2], 3.0 + 1.0 / 3, 1e-12);
-    // All the work in the first box: quarters of it, unless that is thinner
-    // than the minimum, which pushes the planes up from the bottom.
-    const std::vector<double> q = resplitPlanes({0, 1, 2, 3, 4}, {100, 0, 0, 0}, 0.2);
-    EXPECT_NEAR(q[0], 0.25, 1e-12);
-    EXPECT_NEAR(q[1], 0.5, 1e-12);
-    EXPECT_NEAR(q[2], 0.75, 1e-12);
-    const std::vector<double> r = resplitPlanes({0, 1, 2, 3, 4}, {100, 0, 0, 0}, 0.5);
-    EXPECT_NEAR(r[0], 0.5, 1e-12);
-    EXPECT_NEAR(r[1], 1.0, 1e-12);
-    EXPECT_NEAR(r[2], 1.5, 1e-12);
-    // No busy time: the planes stay.
-    EXPECT_EQ(resplitPlanes({0, 1, 2, 3, 4}, {0, 0, 0, 0}, 0.1), (std::vector<double>{1, 2, 3}));
-    EXPECT_THROW(resplitPlanes({0, 1, 2}, {1, 1, 1}, 0.1), std::invalid_argument);
+namespace {
+// Part costs on a grid of m cells: the sum of the cells' costs, and `cut`
+// more for a part whose ends lie on an edge listed (not the line's ends).
+PartCosts sumOfCells(const std::vector<double>& cells, const std::map<int, double>& cut = {}) {
+    const int m = int(cells.size());
+    PartCosts c{m, std::vector<double>(size_t(m + 1) * size_t(m + 1), 0.0)};
+    for (int i = 0; i < m; ++i)
+        for (int j = i + 1; j <= m; ++j) {
+            double x = 0;
+            for (int k = i; k < j; ++k) x += cells[size_t(k)];
+            for (int e : {i, j})
+                if (auto it = cut.find(e); it != cut.end()) x += it->second;
+            c.cost[size_t(i) * size_t(m + 1) + size_t(j)] = x;
+        }
+    return c;
+}
+}  // namespace
+
+TEST(MinimaxSplit, EqualCellsSplitEvenly) {
+    EXPECT_EQ(minimaxSplit(sumOfCells(std::vector<double>(12, 1.0)), 4, 1), (std::vector<int>{0, 3, 6, 9, 12}));
+    // 3 1 1 3 in cells of 1, 1, 1, 1 each of 2: two parts of 4 each.
+    EXPECT_EQ(minimaxSplit(sumOfCells({1.5, 1.5, 0.5, 0.5, 0.5, 0.5, 1.5, 1.5}), 2, 1), (std::vector<int>{0, 4, 8}));
 }
 
-TEST(Resplit, PlanesFromPiecesOfWorkByHand) {
-    // Over [0, 4]: 10 evenly over [0, 1], 10 over [1, 2], 20 over [2, 4],
-    // and, overlapping, 8 more over [0, 2] (4 per unit), a point mass of 2
-    // at 3. Total 50; quarters 12.5, 25, 37.5. Below x (x in [0, 1]):
-    // 14 x, so 12.5 at 12.5/14; in [1, 2]: 14 + 14 (x - 1): 25 at 1 + 11/14;
-    // 28 by 2, then 10 per unit: 37.5 at 2.95 (the point mass at 3 after).
-    const std::vector<WorkPiece> pieces{{0, 1, 10}, {1, 2, 10}, {2, 4, 20}, {0, 2, 8}, {3, 3, 2}};
-    const std::vector<double> p = resplitPlanes(pieces, 0, 4, 4, 0.1, {1, 2, 3});
-    ASSERT_EQ(p.size(), 3u);
-    EXPECT_NEAR(p[0], 12.5 / 14, 1e-12);
-    EXPECT_NEAR(p[1], 1 + 11.0 / 14, 1e-12);
-    EXPECT_NEAR(p[2], 2.95, 1e-12);
-    // A point mass holds a quantile at it: 12 at 0.5 of 14 in all: 7 below 0.5 with it.
-    const std::vector<double> q = resplitPlanes({{0, 1, 2}, {0.5, 0.5, 12}}, 0, 1, 2, 0.01, {0.9});
-    EXPECT_NEAR(q[0], 0.5, 1e-12);
-    // No work: the planes given stay; pieces outside [lo, hi] count at its ends.
-    EXPECT_EQ(resplitPlanes({{0, 1, 0}}, 0, 4, 4, 0.1, {1, 2, 3}), (std::vector<double>{1, 2, 3}));
-    const std::vector<double> e = resplitPlanes({{-1, 0, 6}, {0, 4, 2}}, 0, 4, 2, 0.5, {2});
-    EXPECT_NEAR(e[0], 0.5, 1e-12);  // half of 8 is at 0 (a point mass there), pushed up to the minimum thickness
-    EXPECT_THROW(resplitPlanes(pieces, 0, 4, 4, 0.1, {1, 2}), std::invalid_argument);
+TEST(MinimaxSplit, APlaneWhereManyRaysCrossCostsItsNeighbours) {
+    // Ten cells of 1 in two parts: the middle, edge 5, gives 5 and 5; a
+    // plane there cuts rays that cost each side 3 more (8 and 8), so the
+    // plane moves to edge 4 or 6 (4 + 0 and 6, or 6 and 4): the dearest part 6.
+    const std::vector<int> e = minimaxSplit(sumOfCells(std::vector<double>(10, 1.0), {{5, 3.0}}), 2, 1);
+    EXPECT_TRUE(e == (std::vector<int>{0, 4, 10}) || e == (std::vector<int>{0, 6, 10})) << e[1];
+    // Where the cut costs less than it saves, the plane stays.
+    EXPECT_EQ(minimaxSplit(sumOfCells(std::vector<double>(10, 1.0), {{5, 0.5}}), 2, 1), (std::vector<int>{0, 5, 10}));
+}
+
+TEST(MinimaxSplit, AmongEqualDearestPartsTheRestShareEvenly) {
+    // One cell of 10 dominates; the other 9 cells of 1 go to the two other
+    // parts as evenly as they can (sum of squares): 4 and 5, not 1 and 8.
+    std::vector<double> cells(10, 1.0);
+    cells[0] = 10;
+    const std::vector<int> e = minimaxSplit(sumOfCells(cells), 3, 1);
+    EXPECT_EQ(e[1], 1);
+    EXPECT_TRUE(e[2] == 5 || e[2] == 6) << e[2];
+}
+
+TEST(MinimaxSplit, EveryPartAtLeastTheMinimumWide) {
+    std::vector<double> cells(12, 0.0);
+    cells[0] = 100;  // all the work in the first cell: quarters would be one cell each
+    const std::vector<int> e = minimaxSplit(sumOfCells(cells), 4, 3);
+    EXPECT_EQ(e, (std::vector<int>{0, 3, 6, 9, 12}));
+    EXPECT_THROW(minimaxSplit(sumOfCells(cells), 4, 4), std::invalid_argument);
+    EXPECT_THROW(minimaxSplit(sumOfCells(cells), 0, 1), std::invalid_argument);
+}
+
+namespace {
+// A report of an N x 1 x 2 mesh along x over [0, 1] (two columns, z = 0
+// and z = 1), planes at k / N, each node busy `busy` with all of it spread
+// over its box; `extra` edits it.
+nlohmann::json forecastReport(int n, double busy) {
+    nlohmann::json r;
+    r["render_time_ns"] = 1000;
+    r["config"]["mesh"] = {n, 1, 2};
+    r["config"]["balance"]["axis"] = "x";
+    for (int z = 0; z < 2; ++z) {
+        for (int k = 1; k < n; ++k) r["boundaries"].push_back({{"column", {0, z}}, {"index", k}, {"history", {{0, double(k) / n}}}});
+        for (int k = 0; k < n; ++k)
+            r["nodes"].push_back({{"node", {k, 0, z}},
+                                  {"box", {{double(k) / n, 0, z}, {double(k + 1) / n, 1, z + 1}}},
+                                  {"busy_ns", busy}});
+    }
+    return r;
+}
+MachineConfig forecastMesh(int n) {
+    MachineConfig m;
+    m.dims = {n, 1, 2};
+    m.balance.axis = 0;
+    return m;
+}
+}  // namespace
+
+TEST(FrameForecast, BusyTimesAndCutsByHand) {
+    // Two nodes per column, 100 ns each spread over its half. Node 0 of
+    // column z = 0 also crossed its upper face 40 times at 2 ns each (80
+    // ns, not in its spread busy time), and the rays a plane would cut are
+    // 10 going up at every position of [0, 1) (bins of 1/256: 128 per box).
+    nlohmann::json r = forecastReport(2, 100);
+    auto& w = r["nodes"][0]["work_by_position"];
+    w = {{"axis_from", 0.0}, {"bin_width", 1.0 / 256}, {"first_bin", 0}, {"ns", nlohmann::json::array()},
+         {"face_handling_ns", 80.0}, {"face_crossings", 40}};
+    w["cuts_up"] = {{"first_bin", 0}, {"rays", std::vector<double>(255, 10.0)}};
+    r["nodes"][0]["busy_ns"] = 180.0;
+    const MachineConfig m = forecastMesh(2);
+    const FrameForecast f(r, m, InnerPlanes{{0.5}, {0.5}});
+    // Held at 0.5: node 0 of column 0 does its 100, plus 10 cut rays at
+    // 2 ns (its column's 80 ns / 40 crossings): 120; the others 100.
+    EXPECT_NEAR(f.forecast({{0.5}, {0.5}}).nodeNs, 120, 1e-9);
+    // At 0.25: node 1 has 50 of node 0's and its 100, and the cut: 170.
+    EXPECT_NEAR(f.forecast({{0.25}, {0.5}}).nodeNs, 170, 1e-9);
+    // The search evens column 0: x + 20 = (1 - x) ... busy below x is 200 x
+    // for x < 0.5: 200 x + 20 = 200 - 200 x + 20 gives x = 0.5 again.
+    const InnerPlanes p = f.perColumn();
+    EXPECT_NEAR(p[0][0], 0.5, 1.0 / 256);
+    EXPECT_NEAR(f.forecast(p).nodeNs, 120, 200.0 / 256 + 1e-9);
+    // No links in the report: no wire time forecast.
+    EXPECT_EQ(f.forecast(p).linkNs, 0);
+}
+
+TEST(FrameForecast, RaysAcrossColumnsArePassedWhereThePlanesDiffer) {
+    // 30 rays left node 0 of column z = 0 for column z = 1 at x in the bin
+    // [0.2, 0.2 + 1/256); a receive and a send cost 1 ns each (the column
+    // handled 20 crossings for 20 ns).
+    nlohmann::json r = forecastReport(2, 0);
+    auto& w = r["nodes"][2]["work_by_position"];  // node 0 of column z = 1: its handling cost
+    w = {{"axis_from", 0.0}, {"bin_width", 1.0 / 256}, {"first_bin", 0}, {"ns", nlohmann::json::array()},
+         {"face_handling_ns", 20.0}, {"face_crossings", 20}};
+    r["nodes"][0]["work_by_position"] = {{"axis_from", 0.0}, {"bin_width", 1.0 / 256}, {"first_bin", 51},
+                                         {"ns", nlohmann::json::array()}};
+    r["nodes"][0]["work_by_position"]["lateral"]["pz"] = {{"first_bin", 51}, {"rays", {30.0}}};
+    r["links"] = nlohmann::json::array({{{"to", "+z"}, {"wire_ns", {{"ray", 300.0}}}}, {{"to", "fb"}, {"wire_ns", {{"ray", 1e6}}}}});
+    const FrameForecast f(r, forecastMesh(2), InnerPlanes{{0.5}, {0.5}});
+    // Planes alike: the rays go from node 0 to node 0, owner there; none passed.
+    const FrameForecast::Forecast same = f.forecast({{0.5}, {0.5}});
+    EXPECT_EQ(same.passes, 0);
+    EXPECT_EQ(same.nodeNs, 0);
+    // Column 1's plane at 0.1: x = 0.2 is its node 1's; node 0 passes the
+    // 30 rays up: 30 x (1 + 1) ns, and the link up through 0.1 carries them.
+    const FrameForecast::Forecast moved = f.forecast({{0.5}, {0.1}});
+    EXPECT_EQ(moved.passes, 30);
+    EXPECT_NEAR(moved.nodeNs, 60, 1e-9);
+    // Wire per ray: 300 ns over the rays the links carried, the frame
+    // buffer's links aside: the 30 across and 20 / 2 along the axis (each
+    // crossing counted by both its nodes), 7.5 ns; the busiest link (the
+    // one across, and the one up through 0.1) carries 30.
+    EXPECT_NEAR(moved.linkNs, 225, 1e-9);
+    EXPECT_NEAR(moved.frameNs, 225, 1e-9);
 }
 
 TEST(Resplit, WorkByPositionKeepsOnlyTheSpanTraced) {

@@ -145,18 +145,23 @@ TEST(BetweenFrames, BoundariesReadBackFromAReport) {
     EXPECT_THROW(lastBoundaries(broken, m), std::runtime_error);
 }
 
-TEST(BetweenFrames, ResplitTargetsSplitTheBusyTimeEvenly) {
-    // Planes at 1/3 and 2/3 throughout; busy 2, 1, 1: 4/3 each. Node 0's 2
-    // over [0, 1/3] reach 4/3 at 2/9; then its last 2/3 and 2/3 of node 1's
-    // (over [1/3, 2/3]) reach 8/3 at 1/3 + 2/9 = 5/9.
-    const InnerPlanes t = resplitTargets(report(10, 1.0 / 3, 1.0 / 3, {2, 1, 1}), mesh({3, 1, 1}));
-    ASSERT_EQ(t.size(), 1u);
-    ASSERT_EQ(t[0].size(), 2u);
-    EXPECT_NEAR(t[0][0], 2.0 / 9, 1e-12);
-    EXPECT_NEAR(t[0][1], 5.0 / 9, 1e-12);
+TEST(BetweenFrames, ResplitEvensTheBusiestNodeByTheForecast) {
+    // Planes at 1/3 and 2/3 throughout; busy 2, 1, 1, each spread over its
+    // box (no rays cut in this report): the dearest node is least at 4/3,
+    // with planes at 2/9 and 5/9 (node 0's 2 over [0, 1/3] reach 4/3 at 2/9;
+    // its last 2/3 and node 1's 1 over [1/3, 2/3] reach 4/3 more at 5/9).
+    // The search places planes on the work's bins (1/384 here).
+    const ResplitChoice c = resplitChoice(report(10, 1.0 / 3, 1.0 / 3, {2, 1, 1}), mesh({3, 1, 1}));
+    ASSERT_EQ(c.planes.size(), 1u);
+    ASSERT_EQ(c.planes[0].size(), 2u);
+    EXPECT_NEAR(c.planes[0][0], 2.0 / 9, 1.0 / 384);
+    EXPECT_NEAR(c.planes[0][1], 5.0 / 9, 1.0 / 384);
+    EXPECT_NEAR(c.heldNs, 2, 1e-9);
+    EXPECT_NEAR(c.forecastNs, 4.0 / 3, 3.0 / 384);
+    EXPECT_STREQ(c.what, "per column");  // (one column: both searches agree, the first is kept)
 }
 
-TEST(BetweenFrames, ResplitTargetsPlaceTheWorkWhereItHappened) {
+TEST(BetweenFrames, ResplitPlacesTheWorkWhereItHappened) {
     // As above, but node 0's work happened where its profile says: 1.5 of
     // its 2 in [0, 0.1) (bins of 0.05 from 0: bins 0 and 1, 0.75 each), the
     // rest (0.5) spread over its box [0, 1/3]. Total 4, 4/3 per node: the
@@ -167,13 +172,21 @@ TEST(BetweenFrames, ResplitTargetsPlaceTheWorkWhereItHappened) {
     r["nodes"][0]["work_by_position"] = {{"axis_from", 0.0}, {"bin_width", 0.05}, {"first_bin", 0}, {"ns", {0.75, 0.75}}};
     const InnerPlanes t = resplitTargets(r, mesh({3, 1, 1}));
     ASSERT_EQ(t.size(), 1u);
-    EXPECT_NEAR(t[0][0], 0.05 + (4.0 / 3 - 0.825) / 16.5, 1e-12);
+    EXPECT_NEAR(t[0][0], 0.05 + (4.0 / 3 - 0.825) / 16.5, 1.0 / 384);
     // The second: 2 below 1/3 (node 0), then node 1's 1 over [1/3, 2/3]: 8/3 at 1/3 + 2/9.
-    EXPECT_NEAR(t[0][1], 5.0 / 9, 1e-12);
-    // A half step goes half the way from where the planes ended (1/3, 2/3).
-    const InnerPlanes h = resplitTargets(r, mesh({3, 1, 1}), 0.5);
-    EXPECT_NEAR(h[0][0], (1.0 / 3 + t[0][0]) / 2, 1e-12);
-    EXPECT_NEAR(h[0][1], (2.0 / 3 + t[0][1]) / 2, 1e-12);
+    EXPECT_NEAR(t[0][1], 5.0 / 9, 1.0 / 384);
+}
+
+TEST(BetweenFrames, ResplitHoldsThePlanesWhenTheForecastGainsLittle) {
+    // Busy 1.04, 1, 1: the best forecast, 3.04 / 3 each, is 2.6 % shorter
+    // than holding (1.04), less than kMinForecastGain: the planes hold, where
+    // the frame ended them.
+    const ResplitChoice c = resplitChoice(report(10, 0.30, 0.31, {1.04, 1, 1}), mesh({3, 1, 1}));
+    EXPECT_STREQ(c.what, "held");
+    EXPECT_EQ(c.planes, (InnerPlanes{{0.31, 2.0 / 3}}));
+    EXPECT_NEAR(c.forecastNs, c.heldNs, 1e-12);
+    // At 1.1 it moves.
+    EXPECT_STRNE(resplitChoice(report(10, 0.30, 0.31, {1.1, 1, 1}), mesh({3, 1, 1})).what, "held");
 }
 
 TEST(BetweenFrames, ResplitHoldsTheFastestFrameOnceTwoResplitsInARowLose) {
@@ -184,13 +197,10 @@ TEST(BetweenFrames, ResplitHoldsTheFastestFrameOnceTwoResplitsInARowLose) {
     const auto second = s.next(report(80, 0.31, 0.32, {1, 1, 1}), 2);  // faster: re-split again
     ASSERT_TRUE(second);
     EXPECT_FALSE(s.startsAfresh());
-    const auto third = s.next(report(90, 0.32, 0.33, {1, 1, 1}), 3);  // slower, once: one more (half) step
+    const auto third = s.next(report(90, 0.32, 0.33, {1.5, 1, 1}), 3);  // slower, once: one more re-split
     ASSERT_TRUE(third);
-    EXPECT_NE(*third, (InnerPlanes{{0.32, 2.0 / 3}}));
-    // Half the way from where frame 3 ended (0.33, 2/3) to the quantiles of
-    // its equal busy times (1/3, 2/3): the targets of a full step, halved.
-    const InnerPlanes full = resplitTargets(report(90, 0.32, 0.33, {1, 1, 1}), m);
-    EXPECT_NEAR((*third)[0][0], 0.33 + 0.5 * (full[0][0] - 0.33), 1e-12);
+    EXPECT_EQ(*third, resplitTargets(report(90, 0.32, 0.33, {1.5, 1, 1}), m));
+    EXPECT_EQ(s.said().at("next"), "per column");
     const auto fourth = s.next(report(85, 0.33, 0.34, {1, 1, 1}), 4);  // slower again: back to frame 2's planes, held
     ASSERT_TRUE(fourth);
     EXPECT_EQ(*fourth, (InnerPlanes{{0.32, 2.0 / 3}}));

@@ -1,0 +1,83 @@
+// The next frame's time, forecast from the frame before for any planes
+// along the axis, and the planes that make it shortest: `resplit`'s and
+// `measured`'s choice between frames (doc/balancing.md, "Between frames").
+//
+// From the report of the frame before it takes, per column: the tracing
+// work by where it happened (work_by_position), the rays a plane would cut
+// at each position, in each direction (cuts_up, cuts_down), what a node
+// spends on a ray across a face (face_handling_ns / face_crossings), and
+// the rays sent to each neighbouring column by where they left (lateral);
+// and the wire time per ray on the links. For planes P it forecasts
+//  - each node's busy time: the work between its planes, the rays its
+//    planes cut at the handling cost, and the rays it passes on untraced
+//    (a ray that crosses into a column whose planes differ is handed to the
+//    node of its sender's index, which passes it along the axis to the
+//    owner; each pass a receive and a send);
+//  - each link's rays: the cuts at its plane, the rays sent across columns
+//    by the sender's owner, and the passes;
+// and the frame as the dearer of the busiest node and the busiest link
+// (the frames measured are within a few per cent of that maximum, at
+// default links and past the knee alike). Plain C++ on reports (JSON).
+#pragma once
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "machine_config.h"
+#include "mesh_geometry.h"
+
+namespace rt {
+
+// Per column (ColumnGeometry order): its N - 1 inner planes along the axis.
+using InnerPlanes = std::vector<std::vector<double>>;
+
+class FrameForecast {
+public:
+    // From report `r` (of this mesh and axis: the caller checks) and the
+    // planes as they stood on average over its frame.
+    FrameForecast(const nlohmann::json& r, const MachineConfig& m, const InnerPlanes& averaged);
+
+    struct Forecast {
+        double frameNs = 0;  // the dearer of the two below
+        double nodeNs = 0;   // the busiest node's busy time
+        double linkNs = 0;   // the busiest link's wire time
+        double passes = 0;   // rays passed on untraced
+    };
+    Forecast forecast(const InnerPlanes& planes) const;
+
+    // The planes of least forecast busy time for the busiest node, each
+    // column on its own (rays crossing columns are passed on where they
+    // differ), and one set for all columns (no ray is passed on).
+    InnerPlanes perColumn() const;
+    InnerPlanes aligned() const;
+
+private:
+    struct Column {
+        std::vector<double> below;     // work below each grid edge (ns), G + 1 entries
+        std::vector<double> up, down;  // rays a plane at each grid edge cuts, going up and down the axis
+        double perCrossing = 0;        // ns a node spends on one ray across a face along the axis
+        std::vector<double> perBin;    // (while reading: work per bin)
+        double faceNs = 0, faceRays = 0;
+    };
+    struct Lateral {
+        int from, to, bin;  // columns; the bin it left from
+        double rays;
+    };
+    double readNode(const nlohmann::json& node, const InnerPlanes& averaged);
+    double work(const Column& c, int i, int j) const;  // forecast busy between edges i < j, passes aside
+    double partCost(const Column& c, int i, int j) const;  // what the searches minimise the largest of
+    int edgeOf(double x) const;
+    int ownerOf(const std::vector<double>& planes, double x) const;  // the node index along the column
+    std::vector<double> planesOf(const std::vector<int>& edges) const;
+    std::vector<int> gridEdges() const;  // the coarse grid the search runs on (bins at every edge)
+    int minCells(int step) const;
+
+    ColumnGeometry g_;
+    int n_ = 1, bins_ = 1;
+    double lo_ = 0, hi_ = 1, minBins_ = 0;
+    std::vector<Column> columns_;
+    std::vector<Lateral> lateral_;
+    double wirePerRay_ = 0;  // ns
+};
+
+}  // namespace rt
