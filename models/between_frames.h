@@ -46,12 +46,11 @@ InnerPlanes resplitTargets(const nlohmann::json& r, const MachineConfig& m);
 // `resplit` and `measured` over a sequence of frames: what the next frame
 // does. Each frame re-splits by the forecast from the one before
 // (resplitChoice), as long as that keeps making frames faster:
-//  - once two re-split frames in a row are not faster than the fastest
-//    re-split frame so far, when that one beat the first frame, the
-//    boundaries return to its planes and hold from then on (equal busy
-//    times are not always the fastest frame: across the axis the frame also
-//    waits for work to arrive, and re-splitting to equal busy times crept
-//    from 825 to 953 us over ten frames);
+//  - once a re-split frame is not faster than the fastest re-split frame
+//    so far, when that one beat the first frame, the boundaries return to
+//    its planes and hold from then on (the forecast missed there: on
+//    balls-4, N = 4, 1 GB/s, moving on after such a frame made frames of
+//    0.23 and then 0.50 of the unbalanced one);
 //  - if neither of the first two re-split frames beats the first frame,
 //    re-splitting does not pay here (past the links' knee thinner boxes
 //    cost more link time than they save). (Two tries, not one: a first
@@ -79,7 +78,7 @@ public:
 
 private:
     static constexpr int kTries = 2;
-    static constexpr int kPatience = 2;  // such frames in a row before the fastest one's planes are held
+    static constexpr int kPatience = 1;  // such frames in a row before the fastest one's planes are held
     const MachineConfig& m_;
     bool firstHolds_;  // frame 1 held the starting split (measured): it needs no trial
     double firstNs_ = 0, bestNs_ = 1e300;  // the first frame's time; the fastest re-split frame's
