@@ -130,9 +130,10 @@ void FrameBufferUnit::run() {
 // already (nothing to trace at all).
 bool FrameBufferUnit::begin() {
     started_ = true;
-    inputOrder_.listen(in);
+    inLinks_ = fromNodes_;
     for (int i = 0; i < in.size(); ++i) inLinks_.push_back(&asLink(*in[i]));
-    if (late_ > 0) inputOrder_.setLate(late_, size_t(in.size()) - 1);  // its last port is from unit 0
+    inputOrder_.listen(std::vector<LinkRecvIf*>(inLinks_.begin(), inLinks_.end()));
+    if (late_ > 0) inputOrder_.setLate(late_, inLinks_.size() - 1);  // its last input is from unit 0
     now_ = sc_core::sc_time_stamp().value();
     lastPrint_ = std::chrono::steady_clock::now();
     if (controller() && credit_.isOne()) {

@@ -94,6 +94,10 @@ void Machine::buildNodes(const ObjectBins& bins) {
 // watchdog, which the links mark progress to.
 void Machine::buildLinks() {
     std::vector<Picos> nodeLookahead(nodes_.size(), kNoInput), unitLookahead(units_.size(), kNoInput);
+    const size_t most = nodes_.size() * size_t(kDirs + cfg_.fbUnits);  // (grown once, not by doubling)
+    links_.reserve(most);
+    reportOf_.reserve(most);
+    linkInfo_.reserve(nodes_.size() * size_t(kDirs + 1));
     for (Node& n : nodes_) {
         linkNeighbours(n, nodeLookahead);
         linkToFrameBuffer(n, unitLookahead);
@@ -147,7 +151,7 @@ void Machine::linkToFrameBuffer(Node& n, std::vector<Picos>& unitLookahead) {
     for (int u = 0; u < k; ++u) {
         links_.push_back(std::make_unique<Link>(k > 1 ? fname + std::to_string(u) : fname, port));
         n.fb.bind(*links_.back());                   // the node's u-th binding
-        units_[size_t(u)].in.bind(*links_.back());   // the unit's binding for this node (nodes in order)
+        units_[size_t(u)].addNodeLink(*links_.back());  // the unit's input from this node (nodes in order)
         unitLookahead[size_t(u)] = std::min(unitLookahead[size_t(u)], links_.back()->lookahead());
         reportOf_.push_back(linkInfo_.size());
     }
@@ -160,7 +164,7 @@ void Machine::linkUnits(std::vector<Picos>& unitLookahead) {
         const std::string up = "fb" + std::to_string(u) + "_to_fb0", down = "fb0_to_fb" + std::to_string(u);
         unitLinks_.push_back(std::make_unique<Link>(up, cfg_.fbPort));
         units_[size_t(u)].toController.bind(*unitLinks_.back());
-        units_[0].in.bind(*unitLinks_.back());  // after the nodes' ports
+        units_[0].in.bind(*unitLinks_.back());  // (after the nodes' links)
         unitLookahead[0] = std::min(unitLookahead[0], unitLinks_.back()->lookahead());
         unitLinks_.push_back(std::make_unique<Link>(down, cfg_.fbPort));
         units_[0].toUnits.bind(*unitLinks_.back());
@@ -264,7 +268,7 @@ MachineResult Machine::collect(double wallSeconds) {
         r.boxes.push_back(n.region().box());
         r.objectsPerNode.push_back(n.region().objects().size());
     }
-    r.links = linkInfo_;
+    r.links = std::move(linkInfo_);  // (collected once, at the end)
     for (size_t i = 0; i < links_.size(); ++i) mergeChannel(r.links[reportOf_[i]].stats, links_[i]->stats());
     r.boundaries = boundaryHistories();
     r.worldBox = world_;
@@ -296,6 +300,16 @@ std::vector<BoundaryHistory> Machine::boundaryHistories() const {
     return out;
 }
 
+namespace {
+// The process's start, for the start-up wall time (set at static initialisation).
+const std::chrono::steady_clock::time_point kProcessStart = std::chrono::steady_clock::now();
+double secondsBetween(std::chrono::steady_clock::time_point a, std::chrono::steady_clock::time_point b) {
+    return std::chrono::duration<double>(b - a).count();
+}
+}  // namespace
+
+void Machine::start_of_simulation() { started_ = std::chrono::steady_clock::now(); }
+
 MachineResult runMachine(const Scene& scene, const MachineConfig& config) {
     sc_core::sc_set_time_resolution(1, sc_core::SC_PS);
     const auto t0 = std::chrono::steady_clock::now();
@@ -311,7 +325,10 @@ MachineResult runMachine(const Scene& scene, const MachineConfig& config) {
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     machine.checkConservation();
     machine.closeTraces();
-    return machine.collect(wall);
+    MachineResult r = machine.collect(wall);
+    r.wallElaborationSeconds = secondsBetween(t0, machine.started());
+    r.wallStartupSeconds = secondsBetween(kProcessStart, machine.started());
+    return r;
 }
 
 }  // namespace rt

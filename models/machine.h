@@ -10,6 +10,7 @@
 //   initial_split.h    where the frame starts (boxes, primary rays, credit)
 //   watchdog.h         stopping a run that is stuck, too long or interrupted
 #pragma once
+#include <chrono>
 #include <map>
 #include <memory>
 #include <string>
@@ -63,6 +64,9 @@ struct MachineResult {
     Box worldBox;
     uint64_t deltaCycles = 0;
     double wallSeconds = 0;
+    // Of it, building the machine until the first simulated event; and the
+    // process's wall time up to that event (reading the scene included).
+    double wallElaborationSeconds = 0, wallStartupSeconds = 0;
     // The VCD's GTKWave save file (trace_writer.h), if it was traced.
     std::string gtkw;
     // Empty for a run that ended; otherwise why the watchdog stopped it
@@ -76,6 +80,9 @@ public:
     ~Machine() override;
 
     MachineResult collect(double wallSeconds);
+    // The first simulated event is next: the wall clock's start-up ends.
+    void start_of_simulation() override;
+    std::chrono::steady_clock::time_point started() const { return started_; }
     // The frame is over (ended, or stopped): every node's and link's figures as of its end.
     void endFrame();
     // Checks the conservation laws at the end of a run; throws
@@ -121,6 +128,7 @@ private:
     std::string gtkw_;
     std::vector<const Link*> tracedLinks_;
 
+    std::chrono::steady_clock::time_point started_;
     const Scene& scene_;
     MachineConfig cfg_;
     int width_, height_;

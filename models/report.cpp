@@ -311,6 +311,8 @@ nlohmann::json machineReport(const MachineResult& r, const MachineConfig& cfg) {
     j["render_time_ns"] = ns(r.renderTime);
     if (!r.incomplete.empty()) j["incomplete"] = r.incomplete;  // stopped by the watchdog: every figure up to then
     j["wall_s"] = r.wallSeconds;
+    j["wall_elaboration_s"] = r.wallElaborationSeconds;  // of wall_s: building the machine, to the first event
+    j["wall_startup_s"] = r.wallStartupSeconds;  // the process, to the first event (reading the scene included)
     NodeStats total;
     for (size_t i = 0; i < r.nodes.size(); ++i) {
         const NodeStats& s = r.nodes[i];

@@ -47,7 +47,7 @@ RUNS = [
                         "--frames", "3", "--ray-batch", "4", "--fb-units", "3"], []),
 ]
 
-HOST_FIELDS = [("wall_s",), ("rerun", "version"), ("kernel", "delta_cycles")]
+HOST_FIELDS = [("wall_s",), ("wall_elaboration_s",), ("wall_startup_s",), ("rerun", "version"), ("kernel", "delta_cycles")]
 
 
 def run(build, out_dir, name, flags):

@@ -10,12 +10,14 @@
 // starts from, the earlier frames of a sequence (frame_sequence.h), the
 // machine itself (models/machine.h), the reference runs
 // (reference_runs.h), the outputs (outputs.h) and the summary (summary.h).
+#include <malloc.h>
 #include <signal.h>
 #include <sys/prctl.h>
 #include <unistd.h>
 
 #include <cstdlib>
 #include <fstream>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -263,6 +265,12 @@ int run(const rt::CommandLine& cl, const CLI::App& app, rt::RtsimOptions& o, con
 }  // namespace
 
 int sc_main(int argc, char** argv) {
+    // Freed memory stays with the process, for the next allocation to reuse:
+    // by default glibc hands large blocks back to the system and takes
+    // fresh, zeroed pages for the next, which was half of a 32x32x32 mesh's
+    // start-up (every node's and link's buffers are allocated then).
+    mallopt(M_TRIM_THRESHOLD, std::numeric_limits<int>::max());
+    mallopt(M_MMAP_THRESHOLD, 32 << 20);  // (glibc's largest)
     CLI::App app{"rtsim: a SystemC model of the sliding-boundary ray-tracing multicomputer (one frame, or a sequence with --frames)",
                  "rtsim"};
     rt::RtsimOptions o;

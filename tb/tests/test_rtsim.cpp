@@ -585,8 +585,8 @@ TEST_F(Rtsim, TheBusyLinkGuardCountsALinksSlotsWhereTheyAreTheNarrowerLimit) {
 TEST_F(Rtsim, PresetsAreValidAndModernIsTheDefault) {
     json a = report(std::string(kSmall) + " --mesh 2 --config " RT_CONFIG_DIR "/modern.conf", "a.json");
     json b = report(std::string(kSmall) + " --mesh 2", "b.json");
-    a.erase("wall_s");
-    b.erase("wall_s");
+    dropWall(a);
+    dropWall(b);
     a.erase("rerun");  // (the flags given differ: that is the point)
     b.erase("rerun");
     EXPECT_TRUE(a == b) << json::diff(b, a).dump().substr(0, 800);
@@ -979,7 +979,8 @@ TEST_F(RtsimQuantum, ZeroLatencyIsExactInLookaheadMode) {
             if (quantum == "0" || quantum == "lookahead") {
                 EXPECT_EQ(r["config"]["quantum_ns"], quantum == "0" ? 0 : lookahead);
             }
-            for (const char* k : {"kernel", "wall_s", "config", "rerun"}) r.erase(k);
+            for (const char* k : {"kernel", "config", "rerun"}) r.erase(k);
+            dropWall(r);
             return r;
         };
         const json exact = runTo("e", "0", true);
@@ -1049,7 +1050,7 @@ void RtsimQuantum::expectExactUpToTheLookahead(const std::string& extra, double 
         json a = r, b = exact;
         for (json* j : {&a, &b}) {
             j->erase("kernel");
-            j->erase("wall_s");
+            dropWall(*j);
             j->erase("config");
             j->erase("rerun");
         }
