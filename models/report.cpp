@@ -199,24 +199,17 @@ nlohmann::json linkJsonOf(const LinkReport& l, Picos renderTime, bool distributi
 // totals by message type.
 void addLinks(nlohmann::json& j, const MachineResult& r, const MachineConfig& cfg) {
     std::array<uint64_t, kMsgTypes> msgs{}, bytes{};
-    // Ranked by what held the frame back: the time the wire was busy with
-    // messages waiting for it, then its utilisation.
-    std::vector<std::tuple<Picos, double, size_t>> busiest;  // (saturated, utilisation, index)
     for (const LinkReport& l : r.links) {
         for (size_t t = 0; t < size_t(kMsgTypes); ++t) {
             msgs[t] += l.stats.messages[t];
             bytes[t] += l.stats.bytes[t];
         }
-        nlohmann::json lj = linkJsonOf(l, r.renderTime, cfg.linkDistributions);
-        busiest.push_back({l.stats.saturated, lj["utilisation"].get<double>(), j["links"].size()});
-        j["links"].push_back(std::move(lj));
+        j["links"].push_back(linkJsonOf(l, r.renderTime, cfg.linkDistributions));
     }
-    std::stable_sort(busiest.begin(), busiest.end(), [](const auto& a, const auto& b) {
-        return std::get<0>(a) != std::get<0>(b) ? std::get<0>(a) > std::get<0>(b) : std::get<1>(a) > std::get<1>(b);
-    });
+    const std::vector<size_t> busiest = linksByBacklog(j["links"]);
     j["busiest_links"] = nlohmann::json::array();
     for (size_t i = 0; i < std::min<size_t>(3, busiest.size()); ++i) {
-        const auto& l = j["links"][std::get<2>(busiest[i])];
+        const auto& l = j["links"][busiest[i]];
         nlohmann::json b = {{"name", l["name"]}, {"utilisation", l["utilisation"]}, {"saturated_ns", l["saturated_ns"]}};
         if (l.contains("peak_utilisation")) b["peak_utilisation"] = l["peak_utilisation"];
         j["busiest_links"].push_back(std::move(b));
@@ -304,6 +297,15 @@ nlohmann::json boundariesJson(const MachineResult& r) {
 }
 
 }  // namespace
+
+std::vector<size_t> linksByBacklog(const nlohmann::json& links) {
+    std::vector<std::pair<double, double>> key;  // (saturated_ns, utilisation)
+    for (const auto& l : links) key.push_back({l.at("saturated_ns").get<double>(), l.at("utilisation").get<double>()});
+    std::vector<size_t> idx(key.size());
+    for (size_t i = 0; i < idx.size(); ++i) idx[i] = i;
+    std::stable_sort(idx.begin(), idx.end(), [&](size_t a, size_t b) { return key[a] > key[b]; });
+    return idx;
+}
 
 nlohmann::json machineReport(const MachineResult& r, const MachineConfig& cfg) {
     nlohmann::json j;

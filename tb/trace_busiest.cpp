@@ -4,6 +4,7 @@
 #include <numeric>
 
 #include "messages.h"
+#include "report.h"
 #include "subprocess.h"
 
 namespace rt {
@@ -28,10 +29,7 @@ TraceChoice busiestOf(const nlohmann::json& report, int k) {
     });
     for (size_t i = 0; i < std::min(byBusy.size(), size_t(k)); ++i) c.nodes.push_back(nodes[byBusy[i]].at("node").get<Cell>());
     const auto& links = report.at("links");
-    const auto byBacklog = ranked(links, [](const auto& a, const auto& b) {
-        const double sa = a.at("saturated_ns").template get<double>(), sb = b.at("saturated_ns").template get<double>();
-        return sa != sb ? sa > sb : a.at("utilisation").template get<double>() > b.at("utilisation").template get<double>();
-    });
+    const std::vector<size_t> byBacklog = linksByBacklog(links);  // as busiest_links
     for (size_t i = 0; i < std::min(byBacklog.size(), size_t(k)); ++i) {
         const auto& l = links[byBacklog[i]];
         const std::string to = l.at("to").get<std::string>();
