@@ -190,7 +190,7 @@ int FrameForecast::minCells(int cells) const {
 
 std::vector<double> FrameForecast::planesOf(const std::vector<int>& edges) const {
     // Inner edges as positions, every box at least the minimum thickness.
-    const double minT = minBins_ * (hi_ - lo_) / bins_;
+    const double minT = minBins_ * (hi_ - lo_) / bins_ * (1 + 1e-9);  // (the machine's check is exact)
     std::vector<double> x(size_t(n_ + 1));
     x.front() = lo_;
     x.back() = hi_;

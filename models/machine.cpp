@@ -37,6 +37,7 @@ Machine::Machine(sc_core::sc_module_name name, const Scene& scene, const Machine
     if (!cfg_.targetBoundaries.empty() && cfg_.targetBoundaries.size() != columnPlanes_.size())
         throw std::invalid_argument("target boundaries: " + std::to_string(cfg_.targetBoundaries.size()) +
                                     " columns, the mesh has " + std::to_string(columnPlanes_.size()));
+    checkTargets();
     // Credit precision: the host's split, a node's split over its primary
     // rays, and one split per ray-tree level (a hit spawns at most L + 2 rays
     // and keeps a share: L + 3 parts).
@@ -53,6 +54,23 @@ Machine::Machine(sc_core::sc_module_name name, const Scene& scene, const Machine
 }
 
 Machine::~Machine() = default;
+
+// Every target box at least the minimum thickness, exactly: the moves at
+// the start reach a target only then (a give leaves its giver that thick),
+// and a node generates its primary rays only once its faces are at their
+// targets (Node::holdsPrimaries).
+void Machine::checkTargets() const {
+    const int ax = columns_.axis;
+    for (size_t c = 0; c < cfg_.targetBoundaries.size(); ++c) {
+        std::vector<double> p{world_.lo[ax]};
+        p.insert(p.end(), cfg_.targetBoundaries[c].begin(), cfg_.targetBoundaries[c].end());
+        p.push_back(world_.hi[ax]);
+        for (size_t k = 0; k + 1 < p.size(); ++k)
+            if (!(p[k + 1] - p[k] >= minThickness_))
+                throw std::invalid_argument("target boundaries: column " + std::to_string(c) + ", box " + std::to_string(k) +
+                                            " is thinner than the minimum thickness");
+    }
+}
 
 void Machine::buildUnits() {
     const int k = cfg_.fbUnits;

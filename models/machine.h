@@ -96,6 +96,7 @@ public:
 
 private:
     // Building (machine.cpp).
+    void checkTargets() const;
     void buildUnits();
     void buildNodes(const ObjectBins& bins);
     void buildLinks();

@@ -17,8 +17,8 @@ const std::vector<PolicyInfo>& policies() {
         {"quantile", "each boundary moves gain of the way to its quantile of the column's demand (work done and waiting)",
          PolicyKind::Dynamic, 0.5, makeQuantilePolicy},
         {"resplit",
-         "between frames, each boundary moves to its quantile of the column's busy time in the frame before, placed "
-         "where the work happened, and stays for the frame (the first frame, with no frame before, balances as slide)",
+         "between frames, the boundaries move to the planes a forecast from the frame before finds fastest, if 5 % "
+         "faster than holding them, and stay for the frame (the first frame, with no frame before, balances as slide)",
          PolicyKind::Dynamic, 0.25, makeSlidePolicy},
         {"measured",
          "as resplit, but the first frame keeps its starting split and only measures where the work is (no slides "

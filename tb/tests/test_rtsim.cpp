@@ -1265,6 +1265,14 @@ TEST_F(Rtsim, AReSplitFrameGeneratesEachPrimaryRayInTheBoxItMovesTo) {
     EXPECT_EQ(m["totals"]["rays_passed"].get<int>(), 0);
     for (const json& h : m["boundaries"]) EXPECT_DOUBLE_EQ(h["history"].back()[1].get<double>(), h["index"] == 1 ? 0.3 : 0.55);
     EXPECT_EQ(slurp(dir_ / "m.png"), slurp(dir_ / "n.png"));
+    // A target box thinner than the minimum could never be reached (nor
+    // its primary rays generated): refused, in one line.
+    std::ofstream(dir_ / "thin.json") << nlohmann::json(std::vector<std::vector<double>>(9, {0.3, 0.3001})).dump();
+    const Outcome thin = run(k + " --balance measured --boundaries-from " + (dir_ / "n.json").string() +
+                             " --targets-from " + (dir_ / "thin.json").string() + " --image ''");
+    EXPECT_EQ(thin.code, 1) << thin.err;  // (the run refuses it, as a start box too thin)
+    EXPECT_NE(thin.err.find("thinner than the minimum thickness"), std::string::npos) << thin.err;
+    EXPECT_EQ(std::count(thin.err.begin(), thin.err.end(), '\n'), 1) << thin.err;
 }
 
 // A report reruns its run (tb/rerun.h): the flags it records, from another
