@@ -1,0 +1,181 @@
+#!/usr/bin/python3
+"""Scaling benchmark: how rtsim's cost grows with the mesh, N x N x N for
+N = 2, 4, 8, 16, 24, 32, on balls-5 at 1024x1024 and on the paper's scene
+(1,000 spheres crowded into a quarter of x) at 1024x1024, exact mode, no
+balancing, no baseline runs. Per N: wall time and peak memory (medians of
+--runs runs, the N alternated ascending and descending, every run pinned
+to one CPU), the start-up (the process's wall time to the first simulated
+event, the report's wall_startup_s) and the wall time per modelled event.
+The modelled events are the nodes' ray steps (a ray traced through a box,
+or passed on through it untraced), their intersection tests and every
+message (rays, contributions, credit). At the largest N the image is
+compared with rtref's. Prints tables; with --doc writes
+doc/benchmarks/scaling.md and scaling.png. Run with /usr/bin/python3."""
+import argparse
+import json
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from bench_rtref import add_cpu_option, build_fast, machine, pin_to_cpu  # noqa: E402
+from bench_rtsim import timed  # noqa: E402
+from project import FAST_BUILD, PAPER_SCENE, ROOT, spd_scene, version  # noqa: E402
+
+# Issue 45's targets, checked in the table's last lines.
+TARGET_WALL_S, TARGET_MEM_MIB = 150.0, 3 * 1024
+TARGET_PER_EVENT, TARGET_STARTUP = 1.3, 0.10
+
+
+def paper_scene(size):
+    """The paper's scene (project.PAPER_SCENE) at f = 1/4, at `size`."""
+    flags = list(PAPER_SCENE)
+    flags[flags.index("--size") + 1] = size
+    return flags + ["--concentration", "0.25"]
+
+
+def events(r):
+    """The report's modelled events: (ray steps, intersection tests, messages)."""
+    steps = sum(n["rays_traced"] + n["rays_passed"] for n in r["nodes"])
+    tests = sum(n["counters"]["intersection_tests"] for n in r["nodes"])
+    return steps, tests, sum(r["totals"]["messages"].values())
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--n", default="2,4,8,16,24,32", help="mesh sizes N (N x N x N)")
+    ap.add_argument("--size", default="1024x1024")
+    ap.add_argument("--runs", type=int, default=3)
+    ap.add_argument("--scenes", default="balls-5,paper", help="SPD scene names, or 'paper'")
+    add_cpu_option(ap)
+    ap.add_argument("--doc", action="store_true")
+    a = ap.parse_args()
+    try:
+        ns = [int(x) for x in a.n.split(",")]
+    except ValueError:
+        sys.exit(f"bench_scaling: --n {a.n}: not a list of whole numbers")
+    build_fast()
+    pin = pin_to_cpu(a.cpu, "bench_scaling")
+    ver = version()
+    tmp = tempfile.mkdtemp()
+    report = os.path.join(tmp, "r.json")
+    rtsim = os.path.join(FAST_BUILD, "rtsim")
+
+    def command(scene, n, image=""):
+        flags = paper_scene(a.size) if scene == "paper" else ["--scene", spd_scene(scene), "--size", a.size]
+        return [rtsim] + flags + ["--mesh", str(n), "--no-baseline", "-q", "--image", image, "--report", report]
+
+    rows = {}  # (scene, n) -> dict
+    for scene in a.scenes.split(","):
+        for run in range(a.runs):
+            for n in (ns if run % 2 == 0 else list(reversed(ns))):
+                wall, mem = timed(command(scene, n))
+                with open(report) as f:
+                    r = json.load(f)
+                row = rows.setdefault((scene, n), {"wall": [], "mem": [], "startup": [], "report": None})
+                row["wall"].append(wall)
+                row["mem"].append(mem)
+                row["startup"].append(r["wall_startup_s"])
+                row["report"] = {"events": events(r), "render_ns": r["render_time_ns"]}
+                print(f"{scene}, N = {n}, run {run + 1}: {wall:.2f} s, {mem:.0f} MiB, start-up "
+                      f"{r['wall_startup_s']:.2f} s", file=sys.stderr)
+    same = {}
+    for scene in a.scenes.split(","):  # the largest mesh's image against rtref's
+        ours, ref = os.path.join(tmp, "ours.png"), os.path.join(tmp, "ref.png")
+        subprocess.run(command(scene, ns[-1], ours), check=True, stdout=subprocess.DEVNULL)
+        flags = paper_scene(a.size) if scene == "paper" else [spd_scene(scene), "--size", a.size]
+        subprocess.run([os.path.join(FAST_BUILD, "rtref")] + flags + ["-o", ref], check=True, stdout=subprocess.DEVNULL)
+        with open(ours, "rb") as f, open(ref, "rb") as g:
+            same[scene] = f.read() == g.read()
+    text = table(a, ns, rows, same, pin, ver)
+    print(text)
+    if a.doc:
+        out = os.path.join(ROOT, "doc", "benchmarks")
+        os.makedirs(out, exist_ok=True)
+        with open(os.path.join(out, "scaling.md"), "w") as f:
+            f.write("# How rtsim scales with the mesh\n\nWritten by `scripts/bench_scaling.py --doc`; do not edit "
+                    "by hand.\n\n" + image_link("scaling.png") + "\n\n" + text)
+        chart(a, ns, rows, os.path.join(out, "scaling.png"))
+
+
+def image_link(name):
+    """The chart's markdown link, beside the page in doc/benchmarks/."""
+    return "![wall time per event and memory against N](" + name + ")"
+
+
+def per_event(row):
+    return statistics.median(row["wall"]) / sum(row["report"]["events"]) * 1e9
+
+
+def table(a, ns, rows, same, pin, ver):
+    lines = ["| scene | N | nodes | wall (median) | start-up (median) | start-up share | peak memory (max) | "
+             "ray steps | intersection tests | messages | wall per event | per event / N = 4's |",
+             "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+    for scene in a.scenes.split(","):
+        base = rows.get((scene, 4))
+        for n in ns:
+            row = rows[(scene, n)]
+            w, s = statistics.median(row["wall"]), statistics.median(row["startup"])
+            steps, tests, msgs = row["report"]["events"]
+            rel = f"{per_event(row) / per_event(base):.2f}" if base else "-"
+            lines.append(f"| {scene} | {n} | {n ** 3:,} | {w:.2f} s | {s:.2f} s | {s / w * 100:.1f} % | "
+                         f"{max(row['mem']):.0f} MiB | {steps:,} | {tests:,} | {msgs:,} | {per_event(row):.0f} ns | "
+                         f"{rel} |")
+    top = ns[-1]
+    lines += ["", f"Against issue 45's targets (N = {top}):", "",
+              "| target | measured | met |", "|---|---|---|"]
+    for scene in a.scenes.split(","):
+        row, base = rows[(scene, top)], rows.get((scene, 4))
+        w, m = statistics.median(row["wall"]), max(row["mem"])
+        share = statistics.median(row["startup"]) / w
+        if scene == "balls-5":
+            lines.append(f"| {scene}: wall at most {TARGET_WALL_S:.0f} s | {w:.1f} s | {'yes' if w <= TARGET_WALL_S else 'NO'} |")
+            lines.append(f"| {scene}: peak memory at most 3 GiB | {m:.0f} MiB | {'yes' if m <= TARGET_MEM_MIB else 'NO'} |")
+        if base:
+            rel = per_event(row) / per_event(base)
+            lines.append(f"| {scene}: wall per event at most {TARGET_PER_EVENT} x N = 4's | {rel:.2f} x | "
+                         f"{'yes' if rel <= TARGET_PER_EVENT else 'NO'} |")
+        lines.append(f"| {scene}: start-up at most {TARGET_STARTUP * 100:.0f} % of the run | {share * 100:.1f} % | "
+                     f"{'yes' if share <= TARGET_STARTUP else 'NO'} |")
+        lines.append(f"| {scene}: image at N = {top} identical to rtref's | {'identical' if same[scene] else 'DIFFERENT'} | "
+                     f"{'yes' if same[scene] else 'NO'} |")
+    lines += ["", f"{a.size}, exact mode (the default), `--no-baseline`; {a.runs} runs per point, the N alternated "
+              f"ascending and descending; {machine()}"
+              + (f"; every run pinned to CPU {pin}" if pin is not None else "") + f"; {ver}."]
+    return "\n".join(lines) + "\n"
+
+
+def chart(a, ns, rows, path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, (ax, bx) = plt.subplots(1, 2, figsize=(11, 4.2))
+    for scene in a.scenes.split(","):
+        ax.plot(ns, [per_event(rows[(scene, n)]) for n in ns], marker="o", label=scene)
+        bx.plot(ns, [max(rows[(scene, n)]["mem"]) for n in ns], marker="o", label=f"{scene}: peak memory")
+        bx.plot(ns, [statistics.median(rows[(scene, n)]["startup"]) * 1000 for n in ns], marker="x", linestyle="--",
+                label=f"{scene}: start-up (ms)")
+    if 4 in ns:
+        for scene in a.scenes.split(","):
+            ax.axhline(per_event(rows[(scene, 4)]) * TARGET_PER_EVENT, color="grey", linestyle=":", linewidth=1)
+    ax.set_xlabel("N (N x N x N nodes)")
+    ax.set_ylabel("wall time per modelled event (ns)")
+    ax.set_title(f"wall per event, {a.size} (dotted: 1.3 x N = 4's)")
+    ax.set_ylim(bottom=0)
+    ax.legend()
+    bx.set_xlabel("N (N x N x N nodes)")
+    bx.set_yscale("log")
+    bx.set_ylabel("MiB / ms")
+    bx.set_title("peak memory and start-up")
+    bx.legend(fontsize=8)
+    for x in (ax, bx):
+        x.set_xticks(ns)
+        x.grid(True, alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+
+
+if __name__ == "__main__":
+    main()
