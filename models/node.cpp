@@ -265,7 +265,8 @@ void Node::step(Work& w) {
     stats_.contributionsSent += contributions_.size();
     const BusyParts parts = costs_.stepParts(before, stats_.counters, outbox_.size(), w.fromLink ? 1 : 0, w.generated ? 1 : 0);
     const Picos cost = sumOf(parts);
-    if (balance_ && std::isfinite(span.where)) balance_->recordStep(span.where, cost, axialFaces(w, parts, span));
+    if (balance_ && std::isfinite(span.where))  // (the faces only for `resplit`'s forecast: not on slide's path)
+        balance_->recordStep(span.where, cost, params_.balance.betweenFrames() ? axialFaces(w, parts, span) : FaceCrossings{});
     markQueueDepth();
     chargeAndSend(parts, true);
 }
