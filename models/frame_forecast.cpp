@@ -204,17 +204,21 @@ namespace {
 PartCosts costsOn(const std::vector<int>& grid) { return PartCosts{int(grid.size()) - 1, std::vector<double>(grid.size() * grid.size(), 0.0)}; }
 }  // namespace
 
+std::vector<double> FrameForecast::searchOn(const std::vector<int>& grid, const PartCosts& pc) const {
+    std::vector<int> e = minimaxSplit(pc, n_, minCells(pc.m));
+    for (int& x : e) x = grid[size_t(x)];
+    return planesOf(e);
+}
+
 InnerPlanes FrameForecast::perColumn() const {
     const std::vector<int> grid = gridEdges();
-    const int m = int(grid.size()) - 1, minC = minCells(m);
+    const int m = int(grid.size()) - 1;
     InnerPlanes out;
     PartCosts pc = costsOn(grid);
     for (const Column& c : columns_) {
         for (int i = 0; i < m; ++i)
-            for (int j = i + 1; j <= m; ++j) pc.cost[size_t(i) * size_t(m + 1) + size_t(j)] = partCost(c, grid[size_t(i)], grid[size_t(j)]);
-        std::vector<int> e = minimaxSplit(pc, n_, minC);
-        for (int& x : e) x = grid[size_t(x)];
-        out.push_back(planesOf(e));
+            for (int j = i + 1; j <= m; ++j) pc.at(i, j) = partCost(c, grid[size_t(i)], grid[size_t(j)]);
+        out.push_back(searchOn(grid, pc));
     }
     return out;
 }
@@ -225,13 +229,8 @@ InnerPlanes FrameForecast::aligned() const {
     PartCosts pc = costsOn(grid);
     for (const Column& c : columns_)
         for (int i = 0; i < m; ++i)
-            for (int j = i + 1; j <= m; ++j) {
-                double& x = pc.cost[size_t(i) * size_t(m + 1) + size_t(j)];
-                x = std::max(x, partCost(c, grid[size_t(i)], grid[size_t(j)]));
-            }
-    std::vector<int> e = minimaxSplit(pc, n_, minCells(m));
-    for (int& x : e) x = grid[size_t(x)];
-    return InnerPlanes(columns_.size(), planesOf(e));
+            for (int j = i + 1; j <= m; ++j) pc.at(i, j) = std::max(pc.at(i, j), partCost(c, grid[size_t(i)], grid[size_t(j)]));
+    return InnerPlanes(columns_.size(), searchOn(grid, pc));
 }
 
 }  // namespace rt

@@ -25,6 +25,7 @@
 
 #include "machine_config.h"
 #include "mesh_geometry.h"
+#include "minimax_split.h"
 
 namespace rt {
 
@@ -69,6 +70,8 @@ private:
     int edgeOf(double x) const;
     int ownerOf(const std::vector<double>& planes, double x) const;  // the node index along the column
     std::vector<double> planesOf(const std::vector<int>& edges) const;
+    // The search on `grid`'s cells (grid edges in bins) with these part costs: its planes.
+    std::vector<double> searchOn(const std::vector<int>& grid, const PartCosts& pc) const;
     std::vector<int> gridEdges() const;  // the coarse grid the search runs on (bins at every edge)
     int minCells(int step) const;
 

@@ -15,6 +15,7 @@ struct PartCosts {
     int m = 0;
     std::vector<double> cost;
     double operator()(int i, int j) const { return cost[size_t(i) * size_t(m + 1) + size_t(j)]; }
+    double& at(int i, int j) { return cost[size_t(i) * size_t(m + 1) + size_t(j)]; }
 };
 
 // Edges 0 = e_0 < e_1 < ... < e_count = m, each part at least `minCells`
