@@ -139,8 +139,12 @@ AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
 }
 
 void AtomicFile::write(const std::string& text) const {
+    write([&](std::ostream& o) { o << text; });
+}
+
+void AtomicFile::write(const std::function<void(std::ostream&)>& fill) const {
     std::ofstream f(temp_, std::ios::binary);
-    f << text;
+    fill(f);
     f.close();
     if (!f) throw std::runtime_error(path_ + ": cannot write");
 }

@@ -13,6 +13,8 @@
 //    did not create. A temporary left behind (a run killed with SIGKILL)
 //    says so in its name.
 #pragma once
+#include <functional>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -53,8 +55,9 @@ public:
     // Where to write: a fresh file in the same folder as the path.
     const std::string& temp() const { return temp_; }
     // Writes `text` to the temporary file (throws, naming the path, if it
-    // cannot).
+    // cannot); or what `fill` writes to it, without the text in memory.
     void write(const std::string& text) const;
+    void write(const std::function<void(std::ostream&)>& fill) const;
     // Renames the temporary file over the path (throws on failure).
     void commit();
 
