@@ -59,6 +59,17 @@ FrameForecast::FrameForecast(const nlohmann::json& r, const MachineConfig& m, co
         c.perBin = {};
         c.perCrossing = c.faceRays > 0 ? c.faceNs / c.faceRays : 0;
     }
+    std::map<std::pair<int, int>, std::vector<double>> lateral;  // (from, to) column: rays by bin
+    for (const Lateral& l : lateral_) {
+        std::vector<double>& v = lateral[{l.from, l.to}];
+        if (v.empty()) v.assign(size_t(bins_), 0.0);
+        v[size_t(l.bin)] += l.rays;
+    }
+    for (const auto& [key, v] : lateral) {
+        std::vector<double> below(size_t(bins_ + 1), 0.0);
+        for (int k = 0; k < bins_; ++k) below[size_t(k + 1)] = below[size_t(k)] + v[size_t(k)];
+        columns_[size_t(key.first)].lateralBelow.push_back(std::move(below));
+    }
     raysOnLinks += r.contains("totals") ? number(r.at("totals"), "rays_passed") : 0;
     double wire = 0;  // the rays' wire time on the links between nodes
     if (r.contains("links"))
@@ -124,9 +135,12 @@ double FrameForecast::work(const Column& c, int i, int j) const {
 }
 
 double FrameForecast::partCost(const Column& c, int i, int j) const {
-    // The node's busy time, or the wire time of the busier link through its upper plane.
-    const double wire = j < bins_ ? wirePerRay_ * std::max(c.up[size_t(j)], c.down[size_t(j)]) : 0.0;
-    return std::max(work(c, i, j), wire);
+    // The node's busy time, or the wire time of the busier link through its
+    // upper plane, or of its busiest link to a neighbouring column (the
+    // rays it sends there: more, the longer its part).
+    double rays = j < bins_ ? std::max(c.up[size_t(j)], c.down[size_t(j)]) : 0.0;
+    for (const std::vector<double>& below : c.lateralBelow) rays = std::max(rays, below[size_t(j)] - below[size_t(i)]);
+    return std::max(work(c, i, j), wirePerRay_ * rays);
 }
 
 int FrameForecast::edgeOf(double x) const {

@@ -59,6 +59,10 @@ private:
         double perCrossing = 0;        // ns a node spends on one ray across a face along the axis
         std::vector<double> perBin;    // (while reading: work per bin)
         double faceNs = 0, faceRays = 0;
+        // Rays its nodes sent to each neighbouring column, below each grid
+        // edge (G + 1 entries each): a node's link to its neighbour there
+        // carries those of its part (the neighbour's node of its index).
+        std::vector<std::vector<double>> lateralBelow;
     };
     struct Lateral {
         int from, to, bin;  // columns; the bin it left from

@@ -954,6 +954,26 @@ TEST(FrameForecast, RaysAcrossColumnsArePassedWhereThePlanesDiffer) {
     EXPECT_NEAR(moved.frameNs, 225, 1e-9);
 }
 
+TEST(FrameForecast, ANodesLinkToANeighbouringColumnCarriesTheRaysOfItsPart) {
+    // Node 0 of column z = 0 sent 2 rays to column z = 1 from each bin of
+    // [0, 0.5) (256 rays); the links' rays took 512 ns on the wire, 2 ns
+    // each; no other work. Its link there carries the rays of its part:
+    // 512 ns with the plane at 0.5. Both searches halve its part (the plane
+    // at 0.25: 128 rays, 256 ns); a search that saw only the nodes' busy
+    // times and the links along the axis would see no cost anywhere.
+    nlohmann::json r = forecastReport(2, 0);
+    auto& w = r["nodes"][0]["work_by_position"];
+    w = {{"axis_from", 0.0}, {"bin_width", 1.0 / 256}, {"first_bin", 0}, {"ns", nlohmann::json::array()}};
+    w["lateral"]["pz"] = {{"first_bin", 0}, {"rays", std::vector<double>(128, 2.0)}};
+    r["links"] = nlohmann::json::array({{{"to", "+z"}, {"wire_ns", {{"ray", 512.0}}}}});
+    const FrameForecast f(r, forecastMesh(2), InnerPlanes{{0.5}, {0.5}});
+    EXPECT_NEAR(f.forecast({{0.5}, {0.5}}).linkNs, 512, 1e-9);
+    for (const InnerPlanes& p : {f.perColumn(), f.aligned()}) {
+        EXPECT_NEAR(p[0][0], 0.25, 1.0 / 256);
+        EXPECT_NEAR(f.forecast({p[0], p[0]}).linkNs, 256, 2 * 2 + 1e-9);  // (within a bin's 2 rays)
+    }
+}
+
 TEST(Resplit, WorkByPositionKeepsOnlyTheSpanTraced) {
     // The world [0, 4] in 2 boxes: 256 bins of 1/64. Steps at 1.001 and
     // 1.01 share bin 64; one at 0.5 (bin 32) grows the span downwards, one

@@ -47,7 +47,7 @@ protected:
         return json::parse(slurp(dir_ / name));
     }
     // Defined with the resplit tests below.
-    ResplitAgainstNone resplitAgainstNone(const std::string& bandwidth);
+    ResplitAgainstNone resplitAgainstNone(const std::string& bandwidth);  // spheres spread evenly
 };
 
 const char* kSmall = " --spheres 200 --radius 0.04 --size 32x32";
@@ -1195,7 +1195,7 @@ TEST_F(Rtsim, FramesWithOneNodeAlongTheBalancingAxis) {
 }
 
 ResplitAgainstNone Rtsim::resplitAgainstNone(const std::string& bandwidth) {
-    const std::string k = " --spheres 300 --radius 0.03 --size 48x48 --mesh 3 --balance-interval 5us"
+    const std::string k = " --spheres 300 --radius 0.03 --concentration 1 --size 48x48 --mesh 3 --balance-interval 5us"
                           " --link-bandwidth " + bandwidth;
     const json f = report(k + " --balance resplit --frames 6", "f.json");
     ResplitAgainstNone r{{}, {}, f["render_time_ns"].get<double>(),
@@ -1211,11 +1211,12 @@ ResplitAgainstNone Rtsim::resplitAgainstNone(const std::string& bandwidth) {
 }
 
 TEST_F(Rtsim, ResplitGoesBackToTheFirstFrameWhereReSplittingDoesNotPay) {
-    // Past the links' knee: the forecast holds frame 1's planes (its slides
-    // made none), so neither frame 2 nor 3 beats the first, which its load
-    // reports' small gain did; frame 4 holds the split frame 1 started from
-    // (to the picosecond the unbalanced run), and since it does not beat
-    // frame 1 either, every later frame is the first one again.
+    // Spheres spread evenly, past the links' knee: the forecast holds frame
+    // 1's planes (its slides made none), so neither frame 2 nor 3 beats the
+    // first, which its load reports' small gain did; frame 4 holds the
+    // split frame 1 started from (to the picosecond the unbalanced run),
+    // and since it does not beat frame 1 either, every later frame is the
+    // first one again.
     const ResplitAgainstNone f = resplitAgainstNone("100MB/s");
     const double first = f.ns[0];
     EXPECT_LT(first, f.none);
@@ -1229,8 +1230,9 @@ TEST_F(Rtsim, ResplitGoesBackToTheFirstFrameWhereReSplittingDoesNotPay) {
 }
 
 TEST_F(Rtsim, ResplitHoldsThePlanesWhereTheForecastSeesNoGain) {
-    // At 30 MB/s the frame is the links' (slide's first frame makes no
-    // slide, and its load reports make it slower than the unbalanced one):
+    // Spheres spread evenly, 30 MB/s: the frame is the links' (slide's first
+    // frame makes no slide, and its load reports make it slower than the
+    // unbalanced one):
     // the forecast from frame 1 finds no planes that would be faster, so
     // frames 2 to 6 hold frame 1's planes, the starting split, with no
     // slides and no load reports: the unbalanced run's time to the picosecond.
@@ -1241,7 +1243,7 @@ TEST_F(Rtsim, ResplitHoldsThePlanesWhereTheForecastSeesNoGain) {
         EXPECT_EQ(f.slides[size_t(i)], 0) << "frame " << i + 1;
     }
     EXPECT_EQ(f.last, f.none);
-    const json r = report(" --spheres 300 --radius 0.03 --size 48x48 --mesh 3 --balance-interval 5us --link-bandwidth 30MB/s"
+    const json r = report(" --spheres 300 --radius 0.03 --concentration 1 --size 48x48 --mesh 3 --balance-interval 5us --link-bandwidth 30MB/s"
                           " --balance resplit --frames 2", "h.json");
     EXPECT_EQ(r["frames"][0]["then"]["next"], "held");
     EXPECT_LT(r["frames"][0]["then"]["forecast_ns"].get<double>(), 1.01 * r["frames"][1]["render_time_ns"].get<double>());
