@@ -158,7 +158,7 @@ TEST(BetweenFrames, ResplitEvensTheBusiestNodeByTheForecast) {
     EXPECT_NEAR(c.planes[0][1], 5.0 / 9, 1.0 / 384);
     EXPECT_NEAR(c.heldNs, 2, 1e-9);
     EXPECT_NEAR(c.forecastNs, 4.0 / 3, 3.0 / 384);
-    EXPECT_STREQ(c.what, "per column");  // (one column: both searches agree, the first is kept)
+    EXPECT_STREQ(c.what, "aligned");  // (one column: both searches agree, the aligned one, tried first, is kept)
 }
 
 TEST(BetweenFrames, ResplitPlacesTheWorkWhereItHappened) {
@@ -194,7 +194,7 @@ TEST(BetweenFrames, ResplitHoldsTheFastestFrameOnceAResplitLoses) {
     ResplitSequence s(m);
     const auto first = s.next(report(100, 0.30, 0.31, {2, 1, 1}), 1);  // re-split after frame 1
     ASSERT_TRUE(first);
-    EXPECT_EQ(s.said().at("next"), "per column");
+    EXPECT_EQ(s.said().at("next"), "aligned");
     const auto second = s.next(report(80, 0.31, 0.32, {1.5, 1, 1}), 2);  // faster: re-split again
     ASSERT_TRUE(second);
     EXPECT_FALSE(s.startsAfresh());
