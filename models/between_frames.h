@@ -33,7 +33,10 @@ InnerPlanes averagedBoundaries(const nlohmann::json& r, const MachineConfig& m);
 // for all columns, the ones of the shortest forecast frame; the planes
 // move only if that forecast is at least kMinForecastGain shorter than the
 // forecast for holding them (the forecast is within about 10 % of the frames
-// measured; a move that gains less can lose).
+// measured; a move that gains less can lose). Where the links are the
+// frame, the columns' own planes must also be kMinForecastGain shorter
+// than the aligned ones: the rays they pass on between columns are what
+// the forecast counts short there.
 constexpr double kMinForecastGain = 0.05;
 struct ResplitChoice {
     const char* what;  // "held", "per column" or "aligned"
