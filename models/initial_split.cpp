@@ -10,24 +10,6 @@
 namespace rt {
 namespace {
 
-// Where a frame before left them: each column's inner planes.
-void startWhereLeft(ColumnPlanes& planes, const std::vector<std::vector<double>>& start, int n, double minThickness) {
-    if (start.size() != planes.size())
-        throw std::invalid_argument("start boundaries: " + std::to_string(start.size()) + " columns, the mesh has " +
-                                    std::to_string(planes.size()));
-    for (size_t c = 0; c < planes.size(); ++c) {
-        const std::vector<double>& inner = start[c];
-        if (inner.size() != size_t(n - 1))
-            throw std::invalid_argument("start boundaries: column " + std::to_string(c) + " has " +
-                                        std::to_string(inner.size()) + " planes, not " + std::to_string(n - 1));
-        for (int k = 1; k < n; ++k) planes[c][size_t(k)] = inner[size_t(k - 1)];
-        for (int k = 0; k < n; ++k)  // the guard's minimum thickness, with the rounding of a report's decimals
-            if (!(planes[c][size_t(k + 1)] - planes[c][size_t(k)] >= minThickness * (1 - 1e-9)))
-                throw std::invalid_argument("start boundaries: column " + std::to_string(c) + ", box " +
-                                            std::to_string(k) + " is thinner than the minimum thickness");
-    }
-}
-
 // `median`: boundary k of each column at the k/N quantile of the centres of
 // the objects in the column, kept inside the guards (every box at least the
 // minimum thickness).
@@ -57,6 +39,25 @@ void atObjectMedians(ColumnPlanes& planes, const ColumnGeometry& g, const Lattic
 
 }  // namespace
 
+ColumnPlanes withInnerPlanes(const char* what, ColumnPlanes planes, const std::vector<std::vector<double>>& inner,
+                             double minThickness, double slack) {
+    const std::string w = what;
+    if (inner.size() != planes.size())
+        throw std::invalid_argument(w + ": " + std::to_string(inner.size()) + " columns, the mesh has " + std::to_string(planes.size()));
+    for (size_t c = 0; c < planes.size(); ++c) {
+        const size_t n = planes[c].size() - 1;
+        if (inner[c].size() != n - 1)
+            throw std::invalid_argument(w + ": column " + std::to_string(c) + " has " + std::to_string(inner[c].size()) +
+                                        " planes, not " + std::to_string(n - 1));
+        std::copy(inner[c].begin(), inner[c].end(), planes[c].begin() + 1);
+        for (size_t k = 0; k < n; ++k)
+            if (!(planes[c][k + 1] - planes[c][k] >= minThickness * (1 - slack)))
+                throw std::invalid_argument(w + ": column " + std::to_string(c) + ", box " + std::to_string(k) +
+                                            " is thinner than the minimum thickness");
+    }
+    return planes;
+}
+
 double minThicknessOf(const MachineConfig& cfg, const Box& world) {
     const int ax = cfg.balance.axis;
     return cfg.balance.minThickness * world.extent()[ax] / cfg.dims[ax];
@@ -66,7 +67,8 @@ ColumnPlanes initialPlanes(const MachineConfig& cfg, const Lattice& cuts, const 
                            double minThickness) {
     const ColumnGeometry g(cfg.balance.axis, cfg.dims);
     ColumnPlanes planes(size_t(g.count()), cuts.planes(g.axis));
-    if (!cfg.startBoundaries.empty()) startWhereLeft(planes, cfg.startBoundaries, g.length(), minThickness);
+    // (the minimum less a report's rounding of its decimals)
+    if (!cfg.startBoundaries.empty()) planes = withInnerPlanes("start boundaries", planes, cfg.startBoundaries, minThickness, 1e-9);
     else if (cfg.balance.policy == "median") atObjectMedians(planes, g, cuts, world, bins, minThickness);
     return planes;
 }

@@ -24,6 +24,14 @@ using ColumnPlanes = std::vector<std::vector<double>>;
 // a uniform slice of the world.
 double minThicknessOf(const MachineConfig& cfg, const Box& world);
 
+// `planes` with each column's inner planes replaced by `inner`'s, for
+// `what` ("start boundaries", "target boundaries"). Throws
+// std::invalid_argument, naming `what`, if `inner` has another number of
+// columns or of planes in one, or a box thinner than minThickness (less
+// `slack` of it).
+ColumnPlanes withInnerPlanes(const char* what, ColumnPlanes planes, const std::vector<std::vector<double>>& inner,
+                             double minThickness, double slack);
+
 // The planes each column starts with: where a frame before left them
 // (cfg.startBoundaries, each box at least `minThickness`), or the policy's
 // own start: uniform (`cuts`, the paper), or for `median` at the quantiles

@@ -34,10 +34,14 @@ Machine::Machine(sc_core::sc_module_name name, const Scene& scene, const Machine
     // scanning the scene once per box.
     const ObjectBins bins(scene_.objects, cuts_, roundingMargin(world_));
     columnPlanes_ = initialPlanes(cfg_, cuts_, world_, bins, minThickness_);
-    if (!cfg_.targetBoundaries.empty() && cfg_.targetBoundaries.size() != columnPlanes_.size())
-        throw std::invalid_argument("target boundaries: " + std::to_string(cfg_.targetBoundaries.size()) +
-                                    " columns, the mesh has " + std::to_string(columnPlanes_.size()));
-    checkTargets();
+    // With targets for the frame's start (resplit), each box at least the
+    // minimum thickness, exactly: the moves at the start reach a target only
+    // then (a give leaves its giver that thick), and a node generates its
+    // primary rays only once its faces are at their targets
+    // (Node::holdsPrimaries).
+    const ColumnPlanes targets = cfg_.targetBoundaries.empty()
+                                     ? columnPlanes_
+                                     : withInnerPlanes("target boundaries", columnPlanes_, cfg_.targetBoundaries, minThickness_, 0);
     // Credit precision: the host's split, a node's split over its primary
     // rays, and one split per ray-tree level (a hit spawns at most L + 2 rays
     // and keeps a share: L + 3 parts).
@@ -50,27 +54,10 @@ Machine::Machine(sc_core::sc_module_name name, const Scene& scene, const Machine
     if (cfg_.faultDropFirstCredit) units_[0].dropFirstCredit();
     units_[0].onFinish([this] { endProcesses(); });
     if (!cfg_.vcdPath.empty()) setupTraces();
-    giveOutPrimaryRays();
+    giveOutPrimaryRays(targets);
 }
 
 Machine::~Machine() = default;
-
-// Every target box at least the minimum thickness, exactly: the moves at
-// the start reach a target only then (a give leaves its giver that thick),
-// and a node generates its primary rays only once its faces are at their
-// targets (Node::holdsPrimaries).
-void Machine::checkTargets() const {
-    const int ax = columns_.axis;
-    for (size_t c = 0; c < cfg_.targetBoundaries.size(); ++c) {
-        std::vector<double> p{world_.lo[ax]};
-        p.insert(p.end(), cfg_.targetBoundaries[c].begin(), cfg_.targetBoundaries[c].end());
-        p.push_back(world_.hi[ax]);
-        for (size_t k = 0; k + 1 < p.size(); ++k)
-            if (!(p[k + 1] - p[k] >= minThickness_))
-                throw std::invalid_argument("target boundaries: column " + std::to_string(c) + ", box " + std::to_string(k) +
-                                            " is thinner than the minimum thickness");
-    }
-}
 
 void Machine::buildUnits() {
     const int k = cfg_.fbUnits;
@@ -101,7 +88,6 @@ void Machine::buildNodes(const ObjectBins& bins) {
     for (Node& node : nodes_) {  // resplit: where each node's faces go at the frame's start
         const Cell& c = node.cell();
         const std::vector<double>& t = cfg_.targetBoundaries[size_t(columns_.columnOf(c))];
-        if (t.size() != size_t(cfg_.dims[ax] - 1)) throw std::invalid_argument("target boundaries: a column of the wrong size");
         const double nan = std::nan("");
         node.setStartTargets(c[ax] > 0 ? t[size_t(c[ax] - 1)] : nan, c[ax] + 1 < cfg_.dims[ax] ? t[size_t(c[ax])] : nan);
     }
@@ -218,12 +204,9 @@ void Machine::startWatchdog() {
 
 // The host's job description (initial_split.h): each node's primary rays
 // and credit, and the background of the rays that miss the world.
-void Machine::giveOutPrimaryRays() {
+void Machine::giveOutPrimaryRays(const ColumnPlanes& planes) {
     // With targets for the frame's start (resplit), each node generates the
     // primary rays of the box it is to have, once it has it (Node::takeWork).
-    ColumnPlanes planes = columnPlanes_;
-    for (size_t c = 0; c < cfg_.targetBoundaries.size(); ++c)
-        std::copy(cfg_.targetBoundaries[c].begin(), cfg_.targetBoundaries[c].end(), planes[c].begin() + 1);
     PrimaryRays primaries = assignPrimaryRays(camera_, world_, cuts_, columns_, planes);
     Counters hostCounters;
     for (const RayJob& j : primaries.misses)

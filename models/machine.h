@@ -96,7 +96,6 @@ public:
 
 private:
     // Building (machine.cpp).
-    void checkTargets() const;
     void buildUnits();
     void buildNodes(const ObjectBins& bins);
     void buildLinks();
@@ -104,7 +103,7 @@ private:
     void linkToFrameBuffer(Node& n, std::vector<Picos>& unitLookahead);
     void linkUnits(std::vector<Picos>& unitLookahead);
     void startWatchdog();
-    void giveOutPrimaryRays();
+    void giveOutPrimaryRays(const ColumnPlanes& planes);  // the planes the nodes are to have (the targets, if any)
     // --quantum lookahead: each process runs ahead by its own, the smallest
     // of its input links' (Link::lookahead; kNoInput: it has none).
     static constexpr Picos kNoInput = ~Picos(0);
