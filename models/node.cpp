@@ -279,9 +279,9 @@ int Node::traceInBox(Work& w, const BoxSlabs& box, TracedSpan& span) {
     double stop = t0;
     const Region::Step s =
         region_->trace(w.job, box.span.hi, params_.shader, mailbox_, stats_.counters, spawned_, contributions_, &stop);
-    if (balance_) {  // the middle of the segment traced stands for where its work is
+    if (balance_) {  // the middle of the segment traced (to its hit) stands for where its work is
         const int ax = params_.balance.axis;
-        span.where = w.job.ray.at(0.5 * (t0 + std::min(w.job.tEnd, box.span.hi)))[ax];
+        span.where = w.job.ray.at(0.5 * (t0 + stop))[ax];
         span.from = w.job.ray.at(t0)[ax];
         span.to = w.job.ray.at(stop)[ax];
     }

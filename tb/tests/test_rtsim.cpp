@@ -163,6 +163,30 @@ TEST_F(Rtsim, LatencyOnALineAddsOneLatencyPerHop) {
     }
 }
 
+TEST_F(Rtsim, ARaysWorkIsRecordedWhereItsSegmentRanToTheHit) {
+    // One ray from the eye at -x through a 2 x 1 x 1 mesh (the plane at x =
+    // 0): it hits a sphere at x = 0.3 near the front of node 1's box, which
+    // runs to x = 3.51; its shadow ray goes back to the light at -x. Both
+    // segments in node 1 span [0, 0.3]: the work by position centres there,
+    // not at the middle of the box (1.75), where the ray would have left it.
+    std::ofstream(dir_ / "front.nff") << "b 0 0 0\nv\nfrom -10 0 0\nat 0 0 0\nup 0 0 1\nangle 10\nhither 1\n"
+                                         "resolution 1 1\nl -100 0 0\nf 1 1 1 1 0 0 0 0\n"
+                                         "s 0.8 0 0 0.5\ns 3.5 3 3 0.01\ns -3.5 3 3 0.01\n";
+    const json r = report(" --scene " + (dir_ / "front.nff").string() + " --mesh-dims 2x1x1 --axis x --balance measured", "a.json");
+    const json& n = r["nodes"][1];
+    ASSERT_EQ(n["node"], json::array({1, 0, 0}));
+    ASSERT_GT(n["box"][1][0].get<double>(), 3.0);
+    const json& w = n["work_by_position"];
+    double work = 0, moment = 0;
+    for (size_t k = 0; k < w["ns"].size(); ++k) {
+        const double x = w["axis_from"].get<double>() + (w["first_bin"].get<double>() + k + 0.5) * w["bin_width"].get<double>();
+        work += w["ns"][k].get<double>();
+        moment += x * w["ns"][k].get<double>();
+    }
+    ASSERT_GT(work, 0);
+    EXPECT_NEAR(moment / work, 0.15, w["bin_width"].get<double>()) << w.dump();
+}
+
 TEST_F(Rtsim, WaveformsConvertAndGroupPerNode) {
     const std::string vcd = (dir_ / "w.vcd").string();
     ASSERT_EQ(run(std::string(kSmall) + " --mesh 2 --no-baseline -q --image '' --vcd " + vcd).code, 0);
@@ -1171,7 +1195,11 @@ TEST_F(Rtsim, ResplitMovesTheBoundariesAtTheStartOfEachFrameAndKeepsTheFastest) 
         EXPECT_LE(f["frames"][i]["slides"].get<int>(), 2 * 3 * 3 * 2) << i;
         if (i < 7) fastest = std::min(fastest, f["frames"][i]["render_time_ns"].get<double>());
     }
-    EXPECT_LE(f["render_time_ns"].get<double>(), fastest);
+    // The last frames hold the fastest frame's planes. A frame that holds
+    // them is not the one that moved to them (no slides at its start), so
+    // the order its work happens in, and its time, may differ a little.
+    EXPECT_EQ(f["frames"][6]["then"]["next"], "held");
+    EXPECT_LE(f["render_time_ns"].get<double>(), 1.005 * fastest);
     EXPECT_LT(f["render_time_ns"].get<double>(), 0.8 * none["render_time_ns"].get<double>());
     // The moves of a re-split frame happen at its start.
     const json g = report(k + " --frames 3", "g.json");
