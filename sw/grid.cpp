@@ -1,5 +1,6 @@
 #include "grid.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -18,8 +19,32 @@ std::array<int, 3> UniformGrid::resolution(const Box& box, size_t objects) {
     return n;
 }
 
+Box UniformGrid::occupiedPart(const std::vector<Shape>& objects, const Box& box) {
+    if (objects.empty()) return box;
+    const double margin = roundingMargin(box);
+    Box o;
+    for (const Shape& s : objects) o.add(s.bounds().expanded(margin));
+    const std::array<int, 3> whole = resolution(box, objects.size());
+    Box part = box;
+    for (int a = 0; a < 3; ++a) {
+        // At least one cell of the whole box's grid thick (a floor polygon
+        // alone would otherwise make a flat part, of volume near 0, and a
+        // grid of 256 x 256 cells).
+        const double cell = (box.hi[a] - box.lo[a]) / whole[size_t(a)];
+        double lo = std::max(box.lo[a], o.lo[a]), hi = std::min(box.hi[a], o.hi[a]);
+        if (hi - lo < cell) {
+            lo = std::clamp(0.5 * (lo + hi) - 0.5 * cell, box.lo[a], box.hi[a] - cell);
+            hi = lo + cell;
+        }
+        part.lo[a] = lo;
+        part.hi[a] = hi;
+    }
+    return part;
+}
+
 UniformGrid::Size UniformGrid::sizeFor(const std::vector<Shape>& objects, const Box& box) {
-    const Lattice lattice = Lattice::uniform(box, resolution(box, objects.size()));
+    const Box part = occupiedPart(objects, box);
+    const Lattice lattice = Lattice::uniform(part, resolution(part, objects.size()));
     const double margin = roundingMargin(box);
     Size s;
     s.cells = uint64_t(lattice.cellCount());
@@ -37,8 +62,10 @@ double UniformGrid::Size::bytes(size_t objects) const {
     return 4.0 * double(references) + 8.0 * double(cells + 1) + 24.0 * double(objects);
 }
 
-UniformGrid::UniformGrid(const std::vector<Shape>& objects, const Box& box)
-    : objects_(objects), lattice_(Lattice::uniform(box, resolution(box, objects.size()))) {
+UniformGrid::UniformGrid(const std::vector<Shape>& objects, const Box& box) : UniformGrid(objects, box, occupiedPart(objects, box)) {}
+
+UniformGrid::UniformGrid(const std::vector<Shape>& objects, const Box& box, const Box& part)
+    : objects_(objects), lattice_(Lattice::uniform(part, resolution(part, objects.size()))) {
     // Objects go into every cell their bounds touch, widened by a margin far
     // above rounding error, so a hit point that rounding puts just across a
     // cell face is still found in the cell the DDA is in.

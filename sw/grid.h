@@ -1,8 +1,10 @@
 // Uniform grid over one region's box, traversed with the 3D-DDA of
 // Amanatides & Woo (Lattice::walk), with mailboxing.
 //
-// Resolution rule: about kCellsPerObject cells per object, cubical as far as
-// the box allows: with n objects in a box of volume V, k = cbrt(lambda n / V)
+// The grid spans the part of the box its objects occupy (occupiedPart): a
+// ray through the rest walks no cell and tests nothing. Resolution rule, over
+// that part: about kCellsPerObject cells per object, cubical as far as the
+// part allows: with n objects in a part of volume V, k = cbrt(lambda n / V)
 // cells per unit length and n_a = clamp(round(extent_a k), 1, kMaxCellsPerAxis)
 // along each axis. lambda = 8, measured (doc/rendering.md, "Grid resolution").
 #pragma once
@@ -16,6 +18,13 @@ public:
     static constexpr double kCellsPerObject = 8.0;
     static constexpr int kMaxCellsPerAxis = 256;
     static std::array<int, 3> resolution(const Box& box, size_t objects);
+    // The part of `box` its objects' bounds (widened by the rounding margin)
+    // cover, at least one cell of the whole box's grid thick along each
+    // axis; the box itself if it holds none. A thick box with a few objects
+    // at one end (a machine's box past a cluster's edge) gets a fine grid
+    // over them, not a few coarse cells each of which every passing ray
+    // tests them all in (doc/rendering.md, "Grid resolution").
+    static Box occupiedPart(const std::vector<Shape>& objects, const Box& box);
     // A grid's size, counted without building it: its cells and references
     // (an object listed in a cell), and the bytes it takes at its peak
     // while being built. Objects that overlap much make references grow as
@@ -37,6 +46,7 @@ public:
     std::vector<uint32_t> cellObjects(const Cell& c) const;
 
 private:
+    UniformGrid(const std::vector<Shape>& objects, const Box& box, const Box& part);
     long cellIndex(const Cell& c) const { return (long(c[2]) * lattice_.cells(1) + c[1]) * lattice_.cells(0) + c[0]; }
     const std::vector<Shape>& objects_;
     Lattice lattice_;

@@ -12,6 +12,8 @@
 #include "pixel_sum.h"
 #include "renderer.h"
 #include "scenes.h"
+#include "brute_force.h"
+#include "grid.h"
 
 using namespace rt;
 
@@ -233,4 +235,70 @@ TEST(Render, TransparentSphereRefracts) {
     EXPECT_NEAR(r.image.pixels[4].x, 0.25 * 0.5, 1e-12);
     EXPECT_EQ(r.image.pixels[4].y, 0.0);
     EXPECT_GT(r.counters.secondaryHits, 0u);
+}
+
+// ---- A grid spans the part of its box its objects occupy (grid.h) ----
+
+namespace {
+Shape ball(double x, double y, double z, double r, uint32_t id) {
+    Shape s;
+    s.geometry = Sphere{Vec3(x, y, z), r, false};
+    s.id = id;
+    return s;
+}
+}  // namespace
+
+TEST(GridOverOccupiedPart, AThickBoxWithTwoSpheresAtOneEndTestsThemOnlyNearThem) {
+    // A machine's box past a cluster's edge: 0.9 long, two spheres at its
+    // near end. Over the whole box the grid would be 9 x 1 x 1 (cells
+    // 0.1 x 0.13 x 0.13), and every ray through the first cell would test
+    // both spheres; over their part it is finer across, and a ray that
+    // passes beside them, or through the rest of the box, tests nothing.
+    const Box box{Vec3(0.1, 0, 0), Vec3(1.0, 0.13, 0.13)};
+    const std::vector<Shape> objects{ball(0.12, 0.065, 0.065, 0.02, 0), ball(0.15, 0.065, 0.065, 0.02, 1)};
+    EXPECT_EQ(UniformGrid::resolution(box, 2), (std::array<int, 3>{9, 1, 1}));
+    const UniformGrid g(objects, box);
+    const Box part = UniformGrid::occupiedPart(objects, box);
+    EXPECT_LE(part.hi.x, 0.2 + 1e-9);  // one cell of the whole box's grid, about the spheres
+    EXPECT_GE(part.lo.x, 0.1);
+    EXPECT_GT(g.lattice().cells(1), 1);  // finer across than the whole box's one cell
+    const BruteForce all(objects);
+    Mailbox mb;
+    auto traced = [&](const Accelerator& a, const Ray& r, Counters& c) { return a.closestHit(r, 0, 10, mb, c); };
+    // Beside the spheres, in their cell of the whole box's grid: no test.
+    Counters beside;
+    EXPECT_FALSE(traced(g, Ray(Vec3(0.13, -1, 0.01), Vec3(0, 1, 0)), beside).valid());
+    EXPECT_EQ(beside.tests[size_t(PrimitiveKind::Sphere)], 0u);
+    // Through the rest of the box: no cell walked.
+    Counters far;
+    EXPECT_FALSE(traced(g, Ray(Vec3(0.6, -1, 0.065), Vec3(0, 1, 0)), far).valid());
+    EXPECT_EQ(far.voxelSteps, 0u);
+    // The hits are brute force's, to the bit, over a fan of rays.
+    for (int i = 0; i <= 200; ++i) {
+        const double a = -0.5 + i * 0.005;
+        const Ray r(Vec3(0.13, -1, 0.065), glm::normalize(Vec3(std::sin(a) * 0.1, 1, std::cos(a) * 0.02)));
+        Counters c1, c2;
+        const Hit h = traced(g, r, c1), b = traced(all, r, c2);
+        EXPECT_EQ(h.t, b.t) << i;
+        EXPECT_EQ(h.object, b.object) << i;
+    }
+}
+
+TEST(GridOverOccupiedPart, AFloorAloneGetsAFewCellsNotAFlatSheetOfThem) {
+    // A polygon has no thickness: its part is one cell of the whole box's
+    // grid thick, so its volume, and the cells it gets, stay those of a box.
+    Shape floor;
+    Polygon p;
+    p.vertices = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0)};
+    ASSERT_TRUE(p.finish());
+    floor.geometry = p;
+    const Box box{Vec3(0), Vec3(1)};
+    const std::vector<Shape> objects{floor};  // (the grid keeps a reference)
+    const UniformGrid g(objects, box);
+    for (int a = 0; a < 3; ++a) EXPECT_LE(g.lattice().cells(a), 3) << a;
+    Mailbox mb;
+    Counters c;
+    const Hit h = g.closestHit(Ray(Vec3(0.5, 0.5, 1), Vec3(0, 0, -1)), 0, 10, mb, c);
+    EXPECT_TRUE(h.valid());
+    EXPECT_EQ(h.t, 1.0);
 }

@@ -47,7 +47,8 @@ protected:
         return json::parse(slurp(dir_ / name));
     }
     // Defined with the resplit tests below.
-    ResplitAgainstNone resplitAgainstNone(const std::string& bandwidth);  // spheres spread evenly
+    // Spheres spread evenly (`spheres`: their count and radius), on a 3x3x3 mesh.
+    ResplitAgainstNone resplitAgainstNone(const std::string& bandwidth, const std::string& spheres = "300 --radius 0.03");
 };
 
 const char* kSmall = " --spheres 200 --radius 0.04 --size 32x32";
@@ -1222,8 +1223,8 @@ TEST_F(Rtsim, FramesWithOneNodeAlongTheBalancingAxis) {
     }
 }
 
-ResplitAgainstNone Rtsim::resplitAgainstNone(const std::string& bandwidth) {
-    const std::string k = " --spheres 300 --radius 0.03 --concentration 1 --size 48x48 --mesh 3 --balance-interval 5us"
+ResplitAgainstNone Rtsim::resplitAgainstNone(const std::string& bandwidth, const std::string& spheres) {
+    const std::string k = " --spheres " + spheres + " --concentration 1 --size 48x48 --mesh 3 --balance-interval 5us"
                           " --link-bandwidth " + bandwidth;
     const json f = report(k + " --balance resplit --frames 6", "f.json");
     ResplitAgainstNone r{{}, {}, f["render_time_ns"].get<double>(),
@@ -1239,13 +1240,13 @@ ResplitAgainstNone Rtsim::resplitAgainstNone(const std::string& bandwidth) {
 }
 
 TEST_F(Rtsim, ResplitGoesBackToTheFirstFrameWhereReSplittingDoesNotPay) {
-    // Spheres spread evenly, past the links' knee: the forecast holds frame
-    // 1's planes (its slides made none), so neither frame 2 nor 3 beats the
+    // 500 spheres spread evenly, 300 MB/s: the forecast holds frame 1's
+    // planes (its slides made none), so neither frame 2 nor 3 beats the
     // first, which its load reports' small gain did; frame 4 holds the
     // split frame 1 started from (to the picosecond the unbalanced run),
     // and since it does not beat frame 1 either, every later frame is the
     // first one again.
-    const ResplitAgainstNone f = resplitAgainstNone("100MB/s");
+    const ResplitAgainstNone f = resplitAgainstNone("300MB/s", "500 --radius 0.02");
     const double first = f.ns[0];
     EXPECT_LT(first, f.none);
     EXPECT_GT(f.ns[1], first);
