@@ -100,6 +100,7 @@ UniformGrid::UniformGrid(const std::vector<Shape>& objects, const Box& box, cons
 
 Hit UniformGrid::closestHit(const Ray& r, double t0, double t1, Mailbox& mailbox, Counters& counters) const {
     Hit best;
+    if (objects_.empty()) return best;  // nothing occupies the box: no cell to walk
     mailbox.begin(objects_.size());
     lattice_.walk(r, t0, t1, [&](const Cell& c, const Interval& seg) {
         ++counters.voxelSteps;

@@ -2,7 +2,8 @@
 // Amanatides & Woo (Lattice::walk), with mailboxing.
 //
 // The grid spans the part of the box its objects occupy (occupiedPart): a
-// ray through the rest walks no cell and tests nothing. Resolution rule, over
+// ray through the rest walks no cell and tests nothing, and a ray through a
+// box with no objects walks none at all. Resolution rule, over
 // that part: about kCellsPerObject cells per object, cubical as far as the
 // part allows: with n objects in a part of volume V, k = cbrt(lambda n / V)
 // cells per unit length and n_a = clamp(round(extent_a k), 1, kMaxCellsPerAxis)

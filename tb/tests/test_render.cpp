@@ -302,3 +302,14 @@ TEST(GridOverOccupiedPart, AFloorAloneGetsAFewCellsNotAFlatSheetOfThem) {
     EXPECT_TRUE(h.valid());
     EXPECT_EQ(h.t, 1.0);
 }
+
+TEST(GridOverOccupiedPart, ABoxWithNoObjectsWalksNoCell) {
+    // A node that only passes rays on: its tracer finds no hit and does no
+    // voxel steps, the cost a machine's node there would not pay.
+    const std::vector<Shape> none;
+    const UniformGrid g(none, Box{Vec3(0), Vec3(1)});
+    Mailbox mb;
+    Counters c;
+    EXPECT_FALSE(g.closestHit(Ray(Vec3(0.5, -1, 0.5), Vec3(0, 1, 0)), 0, 10, mb, c).valid());
+    EXPECT_EQ(c.voxelSteps, 0u);
+}

@@ -577,17 +577,17 @@ TEST_F(Rtsim, TheBusyLinkGuardKeepsBalancingFromLosingAtTheBandwidthKnee) {
 }
 
 // The busy-link guard counts a link's slots where they, not its wire, are
-// the narrower limit (Link::occupied). The 1987 machine with 150 us links:
+// the narrower limit (Link::occupied). The 1987 machine with 200 us links:
 // a ray message takes 110 us on the wire (132 bytes at 1.2 MB/s), but with
-// 2 slots each holds one for 110 + 2 x 150 us, so the link carries one
-// every 205 us at best. No wire is busy a third of the frame, yet the guard
-// stops slides across links whose slots are full, and the frame is 0.88 of
-// the unbalanced one (0.98 when the guard read only the wire). With 64
-// slots the wire is the narrower limit again ((110 + 300) / 64 < 110 us),
-// and the guard stops none.
+// 2 slots each holds one for 110 + 2 x 200 us, so the link carries one
+// every 255 us at best. No wire is busy a third of the frame, yet the guard
+// stops slides across links whose slots are full (30 here), and the frame is
+// 0.90 of the unbalanced one. With 64 slots the wire is the narrower limit
+// again ((110 + 400) / 64 < 110 us), busier (0.42 of the frame), and the
+// guard stops a tenth as many or fewer (1 here).
 TEST_F(Rtsim, TheBusyLinkGuardCountsALinksSlotsWhereTheyAreTheNarrowerLimit) {
     const std::string args = " --config " RT_CONFIG_DIR "/transputer-1987.conf --spheres 1000 --concentration 0.25 "
-                             "--size 128x128 --mesh 2 --link-latency 150us --balance slide -q --image '' --report " +
+                             "--size 128x128 --mesh 2 --link-latency 200us --balance slide -q --image '' --report " +
                              (dir_ / "r.json").string();
     auto busiestWire = [](const json& r) {
         double u = 0;
@@ -602,7 +602,8 @@ TEST_F(Rtsim, TheBusyLinkGuardCountsALinksSlotsWhereTheyAreTheNarrowerLimit) {
     EXPECT_LT(two["comparison"]["ratio"].get<double>(), 0.93) << two["comparison"].dump();
     ASSERT_EQ(run(args + " --link-depth 64").code, 0);
     const json many = json::parse(slurp(dir_ / "r.json"));
-    EXPECT_EQ(many["balance"]["guard_busy_link"], 0);
+    EXPECT_GT(busiestWire(many), busiestWire(two));
+    EXPECT_LE(10 * many["balance"]["guard_busy_link"].get<int>(), two["balance"]["guard_busy_link"].get<int>());
 }
 
 // The presets: modern.conf is exactly the built-in defaults, and the 1987
