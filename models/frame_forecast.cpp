@@ -72,10 +72,18 @@ FrameForecast::FrameForecast(const nlohmann::json& r, const MachineConfig& m, co
     }
     raysOnLinks += r.contains("totals") ? number(r.at("totals"), "rays_passed") : 0;
     double wire = 0;  // the rays' wire time on the links between nodes
+    double busiestLink = 0, busiestNode = 0;
     if (r.contains("links"))
         for (const auto& l : r.at("links"))
-            if (l.value("to", "") != "fb" && l.contains("wire_ns")) wire += number(l.at("wire_ns"), "ray");
+            if (l.value("to", "") != "fb") {
+                if (l.contains("wire_ns")) wire += number(l.at("wire_ns"), "ray");
+                busiestLink = std::max(busiestLink, number(l, "wire_busy_ns"));
+            }
+    for (const auto& node : r.at("nodes")) busiestNode = std::max(busiestNode, node.at("busy_ns").get<double>());
     wirePerRay_ = raysOnLinks > 0 ? wire / raysOnLinks : 0;
+    // Where a node set the frame, the searches keep the links below it by
+    // the tandem margin (Forecast::frameNs); where a link did, as before.
+    linkWeight_ = busiestNode >= busiestLink ? kTandem : 1.0;
 }
 
 // One node's report entry into its column; returns the rays it put on links.
@@ -140,7 +148,7 @@ double FrameForecast::partCost(const Column& c, int i, int j) const {
     // rays it sends there: more, the longer its part).
     double rays = j < bins_ ? std::max(c.up[size_t(j)], c.down[size_t(j)]) : 0.0;
     for (const std::vector<double>& below : c.lateralBelow) rays = std::max(rays, below[size_t(j)] - below[size_t(i)]);
-    return std::max(work(c, i, j), wirePerRay_ * rays);
+    return std::max(work(c, i, j), linkWeight_ * wirePerRay_ * rays);
 }
 
 int FrameForecast::edgeOf(double x) const {
@@ -185,7 +193,7 @@ FrameForecast::Forecast FrameForecast::forecast(const InnerPlanes& planes) const
     }
     for (const auto& [key, x] : across) rays = std::max(rays, x);
     f.linkNs = rays * wirePerRay_;
-    f.frameNs = std::max(f.nodeNs, f.linkNs);
+    f.frameNs = std::max({f.nodeNs, f.linkNs, kTandem * std::min(f.nodeNs, f.linkNs)});
     return f;
 }
 

@@ -15,9 +15,14 @@
 //    owner; each pass a receive and a send);
 //  - each link's rays: the cuts at its plane, the rays sent across columns
 //    by the sender's owner, and the passes;
-// and the frame as the dearer of the busiest node and the busiest link
-// (the frames measured are within a few per cent of that maximum, at
-// default links and past the knee alike). Plain C++ on reports (JSON).
+// and the frame as the dearer of the busiest node and the busiest link,
+// or kTandem times the cheaper where the two are closer than that: a link
+// busy almost as long as the busiest node queues the rays behind it, and
+// the nodes after it get them late (modern, across, N = 4: busiest node
+// 732 us, busiest link 715 us, frame 785 us; with the last plane moved so
+// that the link is 648 us, frame 736 us). The frames measured are within a
+// few per cent of this, at default links and past the knee alike. Plain
+// C++ on reports (JSON).
 #pragma once
 #include <vector>
 
@@ -31,6 +36,13 @@ namespace rt {
 
 // Per column (ColumnGeometry order): its N - 1 inner planes along the axis.
 using InnerPlanes = std::vector<std::vector<double>>;
+
+// How much longer than the cheaper of the busiest node and the busiest link
+// a frame is where the two are close (the forecast's frame: the dearer, or
+// this times the cheaper). Fitted on the modern machine across the axis at
+// N = 4 and 5, where the frames ran 7 % and 10 % past the busiest node with
+// a link within 2 % of it (doc/balancing.md, "Between frames").
+constexpr double kTandem = 1.1;
 
 class FrameForecast {
 public:
@@ -85,6 +97,7 @@ private:
     std::vector<Column> columns_;
     std::vector<Lateral> lateral_;
     double wirePerRay_ = 0;  // ns
+    double linkWeight_ = 1;  // a part's wire time in the searches: kTandem where a node set the frame measured
 };
 
 }  // namespace rt

@@ -974,6 +974,25 @@ TEST(FrameForecast, ANodesLinkToANeighbouringColumnCarriesTheRaysOfItsPart) {
     }
 }
 
+TEST(FrameForecast, ANodeAndALinkCloseTogetherMakeALongerFrame) {
+    // The setup above (node 0 of column 0's link to column 1 carries 512
+    // ns of rays with the plane at 0.5), each node also busy `busy` over
+    // its box. Far apart, the frame is the dearer of the two; within
+    // kTandem of each other, kTandem times the cheaper: the link queues the
+    // rays behind it and the nodes after it get them late.
+    for (const auto& [busy, frame] : {std::pair<double, double>{100, 512}, {2000, 2000}, {500, 550}, {540, 563.2}}) {
+        nlohmann::json r = forecastReport(2, busy);
+        auto& w = r["nodes"][0]["work_by_position"];
+        w = {{"axis_from", 0.0}, {"bin_width", 1.0 / 256}, {"first_bin", 0}, {"ns", nlohmann::json::array()}};
+        w["lateral"]["pz"] = {{"first_bin", 0}, {"rays", std::vector<double>(128, 2.0)}};
+        r["links"] = nlohmann::json::array({{{"to", "+z"}, {"wire_ns", {{"ray", 512.0}}}}});
+        const FrameForecast::Forecast f = FrameForecast(r, forecastMesh(2), InnerPlanes{{0.5}, {0.5}}).forecast({{0.5}, {0.5}});
+        EXPECT_NEAR(f.nodeNs, busy, 1e-9);
+        EXPECT_NEAR(f.linkNs, 512, 1e-9);
+        EXPECT_NEAR(f.frameNs, frame, 1e-9) << busy;
+    }
+}
+
 TEST(Resplit, WorkByPositionKeepsOnlyTheSpanTraced) {
     // The world [0, 4] in 2 boxes: 256 bins of 1/64. Steps at 1.001 and
     // 1.01 share bin 64; one at 0.5 (bin 32) grows the span downwards, one
