@@ -47,8 +47,9 @@ protected:
         return json::parse(slurp(dir_ / name));
     }
     // Defined with the resplit tests below.
-    // Spheres spread evenly (`spheres`: their count and radius), on a 3x3x3 mesh.
-    ResplitAgainstNone resplitAgainstNone(const std::string& bandwidth, const std::string& spheres = "300 --radius 0.03");
+    // A procedural scene and mesh (`scene`: by default 300 spheres spread evenly, 3x3x3).
+    ResplitAgainstNone resplitAgainstNone(const std::string& bandwidth,
+                                          const std::string& scene = " --spheres 300 --radius 0.03 --concentration 1 --mesh 3");
 };
 
 const char* kSmall = " --spheres 200 --radius 0.04 --size 32x32";
@@ -1224,8 +1225,8 @@ TEST_F(Rtsim, FramesWithOneNodeAlongTheBalancingAxis) {
     }
 }
 
-ResplitAgainstNone Rtsim::resplitAgainstNone(const std::string& bandwidth, const std::string& spheres) {
-    const std::string k = " --spheres " + spheres + " --concentration 1 --size 48x48 --mesh 3 --balance-interval 5us"
+ResplitAgainstNone Rtsim::resplitAgainstNone(const std::string& bandwidth, const std::string& scene) {
+    const std::string k = scene + " --size 48x48 --balance-interval 5us"
                           " --link-bandwidth " + bandwidth;
     const json f = report(k + " --balance resplit --frames 6", "f.json");
     ResplitAgainstNone r{{}, {}, f["render_time_ns"].get<double>(),
@@ -1241,13 +1242,13 @@ ResplitAgainstNone Rtsim::resplitAgainstNone(const std::string& bandwidth, const
 }
 
 TEST_F(Rtsim, ResplitGoesBackToTheFirstFrameWhereReSplittingDoesNotPay) {
-    // 500 spheres spread evenly, 300 MB/s: the forecast holds frame 1's
-    // planes (its slides made none), so neither frame 2 nor 3 beats the
-    // first, which its load reports' small gain did; frame 4 holds the
-    // split frame 1 started from (to the picosecond the unbalanced run),
-    // and since it does not beat frame 1 either, every later frame is the
-    // first one again.
-    const ResplitAgainstNone f = resplitAgainstNone("300MB/s", "500 --radius 0.02");
+    // 500 spheres over half the world, 4x4x4, 150 MB/s: the forecast holds
+    // frame 1's planes (its slides made none), so neither frame 2 nor 3
+    // beats the first, which its load reports' small gain did; frame 4
+    // holds the split frame 1 started from (to the picosecond the
+    // unbalanced run), and since it does not beat frame 1 either, every
+    // later frame is the first one again.
+    const ResplitAgainstNone f = resplitAgainstNone("150MB/s", " --spheres 500 --radius 0.02 --concentration 0.5 --mesh 4");
     const double first = f.ns[0];
     EXPECT_LT(first, f.none);
     EXPECT_GT(f.ns[1], first);
