@@ -171,13 +171,19 @@ void Link::endFrame(Picos end) {
             const Picos done = m.start + m.transfer;
             if (done > end) byType_[size_t(m.type)].wire -= done - std::max(m.start, end);
             if (m.ready < end) countSaturation(m.ready, std::min(m.start, end), std::min(done, end));
+            if (m.sent < end) {  // its waits up to the end, as its backlog signal shows them
+                stats_.slotWait += std::min(m.ready, end) - m.sent;
+                stats_.wireWait += std::min(m.start, end) - std::min(m.ready, end);
+            }
             if (late) {
                 trace_.vcd->step(m.sent, trace_.backlog, 1);
                 traceStart(m.start, m.transfer);
             }
         }
-        if (late)
-            for (size_t i = 0; i < l.waiting(); ++i) trace_.vcd->step(l.backlog[i].sent, trace_.backlog, 1);
+        for (size_t i = 0; i < l.waiting(); ++i) {
+            if (l.backlog[i].sent < end) stats_.slotWait += end - l.backlog[i].sent;  // still waiting for a slot
+            if (late) trace_.vcd->step(l.backlog[i].sent, trace_.backlog, 1);
+        }
     }
 }
 

@@ -112,7 +112,8 @@ public:
     // The frame ended at `end`: the wire time after it is taken out of the
     // figures (a node running ahead of the kernel may have sent a load
     // report that goes on the wire after the last contribution arrived;
-    // the frame's figures, as its waveforms, end with the frame). A link
+    // the frame's figures, as its waveforms, end with the frame); messages
+    // not taken by then add their waits up to it (their backlog signal). A link
     // with a control lane traces a message when it is consumed; those never
     // consumed are traced now, as a link without one traced them when sent.
     void endFrame(Picos end);
