@@ -163,7 +163,7 @@ MUTANTS = [
      ".add(t - head.sent);", ".add(t - head.ready);",
      "a message's latency counted from when it had a slot, not from when it was sent"),
     ("link-slot-wait-to-start", "models/link.cpp",
-     "stats_.slotWait += head.ready - head.sent;", "stats_.slotWait += head.start - head.sent;",
+     "stats_.slotWait += std::min(m.ready, upTo) - m.sent;", "stats_.slotWait += std::min(m.start, upTo) - m.sent;",
      "the time waiting for the wire counted as waiting for a slot too"),
     ("link-wire-busy-without-headers", "models/link.cpp",
      "byType_[size_t(w.type)].wire += transfer;", "byType_[size_t(w.type)].wire += transferTime(w.bytes - 8);",
