@@ -171,10 +171,7 @@ void Link::endFrame(Picos end) {
             const Picos done = m.start + m.transfer;
             if (done > end) byType_[size_t(m.type)].wire -= done - std::max(m.start, end);
             if (m.ready < end) countSaturation(m.ready, std::min(m.start, end), std::min(done, end));
-            if (m.sent < end) {  // its waits up to the end, as its backlog signal shows them
-                stats_.slotWait += std::min(m.ready, end) - m.sent;
-                stats_.wireWait += std::min(m.start, end) - std::min(m.ready, end);
-            }
+            if (m.sent < end) countWaits(m, end);  // up to the end, as its backlog signal shows them
             if (late) {
                 trace_.vcd->step(m.sent, trace_.backlog, 1);
                 traceStart(m.start, m.transfer);
@@ -185,6 +182,11 @@ void Link::endFrame(Picos end) {
             if (late) trace_.vcd->step(l.backlog[i].sent, trace_.backlog, 1);
         }
     }
+}
+
+void Link::countWaits(const Timed& m, Picos upTo) {
+    stats_.slotWait += std::min(m.ready, upTo) - m.sent;
+    stats_.wireWait += std::min(m.start, upTo) - std::min(m.ready, upTo);
 }
 
 // (Messages are counted in the order they are consumed, in which their wire
@@ -266,8 +268,7 @@ Message Link::take(int lane, Picos t) {
     if (keepsBufferMark(l)) from = std::min(from, l.markFrom);
     l.takenAt_.fit(std::min(from, j), j);
     l.takenAt_[j] = t;
-    stats_.slotWait += head.ready - head.sent;
-    stats_.wireWait += head.start - head.ready;
+    countWaits(head, t);  // (taken after its arrival: its whole waits)
     countSaturation(head.ready, head.start, head.start + head.transfer);
     ++stats_.consumed;
     if (distributions_) (isControl(head.type) ? stats_.controlLatency : stats_.latency).add(t - head.sent);

@@ -239,6 +239,9 @@ private:
     // messages on the 16x16x16 mesh go on links that fill their 16 slots).
     bool keepsBufferMark(const Lane& l) const { return distributions_ && stats_.bufferHighWater < l.slots; }
     void putOnWire(int lane, Picos slot);  // the lane's first waiting message
+    // A message's slot and wire waits (LinkFlow::slotWait, wireWait) up to
+    // `upTo`: at its take, all of them; at the frame's end, those so far.
+    void countWaits(const Timed& m, Picos upTo);
     // A control message ready at `ready`: its start on the wire, after the
     // message being sent then; the data messages not started by then move
     // back behind it.

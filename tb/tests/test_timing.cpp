@@ -300,6 +300,28 @@ TEST(LinkOracleBy, HandPacedSenderNeverQueues) {
     }
 }
 
+// Waits of the messages a frame leaves behind, by hand: depth 1, 250 ns,
+// 2 GB/s (T = 66 ns a ray), three rays sent at 0, only the first taken (at
+// its arrival, T + L). The second has its slot one latency after that
+// (T + 2L) and starts at once; the third waits for a slot still. The frame
+// ends at 1 us: each counts its waits up to then, as the link's backlog
+// signal shows them (the second's slot wait T + 2L, the third's the whole
+// 1 us), where only the first's (none) were counted before.
+TEST(LinkOracleBy, MessagesLeftAtTheFramesEndCountTheirWaitsUpToIt) {
+    Link link("l", LinkParams{250000, 2e9, 1});
+    const Picos T = wire(kHeader + kRay, 2e9), L = 250000, end = 1000000;
+    for (int k = 0; k < 3; ++k) link.send(rays(1), 0);
+    Picos a;
+    ASSERT_TRUE(link.peekArrival(a));
+    EXPECT_EQ(a, T + L);
+    link.consume(a);
+    EXPECT_EQ(link.stats().slotWait + link.stats().wireWait, 0u);
+    link.endFrame(end);
+    EXPECT_EQ(link.stats().slotWait, (T + 2 * L) + end);
+    EXPECT_EQ(link.stats().wireWait, 0u);
+    EXPECT_EQ(link.stats().consumed, 1u);
+}
+
 // Sizes by hand: a batch of rays, a batch of contributions and a slide with
 // its objects each cross in their bytes' time, back to back.
 // Latency from send to consume, by hand: depth 2, 100 ns, 1 GB/s (T = 132
