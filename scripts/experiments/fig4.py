@@ -208,7 +208,9 @@ def frames_table(a, rows, policies, md_path):
 
 def best_static(a):
     """The best static split's ratio per (view, N) at f = 1/N, where
-    scripts/experiments/partition_search.py has found it for this preset."""
+    scripts/experiments/partition_search.py has found it for this preset:
+    the better of its one set of planes and, where --per-column refined
+    it, each column's own."""
     best = {}
     for view in VIEWS:
         stem = "partition_search" + variant(a.preset, a.tag) + ("" if view == "along" else f"-{view}")
@@ -216,8 +218,8 @@ def best_static(a):
         if not os.path.exists(path):  # a run under out/ uses the published search
             path = os.path.join(RESULTS, stem + ".csv")
         if os.path.exists(path):
-            for r in read_csv(path):
-                best[(r["view"], int(r["N"]))] = float(r["ratio"])
+            for r in read_csv(path):  # one set of planes for all columns, or each column's own where refined
+                best[(r["view"], int(r["N"]))] = min(float(x) for x in (r["ratio"], r.get("columns_ratio")) if x)
     return best
 
 

@@ -6,7 +6,9 @@ candidate a full rtsim run without balancing that starts at those planes
 (--boundaries-from). It is what a balancer that slides boundaries could at
 best settle on, all costs of thin boxes included (rays crossing more boxes,
 their messages), unlike the column bound, which spreads the unbalanced run's
-work. With --doc, writes doc/results/partition_search.{csv,md} and its table into
+work. --per-column then refines the search in the CSV with planes of each
+column's own (columns unequally loaded want different planes). Both are
+local searches. With --doc, writes doc/results/partition_search.{csv,md} and its table into
 doc/balancing.md. Run with /usr/bin/python3."""
 import argparse
 import concurrent.futures
@@ -21,9 +23,9 @@ from project import PAPER_SCENE, ROOT, VIEWS, preset_flags, publish_table, varia
 from sweep import read_csv, write_csv  # noqa: E402
 
 
-def args_of(a, n, f):
+def args_of(a, n, f, balance=("none",)):
     return (preset_flags(a.preset) + PAPER_SCENE + VIEWS[a.view] +
-            ["--mesh", n, "--concentration", f"{f:.6f}", "--balance", "none"] + a.extra.split())
+            ["--mesh", n, "--concentration", f"{f:.6f}", "--balance", *balance] + a.extra.split())
 
 
 def unbalanced(a, n, f):
@@ -35,17 +37,63 @@ def unbalanced(a, n, f):
 
 def run(a, n, f, planes):
     """Render time (ns) of the frame with every column's inner planes at `planes`."""
+    return run_columns(a, n, f, {(i, j): planes for i in range(n) for j in range(n)})[0]
+
+
+def run_columns(a, n, f, cols):
+    """(Render time in ns, report) of the frame with column (i, j)'s inner
+    planes at cols[(i, j)]."""
     rep = {"config": {"mesh": [n, n, n], "balance": {"axis": "x"}},
            "boundaries": [{"column": [i, j], "index": k + 1, "history": [[0, p]]}
-                          for i in range(n) for j in range(n) for k, p in enumerate(planes)]}
+                          for (i, j), planes in sorted(cols.items()) for k, p in enumerate(planes)]}
     fd, path = tempfile.mkstemp(suffix=".json")
     with os.fdopen(fd, "w") as fh:
         json.dump(rep, fh)
     try:
         report, _ = driver.run_rtsim(args_of(a, n, f) + ["--boundaries-from", path])
-        return report["render_time_ns"]
+        return report["render_time_ns"], report
     finally:
         os.remove(path)
+
+
+def planes_of(report, n):
+    """Each column's inner planes along x where the report's last frame held them."""
+    cols = {}
+    for b in report["boundaries"]:
+        cols.setdefault(tuple(b["column"]), {})[b["index"]] = b["history"][-1][1]
+    return {c: [v[k] for k in range(1, n)] for c, v in cols.items()}
+
+
+def refine_columns(a, n, f, lo, hi, pool, cols):
+    """Descent with planes of each column's own, from `cols`: the frame is
+    its busiest nodes', so each step tries thinning each of the
+    `--busiest` busiest boxes by `step` from below or from above (a plane of its
+    column moved towards it), keeps the best move if it shortens the frame
+    and halves the step when none does. A local search for the splits that
+    one set of planes cannot reach (columns unequally loaded).
+    Returns (best time, planes per column, runs)."""
+    min_gap = 0.05 * (hi - lo) / n
+    best, report = run_columns(a, n, f, cols)
+    runs, step = 1, f / n / 4
+    while step >= a.min_step / 2 and runs < a.max_runs:
+        moves = []
+        for node in sorted(report["nodes"], key=lambda x: -x["busy_ns"])[:a.busiest]:
+            k, col = node["node"][0], (node["node"][1], node["node"][2])
+            for plane, d in ((k - 1, step), (k, -step)):  # its lower face up, its upper face down
+                if 0 <= plane < n - 1:
+                    p = list(cols[col])
+                    p[plane] = round(p[plane] + d, 6)
+                    edges = [lo] + p + [hi]
+                    if all(edges[i + 1] - edges[i] >= min_gap for i in range(n)):
+                        moves.append({**cols, col: p})
+        found = list(pool.map(lambda c: run_columns(a, n, f, c), moves))
+        runs += len(moves)
+        i = min(range(len(found)), key=lambda x: found[x][0]) if found else None
+        if i is not None and found[i][0] < best:
+            best, report, cols = found[i][0], found[i][1], moves[i]
+        else:
+            step /= 2
+    return best, cols, runs
 
 
 def search(a, n, f, lo, hi, pool, reach):
@@ -82,6 +130,45 @@ def search(a, n, f, lo, hi, pool, reach):
     return best, planes, runs
 
 
+def one_set(a, n, pool):
+    """The search with one set of planes for all columns, from two starts
+    (the planes spread over the whole crowded layer, and over its first
+    three quarters, where the rays that hit stop), the better kept."""
+    f = 1 / n
+    none, lo, hi = unbalanced(a, n, f)
+    found = [search(a, n, f, lo, hi, pool, reach) for reach in (1.0, 0.75)]
+    t, planes = min((x[0], x[1]) for x in found)
+    runs = sum(x[2] for x in found)
+    print(f"N = {n}: {t / 1e3:.1f} us, ratio {t / none:.3f}, planes {planes} ({runs} runs)", file=sys.stderr)
+    return {"preset": a.preset, "view": a.view, "N": n, "f": round(f, 6), "time_none_ns": none,
+            "best_ns": t, "ratio": t / none, "planes": " ".join(f"{p:.4f}" for p in planes),
+            "runs": runs, "version": driver.version()}
+
+
+def per_column(a, n, pool, csv_path):
+    """The CSV's one-set row for N, with the per-column refinement added:
+    from the better of its planes and those the default policy holds in
+    its sixth frame (rtsim --balance measured --frames 6)."""
+    old = [r for r in (read_csv(csv_path) if os.path.exists(csv_path) else []) if int(r["N"]) == n]
+    if not old:
+        raise SystemExit(f"partition_search.py: --per-column: no one-set search for N = {n} in {csv_path}; run it first")
+    row = dict(old[0])
+    f = 1 / n
+    none, lo, hi = unbalanced(a, n, f)
+    aligned = [float(x) for x in row["planes"].split()]
+    report, _ = driver.run_rtsim(args_of(a, n, f, ("measured", "--frames", "6")))
+    starts = {"one set": {(i, j): aligned for i in range(n) for j in range(n)}, "measured@6": planes_of(report, n)}
+    times = {k: run_columns(a, n, f, c)[0] for k, c in starts.items()}
+    start = min(times, key=times.get)
+    t, cols, runs = refine_columns(a, n, f, lo, hi, pool, starts[start])
+    print(f"N = {n}: per column {t / 1e3:.1f} us, ratio {t / none:.3f} from {start} "
+          f"(one set {times['one set'] / none:.3f}, measured@6's planes {times['measured@6'] / none:.3f}; {runs} runs)",
+          file=sys.stderr)
+    row.update({"columns_ns": t, "columns_ratio": t / none, "columns_start": start, "columns_runs": runs + 2,
+                "columns_planes": ";".join(" ".join(f"{p:.4f}" for p in cols[c]) for c in sorted(cols))})
+    return row
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--n", default="4,5")
@@ -91,42 +178,42 @@ def main():
     ap.add_argument("--tag", default="", help="name of the --extra variant: its files are partition_search-PRESET-TAG.*")
     ap.add_argument("--min-step", type=float, default=0.004, help="stop when the step is below this (world units)")
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
+    ap.add_argument("--per-column", action="store_true",
+                    help="refine the one-set search already in the CSV with planes of each column's own, from the "
+                         "better of its planes and those the default policy holds in its sixth frame")
+    ap.add_argument("--busiest", type=int, default=6, help="boxes the --per-column refinement tries to thin at each step")
+    ap.add_argument("--max-runs", type=int, default=800, help="runs per N of the --per-column refinement at most")
     ap.add_argument("--merge", metavar="CSV", action="append", default=[],
                     help="search nothing: add the rows of these CSVs (other runs' N) to --out's and write the table")
     driver.add_output_arguments(ap, os.path.join(ROOT, "doc", "balancing.md"))
     a = driver.parse_outputs(ap)
+    stem = "partition_search" + variant(a.preset, a.tag) + ("" if a.view == "along" else f"-{a.view}")
+    csv_path = os.path.join(a.out, stem + ".csv")
     rows = []
     for path in a.merge:
         rows += read_csv(path)
     with concurrent.futures.ThreadPoolExecutor(a.jobs) as pool:
         for n in ([] if a.merge else (int(x) for x in a.n.split(","))):
-            f = 1 / n
-            none, lo, hi = unbalanced(a, n, f)
-            # Two starts (the planes spread over the whole crowded layer, and
-            # over its first three quarters, where the rays that hit stop),
-            # the better result kept.
-            found = [search(a, n, f, lo, hi, pool, reach) for reach in (1.0, 0.75)]
-            t, planes = min((x[0], x[1]) for x in found)
-            runs = sum(x[2] for x in found)
-            rows.append({"preset": a.preset, "view": a.view, "N": n, "f": round(f, 6), "time_none_ns": none,
-                         "best_ns": t, "ratio": t / none, "planes": " ".join(f"{p:.4f}" for p in planes),
-                         "runs": runs, "version": driver.version()})
-            print(f"N = {n}: {t / 1e3:.1f} us, ratio {t / none:.3f}, planes {planes} ({runs} runs)", file=sys.stderr)
-    stem = "partition_search" + variant(a.preset, a.tag) + ("" if a.view == "along" else f"-{a.view}")
-    csv_path = os.path.join(a.out, stem + ".csv")
+            rows.append(per_column(a, n, pool, csv_path) if a.per_column else one_set(a, n, pool))
     # Rows of other N already there are kept: searches of different N add up.
     if os.path.exists(csv_path):
         ns = {int(r["N"]) for r in rows}
         rows += [r for r in read_csv(csv_path) if int(r["N"]) not in ns and r["view"] == a.view]
     rows.sort(key=lambda r: int(r["N"]))
+    keys = list(dict.fromkeys(k for r in rows for k in r))  # the per-column fields where refined
+    rows = [{k: r.get(k, "") for k in keys} for r in rows]
     write_csv(csv_path, rows)
     lines = [f"<!-- written by scripts/experiments/partition_search.py --preset {a.preset} --view {a.view}"
              f"{' --tag ' + a.tag + ' --extra=' + repr(a.extra) if a.tag else ''}; do not edit -->",
-             "| view | N | f | none | best static partition | ratio | its planes along x | runs |",
-             "|---|---:|---:|---:|---:|---:|---|---:|"]
+             "| view | N | f | none | best static partition, one set of planes | ratio | its planes along x | runs | "
+             "planes of each column's own, refined from | ratio | runs |",
+             "|---|---:|---:|---:|---:|---:|---|---:|---|---:|---:|"]
     for r in rows:
+        own = (f"{r['columns_start']} | {float(r['columns_ratio']):.3f} | {r['columns_runs']}"
+               if r.get("columns_ratio") else "- | - | -")
         lines.append(f"| {r['view']} | {r['N']} | 1/{r['N']} | {float(r['time_none_ns']) / 1e3:,.1f} us | "
-                     f"{float(r['best_ns']) / 1e3:,.1f} us | {float(r['ratio']):.3f} | {r['planes']} | {r['runs']} |")
+                     f"{float(r['best_ns']) / 1e3:,.1f} us | {float(r['ratio']):.3f} | {r['planes']} | {r['runs']} | "
+                     f"{own} |")
     section = f"partition search {a.preset}" + (f" {a.tag}" if a.tag else "") + ("" if a.view == "along" else f" {a.view}")
     try:
         publish_table(lines, os.path.join(a.out, stem + ".md"), a.doc or None, section)

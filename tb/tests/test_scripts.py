@@ -57,6 +57,27 @@ class Scripts(unittest.TestCase):
                 with open(os.path.join(d, "doc", name)) as f:
                     self.assertEqual(f.read(), pages[name])
 
+    def test_a_split_of_each_columns_own_reaches_its_boxes(self):
+        """partition_search.py --per-column hands rtsim each column's own
+        planes (--boundaries-from): every node's box ends at its column's
+        plane, and planes_of reads the planes back from the report."""
+        sys.path.insert(0, os.path.join(SCRIPTS, "experiments"))
+        import argparse
+        import partition_search
+        import sweep
+        small = lambda args: project.run_rtsim([("16x16" if x == "256x256" else x) for x in args], binary=RTSIM)
+        run, sweep.run_rtsim = sweep.run_rtsim, small
+        try:
+            cols = {(0, 0): [0.2], (1, 0): [0.3], (0, 1): [0.4], (1, 1): [0.6]}
+            _, report = partition_search.run_columns(argparse.Namespace(preset="modern", view="along", extra=""),
+                                                     2, 0.5, cols)
+        finally:
+            sweep.run_rtsim = run
+        for node in report["nodes"]:
+            x, i, j = node["node"]  # the columns run along x; (i, j) are y and z
+            self.assertAlmostEqual(node["box"][1 - x][0], cols[(i, j)][0], places=9)
+        self.assertEqual({c: [round(p, 9) for p in v] for c, v in partition_search.planes_of(report, 2).items()}, cols)
+
     def test_the_paper_scene_is_the_one_rtsims_defaults_give(self):
         with tempfile.TemporaryDirectory() as d:
             def scene(flags):
