@@ -64,17 +64,17 @@ def planes_of(report, n):
     return {c: [v[k] for k in range(1, n)] for c, v in cols.items()}
 
 
-def refine_columns(a, n, f, lo, hi, pool, cols):
+def refine_columns(a, n, f, lo, hi, pool, cols, best, report):
     """Descent with planes of each column's own, from `cols`: the frame is
     its busiest nodes', so each step tries thinning each of the
     `--busiest` busiest boxes by `step` from below or from above (a plane of its
     column moved towards it), keeps the best move if it shortens the frame
     and halves the step when none does. A local search for the splits that
-    one set of planes cannot reach (columns unequally loaded).
-    Returns (best time, planes per column, runs)."""
+    one set of planes cannot reach (columns unequally loaded). `best` and
+    `report` are the frame at `cols`. Returns (best time, planes per
+    column, runs)."""
     min_gap = 0.05 * (hi - lo) / n
-    best, report = run_columns(a, n, f, cols)
-    runs, step = 1, f / n / 4
+    runs, step = 0, f / n / 4
     while step >= a.min_step / 2 and runs < a.max_runs:
         moves = []
         for node in sorted(report["nodes"], key=lambda x: -x["busy_ns"])[:a.busiest]:
@@ -158,13 +158,14 @@ def per_column(a, n, pool, csv_path):
     aligned = [float(x) for x in row["planes"].split()]
     report, _ = driver.run_rtsim(args_of(a, n, f, ("measured", "--frames", "6")))
     starts = {"one set": {(i, j): aligned for i in range(n) for j in range(n)}, "measured@6": planes_of(report, n)}
-    times = {k: run_columns(a, n, f, c)[0] for k, c in starts.items()}
-    start = min(times, key=times.get)
-    t, cols, runs = refine_columns(a, n, f, lo, hi, pool, starts[start])
-    print(f"N = {n}: per column {t / 1e3:.1f} us, ratio {t / none:.3f} from {start} "
-          f"(one set {times['one set'] / none:.3f}, measured@6's planes {times['measured@6'] / none:.3f}; {runs} runs)",
+    frames = {k: run_columns(a, n, f, c) for k, c in starts.items()}  # (time, report)
+    start = min(frames, key=lambda k: frames[k][0])
+    t, cols, runs = refine_columns(a, n, f, lo, hi, pool, starts[start], *frames[start])
+    runs += 3  # the sixth frame's run and the two starts
+    print(f"N = {n}: per column {t / 1e3:.1f} us, ratio {t / none:.3f} from {start} (one set "
+          f"{frames['one set'][0] / none:.3f}, measured@6's planes {frames['measured@6'][0] / none:.3f}; {runs} runs)",
           file=sys.stderr)
-    row.update({"columns_ns": t, "columns_ratio": t / none, "columns_start": start, "columns_runs": runs + 2,
+    row.update({"columns_ns": t, "columns_ratio": t / none, "columns_start": start, "columns_runs": runs,
                 "columns_planes": ";".join(" ".join(f"{p:.4f}" for p in cols[c]) for c in sorted(cols))})
     return row
 
