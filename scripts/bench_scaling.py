@@ -9,11 +9,24 @@ event, the report's wall_startup_s) and the wall time per modelled event.
 The modelled events are the nodes' ray steps (a ray traced through a box,
 or passed on through it untraced), their intersection tests and every
 message (rays, contributions, credit). At the largest N the image is
-compared with rtref's. Prints tables; with --doc writes
+compared with rtref's.
+
+Where the time per event goes: at N = 4 and at the largest N, one more
+run of each scene under `perf record` (sampled, not timed; in the plain
+Release build of scripts/build.sh, whose profile keeps the region's trace
+apart from the node's step, which the profile-guided build inlines it
+into) splits the simulation's time into the tracing (the grid walk,
+intersection tests and shading: TRACING below) and the rest (messages,
+links, the nodes' loops, the SystemC kernel), each over its own events:
+tracing per ray step or test, the rest per message. From them, the wall time per event that the
+largest mesh would have if every kind of event cost what it does at
+N = 4: the ratio the mix of events alone sets, against which issue 45's
+1.3 is to be read. Prints tables; with --doc writes
 doc/benchmarks/scaling.md and scaling.png. Run with /usr/bin/python3."""
 import argparse
 import json
 import os
+import re
 import statistics
 import subprocess
 import sys
@@ -22,11 +35,17 @@ import tempfile
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from bench_rtref import add_cpu_option, build_fast, machine, pin_to_cpu  # noqa: E402
 from bench_rtsim import timed  # noqa: E402
-from project import FAST_BUILD, PAPER_SCENE, ROOT, spd_scene, version  # noqa: E402
+from project import FAST_BUILD, PAPER_SCENE, ROOT, RTSIM, spd_scene, version  # noqa: E402
 
 # Issue 45's targets, checked in the table's last lines.
 TARGET_WALL_S, TARGET_MEM_MIB = 150.0, 3 * 1024
 TARGET_PER_EVENT, TARGET_STARTUP = 1.3, 0.10
+
+# The tracing's functions in a profile (perf's symbols): the per-sample work
+# that rtref does too. Everything else in the process is the machine's.
+TRACING = re.compile(r"UniformGrid::closestHit|Lattice::locate|Region::trace|Shader::|"
+                     r"(Sphere|Polygon|Cone|Shape|BruteForce)::(intersect|closestHit)")
+PERF_HZ = 999
 
 
 def paper_scene(size):
@@ -43,6 +62,48 @@ def events(r):
     return steps, tests, sum(r["totals"]["messages"].values())
 
 
+def split_samples(lines):
+    """Samples per symbol from `perf report --stdio -n --sort symbol` lines:
+    (tracing, the rest), as counts."""
+    tracing = rest = 0
+    for line in lines:
+        m = re.match(r"\s*[\d.]+%\s+(\d+)\s+\[[.k]\]\s+(.*)", line)
+        if not m:
+            continue
+        if TRACING.search(m.group(2)):
+            tracing += int(m.group(1))
+        else:
+            rest += int(m.group(1))
+    return tracing, rest
+
+
+def kind_costs(tracing_s, rest_s, startup_s, events):
+    """Seconds per event of each kind: tracing per ray step or test, the
+    rest (start-up aside) per message."""
+    steps, tests, msgs = events
+    return tracing_s / (steps + tests), (rest_s - startup_s) / msgs
+
+
+def mix_ratio(costs4, events4, events_n):
+    """The wall time per event at events_n, over N = 4's, if each kind of
+    event cost what it does at N = 4 (costs4: kind_costs), start-up aside."""
+    def per_event(ev):
+        steps, tests, msgs = ev
+        return (costs4[0] * (steps + tests) + costs4[1] * msgs) / sum(ev)
+    return per_event(events_n) / per_event(events4)
+
+
+def profiled(cmd, tmp):
+    """Runs cmd under perf record; returns (tracing, rest) in seconds of samples."""
+    data = os.path.join(tmp, "perf.data")
+    subprocess.run(["perf", "record", "-q", "-F", str(PERF_HZ), "-o", data, "--"] + cmd, check=True,
+                   stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    out = subprocess.run(["perf", "report", "-i", data, "--no-children", "--sort", "symbol", "--stdio", "-n"],
+                         check=True, capture_output=True, text=True).stdout
+    tracing, rest = split_samples(out.splitlines())
+    return tracing / PERF_HZ, rest / PERF_HZ
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--n", default="2,4,8,16,24,32", help="mesh sizes N (N x N x N)")
@@ -57,15 +118,20 @@ def main():
     except ValueError:
         sys.exit(f"bench_scaling: --n {a.n}: not a list of whole numbers")
     build_fast()
+    subprocess.run(["bash", os.path.join(ROOT, "scripts", "setup.sh"), "bench"], check=True)  # perf
+    # The split's runs: the plain build, whose profile keeps the region's
+    # trace a function of its own (the profile-guided build inlines it into
+    # the node's step, with the message handling).
+    subprocess.run(["bash", os.path.join(ROOT, "scripts", "build.sh"), "rtsim"], check=True, stdout=subprocess.DEVNULL)
     pin = pin_to_cpu(a.cpu, "bench_scaling")
     ver = version()
     tmp = tempfile.mkdtemp()
     report = os.path.join(tmp, "r.json")
     rtsim = os.path.join(FAST_BUILD, "rtsim")
 
-    def command(scene, n, image=""):
+    def command(scene, n, image="", binary=rtsim):
         flags = paper_scene(a.size) if scene == "paper" else ["--scene", spd_scene(scene), "--size", a.size]
-        return [rtsim] + flags + ["--mesh", str(n), "--no-baseline", "-q", "--image", image, "--report", report]
+        return [binary] + flags + ["--mesh", str(n), "--no-baseline", "-q", "--image", image, "--report", report]
 
     rows = {}  # (scene, n) -> dict
     for scene in a.scenes.split(","):
@@ -81,6 +147,14 @@ def main():
                 row["report"] = {"events": events(r), "render_ns": r["render_time_ns"]}
                 print(f"{scene}, N = {n}, run {run + 1}: {wall:.2f} s, {mem:.0f} MiB, start-up "
                       f"{r['wall_startup_s']:.2f} s", file=sys.stderr)
+    split = {}  # (scene, n) -> (tracing s, rest s, start-up s, events), from one run under perf
+    for scene in a.scenes.split(","):
+        for n in sorted({4, ns[-1]} & set(ns)):
+            tracing, rest = profiled(command(scene, n, binary=RTSIM), tmp)
+            with open(report) as f:
+                r = json.load(f)
+            split[(scene, n)] = (tracing, rest, r["wall_startup_s"], events(r))
+            print(f"{scene}, N = {n}, under perf: tracing {tracing:.2f} s, the rest {rest:.2f} s", file=sys.stderr)
     same = {}
     for scene in a.scenes.split(","):  # the largest mesh's image against rtref's
         ours, ref = os.path.join(tmp, "ours.png"), os.path.join(tmp, "ref.png")
@@ -89,7 +163,7 @@ def main():
         subprocess.run([os.path.join(FAST_BUILD, "rtref")] + flags + ["-o", ref], check=True, stdout=subprocess.DEVNULL)
         with open(ours, "rb") as f, open(ref, "rb") as g:
             same[scene] = f.read() == g.read()
-    text = table(a, ns, rows, same, pin, ver)
+    text = table(a, ns, rows, same, pin, ver) + split_table(a, ns, split)
     print(text)
     if a.doc:
         out = os.path.join(ROOT, "doc", "benchmarks")
@@ -144,6 +218,38 @@ def table(a, ns, rows, same, pin, ver):
     lines += ["", f"{a.size}, exact mode (the default), `--no-baseline`; {a.runs} runs per point, the N alternated "
               f"ascending and descending; {machine()}"
               + (f"; every run pinned to CPU {pin}" if pin is not None else "") + f"; {ver}."]
+    return "\n".join(lines) + "\n"
+
+
+def split_table(a, ns, split):
+    """Where the time per event goes, at N = 4 and the largest N, and the
+    ratio the mix of events alone sets (mix_ratio)."""
+    top = ns[-1]
+    lines = ["", f"Where the time goes (one more run of each point under `perf record`, {PERF_HZ} samples a second, "
+             "in the plain Release build, where the region's trace is a function of its own; start-up aside): the tracing (the grid walk, intersection tests, shading) per ray step or test, and "
+             "the rest (messages, links, the nodes' loops, the SystemC kernel) per message:", "",
+             "| scene | N | tracing | per ray step or test | the rest | per message | per event | per event / N = 4's |",
+             "|---|---:|---:|---:|---:|---:|---:|---:|"]
+    mixes = []
+    for scene in a.scenes.split(","):
+        if (scene, 4) not in split:
+            continue
+        def per_event(key):
+            tracing, rest, startup, ev = split[key]
+            return (tracing + rest - startup) / sum(ev)
+        for n in sorted({4, top}):
+            tracing, rest, startup, ev = split[(scene, n)]
+            c = kind_costs(tracing, rest, startup, ev)
+            lines.append(f"| {scene} | {n} | {tracing:.2f} s | {c[0] * 1e9:.0f} ns | {rest - startup:.2f} s | "
+                         f"{c[1] * 1e9:.0f} ns | {per_event((scene, n)) * 1e9:.0f} ns | "
+                         f"{per_event((scene, n)) / per_event((scene, 4)):.2f} |")
+        t4 = split[(scene, 4)]
+        mixes.append((scene, mix_ratio(kind_costs(*t4), t4[3], split[(scene, top)][3])))
+    if mixes:
+        lines += ["", f"If every kind of event cost at N = {top} what it does at N = 4, the wall time per event "
+                  f"would be, against N = 4's: " + "; ".join(f"{s} {m:.2f} x" for s, m in mixes)
+                  + f" (the target: {TARGET_PER_EVENT} x). Messages cost more than steps and tests, and their share "
+                  "of the events grows with N, so this much of the ratio comes from the mix of events alone."]
     return "\n".join(lines) + "\n"
 
 

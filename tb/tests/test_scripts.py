@@ -78,6 +78,29 @@ class Scripts(unittest.TestCase):
             self.assertAlmostEqual(node["box"][1 - x][0], cols[(i, j)][0], places=9)
         self.assertEqual({c: [round(p, 9) for p in v] for c, v in partition_search.planes_of(report, 2).items()}, cols)
 
+    def test_the_scaling_split_reads_perf_and_weighs_the_mix(self):
+        """bench_scaling.py's split of a profile: the tracing's symbols from
+        perf's lines, each kind's cost, and the ratio the mix of events alone
+        sets, against sums done by hand."""
+        import bench_scaling
+        lines = ["# Overhead  Samples  Symbol",
+                 "    21.51%           516  [.] rt::UniformGrid::closestHit",
+                 "     3.67%            88  [.] rt::Sphere::intersect",
+                 "     3.50%            84  [.] rt::Link::take",
+                 "     2.13%            51  [k] clear_page_erms",
+                 "     1.25%            30  [.] rt::Shader::hit",
+                 "     0.50%            12  [.] rt::Lattice::locate"]
+        self.assertEqual(bench_scaling.split_samples(lines), (516 + 88 + 30 + 12, 84 + 51))
+        # N = 4: 2 s tracing over 10 M steps and 30 M tests (50 ns each);
+        # 3 s the rest, 1 s of it start-up, over 10 M messages (200 ns each).
+        costs = bench_scaling.kind_costs(2.0, 3.0, 1.0, (10e6, 30e6, 10e6))
+        self.assertAlmostEqual(costs[0], 50e-9)
+        self.assertAlmostEqual(costs[1], 200e-9)
+        # At N = 4, (2 + 2) s over 50 M events: 80 ns. At 20 M steps, 20 M
+        # tests and 40 M messages with the same costs, (2 + 8) s over 80 M
+        # events: 125 ns, 1.5625 x.
+        self.assertAlmostEqual(bench_scaling.mix_ratio(costs, (10e6, 30e6, 10e6), (20e6, 20e6, 40e6)), 1.5625)
+
     def test_the_paper_scene_is_the_one_rtsims_defaults_give(self):
         with tempfile.TemporaryDirectory() as d:
             def scene(flags):
