@@ -84,13 +84,16 @@ def kind_costs(tracing_s, rest_s, startup_s, events):
     return tracing_s / (steps + tests), (rest_s - startup_s) / msgs
 
 
+def per_event_at(costs, events):
+    """Seconds per event with these costs of each kind (kind_costs)."""
+    steps, tests, msgs = events
+    return (costs[0] * (steps + tests) + costs[1] * msgs) / sum(events)
+
+
 def mix_ratio(costs4, events4, events_n):
     """The wall time per event at events_n, over N = 4's, if each kind of
     event cost what it does at N = 4 (costs4: kind_costs), start-up aside."""
-    def per_event(ev):
-        steps, tests, msgs = ev
-        return (costs4[0] * (steps + tests) + costs4[1] * msgs) / sum(ev)
-    return per_event(events_n) / per_event(events4)
+    return per_event_at(costs4, events_n) / per_event_at(costs4, events4)
 
 
 def profiled(cmd, tmp):
@@ -149,7 +152,7 @@ def main():
                       f"{r['wall_startup_s']:.2f} s", file=sys.stderr)
     split = {}  # (scene, n) -> (tracing s, rest s, start-up s, events), from one run under perf
     for scene in a.scenes.split(","):
-        for n in sorted({4, ns[-1]} & set(ns)):
+        for n in sorted({4, ns[-1]}) if 4 in ns else []:
             tracing, rest = profiled(command(scene, n, binary=RTSIM), tmp)
             with open(report) as f:
                 r = json.load(f)
@@ -226,24 +229,22 @@ def split_table(a, ns, split):
     ratio the mix of events alone sets (mix_ratio)."""
     top = ns[-1]
     lines = ["", f"Where the time goes (one more run of each point under `perf record`, {PERF_HZ} samples a second, "
-             "in the plain Release build, where the region's trace is a function of its own; start-up aside): the tracing (the grid walk, intersection tests, shading) per ray step or test, and "
-             "the rest (messages, links, the nodes' loops, the SystemC kernel) per message:", "",
+             "in the plain Release build, where the region's trace is a function of its own; start-up aside): the "
+             "tracing (the grid walk, intersection tests, shading) per ray step or test, and the rest (messages, "
+             "links, the nodes' loops, the SystemC kernel) per message:", "",
              "| scene | N | tracing | per ray step or test | the rest | per message | per event | per event / N = 4's |",
              "|---|---:|---:|---:|---:|---:|---:|---:|"]
     mixes = []
     for scene in a.scenes.split(","):
         if (scene, 4) not in split:
             continue
-        def per_event(key):
-            tracing, rest, startup, ev = split[key]
-            return (tracing + rest - startup) / sum(ev)
+        t4 = split[(scene, 4)]
+        base = per_event_at(kind_costs(*t4), t4[3])
         for n in sorted({4, top}):
             tracing, rest, startup, ev = split[(scene, n)]
             c = kind_costs(tracing, rest, startup, ev)
             lines.append(f"| {scene} | {n} | {tracing:.2f} s | {c[0] * 1e9:.0f} ns | {rest - startup:.2f} s | "
-                         f"{c[1] * 1e9:.0f} ns | {per_event((scene, n)) * 1e9:.0f} ns | "
-                         f"{per_event((scene, n)) / per_event((scene, 4)):.2f} |")
-        t4 = split[(scene, 4)]
+                         f"{c[1] * 1e9:.0f} ns | {per_event_at(c, ev) * 1e9:.0f} ns | {per_event_at(c, ev) / base:.2f} |")
         mixes.append((scene, mix_ratio(kind_costs(*t4), t4[3], split[(scene, top)][3])))
     if mixes:
         lines += ["", f"If every kind of event cost at N = {top} what it does at N = 4, the wall time per event "
