@@ -18,10 +18,10 @@ apart from the node's step, which the profile-guided build inlines it
 into) splits the simulation's time into the tracing (the grid walk,
 intersection tests and shading: TRACING below) and the rest (messages,
 links, the nodes' loops, the SystemC kernel), each over its own events:
-tracing per ray step or test, the rest per message. From them, the wall time per event that the
-largest mesh would have if every kind of event cost what it does at
-N = 4: the ratio the mix of events alone sets, against which issue 45's
-1.3 is to be read. Prints tables; with --doc writes
+tracing per ray step or test, the rest per message. From them, the wall
+time per event that the largest mesh would have if every kind of event
+cost what it does at N = 4: the ratio the mix of events alone sets,
+against which issue 45's 1.3 is to be read. Prints tables; with --doc writes
 doc/benchmarks/scaling.md and scaling.png. Run with /usr/bin/python3."""
 import argparse
 import json
@@ -239,13 +239,14 @@ def split_table(a, ns, split):
         if (scene, 4) not in split:
             continue
         t4 = split[(scene, 4)]
-        base = per_event_at(kind_costs(*t4), t4[3])
+        c4 = kind_costs(*t4)
+        base = per_event_at(c4, t4[3])
         for n in sorted({4, top}):
             tracing, rest, startup, ev = split[(scene, n)]
             c = kind_costs(tracing, rest, startup, ev)
             lines.append(f"| {scene} | {n} | {tracing:.2f} s | {c[0] * 1e9:.0f} ns | {rest - startup:.2f} s | "
                          f"{c[1] * 1e9:.0f} ns | {per_event_at(c, ev) * 1e9:.0f} ns | {per_event_at(c, ev) / base:.2f} |")
-        mixes.append((scene, mix_ratio(kind_costs(*t4), t4[3], split[(scene, top)][3])))
+        mixes.append((scene, mix_ratio(c4, t4[3], split[(scene, top)][3])))
     if mixes:
         lines += ["", f"If every kind of event cost at N = {top} what it does at N = 4, the wall time per event "
                   f"would be, against N = 4's: " + "; ".join(f"{s} {m:.2f} x" for s, m in mixes)
