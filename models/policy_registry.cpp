@@ -17,7 +17,7 @@ const std::vector<PolicyInfo>& policies() {
         {"quantile", "each boundary moves gain of the way to its quantile of the column's demand (work done and waiting)",
          PolicyKind::Dynamic, 0.5, makeQuantilePolicy},
         {"resplit",
-         "between frames, the boundaries move to the planes a forecast from the frame before finds fastest, if 5 % "
+         "between frames, the boundaries move to the planes a forecast from the frame before finds fastest, if 4 % "
          "faster than holding them, and stay for the frame (the first frame, with no frame before, balances as slide)",
          PolicyKind::Dynamic, 0.25, makeSlidePolicy},
         {"measured",

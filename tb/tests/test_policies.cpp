@@ -4,6 +4,7 @@
 // hand in the tests (no machine run).
 #include <algorithm>
 #include <set>
+#include <string>
 #include <cmath>
 #include <deque>
 #include <map>
@@ -71,6 +72,12 @@ TEST(Registry, EveryPolicyHasANameAndDynamicOnesAMaker) {
     EXPECT_FALSE(config("median").dynamic());
     BalanceConfig b = config("quantile", 0);
     EXPECT_EQ(b.gainOf(), 0.5);  // the policy's default
+}
+
+TEST(Registry, ResplitsHelpStatesTheGainAMoveMustForecast) {
+    // --help and doc/usage.md quote the margin; it is kMinForecastGain's.
+    const std::string said = std::to_string(int(std::lround(kMinForecastGain * 100))) + " % faster";
+    EXPECT_NE(std::string(findPolicy("resplit")->help).find(said), std::string::npos) << findPolicy("resplit")->help;
 }
 
 TEST(WorkProfile, WithinAndCutByHand) {
