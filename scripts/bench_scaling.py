@@ -244,8 +244,9 @@ def split_table(a, ns, split):
         for n in sorted({4, top}):
             tracing, rest, startup, ev = split[(scene, n)]
             c = kind_costs(tracing, rest, startup, ev)
+            pe = per_event_at(c, ev)
             lines.append(f"| {scene} | {n} | {tracing:.2f} s | {c[0] * 1e9:.0f} ns | {rest - startup:.2f} s | "
-                         f"{c[1] * 1e9:.0f} ns | {per_event_at(c, ev) * 1e9:.0f} ns | {per_event_at(c, ev) / base:.2f} |")
+                         f"{c[1] * 1e9:.0f} ns | {pe * 1e9:.0f} ns | {pe / base:.2f} |")
         mixes.append((scene, mix_ratio(c4, t4[3], split[(scene, top)][3])))
     if mixes:
         lines += ["", f"If every kind of event cost at N = {top} what it does at N = 4, the wall time per event "
