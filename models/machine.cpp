@@ -271,6 +271,11 @@ MachineResult Machine::collect(double wallSeconds) {
         r.cells.push_back(n.cell());
         r.boxes.push_back(n.region().box());
         r.objectsPerNode.push_back(n.region().objects().size());
+        const Lattice* g = n.region().accelerator().grid();
+        if (g && !n.region().objects().empty())
+            r.grids.push_back(MachineResult::Grid{{g->cells(0), g->cells(1), g->cells(2)}, g->bounds()});
+        else
+            r.grids.push_back(std::nullopt);
     }
     r.links = std::move(linkInfo_);  // (collected once, at the end)
     for (size_t i = 0; i < links_.size(); ++i) mergeChannel(r.links[reportOf_[i]].stats, links_[i]->stats());

@@ -10,9 +10,11 @@
 //   initial_split.h    where the frame starts (boxes, primary rays, credit)
 //   watchdog.h         stopping a run that is stuck, too long or interrupted
 #pragma once
+#include <array>
 #include <chrono>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -57,6 +59,11 @@ struct MachineResult {
     std::vector<Cell> cells;
     std::vector<Box> boxes;
     std::vector<size_t> objectsPerNode;
+    struct Grid {
+        std::array<int, 3> cells{};
+        Box span;  // the part of the box it covers
+    };
+    std::vector<std::optional<Grid>> grids;  // per node: its grid, if it holds objects
     std::vector<LinkReport> links;
     std::vector<FrameBufferUnitReport> frameBuffer;  // per unit
     uint64_t primaryMisses = 0;   // primary rays that miss the world box (the host fills them in)

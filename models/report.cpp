@@ -125,6 +125,10 @@ nlohmann::json nodeJson(const MachineResult& r, size_t i) {
     n["node"] = cellJson(r.cells[i]);
     n["box"] = {{r.boxes[i].lo.x, r.boxes[i].lo.y, r.boxes[i].lo.z}, {r.boxes[i].hi.x, r.boxes[i].hi.y, r.boxes[i].hi.z}};
     n["objects"] = r.objectsPerNode[i];
+    if (i < r.grids.size() && r.grids[i]) {
+        const Box& b = r.grids[i]->span;
+        n["grid"] = {{"cells", r.grids[i]->cells}, {"span", {{b.lo.x, b.lo.y, b.lo.z}, {b.hi.x, b.hi.y, b.hi.z}}}};
+    }
     n["busy_ns"] = ns(s.busy);
     n["wait_ns"] = ns(s.wait);  // busy + wait = render time (checked at the end of every run)
     n["blocked_ns"] = ns(s.blocked);  // of the wait: on a full output buffer (--link-out-depth)

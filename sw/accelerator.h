@@ -18,6 +18,8 @@
 
 namespace rt {
 
+class Lattice;
+
 struct Hit {
     double t = std::numeric_limits<double>::infinity();
     uint32_t object = UINT32_MAX;  // index into the region's object list
@@ -61,6 +63,9 @@ public:
     virtual ~Accelerator() = default;
     virtual Hit closestHit(const Ray& r, double t0, double t1, Mailbox& mailbox, Counters& counters) const = 0;
     virtual std::string describe() const = 0;
+    // The cells it walks, if it is a grid (reports show each node's: a box
+    // thinner than a cell tests every object across it).
+    virtual const Lattice* grid() const { return nullptr; }
 };
 
 enum class AccelKind { Grid, BruteForce };

@@ -43,6 +43,7 @@ public:
     Hit closestHit(const Ray& r, double t0, double t1, Mailbox& mailbox, Counters& counters) const override;
     std::string describe() const override;
     const Lattice& lattice() const { return lattice_; }
+    const Lattice* grid() const override { return &lattice_; }
     // Objects listed in cell c (for tests).
     std::vector<uint32_t> cellObjects(const Cell& c) const;
 

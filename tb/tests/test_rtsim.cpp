@@ -189,6 +189,48 @@ TEST_F(Rtsim, ARaysWorkIsRecordedWhereItsSegmentRanToTheHit) {
     EXPECT_NEAR(moment / work, 0.15, w["bin_width"].get<double>()) << w.dump();
 }
 
+TEST_F(Rtsim, EachNodesGridIsTheResolutionRuleOverItsObjectsWorkedByHand) {
+    // Two spheres of radius 1 at x = -2 and 2: the world is [-3, 3] x [-1, 1]^2
+    // (padded by 0.01 %). The rule (sw/grid.h): over the part of its box its
+    // objects occupy, k = cbrt(8 n / V) cells per unit length, each axis
+    // round(extent k) cells, the part at least one cell of the whole box's
+    // grid thick.
+    std::ofstream(dir_ / "two.nff") << "b 0 0 0\nv\nfrom -10 0 0\nat 0 0 0\nup 0 0 1\nangle 10\nhither 1\n"
+                                       "resolution 4 4\nl -100 0 0\nf 1 1 1 1 0 0 0 0\ns -2 0 0 1\ns 2 0 0 1\n";
+    auto expectGrid = [](const json& n, std::array<int, 3> cells, std::array<double, 2> x) {
+        SCOPED_TRACE(n["node"].dump());
+        ASSERT_TRUE(n.contains("grid")) << n.dump();
+        EXPECT_EQ(n["grid"]["cells"], json(cells));
+        const json& span = n["grid"]["span"];
+        EXPECT_NEAR(span[0][0].get<double>(), x[0], 1e-6);
+        EXPECT_NEAR(span[1][0].get<double>(), x[1], 1e-6);
+        for (int a = 1; a < 3; ++a) {  // the sphere's bounds across the axis
+            EXPECT_NEAR(span[0][size_t(a)].get<double>(), -1, 1e-6);
+            EXPECT_NEAR(span[1][size_t(a)].get<double>(), 1, 1e-6);
+        }
+    };
+    // Two boxes, split at x = 0: node 1 holds the sphere at 2 and its part
+    // is the sphere's bounds, a cube of side 2: k = cbrt(8 / 8) = 1, 2 x 2 x 2.
+    const json two = report(" --scene " + (dir_ / "two.nff").string() + " --mesh-dims 2x1x1 --balance none", "two.json");
+    expectGrid(two["nodes"][1], {2, 2, 2}, {1, 3});
+    expectGrid(two["nodes"][0], {2, 2, 2}, {-3, -1});
+    // Eight boxes, 0.75 thick: node 5 spans [0.75, 1.5] and holds the sphere
+    // at 2, which reaches 0.5 into it. Its whole box's grid has round(0.75 x
+    // cbrt(8 / 3)) = 1 cell along x, so the part is widened to the box's
+    // thickness: [0.75, 1.5] x [-1, 1]^2, V = 3, 1 x 3 x 3 cells. A ray across
+    // the box tests the sphere wherever it runs: one cell along the axis.
+    const json eight = report(" --scene " + (dir_ / "two.nff").string() + " --mesh-dims 8x1x1 --balance none", "eight.json");
+    const json& n5 = eight["nodes"][5];
+    ASSERT_EQ(n5["objects"], 1);
+    expectGrid(n5, {1, 3, 3}, {n5["box"][0][0].get<double>(), n5["box"][1][0].get<double>()});
+    EXPECT_NEAR(n5["box"][0][0].get<double>(), 0.75, 1e-3);
+    // A box with no objects walks no cell: no grid.
+    for (const json& n : eight["nodes"]) {
+        if (n["objects"] == 0) EXPECT_FALSE(n.contains("grid")) << n.dump();
+    }
+    EXPECT_EQ(eight["nodes"][3]["objects"], 0);
+}
+
 TEST_F(Rtsim, WaveformsConvertAndGroupPerNode) {
     const std::string vcd = (dir_ / "w.vcd").string();
     ASSERT_EQ(run(std::string(kSmall) + " --mesh 2 --no-baseline -q --image '' --vcd " + vcd).code, 0);
