@@ -226,7 +226,9 @@ TEST_F(Rtsim, EachNodesGridIsTheResolutionRuleOverItsObjectsWorkedByHand) {
     EXPECT_NEAR(n5["box"][0][0].get<double>(), 0.75, 1e-3);
     // A box with no objects walks no cell: no grid.
     for (const json& n : eight["nodes"]) {
-        if (n["objects"] == 0) EXPECT_FALSE(n.contains("grid")) << n.dump();
+        if (n["objects"] == 0) {
+            EXPECT_FALSE(n.contains("grid")) << n.dump();
+        }
     }
     EXPECT_EQ(eight["nodes"][3]["objects"], 0);
 }
