@@ -20,7 +20,7 @@ BalanceAgent::BalanceAgent(const BalanceConfig& cfg, BalanceHost& host, const Bo
     empty.bins.assign(size_t(std::max(1, cfg.bins * count)), 0.0);
     for (Side& s : sides_) s.span.profile = s.sentProfile = empty;
     if (cfg.betweenFrames()) {
-        stats_.work = WorkByPosition(empty.lo, empty.hi, count);
+        stats_.work = stats_.within = WorkByPosition(empty.lo, empty.hi, count);
         stats_.spans.fill(stats_.work);
         stats_.lateral.fill(stats_.work);
     }
@@ -29,6 +29,7 @@ BalanceAgent::BalanceAgent(const BalanceConfig& cfg, BalanceHost& host, const Bo
 void BalanceAgent::recordStep(double where, Picos cost, const FaceCrossings& faces) {
     traced_ += cost;
     stats_.work.add(where, double(cost - faces.cost));
+    if (faces.within) stats_.within.add(where, double(faces.within));
     stats_.faceCost += faces.cost;
     stats_.faceCrossings += uint64_t(faces.crossings);
     if (std::isfinite(faces.from) && std::isfinite(faces.to)) {

@@ -68,6 +68,12 @@ struct FaceCrossings {
     int crossings = 0;
     Picos cost = 0;
     int lateral = -1;  // the direction it left by to another column (-1: none)
+    // Its intersection tests' cost if it neither entered nor left by a face
+    // along the axis (a ray running across the axis inside the box): in a
+    // box whose grid has one cell along the axis such a ray tests every
+    // object across the box, so these tests grow with the box's thickness
+    // twice over, in the rays and in the objects each tests.
+    Picos within = 0;
 };
 
 struct BalanceStats {
@@ -88,6 +94,7 @@ struct BalanceStats {
     // rays across the faces along the axis, which `faceCost` holds for
     // `faceCrossings` crossings).
     WorkByPosition work;
+    WorkByPosition within;  // of it, FaceCrossings::within
     Picos faceCost = 0;
     uint64_t faceCrossings = 0;
     // The traced segments by span, of rays going up the axis and down it:

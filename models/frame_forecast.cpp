@@ -49,6 +49,7 @@ FrameForecast::FrameForecast(const nlohmann::json& r, const MachineConfig& m, co
     columns_.assign(size_t(g_.count()), Column{});
     for (Column& c : columns_) {
         c.perBin.assign(size_t(bins_), 0.0);
+        c.withinBelow.assign(size_t(bins_), 0.0);
         c.up = c.down = std::vector<double>(size_t(bins_ + 1), 0.0);
     }
     double raysOnLinks = 0;
@@ -57,6 +58,8 @@ FrameForecast::FrameForecast(const nlohmann::json& r, const MachineConfig& m, co
         c.below.assign(size_t(bins_ + 1), 0.0);
         for (int k = 0; k < bins_; ++k) c.below[size_t(k + 1)] = c.below[size_t(k)] + c.perBin[size_t(k)];
         c.perBin = {};
+        c.withinBelow.insert(c.withinBelow.begin(), 0.0);  // per bin to below each edge
+        for (int k = 0; k < bins_; ++k) c.withinBelow[size_t(k + 1)] += c.withinBelow[size_t(k)];
         c.perCrossing = c.faceRays > 0 ? c.faceNs / c.faceRays : 0;
     }
     std::map<std::pair<int, int>, std::vector<double>> lateral;  // (from, to) column: rays by bin
@@ -94,9 +97,21 @@ double FrameForecast::readNode(const nlohmann::json& node, const InnerPlanes& av
     const int k = cell[size_t(g_.axis)];
     const double w = (hi_ - lo_) / bins_;
     double rest = node.at("busy_ns").get<double>(), rays = 0;
+    // The box as it stood on average over the frame.
+    const std::vector<double>& planes = averaged.at(col);
+    const double a = k == 0 ? lo_ : planes.at(size_t(k - 1)), b = k == n_ - 1 ? hi_ : planes.at(size_t(k));
     if (node.contains("work_by_position")) {
         const auto& p = node.at("work_by_position");
         const double from = p.at("axis_from").get<double>(), width = p.at("bin_width").get<double>();
+        const bool oneCell = node.contains("grid") && node.at("grid").at("cells").at(size_t(g_.axis)).get<int>() == 1;
+        if (oneCell && p.contains("within") && edgeOf(b) > edgeOf(a)) {
+            c.oneCell.push_back({edgeOf(a), edgeOf(b)});
+            double bin = p.at("within").at("first_bin").get<double>();
+            for (const auto& v : p.at("within").at("ns")) {
+                spread(c.withinBelow, lo_, w, from + bin * width, from + (bin + 1) * width, v.get<double>());
+                ++bin;
+            }
+        }
         double b = p.at("first_bin").get<double>();
         for (const auto& v : p.at("ns")) {
             spread(c.perBin, lo_, w, from + b * width, from + (b + 1) * width, v.get<double>());
@@ -130,16 +145,27 @@ double FrameForecast::readNode(const nlohmann::json& node, const InnerPlanes& av
                 }
             }
     }
-    // The rest (rays passed on, balancing) over the box as it stood on average.
-    const std::vector<double>& planes = averaged.at(col);
-    const double a = k == 0 ? lo_ : planes.at(size_t(k - 1)), b = k == n_ - 1 ? hi_ : planes.at(size_t(k));
+    // The rest (rays passed on, balancing) over the box.
     spread(c.perBin, lo_, w, a, b, std::max(0.0, rest));
     return rays;
 }
 
 double FrameForecast::work(const Column& c, int i, int j) const {
     auto cut = [&](int e) { return e > 0 && e < bins_ ? c.up[size_t(e)] + c.down[size_t(e)] : 0.0; };
-    return c.below[size_t(j)] - c.below[size_t(i)] + c.perCrossing * (cut(i) + cut(j));
+    double w = c.below[size_t(j)] - c.below[size_t(i)] + c.perCrossing * (cut(i) + cut(j));
+    for (const auto& [from, to] : c.oneCell) {
+        const int a = std::max(i, from), b = std::min(j, to);
+        if (b > a) w += (c.withinBelow[size_t(b)] - c.withinBelow[size_t(a)]) * (oneCellGrowth(j - i, to - from) - 1);
+    }
+    return w;
+}
+
+double oneCellGrowth(double thickness, double measured) {
+    // The grid's cells per unit length along the axis stay about 1 /
+    // measured as a box grows (objects grow with its volume): round(t /
+    // measured) cells, at least one.
+    const double cells = std::max(1.0, std::round(thickness / measured));
+    return thickness / cells / measured;
 }
 
 double FrameForecast::partCost(const Column& c, int i, int j) const {

@@ -12,7 +12,13 @@
 //    planes cut at the handling cost, and the rays it passes on untraced
 //    (a ray that crosses into a column whose planes differ is handed to the
 //    node of its sender's index, which passes it along the axis to the
-//    owner; each pass a receive and a send);
+//    owner; each pass a receive and a send). Where the box measured had
+//    one grid cell along the axis, a ray running across the axis inside it
+//    tested every object across the box: those tests (work_by_position.
+//    within) grow with the thickness twice over, in the rays and in the
+//    objects each tests, and are scaled by the new box's cell along the
+//    axis over the old (sphere tests x100, across the axis, N = 8: a box
+//    that grew 0.0102 to 0.0142 thick did 2.1 times the sphere tests);
 //  - each link's rays: the cuts at its plane, the rays sent across columns
 //    by the sender's owner, and the passes;
 // and the frame as the dearer of the busiest node and the busiest link,
@@ -44,6 +50,11 @@ using InnerPlanes = std::vector<std::vector<double>>;
 // a link within 2 % of it (doc/balancing.md, "Between frames").
 constexpr double kTandem = 1.1;
 
+// How many times the tests of a ray running across the axis inside a box
+// grow when the box goes from `measured` thick, with one grid cell along
+// the axis, to `thickness`: its cell along the axis over the old one.
+double oneCellGrowth(double thickness, double measured);
+
 class FrameForecast {
 public:
     // From report `r` (of this mesh and axis: the caller checks) and the
@@ -71,6 +82,11 @@ private:
         double perCrossing = 0;        // ns a node spends on one ray across a face along the axis
         std::vector<double> perBin;    // (while reading: work per bin)
         double faceNs = 0, faceRays = 0;
+        // The boxes measured whose grid had one cell along the axis, [from,
+        // to) in bins, and the tests of segments within them below each
+        // grid edge (G + 1 entries; while reading, per bin).
+        std::vector<std::pair<int, int>> oneCell;
+        std::vector<double> withinBelow;
         // Rays its nodes sent to each neighbouring column, below each grid
         // edge (G + 1 entries each): a node's link to its neighbour there
         // carries those of its part (the neighbour's node of its index).

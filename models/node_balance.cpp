@@ -54,6 +54,14 @@ FaceCrossings Node::axialFaces(const Work& w, const BusyParts& parts, const Trac
         else f.lateral = span.exit;
     }
     if (axial) f.cost += parts[kSend] * Picos(axial) / Picos(outbox_.size());
+    // Entered by a face along the axis (over a link, or generated there) or left by one?
+    const Box& b = region_->box();
+    const double eps = 1e-9 * std::max(1.0, b.hi[ax] - b.lo[ax]);
+    const bool in = (w.from >= 0 && dirAxis(w.from) == ax) || std::abs(span.from - b.lo[ax]) <= eps ||
+                    std::abs(span.from - b.hi[ax]) <= eps;
+    const bool out = span.exit >= 0 && dirAxis(span.exit) == ax;
+    if (!in && !out)
+        for (int k = 0; k < kPrimitiveKinds; ++k) f.within += parts[size_t(k)];
     return f;
 }
 

@@ -98,6 +98,12 @@ nlohmann::json workByPositionJson(const BalanceStats& stats) {
     wj["first_bin"] = w.firstBin();
     wj["ns"] = nlohmann::json::array();
     for (double b : w.bins()) wj["ns"].push_back(b / 1000.0);
+    // Of it, the tests of segments that neither entered nor left by a face
+    // along the axis (FaceCrossings::within), in the same bins.
+    if (const WorkByPosition& in = stats.within; !in.bins().empty()) {
+        auto& ij = wj["within"] = {{"first_bin", in.firstBin()}, {"ns", nlohmann::json::array()}};
+        for (double b : in.bins()) ij["ns"].push_back(b / 1000.0);
+    }
     // Handling rays across the faces along the axis (not in the bins)
     wj["face_handling_ns"] = ns(stats.faceCost);
     wj["face_crossings"] = stats.faceCrossings;

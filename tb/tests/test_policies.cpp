@@ -931,6 +931,42 @@ TEST(FrameForecast, BusyTimesAndCutsByHand) {
     EXPECT_EQ(f.forecast(p).linkNs, 0);
 }
 
+TEST(FrameForecast, OneCellGrowthIsTheNewCellOverTheOld) {
+    EXPECT_DOUBLE_EQ(oneCellGrowth(1.0, 1.0), 1.0);
+    EXPECT_DOUBLE_EQ(oneCellGrowth(1.4, 1.0), 1.4);   // still one cell, 1.4 times as thick
+    EXPECT_DOUBLE_EQ(oneCellGrowth(0.5, 1.0), 0.5);   // thinner: one cell, half as thick
+    EXPECT_DOUBLE_EQ(oneCellGrowth(1.6, 1.0), 0.8);   // two cells of 0.8
+    EXPECT_DOUBLE_EQ(oneCellGrowth(3.0, 1.0), 1.0);   // three cells of 1
+}
+
+TEST(FrameForecast, TestsWithinABoxOfOneCellAlongTheAxisGrowWithItsCell) {
+    // Column z = 0, node 0 over [0, 0.5): 100 ns of work spread over its
+    // box, 60 of it the tests of rays running across the axis inside it,
+    // and its grid has one cell along x. Every other node: 100 ns spread.
+    nlohmann::json r = forecastReport(2, 100);
+    auto& w = r["nodes"][0]["work_by_position"];
+    w = {{"axis_from", 0.0}, {"bin_width", 1.0 / 256}, {"first_bin", 0}, {"ns", std::vector<double>(128, 100.0 / 128)},
+         {"face_handling_ns", 0.0}, {"face_crossings", 0}};
+    w["within"] = {{"first_bin", 0}, {"ns", std::vector<double>(128, 60.0 / 128)}};
+    r["nodes"][0]["grid"] = {{"cells", {1, 3, 3}}, {"span", {{0, 0, 0}, {0.5, 1, 1}}}};
+    const MachineConfig m = forecastMesh(2);
+    const FrameForecast one(r, m, InnerPlanes{{0.5}, {0.5}});
+    // Held: as measured.
+    EXPECT_NEAR(one.forecast({{0.5}, {0.5}}).nodeNs, 100, 1e-9);
+    // Node 0 to [0, 0.625), 1.25 times as thick, still one cell: its 100,
+    // its 60 within 1.25 times (+15), and 25 of node 1's: 140.
+    EXPECT_NEAR(one.forecast({{0.625}, {0.5}}).nodeNs, 140, 1e-9);
+    // Node 0 to [0, 0.375): 75 of its own, of which 45 within at 0.75
+    // (-11.25): 63.75. Node 1, [0.375, 1), 0.625 thick: node 0's last 25
+    // (15 within, at 1.25 times: +3.75) and its 100: 128.75.
+    EXPECT_NEAR(one.forecast({{0.375}, {0.5}}).nodeNs, 128.75, 1e-9);
+    // With two cells along x the cells do not change with the box: no scaling.
+    r["nodes"][0]["grid"]["cells"] = {2, 3, 3};
+    const FrameForecast two(r, m, InnerPlanes{{0.5}, {0.5}});
+    EXPECT_NEAR(two.forecast({{0.625}, {0.5}}).nodeNs, 125, 1e-9);
+    EXPECT_NEAR(two.forecast({{0.375}, {0.5}}).nodeNs, 125, 1e-9);
+}
+
 TEST(FrameForecast, RaysAcrossColumnsArePassedWhereThePlanesDiffer) {
     // 30 rays left node 0 of column z = 0 for column z = 1 at x in the bin
     // [0.2, 0.2 + 1/256); a receive and a send cost 1 ns each (the column

@@ -233,6 +233,36 @@ TEST_F(Rtsim, EachNodesGridIsTheResolutionRuleOverItsObjectsWorkedByHand) {
     EXPECT_EQ(eight["nodes"][3]["objects"], 0);
 }
 
+TEST_F(Rtsim, TestsOfRaysRunningAcrossTheAxisInsideABoxAreRecordedApart) {
+    // One ray from the eye at -x along y = z = 0 hits the sphere at x = 2;
+    // its shadow ray goes back to the light at -x. The world spans z from
+    // -1.01 to 3.01: with the axis z on a 1 x 1 x 2 mesh the plane is at z =
+    // 1, and both segments run inside node 0, entering and leaving by faces
+    // across the axis (or ending there): every sphere test of node 0 is
+    // `within`, 1 us each. With the axis x on a 2 x 1 x 1 mesh the ray
+    // enters by a face along the axis: none is.
+    std::ofstream(dir_ / "across.nff") << "b 0 0 0\nv\nfrom -10 0 0\nat 0 0 0\nup 0 0 1\nangle 10\nhither 1\n"
+                                          "resolution 1 1\nl -100 0 0\nf 1 1 1 1 0 0 0 0\n"
+                                          "s 2 0 0 0.5\ns 3.5 3 3 0.01\ns -3.5 -3 -1 0.01\n";
+    const std::string scene = " --scene " + (dir_ / "across.nff").string() + " --balance measured --cost-sphere 1us";
+    const json across = report(scene + " --mesh-dims 1x1x2 --axis z", "across.json");
+    const json& n0 = across["nodes"][0];
+    ASSERT_EQ(n0["node"], json::array({0, 0, 0}));
+    const double tests = n0["counters"]["intersection_tests_by_primitive"]["sphere"].get<double>();
+    ASSERT_GE(tests, 2);  // the ray's and its shadow ray's
+    ASSERT_TRUE(n0["work_by_position"].contains("within")) << n0["work_by_position"].dump();
+    double within = 0;
+    for (const json& v : n0["work_by_position"]["within"]["ns"]) within += v.get<double>();
+    EXPECT_NEAR(within, 1000 * tests, 1e-6);
+    const json along = report(scene + " --mesh-dims 2x1x1 --axis x", "along.json");
+    for (const json& n : along["nodes"]) {
+        double w = 0;
+        if (n["work_by_position"].contains("within"))
+            for (const json& v : n["work_by_position"]["within"]["ns"]) w += v.get<double>();
+        EXPECT_EQ(w, 0) << n.dump();
+    }
+}
+
 TEST_F(Rtsim, WaveformsConvertAndGroupPerNode) {
     const std::string vcd = (dir_ / "w.vcd").string();
     ASSERT_EQ(run(std::string(kSmall) + " --mesh 2 --no-baseline -q --image '' --vcd " + vcd).code, 0);
