@@ -99,13 +99,13 @@ double FrameForecast::readNode(const nlohmann::json& node, const InnerPlanes& av
     double rest = node.at("busy_ns").get<double>(), rays = 0;
     // The box as it stood on average over the frame.
     const std::vector<double>& planes = averaged.at(col);
-    const double a = k == 0 ? lo_ : planes.at(size_t(k - 1)), b = k == n_ - 1 ? hi_ : planes.at(size_t(k));
+    const double boxLo = k == 0 ? lo_ : planes.at(size_t(k - 1)), boxHi = k == n_ - 1 ? hi_ : planes.at(size_t(k));
     if (node.contains("work_by_position")) {
         const auto& p = node.at("work_by_position");
         const double from = p.at("axis_from").get<double>(), width = p.at("bin_width").get<double>();
         const bool oneCell = node.contains("grid") && node.at("grid").at("cells").at(size_t(g_.axis)).get<int>() == 1;
-        if (oneCell && p.contains("within") && edgeOf(b) > edgeOf(a)) {
-            c.oneCell.push_back({edgeOf(a), edgeOf(b)});
+        if (oneCell && p.contains("within") && edgeOf(boxHi) > edgeOf(boxLo)) {
+            c.oneCell.push_back({edgeOf(boxLo), edgeOf(boxHi)});
             double bin = p.at("within").at("first_bin").get<double>();
             for (const auto& v : p.at("within").at("ns")) {
                 spread(c.withinBelow, lo_, w, from + bin * width, from + (bin + 1) * width, v.get<double>());
@@ -146,7 +146,7 @@ double FrameForecast::readNode(const nlohmann::json& node, const InnerPlanes& av
             }
     }
     // The rest (rays passed on, balancing) over the box.
-    spread(c.perBin, lo_, w, a, b, std::max(0.0, rest));
+    spread(c.perBin, lo_, w, boxLo, boxHi, std::max(0.0, rest));
     return rays;
 }
 
