@@ -58,6 +58,7 @@ FrameForecast::FrameForecast(const nlohmann::json& r, const MachineConfig& m, co
         c.below.assign(size_t(bins_ + 1), 0.0);
         for (int k = 0; k < bins_; ++k) c.below[size_t(k + 1)] = c.below[size_t(k)] + c.perBin[size_t(k)];
         c.perBin = {};
+        std::sort(c.oneCell.begin(), c.oneCell.end());  // (disjoint boxes: in order along the column)
         c.withinBelow.insert(c.withinBelow.begin(), 0.0);  // per bin to below each edge
         for (int k = 0; k < bins_; ++k) c.withinBelow[size_t(k + 1)] += c.withinBelow[size_t(k)];
         c.perCrossing = c.faceRays > 0 ? c.faceNs / c.faceRays : 0;
@@ -153,9 +154,13 @@ double FrameForecast::readNode(const nlohmann::json& node, const InnerPlanes& av
 double FrameForecast::work(const Column& c, int i, int j) const {
     auto cut = [&](int e) { return e > 0 && e < bins_ ? c.up[size_t(e)] + c.down[size_t(e)] : 0.0; };
     double w = c.below[size_t(j)] - c.below[size_t(i)] + c.perCrossing * (cut(i) + cut(j));
-    for (const auto& [from, to] : c.oneCell) {
+    // The one-cell boxes the part overlaps (the searches ask for every part:
+    // a few boxes each, found by bisection, not all of the column's).
+    auto box = std::partition_point(c.oneCell.begin(), c.oneCell.end(), [&](const std::pair<int, int>& x) { return x.second <= i; });
+    for (; box != c.oneCell.end() && box->first < j; ++box) {
+        const auto [from, to] = *box;
         const int a = std::max(i, from), b = std::min(j, to);
-        if (b > a) w += (c.withinBelow[size_t(b)] - c.withinBelow[size_t(a)]) * (oneCellGrowth(j - i, to - from) - 1);
+        w += (c.withinBelow[size_t(b)] - c.withinBelow[size_t(a)]) * (oneCellGrowth(j - i, to - from) - 1);
     }
     return w;
 }
