@@ -72,7 +72,7 @@ def refine_columns(a, n, f, lo, hi, pool, cols, best, report):
     and halves the step when none does. A local search for the splits that
     one set of planes cannot reach (columns unequally loaded). `best` and
     `report` are the frame at `cols`. Returns (best time, planes per
-    column, runs)."""
+    column, runs, the best frame's report)."""
     min_gap = 0.05 * (hi - lo) / n
     runs, step = 0, f / n / 4
     while step >= a.min_step / 2 and runs < a.max_runs:
@@ -93,7 +93,7 @@ def refine_columns(a, n, f, lo, hi, pool, cols, best, report):
             best, report, cols = found[i][0], found[i][1], moves[i]
         else:
             step /= 2
-    return best, cols, runs
+    return best, cols, runs, report
 
 
 def search(a, n, f, lo, hi, pool, reach):
@@ -147,8 +147,9 @@ def one_set(a, n, pool):
 
 def per_column(a, n, pool, csv_path):
     """The CSV's one-set row for N, with the per-column refinement added:
-    from the better of its planes and those the default policy holds in
-    its sixth frame (rtsim --balance measured --frames 6)."""
+    from the best of its planes, those the default policy holds in its
+    sixth frame (rtsim --balance measured --frames 6) and the planes of
+    an earlier refinement in the CSV."""
     old = [r for r in (read_csv(csv_path) if os.path.exists(csv_path) else []) if int(r["N"]) == n]
     if not old:
         raise SystemExit(f"partition_search.py: --per-column: no one-set search for N = {n} in {csv_path}; run it first")
@@ -158,15 +159,25 @@ def per_column(a, n, pool, csv_path):
     aligned = [float(x) for x in row["planes"].split()]
     report, _ = driver.run_rtsim(args_of(a, n, f, ("measured", "--frames", "6")))
     starts = {"one set": {(i, j): aligned for i in range(n) for j in range(n)}, "measured@6": planes_of(report, n)}
-    frames = {k: run_columns(a, n, f, c) for k, c in starts.items()}  # (time, report)
+    if row.get("columns_planes"):  # a search before this one: the best known split is never lost
+        keys = [(i, j) for i in range(n) for j in range(n)]
+        starts["the last search"] = dict(zip(keys, ([float(x) for x in c.split()] for c in row["columns_planes"].split(";"))))
+    frames = {}  # (time, report)
+    for k, c in starts.items():
+        try:
+            frames[k] = run_columns(a, n, f, c)
+        except RuntimeError as e:  # (an earlier search's planes, written to 4 decimals, may make a box too thin)
+            print(f"N = {n}: start {k!r} left out: {e}", file=sys.stderr)
     start = min(frames, key=lambda k: frames[k][0])
-    t, cols, runs = refine_columns(a, n, f, lo, hi, pool, starts[start], *frames[start])
-    runs += 3  # the sixth frame's run and the two starts
+    t, cols, runs, best = refine_columns(a, n, f, lo, hi, pool, starts[start], *frames[start])
+    runs += 1 + len(starts)  # the sixth frame's run and the starts
     print(f"N = {n}: per column {t / 1e3:.1f} us, ratio {t / none:.3f} from {start} (one set "
           f"{frames['one set'][0] / none:.3f}, measured@6's planes {frames['measured@6'][0] / none:.3f}; {runs} runs)",
           file=sys.stderr)
     row.update({"columns_ns": t, "columns_ratio": t / none, "columns_start": start, "columns_runs": runs,
-                "columns_planes": ";".join(" ".join(f"{p:.4f}" for p in cols[c]) for c in sorted(cols))})
+                # its busiest node's busy time, as a fraction of none's time (the rest of its frame is waiting)
+                "columns_max_busy": max(x["busy_ns"] for x in best["nodes"]) / none,
+                "columns_planes": ";".join(" ".join(f"{p:.6f}" for p in cols[c]) for c in sorted(cols))})
     return row
 
 
