@@ -78,6 +78,24 @@ class Scripts(unittest.TestCase):
             self.assertAlmostEqual(node["box"][1 - x][0], cols[(i, j)][0], places=9)
         self.assertEqual({c: [round(p, 9) for p in v] for c, v in partition_search.planes_of(report, 2).items()}, cols)
 
+    def test_the_gap_tables_best_split_is_the_better_search_with_its_own_busiest_node(self):
+        """fig4.py's gap table: the best static split is the better of the
+        one-set search and the per-column one, and the busiest node shown
+        beside it is the per-column split's only where that one won (the
+        one-set search records none)."""
+        sys.path.insert(0, os.path.join(SCRIPTS, "experiments"))
+        import argparse
+        import fig4
+        with tempfile.TemporaryDirectory() as d:
+            rows = [{"view": "along", "N": "4", "ratio": "0.30", "columns_ratio": "0.28", "columns_max_busy": "0.26"},
+                    {"view": "along", "N": "5", "ratio": "0.25", "columns_ratio": "0.26", "columns_max_busy": "0.24"},
+                    {"view": "along", "N": "8", "ratio": "0.20", "columns_ratio": "", "columns_max_busy": ""}]
+            __import__("sweep").write_csv(os.path.join(d, "partition_search-paper.csv"), rows)
+            best = fig4.best_static(argparse.Namespace(preset="paper", tag="", out=d))
+        self.assertEqual(best[("along", 4)], (0.28, 0.26))
+        self.assertEqual(best[("along", 5)], (0.25, None))  # the one set won: its busiest node was not recorded
+        self.assertEqual(best[("along", 8)], (0.20, None))
+
     def test_the_scaling_split_reads_perf_and_weighs_the_mix(self):
         """bench_scaling.py's split of a profile: the tracing's symbols from
         perf's lines, each kind's cost, and the ratio the mix of events alone
