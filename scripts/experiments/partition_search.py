@@ -158,9 +158,9 @@ def per_column(a, n, pool, csv_path):
     none, lo, hi = unbalanced(a, n, f)
     aligned = [float(x) for x in row["planes"].split()]
     report, _ = driver.run_rtsim(args_of(a, n, f, ("measured", "--frames", "6")))
-    starts = {"one set": {(i, j): aligned for i in range(n) for j in range(n)}, "measured@6": planes_of(report, n)}
+    keys = [(i, j) for i in range(n) for j in range(n)]  # the columns, in columns_planes' order
+    starts = {"one set": {c: aligned for c in keys}, "measured@6": planes_of(report, n)}
     if row.get("columns_planes"):  # a search before this one: the best known split is never lost
-        keys = [(i, j) for i in range(n) for j in range(n)]
         starts["the last search"] = dict(zip(keys, ([float(x) for x in c.split()] for c in row["columns_planes"].split(";"))))
     frames = {}  # (time, report)
     for k, c in starts.items():
@@ -169,14 +169,14 @@ def per_column(a, n, pool, csv_path):
         except RuntimeError as e:  # (an earlier search's planes, written to 4 decimals, may make a box too thin)
             print(f"N = {n}: start {k!r} left out: {e}", file=sys.stderr)
     start = min(frames, key=lambda k: frames[k][0])
-    t, cols, runs, best = refine_columns(a, n, f, lo, hi, pool, starts[start], *frames[start])
+    t, cols, runs, best_report = refine_columns(a, n, f, lo, hi, pool, starts[start], *frames[start])
     runs += 1 + len(starts)  # the sixth frame's run and the starts
     print(f"N = {n}: per column {t / 1e3:.1f} us, ratio {t / none:.3f} from {start} (one set "
           f"{frames['one set'][0] / none:.3f}, measured@6's planes {frames['measured@6'][0] / none:.3f}; {runs} runs)",
           file=sys.stderr)
     row.update({"columns_ns": t, "columns_ratio": t / none, "columns_start": start, "columns_runs": runs,
                 # its busiest node's busy time, as a fraction of none's time (the rest of its frame is waiting)
-                "columns_max_busy": max(x["busy_ns"] for x in best["nodes"]) / none,
+                "columns_max_busy": max(x["busy_ns"] for x in best_report["nodes"]) / none,
                 "columns_planes": ";".join(" ".join(f"{p:.6f}" for p in cols[c]) for c in sorted(cols))})
     return row
 

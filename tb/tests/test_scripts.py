@@ -86,11 +86,12 @@ class Scripts(unittest.TestCase):
         sys.path.insert(0, os.path.join(SCRIPTS, "experiments"))
         import argparse
         import fig4
+        import sweep
         with tempfile.TemporaryDirectory() as d:
             rows = [{"view": "along", "N": "4", "ratio": "0.30", "columns_ratio": "0.28", "columns_max_busy": "0.26"},
                     {"view": "along", "N": "5", "ratio": "0.25", "columns_ratio": "0.26", "columns_max_busy": "0.24"},
                     {"view": "along", "N": "8", "ratio": "0.20", "columns_ratio": "", "columns_max_busy": ""}]
-            __import__("sweep").write_csv(os.path.join(d, "partition_search-paper.csv"), rows)
+            sweep.write_csv(os.path.join(d, "partition_search-paper.csv"), rows)
             best = fig4.best_static(argparse.Namespace(preset="paper", tag="", out=d))
         self.assertEqual(best[("along", 4)], (0.28, 0.26))
         self.assertEqual(best[("along", 5)], (0.25, None))  # the one set won: its busiest node was not recorded
