@@ -1,0 +1,308 @@
+"""The output policy every tool in scripts/ shares: the same promises rtsim
+keeps at its edges (sw/output_file.h; ../shared/doc/architecture.md,
+invariant 7), for Python.
+
+- A NAME is a name: letters, digits, '-', '_' and '.', not starting with a
+  dot; never a path (check_name).
+- Outputs go under out/ unless a flag names a path (out_path); nothing is
+  written into doc/ without --doc (check_output(..., doc=False)).
+- An output is absent or a regular file: folders, devices, FIFOs, sockets
+  and symbolic links are refused before any work, and so is an output that
+  names an input or another output (check_output, check_distinct).
+- Inputs are regular files (check_input): a FIFO or /dev/zero would block
+  or never end.
+- Every output is written to a temporary beside it, NAME.incomplete-XXXX,
+  and renamed over its path when complete (atomic, savefig): a kill while
+  writing never leaves half a file that looks like a result.
+- A stop (Ctrl-C, SIGTERM, SIGHUP) ends the tool at once: its children
+  (run_child) are killed, its temporaries removed, exit 130 (stop_handlers).
+- Bad input ends the tool with one line naming the tool, the file and the
+  line, and exit 2; never a traceback (guard).
+
+Standard library only."""
+import contextlib
+import os
+import re
+import signal
+import stat
+import subprocess
+import sys
+import tempfile
+import threading
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+OUT = os.path.join(ROOT, "out")
+DOC = os.path.join(ROOT, "doc")
+NAME_RE = re.compile(r"[A-Za-z0-9_-][A-Za-z0-9_.-]*")
+NAME_MAX = 100
+
+BAD_INPUT, FAILED, STOPPED = 2, 1, 130
+
+
+class ToolError(Exception):
+    """Bad input: one line, exit 2 (or `code`)."""
+
+    def __init__(self, message, code=BAD_INPUT):
+        super().__init__(message)
+        self.code = code
+
+
+def check_name(name, what="NAME"):
+    """`name` if it is a name (letters, digits, '-', '_', '.'; no separator,
+    not starting with a dot, at most NAME_MAX characters), else ToolError."""
+    if not isinstance(name, str) or not NAME_RE.fullmatch(name) or len(name) > NAME_MAX or ".." in name:
+        raise ToolError(f"{what} {name!r}: a name, not a path: letters, digits, '-', '_' and '.' "
+                        f"(not first), at most {NAME_MAX} characters")
+    return name
+
+
+def _kind(mode):
+    for test, word in ((stat.S_ISDIR, "a folder"), (stat.S_ISFIFO, "a FIFO"), (stat.S_ISCHR, "a device"),
+                       (stat.S_ISBLK, "a device"), (stat.S_ISSOCK, "a socket"), (stat.S_ISLNK, "a symbolic link")):
+        if test(mode):
+            return word
+    return None
+
+
+def under(path, folder):
+    """Whether `path` (resolved) lies in `folder` (resolved)."""
+    p, f = os.path.realpath(path), os.path.realpath(folder)
+    return p == f or p.startswith(f + os.sep)
+
+
+def check_output(path, flag="output", doc=False):
+    """The absolute path of an output, checked before any work: absent or a
+    regular file (not a folder, device, FIFO, socket or symbolic link), in
+    a folder that exists and takes a new file; under doc/ only with doc=True."""
+    if not path:
+        raise ToolError(f"{flag}: an empty path")
+    full = os.path.abspath(path)
+    try:
+        st = os.lstat(full)
+    except FileNotFoundError:
+        st = None
+    except OSError as e:
+        raise ToolError(f"{flag} {path}: {e.strerror}")
+    if st is not None and _kind(st.st_mode):
+        raise ToolError(f"{flag} {path}: {_kind(st.st_mode)}, not a file (an output is a new or regular file)")
+    folder = os.path.dirname(full)
+    if not os.path.isdir(folder):
+        raise ToolError(f"{flag} {path}: no folder {folder}")
+    if not os.access(folder, os.W_OK | os.X_OK):
+        raise ToolError(f"{flag} {path}: the folder {folder} takes no new file")
+    if not doc and under(full, DOC):
+        raise ToolError(f"{flag} {path}: in doc/, which changes only with --doc")
+    return full
+
+
+def check_input(path, flag="input"):
+    """The path of an input, checked: an existing regular file (a FIFO or a
+    device would block or never end), readable."""
+    if not path:
+        raise ToolError(f"{flag}: an empty path")
+    try:
+        st = os.stat(path)
+    except OSError as e:
+        raise ToolError(f"{flag} {path}: {e.strerror}")
+    if not stat.S_ISREG(st.st_mode):
+        raise ToolError(f"{flag} {path}: {_kind(st.st_mode) or 'not a regular file'}, not a file")
+    if not os.access(path, os.R_OK):
+        raise ToolError(f"{flag} {path}: not readable")
+    return path
+
+
+def same_file(a, b):
+    """Whether two paths name one file (by path, or by device and inode)."""
+    if os.path.realpath(a) == os.path.realpath(b):
+        return True
+    try:
+        return os.path.samefile(a, b)
+    except OSError:
+        return False
+
+
+def check_distinct(files):
+    """files: [(flag, path)]: ToolError if two name the same file."""
+    for i, (fa, a) in enumerate(files):
+        for fb, b in files[i + 1:]:
+            if a and b and same_file(a, b):
+                raise ToolError(f"{fa} {a} and {fb} {b}: the same file")
+
+
+def out_path(*parts):
+    """A default output under out/ (its folders made)."""
+    path = os.path.join(OUT, *parts)
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    return path
+
+
+# The temporaries and children a stop must clean up.
+_temps = set()
+_children = set()
+_lock = threading.Lock()
+
+
+def _register(temp):
+    with _lock:
+        _temps.add(temp)
+
+
+def _forget(temp):
+    with _lock:
+        _temps.discard(temp)
+
+
+def _temp_beside(path):
+    folder, base = os.path.split(os.path.abspath(path))
+    fd, temp = tempfile.mkstemp(dir=folder, prefix=base + ".incomplete-")
+    _register(temp)
+    return fd, temp
+
+
+def _commit(temp, path):
+    # The temporary takes the usual mode of a new file, not mkstemp's 0600.
+    umask = os.umask(0)
+    os.umask(umask)
+    os.chmod(temp, 0o666 & ~umask)
+    os.replace(temp, path)
+    _forget(temp)
+
+
+@contextlib.contextmanager
+def atomic(path, mode="w", **kw):
+    """Opens a temporary beside `path` for writing; renames it over `path`
+    when the block ends without an exception, else removes it."""
+    fd, temp = _temp_beside(path)
+    try:
+        with os.fdopen(fd, mode, **kw) as f:
+            yield f
+            f.flush()
+            os.fsync(f.fileno())
+        _commit(temp, path)
+    finally:
+        if os.path.exists(temp) and temp in _temps:
+            os.remove(temp)
+            _forget(temp)
+
+
+def write_text(path, text):
+    with atomic(path) as f:
+        f.write(text)
+
+
+def savefig(fig, path, **kw):
+    """matplotlib's savefig through a temporary (its format from `path`'s
+    extension unless given)."""
+    kw.setdefault("format", os.path.splitext(path)[1].lstrip(".").lower() or "png")
+    with atomic(path, "wb") as f:
+        fig.savefig(f, **kw)
+
+
+def run_child(cmd, timeout=None, **kw):
+    """Like subprocess.run(cmd, capture_output=True, text=True), for a child
+    a stop must end: registered while it runs, in its own process group so
+    that a stop kills all of it; a timeout kills its whole group and raises
+    subprocess.TimeoutExpired."""
+    p = subprocess.Popen(cmd, start_new_session=True, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                         text=True, **kw)
+    with _lock:
+        _children.add(p)
+    try:
+        try:
+            out, err = p.communicate(timeout=timeout)
+        except subprocess.TimeoutExpired:
+            _kill(p)
+            p.communicate()
+            raise
+    finally:
+        with _lock:
+            _children.discard(p)
+    return subprocess.CompletedProcess(cmd, p.returncode, out, err)
+
+
+def _kill(p):
+    try:
+        os.killpg(p.pid, signal.SIGKILL)
+    except (ProcessLookupError, PermissionError):
+        pass
+
+
+def register_temp(path):
+    """A temporary of the caller's own (a report a child writes) that a
+    stop must remove; forget_temp when it is gone."""
+    _register(path)
+
+
+def forget_temp(path):
+    _forget(path)
+
+
+def clean_up():
+    """Kills every registered child (and its group) and removes every
+    registered temporary. Safe to call more than once."""
+    with _lock:
+        children, temps = list(_children), list(_temps)
+        _children.clear()
+        _temps.clear()
+    for p in children:
+        _kill(p)
+    for t in temps:
+        try:
+            os.remove(t)
+        except OSError:
+            pass
+
+
+class Stopped(BaseException):
+    """A stop signal (SIGINT, SIGTERM, SIGHUP) arrived."""
+
+    def __init__(self, signum):
+        super().__init__(signal.Signals(signum).name)
+        self.signum = signum
+
+
+def _on_signal(signum, frame):
+    clean_up()
+    raise Stopped(signum)
+
+
+def stop_handlers():
+    """SIGINT, SIGTERM and SIGHUP raise Stopped in the main thread after
+    killing the children and removing the temporaries (guard turns it into
+    one line and exit 130)."""
+    for s in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP):
+        signal.signal(s, _on_signal)
+
+
+def guard(tool, main, argv=None):
+    """Runs main(argv) as a tool's command line: ToolError -> 'tool: message'
+    and its code; a stop -> 'tool: stopped (SIGINT)', exit 130; a closed
+    stdout (| head) -> a quiet exit; any other error -> one line naming it,
+    exit 1 (RTSIM_TRACEBACK=1 shows the traceback). Returns the exit code."""
+    stop_handlers()
+    try:
+        code = main(argv) if argv is not None else main()
+        sys.stdout.flush()
+        return code or 0
+    except ToolError as e:
+        clean_up()
+        print(f"{tool}: {e}", file=sys.stderr)
+        return e.code
+    except (Stopped, KeyboardInterrupt) as e:
+        clean_up()
+        name = e.args[0] if isinstance(e, Stopped) else "SIGINT"
+        print(f"\n{tool}: stopped ({name})", file=sys.stderr)
+        return STOPPED
+    except BrokenPipeError:
+        clean_up()
+        # The reader went away (| head): no more output, and no complaint
+        # from the interpreter's own flush at exit.
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        return 0
+    except Exception as e:  # noqa: BLE001 - the promise is one line, never a traceback
+        clean_up()
+        if os.environ.get("RTSIM_TRACEBACK"):
+            raise
+        print(f"{tool}: internal error: {type(e).__name__}: {e} (RTSIM_TRACEBACK=1 shows where)", file=sys.stderr)
+        return FAILED
