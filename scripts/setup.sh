@@ -18,6 +18,7 @@ packages=(
   python3             # scripts (Debian's /usr/bin/python3)
   python3-distributed # the sweep driver's Dask submission (and its test)
   python3-matplotlib  # rtsim --map (scripts/mesh_map.py) and its test
+  python3-hypothesis  # fuzzing the tools' readers (tb/tests/test_tool_readers.py)
   time                # GNU time: a run's own peak memory (scripts/bench_rtsim.py)
 )
 
