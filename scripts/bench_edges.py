@@ -5,12 +5,14 @@ start-up, in a running frame, between the frames of a sequence, in the
 reference runs), the parent's peak memory over a --frames sequence, and
 start-up's estimate of the nodes' grids against the peak memory measured.
 Medians of --runs runs; with --against BUILD, the older build's too, in the
-same run. With --doc, the tables go into doc/robustness.md.
+same run. The tables go to out/results/edges.md (and stdout); with --doc,
+to doc/results/edges.md and into doc/robustness.md instead.
 
   /usr/bin/python3 scripts/bench_edges.py [--runs 5] [--against /path/to/older/rtsim] [--doc]
 
 Uses only the Python standard library; run with /usr/bin/python3."""
 import argparse
+import contextlib
 import os
 import random
 import re
@@ -22,6 +24,7 @@ import tempfile
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import outputs  # noqa: E402
 from project import RESULTS, ROOT, RTSIM, publish_table, spd_scene  # noqa: E402
 
 QUIET = ["--no-baseline", "-q", "--image", ""]
@@ -33,28 +36,42 @@ def stop_ms(rtsim, args, ready, tmp):
     err = os.path.join(tmp, "err")
     with open(err, "w") as e:
         p = subprocess.Popen([rtsim] + args, stderr=e, stdout=subprocess.DEVNULL, cwd=tmp)
-        t0 = time.monotonic()
-        while p.poll() is None:
-            with open(err) as f:
-                if ready(f.read(), time.monotonic() - t0):
-                    break
-            time.sleep(0.02)
-        if p.poll() is not None:
-            return None, p.returncode  # it ended before the signal
-        t = time.monotonic()
-        p.send_signal(signal.SIGTERM)
-        code = p.wait()
-        return (time.monotonic() - t) * 1000, code
+        with ended_on_a_stop(p):
+            t0 = time.monotonic()
+            while p.poll() is None:
+                with open(err) as f:
+                    if ready(f.read(), time.monotonic() - t0):
+                        break
+                time.sleep(0.02)
+            if p.poll() is not None:
+                return None, p.returncode  # it ended before the signal
+            t = time.monotonic()
+            p.send_signal(signal.SIGTERM)
+            code = p.wait()
+            return (time.monotonic() - t) * 1000, code
+
+
+@contextlib.contextmanager
+def ended_on_a_stop(p):
+    """Kills the child `p` if the block ends in an exception (a stop of this
+    script, Ctrl-C or SIGTERM: outputs.guard), so that no rtsim outlives it."""
+    try:
+        yield p
+    except BaseException:
+        p.kill()
+        p.wait()
+        raise
 
 
 def peak_mb(rtsim, args, tmp):
     """rtsim's own peak resident memory in MiB (not its children's)."""
     p = subprocess.Popen([rtsim] + args, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, cwd=tmp)
-    _, status, usage = os.wait4(p.pid, 0)
+    with ended_on_a_stop(p):
+        _, status, usage = os.wait4(p.pid, 0)
     p.returncode = os.waitstatus_to_exitcode(status)
     err = p.stderr.read().decode()
     if p.returncode != 0:
-        raise RuntimeError(f"exit {p.returncode}: {err.strip()}")
+        raise outputs.ToolError(f"{' '.join(args)}: rtsim exit {p.returncode}: {err.strip()}", outputs.FAILED)
     return usage.ru_maxrss / 1024, err
 
 
@@ -86,8 +103,16 @@ def main():
     ap.add_argument("--runs", type=int, default=5)
     ap.add_argument("--rtsim", default=RTSIM)
     ap.add_argument("--against", help="an older rtsim, measured alike in the same run")
-    ap.add_argument("--doc", action="store_true", help="write the tables into doc/robustness.md")
+    ap.add_argument("--doc", action="store_true",
+                    help="write the tables to doc/results/edges.md and into doc/robustness.md (without it: "
+                         "out/results/edges.md)")
     a = ap.parse_args()
+    if a.runs < 1:
+        raise outputs.ToolError(f"--runs {a.runs}: at least 1")
+    outputs.check_input(a.rtsim, "--rtsim")
+    if a.against:
+        outputs.check_input(a.against, "--against")
+    results = os.path.join(RESULTS, "edges.md") if a.doc else outputs.out_path("results", "edges.md")
     builds = [("this build", a.rtsim)] + ([("older", a.against)] if a.against else [])
     lines = ["<!-- written by scripts/bench_edges.py --doc; do not edit -->",
              f"Medians of {a.runs} runs; SIGTERM to rtsim, milliseconds to its exit (outputs written), and its exit code.",
@@ -119,9 +144,8 @@ def main():
             mb, err = peak_mb(a.rtsim, scene + ["--size", "8x8", "--mesh", str(n), "-v"] + QUIET, tmp)
             est = re.search(r"about (\d+) MiB", err)
             lines.append(f"| {label} | {n}x{n}x{n} | {est.group(1) if est else '?'} | {mb:.0f} |")
-    publish_table(lines, os.path.join(RESULTS, "edges.md"), os.path.join(ROOT, "doc", "robustness.md") if a.doc else None,
-                  "edges")
+    publish_table(lines, results, os.path.join(ROOT, "doc", "robustness.md") if a.doc else None, "edges")
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(outputs.guard("bench_edges.py", main))

@@ -2,7 +2,8 @@
 """Benchmark of the reference renderer: rtref on an SPD scene (default
 balls-4 at 512x512), single thread, N runs, each pinned to one CPU (--cpu); prints the median wall time and
 rays per second with the ray counts, and with --doc writes them as a table
-into doc/benchmarks/rtref.md together with a description of the machine.
+into doc/benchmarks/rtref.md together with a description of the machine
+(without --doc it writes nothing: the table goes to stdout).
 
 Uses only the Python standard library; run with /usr/bin/python3."""
 import argparse
@@ -15,13 +16,15 @@ import sys
 import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import outputs  # noqa: E402
 from project import FAST_BUILD, ROOT, spd_scene  # noqa: E402
 
 
 def build_fast():
     """Makes build-fast/ (scripts/build_fast.sh: only what changed), the
     profile-guided build every benchmark measures."""
-    subprocess.run(["bash", os.path.join(ROOT, "scripts", "build_fast.sh")], check=True, stdout=subprocess.DEVNULL)
+    if subprocess.run(["bash", os.path.join(ROOT, "scripts", "build_fast.sh")], stdout=subprocess.DEVNULL).returncode:
+        raise outputs.ToolError("scripts/build_fast.sh failed (its messages above)", outputs.FAILED)
 
 
 def build_kind(build=FAST_BUILD):
@@ -71,7 +74,7 @@ def pin_to_cpu(cpu, prog):
     pin = allowed[-1] if cpu is None else None if cpu == -1 else cpu
     if pin is not None:
         if pin not in allowed:
-            sys.exit(f"{prog}: --cpu {cpu}: not -1 nor one of the CPUs this process may use ({allowed})")
+            raise outputs.ToolError(f"--cpu {cpu}: not -1 nor one of the CPUs this process may use ({allowed})")
         os.sched_setaffinity(0, {pin})
     return pin
 
@@ -86,7 +89,11 @@ def main():
     add_cpu_option(ap)
     a = ap.parse_args()
     if a.runs < 1:
-        sys.exit("bench_rtref: --runs must be at least 1")
+        raise outputs.ToolError(f"--runs {a.runs}: at least 1")
+    outputs.check_input(a.scene, "--scene")
+    if a.rtref:
+        outputs.check_input(a.rtref, "--rtref")
+    page = outputs.check_output(os.path.join(ROOT, "doc", "benchmarks", "rtref.md"), "--doc", doc=True) if a.doc else None
     if not a.rtref:
         build_fast()
         a.rtref = os.path.join(FAST_BUILD, "rtref")
@@ -95,8 +102,10 @@ def main():
     with tempfile.TemporaryDirectory() as tmp:
         for i in range(a.runs):
             stats = os.path.join(tmp, "s.json")
-            subprocess.run([a.rtref, a.scene, "--size", a.size, "--threads", "1", "-o", os.path.join(tmp, "i.png"),
-                            "--stats", stats], check=True, stdout=subprocess.DEVNULL)
+            p = outputs.run_child([a.rtref, a.scene, "--size", a.size, "--threads", "1", "-o",
+                                   os.path.join(tmp, "i.png"), "--stats", stats])
+            if p.returncode != 0:
+                raise outputs.ToolError(f"rtref exit {p.returncode}: {p.stderr.strip()}", outputs.FAILED)
             with open(stats) as f:
                 runs.append(json.load(f))
             print(f"run {i + 1}: {runs[-1]['wall_s']:.3f} s", file=sys.stderr)
@@ -118,11 +127,10 @@ def main():
     ]
     table = "| quantity | value |\n|---|---|\n" + "".join(f"| {k} | {v} |\n" for k, v in rows)
     print(table, end="")
-    if a.doc:
-        os.makedirs(os.path.join(ROOT, "doc", "benchmarks"), exist_ok=True)
-        with open(os.path.join(ROOT, "doc", "benchmarks", "rtref.md"), "w") as f:
-            f.write("# rtref benchmark\n\nWritten by `scripts/bench_rtref.py --doc`; do not edit by hand.\n\n" + table)
+    if page:
+        outputs.write_text(page, "# rtref benchmark\n\nWritten by `scripts/bench_rtref.py --doc`; do not edit by hand.\n\n"
+                           + table)
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(outputs.guard("bench_rtref.py", main))

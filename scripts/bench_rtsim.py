@@ -10,12 +10,12 @@ import argparse
 import json
 import os
 import statistics
-import subprocess
 import sys
 import tempfile
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import outputs  # noqa: E402
 from bench_rtref import add_cpu_option, build_fast, machine, pin_to_cpu  # noqa: E402
 from project import FAST_BUILD, ROOT, run_rtsim, spd_scene, update_doc_section, version  # noqa: E402
 
@@ -37,12 +37,12 @@ def timed(cmd):
     it and exec keeps it), so once the script had read the 16x16x16 report
     every run's own peak read as the script's (136 MiB for N = 1 to 8)."""
     t0 = time.monotonic()
-    p = subprocess.run(["/usr/bin/time", "-f", "maxrss_kib=%M"] + cmd, stdout=subprocess.DEVNULL,
-                       stderr=subprocess.PIPE)
+    # (run_child: a stop of this script ends the run too)
+    p = outputs.run_child(["/usr/bin/time", "-f", "maxrss_kib=%M"] + cmd)
     wall = time.monotonic() - t0
-    err = p.stderr.decode().rstrip("\n").split("\n")
+    err = p.stderr.rstrip("\n").split("\n")
     if p.returncode != 0 or not err[-1].startswith("maxrss_kib="):
-        sys.exit(f"bench_rtsim: {' '.join(cmd)} failed: {' '.join(err).strip()}")
+        raise outputs.ToolError(f"{' '.join(cmd)} failed: {' '.join(err).strip()}", outputs.FAILED)
     return wall, int(err[-1].split("=")[1]) / 1024.0
 
 
@@ -83,16 +83,42 @@ def main():
                          "run, --against-runs times each mode; with --doc into doc/benchmarks/rtsim-against.md")
     ap.add_argument("--against-runs", type=int, default=7)
     add_cpu_option(ap)
-    ap.add_argument("--doc", action="store_true")
+    ap.add_argument("--doc", action="store_true",
+                    help="write doc/benchmarks/rtsim.md (or rtsim-against.md) and the generated sections of "
+                         "doc/exploration.md and doc/waveforms.md (without it: the tables to stdout only)")
     a = ap.parse_args()
+    check_arguments(a)
     build_fast()
     # The script pins itself: every run, GNU time's child too, inherits it.
     pin = pin_to_cpu(a.cpu, "bench_rtsim")
     # The tree's version before anything is written: the tracing section goes
     # into doc/ first, and would make the main tables say "-dirty".
     a.version = version()
+    with tempfile.TemporaryDirectory() as tmp:
+        return benchmark(a, pin, tmp)
+
+
+def check_arguments(a):
+    """The inputs and the doc pages written with --doc, before any work."""
+    for flag in ("runs", "growth_runs", "big_runs", "tracing_runs", "against_runs"):
+        if getattr(a, flag) < (1 if flag in ("runs", "against_runs") else 0):
+            raise outputs.ToolError(f"--{flag.replace('_', '-')} {getattr(a, flag)}: too few")
+    outputs.check_input(a.scene, "--scene")
+    if a.against:
+        outputs.check_input(os.path.join(a.against, "rtsim"), "--against")
+    try:
+        [int(x) for x in a.growth.split(",") if a.growth]
+    except ValueError:
+        raise outputs.ToolError(f"--growth {a.growth}: not a list of whole numbers")
+    if a.doc:
+        for page in ("exploration.md", "waveforms.md", "benchmarks/rtsim.md", "benchmarks/rtsim-against.md"):
+            outputs.check_output(os.path.join(ROOT, "doc", page), "--doc", doc=True)
+
+
+def benchmark(a, pin, tmp):
+    """Every table but the comparison with another build (against), in the
+    temporary folder `tmp`."""
     build = FAST_BUILD
-    tmp = tempfile.mkdtemp()
     report = os.path.join(tmp, "r.json")
 
     def rtsim(n, extra=(), scene=None, size=None, image="s.png"):
@@ -232,9 +258,8 @@ def main():
     print(out, end="")
     if a.doc:
         update_doc_section(os.path.join(ROOT, "doc", "exploration.md"), "performance targets", goals.rstrip("\n"))
-        os.makedirs(os.path.join(ROOT, "doc", "benchmarks"), exist_ok=True)
-        with open(os.path.join(ROOT, "doc", "benchmarks", "rtsim.md"), "w") as f:
-            f.write("# rtsim benchmark\n\nWritten by `scripts/bench_rtsim.py --doc`; do not edit by hand.\n\n" + out)
+        outputs.write_text(os.path.join(ROOT, "doc", "benchmarks", "rtsim.md"),
+                           "# rtsim benchmark\n\nWritten by `scripts/bench_rtsim.py --doc`; do not edit by hand.\n\n" + out)
 
 
 def tracing(a, tmp, rtsim, report):
@@ -313,9 +338,9 @@ def against(a, tmp, rtsim, pin):
                                (f"; every run pinned to CPU {pin}" if pin is not None else "") + ".\n")
     print(text, end="")
     if a.doc:
-        with open(os.path.join(ROOT, "doc", "benchmarks", "rtsim-against.md"), "w") as f:
-            f.write("# rtsim against an older build\n\nWritten by `scripts/bench_rtsim.py --against BUILD --doc`; "
-                    "do not edit by hand.\n\n" + text)
+        outputs.write_text(os.path.join(ROOT, "doc", "benchmarks", "rtsim-against.md"),
+                           "# rtsim against an older build\n\nWritten by `scripts/bench_rtsim.py --against BUILD --doc`; "
+                           "do not edit by hand.\n\n" + text)
 
 
 def targets(ratio_of, big):
@@ -342,4 +367,4 @@ def targets(ratio_of, big):
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(outputs.guard("bench_rtsim.py", main))

@@ -22,7 +22,8 @@ tracing per ray step or test, the rest per message. From them, the wall
 time per event that the largest mesh would have if every kind of event
 cost what it does at N = 4: the ratio the mix of events alone sets,
 against which issue 45's 1.3 is to be read. Prints tables; with --doc writes
-doc/benchmarks/scaling.md and scaling.png. Run with /usr/bin/python3."""
+doc/benchmarks/scaling.md and scaling.png (without it, nothing is written).
+Run with /usr/bin/python3."""
 import argparse
 import json
 import os
@@ -33,6 +34,7 @@ import sys
 import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import outputs  # noqa: E402
 from bench_rtref import add_cpu_option, build_fast, machine, pin_to_cpu  # noqa: E402
 from bench_rtsim import timed  # noqa: E402
 from project import FAST_BUILD, PAPER_SCENE, ROOT, RTSIM, spd_scene, version  # noqa: E402
@@ -99,12 +101,42 @@ def mix_ratio(costs4, events4, events_n):
 def profiled(cmd, tmp):
     """Runs cmd under perf record; returns (tracing, rest) in seconds of samples."""
     data = os.path.join(tmp, "perf.data")
-    subprocess.run(["perf", "record", "-q", "-F", str(PERF_HZ), "-o", data, "--"] + cmd, check=True,
-                   stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    out = subprocess.run(["perf", "report", "-i", data, "--no-children", "--sort", "symbol", "--stdio", "-n"],
-                         check=True, capture_output=True, text=True).stdout
+    checked(["perf", "record", "-q", "-F", str(PERF_HZ), "-o", data, "--"] + cmd)
+    out = checked(["perf", "report", "-i", data, "--no-children", "--sort", "symbol", "--stdio", "-n"]).stdout
     tracing, rest = split_samples(out.splitlines())
     return tracing / PERF_HZ, rest / PERF_HZ
+
+
+def checked(cmd):
+    """Runs cmd (ended by a stop of this script); its result, or one line
+    and exit 1 if it failed."""
+    p = outputs.run_child(cmd)
+    if p.returncode != 0:
+        raise outputs.ToolError(f"{' '.join(cmd[:3])} ... exit {p.returncode}: {p.stderr.strip()[-300:]}",
+                                outputs.FAILED)
+    return p
+
+
+def check_arguments(a):
+    """The mesh sizes, the scenes and the doc pages, before any work; the N."""
+    try:
+        ns = [int(x) for x in a.n.split(",")]
+    except ValueError:
+        raise outputs.ToolError(f"--n {a.n}: not a list of whole numbers")
+    if a.runs < 1 or min(ns) < 1:
+        raise outputs.ToolError(f"--runs {a.runs}, --n {a.n}: at least 1 each")
+    for scene in a.scenes.split(","):
+        if scene != "paper":
+            outputs.check_input(spd_scene(outputs.check_name(scene, "--scenes")), "--scenes")
+    if a.doc:
+        for name in ("scaling.md", "scaling.png"):
+            outputs.check_output(os.path.join(ROOT, "doc", "benchmarks", name), "--doc", doc=True)
+    return ns
+
+
+def build(script, *args):
+    if subprocess.run(["bash", os.path.join(ROOT, "scripts", script), *args], stdout=subprocess.DEVNULL).returncode:
+        raise outputs.ToolError(f"scripts/{script} failed (its messages above)", outputs.FAILED)
 
 
 def main():
@@ -114,21 +146,25 @@ def main():
     ap.add_argument("--runs", type=int, default=3)
     ap.add_argument("--scenes", default="balls-5,paper", help="SPD scene names, or 'paper'")
     add_cpu_option(ap)
-    ap.add_argument("--doc", action="store_true")
+    ap.add_argument("--doc", action="store_true",
+                    help="write doc/benchmarks/scaling.md and scaling.png (without it: the tables to stdout only)")
     a = ap.parse_args()
-    try:
-        ns = [int(x) for x in a.n.split(",")]
-    except ValueError:
-        sys.exit(f"bench_scaling: --n {a.n}: not a list of whole numbers")
+    ns = check_arguments(a)
     build_fast()
-    subprocess.run(["bash", os.path.join(ROOT, "scripts", "setup.sh"), "bench"], check=True)  # perf
+    build("setup.sh", "bench")  # perf
     # The split's runs: the plain build, whose profile keeps the region's
     # trace a function of its own (the profile-guided build inlines it into
     # the node's step, with the message handling).
-    subprocess.run(["bash", os.path.join(ROOT, "scripts", "build.sh"), "rtsim"], check=True, stdout=subprocess.DEVNULL)
+    build("build.sh", "rtsim")
     pin = pin_to_cpu(a.cpu, "bench_scaling")
     ver = version()
-    tmp = tempfile.mkdtemp()
+    with tempfile.TemporaryDirectory() as tmp:
+        measure(a, ns, pin, ver, tmp)
+
+
+def measure(a, ns, pin, ver, tmp):
+    """The runs, the tables and, with --doc, the page and its chart; in the
+    temporary folder `tmp`."""
     report = os.path.join(tmp, "r.json")
     rtsim = os.path.join(FAST_BUILD, "rtsim")
 
@@ -161,19 +197,18 @@ def main():
     same = {}
     for scene in a.scenes.split(","):  # the largest mesh's image against rtref's
         ours, ref = os.path.join(tmp, "ours.png"), os.path.join(tmp, "ref.png")
-        subprocess.run(command(scene, ns[-1], ours), check=True, stdout=subprocess.DEVNULL)
+        checked(command(scene, ns[-1], ours))
         flags = paper_scene(a.size) if scene == "paper" else [spd_scene(scene), "--size", a.size]
-        subprocess.run([os.path.join(FAST_BUILD, "rtref")] + flags + ["-o", ref], check=True, stdout=subprocess.DEVNULL)
+        checked([os.path.join(FAST_BUILD, "rtref")] + flags + ["-o", ref])
         with open(ours, "rb") as f, open(ref, "rb") as g:
             same[scene] = f.read() == g.read()
     text = table(a, ns, rows, same, pin, ver) + split_table(a, ns, split)
     print(text)
     if a.doc:
         out = os.path.join(ROOT, "doc", "benchmarks")
-        os.makedirs(out, exist_ok=True)
-        with open(os.path.join(out, "scaling.md"), "w") as f:
-            f.write("# How rtsim scales with the mesh\n\nWritten by `scripts/bench_scaling.py --doc`; do not edit "
-                    "by hand.\n\n" + image_link("scaling.png") + "\n\n" + text)
+        outputs.write_text(os.path.join(out, "scaling.md"),
+                           "# How rtsim scales with the mesh\n\nWritten by `scripts/bench_scaling.py --doc`; do not "
+                           "edit by hand.\n\n" + image_link("scaling.png") + "\n\n" + text)
         chart(a, ns, rows, os.path.join(out, "scaling.png"))
 
 
@@ -283,8 +318,8 @@ def chart(a, ns, rows, path):
         x.set_xticks(ns)
         x.grid(True, alpha=0.3)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    outputs.savefig(fig, path, dpi=110)
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(outputs.guard("bench_scaling.py", main))

@@ -9,11 +9,14 @@ then plants the mutants one at a time, rebuilds, runs the suite and
 reports which tests failed. A mutant the suite misses is a cost the tests
 cannot see; the script exits 1 if there is any.
 
-  /usr/bin/python3 scripts/mutate.py            # every mutant; table to doc/results/mutate.md
-  /usr/bin/python3 scripts/mutate.py --doc      # also into doc/robustness.md
+  /usr/bin/python3 scripts/mutate.py            # every mutant; table to out/results/mutate.md
+  /usr/bin/python3 scripts/mutate.py --doc      # to doc/results/mutate.md and doc/robustness.md
   /usr/bin/python3 scripts/mutate.py --only fb-cost-dropped,no-latency   # table to --work only
   /usr/bin/python3 scripts/mutate.py --check    # every mutant still fits the code (a test)
-"""
+
+The work directory (--work) is the script's own: it is made with a mark
+file, and a folder that holds anything without that mark is refused
+rather than emptied."""
 import argparse
 import os
 import shutil
@@ -23,7 +26,8 @@ import time
 import xml.etree.ElementTree as ET
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from project import ROOT, publish_table  # noqa: E402
+import outputs  # noqa: E402
+from project import RESULTS, ROOT, publish_table  # noqa: E402
 
 # The timing oracles' tests (tb/tests/test_timing.cpp): the table says
 # whether the rest of the suite would have caught each bug without them.
@@ -279,12 +283,40 @@ def stale(mutants):
     return out
 
 
+MARK = ".rtsim-mutate"  # the file that says a work directory is this script's
+# What the script makes in it (a folder made before the mark holds only these).
+OWN = {MARK, "src", "build", "log.txt", "junit.xml", "tmp", "shared", "mutate.md"}
+
+
+def own_work_dir(work):
+    """The work directory, made or taken if it is this script's own (empty,
+    holding MARK, or only what the script makes): its src/ is removed at every run, so a folder of
+    anyone else's is refused. Not in the repository's tree, but under out/
+    (git status stays clean)."""
+    work = os.path.abspath(work)
+    if outputs.under(work, ROOT) and not outputs.under(work, outputs.OUT):
+        raise outputs.ToolError(f"--work {work}: in the repository; a folder elsewhere, or under out/")
+    if os.path.lexists(work) and not os.path.isdir(work) or os.path.islink(work):
+        raise outputs.ToolError(f"--work {work}: not a folder")
+    if os.path.isdir(work) and not set(os.listdir(work)) <= OWN:
+        raise outputs.ToolError(f"--work {work}: a folder that is not mutate.py's (no {MARK} in it); "
+                                "name a new or empty one")
+    try:
+        os.makedirs(work, exist_ok=True)
+        open(os.path.join(work, MARK), "a").close()
+    except OSError as e:
+        raise outputs.ToolError(f"--work {work}: {e.strerror}")
+    return work
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--work", default="/tmp/rtsim-mutate", help="work directory (sources, build, logs)")
     ap.add_argument("--only", default="", help="comma-separated mutant names")
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 2)
-    ap.add_argument("--doc", action="store_true", help="also put the table into doc/robustness.md")
+    ap.add_argument("--doc", action="store_true",
+                    help="write the table to doc/results/mutate.md and doc/robustness.md (without it: "
+                         "out/results/mutate.md; with --only: the work directory)")
     ap.add_argument("--list", action="store_true", help="list the mutants and exit")
     ap.add_argument("--check", action="store_true",
                     help="only check that every mutant's text is in its file exactly once (the suite runs this, "
@@ -302,6 +334,8 @@ def main():
     if args.only and args.doc:
         print("mutate.py: --doc publishes the whole table; it cannot go with --only", file=sys.stderr)
         return 2
+    if args.jobs < 1:
+        raise outputs.ToolError(f"--jobs {args.jobs}: at least 1")
 
     # Every mutant's text must sit exactly once in its file before anything is
     # built: a text that drifted from the code would otherwise stop the run
@@ -314,8 +348,8 @@ def main():
         print(f"mutate.py: all {len(MUTANTS)} mutants' texts found once each")
         return 0
 
+    args.work = own_work_dir(args.work)
     src, build, log = (os.path.join(args.work, d) for d in ("src", "build", "log.txt"))
-    os.makedirs(args.work, exist_ok=True)
     if os.path.exists(src):
         shutil.rmtree(src)
     files = subprocess.run(["git", "ls-files", "-z"], cwd=ROOT, check=True, capture_output=True).stdout.split(b"\0")
@@ -398,13 +432,15 @@ def main():
         "|---|---|---|---|---|",
     ] + rows
     # A partial run (--only) leaves the published table alone: its table goes
-    # to the work directory.
-    results = args.work if args.only else os.path.join(ROOT, "doc", "results")
-    os.makedirs(results, exist_ok=True)
+    # to the work directory; a whole one to out/results/, or with --doc to
+    # doc/results/.
+    results = args.work if args.only else RESULTS if args.doc else os.path.dirname(outputs.out_path("results", "x"))
     publish_table(lines, os.path.join(results, "mutate.md"),
                   os.path.join(ROOT, "doc", "robustness.md") if args.doc else None, "mutate")
     if args.only:
         print(f"mutate.py: --only: table in {os.path.join(results, 'mutate.md')}, doc/results left alone", file=sys.stderr)
+    elif not args.doc:
+        print(f"mutate.py: table in {os.path.join(results, 'mutate.md')}; --doc publishes it", file=sys.stderr)
     if missed:
         print(f"mutate.py: missed: {', '.join(missed)}", file=sys.stderr)
         return 1
@@ -412,4 +448,4 @@ def main():
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(outputs.guard("mutate.py", main))
