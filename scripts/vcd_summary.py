@@ -7,55 +7,192 @@ links ranked by that time, the top ones first. The windows cut the traced
 span (the VCD's first to last time) in --windows equal parts. A bottleneck
 shows as a link whose wire is busy and backlogged through the windows in
 which the nodes downstream of it wait (doc/machine.md, "Finding a
-bottleneck"). Standard library only (Debian has no VCD reader for Python;
-the format read is the subset rtsim writes: scopes, 1-bit wires, integers,
-reals). Run with /usr/bin/python3."""
+bottleneck"). Times are read in the VCD's $timescale and printed in real
+units. Standard library only (Debian has no VCD reader for Python): it
+reads the declarations and value changes of IEEE 1364 VCD (scopes, scalar
+and vector wires, integers, reals; $comment, $date and $version blocks,
+one line or several), and answers anything else with one line naming the
+file and line. Run with /usr/bin/python3."""
 import argparse
+import os
+import re
 import sys
 from collections import defaultdict
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from outputs import ToolError, check_input, guard  # noqa: E402
 
-class VcdError(Exception):
-    pass
+WANTED = {"busy", "wait", "wire", "backlog"}
+SECONDS = {"s": 1.0, "ms": 1e-3, "us": 1e-6, "ns": 1e-9, "ps": 1e-12, "fs": 1e-15}
+TIMESCALE_RE = re.compile(r"(1|10|100)\s*(s|ms|us|ns|ps|fs)")
+# Declaration blocks whose text is free (and may span lines): skipped.
+FREE_TEXT = {"$comment", "$date", "$version"}
+# Commands of the value-change section that only bracket value changes.
+BRACKETS = {"$dumpvars", "$dumpall", "$dumpon", "$dumpoff", "$end"}
+SCALAR = set("01xzXZ")
+BITS = set("01xzXZ")
+
+
+def lines(path):
+    """(line number, words) of the file's lines; a line that is not
+    ASCII/UTF-8 text is refused with its line."""
+    with open(path, "rb") as f:
+        for n, raw in enumerate(f, 1):
+            try:
+                yield n, raw.decode("utf-8").split()
+            except UnicodeDecodeError:
+                raise ToolError(f"{path}:{n}: bytes that are not text (a VCD is ASCII)")
+
+
+class Reader:
+    """The signals named busy, wait, wire and backlog of a VCD, with their
+    changes in time order, in ticks of `seconds_per_tick` (None: the file
+    gave no $timescale)."""
+
+    def __init__(self, path):
+        self.path = path
+        self.declared = set()            # every identifier code declared
+        self.names = defaultdict(list)   # identifier code -> the wanted signals' paths
+        self.changes = defaultdict(list)  # signal path -> [(tick, value)]
+        self.seconds_per_tick = None
+        self.first = self.last = None    # the first and last time stamps
+        self.source = lines(path)
+        self.stream = self.tokens()
+        self.n = 0
+
+    def tokens(self):
+        """(line number, word) of the words left in the file."""
+        for n, words in self.source:
+            for w in words:
+                yield n, w
+
+    def fail(self, what):
+        raise ToolError(f"{self.path}:{self.n}: {what}")
+
+    def next_token(self, inside):
+        for self.n, tok in self.stream:
+            return tok
+        raise ToolError(f"{self.path}:{self.n}: the file ends inside {inside}")
+
+    def until_end(self, command):
+        """The words of a declaration up to its $end."""
+        words = []
+        while True:
+            tok = self.next_token(command)
+            if tok == "$end":
+                return words
+            words.append(tok)
+
+    def read(self):
+        self.header()
+        self.body()
+        return self
+
+    def header(self):
+        scope = []
+        for self.n, tok in self.stream:
+            if tok in FREE_TEXT:
+                self.until_end(tok)
+            elif tok == "$timescale":
+                self.timescale(" ".join(self.until_end(tok)))
+            elif tok == "$scope":
+                words = self.until_end(tok)
+                if len(words) != 2:
+                    self.fail(f"$scope {' '.join(words)[:40]}: expected a kind and a name")
+                scope.append(words[1])
+            elif tok == "$upscope":
+                self.until_end(tok)
+                if not scope:
+                    self.fail("$upscope without a $scope to close")
+                scope.pop()
+            elif tok == "$var":
+                self.var(self.until_end(tok), scope)
+            elif tok == "$enddefinitions":
+                self.until_end(tok)
+                return
+            else:
+                self.fail(f"'{tok[:40]}' in the declarations (expected $scope, $var, $upscope, ... $enddefinitions)")
+        raise ToolError(f"{self.path}: no $enddefinitions (not a VCD, or cut short in its header)")
+
+    def timescale(self, text):
+        m = TIMESCALE_RE.fullmatch(text.strip())
+        if not m:
+            self.fail(f"$timescale '{text[:40]}': expected 1, 10 or 100 and s, ms, us, ns, ps or fs")
+        self.seconds_per_tick = int(m.group(1)) * SECONDS[m.group(2)]
+
+    def var(self, words, scope):
+        # $var TYPE SIZE CODE REFERENCE [RANGE] $end
+        if len(words) < 4:
+            self.fail(f"$var {' '.join(words)[:40]}: expected a type, a size, a code and a name")
+        code, ref = words[2], words[3]
+        self.declared.add(code)
+        if ref in WANTED:
+            # rtsim's machine/node_X_Y_Z[/LINK]/SIGNAL: the top scope left out.
+            self.names[code].append("/".join(scope[1:] + [ref]))
+
+    def body(self):
+        # Line by line, the common changes inline: a VCD has nearly all its
+        # lines here. A vector's or a real's code is on its value's line.
+        free = None  # the $comment (or $date, $version) whose $end is still to come
+        for self.n, words in self.source:
+            i = 0
+            while i < len(words):
+                tok = words[i]
+                i += 1
+                if free:
+                    free = None if tok == "$end" else free
+                    continue
+                c = tok[0]
+                if c == "#":
+                    self.time(tok)
+                elif c in SCALAR:
+                    self.change(tok[1:], 1 if c == "1" else 0)
+                elif c in "bBrR":
+                    if i == len(words):
+                        self.fail(f"'{tok[:40]}': a value without its identifier code on its line")
+                    self.change(words[i], self.vector(tok) if c in "bB" else self.real(tok))
+                    i += 1
+                elif tok in FREE_TEXT:
+                    free = tok
+                elif tok not in BRACKETS:
+                    self.fail(f"'{tok[:40]}': not a value change or a time")
+        if free:
+            self.fail(f"the file ends inside {free}")
+
+    def vector(self, tok):
+        bits = tok[1:]
+        if not bits or not set(bits) <= BITS:
+            self.fail(f"'{tok[:40]}': not a binary value")
+        return int(bits, 2) if set(bits) <= {"0", "1"} else 0  # x or z in it: not busy
+
+    def real(self, tok):
+        try:
+            return float(tok[1:])
+        except ValueError:
+            self.fail(f"'{tok[:40]}': not a real value")
+
+    def time(self, tok):
+        if not tok[1:].isdigit():
+            self.fail(f"'{tok[:40]}': not a time (# and a whole number)")
+        t = int(tok[1:])
+        if self.last is not None and t < self.last:
+            self.fail(f"time #{t} after #{self.last}: times go forward")
+        if self.first is None:
+            self.first = t
+        self.last = t
+
+    def change(self, code, value):
+        if code not in self.declared:
+            self.fail(f"a change of '{code[:20]}', which no $var declares")
+        if self.last is None:
+            self.fail("a value change before the first time (#T)")
+        for name in self.names.get(code, ()):
+            self.changes[name].append((self.last, value))
 
 
 def read(path):
-    """{signal path: [(time, value)]} for the signals named busy, wait,
-    wire and backlog, and the last time in the file."""
-    ids, scope, changes, t, last = {}, [], defaultdict(list), 0, 0
-    wanted = {"busy", "wait", "wire", "backlog"}
-    with open(path, errors="replace") as f:
-        header = True
-        for n, line in enumerate(f, 1):
-            tok = line.split()
-            if not tok:
-                continue
-            if header:
-                if tok[0] == "$scope" and len(tok) >= 3:
-                    scope.append(tok[2])
-                elif tok[0] == "$upscope":
-                    scope.pop()
-                elif tok[0] == "$var" and len(tok) >= 5 and tok[4] in wanted:
-                    ids.setdefault(tok[3], []).append("/".join(scope[1:] + [tok[4]]))
-                elif tok[0] == "$enddefinitions":
-                    header = False
-                continue
-            c = tok[0][0]
-            try:
-                if c == "#":
-                    t = int(tok[0][1:])
-                    last = max(last, t)
-                elif c in "01xz":
-                    for name in ids.get(tok[0][1:], ()):
-                        changes[name].append((t, 1 if c == "1" else 0))
-                elif c in "bB":
-                    for name in ids.get(tok[1], ()):
-                        changes[name].append((t, int(tok[0][1:], 2) if set(tok[0][1:]) <= {"0", "1"} else 0))
-            except (ValueError, IndexError):
-                raise VcdError(f"{path}:{n}: not a value change: {line.strip()[:60]}")
-    if header:
-        raise VcdError(f"{path}: no $enddefinitions (not a VCD, or cut short in its header)")
-    return changes, last
+    """The VCD's wanted signals and span: (Reader, ToolError on bad input)."""
+    return Reader(path).read()
 
 
 def spans(ch, end):
@@ -94,21 +231,21 @@ def overlap(a, b):
     return out
 
 
-def summarise(changes, end, k):
+def summarise(changes, start, end, k):
     """Per node its busy intervals; per link its wire-busy and saturated
-    intervals; the windows' start and width."""
-    starts = [ch[0][0] for ch in changes.values() if ch]
-    start = min(starts) if starts else 0
-    width = max(1, (end - start)) / k
+    intervals; the windows' width (the span is not empty)."""
+    width = (end - start) / k
     nodes, links = {}, {}
     for name, ch in changes.items():
+        if "/" not in name:
+            continue  # a signal outside any node's scope: not rtsim's layout
         owner, sig = name.rsplit("/", 1)
         on = [(a, b) for a, b, v in spans(ch, end) if v > 0]
         if sig == "busy" and "/" not in owner:
             nodes[owner] = on
         elif sig in ("wire", "backlog") and "/" in owner:
             links.setdefault(owner, {})[sig] = on
-    return start, width, nodes, links
+    return width, nodes, links
 
 
 def link_name(owner):
@@ -116,48 +253,83 @@ def link_name(owner):
     return owner.replace("/", "_")
 
 
-def main():
+def time_text(ticks, seconds_per_tick):
+    """A time in ticks, in the unit that suits it ('1.5 us'); in ticks if
+    the VCD gave no $timescale."""
+    if seconds_per_tick is None:
+        return f"{ticks:.6g} ticks"
+    if ticks == 0:
+        return "0"
+    s = ticks * seconds_per_tick
+    for unit in ("s", "ms", "us", "ns", "ps"):
+        # (10 ps ticks: 100 of them are 1 ns, not 999.999... ps)
+        if abs(s) >= SECONDS[unit] * (1 - 1e-9) or unit == "ps":
+            return f"{s / SECONDS[unit]:.6g} {unit}"
+
+
+def parse_args(argv):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("vcd", help="a VCD written by rtsim --vcd")
     ap.add_argument("--windows", type=int, default=10, help="time windows across the traced span (default 10)")
     ap.add_argument("--top", type=int, default=5, help="links listed (default 5; 0: all)")
-    a = ap.parse_args()
+    a = ap.parse_args(argv)
     if not 1 <= a.windows <= 1000:
-        ap.error(f"--windows {a.windows}: 1 to 1000")
-    try:
-        changes, end = read(a.vcd)
-    except OSError as e:
-        sys.exit(f"vcd_summary: {a.vcd}: {e.strerror}")
-    except VcdError as e:
-        sys.exit(f"vcd_summary: {e}")
-    if not changes:
-        sys.exit(f"vcd_summary: {a.vcd}: no busy, wait, wire or backlog signal in it")
-    start, width, nodes, links = summarise(changes, end, a.windows)
-    span = end - start
-    print(f"{a.vcd}: {span / 1e6:.6g} us traced ({start / 1e6:.6g} to {end / 1e6:.6g} us), {a.windows} windows of "
-          f"{width / 1e6:.4g} us; shares of each window")
-    if nodes:
-        print("\nnodes: busy share per window | over the span")
-        for name in sorted(nodes):
-            w = per_window(nodes[name], start, width, a.windows)
-            total = sum(b - a_ for a_, b in nodes[name])
-            print(f"  {name:16} " + " ".join(f"{x / width:4.2f}" for x in w) + f" | {total / span:.2f}")
+        raise ToolError(f"--windows {a.windows}: 1 to 1000")
+    if a.top < 0:
+        raise ToolError(f"--top {a.top}: 0 (all) or more")
+    return a
+
+
+def print_nodes(nodes, start, width, span, k):
+    print("\nnodes: busy share per window | over the span")
+    for name in sorted(nodes):
+        w = per_window(nodes[name], start, width, k)
+        total = sum(b - a for a, b in nodes[name])
+        print(f"  {name:16} " + " ".join(f"{x / width:4.2f}" for x in w) + f" | {total / span:.2f}")
+
+
+def print_links(links, start, width, span, k, top):
     ranked = []
     for owner, sig in links.items():
         wire, backlog = sig.get("wire", []), sig.get("backlog", [])
         sat = overlap(wire, backlog)
-        ranked.append((sum(b - a_ for a_, b in sat), owner, wire, sat))
+        ranked.append((sum(b - a for a, b in sat), owner, wire, sat))
     ranked.sort(key=lambda x: (-x[0], x[1]))
-    if ranked:
-        shown = ranked if a.top == 0 else ranked[:a.top]
-        print(f"\nlinks, by time busy with a backlog: wire busy share per window | busy | backlogged "
-              f"({len(shown)} of {len(ranked)})")
-        for sat_t, owner, wire, sat in shown:
-            w = per_window(wire, start, width, a.windows)
-            busy = sum(b - a_ for a_, b in wire)
-            print(f"  {link_name(owner):18} " + " ".join(f"{x / width:4.2f}" for x in w) +
-                  f" | {busy / span:.2f} | {sat_t / span:.2f}")
+    shown = ranked if top == 0 else ranked[:top]
+    print(f"\nlinks, by time busy with a backlog: wire busy share per window | busy | backlogged "
+          f"({len(shown)} of {len(ranked)})")
+    for sat_t, owner, wire, sat in shown:
+        w = per_window(wire, start, width, k)
+        busy = sum(b - a for a, b in wire)
+        print(f"  {link_name(owner):18} " + " ".join(f"{x / width:4.2f}" for x in w) +
+              f" | {busy / span:.2f} | {sat_t / span:.2f}")
+
+
+def main(argv=None):
+    a = parse_args(argv)
+    vcd = read(check_input(a.vcd, "VCD"))
+    if not vcd.changes:
+        raise ToolError(f"{a.vcd}: no busy, wait, wire or backlog signal changes in it (not an rtsim VCD?)")
+    tick = vcd.seconds_per_tick
+    start, end = vcd.first, vcd.last
+    if end == start:
+        # rtsim writes one for --trace-window T,T: a state, no span to share out.
+        print(f"{a.vcd}: the traced span is empty (from {time_text(start, tick)} to {time_text(end, tick)}): "
+              f"no shares to give")
+        return 0
+    width, nodes, links = summarise(vcd.changes, start, end, a.windows)
+    span = end - start
+    scale = "" if tick is not None else " (no $timescale: times in the VCD's ticks)"
+    print(f"{a.vcd}: {time_text(span, tick)} traced ({time_text(start, tick)} to {time_text(end, tick)}), "
+          f"{a.windows} windows of {time_text(width, tick)}; shares of each window{scale}")
+    if nodes:
+        print_nodes(nodes, start, width, span, a.windows)
+    if links:
+        print_links(links, start, width, span, a.windows, a.top)
+    if not nodes and not links:
+        print("\nno node's busy or link's wire in rtsim's layout (machine/node_X_Y_Z[/LINK]/SIGNAL)")
+    return 0
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(guard("vcd_summary", main))

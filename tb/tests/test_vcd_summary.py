@@ -2,7 +2,11 @@
 written here by hand, every share it prints is the one worked out below;
 links are ranked by their time busy with a backlog; on a VCD of rtsim's,
 each node's busy share over the span is its report's busy time over the
-render time; a file that is not a VCD gets one line and a nonzero exit.
+render time; times are read in the VCD's $timescale and printed in real
+units; a zero-length trace window, another tool's VCD (multi-line
+$comment/$date, vectors, reals), an extra $upscope, bytes that are not
+text, a folder and a closed stdout each get one line (or none) and no
+traceback.
 Run by ctest as: /usr/bin/python3 test_vcd_summary.py <rtsim binary>."""
 import json
 import os
@@ -93,6 +97,117 @@ class VcdSummary(unittest.TestCase):
         self.assertEqual(py.split()[-3:], ["1.00", "|", "0.05"])
         self.assertLess(lines.index(px), lines.index(py))
 
+    def test_times_in_the_vcds_timescale(self):
+        # The same 100 ticks: 100 ps, 100 ns, 1 ns (10 ps ticks), 100 us; the shares do not change.
+        for scale, header in (("1ps", "100 ps traced (0 to 100 ps), 4 windows of 25 ps"),
+                              ("1 ns", "100 ns traced (0 to 100 ns), 4 windows of 25 ns"),
+                              ("10 ps", "1 ns traced (0 to 1 ns), 4 windows of 250 ps"),
+                              ("100us", "10 ms traced (0 to 10 ms), 4 windows of 2.5 ms")):
+            with self.subTest(scale=scale), tempfile.TemporaryDirectory() as d:
+                path = os.path.join(d, "hand.vcd")
+                with open(path, "w") as f:
+                    f.write(HAND.replace("$timescale 1ps $end", f"$timescale {scale} $end"))
+                p = summary(path, "--windows", "4")
+                self.assertEqual(p.returncode, 0, p.stderr)
+                self.assertIn(f"hand.vcd: {header};", p.stdout.splitlines()[0])
+                self.assertIn(" 1.00 0.20 0.60 0.20 | 0.50", p.stdout)
+        # Without a $timescale the times are said to be ticks, not taken for picoseconds.
+        with tempfile.TemporaryDirectory() as d:
+            path = os.path.join(d, "hand.vcd")
+            with open(path, "w") as f:
+                f.write(HAND.replace("$timescale 1ps $end\n", ""))
+            p = summary(path, "--windows", "4")
+            self.assertEqual(p.returncode, 0, p.stderr)
+            self.assertIn("100 ticks traced", p.stdout)
+            self.assertIn("no $timescale", p.stdout)
+
+    def test_another_tools_vcd(self):
+        # Multi-line $date and $comment, a vector and a real among the
+        # signals, $dumpvars: read. Busy over [0, 40) of 0..100 ns.
+        other = """$date
+   Sat Nov 28 2026
+$end
+$version other tool 1.0 $end
+$comment a comment
+ on two lines $end
+$timescale 1ns $end
+$scope module top $end
+$scope module node_0_0_0 $end
+$var wire 1 ! busy $end
+$var wire 8 # data [7:0] $end
+$var real 64 % load $end
+$upscope $end
+$upscope $end
+$enddefinitions $end
+#0
+$dumpvars
+1!
+b1010x01z #
+r1.5 %
+$end
+#40
+0!
+b00000001 #
+r0 %
+#100
+"""
+        with tempfile.TemporaryDirectory() as d:
+            path = os.path.join(d, "other.vcd")
+            with open(path, "w") as f:
+                f.write(other)
+            p = summary(path, "--windows", "2")
+            self.assertEqual(p.returncode, 0, p.stderr)
+            self.assertIn("other.vcd: 100 ns traced", p.stdout)
+            self.assertEqual(next(l for l in p.stdout.splitlines() if "node_0_0_0" in l).split(),
+                             ["node_0_0_0", "0.80", "0.00", "|", "0.40"])
+
+    def test_bad_vcds_get_one_line_with_file_and_line(self):
+        cases = {  # name: (text, the line's first words, what stderr says after FILE:LINE)
+            "upscope": (HAND.replace("$enddefinitions", "$upscope $end\n$enddefinitions"), "$upscope $end\n$end",
+                        "$upscope without a $scope to close"),
+            "bytes": (HAND.replace("#30\n", "#30\n\udcff\n"), "\udcff", "bytes that are not text"),
+            "backwards": (HAND.replace("#45\n", "#35\n"), "#35", "time #35 after #40"),
+            "undeclared": (HAND.replace("#90\n", "#90\n1?\n"), "1?", "a change of '?'"),
+            "timescale": (HAND.replace("1ps", "3 ps"), "$timescale", "$timescale '3 ps'"),
+            "cut": (HAND[:HAND.index("$enddefinitions")] + "$var wire 1 ( busy", "$var wire 1 (",
+                    "the file ends inside $var"),
+        }
+        with tempfile.TemporaryDirectory() as d:
+            for name, (text, words, said) in cases.items():
+                with self.subTest(case=name):
+                    path = os.path.join(d, name + ".vcd")
+                    with open(path, "w", errors="surrogateescape") as f:
+                        f.write(text)
+                    p = summary(path)
+                    line = text[:text.index(words)].count("\n") + 1
+                    self.assertEqual(p.returncode, 2, p.stderr)
+                    self.assertEqual(p.stderr.count("\n"), 1, p.stderr)
+                    self.assertIn(f"{path}:{line}: {said}", p.stderr)
+            p = summary(d)
+            self.assertEqual((p.returncode, p.stderr), (2, f"vcd_summary: VCD {d}: a folder, not a file\n"))
+
+    def test_a_closed_stdout_is_a_quiet_exit(self):
+        # | head: the reader is gone before the summary is written.
+        with tempfile.TemporaryDirectory() as d:
+            path = os.path.join(d, "hand.vcd")
+            with open(path, "w") as f:
+                f.write(HAND)
+            p = subprocess.Popen(["/usr/bin/python3", SCRIPT, path], stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+            p.stdout.close()
+            _, err = p.communicate(timeout=60)
+        self.assertEqual((p.returncode, err), (0, b""))
+
+    def test_a_trace_window_of_no_length(self):
+        # rtsim writes one VCD state for --trace-window T,T: said in one line, not divided by.
+        with tempfile.TemporaryDirectory() as d:
+            vcd = os.path.join(d, "w.vcd")
+            subprocess.run([RTSIM, "--spheres", "50", "--radius", "0.04", "--size", "16x16", "--mesh", "2",
+                            "--no-baseline", "-q", "--image", "", "--vcd", vcd, "--trace-window", "5us,5us"],
+                           check=True)
+            p = summary(vcd)
+        self.assertEqual(p.returncode, 0, p.stderr)
+        self.assertEqual(p.stdout, f"{vcd}: the traced span is empty (from 5 us to 5 us): no shares to give\n")
+
     def test_node_busy_over_the_span_is_the_reports(self):
         with tempfile.TemporaryDirectory() as d:
             vcd, rep = os.path.join(d, "r.vcd"), os.path.join(d, "r.json")
@@ -117,6 +232,11 @@ class VcdSummary(unittest.TestCase):
             p = summary(path)
             self.assertNotEqual(p.returncode, 0)
             self.assertEqual(len(p.stderr.strip().splitlines()), 1)
+            self.assertIn("x.vcd:1: 'hello' in the declarations", p.stderr)
+            with open(path, "w") as f:
+                f.write("$timescale 1ps $end\n")
+            p = summary(path)
+            self.assertEqual(p.returncode, 2)
             self.assertIn("no $enddefinitions", p.stderr)
             p = summary(os.path.join(d, "missing.vcd"))
             self.assertNotEqual(p.returncode, 0)
