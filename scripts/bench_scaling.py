@@ -136,7 +136,7 @@ def check_arguments(a):
 
 def build(script, *args):
     if subprocess.run(["bash", os.path.join(ROOT, "scripts", script), *args], stdout=subprocess.DEVNULL).returncode:
-        raise outputs.ToolError(f"scripts/{script} failed (its messages above)", outputs.FAILED)
+        raise outputs.ToolError(f"{script} failed (its messages above)", outputs.FAILED)
 
 
 def main():

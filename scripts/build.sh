@@ -3,8 +3,10 @@
 # or only those named (scripts/run.sh builds rtsim alone). The build the
 # benchmarks measure, profile-guided and link-time optimised, is
 # scripts/build_fast.sh (build-fast/); both compute the same bits.
+#   bash scripts/build.sh [TARGET...]
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
+case "${1:-}" in -h|--help) sed -n '2,6s/^# \{0,1\}//p' "$0"; exit 0 ;; esac
 cmake -S "$root" -B "$root/build" -DCMAKE_BUILD_TYPE=Release -DRT_PGO= >/dev/null
 targets=()
 for t in "$@"; do targets+=(--target "$t"); done

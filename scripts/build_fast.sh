@@ -7,8 +7,14 @@
 # minutes from a clean clone on 2 cores; later builds make again only what
 # changed (doc/exploration.md, "The build"). Profiles change only the code's
 # layout and inlining, never a result.
+#   bash scripts/build_fast.sh
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
+case "${1:-}" in
+  -h|--help) sed -n '2,10s/^# \{0,1\}//p' "$0"; exit 0 ;;
+  "") ;;
+  *) echo "build_fast.sh: $1: takes no arguments" >&2; exit 2 ;;
+esac
 gen="$root/build-pgo" use="$root/build-fast"
 cmake -S "$root" -B "$gen" -DCMAKE_BUILD_TYPE=Release -DRT_PGO=generate >/dev/null
 cmake --build "$gen" -j "$(nproc)" --target rtsim rtref

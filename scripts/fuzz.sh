@@ -16,13 +16,20 @@ target=nff
 doc=
 while [ $# -gt 0 ]; do
   case "$1" in
-    --target) target=${2:-}; shift 2 ;;
+    --target) [ $# -ge 2 ] || { echo "fuzz.sh: --target: nff, report or config" >&2; exit 2; }
+              target=$2; shift 2 ;;
     --doc) doc=doc; shift ;;
+    -h|--help) sed -n '2,12s/^# \{0,1\}//p' "$0"; exit 0 ;;
+    -*) echo "fuzz.sh: $1: unknown (--target, --doc, --help)" >&2; exit 2 ;;
     *) break ;;
   esac
 done
 case "$target" in nff|report|config) ;; *) echo "fuzz.sh: --target: nff, report or config, not '$target'" >&2; exit 2;; esac
 seconds=${1:-1800}
+case "$seconds" in
+  ''|*[!0-9]*) echo "fuzz.sh: SECONDS: a whole number, not '$seconds'" >&2; exit 2 ;;
+esac
+[ $# -le 1 ] || { echo "fuzz.sh: one SECONDS at most, not '$*'" >&2; exit 2; }
 "$root/scripts/setup.sh" fuzz
 cmake -S "$root" -B "$root/build-fuzz" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DRT_FUZZ=ON \
   -DCMAKE_CXX_COMPILER=clang++ >/dev/null

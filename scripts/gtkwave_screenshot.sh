@@ -8,8 +8,18 @@
 # doc/machine.md, "Finding a bottleneck": balls-4 at 256x256 on 6x6x6 with
 # 200 MB/s links, the busiest nodes and links traced
 # (doc/images/gtkwave-bottleneck.png; its VCD, about 40 MB, is not kept).
+# Those are the places with --doc (the published files); without it, the
+# waveforms go to out/waveforms/ and the screenshots to out/images/.
+#   bash scripts/gtkwave_screenshot.sh [--doc]
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
+waves="$root/out/waveforms" images="$root/out/images"
+case "${1:-}" in
+  -h|--help) sed -n '2,13s/^# \{0,1\}//p' "$0"; exit 0 ;;
+  --doc) waves="$root/waveforms" images="$root/doc/images" ;;
+  "") ;;
+  *) echo "gtkwave_screenshot.sh: $1: unknown (--doc or nothing)" >&2; exit 2 ;;
+esac
 need=()
 for p in gtkwave xvfb x11-apps imagemagick; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || need+=("$p")
@@ -18,7 +28,8 @@ if [ ${#need[@]} -gt 0 ]; then
   apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "${need[@]}" >/dev/null
 fi
 "$root/scripts/build.sh" >/dev/null
-cd "$root/waveforms"
+mkdir -p "$waves" "$images"
+cd "$waves"
 "$root/build/rtsim" --mesh 2 --size 96x96 --concentration 0.5 --no-baseline -q --image '' \
   --vcd example-2x2x2.vcd
 "$root/build/rtsim" --mesh 2 --size 96x96 --concentration 0.5 --link-bandwidth 20MB/s --no-baseline -q --image '' \
@@ -36,12 +47,14 @@ shot() {  # shot NAME.gtkw OUT.png [SECONDS to load]
   DISPLAY=$display gtkwave -a "$1" >/dev/null 2>&1 &
   gw=$!
   sleep "${3:-6}"
-  DISPLAY=$display xwd -root -silent | convert xwd:- "$2"
+  # through a temporary beside it: a stopped run leaves the old picture whole
+  DISPLAY=$display xwd -root -silent | convert xwd:- "png:$2.incomplete"
+  mv "$2.incomplete" "$2"
   kill $gw 2>/dev/null || true
   wait $gw 2>/dev/null || true
   echo "wrote ${2#$root/}"
 }
-shot example-2x2x2.gtkw "$root/doc/images/gtkwave-2x2x2.png"
-shot saturated-link.gtkw "$root/doc/images/gtkwave-saturated-link.png"
+shot example-2x2x2.gtkw "$images/gtkwave-2x2x2.png"
+shot saturated-link.gtkw "$images/gtkwave-saturated-link.png"
 cd "$tmp"  # (the .gtkw names its VCD relative to itself)
-shot bottleneck.gtkw "$root/doc/images/gtkwave-bottleneck.png" 30
+shot bottleneck.gtkw "$images/gtkwave-bottleneck.png" 30

@@ -3,8 +3,10 @@
 # UndefinedBehaviorSanitizer, in build-sanitize/ (Debug, -O1). SystemC's
 # QuickThreads switch stacks by hand, which AddressSanitizer's fake stacks
 # do not follow: detect_stack_use_after_return=0.
+#   bash scripts/sanitize.sh [CTEST ARGUMENTS, e.g. -R NAME]
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
+case "${1:-}" in -h|--help) sed -n '2,6s/^# \{0,1\}//p' "$0"; exit 0 ;; esac
 "$root/scripts/setup.sh"
 cmake -S "$root" -B "$root/build-sanitize" -DCMAKE_BUILD_TYPE=Debug -DRT_SANITIZE=ON >/dev/null
 cmake --build "$root/build-sanitize" -j "$(nproc)"
