@@ -23,10 +23,15 @@ import shlex
 import subprocess
 import sys
 import tempfile
+import threading
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import outputs  # noqa: E402
 from project import RESULTS, ROOT, RTREF, RTSIM, publish_table, spd_scene  # noqa: E402
+
+# Set on a stop: the workers start no more runs (outputs.guard kills the running ones).
+STOPPING = threading.Event()
 
 POLICIES = ["none", "slide", "work", "quantile", "resplit", "measured", "median", "default"]
 DIRS = ["+x", "-x", "+y", "-y", "+z", "-z"]
@@ -162,6 +167,14 @@ def without_wall(report):
     return report
 
 
+def child(cmd, timeout=None, cwd=None):
+    """Runs cmd like subprocess.run(capture_output=True, text=True), as a
+    child a stop ends (outputs.run_child); after a stop, runs nothing."""
+    if STOPPING.is_set():
+        return subprocess.CompletedProcess(cmd, -1, "", "stopped")
+    return outputs.run_child(cmd, timeout=timeout, cwd=cwd)
+
+
 def check(index, scene, args, rtsim, rtref, tmp):
     """'' if the configuration passes, else what failed."""
     try:
@@ -174,8 +187,7 @@ def rtsim_run(rtsim, args, d, name, cwd=None):
     """rtsim with `args`, its image and report as d/name.png and .json:
     (exit code, stderr, image bytes, report) (the last two None if it failed)."""
     image, report = os.path.join(d, name + ".png"), os.path.join(d, name + ".json")
-    p = subprocess.run([rtsim] + args + ["-q", "--no-baseline", "--image", image, "--report", report], capture_output=True,
-                       text=True, timeout=120, cwd=cwd)
+    p = child([rtsim] + args + ["-q", "--no-baseline", "--image", image, "--report", report], timeout=120, cwd=cwd)
     if p.returncode != 0:
         return p.returncode, p.stderr.strip(), None, None
     with open(image, "rb") as f, open(report) as g:
@@ -186,7 +198,7 @@ def run_and_compare(index, scene, args, rtsim, rtref, tmp):
     d = os.path.join(tmp, str(index))
     os.makedirs(os.path.join(d, "elsewhere"))
     rng = random.Random(index)
-    ref = subprocess.run([rtref] + scene + ["-o", os.path.join(d, "ref.png")], capture_output=True, text=True)
+    ref = child([rtref] + scene + ["-o", os.path.join(d, "ref.png")])
     if ref.returncode != 0:
         return f"rtref failed: {ref.stderr.strip()}"
     runs = {}
@@ -214,8 +226,8 @@ def run_and_compare(index, scene, args, rtsim, rtref, tmp):
     with open(os.path.join(d, "victim.png"), "w") as f:
         f.write("precious")
     before = sorted(os.listdir(d))
-    p = subprocess.run([rtsim, "--rerun", os.path.join(d, "hostile.json"), "-q", "--image", ""], capture_output=True,
-                       text=True, timeout=120, cwd=os.path.join(d, "elsewhere"))
+    p = child([rtsim, "--rerun", os.path.join(d, "hostile.json"), "-q", "--image", ""], timeout=120,
+              cwd=os.path.join(d, "elsewhere"))
     if p.returncode != 2 or p.stderr.count("\n") != 1:
         return f"hostile report: exit {p.returncode}, {p.stderr.strip()!r}"
     with open(os.path.join(d, "victim.png")) as f:
@@ -233,20 +245,33 @@ def main():
     ap.add_argument("--rtref", default=RTREF)
     ap.add_argument("--doc", action="store_true", help="write the figures to doc/results/stress.md")
     a = ap.parse_args()
+    if a.count < 1 or a.jobs < 1:
+        raise outputs.ToolError(f"--count {a.count}, --jobs {a.jobs}: at least 1 each")
+    outputs.check_input(a.rtsim, "--rtsim")
+    outputs.check_input(a.rtref, "--rtref")
     rng = random.Random(a.seed)
     configs = [configuration(rng) for _ in range(a.count)]
     t0 = time.time()
     failures = []
     with tempfile.TemporaryDirectory() as tmp, concurrent.futures.ThreadPoolExecutor(a.jobs) as pool:
-        futures = {pool.submit(check, i, s, args, a.rtsim, a.rtref, tmp): (i, args) for i, (s, args) in enumerate(configs)}
-        for done, fut in enumerate(concurrent.futures.as_completed(futures), 1):
-            i, args = futures[fut]
-            why = fut.result()
-            if why:
-                failures.append((i, why, args))
-                print(f"stress: configuration {i} failed: {why}\n  rtsim {shlex.join(args)}", file=sys.stderr)
-            if sys.stderr.isatty():
-                print(f"\rstress: {done}/{a.count}", end="", file=sys.stderr)
+        try:
+            futures = {pool.submit(check, i, s, args, a.rtsim, a.rtref, tmp): (i, args)
+                       for i, (s, args) in enumerate(configs)}
+            for done, fut in enumerate(concurrent.futures.as_completed(futures), 1):
+                i, args = futures[fut]
+                why = fut.result()
+                if why:
+                    failures.append((i, why, args))
+                    print(f"stress: configuration {i} failed: {why}\n  rtsim {shlex.join(args)}", file=sys.stderr)
+                if sys.stderr.isatty():
+                    print(f"\rstress: {done}/{a.count}", end="", file=sys.stderr)
+        except BaseException:
+            # A stop: no configuration more, and the pool's exit waits only
+            # for the runs in flight, which the stop has killed.
+            STOPPING.set()
+            pool.shutdown(wait=False, cancel_futures=True)
+            outputs.clean_up()
+            raise
     wall = time.time() - t0
     policies = {}
     for _, args in configs:
@@ -274,4 +299,4 @@ def main():
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(outputs.guard("stress.py", main))
