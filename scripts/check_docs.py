@@ -15,12 +15,14 @@ Anchors follow GitHub's rule: the heading in lower case, punctuation but
 hyphens and underscores dropped, spaces as hyphens. Standard library only
 (the suite runs it as the test DocLinks).
 """
+import argparse
 import glob
 import os
 import re
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import outputs  # noqa: E402
 from project import ROOT  # noqa: E402
 
 LINK = re.compile(r"!?\[(?:[^\]\[]|\[[^\]]*\])*\]\(([^)\s]+)(?:\s+\"[^\"]*\")?\)")
@@ -146,6 +148,7 @@ def check_page(path, names, problems):
 
 
 def main():
+    argparse.ArgumentParser(description=__doc__.split("\n\n")[0]).parse_args()
     names = set()
     for dirpath, dirnames, files in os.walk(ROOT):
         dirnames[:] = [d for d in dirnames if not d.startswith(("build", ".", "out"))]
@@ -171,4 +174,4 @@ def main():
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(outputs.guard("check_docs.py", main))

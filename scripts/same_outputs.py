@@ -16,6 +16,8 @@ buffers (senders block); a frame sequence under resplit. Reports are compared
 without the fields that measure the host, not the machine: wall_s,
 rerun.version and kernel.delta_cycles (how many delta cycles the SystemC
 kernel ran depends on how processes wait, not on what the machine does).
+DIR is a folder of the user's (in doc/ it is refused): --record writes its
+files there, --compare writes the new run's beside it, in DIR.new.
 Standard library only; run with /usr/bin/python3.
 """
 import argparse
@@ -24,6 +26,7 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import outputs  # noqa: E402
 from project import BUILD, run_rtsim, spd_scene  # noqa: E402
 
 # (name, flags, files it writes besides the report and image)
@@ -59,14 +62,27 @@ def run(build, out_dir, name, flags):
     try:
         report, _ = run_rtsim(args, os.path.join(build, "rtsim"), image=out + ".png", report=out + ".json")
     except RuntimeError as e:
-        sys.exit(f"same_outputs: {name} failed ({e})")
+        raise outputs.ToolError(f"{name} failed ({e})", outputs.FAILED)
     for path in HOST_FIELDS:
         d = report
         for k in path[:-1]:
             d = d.get(k, {})
         d.pop(path[-1], None)
-    with open(out + ".json", "w") as f:
+    with outputs.atomic(out + ".json") as f:
         json.dump(report, f, indent=1, sort_keys=True)
+
+
+def folder(path, flag):
+    """An output folder, made if missing: not a file, not in doc/."""
+    if os.path.lexists(path) and not os.path.isdir(path) or os.path.islink(path):
+        raise outputs.ToolError(f"{flag} {path}: not a folder")
+    if outputs.under(path, outputs.DOC):
+        raise outputs.ToolError(f"{flag} {path}: in doc/, which this script never writes")
+    try:
+        os.makedirs(path, exist_ok=True)
+    except OSError as e:
+        raise outputs.ToolError(f"{flag} {path}: {e.strerror}")
+    return path
 
 
 def main():
@@ -78,19 +94,24 @@ def main():
     ap.add_argument("--only", nargs="*", help="run names (default: all)")
     a = ap.parse_args()
     runs = [r for r in RUNS if not a.only or r[0] in a.only]
+    unknown = set(a.only or []) - {r[0] for r in RUNS}
+    if unknown:
+        raise outputs.ToolError(f"--only: no run named {', '.join(sorted(unknown))} (runs: {', '.join(r[0] for r in RUNS)})")
+    outputs.check_input(os.path.join(a.build, "rtsim"), "--build")
     if a.record:
-        os.makedirs(a.record, exist_ok=True)
+        folder(a.record, "--record")
         for name, flags, _ in runs:
             run(a.build, a.record, name, flags)
             print(f"recorded {name}")
         return
-    new = a.compare.rstrip("/") + ".new"
-    os.makedirs(new, exist_ok=True)
+    if not os.path.isdir(a.compare):
+        raise outputs.ToolError(f"--compare {a.compare}: not a folder (one that --record wrote)")
+    new = folder(a.compare.rstrip("/") + ".new", "--compare")
     differ = 0
     for name, flags, extra in runs:
         run(a.build, new, name, flags)
         for ext in ["json", "png"] + extra:
-            x, y = os.path.join(a.compare, f"{name}.{ext}"), os.path.join(new, f"{name}.{ext}")
+            x, y = outputs.check_input(os.path.join(a.compare, f"{name}.{ext}"), "--compare"), os.path.join(new, f"{name}.{ext}")
             with open(x, "rb") as f, open(y, "rb") as g:
                 same = f.read() == g.read()
             if not same and ext == "gtkw":  # it names the VCD's path, which differs by folder
@@ -99,8 +120,8 @@ def main():
             print(f"{name}.{ext}: {'same' if same else 'DIFFERENT'}")
             differ += not same
     print(f"{differ} files differ" if differ else "all the same")
-    sys.exit(1 if differ else 0)
+    return 1 if differ else 0
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(outputs.guard("same_outputs.py", main))
