@@ -306,3 +306,17 @@ def guard(tool, main, argv=None):
             raise
         print(f"{tool}: internal error: {type(e).__name__}: {e} (RTSIM_TRACEBACK=1 shows where)", file=sys.stderr)
         return FAILED
+
+
+def numbers(text, flag, kind=int):
+    """A flag's comma-separated list of numbers (whole ones for kind=int,
+    as in --n 2,4,8), or ToolError naming the flag: one line, not a
+    ValueError's traceback."""
+    try:
+        values = [kind(x) for x in text.split(",")]
+    except (ValueError, TypeError, AttributeError):
+        values = None
+    if not values or any(v != v or v in (float("inf"), float("-inf")) for v in values):
+        what = "whole numbers" if kind is int else "numbers"
+        raise ToolError(f"{flag} {text!r}: a comma-separated list of {what}")
+    return values
