@@ -15,6 +15,7 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # scripts/: project, sweep
+import outputs  # noqa: E402
 import sweep as driver  # noqa: E402
 from project import PAPER_SCENE, ROOT, VIEWS, publish_table  # noqa: E402
 from sweep import read_csv, write_csv  # noqa: E402
@@ -39,9 +40,9 @@ def main():
     driver.add_output_arguments(ap, os.path.join(ROOT, "doc", "fig4.md"))
     driver.add_arguments(ap)
     a = driver.parse_outputs(ap)
-    losing = losing_points(a.fig4, 1.02)
+    losing = losing_points(outputs.check_input(a.fig4, "--fig4"), 1.02)
     if not losing:
-        sys.exit(f"aligned_faces.py: no point of {a.fig4} where slide loses more than 2 %")
+        raise outputs.ToolError(f"no point of {a.fig4} where slide loses more than 2 %")
     chosen = [(p, "gains") for p in GAINING] + [(p, "loses") for p in losing]
     points = [{"params": {"view": v, "N": n, "f": round(f, 6), "run": run},
                "args": PAPER_SCENE + VIEWS[v] + ["--mesh", n, "--concentration", f"{f:.6f}"] + flags}
@@ -81,4 +82,4 @@ def extract(r):
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(outputs.guard("aligned_faces.py", main))

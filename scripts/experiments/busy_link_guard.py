@@ -20,6 +20,7 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # scripts/: project, sweep
+import outputs  # noqa: E402
 import sweep as driver  # noqa: E402
 import link_sweep  # noqa: E402
 from project import PAPER_SCENE, ROOT, VIEWS, preset_flags, publish_table  # noqa: E402
@@ -62,6 +63,7 @@ def main():
     driver.add_arguments(ap)
     a = driver.parse_outputs(ap)
     shares = a.shares.split(",")
+    outputs.numbers(a.shares, "--shares", float)
     vs = variants(shares)
     pts = points()
     todo = []
@@ -123,4 +125,4 @@ def extract(r):
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(outputs.guard("busy_link_guard.py", main))

@@ -15,6 +15,7 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # scripts/: project, sweep
+import outputs  # noqa: E402
 import sweep as driver  # noqa: E402
 from project import PAPER_SCENE, ROOT, VIEWS, publish_table  # noqa: E402
 from sweep import write_csv  # noqa: E402
@@ -113,4 +114,4 @@ def extract(r):
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(outputs.guard("failure_cases.py", main))

@@ -12,6 +12,7 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # scripts/: project, sweep
+import outputs  # noqa: E402
 import sweep as driver  # noqa: E402
 from project import PAPER_SCENE, ROOT, publish_table  # noqa: E402
 from sweep import read_csv  # noqa: E402
@@ -26,10 +27,12 @@ def main():
     driver.add_output_arguments(ap, os.path.join(ROOT, "doc", "machine.md"))
     driver.add_arguments(ap)
     a = driver.parse_outputs(ap)
-    ns = [int(n) for n in a.n.split(",")]
-    units = [int(k) for k in a.units.split(",")]
+    ns = outputs.numbers(a.n, "--n")
+    units = outputs.numbers(a.units, "--units")
     csv_path = os.path.join(a.out, "fb_scaling.csv")
-    if not a.plot_only:
+    if a.plot_only:  # (the CSV of an earlier run)
+        outputs.check_input(csv_path, "--plot-only: the CSV")
+    else:
         points = [{"params": {"N": n, "units": k}, "args": SCENE + ["--mesh", n, "--fb-units", k]}
                   for k in units for n in ns]
         driver.run("fb_scaling", points, extract, csv_path, a)
@@ -67,4 +70,4 @@ def table(a, rows, ns, units):
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(outputs.guard("fb_scaling.py", main))

@@ -21,6 +21,7 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # scripts/: project, sweep
 import project  # noqa: E402
+import outputs  # noqa: E402
 import sweep as driver  # noqa: E402
 from project import PAPER_SCENE, RESULTS, ROOT, VIEWS, preset_flags, publish_table, variant  # noqa: E402
 from sweep import read_csv, write_csv  # noqa: E402
@@ -45,13 +46,16 @@ def main():
     driver.add_output_arguments(ap, os.path.join(ROOT, "doc", "fig4.md"))
     driver.add_arguments(ap)
     a = driver.parse_outputs(ap)
-    ns = [int(x) for x in a.n.split(",")]
+    ns = outputs.numbers(a.n, "--n")
+    check_variant(a)
     policies = a.policies.split(",")
     if a.steady and a.frames > 1:
         policies += [f"{p}@{a.frames}" for p in a.steady.split(",")]
     stem = "fig4" + variant(a.preset, a.tag)
     csv_path = os.path.join(a.out, stem + ".csv")
-    if not a.plot_only:
+    if a.plot_only:  # (the CSV of an earlier run)
+        outputs.check_input(csv_path, "--plot-only: the CSV")
+    else:
         write_csv(csv_path, sweep(a, ns, policies))
     rows = read_csv(csv_path)
     for r in rows:
@@ -65,6 +69,14 @@ def main():
     gap = STEADY_GAP if STEADY_GAP + f"@{a.frames}" in policies else None
     if gap:
         gap_table(a, rows, ns, f"{gap}@{a.frames}", os.path.join(a.out, stem + "-gap.md"))
+
+
+def check_variant(a):
+    """--preset and --tag name files (configs/PRESET.conf, fig4-PRESET-TAG.*):
+    names, not paths, and the preset one that exists."""
+    outputs.check_input(preset_flags(outputs.check_name(a.preset, "--preset"))[1], "--preset")
+    if a.tag:
+        outputs.check_name(a.tag, "--tag")
 
 
 def machine(a):
@@ -164,7 +176,7 @@ def plot(a, rows, ns, policies, path):
     fig.suptitle(f"Fig. 4 against its bounds, preset {machine(a)}: 1,000 spheres crowded into the first f of x, "
                  f"256x256, default balancing settings", fontsize=10)
     fig.tight_layout(rect=(0, 0.07, 1, 0.95))
-    fig.savefig(path, dpi=90)
+    outputs.savefig(fig, path, dpi=90)
 
 
 def table(a, rows, ns, policies, md_path):
@@ -261,4 +273,4 @@ def gap_table(a, rows, ns, policy, md_path):
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(outputs.guard("fig4.py", main))

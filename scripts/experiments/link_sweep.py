@@ -22,6 +22,7 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # scripts/: project, sweep
 import project  # noqa: E402
+import outputs  # noqa: E402
 import sweep as driver  # noqa: E402
 from project import PAPER_SCENE, ROOT, preset_flags, publish_table  # noqa: E402
 from sweep import read_csv, write_csv  # noqa: E402
@@ -72,7 +73,9 @@ def main():
     a.deep_depth = a.deep_depth or 4 * p["depth"]
     a.stem = "link_sweep" if a.preset == "modern" else f"link_sweep-{a.preset}"
     csv_path = os.path.join(a.out, a.stem + ".csv")
-    if not a.plot_only:
+    if a.plot_only:  # (the CSV of an earlier run)
+        outputs.check_input(csv_path, "--plot-only: the CSV")
+    else:
         write_csv(csv_path, sweep(a))
     rows = read_csv(csv_path)
     for r in rows:
@@ -95,7 +98,7 @@ def settings(a):
 
 
 def sweep(a):
-    ns = [int(n) for n in a.n.split(",")]
+    ns = outputs.numbers(a.n, "--n")
     preset = preset_flags(a.preset)
     points = [{"params": {"sweep": "one node", "N": 1, "balance": "none", "latency": a.default_latency,
                           "bandwidth": a.default_bandwidth, "depth": a.default_depth},
@@ -230,7 +233,7 @@ def plot(a, rows):
     fig.suptitle(f"Link speed: top, latency swept at {other['latency']}; bottom, bandwidth swept at "
                  f"{other['bandwidth']}. rtsim default experiment (1,000 spheres, f = 0.25, 256x256), preset {a.preset}", fontsize=10)
     fig.tight_layout(rect=(0, 0, 1, 0.96))
-    fig.savefig(os.path.join(a.out, a.stem + ".png"), dpi=100)
+    outputs.savefig(fig, os.path.join(a.out, a.stem + ".png"), dpi=100)
 
 
 def table(a, rows):
@@ -274,4 +277,4 @@ def table(a, rows):
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(outputs.guard("link_sweep.py", main))

@@ -15,6 +15,7 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # scripts/: project, sweep
+import outputs  # noqa: E402
 import sweep as driver  # noqa: E402
 from plot_sweep import knee, quantity  # noqa: E402
 from project import ROOT, SPD, publish_table  # noqa: E402
@@ -34,7 +35,11 @@ def main():
     driver.add_arguments(ap)
     a = driver.parse_outputs(ap)
     csv_path = os.path.join(a.out, "links_at_scale.csv")
-    if not a.plot_only:
+    outputs.numbers(a.n, "--n")
+    outputs.check_input(os.path.join(SPD, outputs.check_name(a.scene, "--scene") + ".nff"), "--scene")
+    if a.plot_only:  # (the CSV of an earlier run)
+        outputs.check_input(csv_path, "--plot-only: the CSV")
+    else:
         points = []
         for n in a.n.split(","):
             for bw in a.bandwidths.split(","):
@@ -107,8 +112,8 @@ def chart(a, rows, path):
     ax.grid(True, which="both", alpha=0.3)
     ax.legend()
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    outputs.savefig(fig, path, dpi=110)
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(outputs.guard("links_at_scale.py", main))

@@ -18,6 +18,7 @@ import sys
 import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # scripts/: project, sweep
+import outputs  # noqa: E402
 import sweep as driver  # noqa: E402
 from project import PAPER_SCENE, ROOT, VIEWS, preset_flags, publish_table, variant  # noqa: E402
 from sweep import read_csv, write_csv  # noqa: E402
@@ -201,11 +202,15 @@ def main():
     a = driver.parse_outputs(ap)
     stem = "partition_search" + variant(a.preset, a.tag) + ("" if a.view == "along" else f"-{a.view}")
     csv_path = os.path.join(a.out, stem + ".csv")
+    outputs.check_input(preset_flags(outputs.check_name(a.preset, "--preset"))[1], "--preset")
+    if a.tag:
+        outputs.check_name(a.tag, "--tag")
+    ns = outputs.numbers(a.n, "--n")
     rows = []
     for path in a.merge:
-        rows += read_csv(path)
+        rows += read_csv(outputs.check_input(path, "--merge"))
     with concurrent.futures.ThreadPoolExecutor(a.jobs) as pool:
-        for n in ([] if a.merge else (int(x) for x in a.n.split(","))):
+        for n in ([] if a.merge else ns):
             rows.append(per_column(a, n, pool, csv_path) if a.per_column else one_set(a, n, pool))
     # Rows of other N already there are kept: searches of different N add up.
     if os.path.exists(csv_path):
@@ -236,4 +241,4 @@ def main():
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(outputs.guard("partition_search.py", main))

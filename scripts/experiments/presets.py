@@ -12,6 +12,7 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # scripts/: project, sweep
+import outputs  # noqa: E402
 import sweep as driver  # noqa: E402
 from project import PAPER_SCENE, PRESETS, ROOT, VIEWS, preset_flags, publish_table  # noqa: E402
 from sweep import read_csv  # noqa: E402
@@ -26,7 +27,9 @@ def main():
     driver.add_arguments(ap)
     a = driver.parse_outputs(ap)
     csv_path = os.path.join(a.out, "presets.csv")
-    if not a.plot_only:
+    if a.plot_only:  # (the CSV of an earlier run)
+        outputs.check_input(csv_path, "--plot-only: the CSV")
+    else:
         points = [{"params": {"preset": p, "view": v, "mesh": m},
                    "args": preset_flags(p) + SCENE + cam +
                    (["--mesh", "1"] if m == 1 else [])}
@@ -70,4 +73,4 @@ def table(a, rows):
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(outputs.guard("presets.py", main))

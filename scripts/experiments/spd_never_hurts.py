@@ -13,6 +13,7 @@ import statistics
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # scripts/: project, sweep
+import outputs  # noqa: E402
 import sweep as driver  # noqa: E402
 from project import ROOT, SPD, publish_table  # noqa: E402
 from sweep import read_csv  # noqa: E402
@@ -34,7 +35,12 @@ def main():
     driver.add_arguments(ap)
     a = driver.parse_outputs(ap)
     csv_path = os.path.join(a.out, "spd_never_hurts.csv")
-    if not a.plot_only:
+    outputs.numbers(a.n, "--n")
+    for scene in a.scenes.split(","):
+        outputs.check_input(os.path.join(SPD, outputs.check_name(scene, "--scenes") + ".nff"), "--scenes")
+    if a.plot_only:  # (the CSV of an earlier run)
+        outputs.check_input(csv_path, "--plot-only: the CSV")
+    else:
         points = []
         for scene in a.scenes.split(","):
             for n in a.n.split(","):
@@ -98,4 +104,4 @@ def table(a, rows, md_path):
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(outputs.guard("spd_never_hurts.py", main))

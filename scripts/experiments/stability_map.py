@@ -17,6 +17,7 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # scripts/: project, sweep
 import project  # noqa: E402
+import outputs  # noqa: E402
 import sweep as driver  # noqa: E402
 from project import PAPER_SCENE, preset_flags  # noqa: E402
 
@@ -44,10 +45,12 @@ def main():
     a.latencies = a.latencies or p["latencies"]
     a.default_interval_us = p["interval_us"]
     a.stem = "stability" if a.preset == "modern" else f"stability-{a.preset}"
-    gains = [float(g) for g in a.gains.split(",")]
-    intervals = [float(i) for i in a.intervals_us.split(",")]
+    gains = outputs.numbers(a.gains, "--gains", float)
+    intervals = outputs.numbers(a.intervals_us, "--intervals-us", float)
     lats = a.latencies.split(",")
-    if not a.plot_only:
+    if a.plot_only:  # (the CSV of an earlier run)
+        outputs.check_input(os.path.join(a.out, a.stem + ".csv"), "--plot-only: the CSV")
+    else:
         sweep(a, gains, intervals, lats)
     plot(a, lats)
 
@@ -98,11 +101,11 @@ def plot(a, lats):
     fig.suptitle(f"Stability of '{a.policy}', preset {a.preset} (numbers: render time in {unit}); rtsim default scene, "
                  "4x4x4", fontsize=10)
     fig.tight_layout(rect=(0, 0.08, 1, 1))
-    fig.savefig(os.path.join(a.out, a.stem + ".png"), dpi=110)
+    outputs.savefig(fig, os.path.join(a.out, a.stem + ".png"), dpi=110)
     for r in rows:
         if r["gain"] == DEFAULT_GAIN and r["interval_us"] == a.default_interval_us:
             print(f"default at latency {r['latency']}: {r['stability']}")
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(outputs.guard("stability_map.py", main))
