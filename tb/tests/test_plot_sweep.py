@@ -1,48 +1,188 @@
 """Tests of the chart of a sweep (scripts/plot_sweep.py): the knees are where
-a hand computation puts them.
+a hand computation puts them, measured from the reference asked for (by
+default the fast end of x, not the line's best); NaN and inf are left out
+and said; known columns are drawn in words and units; bad input gets one
+line naming the file and line; the chart goes under out/, never beside a
+CSV in doc/, and into doc/ only with --doc.
 Run by ctest as: /usr/bin/python3 test_plot_sweep.py."""
 import csv
 import os
 import subprocess
+import sys
 import tempfile
 import unittest
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-SCRIPTS = os.path.join(HERE, "..", "..", "scripts")
+ROOT = os.path.dirname(os.path.dirname(HERE))
+SCRIPTS = os.path.join(ROOT, "scripts")
+SCRIPT = os.path.join(SCRIPTS, "plot_sweep.py")
+sys.path.insert(0, SCRIPTS)
+import plot_sweep  # noqa: E402
+
+
+def run(*args):
+    return subprocess.run(["/usr/bin/python3", SCRIPT, *args], capture_output=True, text=True, timeout=120)
 
 
 class PlotSweep(unittest.TestCase):
+    def setUp(self):
+        self.dir = tempfile.TemporaryDirectory()
+        self.d = self.dir.name
+
+    def tearDown(self):
+        self.dir.cleanup()
+
+    def csv(self, rows, name="s.csv"):
+        path = os.path.join(self.d, name)
+        with open(path, "w", newline="") as f:
+            w = csv.DictWriter(f, fieldnames=list(rows[0]))
+            w.writeheader()
+            w.writerows(rows)
+        return path
+
     def plot(self, rows, *args):
-        with tempfile.TemporaryDirectory() as d:
-            path = os.path.join(d, "s.csv")
-            with open(path, "w", newline="") as f:
-                w = csv.DictWriter(f, fieldnames=list(rows[0]))
-                w.writeheader()
-                w.writerows(rows)
-            p = subprocess.run(["/usr/bin/python3", os.path.join(SCRIPTS, "plot_sweep.py"), path, *args,
-                                "--out", os.path.join(d, "c.png")], capture_output=True, text=True, timeout=120)
-            png = open(os.path.join(d, "c.png"), "rb").read(8) if os.path.exists(os.path.join(d, "c.png")) else b""
-            return p, png
+        out = os.path.join(self.d, "c.png")
+        if os.path.exists(out):
+            os.remove(out)
+        p = run(self.csv(rows), *args, "--out", out)
+        png = open(out, "rb").read(8) if os.path.exists(out) else b""
+        return p, png
+
+    def one_line(self, p, said):
+        self.assertEqual(p.returncode, 2, p.stderr)
+        self.assertEqual(p.stderr.count("\n"), 1, p.stderr)
+        self.assertNotIn("Traceback", p.stderr)
+        self.assertIn(said, p.stderr)
 
     def test_knees_where_a_hand_computation_puts_them(self):
-        # Best 100 at 16 GB/s; 1.1 x = 110 lies a quarter of the way from
-        # 105 (4 GB/s) to 125 (2 GB/s); 1 to 16 GB/s spans more than a
-        # decade, so the axis is logarithmic and so is the interpolation:
-        # 4 * 2^-0.25 GB/s. 2 x = 200 is reached exactly at 1 GB/s.
+        # Reference 100 at 16 GB/s (the fast end, also the best); 1.1 x = 110
+        # lies a quarter of the way from 105 (4 GB/s) to 125 (2 GB/s); 1 to
+        # 16 GB/s spans more than a decade, so the axis is logarithmic and
+        # so is the interpolation: 4 * 2^-0.25 GB/s. 2 x = 200 is reached
+        # exactly at 1 GB/s.
         ys = {"1GB/s": 200, "2GB/s": 125, "4GB/s": 105, "8GB/s": 101, "16GB/s": 100}
         p, png = self.plot([{"bw": k, "t": v} for k, v in ys.items()], "--x", "bw", "--y", "t")
         self.assertEqual(p.returncode, 0, p.stderr)
         self.assertEqual(png, b"\x89PNG\r\n\x1a\n")
+        self.assertIn("t: reference 100 at bw=16GB/s (the largest x); best 100 at bw=16GB/s", p.stdout)
         self.assertIn(f"x1.1 of it at bw = {4 * 2 ** -0.25:.4g}GB/s", p.stdout)
         self.assertIn("x2 of it at bw = 1GB/s", p.stdout)
-        # Within a decade the axis, and the interpolation, are linear: 4 + 0.25 * (2 - 4).
+        # Within a decade the axis, and the interpolation, are linear; from
+        # the smallest x (a latency sweep's fast end) the walk goes up x.
         ys = {"2": 125, "4": 105, "8": 100}
         p, _ = self.plot([{"n": k, "t": v} for k, v in ys.items()], "--x", "n")
-        self.assertEqual(p.returncode, 2)  # no render_time_ns column: said, not a traceback
-        self.assertIn("no column 'render_time_ns'", p.stderr)
+        self.one_line(p, "--y: no column 'render_time_ns'")  # said, not a traceback
         p, _ = self.plot([{"n": k, "t": v} for k, v in ys.items()], "--x", "n", "--y", "t")
         self.assertIn(f"x1.1 of it at n = {4 + 0.25 * (2 - 4):.4g}", p.stdout)
         self.assertIn("x2 of it at n = not reached", p.stdout)
+        ys = {"2": 100, "4": 105, "8": 125}
+        p, _ = self.plot([{"lat": k, "t": v} for k, v in ys.items()], "--x", "lat", "--y", "t", "--reference", "min-x")
+        self.assertIn("reference 100 at lat=2 (the smallest x)", p.stdout)
+        self.assertIn(f"x1.1 of it at lat = {4 + 0.25 * (8 - 4):.4g}", p.stdout)
+
+    def test_knees_from_the_fast_end_not_the_best(self):
+        # The best, 95, is at 4 GB/s; the fast end, 100, at 16 GB/s. From the
+        # fast end 1.1 x = 110 lies 0.6 of the way from 95 (4 GB/s) to 120
+        # (2 GB/s), in log x; from the best 104.5 lies 0.38 of the way.
+        ys = {"1GB/s": 200, "2GB/s": 120, "4GB/s": 95, "8GB/s": 100, "16GB/s": 100}
+        rows = [{"bw": k, "t": v} for k, v in ys.items()]
+        p, _ = self.plot(rows, "--x", "bw", "--y", "t")
+        self.assertEqual(p.returncode, 0, p.stderr)
+        self.assertIn("t: reference 100 at bw=16GB/s (the largest x); best 95 at bw=4GB/s", p.stdout)
+        self.assertIn(f"x1.1 of it at bw = {4 * 2 ** -0.6:.4g}GB/s", p.stdout)
+        self.assertIn("x2 of it at bw = 1GB/s", p.stdout)
+        p, _ = self.plot(rows, "--x", "bw", "--y", "t", "--reference", "best")
+        self.assertIn("t: reference 95 at bw=4GB/s (the best (lowest) value)", p.stdout)
+        self.assertIn(f"x1.1 of it at bw = {4 * 2 ** -0.38:.4g}GB/s", p.stdout)
+        p, _ = self.plot(rows, "--x", "bw", "--y", "t", "--reference", "8GB/s")
+        self.assertIn("t: reference 100 at bw=8GB/s (x = 8GB/s)", p.stdout)
+        self.assertIn(f"x1.1 of it at bw = {4 * 2 ** -0.6:.4g}GB/s", p.stdout)
+        p, _ = self.plot(rows, "--x", "bw", "--y", "t", "--reference", "3GB/s")
+        self.assertEqual(p.returncode, 0, p.stderr)
+        self.assertIn("no point at x = 3GB/s: no knees", p.stdout)
+        self.one_line(self.plot(rows, "--x", "bw", "--y", "t", "--reference", "fast")[0], "--reference fast")
+
+    def test_nan_and_inf_are_no_points(self):
+        # NaN first and inf next to the fast end: left out of the best and
+        # the knees, and said; 1.1 x = 110 then lies between 105 (4 GB/s)
+        # and 200 (1 GB/s).
+        rows = [{"bw": "2GB/s", "t": "nan"}, {"bw": "1GB/s", "t": "200"}, {"bw": "4GB/s", "t": "105"},
+                {"bw": "8GB/s", "t": "inf"}, {"bw": "16GB/s", "t": "100"}, {"bw": "32GB/s", "t": ""}]
+        p, png = self.plot(rows, "--x", "bw", "--y", "t")
+        self.assertEqual(p.returncode, 0, p.stderr)
+        self.assertEqual(png, b"\x89PNG\r\n\x1a\n")
+        self.assertNotIn("nan at", p.stdout)
+        self.assertIn("t: left out (not a finite number): bw=2GB/s (line 2: t nan); bw=8GB/s (line 5: t inf); "
+                      "bw=32GB/s (line 7: t empty)", p.stdout)
+        self.assertIn("t: reference 100 at bw=16GB/s (the largest x); best 100 at bw=16GB/s", p.stdout)
+        t = (110 - 105) / (200 - 105)
+        self.assertIn(f"x1.1 of it at bw = {4 * 4 ** -t:.4g}GB/s", p.stdout)
+        # Every value NaN: one line, no chart.
+        p, png = self.plot([{"bw": "1GB/s", "t": "nan"}], "--x", "bw", "--y", "t")
+        self.one_line(p, "no finite value of t to draw")
+        self.assertEqual(png, b"")
+
+    def test_bad_input_gets_one_line(self):
+        path = self.csv([{"bw": "1GB/s", "t": "1"}, {"bw": "2GB/s", "t": "2"}])
+        with open(path, "a") as f:
+            f.write("4GB/s\n")
+        self.one_line(run(path, "--x", "bw", "--y", "t", "--out", os.path.join(self.d, "c.png")),
+                      f"{path}:4: 1 fields, the header has 2")
+        path = self.csv([{"bw": "1GB/s", "t": "1"}, {"bw": "2GB/s", "t": "two"}])
+        self.one_line(run(path, "--x", "bw", "--y", "t", "--out", os.path.join(self.d, "c.png")),
+                      f"{path}:3: column 't': 'two' is not a number")
+        path = self.csv([{"bw": "1GB/s", "t": "1"}, {"bw": "fast", "t": "2"}])
+        self.one_line(run(path, "--x", "bw", "--y", "t", "--out", os.path.join(self.d, "c.png")),
+                      f"{path}:3: column 'bw' (--x): 'fast' is not a number or quantity")
+        with open(path, "wb") as f:
+            f.write(b"bw,t\n1GB/s,1\n2GB/s,\xff\n")
+        self.one_line(run(path, "--x", "bw", "--y", "t", "--out", os.path.join(self.d, "c.png")),
+                      f"{path}:3: bytes that are not UTF-8 text")
+        path = self.csv([{"bw": "1GB/s", "t": "1", "g": "a"}])
+        self.one_line(run(path, "--x", "bw", "--y", "t", "--where", "g=b", "--out", os.path.join(self.d, "c.png")),
+                      "--where g=b: no row has it (g is one of: a)")
+        self.one_line(run(os.path.join(self.d, "missing.csv"), "--x", "bw"), "missing.csv: No such file")
+        self.one_line(run(self.d, "--x", "bw"), "a folder, not a file")
+        p = run(path, "--x", "bw", "--y", "t", "--out", os.path.join(self.d, "no", "c.png"))
+        self.one_line(p, "no folder")
+        self.assertFalse(os.path.exists(os.path.join(self.d, "no")))
+        self.one_line(run(path, "--x", "bw", "--y", "t", "--out", path), "the same file")
+        self.assertTrue(open(path).read().startswith("bw,t,g"))  # the CSV untouched
+
+    def test_chart_under_out_and_doc_only_with_doc(self):
+        # A CSV in doc/results/: its chart goes to out/plots/, not beside it.
+        src = os.path.join(ROOT, "doc", "results", "links_at_scale.csv")
+        beside = os.path.join(ROOT, "doc", "results", "links_at_scale-link-bandwidth-render_time_ns.png")
+        chart = os.path.join(ROOT, "out", "plots", "links_at_scale-link-bandwidth-render_time_ns.png")
+        self.assertFalse(os.path.exists(beside))
+        p = run(src, "--x", "link-bandwidth", "--group", "N")
+        self.assertEqual(p.returncode, 0, p.stderr)
+        self.assertIn(f"chart -> {chart}", p.stdout)
+        self.assertFalse(os.path.exists(beside))
+        with open(chart, "rb") as f:
+            self.assertEqual(f.read(8), b"\x89PNG\r\n\x1a\n")
+        os.remove(chart)
+        # --out in doc/ only with --doc (refused before drawing: nothing written).
+        into_doc = os.path.join(ROOT, "doc", "results", "plot-sweep-test.png")
+        self.one_line(run(src, "--x", "link-bandwidth", "--out", into_doc), "in doc/, which changes only with --doc")
+        self.assertFalse(os.path.exists(into_doc))
+
+    def test_columns_in_words_and_units(self):
+        self.assertEqual(plot_sweep.x_axis("link-bandwidth", "100MB/s"), (1e-6, "link bandwidth (MB/s)"))
+        self.assertEqual(plot_sweep.x_axis("link-latency", "2us"), (1e6, "link latency (us)"))
+        self.assertEqual(plot_sweep.x_axis("bw", "1GB/s"), (1.0, "bw (B/s)"))  # unknown: as given, in SI
+        self.assertEqual(plot_sweep.x_axis("mesh", "4"), (1.0, "nodes per side"))
+        self.assertEqual(plot_sweep.y_axis(["render_time_ns", "time_none_ns"]), (1e-3, "us", "render time (us)"))
+        self.assertEqual(plot_sweep.y_axis(["wall_s"]), (1.0, "s", "wall time (s)"))
+        self.assertEqual(plot_sweep.y_axis(["speedup", "foo"])[2], "speed-up (one node's time / the mesh's), foo")
+        self.assertEqual(plot_sweep.words("time_none_ns"), "without balancing")
+        # Printed in the axis's unit: 20 us, not 20000 (ns).
+        rows = [{"bw": "1GB/s", "render_time_ns": "40000", "time_none_ns": "50000"},
+                {"bw": "2GB/s", "render_time_ns": "20000", "time_none_ns": "30000"}]
+        p, _ = self.plot(rows, "--x", "bw", "--y", "render_time_ns,time_none_ns")
+        self.assertEqual(p.returncode, 0, p.stderr)
+        self.assertIn("render time: reference 20 us at bw=2GB/s", p.stdout)
+        self.assertIn("without balancing: reference 30 us at bw=2GB/s", p.stdout)
 
 
 if __name__ == "__main__":
