@@ -64,15 +64,25 @@ def run_rtsim(args, binary=RTSIM, timeout=None, image="", report=None):
     """Runs rtsim quietly (-q, no reference runs) with `args`; returns (its
     report, the process's wall seconds). The report goes to a temporary file
     unless `report` names one; the image nowhere unless `image` does. Raises
-    RuntimeError with rtsim's exit code and message if it fails."""
+    RuntimeError with rtsim's exit code and message if it fails. rtsim runs
+    in its own process group (outputs.run_child): a stop (Ctrl-C, SIGTERM)
+    kills it and removes the temporary report."""
+    try:  # (imported here: a Dask worker, which gets this module by value, may not have it)
+        import outputs
+        run, register, forget = outputs.run_child, outputs.register_temp, outputs.forget_temp
+    except ImportError:
+        def run(cmd, timeout):
+            return subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
+        register = forget = lambda path: None
     temp = report is None
     if temp:
-        fd, report = tempfile.mkstemp(suffix=".json")
+        fd, report = tempfile.mkstemp(prefix="rtsim-report-", suffix=".json")
         os.close(fd)
+        register(report)
     try:
         cmd = [binary] + [str(a) for a in args] + QUIET + ["--image", image, "--report", report]
         t0 = time.perf_counter()
-        p = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
+        p = run(cmd, timeout=timeout)
         wall = time.perf_counter() - t0
         if p.returncode != 0:
             raise RuntimeError(f"exit {p.returncode}: {p.stderr.strip()}")
@@ -80,7 +90,11 @@ def run_rtsim(args, binary=RTSIM, timeout=None, image="", report=None):
             return json.load(f), wall
     finally:
         if temp:
-            os.remove(report)
+            try:
+                os.remove(report)
+            except FileNotFoundError:
+                pass  # (a stop removed it already)
+            forget(report)
 
 
 def version():
@@ -114,15 +128,15 @@ def update_doc_section(path, name, text):
         (path, doc), = pages.items()
     head, rest = doc.split(begin, 1)
     _, tail = rest.split(end, 1)
-    with open(path, "w") as f:
-        f.write(head + begin + "\n" + text.rstrip("\n") + "\n" + end + tail)
+    import outputs
+    outputs.write_text(path, head + begin + "\n" + text.rstrip("\n") + "\n" + end + tail)
 
 
 def publish_table(lines, md_path, doc_path, section):
     """A generated markdown table (lines[0] a "written by" comment): to its
     results file, into its section of a doc page (if doc_path), and to stdout."""
-    with open(md_path, "w") as f:
-        f.write("\n".join(lines) + "\n")
+    import outputs
+    outputs.write_text(md_path, "\n".join(lines) + "\n")
     if doc_path:
         update_doc_section(doc_path, section, "\n".join(lines[1:]))
     print("\n".join(lines[1:]))

@@ -21,31 +21,67 @@ Dask workers must see the same checkout at the same path (a shared file
 system): they run the rtsim binary named in the command.
 """
 import concurrent.futures
+import contextlib
 import csv
+import fcntl
 import hashlib
 import json
 import os
+import re
 import shlex
+import signal
 import statistics
 import sys
+import threading
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import outputs  # noqa: E402
 import project  # noqa: E402
+from outputs import ToolError  # noqa: E402
 from project import ROOT, RTSIM, run_rtsim, version  # noqa: E402
 
 JOURNALS = os.path.join(ROOT, "out", "sweeps")
 # Flags every point gets (project.run_rtsim): no reference runs, quiet, no image.
 FIXED_FLAGS = project.QUIET + ["--image", ""]
+DASK_ADDRESS = re.compile(r"(tcp|tls)://(\[[0-9A-Fa-f:.]+\]|[A-Za-z0-9_.-]+):([0-9]{1,5})")
+DASK_TIMEOUT = 10.0
+
+
+def jobs_count(text):
+    """--jobs: 0 is every core; a negative count is refused."""
+    try:
+        n = int(text)
+    except ValueError:
+        n = -1
+    if n < 0:
+        import argparse
+        raise argparse.ArgumentTypeError(f"{text!r}: a count of parallel runs, 0 (one per core) or more")
+    return n
+
+
+def dask_address(text):
+    """--dask: a scheduler's address, tcp://HOST:PORT (or tls://)."""
+    m = DASK_ADDRESS.fullmatch(text)
+    if not m or not 0 < int(m.group(3)) < 65536:
+        import argparse
+        raise argparse.ArgumentTypeError(f"{text!r}: a scheduler's address, tcp://HOST:PORT (such as tcp://10.0.0.5:8786)")
+    return text
 
 
 def add_arguments(ap):
     """The driver's flags, shared by every sweep script."""
     g = ap.add_argument_group("sweep driver")
-    g.add_argument("--jobs", type=int, default=0, help="parallel local runs (default: the number of cores)")
-    g.add_argument("--dask", metavar="ADDRESS", help="submit the points to this Dask scheduler (tcp://host:8786)")
+    g.add_argument("--jobs", type=jobs_count, default=0,
+                   help="parallel local runs (default 0: one per core; a negative count is refused)")
+    g.add_argument("--dask", metavar="ADDRESS", type=dask_address,
+                   help="submit the points to this Dask scheduler (tcp://HOST:PORT, such as tcp://10.0.0.5:8786)")
+    g.add_argument("--dask-timeout", metavar="SECONDS", type=float, default=DASK_TIMEOUT,
+                   help=f"how long to wait for the Dask scheduler to answer (default {DASK_TIMEOUT:g} s); "
+                        "no answer: one line, exit 2")
     g.add_argument("--fresh", action="store_true", help="forget the journal and rerun every point")
-    g.add_argument("--journal-dir", default=JOURNALS, help="where finished points are journalled")
+    g.add_argument("--journal-dir", default=JOURNALS,
+                   help="the folder where finished points are journalled (default out/sweeps)")
 
 
 def add_output_arguments(ap, doc_page=None):
@@ -53,7 +89,8 @@ def add_output_arguments(ap, doc_page=None):
     folder), --plot-only, and --doc, which publishes into doc/results/ and,
     with `doc_page` (a script that publishes a table, publish_table), that
     page's generated sections. Read them with parse_outputs."""
-    ap.add_argument("--out", help="the results folder (default: out/results/; with --doc, doc/results/)")
+    ap.add_argument("--out", help="the results folder (default: out/results/; with --doc, doc/results/); "
+                                  "in doc/ only with --doc")
     what = "chart and table" if doc_page else "chart"
     ap.add_argument("--plot-only", action="store_true", help=f"redraw the {what} from the CSV")
     page = f", and the generated tables of {os.path.relpath(doc_page, ROOT)}" if doc_page else ""
@@ -62,48 +99,128 @@ def add_output_arguments(ap, doc_page=None):
     ap.set_defaults(doc_page=doc_page)
 
 
+def check_out_folder(path, publish):
+    """The results folder of --out: a folder (made if missing), in doc/ only
+    when publishing. ToolError otherwise."""
+    if os.path.lexists(path) and not os.path.isdir(path):
+        raise ToolError(f"--out {path}: not a folder")
+    if not publish and outputs.under(path, outputs.DOC):
+        raise ToolError(f"--out {path}: in doc/, which changes only with --doc")
+    try:
+        os.makedirs(path, exist_ok=True)
+    except OSError as e:
+        raise ToolError(f"--out {path}: {e.strerror}")
+    if not os.access(path, os.W_OK | os.X_OK):
+        raise ToolError(f"--out {path}: the folder takes no new file")
+    return path
+
+
 def parse_outputs(ap):
     """Parses the flags of a script set up by add_output_arguments: a.out is
-    the results folder (made if missing); a.doc the page to publish into, or
-    None. A user's run writes under out/ and leaves doc/ as committed."""
+    the results folder (checked, made if missing); a.doc the page to publish
+    into, or None. A user's run writes under out/ and leaves doc/ as
+    committed. Bad flags: one line (ap.error), exit 2."""
     a = ap.parse_args()
     publish = bool(getattr(a, "doc", False))
     a.out = a.out or (project.RESULTS if publish else os.path.join(ROOT, "out", "results"))
     a.doc = a.doc_page if publish else None
-    os.makedirs(a.out, exist_ok=True)
+    try:
+        check_out_folder(a.out, publish)
+    except ToolError as e:
+        ap.error(str(e))
     return a
 
 
-def point_id(args):
-    """A stable name for a point: a hash of its flags and, when they name a
-    preset file (--config), of the settings in it, so that a point whose
-    preset was edited is run again rather than resumed from the journal."""
+# --- what a point is -------------------------------------------------------
+
+_binary_ids = {}
+
+
+def binary_id(binary):
+    """The identity of an rtsim binary: the SHA-256 of its bytes (cached by
+    path, size and time of change), so that points run by another binary,
+    or by this one rebuilt, are not resumed as this one's."""
+    try:
+        st = os.stat(binary)
+    except OSError as e:
+        raise ToolError(f"--rtsim {binary}: {e.strerror}")
+    key = (os.path.realpath(binary), st.st_size, st.st_mtime_ns)
+    if key not in _binary_ids:
+        h = hashlib.sha256()
+        with open(binary, "rb") as f:
+            for block in iter(lambda: f.read(1 << 20), b""):
+                h.update(block)
+        _binary_ids[key] = h.hexdigest()[:16]
+    return _binary_ids[key]
+
+
+def point_id(args, binary=None, repeats=1):
+    """A stable name for a point: a hash of its flags, of the settings in
+    the preset files they name (--config), of the rtsim binary that runs it
+    (binary_id) and, when a point runs more than once, of its repeats; so
+    that a point whose preset was edited, or run by another binary, runs
+    again rather than being resumed from the journal."""
     key = "\0".join(str(a) for a in args)
     settings = preset_settings(args)
     if settings is not None:
         key += "\0--config settings\0" + settings
+    if binary is not None:
+        key += "\0binary\0" + binary_id(binary)
+    if repeats > 1:
+        key += f"\0repeats\0{repeats}"
     return hashlib.sha1(key.encode()).hexdigest()[:12]
 
 
-def preset_settings(args):
-    """The settings of the preset file the flags name (its lines without
-    comments and blanks, as rtsim reads them), or None if they name none or
-    it cannot be read (rtsim then says why)."""
+def config_paths(args):
+    """The preset files (--config FILE, --config=FILE) a list of flags names, in order."""
     args = [str(a) for a in args]
-    path = None
+    paths = []
     for i, a in enumerate(args):
         if a == "--config" and i + 1 < len(args):
-            path = args[i + 1]
+            paths.append(args[i + 1])
         elif a.startswith("--config="):
-            path = a.split("=", 1)[1]
-    if path is None:
+            paths.append(a.split("=", 1)[1])
+    return paths
+
+
+def config_lines(path):
+    """The settings of a preset file as rtsim reads it (tb/config_file.h):
+    [(line number, name, value)] for its `name = value` lines (comments and
+    blanks aside; the value unquoted, its inline comment dropped; a flag
+    alone has the value 'true'). ToolError 'PATH:LINE: why' for a line that
+    is not text; a line rtsim cannot read is left for rtsim to name."""
+    outputs.check_input(path, "--config")
+    with open(path, "rb") as f:
+        data = f.read((1 << 20) + 1)
+    out = []
+    for n, raw in enumerate(data.split(b"\n"), 1):
+        if b"\0" in raw:
+            raise ToolError(f"{path}:{n}: a NUL byte (not a text file)")
+        line = raw.strip()
+        if not line or line[:1] in (b"#", b";"):
+            continue
+        try:
+            text = line.decode("utf-8")
+        except UnicodeDecodeError:
+            raise ToolError(f"{path}:{n}: not UTF-8 text (rtsim's presets are UTF-8)") from None
+        m = re.match(r"([A-Za-z0-9][A-Za-z0-9_-]*)\s*(?:=\s*(.*))?$", text)
+        if not m:
+            continue
+        value = "true" if m.group(2) is None else re.split(r"\s#", m.group(2), 1)[0].strip()
+        if len(value) >= 2 and value[0] == value[-1] and value[0] in "\"'":
+            value = value[1:-1]
+        out.append((n, m.group(1), value))
+    return out
+
+
+def preset_settings(args):
+    """The settings of the preset files the flags name (their lines without
+    comments and blanks, as rtsim reads them), or None if they name none.
+    ToolError for a preset that is not a readable text file."""
+    paths = config_paths(args)
+    if not paths:
         return None
-    try:
-        with open(path) as f:
-            lines = [ln.split("#", 1)[0].strip() for ln in f if not ln.lstrip().startswith(";")]
-    except OSError:
-        return None
-    return "\n".join(" ".join(ln.split()) for ln in lines if ln)
+    return "\n".join(f"{name} = {value}" for path in paths for _, name, value in config_lines(path))
 
 
 def command(args, binary=RTSIM):
@@ -112,48 +229,139 @@ def command(args, binary=RTSIM):
     return shlex.join([rel] + [str(a) for a in args] + FIXED_FLAGS + ["--report", "REPORT.json"])
 
 
-def run_repeated(binary, args, repeats=1, timeout=None):
-    """Runs a point `repeats` times; the median wall time and the report of the
-    first run. Every run must give the same render time (the model is
-    deterministic), otherwise this is an error."""
+class Cancelled(Exception):
+    """A queued point that a stop reached before it started."""
+
+
+def run_repeated(binary, args, repeats=1, timeout=None, stop=None):
+    """Runs a point `repeats` times: (the report of the first run, the median
+    wall time, every run's wall time). Every run must give the same render
+    time (the model is deterministic), otherwise this is an error. A set
+    `stop` event ends it before the next run starts."""
     walls, first = [], None
     for _ in range(repeats):
+        if stop is not None and stop.is_set():
+            raise Cancelled()
         rep, wall = run_rtsim(args, binary, timeout)
         if first is None:
             first = rep
         elif rep["render_time_ns"] != first["render_time_ns"]:
             raise RuntimeError("two runs of the same point gave different render times")
         walls.append(wall)
-    return first, statistics.median(walls)
+    return first, statistics.median(walls), walls
+
+
+# --- the journal -----------------------------------------------------------
+
+RECORD_FIELDS = {"id": str, "params": dict, "metrics": dict, "wall_s": (int, float), "command": str, "version": str}
+_held = {}  # journal path -> [Journal, holders]: a sweep of this process may take its own lock again
+
+
+def journal_path(name, opts=None):
+    """NAME's journal in the journal folder (--journal-dir), both checked:
+    NAME a name, the folder a folder (made if missing) outside doc/."""
+    outputs.check_name(name, "NAME")
+    folder = getattr(opts, "journal_dir", None) or JOURNALS
+    if os.path.lexists(folder) and not os.path.isdir(folder):
+        raise ToolError(f"--journal-dir {folder}: not a folder")
+    if outputs.under(folder, outputs.DOC):
+        raise ToolError(f"--journal-dir {folder}: in doc/, which a sweep does not write")
+    try:
+        os.makedirs(folder, exist_ok=True)
+    except OSError as e:
+        raise ToolError(f"--journal-dir {folder}: {e.strerror}")
+    return outputs.check_output(os.path.join(folder, name + ".jsonl"), "journal")
 
 
 class Journal:
-    """Finished points, one JSON object per line, appended as they finish."""
+    """Finished points, one JSON object per line, appended as they finish.
 
-    def __init__(self, path, fresh):
+    The journal file is locked (flock, exclusive, not waiting) while a sweep
+    uses it: a second sweep of the same NAME at the same time is refused
+    with one line rather than both writing one journal and one CSV. A
+    damaged line (not UTF-8, not JSON, not a record, cut short by a kill)
+    is reported once as FILE:LINE and skipped; its point runs again."""
+
+    def __init__(self, path, fresh=False, name=None):
         self.path = path
         self.done = {}
-        os.makedirs(os.path.dirname(path), exist_ok=True)
-        if fresh and os.path.exists(path):
-            os.remove(path)
-        if os.path.exists(path):
-            with open(path) as f:
-                for line in f:
-                    line = line.strip()
-                    if not line:
-                        continue
-                    try:
-                        rec = json.loads(line)
-                    except json.JSONDecodeError:
-                        continue  # a line cut short by an interrupted run
-                    self.done[rec["id"]] = rec
+        self.fd = os.open(path, os.O_RDWR | os.O_CREAT | os.O_APPEND | os.O_CLOEXEC, 0o666)
+        try:
+            fcntl.flock(self.fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            os.close(self.fd)
+            raise ToolError(f"sweep {name or os.path.basename(path)}: another sweep of that NAME is running "
+                            f"(its journal {os.path.relpath(path)} is locked); wait for it or give another NAME") from None
+        if fresh:
+            os.ftruncate(self.fd, 0)
+        self._read()
+
+    def _read(self):
+        with open(self.fd, "rb", closefd=False) as f:
+            f.seek(0)
+            data = f.read()
+        self.ends_clean = not data or data.endswith(b"\n")
+        for n, raw in enumerate(data.split(b"\n"), 1):
+            if not raw.strip():
+                continue
+            rec, why = self._record(raw)
+            if rec is None:
+                print(f"{self.path}:{n}: {why}; skipped (its point runs again)", file=sys.stderr)
+            else:
+                self.done[rec["id"]] = rec
+
+    @staticmethod
+    def _record(raw):
+        """(the record of a journal line, None) or (None, what is wrong with it)."""
+        try:
+            rec = json.loads(raw.decode("utf-8"))
+        except UnicodeDecodeError:
+            return None, "not UTF-8 text"
+        except json.JSONDecodeError:
+            return None, "not a JSON line (cut short by a kill?)"
+        if not isinstance(rec, dict):
+            return None, "not a journal record (a JSON object)"
+        for field, kind in RECORD_FIELDS.items():
+            if not isinstance(rec.get(field), kind) or isinstance(rec.get(field), bool):
+                return None, f"not a journal record (no {field!r})"
+        return rec, None
 
     def add(self, rec):
+        """Appends a record with one write (a stop arrives between records,
+        not inside one), after a newline if the journal ended in a cut-short
+        line, and flushes it to the disk."""
+        line = json.dumps(rec, sort_keys=True) + "\n"
+        if not self.ends_clean:
+            line, self.ends_clean = "\n" + line, True
+        os.write(self.fd, line.encode())
+        os.fsync(self.fd)
         self.done[rec["id"]] = rec
-        with open(self.path, "a") as f:
-            f.write(json.dumps(rec, sort_keys=True) + "\n")
-            f.flush()
-            os.fsync(f.fileno())
+
+    def close(self):
+        os.close(self.fd)  # (and with it the lock)
+
+
+class locked:
+    """`with locked(path, fresh, name) as journal:` the journal, locked
+    against other processes for the block; this process may hold it again
+    inside (a command line that runs a sweep and then writes its CSV)."""
+
+    def __init__(self, path, fresh=False, name=None):
+        self.path, self.fresh, self.name = os.path.realpath(path), fresh, name
+
+    def __enter__(self):
+        held = _held.get(self.path)
+        if held is None:
+            held = _held[self.path] = [Journal(self.path, self.fresh, self.name), 0]
+        held[1] += 1
+        return held[0]
+
+    def __exit__(self, *exc):
+        held = _held[self.path]
+        held[1] -= 1
+        if held[1] == 0:
+            held[0].close()
+            del _held[self.path]
 
 
 class Progress:
@@ -170,31 +378,119 @@ class Progress:
               f"{elapsed:.0f} s, about {left:.0f} s left   ", end="", file=sys.stderr, flush=True)
 
 
+# --- running the points ----------------------------------------------------
+
+def _end_running(futs, within=0.8):
+    """After a stop: kills the children of the points still running, and any
+    a worker thread started in the meantime, until every point has ended
+    (each ends as soon as its child is killed)."""
+    deadline = time.monotonic() + within
+    while time.monotonic() < deadline:
+        outputs.clean_up()
+        _, running = concurrent.futures.wait(futs, timeout=0.02)
+        if not running:
+            return
+
+
+STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
+
+
+@contextlib.contextmanager
+def _stop_first(stop):
+    """While the block runs, a stop signal sets `stop` before anything else
+    (before the handler in place, outputs.stop_handlers' under guard, kills
+    the children): a worker whose rtsim was killed sees it and starts no
+    queued point. Without a handler of the tool's, a stop kills the
+    children, removes the temporaries and raises outputs.Stopped. An
+    ignored signal stays ignored."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    before = {s: signal.getsignal(s) for s in STOP_SIGNALS}
+
+    def handler(signum, frame):
+        stop.set()
+        then = before[signum]
+        if callable(then) and then is not signal.default_int_handler:
+            then(signum, frame)
+        outputs.clean_up()
+        raise outputs.Stopped(signum)
+
+    for s, then in before.items():
+        if then is not signal.SIG_IGN:
+            signal.signal(s, handler)
+    try:
+        yield
+    finally:
+        for s, then in before.items():
+            signal.signal(s, then)
+
+
 def _local(todo, binary, jobs, repeats, timeout):
-    """Yields (point, result or exception) as local runs finish."""
-    with concurrent.futures.ThreadPoolExecutor(max_workers=jobs) as pool:
-        futs = {pool.submit(run_repeated, binary, p["args"], repeats, timeout): p for p in todo}
+    """Yields (point, result or exception) as local runs finish. On a stop
+    (or any other end before the last point), no queued point starts and
+    the running ones are killed."""
+    stop = threading.Event()
+    with _stop_first(stop):
+        yield from _run_pool(todo, binary, jobs, repeats, timeout, stop)
+
+
+def _run_pool(todo, binary, jobs, repeats, timeout, stop):
+    pool = concurrent.futures.ThreadPoolExecutor(max_workers=jobs)
+    futs = {pool.submit(run_repeated, binary, p["args"], repeats, timeout, stop): p for p in todo}
+    finished = False
+    try:
         for fut in concurrent.futures.as_completed(futs):
             try:
-                yield futs[fut], fut.result()
+                result = fut.result()
             except Exception as e:  # noqa: BLE001 - reported per point
-                yield futs[fut], e
+                result = e
+            yield futs[fut], result
+        finished = True
+    finally:
+        if not finished:
+            stop.set()
+            pool.shutdown(wait=False, cancel_futures=True)
+            _end_running(futs)
+        pool.shutdown(wait=False)
 
 
-def _dask(todo, binary, address, repeats, timeout):
+def _connect(address, timeout):
+    """A Dask client of the scheduler at `address`, or ToolError within
+    `timeout` seconds: one line, not distributed's traceback."""
+    try:
+        import logging
+        import cloudpickle
+        import distributed
+    except ImportError:
+        raise ToolError("--dask needs Debian's python3-distributed (bash scripts/setup.sh dask)") from None
+    logging.getLogger("distributed").setLevel(logging.CRITICAL)
+    try:
+        return distributed, cloudpickle, distributed.Client(address, timeout=timeout)
+    except Exception as e:  # noqa: BLE001 - OSError, TimeoutError, asyncio's: all say "no scheduler there"
+        raise ToolError(f"--dask {address}: no scheduler answered within {timeout:g} s (--dask-timeout)"
+                        f" ({type(e).__name__})") from None
+
+
+def _dask(todo, binary, address, repeats, timeout, connect_timeout=DASK_TIMEOUT):
     """Yields (point, result or exception) as the cluster finishes them."""
-    import cloudpickle
-    import distributed
+    distributed, cloudpickle, client = _connect(address, connect_timeout)
     # Workers need not import these modules: ship their functions by value.
     cloudpickle.register_pickle_by_value(sys.modules[__name__])
     cloudpickle.register_pickle_by_value(project)
-    with distributed.Client(address) as client:
+    futs = {}
+    try:
         futs = {client.submit(run_repeated, binary, p["args"], repeats, timeout, pure=False): p for p in todo}
         for fut in distributed.as_completed(futs):
             try:
-                yield futs[fut], fut.result()
+                result = fut.result()
             except Exception as e:  # noqa: BLE001 - reported per point
-                yield futs[fut], e
+                result = e
+            yield futs[fut], result
+    finally:
+        if futs:
+            client.cancel(list(futs))
+        client.close(timeout=2)
 
 
 def run(name, points, extract, csv_path, opts=None, repeats=1, timeout=None, binary=RTSIM):
@@ -203,51 +499,81 @@ def run(name, points, extract, csv_path, opts=None, repeats=1, timeout=None, bin
     points:  list of {"params": {name: value}, "args": [rtsim flags]}
     extract: report dict -> {column: value}, the figures kept per point
     opts:    the parsed flags of add_arguments (None: local, all cores)
-    repeats: runs per point; wall_s is their median (for timing sweeps)
+    repeats: runs per point; wall_s is their median (for timing sweeps),
+             wall_s_min and wall_s_max their spread (with repeats > 1)
+    Bad input (a NAME that is not a name, a CSV path that is not an output,
+    a journal another sweep holds) raises outputs.ToolError before any run.
     """
-    jobs = getattr(opts, "jobs", 0) or os.cpu_count() or 1
+    jobs = getattr(opts, "jobs", 0) or 0
+    if jobs < 0:
+        raise ToolError(f"--jobs {jobs}: 0 (one per core) or more")
+    jobs = jobs or os.cpu_count() or 1
+    if repeats < 1:
+        raise ToolError(f"--repeat {repeats}: at least 1")
     dask = getattr(opts, "dask", None)
-    journal = Journal(os.path.join(getattr(opts, "journal_dir", JOURNALS), name + ".jsonl"),
-                      getattr(opts, "fresh", False))
-    ver = version()
-    for p in points:
-        p["id"] = point_id(p["args"])
-    ids = [p["id"] for p in points]
-    if len(set(ids)) != len(ids):
-        raise ValueError(f"{name}: two points have the same flags")
-    todo = [p for p in points if p["id"] not in journal.done]
-    progress = Progress(name, len(points), len(points) - len(todo))
-    runs = _dask(todo, binary, dask, repeats, timeout) if dask else _local(todo, binary, jobs, repeats, timeout)
-    failed = []
-    for p, result in runs:
-        if isinstance(result, Exception):
-            failed.append(f"{command(p['args'], binary)}: {result}")
-        else:
-            report, wall = result
-            journal.add({"id": p["id"], "params": p["params"], "metrics": extract(report),
-                         "wall_s": round(wall, 4), "command": command(p["args"], binary), "version": ver})
-        progress.tick()
-    print(file=sys.stderr)
-    if failed:
-        raise RuntimeError(f"{name}: {len(failed)} point(s) failed; first: {failed[0]}")
-    rows = []
-    for p in points:
-        rec = journal.done[p["id"]]
-        rows.append({**p["params"], **rec["metrics"], "wall_s": rec["wall_s"],
-                     "id": rec["id"], "version": rec["version"], "command": rec["command"]})
-    old = {r["version"] for r in rows if r["version"] != ver}
-    if old:
-        print(f"{name}: {sum(r['version'] != ver for r in rows)} point(s) resumed from other versions "
-              f"({', '.join(sorted(old))}); --fresh reruns them", file=sys.stderr)
+    path = journal_path(name, opts)
     if csv_path:
-        write_csv(csv_path, rows)
+        csv_path = outputs.check_output(csv_path, "--csv", doc=bool(getattr(opts, "doc", None)))
+        outputs.check_distinct([("the journal", path), ("--csv", csv_path)])
+    with locked(path, getattr(opts, "fresh", False), name) as journal:
+        ver = version()
+        for p in points:
+            p["id"] = point_id(p["args"], binary, repeats)
+        ids = [p["id"] for p in points]
+        if len(set(ids)) != len(ids):
+            raise ToolError(f"{name}: two points have the same flags")
+        todo = [p for p in points if p["id"] not in journal.done]
+        progress = Progress(name, len(points), len(points) - len(todo))
+        runs = _dask(todo, binary, dask, repeats, timeout, getattr(opts, "dask_timeout", DASK_TIMEOUT)) if dask \
+            else _local(todo, binary, jobs, repeats, timeout)
+        failed = []
+        try:
+            for p, result in runs:
+                if isinstance(result, Exception):
+                    failed.append(f"{command(p['args'], binary)}: {result}")
+                else:
+                    report, wall, walls = result
+                    rec = {"id": p["id"], "params": p["params"], "metrics": extract(report),
+                           "wall_s": round(wall, 4), "command": command(p["args"], binary), "version": ver}
+                    if repeats > 1:
+                        rec["walls_s"] = [round(w, 4) for w in walls]
+                    journal.add(rec)
+                progress.tick()
+        finally:
+            runs.close()
+        if todo:
+            print(file=sys.stderr)
+        if failed:
+            raise ToolError(f"{name}: {len(failed)} point(s) failed; first: {failed[0]}", outputs.FAILED)
+        rows = [row_of(p, journal.done[p["id"]], repeats) for p in points]
+        old = {r["version"] for r in rows if r["version"] != ver}
+        if old:
+            print(f"{name}: {sum(r['version'] != ver for r in rows)} point(s) resumed from other versions "
+                  f"({', '.join(sorted(old))}); --fresh reruns them", file=sys.stderr)
+        if csv_path:
+            write_csv(csv_path, rows)
     return rows
 
 
+def row_of(point, rec, repeats):
+    """A point's CSV row: its parameters, its figures, its wall time (and
+    with repeats, their spread) and its provenance."""
+    row = {**point["params"], **rec["metrics"], "wall_s": rec["wall_s"]}
+    if repeats > 1:
+        walls = rec.get("walls_s") or [rec["wall_s"]]
+        row.update({"wall_s_min": min(walls), "wall_s_max": max(walls)})
+    row.update({"id": rec["id"], "version": rec["version"], "command": rec["command"]})
+    return row
+
+
 def write_csv(path, rows):
-    """Writes a list of dicts with the same keys as CSV."""
+    """Writes a list of dicts with the same keys as CSV, through a temporary
+    beside it renamed over it (outputs.atomic): a kill never leaves half a
+    CSV. The caller has checked `path` (outputs.check_output)."""
+    if not rows:
+        raise ToolError(f"{path}: no rows to write")
     os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
-    with open(path, "w", newline="") as f:
+    with outputs.atomic(path, "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=list(rows[0].keys()), lineterminator="\n")
         w.writeheader()
         w.writerows(rows)
@@ -260,4 +586,4 @@ def read_csv(path):
 
 if __name__ == "__main__":  # the command line: sweeps of any flags (scripts/sweep_grid.py)
     import sweep_grid
-    sys.exit(sweep_grid.main())
+    sys.exit(outputs.guard("sweep.py", sweep_grid.main))

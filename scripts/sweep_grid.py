@@ -6,20 +6,30 @@ computer), run by the sweep driver (sweep.run: parallel or Dask, journal,
 resume, provenance), one CSV row per point. doc/exploration.md, "Sweeps of
 your own", shows it at work."""
 import argparse
+import csv
+import hashlib
 import itertools
 import os
 import sys
 import textwrap
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import outputs  # noqa: E402
 import sweep  # noqa: E402
+from outputs import ToolError  # noqa: E402
 from project import QUIET, RTSIM  # noqa: E402
 
 SWEEPS = sweep.JOURNALS  # out/sweeps: the CSV beside its journal
-# Flags the driver gives every run itself (sweep.FIXED_FLAGS): a user's copy
-# of the quiet ones is dropped, an output of their own refused.
+# rtsim's flags that write a file (rtsim --help, "Outputs"): the driver gives
+# every run its own report and no image; the others would write into the
+# working folder, once per point. Refused in --set, the base flags and presets.
 DRIVER_OWNS = {"--report": "the driver reads each run's report itself",
                "--image": "sweeps write no images", "--map": "sweeps draw no maps", "--vcd": "sweeps write no VCD"}
+# rtsim's flags that read a file: checked (a regular file) before any run;
+# a FIFO or /dev/zero would block every point.
+INPUTS = ("--config", "--scene", "--rerun", "--boundaries-from")
+# Flags that set the mesh's shape: --mesh-dims wins over --mesh wherever each is given.
+MESH = ("--mesh", "--mesh-dims")
 
 # Settings of particular nodes and links: not for the one-node run.
 PER_NODE = ("--node-speed", "--node-cost", "--link-set", "--trace-nodes", "--trace-links", "--boundaries-from")
@@ -65,13 +75,97 @@ def without(args, flag):
     return out
 
 
+def flag_values(args):
+    """[(flag, value)] of a list of rtsim flags: '--flag=V' and '--flag V'
+    give V, a flag alone (followed by another flag, or last) None."""
+    out, i = [], 0
+    while i < len(args):
+        a = args[i]
+        if a.startswith("--"):
+            if "=" in a:
+                out.append(tuple(a.split("=", 1)))
+            elif i + 1 < len(args) and not args[i + 1].startswith("--"):
+                out.append((a, args[i + 1]))
+                i += 1
+            else:
+                out.append((a, None))
+        i += 1
+    return out
+
+
 def base_flags(args):
     """The user's base flags, checked: the quiet flags the driver adds anyway
     are dropped (not recorded twice); outputs the driver owns are refused."""
     args = [a for a in args if a not in QUIET and a != "--quiet"]
     for flag in flag_names(args) & set(DRIVER_OWNS):
-        raise ValueError(f"{flag} in the rtsim flags: {DRIVER_OWNS[flag]}")
+        raise ToolError(f"error: {flag} in the rtsim flags: {DRIVER_OWNS[flag]}")
     return args
+
+
+def settings(sets, base):
+    """Every setting a point can get, as (where, flag, value, kind, swept):
+    each --set value (kind 'set'), each base flag ('base'), and each line of
+    the presets either names (--config; 'preset', swept if a --set names
+    it), the input files checked and the presets read (ToolError
+    'FILE:LINE: why')."""
+    out = [(f"--set {flag[2:]}", flag, v, "set", True) for flag, vals in sets for v in vals]
+    out += [("the rtsim flags", f, v, "base", False) for f, v in flag_values(base)]
+    for where, flag, value, kind, swept in list(out):
+        if flag in INPUTS and value is not None:
+            outputs.check_input(value, flag)
+        if flag == "--config" and value is not None:
+            out += [(f"{value}:{n}", "--" + name, v, "preset", swept) for n, name, v in sweep.config_lines(value)]
+    return out
+
+
+def check_settings(sets, base, frames, speedup):
+    """One line (ToolError) for a setting that would write a file, run
+    another value than its row says, or make rows labelled differently the
+    same run; before any run. Returns the settings (settings())."""
+    swept = {flag for flag, _ in sets}
+    given = flag_names(base)
+    found = settings(sets, base)
+    for where, flag, value, kind, from_swept in found:
+        if flag in DRIVER_OWNS:
+            raise ToolError(f"{where}: {flag} writes a file: {DRIVER_OWNS[flag]}")
+        if flag == "--frames" and frames is not None:
+            raise ToolError(f"{where}: --frames, with the driver's --frames {frames}: give one "
+                            "(the driver's, before --, or rtsim's)")
+        if flag == "--mesh-dims" and "--mesh" in swept:
+            raise ToolError(f"--set mesh: --mesh-dims in {where}, which wins over --mesh: every point "
+                            "would run the same mesh (sweep mesh-dims instead)")
+        if flag == "--mesh" and "--mesh-dims" in swept and kind == "base":
+            raise ToolError("--set mesh-dims: --mesh in the rtsim flags too: give the mesh's shape once")
+        if kind == "preset" and from_swept and (flag in swept or flag in given):
+            raise ToolError(f"{where}: {flag[2:]} in a swept preset, and {flag} on the command line, which wins: "
+                            "the preset's value would never run")
+        if kind == "preset" and speedup and flag in PER_NODE:
+            raise ToolError(f"{where}: {flag[2:]} sets particular nodes, which the one-node run of --speedup "
+                            f"cannot leave out of a preset: give {flag} after -- instead")
+    return found
+
+
+def sweep_id(sets, base, frames, gain, speedup, repeat):
+    """What makes a sweep the same sweep, whatever values its --set lists
+    take (an extended sweep is the same sweep): the swept flags, the base
+    flags and the comparisons asked for. Its CSV records it (column sweep)."""
+    key = repr(([flag for flag, _ in sets], base, frames, gain, speedup, repeat))
+    return hashlib.sha1(key.encode()).hexdigest()[:12]
+
+
+def check_csv_is_ours(path, ours):
+    """ToolError if `path` holds the rows of another sweep: two sweeps of
+    one NAME (or one --csv) never overwrite each other's rows unasked."""
+    if not os.path.exists(path):
+        return
+    try:
+        with open(path, newline="", encoding="utf-8") as f:
+            theirs = next(csv.DictReader(f), {}).get("sweep")
+    except (OSError, UnicodeDecodeError, csv.Error):
+        theirs = None
+    if theirs != ours:
+        raise ToolError(f"--csv {os.path.relpath(path)}: holds the rows of another sweep (other swept flags, base "
+                        "flags or comparisons); give this one another NAME or --csv FILE, or remove that file")
 
 
 def grid(sets, base):
@@ -80,9 +174,9 @@ def grid(sets, base):
     names = [flag.lstrip("-") for flag, _ in sets]
     clash = flag_names(base) & {flag for flag, _ in sets}
     if clash:
-        raise ValueError(f"{', '.join(sorted(clash))} is both swept (--set) and in the base flags")
+        raise ToolError(f"error: {', '.join(sorted(clash))} is both swept (--set) and in the base flags")
     if len(set(names)) != len(names):
-        raise ValueError("a flag swept by two --set")
+        raise ToolError("error: a flag swept by two --set")
     for combo in itertools.product(*(vals for _, vals in sets)):
         params = dict(zip(names, combo))
         args = list(base)
@@ -94,15 +188,16 @@ def grid(sets, base):
 def runs_of(args, frames, gain, speedup):
     """The rtsim runs one point needs, by role: the point itself; without
     balancing (gain); on one computer (speed-up)."""
-    main = args + (["--frames", str(frames)] if frames > 1 else [])
+    main = args + (["--frames", str(frames)] if frames else [])
     out = {"point": main}
     if gain:
         out["none"] = without(args, "--balance") + ["--balance", "none"]
     if speedup:  # one node with the global settings, as rtsim's own baseline (--as-baseline) runs it
         one = args
-        for flag in ("--mesh", "--mesh-dims") + PER_NODE:
+        for flag in MESH + PER_NODE:
             one = without(one, flag)
-        out["one"] = one + ["--mesh", "1"]
+        # --mesh-dims, not --mesh 1: a preset's mesh-dims would win over --mesh.
+        out["one"] = one + ["--mesh-dims", "1x1x1"]
     return out
 
 
@@ -120,10 +215,12 @@ def extract(report):
             "busiest_link_utilisation": link["utilisation"] if link else 0.0}
 
 
-def rows_of(points, results, gain, speedup):
+def rows_of(points, results, gain, speedup, sweep_of=""):
     """One row per point: the swept values, the point's figures, and its
     comparisons (time_none_ns and balance_ratio = time / time without
-    balancing; time_one_ns and speedup = one computer's time / the point's)."""
+    balancing; time_one_ns and speedup = one computer's time / the point's);
+    its wall time (with --repeat, the median and the spread), the sweep it
+    belongs to (sweep_id) and its provenance."""
     by_args = {tuple(r["args"]): r for r in results}
     rows = []
     for params, runs in points:
@@ -137,15 +234,23 @@ def rows_of(points, results, gain, speedup):
         if speedup:
             one = by_args[tuple(runs["one"])]["render_time_ns"]
             row.update({"time_one_ns": one, "speedup": one / p["render_time_ns"]})
-        row.update({"wall_s": p["wall_s"], "version": p["version"], "command": p["command"]})
+        row.update({k: p[k] for k in ("wall_s", "wall_s_min", "wall_s_max") if k in p})
+        row.update({"sweep": sweep_of, "version": p["version"], "command": p["command"]})
         rows.append(row)
     return rows
+
+
+class Parser(argparse.ArgumentParser):
+    """argparse, its errors one line (sweep.py: error: ...) and exit 2."""
+
+    def error(self, message):
+        raise ToolError(f"error: {message}")
 
 
 def main(argv=None):
     argv = sys.argv[1:] if argv is None else argv
     ours, rtsim_flags = (argv[:argv.index("--")], argv[argv.index("--") + 1:]) if "--" in argv else (argv, [])
-    ap = argparse.ArgumentParser(
+    ap = Parser(
         prog="sweep.py", formatter_class=argparse.RawDescriptionHelpFormatter, epilog=EXAMPLES,
         usage="/usr/bin/python3 scripts/sweep.py NAME --set FLAG=V1,V2,... [--set ...] [options] -- RTSIM_FLAGS...",
         description=textwrap.fill("Runs rtsim over the grid of the --set lists (their product), each point with the rtsim "
@@ -153,47 +258,67 @@ def main(argv=None):
                     "render time (simulated ns; the last frame's with --frames), each frame's, the busiest node "
                     "(its busy share of the render time) and link (its utilisation), and the comparisons asked "
                     "for. Finished points are journalled (out/sweeps/NAME.jsonl): an interrupted or extended "
-                    "sweep reruns nothing; each row records the exact command and the tree's version.", 79))
-    ap.add_argument("name", help="the sweep's name: out/sweeps/NAME.csv and its journal out/sweeps/NAME.jsonl")
+                    "sweep reruns nothing; each row records the exact command and the tree's version. Bad input "
+                    "(a NAME that is not a name, an output flag, flags that contradict each other) gets one line "
+                    "and exit 2, before any run; a point rtsim refuses, exit 1; Ctrl-C or SIGTERM stops at once "
+                    "(exit 130), every finished point journalled.", 79))
+    ap.add_argument("name", help="the sweep's name (letters, digits, '-', '_', '.'; not a path): out/sweeps/NAME.csv "
+                                 "and its journal out/sweeps/NAME.jsonl")
     ap.add_argument("--set", dest="sets", action="append", default=[], metavar="FLAG=V1,V2,...",
                     help="an rtsim flag (without its dashes) and the values it takes; repeat for a grid")
-    ap.add_argument("--frames", type=int, default=1, help="frames per point (rtsim --frames); the row's time is the last's")
+    ap.add_argument("--frames", type=int, default=None,
+                    help="frames per point (rtsim --frames); the row's time is the last's. Not with --frames "
+                         "in --set, the rtsim flags or a preset")
     ap.add_argument("--gain", action="store_true",
                     help="also run each point without balancing: time_none_ns, balance_ratio = time / that")
     ap.add_argument("--speedup", action="store_true",
-                    help="also run each point on one computer (--mesh 1): time_one_ns, speedup = that / time")
-    ap.add_argument("--csv", help="where to write the CSV (default out/sweeps/NAME.csv)")
-    ap.add_argument("--rtsim", default=RTSIM, help="the rtsim binary (default: build/rtsim, scripts/build.sh)")
+                    help="also run each point on one computer (--mesh-dims 1x1x1): time_one_ns, speedup = that / time")
+    ap.add_argument("--repeat", "--repeats", dest="repeat", type=int, default=1, metavar="K",
+                    help="run each point K times: wall_s is the median, wall_s_min and wall_s_max the spread; "
+                         "the K render times must agree (default 1)")
+    ap.add_argument("--csv", help="where to write the CSV (default out/sweeps/NAME.csv; not in doc/, not the journal "
+                                  "or an input)")
+    ap.add_argument("--rtsim", default=RTSIM, help="the rtsim binary (default: build/rtsim, scripts/build.sh); "
+                                                   "part of each point's identity in the journal")
     sweep.add_arguments(ap)
     a = ap.parse_args(ours)
+    outputs.check_name(a.name, "NAME")
+    if not a.sets:
+        raise ToolError("error: nothing to sweep: give at least one --set FLAG=V1,V2,...")
+    if a.frames is not None and a.frames < 1:
+        raise ToolError(f"error: --frames {a.frames}: at least 1")
+    if a.repeat < 1:
+        raise ToolError(f"error: --repeat {a.repeat}: at least 1")
+    if a.dask_timeout <= 0:
+        raise ToolError(f"error: --dask-timeout {a.dask_timeout:g}: more than 0 seconds")
+    if not os.path.isfile(a.rtsim):
+        raise ToolError(f"error: {a.rtsim}: no rtsim binary there (build it with scripts/build.sh)")
     try:
-        if not a.sets:
-            raise ValueError("nothing to sweep: give at least one --set FLAG=V1,V2,...")
-        if a.frames < 1:
-            raise ValueError(f"--frames {a.frames}: at least 1")
-        if not os.path.isfile(a.rtsim):
-            raise ValueError(f"{a.rtsim}: no rtsim binary there (build it with scripts/build.sh)")
-        base = base_flags(rtsim_flags)
-        points = [(params, runs_of(args, a.frames, a.gain, a.speedup)) for params, args in grid([parse_set(s) for s in a.sets], base)]
+        sets = [parse_set(s) for s in a.sets]
     except ValueError as e:
-        ap.error(str(e))
+        raise ToolError(f"error: {e}") from None
+    base = base_flags(rtsim_flags)
+    points = [(params, runs_of(args, a.frames, a.gain, a.speedup)) for params, args in grid(sets, base)]
+    found = check_settings(sets, base, a.frames, a.speedup)
+    journal = sweep.journal_path(a.name, a)
+    csv_path = outputs.check_output(a.csv or outputs.out_path("sweeps", a.name + ".csv"), "--csv")
+    inputs = [(flag, value) for _, flag, value, kind, _ in found if flag in INPUTS and value and kind != "preset"]
+    outputs.check_distinct([("--csv", csv_path), ("the journal", journal), ("--rtsim", a.rtsim)] + inputs)
+    ours_id = sweep_id(sets, base, a.frames, a.gain, a.speedup, a.repeat)
     unique = {}
     for params, runs in points:
         for role, args in runs.items():
             unique.setdefault(tuple(args), {"params": {**params, "run": role}, "args": args})
-    try:
-        results = sweep.run(a.name, list(unique.values()), extract, None, a, binary=a.rtsim)
-    except RuntimeError as e:
-        print(f"sweep.py: {e}", file=sys.stderr)
-        return 1
-    for r, p in zip(results, unique.values()):
-        r["args"] = p["args"]
-    rows = rows_of(points, results, a.gain, a.speedup)
-    csv_path = a.csv or os.path.join(SWEEPS, a.name + ".csv")
-    sweep.write_csv(csv_path, rows)
+    with sweep.locked(journal, a.fresh, a.name):  # held from the first point to the CSV
+        check_csv_is_ours(csv_path, ours_id)
+        results = sweep.run(a.name, list(unique.values()), extract, None, a, repeats=a.repeat, binary=a.rtsim)
+        for r, p in zip(results, unique.values()):
+            r["args"] = p["args"]
+        rows = rows_of(points, results, a.gain, a.speedup, ours_id)
+        sweep.write_csv(csv_path, rows)
     print(f"{len(rows)} points ({len(unique)} runs) -> {os.path.relpath(csv_path)}")
     return 0
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(outputs.guard("sweep.py", main))

@@ -136,7 +136,7 @@ class Sweep(unittest.TestCase):
 
     def test_failing_point_is_named(self):
         pts = points() + [{"params": {"N": 2, "latency": "fast"}, "args": SMALL + ["--link-latency", "fast"]}]
-        with self.assertRaises(RuntimeError) as e:
+        with self.assertRaises(sweep.ToolError) as e:
             sweep.run("t", pts, extract, None, self.opts(), binary=self.binary)
         self.assertIn("1 point(s) failed", str(e.exception))
         self.assertIn("--link-latency", str(e.exception))
