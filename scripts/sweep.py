@@ -20,6 +20,7 @@ through project.run_rtsim (scripts/project.py).
 Dask workers must see the same checkout at the same path (a shared file
 system): they run the rtsim binary named in the command.
 """
+import argparse
 import concurrent.futures
 import contextlib
 import csv
@@ -55,7 +56,6 @@ def jobs_count(text):
     except ValueError:
         n = -1
     if n < 0:
-        import argparse
         raise argparse.ArgumentTypeError(f"{text!r}: a count of parallel runs, 0 (one per core) or more")
     return n
 
@@ -64,13 +64,23 @@ def dask_address(text):
     """--dask: a scheduler's address, tcp://HOST:PORT (or tls://)."""
     m = DASK_ADDRESS.fullmatch(text)
     if not m or not 0 < int(m.group(3)) < 65536:
-        import argparse
         raise argparse.ArgumentTypeError(f"{text!r}: a scheduler's address, tcp://HOST:PORT (such as tcp://10.0.0.5:8786)")
     return text
 
 
+def one_line_errors(ap):
+    """argparse's errors in one line, 'PROG: error: why' and exit 2, without
+    the usage (--help shows it)."""
+    def error(message):
+        print(f"{ap.prog}: error: {message}", file=sys.stderr)
+        sys.exit(outputs.BAD_INPUT)
+    ap.error = error
+
+
 def add_arguments(ap):
     """The driver's flags, shared by every sweep script."""
+    if not isinstance(ap, argparse.ArgumentParser) or type(ap).error is argparse.ArgumentParser.error:
+        one_line_errors(ap)
     g = ap.add_argument_group("sweep driver")
     g.add_argument("--jobs", type=jobs_count, default=0,
                    help="parallel local runs (default 0: one per core; a negative count is refused)")
@@ -89,6 +99,7 @@ def add_output_arguments(ap, doc_page=None):
     folder), --plot-only, and --doc, which publishes into doc/results/ and,
     with `doc_page` (a script that publishes a table, publish_table), that
     page's generated sections. Read them with parse_outputs."""
+    one_line_errors(ap)
     ap.add_argument("--out", help="the results folder (default: out/results/; with --doc, doc/results/); "
                                   "in doc/ only with --doc")
     what = "chart and table" if doc_page else "chart"

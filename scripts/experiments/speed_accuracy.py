@@ -14,6 +14,7 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # scripts/: project, sweep
+import outputs  # noqa: E402
 import project  # noqa: E402
 import sweep as driver  # noqa: E402
 from project import PAPER_SCENE, ROOT, publish_table, spd_scene  # noqa: E402
@@ -32,11 +33,16 @@ def main():
     ap.add_argument("--n", default="4,8")
     ap.add_argument("--quanta", default="0,100ns,1us,10us,100us", help="--quantum values (0 is exact)")
     ap.add_argument("--batches", default="1,4,16,64", help="--ray-batch values")
-    ap.add_argument("--balance", default="slide", help="the balancing policy compared with none")
-    ap.add_argument("--repeats", type=int, default=3)
+    ap.add_argument("--balance", default="slide", help="the balancing policy compared with none (not none itself)")
+    ap.add_argument("--repeats", type=int, default=3, help="runs per point; wall = their median (default 3)")
     driver.add_output_arguments(ap, os.path.join(ROOT, "doc", "exploration.md"))
     driver.add_arguments(ap)
     a = driver.parse_outputs(ap)
+    if a.balance == "none":
+        # Every point runs with none already: a policy against itself is no comparison.
+        ap.error("--balance none: the policy to compare with none (slide, measured, ...), not none itself")
+    if a.repeats < 1:
+        ap.error(f"--repeats {a.repeats}: at least 1")
     a.jobs = a.jobs or 1  # timing: one run at a time unless asked
     csv_path = os.path.join(a.out, "speed_accuracy.csv")
     if not a.plot_only:
@@ -70,7 +76,8 @@ def sweep(a):
     for r in runs:
         key = (r["scene"], r["N"])
         exact = by[key + (r["balance"],) + EXACT]
-        row = {k: r[k] for k in ("scene", "N", "balance", "quantum", "ray_batch", "wall_s", "render_time_ns")}
+        row = {k: r[k] for k in ("scene", "N", "balance", "quantum", "ray_batch", "wall_s", "wall_s_min", "wall_s_max",
+                                 "render_time_ns") if k in r}  # (the spread with --repeats > 1)
         row["exact_render_time_ns"] = exact["render_time_ns"]
         row["error"] = r["render_time_ns"] / exact["render_time_ns"] - 1
         # The balancing outcome: how much it shortened the frame in this mode,
@@ -161,7 +168,7 @@ def plot(a, rows):
     fig.suptitle("Speed against accuracy (red line: 1 % error). Top: wall time against render-time error; "
                  "bottom: against the balancing outcome", fontsize=10)
     fig.tight_layout(rect=(0, 0.07, 1, 0.97))
-    fig.savefig(os.path.join(a.out, "speed_accuracy.png"), dpi=100)
+    outputs.savefig(fig, os.path.join(a.out, "speed_accuracy.png"), dpi=100)
 
 
 def table(a, rows):
@@ -184,4 +191,4 @@ def table(a, rows):
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(outputs.guard("speed_accuracy.py", main))
