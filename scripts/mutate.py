@@ -284,13 +284,12 @@ def stale(mutants):
 
 
 MARK = ".rtsim-mutate"  # the file that says a work directory is this script's
-# What the script makes in it (a folder made before the mark holds only these).
-OWN = {MARK, "src", "build", "log.txt", "junit.xml", "tmp", "shared", "mutate.md"}
 
 
 def own_work_dir(work):
     """The work directory, made or taken if it is this script's own (empty,
-    holding MARK, or only what the script makes): its src/ is removed at every run, so a folder of
+    or holding MARK; a folder of an older mutate.py, without it, is refused
+    too: its files cannot be told from anyone's): its src/ is removed at every run, so a folder of
     anyone else's is refused. Not in the repository's tree, but under out/
     (git status stays clean)."""
     work = os.path.abspath(work)
@@ -298,7 +297,7 @@ def own_work_dir(work):
         raise outputs.ToolError(f"--work {work}: in the repository; a folder elsewhere, or under out/")
     if os.path.lexists(work) and not os.path.isdir(work) or os.path.islink(work):
         raise outputs.ToolError(f"--work {work}: not a folder")
-    if os.path.isdir(work) and not set(os.listdir(work)) <= OWN:
+    if os.path.isdir(work) and os.listdir(work) and not os.path.isfile(os.path.join(work, MARK)):
         raise outputs.ToolError(f"--work {work}: a folder that is not mutate.py's (no {MARK} in it); "
                                 "name a new or empty one")
     try:

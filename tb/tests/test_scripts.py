@@ -150,5 +150,105 @@ class Scripts(unittest.TestCase):
             self.assertEqual(got, shown)
 
 
+
+def py(script, *args):
+    return ["/usr/bin/python3", os.path.join(SCRIPTS, script), *args]
+
+
+class BadInput(unittest.TestCase):
+    """Each tool answers bad input with one line naming the flag or file,
+    exit 2, before any work (scripts/outputs.py: check_name, check_input,
+    check_output, guard)."""
+
+    def assert_one_line(self, cmd, words, cwd=None):
+        p = subprocess.run(cmd, capture_output=True, text=True, timeout=60, cwd=cwd, stdin=subprocess.DEVNULL)
+        shown = " ".join(os.path.relpath(c, SCRIPTS) if c.startswith(SCRIPTS) else c for c in cmd[1:])
+        self.assertEqual(p.returncode, 2, f"{shown}: {p.stderr}")
+        self.assertEqual(p.stderr.strip().count("\n"), 0, f"{shown}: not one line: {p.stderr}")
+        self.assertIn(words, p.stderr, shown)
+
+    def test_the_tools_refuse_in_one_line(self):
+        root = os.path.dirname(SCRIPTS)
+        rtref = os.path.join(os.path.dirname(RTSIM), "rtref")
+        with tempfile.TemporaryDirectory() as d:
+            cases = [
+                (py("bench_edges.py", "--runs", "0"), "--runs 0"),
+                (py("bench_edges.py", "--rtsim", "/dev/zero"), "a device"),
+                (py("bench_rtref.py", "--rtref", rtref, "--scene", d), "--scene"),
+                (py("bench_rtsim.py", "--growth", "x"), "--growth"),
+                (py("bench_scaling.py", "--scenes", "../../x"), "a name, not a path"),
+                (py("stress.py", "--jobs", "0"), "--jobs"),
+                (py("same_outputs.py", "--record", os.path.join(root, "doc", "x"), "--only", "slide-lane"), "in doc/"),
+                (py("same_outputs.py", "--compare", os.path.join(d, "none")), "--compare"),
+                (py("usage_doc.py", "--build", d), "--build"),
+                (py("mutate.py", "--work", os.path.join(root, "doc"), "--only", "slot-back-late"), "in the repository"),
+                (py("fuzz_report.py", "log", "0"), "usage"),
+                (py("experiments/fig4.py", "--preset", "../x"), "a name, not a path"),
+                (py("experiments/fig4.py", "--tag", "a/b"), "a name, not a path"),
+                (py("experiments/fb_scaling.py", "--n", "x"), "--n"),
+                (py("experiments/links_at_scale.py", "--scene", "../x"), "--scene"),
+                (py("experiments/spd_never_hurts.py", "--scenes", "balls-1,../x"), "--scenes"),
+                (py("experiments/stability_map.py", "--gains", "x"), "--gains"),
+                (py("experiments/aligned_faces.py", "--fig4", "/dev/zero"), "a device"),
+                (py("experiments/partition_search.py", "--merge", os.path.join(d, "none.csv")), "--merge"),
+                (py("experiments/presets.py", "--plot-only", "--out", d), "--plot-only"),
+                (["bash", os.path.join(SCRIPTS, "fuzz.sh"), "12x"], "SECONDS"),
+                (["bash", os.path.join(SCRIPTS, "render_gallery.sh"), "--bogus"], "--bogus"),
+                (["bash", os.path.join(SCRIPTS, "test.sh"), "x"], "no arguments"),
+            ]
+            for cmd, words in cases:
+                with self.subTest(cmd=" ".join(cmd[1:3])):
+                    self.assert_one_line(cmd, words, cwd=d)
+            self.assertEqual(os.listdir(d), [])
+
+    def test_mutate_leaves_a_folder_of_someone_elses_alone(self):
+        """--work names a folder mutate.py empties (its src/): one it did not
+        make is refused, its files untouched."""
+        with tempfile.TemporaryDirectory() as d:
+            os.makedirs(os.path.join(d, "src"))
+            with open(os.path.join(d, "src", "precious.txt"), "w") as f:
+                f.write("mine")
+            self.assert_one_line(py("mutate.py", "--work", d, "--only", "slot-back-late"), "not mutate.py's")
+            with open(os.path.join(d, "src", "precious.txt")) as f:
+                self.assertEqual(f.read(), "mine")
+            self.assertEqual(sorted(os.listdir(d)), ["src"])
+
+
+class Stops(unittest.TestCase):
+    def test_ctrl_c_ends_a_stress_run_and_its_children_at_once(self):
+        """stress.py with 400 configurations queued: SIGINT ends it within a
+        second, exit 130, no rtsim or rtref left running, its temporary
+        folder removed (it used to run every queued configuration first)."""
+        import signal
+        import time
+        with tempfile.TemporaryDirectory() as d:
+            rtref = os.path.join(os.path.dirname(RTSIM), "rtref")
+            p = subprocess.Popen(py("stress.py", "--count", "400", "--jobs", "2", "--rtsim", RTSIM, "--rtref", rtref),
+                                 stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=dict(os.environ, TMPDIR=d))
+            deadline = time.monotonic() + 20
+            while not os.listdir(d) or not glob.glob(os.path.join(d, "*", "*", "*.png")):  # runs under way
+                self.assertLess(time.monotonic(), deadline, "no run started")
+                time.sleep(0.05)
+            p.send_signal(signal.SIGINT)
+            t = time.monotonic()
+            try:
+                _, err = p.communicate(timeout=10)
+            finally:
+                p.kill()
+            self.assertLess(time.monotonic() - t, 1.0, err)
+            self.assertEqual(p.returncode, 130, err)
+            time.sleep(0.2)
+            left = []
+            for pid in filter(str.isdigit, os.listdir("/proc")):
+                try:
+                    with open(f"/proc/{pid}/cmdline", "rb") as f:
+                        if d.encode() in f.read():
+                            left.append(pid)
+                except OSError:
+                    pass
+            self.assertEqual(left, [], "children left running")
+            self.assertEqual(os.listdir(d), [], "temporaries left")
+
+
 if __name__ == "__main__":
     unittest.main()
