@@ -1,7 +1,11 @@
 """scripts/mesh_map.py through rtsim --map: a PNG of the mesh for a run,
 with the boundary panel below when balancing ran (a taller picture), the
-same picture from the report written by --report, and a one-line error for
-a file that is not a report. Usage: test_mesh_map.py RTSIM."""
+same picture from the report written by --report (byte for byte, again
+and again), one colour bar (loads only, scaled to the busiest) and the
+busiest node ringed and named, also at 32 per axis, and a one-line error
+for a file that is not a report, bad JSON (with its line) or a field the
+picture needs gone wrong (named). Usage: test_mesh_map.py RTSIM."""
+import json
 import os
 import struct
 import subprocess
@@ -23,6 +27,21 @@ def png_size(path):
 
 sys.path.insert(0, os.path.join(ROOT, "scripts"))
 import mesh_map  # noqa: E402
+
+
+MESH_MAP = os.path.join(ROOT, "scripts", "mesh_map.py")
+
+
+def synthetic(n, busiest, saturated=()):
+    """A report of an n x n x n mesh: loads 0.001 * (x + y + z) / n, the
+    busiest node at 0.3; every +x link 10 % utilised, the `saturated` ones
+    backlogged for half the frame."""
+    nodes = [{"node": [x, y, z], "load": 0.3 if [x, y, z] == busiest else 0.001 * (x + y + z) / n}
+             for x in range(n) for y in range(n) for z in range(n)]
+    links = [{"from": c["node"], "to": "+x", "utilisation": 0.1,
+              "saturated_ns": 500.0 if c["node"] in saturated else 0.0} for c in nodes if c["node"][0] < n - 1]
+    return {"config": {"mesh": [n, n, n], "balance": {"axis": "x", "policy": "none"}}, "render_time_ns": 1000.0,
+            "nodes": nodes, "links": links, "busiest_links": []}
 
 
 class MeshMap(unittest.TestCase):
@@ -70,6 +89,66 @@ class MeshMap(unittest.TestCase):
                             os.path.join(self.d, "b.json"), "-o", again], capture_output=True, text=True)
         self.assertEqual(p.returncode, 0, p.stderr)
         self.assertEqual(png_size(again), (w1, h1))
+
+    def test_one_colour_bar_and_the_busiest_ringed(self):
+        # At 32 per axis (the dense drawing) and at 3: one colour bar, the
+        # loads', ending at a round value at or above the busiest load;
+        # the busiest node's name on its layer.
+        for n, busiest in ((32, [5, 7, 30]), (3, [1, 2, 0])):
+            with self.subTest(n=n):
+                r = synthetic(n, busiest, saturated=[[0, 0, 0]])
+                fig = mesh_map.figure(r)
+                bars = [a for a in fig.axes if a.get_label() == "<colorbar>"]
+                self.assertEqual(len(bars), 1)
+                self.assertIn("node load", bars[0].get_ylabel())
+                self.assertEqual(bars[0].get_ylim(), (0.0, 0.5))
+                named = [t.get_text() for a in fig.axes for t in a.texts if t.get_text().startswith("busiest")]
+                self.assertEqual(named, ["busiest: node_" + "_".join(map(str, busiest))])
+                self.assertIn(f"busiest node node_{'_'.join(map(str, busiest))}, load 0.30 (ringed)",
+                              fig._suptitle.get_text())
+        self.assertEqual([mesh_map.load_top(x) for x in (0.075, 0.3, 0.99, 0.0001, 1.2)], [0.1, 0.5, 1.0, 0.0001, 1.2])
+
+    def test_the_same_report_the_same_bytes(self):
+        report = os.path.join(self.d, "r.json")
+        with open(report, "w") as f:
+            json.dump(synthetic(3, [1, 1, 1], saturated=[[0, 1, 1]]), f)
+        for fmt in ("png", "svg"):
+            outs = [os.path.join(self.d, f"m{i}.{fmt}") for i in range(2)]
+            for out in outs:
+                p = subprocess.run(["/usr/bin/python3", MESH_MAP, report, "-o", out], capture_output=True, text=True)
+                self.assertEqual(p.returncode, 0, p.stderr)
+            with open(outs[0], "rb") as a, open(outs[1], "rb") as b:
+                self.assertEqual(a.read(), b.read(), fmt)
+
+    def test_bad_reports_get_one_line(self):
+        good = json.dumps(synthetic(2, [0, 0, 0]), indent=1)
+        nodes = synthetic(2, [0, 0, 0])
+        nodes["nodes"][1]["load"] = "x"
+        fewer = synthetic(2, [0, 0, 0])
+        del fewer["nodes"][3]
+        cases = {  # name: (text, what stderr says after the path)
+            "cut": (good[:len(good) // 2], f":{good[:len(good) // 2].count(chr(10)) + 1}: not JSON"),
+            "bytes": (good.replace('"none"', '"n\udcffne"'), f":{good[:good.index('none')].count(chr(10)) + 1}: "
+                                                              "bytes that are not UTF-8"),
+            "load": (json.dumps(nodes), ": nodes[1].load: 'x' is not a finite number"),
+            "fewer": (json.dumps(fewer), ": nodes: 7 of them; the 2x2x2 mesh has 8"),
+            "list": ("[1, 2]", ": the top: not a JSON object"),
+            "axis": (good.replace('"axis": "x"', '"axis": "w"'), ": config.balance.axis: 'w' is not x, y or z"),
+        }
+        for name, (text, said) in cases.items():
+            with self.subTest(case=name):
+                path, out = os.path.join(self.d, name + ".json"), os.path.join(self.d, name + ".png")
+                with open(path, "w", errors="surrogateescape") as f:
+                    f.write(text)
+                p = subprocess.run(["/usr/bin/python3", MESH_MAP, path, "-o", out], capture_output=True, text=True)
+                self.assertEqual(p.returncode, 2, p.stderr)
+                self.assertEqual(p.stderr, f"mesh_map: {path}{said}" + p.stderr[len(f"mesh_map: {path}{said}"):])
+                self.assertEqual(p.stderr.count("\n"), 1, p.stderr)
+                self.assertFalse(os.path.exists(out))
+        p = subprocess.run(["/usr/bin/python3", MESH_MAP, path, "-o", os.path.join(self.d, "no", "m.png")],
+                           capture_output=True, text=True)
+        self.assertEqual(p.returncode, 2)
+        self.assertIn("no folder", p.stderr)
 
     def test_not_a_report(self):
         bad = os.path.join(self.d, "bad.json")
