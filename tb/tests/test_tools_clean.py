@@ -128,21 +128,26 @@ class ToolsLeaveNoTrace(unittest.TestCase):
 
     def test_the_experiments(self):
         """One experiment run for real, on its smallest grid; the others
-        redraw their published results (--plot-only) into a folder of the
-        test's: their charts and tables land there, not in doc/."""
+        redraw their published results (--plot-only, or partition_search.py
+        --merge) into a folder of the test's: their charts and tables land
+        there, not in doc/."""
         out, journals = self.file("results"), self.file("journals")
         self.run_tool([PY, os.path.join(SCRIPTS, "experiments", "fb_scaling.py"), "--n", "2", "--units", "1",
                        "--out", out, "--journal-dir", journals])
         self.assertTrue(os.path.exists(os.path.join(out, "fb_scaling.md")))
         for name, csv_name in (("presets", "presets"), ("link_sweep", "link_sweep"), ("fig4", "fig4"),
                                ("stability_map", "stability"), ("links_at_scale", "links_at_scale"),
-                               ("spd_never_hurts", "spd_never_hurts")):
+                               ("spd_never_hurts", "spd_never_hurts"), ("speed_accuracy", "speed_accuracy")):
             published = os.path.join(ROOT, "doc", "results", csv_name + ".csv")
             if not os.path.exists(published):
                 continue
             shutil.copy(published, out)
             with self.subTest(experiment=name):
                 self.run_tool([PY, os.path.join(SCRIPTS, "experiments", name + ".py"), "--plot-only", "--out", out])
+        # partition_search.py searches nothing with --merge: the table of the published rows
+        self.run_tool([PY, os.path.join(SCRIPTS, "experiments", "partition_search.py"), "--merge",
+                       os.path.join(ROOT, "doc", "results", "partition_search.csv"), "--out", out])
+        self.assertTrue(os.path.exists(os.path.join(out, "partition_search.md")))
 
     def test_the_other_tools(self):
         """The benchmarks, checkers and recorders that finish in a few
