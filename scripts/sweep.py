@@ -268,20 +268,24 @@ RECORD_FIELDS = {"id": str, "params": dict, "metrics": dict, "wall_s": (int, flo
 _held = {}  # journal path -> [Journal, holders]: a sweep of this process may take its own lock again
 
 
-def journal_path(name, opts=None):
+def journal_path(name, opts=None, make=True):
     """NAME's journal in the journal folder (--journal-dir), both checked:
-    NAME a name, the folder a folder (made if missing) outside doc/."""
+    NAME a name, the folder a folder outside doc/ (made if missing, unless
+    `make` is false: a check before any work writes nothing)."""
     outputs.check_name(name, "NAME")
     folder = getattr(opts, "journal_dir", None) or JOURNALS
     if os.path.lexists(folder) and not os.path.isdir(folder):
         raise ToolError(f"--journal-dir {folder}: not a folder")
     if outputs.under(folder, outputs.DOC):
         raise ToolError(f"--journal-dir {folder}: in doc/, which a sweep does not write")
+    path = os.path.abspath(os.path.join(folder, name + ".jsonl"))
+    if not make:
+        return path
     try:
         os.makedirs(folder, exist_ok=True)
     except OSError as e:
         raise ToolError(f"--journal-dir {folder}: {e.strerror}")
-    return outputs.check_output(os.path.join(folder, name + ".jsonl"), "journal")
+    return outputs.check_output(path, "journal")
 
 
 class Journal:
@@ -483,9 +487,22 @@ def _connect(address, timeout):
                         f" ({type(e).__name__})") from None
 
 
-def _dask(todo, binary, address, repeats, timeout, connect_timeout=DASK_TIMEOUT):
-    """Yields (point, result or exception) as the cluster finishes them."""
-    distributed, cloudpickle, client = _connect(address, connect_timeout)
+def connect(opts):
+    """The Dask connection of --dask (distributed, cloudpickle, client), made
+    once and kept in opts, or None without --dask: the scheduler answers
+    before anything is written, or one line and exit 2."""
+    dask = getattr(opts, "dask", None)
+    if not dask:
+        return None
+    if getattr(opts, "dask_connection", None) is None:
+        opts.dask_connection = _connect(dask, getattr(opts, "dask_timeout", DASK_TIMEOUT))
+    return opts.dask_connection
+
+
+def _dask(todo, binary, connection, repeats, timeout):
+    """Yields (point, result or exception) as the cluster finishes them
+    (connection: _connect's)."""
+    distributed, cloudpickle, client = connection
     # Workers need not import these modules: ship their functions by value.
     cloudpickle.register_pickle_by_value(sys.modules[__name__])
     cloudpickle.register_pickle_by_value(project)
@@ -501,7 +518,6 @@ def _dask(todo, binary, address, repeats, timeout, connect_timeout=DASK_TIMEOUT)
     finally:
         if futs:
             client.cancel(list(futs))
-        client.close(timeout=2)
 
 
 def run(name, points, extract, csv_path, opts=None, repeats=1, timeout=None, binary=RTSIM):
@@ -526,44 +542,55 @@ def run(name, points, extract, csv_path, opts=None, repeats=1, timeout=None, bin
     if csv_path:
         csv_path = outputs.check_output(csv_path, "--csv", doc=bool(getattr(opts, "doc", None)))
         outputs.check_distinct([("the journal", path), ("--csv", csv_path)])
-    with locked(path, getattr(opts, "fresh", False), name) as journal:
-        ver = version()
-        for p in points:
-            p["id"] = point_id(p["args"], binary, repeats)
-        ids = [p["id"] for p in points]
-        if len(set(ids)) != len(ids):
-            raise ToolError(f"{name}: two points have the same flags")
-        todo = [p for p in points if p["id"] not in journal.done]
-        progress = Progress(name, len(points), len(points) - len(todo))
-        runs = _dask(todo, binary, dask, repeats, timeout, getattr(opts, "dask_timeout", DASK_TIMEOUT)) if dask \
-            else _local(todo, binary, jobs, repeats, timeout)
-        failed = []
-        try:
-            for p, result in runs:
-                if isinstance(result, Exception):
-                    failed.append(f"{command(p['args'], binary)}: {result}")
-                else:
-                    report, wall, walls = result
-                    rec = {"id": p["id"], "params": p["params"], "metrics": extract(report),
-                           "wall_s": round(wall, 4), "command": command(p["args"], binary), "version": ver}
-                    if repeats > 1:
-                        rec["walls_s"] = [round(w, 4) for w in walls]
-                    journal.add(rec)
-                progress.tick()
-        finally:
-            runs.close()
-        if todo:
-            print(file=sys.stderr)
-        if failed:
-            raise ToolError(f"{name}: {len(failed)} point(s) failed; first: {failed[0]}", outputs.FAILED)
-        rows = [row_of(p, journal.done[p["id"]], repeats) for p in points]
-        old = {r["version"] for r in rows if r["version"] != ver}
-        if old:
-            print(f"{name}: {sum(r['version'] != ver for r in rows)} point(s) resumed from other versions "
-                  f"({', '.join(sorted(old))}); --fresh reruns them", file=sys.stderr)
-        if csv_path:
-            write_csv(csv_path, rows)
+    connection = connect(opts)
+    try:
+        with locked(path, getattr(opts, "fresh", False), name) as journal:
+            ver = version()
+            for p in points:
+                p["id"] = point_id(p["args"], binary, repeats)
+            ids = [p["id"] for p in points]
+            if len(set(ids)) != len(ids):
+                raise ToolError(f"{name}: two points have the same flags")
+            todo = [p for p in points if p["id"] not in journal.done]
+            progress = Progress(name, len(points), len(points) - len(todo))
+            runs = _dask(todo, binary, connection, repeats, timeout) if dask else _local(todo, binary, jobs, repeats, timeout)
+            try:
+                failed = _journal_runs(runs, journal, extract, binary, ver, progress)
+            finally:
+                runs.close()  # (on a stop: no queued point starts, the running ones are killed)
+            if todo:
+                print(file=sys.stderr)
+            if failed:
+                raise ToolError(f"{name}: {len(failed)} point(s) failed; first: {failed[0]}", outputs.FAILED)
+            rows = [row_of(p, journal.done[p["id"]], repeats) for p in points]
+            old = {r["version"] for r in rows if r["version"] != ver}
+            if old:
+                print(f"{name}: {sum(r['version'] != ver for r in rows)} point(s) resumed from other versions "
+                      f"({', '.join(sorted(old))}); --fresh reruns them", file=sys.stderr)
+            if csv_path:
+                write_csv(csv_path, rows)
+    finally:
+        if connection:
+            connection[2].close(timeout=2)
+            opts.dask_connection = None
     return rows
+
+
+def _journal_runs(runs, journal, extract, binary, ver, progress):
+    """Journals each point as it finishes; returns the failures (command: error)."""
+    failed = []
+    for p, result in runs:
+        if isinstance(result, Exception):
+            failed.append(f"{command(p['args'], binary)}: {result}")
+        else:
+            report, wall, walls = result
+            rec = {"id": p["id"], "params": p["params"], "metrics": extract(report),
+                   "wall_s": round(wall, 4), "command": command(p["args"], binary), "version": ver}
+            if len(walls) > 1:
+                rec["walls_s"] = [round(w, 4) for w in walls]
+            journal.add(rec)
+        progress.tick()
+    return failed
 
 
 def row_of(point, rec, repeats):

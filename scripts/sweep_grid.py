@@ -168,6 +168,17 @@ def check_csv_is_ours(path, ours):
                         "flags or comparisons); give this one another NAME or --csv FILE, or remove that file")
 
 
+def check_csv_path(given, name):
+    """The CSV's path, checked (outputs.check_output): --csv, or
+    out/sweeps/NAME.csv, whose folder is made when the sweep starts."""
+    if given:
+        return outputs.check_output(given, "--csv")
+    path = os.path.join(SWEEPS, name + ".csv")
+    if os.path.isdir(SWEEPS):
+        return outputs.check_output(path, "--csv")
+    return path
+
+
 def grid(sets, base):
     """The points: one per combination of the --set values, in the order
     given (the last --set varies fastest), as (params, rtsim flags)."""
@@ -300,8 +311,8 @@ def main(argv=None):
     base = base_flags(rtsim_flags)
     points = [(params, runs_of(args, a.frames, a.gain, a.speedup)) for params, args in grid(sets, base)]
     found = check_settings(sets, base, a.frames, a.speedup)
-    journal = sweep.journal_path(a.name, a)
-    csv_path = outputs.check_output(a.csv or outputs.out_path("sweeps", a.name + ".csv"), "--csv")
+    journal = sweep.journal_path(a.name, a, make=False)
+    csv_path = check_csv_path(a.csv, a.name)
     inputs = [(flag, value) for _, flag, value, kind, _ in found if flag in INPUTS and value and kind != "preset"]
     outputs.check_distinct([("--csv", csv_path), ("the journal", journal), ("--rtsim", a.rtsim)] + inputs)
     ours_id = sweep_id(sets, base, a.frames, a.gain, a.speedup, a.repeat)
@@ -309,7 +320,10 @@ def main(argv=None):
     for params, runs in points:
         for role, args in runs.items():
             unique.setdefault(tuple(args), {"params": {**params, "run": role}, "args": args})
+    sweep.connect(a)  # (with --dask: the scheduler answers, or one line before anything is written)
+    journal = sweep.journal_path(a.name, a)  # (its folder made)
     with sweep.locked(journal, a.fresh, a.name):  # held from the first point to the CSV
+        os.makedirs(os.path.dirname(csv_path), exist_ok=True)
         check_csv_is_ours(csv_path, ours_id)
         results = sweep.run(a.name, list(unique.values()), extract, None, a, repeats=a.repeat, binary=a.rtsim)
         for r, p in zip(results, unique.values()):

@@ -5,15 +5,27 @@ directly with the same flags, the comparisons are the ratios they say, a
 second run reruns nothing, bad input gets one line and a nonzero exit, the
 same grid through a local Dask cluster gives the same rows, and the chart's
 knees are in tb/tests/test_plot_sweep.py.
+SweepEdges holds the promises of issue 60 for sweeps (with a fake rtsim, a
+shell script, where the real one is not needed): a NAME that climbs, an
+output that is a folder, a FIFO, a device, the journal or in doc/, an
+output flag in --set, the base flags or a preset, flags that contradict
+(mesh and mesh-dims, two --frames), an input that would block, a Latin-1
+preset, --jobs -1, a bad or silent --dask: one line, exit 2, nothing
+written; a damaged journal line reported FILE:LINE and skipped; another
+binary's points not resumed; two grids of one NAME never overwriting each
+other's CSV; --repeat's median and spread.
 Run by ctest as: /usr/bin/python3 test_sweep_cli.py <rtsim binary>."""
 import csv
+import hashlib
 import json
 import os
 import shlex
+import socket
 import stat
 import subprocess
 import sys
 import tempfile
+import time
 import unittest
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -123,6 +135,260 @@ class SweepCommand(unittest.TestCase):
         strip = ("wall_s",)
         local, remote = ([{k: v for k, v in r.items() if k not in strip} for r in self.rows(n)] for n in ("local", "remote"))
         self.assertEqual(remote, local)
+
+
+# A fake rtsim: logs each run (its flags) and writes the report the driver
+# reads, its render time a function of its flags (FACTOR times their checksum).
+FAKE = """#!/bin/sh
+report=; prev=; key=
+for a in "$@"; do
+  if [ "$prev" = "--report" ]; then report="$a"; else key="$key $a"; fi
+  prev="$a"
+done
+echo "$key" >> {log}
+t=$(( {factor} * ($(echo "$key" | cksum | cut -d' ' -f1) % 100000 + 1) ))
+printf '{{"render_time_ns": %s, "frames": [{{"render_time_ns": %s}}], "nodes": [{{"node": [0, 0, 0], "busy_ns": 1}}], "busiest_links": []}}' "$t" "$t" > "$report"
+"""
+SWEEP = os.path.join(SCRIPTS, "sweep.py")
+
+
+def tree(folder):
+    """Every file under `folder` and its SHA-256: what a refused sweep must leave as it was."""
+    out = {}
+    for d, _, files in os.walk(folder):
+        for f in files:
+            path = os.path.join(d, f)
+            if stat.S_ISREG(os.lstat(path).st_mode):
+                with open(path, "rb") as fh:
+                    out[os.path.relpath(path, folder)] = hashlib.sha256(fh.read()).hexdigest()
+            else:
+                out[os.path.relpath(path, folder)] = "special"
+    return out
+
+
+class SweepEdges(unittest.TestCase):
+    def setUp(self):
+        self.tmp = tempfile.TemporaryDirectory()
+        self.dir = os.path.realpath(self.tmp.name)
+        self.log = os.path.join(self.dir, "calls.log")
+        self.fake = self.make_fake("rtsim", 1)
+        self.work = os.path.join(self.dir, "work")  # the working folder, and the journal's below it
+        self.journals = os.path.join(self.work, "a", "b")
+        os.makedirs(self.journals)
+
+    def tearDown(self):
+        self.tmp.cleanup()
+
+    def make_fake(self, name, factor):
+        path = os.path.join(self.dir, name)
+        with open(path, "w") as f:
+            f.write(FAKE.format(log=shlex.quote(self.log), factor=factor))
+        os.chmod(path, 0o755)
+        return path
+
+    def calls(self):
+        if not os.path.exists(self.log):
+            return 0
+        with open(self.log) as f:
+            return len(f.read().splitlines())
+
+    def sweep(self, name, *args, binary=None, csv_path=None, timeout=60):
+        cmd = ["/usr/bin/python3", SWEEP, name, "--rtsim", binary or self.fake, "--journal-dir", self.journals]
+        cmd += ["--csv", csv_path] if csv_path else []
+        return subprocess.run(cmd + list(args), capture_output=True, text=True, timeout=timeout, cwd=self.work)
+
+    def refused(self, p, says):
+        self.assertEqual(p.returncode, 2, p.stderr)
+        lines = p.stderr.strip().splitlines()
+        self.assertEqual(len(lines), 1, p.stderr)
+        self.assertTrue(lines[0].startswith("sweep.py: "), p.stderr)
+        self.assertIn(says, lines[0])
+
+    def rows(self, path):
+        with open(path, newline="") as f:
+            return list(csv.DictReader(f))
+
+    def test_names_that_climb_are_refused_and_nothing_is_written(self):
+        results = os.path.join(sweep.ROOT, "doc", "results")
+        before_doc = tree(results)
+        before = tree(self.dir)
+        for name in ("../../doc/results/fb_scaling", "../../x", "../x", "/abs", "", ".hidden", "a/b"):
+            with self.subTest(name=name):
+                # Without --csv the CSV would be out/sweeps/NAME.csv; the journal is in the journal folder.
+                self.refused(self.sweep(name, "--set", "a=1,2"), "a name, not a path")
+                self.refused(self.sweep(name, "--set", "a=1,2", csv_path=os.path.join(self.dir, "x.csv")),
+                             "a name, not a path")
+        self.assertEqual(tree(self.dir), before)
+        self.assertEqual(tree(results), before_doc)
+        self.assertFalse(os.path.exists(os.path.join(sweep.ROOT, "x.csv")))
+        self.assertEqual(self.calls(), 0)
+
+    def test_bad_outputs_inputs_and_flags_get_one_line_before_any_run(self):
+        fifo = os.path.join(self.work, "fifo")
+        os.mkfifo(fifo)
+        presets = {"vcd.conf": b"# writes a VCD\nvcd = cfg.vcd\n", "dims.conf": b"mesh-dims = 2x2x2\n",
+                   "frames.conf": b"frames = 3\n", "latin1.conf": b"# caf\xe9\nlink-latency = 1us # d\xe9j\xe0\n",
+                   "nodes.conf": b"node-speed = 1,1,1=2\n", "map.conf": b"map\n"}
+        for name, text in presets.items():
+            with open(os.path.join(self.work, name), "wb") as f:
+                f.write(text)
+        journal = os.path.join(self.journals, "s.jsonl")
+        cases = [
+            (["--set", "vcd=a.vcd,b.vcd"], "--set vcd: --vcd writes a file"),
+            (["--set", "map=a.png,b.png"], "--set map: --map writes a file"),
+            (["--set", "a=1,2", "--", "--map", "m.png"], "--map in the rtsim flags"),
+            (["--set", "a=1,2", "--", "--config", "vcd.conf"], "vcd.conf:2: --vcd writes a file"),
+            (["--set", "a=1,2", "--", "--config=map.conf"], "map.conf:1: --map writes a file"),
+            (["--set", "config=dims.conf,vcd.conf"], "vcd.conf:2: --vcd writes a file"),
+            (["--set", "mesh=1,2", "--", "--mesh-dims", "2x2x2"], "--mesh-dims in the rtsim flags, which wins"),
+            (["--set", "mesh=1,2", "--", "--config", "dims.conf"], "--mesh-dims in dims.conf:1, which wins"),
+            (["--set", "mesh-dims=1x1x2,2x2x2", "--", "--mesh", "2"], "give the mesh's shape once"),
+            (["--set", "frames=1,2", "--frames", "2"], "--set frames: --frames, with the driver's --frames 2"),
+            (["--set", "a=1,2", "--frames", "2", "--", "--frames", "3"], "the rtsim flags: --frames, with the driver's"),
+            (["--set", "a=1,2", "--frames", "2", "--", "--config", "frames.conf"], "frames.conf:1: --frames"),
+            (["--set", "a=1,2", "--speedup", "--", "--config", "nodes.conf"], "nodes.conf:1: node-speed sets particular"),
+            (["--set", "config=dims.conf,frames.conf", "--", "--mesh-dims", "2x2x2"],
+             "dims.conf:1: mesh-dims in a swept preset"),
+            (["--set", "a=1,2", "--", "--config", "latin1.conf"], "latin1.conf:2: not UTF-8"),
+            (["--set", "a=1,2", "--", "--config", fifo], "a FIFO, not a file"),
+            (["--set", "a=1,2", "--", "--config", "/dev/zero"], "--config /dev/zero: a device"),
+            (["--set", "a=1,2", "--", "--scene", "/dev/zero"], "--scene /dev/zero: a device"),
+            (["--set", "scene=/dev/zero,x.nff"], "--scene /dev/zero: a device"),
+            (["--set", "a=1,2", "--csv", fifo], "--csv " + fifo + ": a FIFO"),
+            (["--set", "a=1,2", "--csv", "/dev/null"], "a device"),
+            (["--set", "a=1,2", "--csv", self.dir], "a folder"),
+            (["--set", "a=1,2", "--csv", os.path.join(self.dir, "no", "x.csv")], "no folder"),
+            (["--set", "a=1,2", "--csv", journal], "the same file"),
+            (["--set", "config=dims.conf,frames.conf", "--csv", "dims.conf"], "the same file"),
+            (["--set", "a=1,2", "--csv", os.path.join(sweep.ROOT, "doc", "x.csv")], "in doc/"),
+            (["--set", "a=1,2", "--journal-dir", "/dev/null"], "--journal-dir /dev/null: not a folder"),
+            (["--set", "a=1,2", "--jobs", "-1"], "--jobs: '-1'"),
+            (["--set", "a=1,2", "--repeat", "0"], "--repeat 0: at least 1"),
+            (["--set", "a=1,2", "--dask", "nohost:8786"], "tcp://HOST:PORT"),
+            (["--set", "a=1,2", "--dask", "tcp://nohost"], "tcp://HOST:PORT"),
+        ]
+        before = tree(self.dir)
+        for args, says in cases:
+            with self.subTest(args=args):
+                self.refused(self.sweep("s", *args, timeout=20), says)
+        self.assertEqual(tree(self.dir), before)  # nothing written: no journal, no CSV
+        self.assertEqual(self.calls(), 0)
+
+    def test_a_silent_dask_scheduler_is_one_line_within_its_timeout(self):
+        with socket.socket() as s:  # a port nobody listens on
+            s.bind(("127.0.0.1", 0))
+            port = s.getsockname()[1]
+        before = tree(self.dir)
+        t0 = time.monotonic()
+        p = self.sweep("s", "--set", "a=1,2", "--dask", f"tcp://127.0.0.1:{port}", "--dask-timeout", "1")
+        self.assertLess(time.monotonic() - t0, 15)
+        self.refused(p, "no scheduler answered within 1 s")
+        self.assertEqual(tree(self.dir), before)  # no journal started
+        self.assertEqual(self.calls(), 0)
+
+    def test_damaged_journal_lines_are_named_and_skipped(self):
+        out = os.path.join(self.dir, "s.csv")
+        p = self.sweep("s", "--set", "a=1,2,3,4,5", csv_path=out)
+        self.assertEqual(p.returncode, 0, p.stderr)
+        first = self.rows(out)
+        path = os.path.join(self.journals, "s.jsonl")
+        with open(path, "rb") as f:
+            lines = f.read().splitlines()
+        # Points 1, 2 and 5 lose their records: undecodable, foreign and
+        # malformed lines come first, the last record is cut short (a kill).
+        damaged = [b"\xff\xfe not text", b"123", b'{"x": 1}', lines[2], lines[3], b'{"id": 5, "params": {}}',
+                   lines[4][:len(lines[4]) // 2]]
+        with open(path, "wb") as f:
+            f.write(b"\n".join(damaged))
+        p = self.sweep("s", "--set", "a=1,2,3,4,5", csv_path=out)
+        self.assertEqual(p.returncode, 0, p.stderr)
+        warned = [ln for ln in p.stderr.splitlines() if ln.startswith(path + ":")]
+        self.assertEqual([ln.split(":")[1] for ln in warned], ["1", "2", "3", "6", "7"], p.stderr)
+        self.assertTrue(all(ln.endswith("skipped (its point runs again)") for ln in warned), warned)
+        self.assertEqual(self.calls(), 5 + 3)  # the three points whose records were lost
+        strip = [{k: v for k, v in r.items() if k != "wall_s"} for r in first]
+        self.assertEqual([{k: v for k, v in r.items() if k != "wall_s"} for r in self.rows(out)], strip)
+        # The records appended after the cut line are whole: a third run reruns nothing.
+        p = self.sweep("s", "--set", "a=1,2,3,4,5", csv_path=out)
+        self.assertEqual(p.returncode, 0, p.stderr)
+        self.assertEqual(self.calls(), 8)
+
+    def test_another_binarys_points_are_not_resumed(self):
+        out = os.path.join(self.dir, "s.csv")
+        self.assertEqual(self.sweep("s", "--set", "a=1,2", csv_path=out).returncode, 0)
+        ones = [float(r["render_time_ns"]) for r in self.rows(out)]
+        other = self.make_fake("rtsim-other", 3)
+        p = self.sweep("s", "--set", "a=1,2", csv_path=out, binary=other)
+        self.assertEqual(p.returncode, 0, p.stderr)
+        self.assertEqual(self.calls(), 4)
+        self.assertEqual([float(r["render_time_ns"]) for r in self.rows(out)], [3 * t for t in ones])
+        self.assertEqual(self.sweep("s", "--set", "a=1,2", csv_path=out).returncode, 0)
+        self.assertEqual(self.calls(), 4)  # the first binary's points: resumed
+
+    def test_two_sweeps_of_one_name_never_overwrite_each_others_csv(self):
+        out = os.path.join(self.dir, "s.csv")
+        self.assertEqual(self.sweep("s", "--set", "a=1,2", csv_path=out).returncode, 0)
+        with open(out, "rb") as f:
+            kept = f.read()
+        for args in (["--set", "b=1,2"], ["--set", "a=1,2", "--gain"], ["--set", "a=1,2", "--", "--mesh", "2"]):
+            with self.subTest(args=args):
+                self.refused(self.sweep("s", *args, csv_path=out), "holds the rows of another sweep")
+                with open(out, "rb") as f:
+                    self.assertEqual(f.read(), kept)
+        # The same sweep extended: its CSV grows.
+        self.assertEqual(self.sweep("s", "--set", "a=1,2,3", csv_path=out).returncode, 0)
+        self.assertEqual([r["a"] for r in self.rows(out)], ["1", "2", "3"])
+        # Another grid under the same NAME, its CSV elsewhere: the journal keeps both.
+        self.assertEqual(self.sweep("s", "--set", "b=1,2", csv_path=os.path.join(self.dir, "t.csv")).returncode, 0)
+
+    def test_repeat_keeps_the_median_and_the_spread(self):
+        out = os.path.join(self.dir, "s.csv")
+        p = self.sweep("s", "--set", "a=1,2", "--repeat", "3", csv_path=out)
+        self.assertEqual(p.returncode, 0, p.stderr)
+        self.assertEqual(self.calls(), 6)
+        for r in self.rows(out):
+            self.assertLessEqual(float(r["wall_s_min"]), float(r["wall_s"]))
+            self.assertLessEqual(float(r["wall_s"]), float(r["wall_s_max"]))
+        # A binary whose render time changes from run to run: the point fails (exit 1).
+        jitter = os.path.join(self.dir, "rtsim-jitter")
+        with open(jitter, "w") as f:
+            f.write(FAKE.format(log=shlex.quote(self.log), factor="$$"))
+        os.chmod(jitter, 0o755)
+        p = self.sweep("j", "--set", "a=1", "--repeat", "2", binary=jitter, csv_path=os.path.join(self.dir, "j.csv"))
+        self.assertEqual(p.returncode, 1, p.stderr)
+        self.assertIn("different render times", p.stderr)
+
+    def test_speedup_runs_one_node_whatever_a_preset_says(self):
+        preset = os.path.join(self.work, "dims.conf")
+        with open(preset, "w") as f:
+            f.write("mesh-dims = 2x2x2\n")
+        out = os.path.join(self.dir, "s.csv")
+        small = ["--spheres", "60", "--radius", "0.05", "--size", "24x24", "--seed", "3"]
+        p = self.sweep("s", "--set", "link-latency=100ns,1us", "--speedup", "--", *small, "--config", preset,
+                       binary=RTSIM, csv_path=out)
+        self.assertEqual(p.returncode, 0, p.stderr)
+        rep = os.path.join(self.dir, "one.json")
+        for r in self.rows(out):
+            subprocess.run([RTSIM, *small, "--mesh", "1", "--link-latency", r["link-latency"], "--no-baseline", "-q",
+                            "--image", "", "--report", rep], check=True)
+            with open(rep) as f:
+                self.assertEqual(float(r["time_one_ns"]), json.load(f)["render_time_ns"])
+            self.assertGreater(float(r["speedup"]), 1.5)
+
+    def test_experiment_flags_get_one_line(self):
+        script = os.path.join(SCRIPTS, "experiments", "speed_accuracy.py")
+        for args, says in ((["--balance", "none"], "--balance none: the policy to compare with none"),
+                           (["--out", "/dev/null"], "--out /dev/null: not a folder"),
+                           (["--out", os.path.join(sweep.ROOT, "doc", "results")], "in doc/, which changes only with --doc"),
+                           (["--jobs", "-1"], "--jobs: '-1'")):
+            with self.subTest(args=args):
+                p = subprocess.run(["/usr/bin/python3", script] + args, capture_output=True, text=True, timeout=60,
+                                   cwd=self.work)
+                self.assertEqual(p.returncode, 2, p.stderr)
+                lines = p.stderr.strip().splitlines()
+                self.assertEqual(len(lines), 1, p.stderr)
+                self.assertTrue(lines[0].startswith("speed_accuracy.py: error: "), p.stderr)
+                self.assertIn(says, lines[0])
 
 
 if __name__ == "__main__":
