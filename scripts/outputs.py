@@ -274,6 +274,14 @@ def stop_handlers():
         signal.signal(s, _on_signal)
 
 
+def one_line(text):
+    """`text` as one printable line: control characters and undecodable
+    bytes that a message quotes from a damaged file (a NUL, a newline in a
+    quoted CSV field) written as escapes."""
+    return "".join(c if c.isprintable() else c.encode("unicode_escape", "backslashreplace").decode("ascii")
+                   for c in str(text))
+
+
 def guard(tool, main, argv=None):
     """Runs main(argv) as a tool's command line: ToolError -> 'tool: message'
     and its code; a stop -> 'tool: stopped (SIGINT)', exit 130; a closed
@@ -286,7 +294,7 @@ def guard(tool, main, argv=None):
         return code or 0
     except ToolError as e:
         clean_up()
-        print(f"{tool}: {e}", file=sys.stderr)
+        print(f"{tool}: {one_line(e)}", file=sys.stderr)
         return e.code
     except (Stopped, KeyboardInterrupt) as e:
         clean_up()
@@ -304,7 +312,8 @@ def guard(tool, main, argv=None):
         clean_up()
         if os.environ.get("RTSIM_TRACEBACK"):
             raise
-        print(f"{tool}: internal error: {type(e).__name__}: {e} (RTSIM_TRACEBACK=1 shows where)", file=sys.stderr)
+        print(f"{tool}: internal error: {type(e).__name__}: {one_line(e)} (RTSIM_TRACEBACK=1 shows where)",
+              file=sys.stderr)
         return FAILED
 
 
