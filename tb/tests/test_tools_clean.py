@@ -1,11 +1,12 @@
-"""Every tool leaves the tree as it was (issue 60; doc/robustness.md, "The
-tools"): each script in scripts/ and scripts/experiments/ is run from an
-empty temporary folder outside the repository, with --help and, where one
-finishes in a few seconds, one small real run without --doc; after each,
-the repository holds the same files (tracked, untracked and ignored, each
-with its size and time of change) but under out/ and build*/, where the
-tools may write, and the temporary folder is still empty. A tool that
-writes into doc/, the repository's root or the working folder fails here.
+"""Every tool leaves the tree as it was (issue 60; the tools' table of
+doc/robustness.md): each script in scripts/ and scripts/experiments/ is
+run from an empty temporary folder outside the repository, with --help
+and, where one finishes in a few seconds, one small real run without
+--doc; after each, the repository holds the same files (tracked,
+untracked and ignored, each with its size and time of change) but under
+out/ and build*/, where the tools may write, and the temporary folder is
+still empty. A tool that writes into doc/, the repository's root or the
+working folder fails here.
 
 Run by ctest as: /usr/bin/python3 test_tools_clean.py <rtsim> (its rtref
 beside it)."""
