@@ -20,6 +20,7 @@ rather than emptied."""
 import argparse
 import os
 import shutil
+import signal
 import subprocess
 import sys
 import time
@@ -255,10 +256,22 @@ MUTANTS = [
 
 
 def run(cmd, cwd, log, env=None):
+    """Runs cmd, its output appended to the log; its exit code. The build or
+    suite runs in a process group of its own, killed whole if this script is
+    stopped (Ctrl-C, SIGTERM: outputs.guard), so that no ctest outlives it."""
     with open(log, "a") as f:
         f.write("$ " + " ".join(cmd) + "\n")
         f.flush()
-        return subprocess.run(cmd, cwd=cwd, stdout=f, stderr=subprocess.STDOUT, env=env).returncode
+        p = subprocess.Popen(cmd, cwd=cwd, stdout=f, stderr=subprocess.STDOUT, env=env, start_new_session=True)
+        try:
+            return p.wait()
+        except BaseException:
+            try:
+                os.killpg(p.pid, signal.SIGKILL)
+            except ProcessLookupError:
+                pass
+            p.wait()
+            raise
 
 
 def failed_tests(junit):
