@@ -209,9 +209,18 @@ def main():
     rows = []
     for path in a.merge:
         rows += read_csv(outputs.check_input(path, "--merge"))
+    if a.jobs < 1:
+        raise outputs.ToolError(f"--jobs {a.jobs}: at least 1")
     with concurrent.futures.ThreadPoolExecutor(a.jobs) as pool:
-        for n in ([] if a.merge else ns):
-            rows.append(per_column(a, n, pool, csv_path) if a.per_column else one_set(a, n, pool))
+        try:
+            for n in ([] if a.merge else ns):
+                rows.append(per_column(a, n, pool, csv_path) if a.per_column else one_set(a, n, pool))
+        except BaseException:
+            # A stop (outputs.guard): the queued runs never start, and the
+            # pool's exit waits only for those in flight, their rtsim killed.
+            pool.shutdown(wait=False, cancel_futures=True)
+            outputs.clean_up()
+            raise
     # Rows of other N already there are kept: searches of different N add up.
     if os.path.exists(csv_path):
         ns = {int(r["N"]) for r in rows}
