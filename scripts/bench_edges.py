@@ -112,7 +112,10 @@ def main():
     outputs.check_input(a.rtsim, "--rtsim")
     if a.against:
         outputs.check_input(a.against, "--against")
-    results = os.path.join(RESULTS, "edges.md") if a.doc else outputs.out_path("results", "edges.md")
+    results = outputs.check_output(os.path.join(RESULTS, "edges.md") if a.doc else outputs.out_path("results", "edges.md"),
+                                   "the table", doc=a.doc)
+    if a.doc:
+        outputs.check_output(os.path.join(ROOT, "doc", "robustness.md"), "--doc", doc=True)
     builds = [("this build", a.rtsim)] + ([("older", a.against)] if a.against else [])
     lines = ["<!-- written by scripts/bench_edges.py --doc; do not edit -->",
              f"Medians of {a.runs} runs; SIGTERM to rtsim, milliseconds to its exit (outputs written), and its exit code.",

@@ -361,6 +361,14 @@ def main():
         return 0
 
     args.work = own_work_dir(args.work)
+    # Where the table goes, checked now rather than after an hour of builds.
+    # A partial run (--only) leaves the published table alone: its table goes
+    # to the work directory; a whole one to out/results/, or with --doc to
+    # doc/results/.
+    results = args.work if args.only else RESULTS if args.doc else os.path.dirname(outputs.out_path("results", "x"))
+    outputs.check_output(os.path.join(results, "mutate.md"), "the table", doc=args.doc)
+    if args.doc:
+        outputs.check_output(os.path.join(ROOT, "doc", "robustness.md"), "--doc", doc=True)
     src, build, log = (os.path.join(args.work, d) for d in ("src", "build", "log.txt"))
     if os.path.exists(src):
         shutil.rmtree(src)
@@ -443,10 +451,6 @@ def main():
         "| mutant | the planted bug | tests failing | of them not timing oracles | some of them |",
         "|---|---|---|---|---|",
     ] + rows
-    # A partial run (--only) leaves the published table alone: its table goes
-    # to the work directory; a whole one to out/results/, or with --doc to
-    # doc/results/.
-    results = args.work if args.only else RESULTS if args.doc else os.path.dirname(outputs.out_path("results", "x"))
     publish_table(lines, os.path.join(results, "mutate.md"),
                   os.path.join(ROOT, "doc", "robustness.md") if args.doc else None, "mutate")
     if args.only:

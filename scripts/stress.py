@@ -249,6 +249,9 @@ def main():
         raise outputs.ToolError(f"--count {a.count}, --jobs {a.jobs}: at least 1 each")
     outputs.check_input(a.rtsim, "--rtsim")
     outputs.check_input(a.rtref, "--rtref")
+    if a.doc:  # (checked before the runs, not after them)
+        for page in (os.path.join(RESULTS, "stress.md"), os.path.join(ROOT, "doc", "robustness.md")):
+            outputs.check_output(page, "--doc", doc=True)
     rng = random.Random(a.seed)
     configs = [configuration(rng) for _ in range(a.count)]
     t0 = time.time()
