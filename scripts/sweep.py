@@ -202,18 +202,37 @@ def config_lines(path):
     is not text; a line rtsim cannot read is left for rtsim to name."""
     outputs.check_input(path, "--config")
     with open(path, "rb") as f:
-        data = f.read((1 << 20) + 1)
+        return parse_config(f.read((1 << 20) + 1), path)
+
+
+def rerun_lines(path):
+    """The settings a report's rerun.flags give a run (rtsim --rerun
+    REPORT), as config_lines gives a preset's; ToolError if it is not a
+    report."""
+    outputs.check_input(path, "--rerun")
+    try:
+        with open(path, "rb") as f:
+            flags = json.loads(f.read().decode("utf-8"))["rerun"]["flags"]
+        if not isinstance(flags, str):
+            raise TypeError
+    except (UnicodeDecodeError, json.JSONDecodeError, KeyError, TypeError):
+        raise ToolError(f"--rerun {path}: not an rtsim report (no rerun.flags)") from None
+    return parse_config(flags.encode(), f"{path}: rerun.flags")
+
+
+def parse_config(data, origin):
+    """config_lines of the bytes of a config text; `origin` names it in errors."""
     out = []
     for n, raw in enumerate(data.split(b"\n"), 1):
         if b"\0" in raw:
-            raise ToolError(f"{path}:{n}: a NUL byte (not a text file)")
+            raise ToolError(f"{origin}:{n}: a NUL byte (not a text file)")
         line = raw.strip()
         if not line or line[:1] in (b"#", b";"):
             continue
         try:
             text = line.decode("utf-8")
         except UnicodeDecodeError:
-            raise ToolError(f"{path}:{n}: not UTF-8 text (rtsim's presets are UTF-8)") from None
+            raise ToolError(f"{origin}:{n}: not UTF-8 text (rtsim's presets are UTF-8)") from None
         m = re.match(r"([A-Za-z0-9][A-Za-z0-9_-]*)\s*(?:=\s*(.*))?$", text)
         if not m:
             continue

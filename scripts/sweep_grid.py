@@ -105,9 +105,9 @@ def base_flags(args):
 def settings(sets, base):
     """Every setting a point can get, as (where, flag, value, kind, swept):
     each --set value (kind 'set'), each base flag ('base'), and each line of
-    the presets either names (--config; 'preset', swept if a --set names
-    it), the input files checked and the presets read (ToolError
-    'FILE:LINE: why')."""
+    the presets either names (--config, and a report's rerun.flags with
+    --rerun; 'preset', swept if a --set names it), the input files checked
+    and the presets read (ToolError 'FILE:LINE: why')."""
     out = [(f"--set {flag[2:]}", flag, v, "set", True) for flag, vals in sets for v in vals]
     out += [("the rtsim flags", f, v, "base", False) for f, v in flag_values(base)]
     for where, flag, value, kind, swept in list(out):
@@ -115,6 +115,9 @@ def settings(sets, base):
             outputs.check_input(value, flag)
         if flag == "--config" and value is not None:
             out += [(f"{value}:{n}", "--" + name, v, "preset", swept) for n, name, v in sweep.config_lines(value)]
+        if flag == "--rerun" and value is not None:  # a report's flags, read as a preset's
+            out += [(f"{value}: rerun.flags:{n}", "--" + name, v, "preset", swept)
+                    for n, name, v in sweep.rerun_lines(value)]
     return out
 
 
@@ -163,6 +166,9 @@ def check_csv_is_ours(path, ours):
             theirs = next(csv.DictReader(f), {}).get("sweep")
     except (OSError, UnicodeDecodeError, csv.Error):
         theirs = None
+    if theirs is None:
+        raise ToolError(f"--csv {os.path.relpath(path)}: a file this sweep did not write (no sweep column); give this "
+                        "one another NAME or --csv FILE, or remove that file")
     if theirs != ours:
         raise ToolError(f"--csv {os.path.relpath(path)}: holds the rows of another sweep (other swept flags, base "
                         "flags or comparisons); give this one another NAME or --csv FILE, or remove that file")
@@ -330,7 +336,8 @@ def main(argv=None):
             r["args"] = p["args"]
         rows = rows_of(points, results, a.gain, a.speedup, ours_id)
         sweep.write_csv(csv_path, rows)
-    print(f"{len(rows)} points ({len(unique)} runs) -> {os.path.relpath(csv_path)}")
+    shown = os.path.relpath(csv_path)
+    print(f"{len(rows)} points ({len(unique)} runs) -> {csv_path if shown.startswith('..') else shown}")
     return 0
 
 

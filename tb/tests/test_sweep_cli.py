@@ -228,7 +228,8 @@ class SweepEdges(unittest.TestCase):
         os.mkfifo(fifo)
         presets = {"vcd.conf": b"# writes a VCD\nvcd = cfg.vcd\n", "dims.conf": b"mesh-dims = 2x2x2\n",
                    "frames.conf": b"frames = 3\n", "latin1.conf": b"# caf\xe9\nlink-latency = 1us # d\xe9j\xe0\n",
-                   "nodes.conf": b"node-speed = 1,1,1=2\n", "map.conf": b"map\n"}
+                   "nodes.conf": b"node-speed = 1,1,1=2\n", "map.conf": b"map\n",
+                   "report.json": json.dumps({"rerun": {"flags": 'spheres=30\nmesh-dims="2x2x1"\n'}}).encode()}
         for name, text in presets.items():
             with open(os.path.join(self.work, name), "wb") as f:
                 f.write(text)
@@ -249,6 +250,8 @@ class SweepEdges(unittest.TestCase):
             (["--set", "a=1,2", "--speedup", "--", "--config", "nodes.conf"], "nodes.conf:1: node-speed sets particular"),
             (["--set", "config=dims.conf,frames.conf", "--", "--mesh-dims", "2x2x2"],
              "dims.conf:1: mesh-dims in a swept preset"),
+            (["--set", "mesh=1,2", "--", "--rerun", "report.json"], "--mesh-dims in report.json: rerun.flags:2"),
+            (["--set", "a=1,2", "--", "--rerun", "dims.conf"], "--rerun dims.conf: not an rtsim report"),
             (["--set", "a=1,2", "--", "--config", "latin1.conf"], "latin1.conf:2: not UTF-8"),
             (["--set", "a=1,2", "--", "--config", fifo], "a FIFO, not a file"),
             (["--set", "a=1,2", "--", "--config", "/dev/zero"], "--config /dev/zero: a device"),
