@@ -366,8 +366,8 @@ def draw(a, ys, lines, path):
     savefig(fig, path, dpi=110)
 
 
-def main(argv=None):
-    a = parse_args(argv)
+def analyse(a):
+    """The CSV read and checked, and its lines: (y columns, {label: Line})."""
     table = Table(check_input(a.csv, "CSV"))
     ys = a.y.split(",")
     table.has(a.x, "--x")
@@ -379,10 +379,16 @@ def main(argv=None):
         col, _, val = w.partition("=")
         table.has(col, "--where")
         table.keep(col, val)
-    path = chart_path(a, ys)
     lines = lines_of(table, a.x, ys, a.group)
     if not any(ln.points for ln in lines.values()):
         raise ToolError(f"{a.csv}: no finite value of {', '.join(ys)} to draw")
+    return ys, lines
+
+
+def main(argv=None):
+    a = parse_args(argv)
+    path = chart_path(a, a.y.split(","))  # checked before any work
+    ys, lines = analyse(a)
     draw(a, ys, lines, path)
     print(f"chart -> {path}")
     return 0
