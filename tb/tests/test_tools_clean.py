@@ -118,9 +118,20 @@ class ToolsLeaveNoTrace(unittest.TestCase):
         on a tiny VCD and mesh_map.py on a tiny report."""
         self.run_tool([PY, os.path.join(SCRIPTS, "sweep.py"), NAME, "--set", "link-bandwidth=100MB/s,1GB/s", "--rtsim",
                        RTSIM, "--jobs", "2", "--"] + TINY)
+        # Outputs a point would write into the working folder are refused before any run.
+        for flags in (["--set", "vcd=a.vcd,b.vcd", "--"] + TINY, ["--set", "mesh=1,2", "--", "--map", "m.png"] + TINY[:4]):
+            self.run_tool([PY, os.path.join(SCRIPTS, "sweep.py"), NAME + "-refused", "--rtsim", RTSIM] + flags, codes=(2,))
         csv_path = os.path.join(ROOT, "out", "sweeps", NAME + ".csv")
         self.assertTrue(os.path.exists(csv_path))
         self.run_tool([PY, os.path.join(SCRIPTS, "plot_sweep.py"), csv_path, "--x", "link-bandwidth"])
+        # A published CSV's chart goes under out/plots/ too, not beside the CSV in doc/
+        # (what the test makes there, it removes).
+        plots = os.path.join(ROOT, "out", "plots")
+        there = set(os.listdir(plots)) if os.path.isdir(plots) else set()
+        self.run_tool([PY, os.path.join(SCRIPTS, "plot_sweep.py"), os.path.join(ROOT, "doc", "results", "fb_scaling.csv"),
+                       "--x", "N", "--group", "units"])
+        for name in set(os.listdir(plots)) - there:
+            os.remove(os.path.join(plots, name))
         self.run_tool([RTSIM] + TINY + ["--no-baseline", "-q", "--image", "", "--vcd", self.file("tiny.vcd"),
                                         "--report", self.file("tiny.json")])
         self.run_tool([PY, os.path.join(SCRIPTS, "vcd_summary.py"), self.file("tiny.vcd")])
