@@ -314,6 +314,13 @@ def report_line(a, ys, ln, logx):
         print(f"{ln.label}: no point left to draw")
         return marks
     xs, yv, shown = ln.xs, ln.ys, [p[2] for p in ln.points]
+    shared = sorted({p[0] for p, q in zip(ln.points, ln.points[1:]) if p[0] == q[0]})
+    if shared:
+        # Rows that differ in a column not drawn: one line through them
+        # zigzags, and its best and knees mix them.
+        first = [p for p in ln.points if p[0] == shared[0]]
+        print(f"{ln.label}: more than one row at {len(shared)} values of {a.x} (at {first[0][2]}: lines "
+              f"{', '.join(str(p[3]) for p in first)}): --group or --where picks one line per value of the others")
     best = min(range(len(yv)), key=lambda k: (yv[k], k))
     ref, why = reference_of(ln, a.reference)
     if ref is None:

@@ -167,6 +167,17 @@ class PlotSweep(unittest.TestCase):
         self.one_line(run(src, "--x", "link-bandwidth", "--out", into_doc), "in doc/, which changes only with --doc")
         self.assertFalse(os.path.exists(into_doc))
 
+    def test_rows_sharing_an_x_are_said(self):
+        # Two meshes, no --group: one line through both zigzags; said, with the rows.
+        rows = [{"mesh": m, "bw": bw, "t": t} for m, bw, t in
+                (("2", "1GB/s", 200), ("2", "2GB/s", 100), ("4", "1GB/s", 120), ("4", "2GB/s", 60))]
+        p, _ = self.plot(rows, "--x", "bw", "--y", "t")
+        self.assertEqual(p.returncode, 0, p.stderr)
+        self.assertIn("t: more than one row at 2 values of bw (at 1GB/s: lines 2, 4): --group or --where", p.stdout)
+        p, _ = self.plot(rows, "--x", "bw", "--y", "t", "--group", "mesh")
+        self.assertNotIn("more than one row", p.stdout)
+        self.assertIn("mesh=4: reference 60 at bw=2GB/s", p.stdout)
+
     def test_columns_in_words_and_units(self):
         self.assertEqual(plot_sweep.x_axis("link-bandwidth", "100MB/s"), (1e-6, "link bandwidth (MB/s)"))
         self.assertEqual(plot_sweep.x_axis("link-latency", "2us"), (1e6, "link latency (us)"))
