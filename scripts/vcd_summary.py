@@ -30,7 +30,6 @@ FREE_TEXT = {"$comment", "$date", "$version"}
 # Commands of the value-change section that only bracket value changes.
 BRACKETS = {"$dumpvars", "$dumpall", "$dumpon", "$dumpoff", "$end"}
 SCALAR = set("01xzXZ")
-BITS = set("01xzXZ")
 
 
 def lines(path):
@@ -131,8 +130,11 @@ class Reader:
             self.names[code].append("/".join(scope[1:] + [ref]))
 
     def body(self):
-        # Line by line, the common changes inline: a VCD has nearly all its
-        # lines here. A vector's or a real's code is on its value's line.
+        # Line by line, the common changes inline and in local names: a VCD
+        # has nearly all its lines here. A vector's or a real's code is on
+        # its value's line.
+        sinks = {code: [self.changes[name] for name in names] for code, names in self.names.items()}
+        declared = self.declared
         free = None  # the $comment (or $date, $version) whose $end is still to come
         for self.n, words in self.source:
             i = 0
@@ -145,25 +147,38 @@ class Reader:
                 c = tok[0]
                 if c == "#":
                     self.time(tok)
-                elif c in SCALAR:
-                    self.change(tok[1:], 1 if c == "1" else 0)
+                    continue
+                if c in SCALAR:
+                    code, value = tok[1:], 1 if c == "1" else 0
                 elif c in "bBrR":
                     if i == len(words):
                         self.fail(f"'{tok[:40]}': a value without its identifier code on its line")
-                    self.change(words[i], self.vector(tok) if c in "bB" else self.real(tok))
+                    code, value = words[i], self.vector(tok) if c in "bB" else self.real(tok)
                     i += 1
                 elif tok in FREE_TEXT:
                     free = tok
-                elif tok not in BRACKETS:
+                    continue
+                elif tok in BRACKETS:
+                    continue
+                else:
                     self.fail(f"'{tok[:40]}': not a value change or a time")
+                to = sinks.get(code)
+                if to is None and code not in declared:
+                    self.fail(f"a change of '{code[:20]}', which no $var declares")
+                if self.last is None:
+                    self.fail("a value change before the first time (#T)")
+                for changes in to or ():
+                    changes.append((self.last, value))
         if free:
             self.fail(f"the file ends inside {free}")
 
     def vector(self, tok):
         bits = tok[1:]
-        if not bits or not set(bits) <= BITS:
-            self.fail(f"'{tok[:40]}': not a binary value")
-        return int(bits, 2) if set(bits) <= {"0", "1"} else 0  # x or z in it: not busy
+        if bits and not bits.strip("01"):
+            return int(bits, 2)
+        if bits and not bits.strip("01xzXZ"):
+            return 0  # x or z in it: not busy
+        self.fail(f"'{tok[:40]}': not a binary value")
 
     def real(self, tok):
         try:
@@ -180,14 +195,6 @@ class Reader:
         if self.first is None:
             self.first = t
         self.last = t
-
-    def change(self, code, value):
-        if code not in self.declared:
-            self.fail(f"a change of '{code[:20]}', which no $var declares")
-        if self.last is None:
-            self.fail("a value change before the first time (#T)")
-        for name in self.names.get(code, ()):
-            self.changes[name].append((self.last, value))
 
 
 def read(path):
