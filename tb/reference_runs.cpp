@@ -31,6 +31,7 @@ ReferenceRuns addReferenceRuns(nlohmann::json& report, const std::vector<std::st
     if (single) out.baselineNs = report["render_time_ns"].get<double>();
     const std::string policy = o.machine.balance.policy;
     const bool base = o.baseline && !single, compare = o.baseline && o.machine.dims[size_t(o.machine.balance.axis)] > 1;
+    out.ran = base || compare;
     if (base) msg::info("reference runs: the 1x1x1 baseline" + std::string(compare ? " and the balancing comparison" : "") + ", in child processes");
     const OrderlyStops orderly;  // a stop is passed to them; the frame's outputs are still written
     const auto t0 = std::chrono::steady_clock::now();

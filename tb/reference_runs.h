@@ -18,6 +18,7 @@ struct ReferenceRuns {
     // A stop while they ran (the wall-clock limit: 3; a signal: 128 + N):
     // the report says which was stopped (reference_runs_stopped); 0: none.
     int stopCode = 0;
+    bool ran = false;  // either ran (not with --no-baseline, nor on a 1x1x1 mesh with one node along the axis)
 };
 
 // Adds `baseline` and `comparison` to `report` (the run's). A reference run

@@ -26,11 +26,10 @@
 #include <systemc>
 
 #include "between_frames.h"
-#include "binning_memory.h"
 #include "command_line.h"
 #include "config_echo.h"
 #include "frame_sequence.h"
-#include "grid.h"
+#include "job_memory.h"
 #include "json_input.h"
 #include "machine.h"
 #include "memory_estimate.h"
@@ -46,6 +45,7 @@
 #include "summary.h"
 #include "trace_busiest.h"
 #include "version.h"
+#include "wall_clock.h"
 
 // The allocator: jemalloc, told to back the heap with transparent huge
 // pages. The model's data is spread over every node (its grid, objects, link
@@ -180,20 +180,12 @@ Stop startBoundaries(rt::RtsimOptions& o) {
     return std::nullopt;
 }
 
-// The scene binned into the nodes' grids must fit the machine's memory
-// (models/binning_memory.h): refused with the estimate, not a bad_alloc.
+// The job (its frame, the frames before it, its reference runs) must fit
+// what the process may use (tb/job_memory.h): refused with the estimate,
+// not a bad_alloc.
 Stop checkMemory(const rt::RtsimOptions& o, const rt::Scene& scene) {
     try {
-        const rt::BinningSize b = rt::binningSize(scene, o.machine);
-        const std::string what = (o.scene.file.empty() ? std::string("the scene") : "--scene " + o.scene.file) + ": its " +
-                                 std::to_string(scene.objects.size()) + " objects binned into the " +
-                                 std::to_string(o.machine.nodeCount()) + " nodes' grids (with the nodes themselves and the image)";
-        if (b.largestGrid > double(rt::UniformGrid::kMaxReferences))
-            throw rt::SceneError(what + ": a grid of " + std::to_string(uint64_t(b.largestGrid)) +
-                                 " references (objects listed in cells), more than a grid holds (2^32 - 1)");
-        rt::refuseIfTooBig(what, b.bytes + rt::kRtsimBytesPerPixel * o.machine.width * o.machine.height +
-                                     rt::kRtsimBytesPerNode * double(o.machine.nodeCount()));
-        rt::msg::info("the nodes' grids at the frame's start: about " + std::to_string(int(b.bytes / (1 << 20))) + " MiB");
+        rt::checkJobMemory(o, scene, rt::memoryLimits());
     } catch (const rt::SceneError& e) {
         rt::msg::error(rt::msg::kScene, e.what());
         return 2;
@@ -222,9 +214,38 @@ int stopped(int code, const std::string& why) {
     return code;
 }
 
+// The reference runs, the outputs and the summary of a finished frame; the
+// wall clock's last two parts (the frame was done at `frameDone`).
+int finish(const rt::CommandLine& cl, const rt::RtsimOptions& o, const rt::Scene& scene, const rt::MachineResult& r,
+           nlohmann::json& report, rt::RunOutputs& out, rt::WallClock& wall, rt::WallClock::Clock::time_point frameDone) {
+    const auto refsFrom = rt::WallClock::now();
+    const rt::ReferenceRuns ref = rt::addReferenceRuns(report, cl.args, o);
+    const auto refsDone = rt::WallClock::now();
+    // (Without any, the moment it took is the report's assembling.)
+    wall.referenceRuns = ref.ran ? rt::secondsBetween(refsFrom, refsDone) : 0;
+    const double assembling = rt::secondsBetween(frameDone, refsDone) - wall.referenceRuns;
+    out.image(r.image);
+    // The report holds the parts up to its own writing; the summary's line
+    // holds everything.
+    wall.writing = assembling + rt::secondsBetween(refsDone, rt::WallClock::now());
+    report["wall_clock"] = wall.json();
+    out.report(report);
+    out.map(report);
+    out.commit();
+    wall.writing = assembling + rt::secondsBetween(refsDone, rt::WallClock::now());
+    if (rt::stopSignal || ref.stopCode)
+        return stopped(rt::stopSignal ? 128 + int(rt::stopSignal) : ref.stopCode,
+                       "the frame is done and written; its reference runs were stopped");
+    if (!o.quiet) rt::printSummary(scene, o, r, report, ref.baselineNs, wall);
+    return 0;
+}
+
 // The frames before the last, the last one, the reference runs, the outputs.
 int run(const rt::CommandLine& cl, const CLI::App& app, rt::RtsimOptions& o, const rt::Scene& scene,
         const nlohmann::json& config, rt::RunOutputs& out) {
+    rt::WallClock wall;
+    const auto framesFrom = rt::WallClock::now();
+    wall.startUp = rt::secondsBetween(rt::WallClock::processStart(), framesFrom);
     const rt::EarlierFrames earlier = rt::runEarlierFrames(cl.args, o);
     if (earlier.stopped) {
         out.report(*earlier.stopped);
@@ -237,6 +258,9 @@ int run(const rt::CommandLine& cl, const CLI::App& app, rt::RtsimOptions& o, con
     o.machine.vcdPath = out.vcdStream();  // (renamed to --vcd at the end)
     o.machine.vcdName = o.vcd;
     const rt::MachineResult r = rt::runMachine(scene, o.machine);
+    const auto frameDone = rt::WallClock::now();
+    wall.startUp += r.wallElaborationSeconds;  // building the machine
+    wall.frames = rt::secondsBetween(framesFrom, frameDone) - r.wallElaborationSeconds;
     const rt::OrderlyStops orderly;  // from here on a stop still writes the frame's outputs
     nlohmann::json report = rt::machineReport(r, o.machine);
     report["config"] = config;
@@ -250,16 +274,7 @@ int run(const rt::CommandLine& cl, const CLI::App& app, rt::RtsimOptions& o, con
         out.commit();
         return stopped(rt::stopSignal ? 128 + int(rt::stopSignal) : 3, r.incomplete);
     }
-    const rt::ReferenceRuns ref = rt::addReferenceRuns(report, cl.args, o);
-    out.image(r.image);
-    out.report(report);
-    out.map(report);
-    out.commit();
-    if (rt::stopSignal || ref.stopCode)
-        return stopped(rt::stopSignal ? 128 + int(rt::stopSignal) : ref.stopCode,
-                       "the frame is done and written; its reference runs were stopped");
-    if (!o.quiet) rt::printSummary(scene, o, r, report, ref.baselineNs);
-    return 0;
+    return finish(cl, o, scene, r, report, out, wall, frameDone);
 }
 
 }  // namespace

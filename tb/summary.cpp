@@ -113,10 +113,18 @@ void printBalancing(const RtsimOptions& o, const nlohmann::json& report) {
     }
 }
 
+// The whole run's wall-clock time and its parts (wall_clock.h), which add up to it.
+void printWallClock(const RtsimOptions& o, const WallClock& w) {
+    const std::string frames = o.frames > 1 ? "frames (" + std::to_string(o.frames) + ")" : "frame";
+    std::printf("  wall clock       %.3f s in all: start-up %.3f s, %s %.3f s, reference runs %.3f s%s, writing %.3f s\n",
+                w.total(), w.startUp, frames.c_str(), w.frames, w.referenceRuns, o.baseline ? "" : " (--no-baseline)",
+                w.writing);
+}
+
 }  // namespace
 
 void printSummary(const Scene& scene, const RtsimOptions& o, const MachineResult& r, const nlohmann::json& report,
-                  double baselineNs) {
+                  double baselineNs, const WallClock& wall) {
     const auto& d = o.machine.dims;
     const double renderNs = report["render_time_ns"].get<double>();
     std::printf("rtsim: %s (%zu objects), %dx%dx%d mesh, %dx%d image\n", scene.name.c_str(), scene.objects.size(), d[0],
@@ -134,7 +142,7 @@ void printSummary(const Scene& scene, const RtsimOptions& o, const MachineResult
     printBusiestNode(nodes);
     printTraffic(report);
     printBalancing(o, report);
-    std::printf("  wall clock       %.3f s to simulate it\n", r.wallSeconds);
+    printWallClock(o, wall);
     std::string files;
     auto add = [&](const std::string& path, const char* what) {
         if (!path.empty()) files += (files.empty() ? " " : ", ") + path + " (" + what + ")";

@@ -6,11 +6,13 @@
 
 #include "machine.h"
 #include "rtsim_cli.h"
+#include "wall_clock.h"
 
 namespace rt {
 
-// `report`: the run's report; `baselineNs`: the 1x1x1 run's render time (<= 0: none).
+// `report`: the run's report; `baselineNs`: the 1x1x1 run's render time (<= 0: none);
+// `wall`: the run's wall-clock time by part.
 void printSummary(const Scene& scene, const RtsimOptions& o, const MachineResult& r, const nlohmann::json& report,
-                  double baselineNs);
+                  double baselineNs, const WallClock& wall);
 
 }  // namespace rt

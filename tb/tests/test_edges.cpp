@@ -8,8 +8,10 @@
 #include <sys/stat.h>
 #include <sys/wait.h>
 
+#include <chrono>
 #include <fstream>
 #include <random>
+#include <regex>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -341,6 +343,51 @@ TEST_F(Edges, ASceneTooBigToBinIsRefusedWithAnEstimate) {
     const Outcome ref = run(std::string("timeout 60 ") + RTREF_EXE + " " + p("overlap.nff") + " -o " + p("o.png"));
     EXPECT_EQ(ref.code, 2) << ref.err;
     EXPECT_NE(ref.err.find("references (objects listed in cells), more than a grid holds"), std::string::npos) << ref.err;
+}
+
+TEST_F(Edges, AJobPastTheProcesssAddressSpaceLimitIsRefusedBeforeItStarts) {
+    if (std::getenv("ASAN_OPTIONS")) GTEST_SKIP() << "AddressSanitizer's shadow memory needs more address space";
+    // About 14 GiB in one process (a 32x32x32 mesh, an 11500x11500 image),
+    // under `ulimit -v 8000000` (7.6 GiB) on a machine with more: it started
+    // and ended in std::bad_alloc.
+    const std::string job = std::string(RTSIM_EXE) + " --mesh 32 --spheres 1 --size 11500x11500 --no-baseline -q --image ''";
+    const Outcome o = run("bash -c \"ulimit -v 8000000 && TMPDIR=" + tmp().string() + " exec timeout 60 " + job + "\"", dir_);
+    EXPECT_EQ(o.code, 2) << o.err;
+    EXPECT_EQ(std::count(o.err.begin(), o.err.end(), '\n'), 1) << o.err;
+    EXPECT_NE(o.err.find("address-space limit (RLIMIT_AS, ulimit -v) is 7.6 GiB"), std::string::npos) << o.err;
+}
+
+// ---- 4b. The wall clock: the whole run and its parts ----
+
+TEST_F(Edges, TheWallClockIsTheWholeRunItsPartsAddUpAndTheReferenceRunsAreOne) {
+    // The whole: within this of the time measured outside rtsim (which adds
+    // the exec, the dynamic loader, the summary and the exit), and each
+    // printed part rounded to 1 ms.
+    constexpr double kOutside = 0.15, kRounding = 0.0025;
+    for (const bool baseline : {true, false}) {
+        SCOPED_TRACE(baseline ? "with its reference runs" : "--no-baseline");
+        const auto t0 = std::chrono::steady_clock::now();
+        const Outcome o = rtsim(std::string(kSmall) + " --frames 2 --balance measured --image '' --report " + p("w.json") +
+                                (baseline ? "" : " --no-baseline"));
+        const double outside = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        ASSERT_EQ(o.code, 0) << o.err;
+        const json w = json::parse(slurp(dir_ / "w.json"))["wall_clock"];
+        const double parts = w["start_up_s"].get<double>() + w["frames_s"].get<double>() +
+                             w["reference_runs_s"].get<double>() + w["writing_s"].get<double>();
+        EXPECT_NEAR(parts, w["total_s"].get<double>(), 1e-9);
+        EXPECT_EQ(w["reference_runs_s"].get<double>() > 0, baseline) << w;
+        const std::regex line(R"(wall clock +([0-9.]+) s in all: start-up ([0-9.]+) s, frames \(2\) ([0-9.]+) s, )"
+                              R"(reference runs ([0-9.]+) s[^,]*, writing ([0-9.]+) s)");
+        std::smatch m;
+        ASSERT_TRUE(std::regex_search(o.out, m, line)) << o.out;
+        double printed[5];
+        for (int i = 0; i < 5; ++i) printed[i] = std::stod(m[i + 1]);
+        EXPECT_NEAR(printed[1] + printed[2] + printed[3] + printed[4], printed[0], 4 * kRounding);
+        EXPECT_LE(printed[0], outside + kRounding);
+        EXPECT_GE(printed[0], outside - kOutside) << "the summary's whole leaves out part of the run";
+        EXPECT_GE(printed[0], w["total_s"].get<double>() - kRounding);  // (the summary's also has the report's writing)
+        EXPECT_EQ(printed[3] > 0, baseline);
+    }
 }
 
 // ---- 5. Config files: the last value wins, each value checked ----

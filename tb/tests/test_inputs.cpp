@@ -15,9 +15,12 @@
 #include "config_file.h"
 #include "cost_model.h"
 #include "grid.h"
+#include "job_memory.h"
 #include "json_input.h"
 #include "machine_config.h"
+#include "memory_estimate.h"
 #include "output_file.h"
+#include "scene_error.h"
 #include "rtsim_cli.h"
 #include "sphere.h"
 #include "units.h"
@@ -376,4 +379,59 @@ TEST(GridSize, CountedBeforeBuildingIsWhatTheGridHolds) {
             for (int x = 0; x < l.cells(0); ++x) references += g.cellObjects({x, y, z}).size();
     EXPECT_EQ(size.references, references);
     EXPECT_EQ(size.cells, uint64_t(l.cellCount()));
+}
+
+// ---- What a job may use: physical memory, the cgroup, RLIMIT_AS (memory_estimate.h, job_memory.h) ----
+
+TEST_F(Folder, TheCgroupsMemoryLimitIsTheLeastOfItsOwnAndItsParents) {
+    fs::create_directories(dir_ / "v2/app/job");
+    write("v2/memory.max", "max\n");
+    write("v2/app/memory.max", "3221225472\n");  // 3 GiB
+    write("v2/app/job/memory.max", "max\n");
+    std::string file;
+    EXPECT_EQ(cgroupMemoryLimit("0::/app/job\n", path("v2"), file), 3221225472.0);
+    EXPECT_EQ(file, path("v2/app/memory.max"));
+    EXPECT_EQ(cgroupMemoryLimit("0::/\n", path("v2"), file), 0);  // "max": none
+    // v1: the memory controller's hierarchy; its "unlimited" is about 2^63.
+    fs::create_directories(dir_ / "v1/memory/box");
+    write("v1/memory/memory.limit_in_bytes", "9223372036854771712\n");
+    write("v1/memory/box/memory.limit_in_bytes", "1073741824\n");
+    EXPECT_EQ(cgroupMemoryLimit("5:cpu:/other\n4:memory:/box\n0::/\n", path("v1"), file), 1073741824.0);
+    EXPECT_EQ(cgroupMemoryLimit("4:memory:/\n", path("v1"), file), 0);
+    // A container sees a path of the host's that is not mounted: the root's limit.
+    write("v2/memory.max", "2147483648\n");
+    EXPECT_EQ(cgroupMemoryLimit("0::/host/slice\n", path("v2"), file), 2147483648.0);
+    EXPECT_EQ(cgroupMemoryLimit("garbage\n\n0::relative\n", path("v2"), file), 0);
+}
+
+TEST(JobMemory, AJobIsCheckedAgainstEveryLimitAndCountsItsReferenceRuns) {
+    constexpr double G = double(1 << 30);
+    RtsimOptions o;
+    CLI::App app;
+    o.addTo(app);
+    app.parse(std::vector<std::string>{"32", "--mesh", "8x8", "--size"});  // (reversed, as CLI11 takes them)
+    o.finish();
+    Scene scene = o.scene.load();
+    const JobMemory j = jobMemory(o, scene);
+    EXPECT_GT(j.frame, kRtsimBytesPerNode * 32 * 32 * 32);       // the nodes alone: 1.7 GiB
+    EXPECT_EQ(j.comparison, j.frame);                             // the same mesh, balanced the other way
+    EXPECT_GT(j.baseline, 0);                                     // one node with every object
+    EXPECT_LT(j.baseline, j.frame);
+    const double frame = j.frame, all = j.together();
+    MemoryLimits roomy{64 * G, 0, "", 0, 0};
+    EXPECT_NO_THROW(checkJobMemory(o, scene, roomy));
+    MemoryLimits as = roomy;  // ulimit -v: each process on its own, with what it has mapped already
+    as.addressSpace = frame + 100e6;
+    EXPECT_NO_THROW(checkJobMemory(o, scene, as));
+    as.mapped = 200e6;
+    EXPECT_NE(thrown<SceneError>([&] { checkJobMemory(o, scene, as); }).find("RLIMIT_AS"), std::string::npos);
+    MemoryLimits cg = roomy;  // the cgroup: every process of the job at once
+    cg.cgroup = (frame + all) / 2;
+    cg.cgroupFile = "/sys/fs/cgroup/memory.max";
+    EXPECT_NE(thrown<SceneError>([&] { checkJobMemory(o, scene, cg); }).find("its cgroup's limit is"), std::string::npos);
+    o.baseline = false;  // --no-baseline: the frame alone
+    EXPECT_NO_THROW(checkJobMemory(o, scene, cg));
+    MemoryLimits small = roomy;
+    small.physical = frame / 2;
+    EXPECT_NE(thrown<SceneError>([&] { checkJobMemory(o, scene, small); }).find("this machine has"), std::string::npos);
 }
