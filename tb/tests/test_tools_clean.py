@@ -49,8 +49,9 @@ def tree():
             path = os.path.join(folder, name)
             st = os.lstat(path)
             files[os.path.relpath(path, ROOT)] = (st.st_mode >> 12, st.st_size, st.st_mtime_ns)
-    status = subprocess.run(["git", "-C", ROOT, "status", "--porcelain", "--ignored", "--untracked-files=all"],
-                            capture_output=True, text=True, check=True).stdout.splitlines()
+    git = subprocess.run(["git", "-C", ROOT, "status", "--porcelain", "--ignored", "--untracked-files=all"],
+                         capture_output=True, text=True)
+    status = git.stdout.splitlines() if git.returncode == 0 else []  # (a tree that is no clone: the files alone)
     return files, sorted(line for line in status if not free(line[3:]))
 
 
