@@ -43,7 +43,7 @@ import vcd_summary  # noqa: E402
 
 # The same cases every run, nothing written beside the tests, no time limit
 # per case (a loaded machine is slow, not wrong).
-FUZZ = settings(derandomize=True, database=None, deadline=None, max_examples=150,
+FUZZ = settings(derandomize=True, database=None, deadline=None, max_examples=300,
                 suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
 
 
