@@ -185,6 +185,14 @@ r0 %
                     self.assertIn(f"{path}:{line}: {said}", p.stderr)
             p = summary(d)
             self.assertEqual((p.returncode, p.stderr), (2, f"vcd_summary: VCD {d}: a folder, not a file\n"))
+            # Another tool's signal names: said, in one line.
+            path = os.path.join(d, "names.vcd")
+            with open(path, "w") as f:
+                f.write(HAND.replace(" busy ", " clk ").replace(" wait ", " en ").replace(" wire ", " data ")
+                        .replace(" backlog ", " count "))
+            p = summary(path)
+            self.assertEqual((p.returncode, p.stderr), (2, f"vcd_summary: {path}: no busy, wait, wire or backlog "
+                                                           "signal changes in it (not an rtsim VCD?)\n"))
 
     def test_a_closed_stdout_is_a_quiet_exit(self):
         # | head: the reader is gone before the summary is written.
