@@ -3,7 +3,10 @@ experiment in scripts/experiments/ with argparse answers --help (its
 imports, project.py and sweep.py among them, resolve from where it lives),
 and every experiment runs the paper's scene with every setting spelled
 out, as project.PAPER_SCENE says, which rtsim reads as the scene its
-defaults give. Run by ctest as: /usr/bin/python3 test_scripts.py <rtsim>."""
+defaults give. Each tool refuses bad input in one line and exit 2 before
+any work (BadInput), and a stop ends a long run at once, its children and
+temporaries with it (Stops). Run by ctest as: /usr/bin/python3
+test_scripts.py <rtsim>."""
 import glob
 import json
 import os
