@@ -117,7 +117,7 @@ def main():
     if a.doc:
         outputs.check_output(os.path.join(ROOT, "doc", "robustness.md"), "--doc", doc=True)
     builds = [("this build", a.rtsim)] + ([("older", a.against)] if a.against else [])
-    lines = ["<!-- written by scripts/bench_edges.py --doc; do not edit -->",
+    lines = [f"<!-- written by scripts/bench_edges.py{' --doc' if a.doc else ''}; do not edit -->",
              f"Medians of {a.runs} runs; SIGTERM to rtsim, milliseconds to its exit (outputs written), and its exit code.",
              "", "| where | " + " | ".join(f"{n}: ms, exit" for n, _ in builds) + " |",
              "|---|" + "---:|" * len(builds)]
