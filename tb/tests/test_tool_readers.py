@@ -1,6 +1,7 @@
 """The tools' readers never trace back (issue 60, "Readers that never trace
 back"): the VCD reader of scripts/vcd_summary.py, the CSV reader of
-scripts/plot_sweep.py and the report reader of scripts/mesh_map.py, fed
+scripts/plot_sweep.py, the report reader of scripts/mesh_map.py and the
+sweep driver's journal (scripts/sweep.py), fed
 damaged copies of the small real files in tb/tests/corpus/ (bytes flipped
 or inserted, the file cut, lines deleted, duplicated or swapped; a CSV
 field or a report's field given another value), answer
@@ -16,6 +17,7 @@ import csv
 import io
 import json
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -39,6 +41,7 @@ sys.path.insert(0, SCRIPTS)
 import mesh_map  # noqa: E402
 import outputs  # noqa: E402
 import plot_sweep  # noqa: E402
+import sweep  # noqa: E402
 import vcd_summary  # noqa: E402
 
 # The same cases every run, nothing written beside the tests, no time limit
@@ -213,6 +216,25 @@ class ToolReaders(unittest.TestCase):
         text = io.StringIO()
         csv.writer(text, lineterminator="\n").writerows(rows)
         self.holds("plot_sweep", read_csv, text.getvalue().encode("utf-8", "surrogatepass"), "f.csv")
+
+    @FUZZ
+    @given(st.data())
+    def test_damaged_journals(self, data):
+        # A damaged journal line is named (FILE:LINE) and skipped, its point
+        # run again; the records kept are whole records; nothing raises.
+        path = os.path.join(self.dir, "d.jsonl")
+        with open(path, "wb") as f:
+            f.write(damage(corpus("journal.jsonl"), data.draw))
+        err = io.StringIO()
+        with contextlib.redirect_stderr(err):
+            journal = sweep.Journal(path)
+            journal.close()
+        for line in err.getvalue().splitlines():
+            self.assertRegex(line, r"^" + re.escape(path) + r":\d+: .*; skipped \(its point runs again\)$")
+        for rec in journal.done.values():
+            for field, kind in sweep.RECORD_FIELDS.items():
+                self.assertIsInstance(rec[field], kind)
+        self.assertLessEqual(len(journal.done), 4)
 
     def test_the_corpus_through_each_command_line(self):
         # (file, tool and its flags, exit code, what stdout or stderr says)
