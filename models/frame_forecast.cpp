@@ -75,12 +75,15 @@ FrameForecast::FrameForecast(const nlohmann::json& r, const MachineConfig& m, co
         columns_[size_t(key.first)].lateralBelow.push_back(std::move(below));
     }
     raysOnLinks += r.contains("totals") ? number(r.at("totals"), "rays_passed") : 0;
-    double wire = 0;  // the rays' wire time on the links between nodes
+    // The rays' wire time on the links between nodes: the report's sum (a
+    // summary's links have no wire_ns), or the links' own in an older report.
+    const bool summed = r.contains("totals") && r.at("totals").contains("ray_wire_ns");
+    double wire = summed ? number(r.at("totals"), "ray_wire_ns") : 0;
     double busiestLink = 0, busiestNode = 0;
     if (r.contains("links"))
         for (const auto& l : r.at("links"))
             if (l.value("to", "") != "fb") {
-                if (l.contains("wire_ns")) wire += number(l.at("wire_ns"), "ray");
+                if (!summed && l.contains("wire_ns")) wire += number(l.at("wire_ns"), "ray");
                 busiestLink = std::max(busiestLink, number(l, "wire_busy_ns"));
             }
     for (const auto& node : r.at("nodes")) busiestNode = std::max(busiestNode, node.at("busy_ns").get<double>());

@@ -32,13 +32,14 @@ struct Costs {
 // Sliding boundaries (doc/balancing.md). Every column of nodes along the
 // progress axis owns its own boundaries between them. Policies are named
 // (models/policy_registry.cpp): none, slide, work, quantile, resplit, measured, median.
-// What `--balance default` selects: the recommended policy (doc/balancing.md).
+// The recommended policy (doc/balancing.md; `--balance recommended`; the
+// default of --balance is none, no balancing).
 // `measured` keeps the starting split for the first frame, measuring where
 // the work is, and from the second frame on re-splits each column between
 // frames as `resplit` does: a first frame is never slower than without
 // balancing (within a frame, sliding lost up to 39 % on balls-4), and the
 // steady state is `resplit`'s.
-constexpr const char* kDefaultPolicy = "measured";
+constexpr const char* kRecommendedPolicy = "measured";
 
 struct BalanceConfig {
     std::string policy = "none";

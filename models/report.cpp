@@ -124,8 +124,8 @@ nlohmann::json workByPositionJson(const BalanceStats& stats) {
     return wj;
 }
 
-// Per node: its box, time, counts and balancing intervals.
-nlohmann::json nodeJson(const MachineResult& r, size_t i) {
+// Per node: its box, time, counts and (`full`) balancing intervals.
+nlohmann::json nodeJson(const MachineResult& r, size_t i, bool full) {
     const NodeStats& s = r.nodes[i];
     nlohmann::json n;
     n["node"] = cellJson(r.cells[i]);
@@ -158,7 +158,7 @@ nlohmann::json nodeJson(const MachineResult& r, size_t i) {
     n["objects_sent"] = s.objectsSent;
     n["objects_received"] = s.objectsReceived;
     if (!s.balance.work.bins().empty()) n["work_by_position"] = workByPositionJson(s.balance);
-    if (!s.balance.intervals.empty()) {
+    if (full && !s.balance.intervals.empty()) {
         auto& iv = n["intervals"];
         iv["intervals_per_record"] = s.balance.intervalsPerRecord;  // > 1: merged to bound the report
         for (const IntervalRecord& x : s.balance.intervals) {
@@ -172,13 +172,13 @@ nlohmann::json nodeJson(const MachineResult& r, size_t i) {
 
 // Per link: messages, bytes and wire time by type, utilisation, waits and
 // (--link-stats full) latency percentiles and high-water marks.
-nlohmann::json linkJsonOf(const LinkReport& l, Picos renderTime, bool distributions) {
+nlohmann::json linkJsonOf(const LinkReport& l, Picos renderTime, bool distributions, bool full) {
     nlohmann::json lj;
     lj["name"] = l.name;
     lj["from"] = cellJson(l.from);
     lj["to"] = l.dir < 0 ? "fb" : dirName(l.dir);
-    lj["params"] = linkJson(l.params);
-    for (int t = 0; t < kMsgTypes; ++t) {
+    if (full) lj["params"] = linkJson(l.params);
+    for (int t = 0; full && t < kMsgTypes; ++t) {
         const char* name = msgTypeName(MsgType(t));
         lj["messages"][name] = l.stats.messages[size_t(t)];
         lj["bytes"][name] = l.stats.bytes[size_t(t)];
@@ -190,15 +190,16 @@ nlohmann::json linkJsonOf(const LinkReport& l, Picos renderTime, bool distributi
     lj["wire_busy_ns"] = ns(busy);
     lj["channels"] = l.channels;
     lj["utilisation"] = renderTime ? double(busy) / (double(renderTime) * l.channels) : 0.0;
+    lj["saturated_ns"] = ns(l.stats.saturated);  // busy with a backlog waiting for the wire
+    if (distributions) lj["peak_utilisation"] = l.stats.windows.peak(renderTime, l.channels);
+    if (!full) return lj;
     lj["consumed"] = l.stats.consumed;
     lj["slot_wait_ns"] = ns(l.stats.slotWait);
     lj["wire_wait_ns"] = ns(l.stats.wireWait);
-    lj["saturated_ns"] = ns(l.stats.saturated);  // busy with a backlog waiting for the wire
     if (distributions) {  // (--link-stats counts: not kept)
         if (l.stats.latency.count()) lj["latency_ns"] = percentilesJson(l.stats.latency);
         if (l.stats.controlLatency.count()) lj["control_latency_ns"] = percentilesJson(l.stats.controlLatency);
         lj["backlog_high_water"] = l.stats.backlogHighWater;
-        lj["peak_utilisation"] = l.stats.windows.peak(renderTime, l.channels);
         lj["peak_window_ns"] = ns(l.stats.windows.width());
         lj["buffer_high_water"] = l.stats.bufferHighWater;
     }
@@ -207,14 +208,16 @@ nlohmann::json linkJsonOf(const LinkReport& l, Picos renderTime, bool distributi
 
 // The links, the three busiest wires (ties: the first in the list) and the
 // totals by message type.
-void addLinks(nlohmann::json& j, const MachineResult& r, const MachineConfig& cfg) {
+void addLinks(nlohmann::json& j, const MachineResult& r, const MachineConfig& cfg, bool full) {
     std::array<uint64_t, kMsgTypes> msgs{}, bytes{};
+    double rayWire = 0;  // (summed as the forecast summed the links' own: the same bits)
     for (const LinkReport& l : r.links) {
+        if (l.dir >= 0) rayWire += ns(l.stats.wire[size_t(MsgType::Ray)]);
         for (size_t t = 0; t < size_t(kMsgTypes); ++t) {
             msgs[t] += l.stats.messages[t];
             bytes[t] += l.stats.bytes[t];
         }
-        j["links"].push_back(linkJsonOf(l, r.renderTime, cfg.linkDistributions));
+        j["links"].push_back(linkJsonOf(l, r.renderTime, cfg.linkDistributions, full));
     }
     const std::vector<size_t> busiest = linksByBacklog(j["links"]);
     j["busiest_links"] = nlohmann::json::array();
@@ -224,6 +227,7 @@ void addLinks(nlohmann::json& j, const MachineResult& r, const MachineConfig& cf
         if (l.contains("peak_utilisation")) b["peak_utilisation"] = l["peak_utilisation"];
         j["busiest_links"].push_back(std::move(b));
     }
+    j["totals"]["ray_wire_ns"] = rayWire;  // resplit's forecast (frame_forecast.h); a summary has no per-link wire_ns
     for (int t = 0; t < kMsgTypes; ++t) {
         j["totals"]["messages"][msgTypeName(MsgType(t))] = msgs[size_t(t)];
         j["totals"]["bytes"][msgTypeName(MsgType(t))] = bytes[size_t(t)];
@@ -317,7 +321,8 @@ std::vector<size_t> linksByBacklog(const nlohmann::json& links) {
     return idx;
 }
 
-nlohmann::json machineReport(const MachineResult& r, const MachineConfig& cfg) {
+nlohmann::json machineReport(const MachineResult& r, const MachineConfig& cfg, ReportDetail detail) {
+    const bool full = detail == ReportDetail::Full;
     nlohmann::json j;
     j["config"] = machineConfigJson(cfg, r.image.width, r.image.height);
     j["render_time_ns"] = ns(r.renderTime);
@@ -334,9 +339,9 @@ nlohmann::json machineReport(const MachineResult& r, const MachineConfig& cfg) {
         total.raysForwarded += s.raysForwarded;
         total.raysPassed += s.raysPassed;
         total.raysPassedBetweenColumns += s.raysPassedBetweenColumns;
-        j["nodes"].push_back(nodeJson(r, i));
+        j["nodes"].push_back(nodeJson(r, i, full));
     }
-    addLinks(j, r, cfg);
+    addLinks(j, r, cfg, full);
     j["totals"]["busy_ns"] = ns(total.busy);
     j["totals"]["busy_by_category"] = busyPartsJson(total.busyBy);
     j["totals"]["blocked_ns"] = ns(total.blocked);

@@ -10,7 +10,17 @@
 
 namespace rt {
 
-nlohmann::json machineReport(const MachineResult& r, const MachineConfig& config);
+// How much of each node and link the report keeps (--report-detail; doc/report.md,
+// "Report detail"). Summary keeps what the summary, the mesh map, the frame
+// loop (a node's grid and work by position: `resplit`'s forecast) and
+// scripts read, and leaves out what grows with the mesh but few read: a
+// node's balancing intervals, a link's settings, counts by message type,
+// latency percentiles and high-water marks. A 32x32x32 mesh's report was
+// 334 MB.
+enum class ReportDetail { Full, Summary };
+
+nlohmann::json machineReport(const MachineResult& r, const MachineConfig& config,
+                             ReportDetail detail = ReportDetail::Full);
 // Its `config`: every machine setting, as the run used it, for an image of
 // width x height.
 nlohmann::json machineConfigJson(const MachineConfig& config, int width, int height);

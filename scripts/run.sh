@@ -8,6 +8,13 @@
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 "$root/scripts/setup.sh"
-"$root/scripts/build.sh" rtsim >/dev/null
+# The build's progress on stderr (cmake's [ NN%] lines): the first build
+# takes minutes, and a silent one looks hung. stdout stays the summary's.
+if [[ -x "$root/build/rtsim" ]]; then
+    echo "run.sh: bringing build/rtsim up to date" >&2
+else
+    echo "run.sh: building rtsim in build/ (the first time: about 2.5 minutes on 2 cores; its progress follows)" >&2
+fi
+"$root/scripts/build.sh" rtsim >&2
 mkdir -p "$root/out"
 "$root/build/rtsim" --image "$root/out/rtsim.png" --report "$root/out/rtsim.json" --vcd "$root/out/rtsim.vcd" "$@"

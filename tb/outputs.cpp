@@ -59,8 +59,12 @@ void RunOutputs::image(const Image& image) {
 }
 
 void RunOutputs::report(const nlohmann::json& report) {
-    // Streamed: the text of a 32x32x32 mesh's report is over 300 MB.
-    if (!o_.report.empty()) open(report_, o_.report).write([&](std::ostream& f) { f << std::setw(2) << report << '\n'; });
+    // Streamed: the text of a 32x32x32 mesh's report was over 300 MB. A
+    // summary (--report-detail) is for programs: without indentation, which
+    // was half of its size.
+    const bool indent = !o_.report.empty() && o_.fullReport();
+    if (!o_.report.empty())
+        open(report_, o_.report).write([&](std::ostream& f) { f << std::setw(indent ? 2 : -1) << report << '\n'; });
 }
 
 void RunOutputs::gtkw(const std::string& text) {

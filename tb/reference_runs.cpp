@@ -36,13 +36,16 @@ ReferenceRuns addReferenceRuns(nlohmann::json& report, const std::vector<std::st
     const OrderlyStops orderly;  // a stop is passed to them; the frame's outputs are still written
     const auto t0 = std::chrono::steady_clock::now();
     std::optional<Child> baseRun, otherRun;
-    if (base) baseRun.emplace(args, std::vector<std::string>{"--as-baseline"});
-    std::vector<std::string> otherArgs{"--as-comparison", "--balance", policy == "none" ? "default" : "none"};
-    // The default keeps a first frame's split and re-splits from the
-    // second: a single frame is compared with its second frame.
-    BalanceConfig byDefault;
-    byDefault.policy = kDefaultPolicy;
-    if (policy == "none" && o.frames == 1 && byDefault.firstFrameHolds()) otherArgs.insert(otherArgs.end(), {"--frames", "2"});
+    // (Their reports are read for a few figures: the per-node and per-link detail of a big mesh would be
+    // written and parsed for nothing.)
+    if (base) baseRun.emplace(args, std::vector<std::string>{"--as-baseline", "--report-detail", "summary"});
+    std::vector<std::string> otherArgs{"--as-comparison", "--report-detail", "summary", "--balance",
+                                       policy == "none" ? kRecommendedPolicy : "none"};
+    // The recommended policy keeps a first frame's split and re-splits from
+    // the second: a single frame is compared with its second frame.
+    BalanceConfig recommended;
+    recommended.policy = kRecommendedPolicy;
+    if (policy == "none" && o.frames == 1 && recommended.firstFrameHolds()) otherArgs.insert(otherArgs.end(), {"--frames", "2"});
     if (compare) otherRun.emplace(args, otherArgs);
     const std::optional<nlohmann::json> baseReport = baseRun ? baseRun->report() : std::nullopt;
     const std::optional<nlohmann::json> other = otherRun ? otherRun->report() : std::nullopt;

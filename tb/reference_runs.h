@@ -1,6 +1,6 @@
 // The reference runs beside a run, in two child processes at once: the
 // same frame on a 1x1x1 mesh with the same costs (the speed-up), and the
-// same frame balanced the other way (the default policy if the run does not
+// same frame balanced the other way (the recommended policy if the run does not
 // balance, no balancing if it does: the paper's Fig. 4 ratio, beside its
 // bound). --no-baseline skips both.
 #pragma once

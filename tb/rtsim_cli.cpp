@@ -168,15 +168,21 @@ void RtsimOptions::addLinkFlags(CLI::App& app) {
 
 void RtsimOptions::addBalanceFlags(CLI::App& app) {
     BalanceConfig& b = machine.balance;
-    std::string policyHelp = "policy: default (the recommended one: " + std::string(kDefaultPolicy) + ")";
-    std::string names = "default";
+    // One name each: none (the default) does not balance, recommended is
+    // kRecommendedPolicy; `default` meant the latter while being the former.
+    const std::string recommended = kRecommendedPolicy;
+    std::string policyHelp = "policy: none (the default: no balancing, the boundaries stay where they start); recommended (the recommended policy, " + recommended + ")";
+    std::string names = "recommended";
     for (const PolicyInfo& p : policies()) {
-        policyHelp += std::string("; ") + p.name + " (" + p.help + ")";
+        if (std::string(p.name) != "none") policyHelp += std::string("; ") + p.name + " (" + p.help + ")";
         names += std::string(", ") + p.name;
     }
-    app.add_option_function<std::string>("--balance", [&b, names](const std::string& s) {
-           if (s == "default") b.policy = kDefaultPolicy;
+    app.add_option_function<std::string>("--balance", [&b, names, recommended](const std::string& s) {
+           if (s == "recommended") b.policy = recommended;
            else if (findPolicy(s)) b.policy = s;
+           else if (s == "default")
+               throw CLI::ValidationError("--balance", "'default' names no policy: the recommended policy is " + recommended +
+                                                           " (or 'recommended'); no balancing is none, the default");
            else throw CLI::ValidationError("--balance", "expected " + names + ", got '" + s + "'");
        }, policyHelp)
         ->default_str("none")->group(gb);
@@ -240,6 +246,11 @@ void RtsimOptions::addOutputFlags(CLI::App& app) {
     app.add_option("--map", map, "a picture of the mesh for this run (PNG: loads, link utilisation, boundaries; "
                                  "scripts/mesh_map.py, with Debian's python3-matplotlib)")
         ->group(go);
+    app.add_option("--report-detail", reportDetail,
+                   "how much of each node and link the report keeps: full; summary (without a link's settings, counts by "
+                   "message type, latencies and high-water marks, and a node's balancing intervals; written without "
+                   "indentation: a 32x32x32 mesh's report at 64x64: 340 MB -> 69 MB); auto: full up to 4096 nodes, summary beyond")
+        ->check(CLI::IsMember({"auto", "full", "summary"}))->capture_default_str()->group(go);
     app.add_option("--vcd", vcd, "VCD waveform (a .gtkw save file is written beside it)")->group(go);
     app.add_option("--trace-nodes", traceSpecs_,
                    "nodes to trace in the VCD: x,y,z (repeatable; default all), or busiest[:K]: the K (default 4) busiest "
@@ -252,8 +263,8 @@ void RtsimOptions::addOutputFlags(CLI::App& app) {
         ->group(go);
     app.add_option("--trace-window", traceWindow_, "time window of the VCD: FROM,TO (e.g. 0,50us)")->group(go);
     app.add_flag("--no-baseline", noBaseline_,
-                 "skip the reference runs: the 1x1x1 mesh that gives the speed-up, and the same frame with the default "
-                 "balancing (or, when balancing, without) that gives the balancing ratio")
+                 "skip the reference runs: the 1x1x1 mesh that gives the speed-up, and the same frame with the recommended "
+                 "policy (or, when balancing, without) that gives the balancing ratio")
         ->group(go);
     app.add_flag("-q,--quiet", quiet, "no summary")->group(go);
     app.add_flag("-v,--verbose", verbose,
@@ -307,6 +318,16 @@ void RtsimOptions::finish() {
         const size_t colon = msg.find(':');
         throw CLI::ValidationError(msg.substr(0, colon), msg.substr(colon + 2));
     }
+}
+
+bool RtsimOptions::fullReport() const {
+    return reportDetail == "full" || (reportDetail == "auto" && machine.nodeCount() <= kFullReportNodes);
+}
+
+std::string RtsimOptions::reportDetailWhy() const {
+    if (reportDetail != "auto") return "--report-detail " + reportDetail;
+    return "--report-detail auto: " + std::to_string(machine.nodeCount()) + " nodes, " +
+           (fullReport() ? "at most " : "more than ") + std::to_string(kFullReportNodes);
 }
 
 void RtsimOptions::checkAlone() {

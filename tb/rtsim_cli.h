@@ -17,6 +17,10 @@ struct RtsimOptions {
     int mesh = 4;
     std::string meshDims;  // "XxYxZ", overrides --mesh
     std::string image = "rtsim.png", report, vcd, map;
+    // --report-detail: auto (full up to kFullReportNodes nodes, summary
+    // beyond), full or summary (models/report.h, ReportDetail).
+    std::string reportDetail = "auto";
+    static constexpr int kFullReportNodes = 4096;  // 16x16x16
     bool baseline = true;  // also run a 1x1x1 mesh for the speed-up
     bool quiet = false;
     int verbose = 0;  // -v, -vv (tb/messages.h)
@@ -32,6 +36,11 @@ struct RtsimOptions {
     bool asFrame = false;           // internal: an earlier frame of another run's sequence
     bool asFirstPass = false;       // internal: the first pass of --trace-nodes busiest (trace_busiest.h)
     int traceBusiest = 0;           // --trace-nodes busiest[:K]: K (0: not asked)
+
+    // The report's detail as --report-detail chooses it for this mesh:
+    // whether full, and why ("--report-detail auto: 32768 nodes, more than 4096").
+    bool fullReport() const;
+    std::string reportDetailWhy() const;
 
     // Registers every flag on `app`.
     void addTo(CLI::App& app);

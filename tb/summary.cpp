@@ -77,34 +77,42 @@ void printTraffic(const nlohmann::json& report) {
                 "messages waiting for the wire; node_X_Y_Z_py: from node X,Y,Z towards +y, _fb: to its frame-buffer unit)\n");
 }
 
-// The balancing and the bounds (when it balances), the paper's Fig. 4
-// quantity for this frame (with the comparison run), the frames.
+// A policy as the summary names it: the recommended one says so.
+std::string policyName(const std::string& policy) {
+    return policy == kRecommendedPolicy ? policy + " (the recommended policy)" : policy;
+}
+
+// The balancing and the bounds of this run's frame (when it balances), the
+// paper's Fig. 4 quantity for this frame (with the comparison run, and the
+// unbalanced frame's bound), the frames.
 void printBalancing(const RtsimOptions& o, const nlohmann::json& report) {
     const char axis = "xyz"[o.machine.balance.axis];
-    if (o.machine.balance.policy != "none") {
+    const bool balances = o.machine.balance.policy != "none";
+    if (balances) {
         std::printf("  balancing        %s along %c: %zu slides; max / mean load %.2f; boundaries %s\n",
-                    o.machine.balance.policy.c_str(), axis, report["balance"]["slides"].get<size_t>(),
+                    policyName(o.machine.balance.policy).c_str(), axis, report["balance"]["slides"].get<size_t>(),
                     report["balance"]["max_over_mean_load"].get<double>(),
                     report["balance"]["stability"].get<std::string>().c_str());
         const auto& b = report["bounds"];
         auto bound = [&](const char* k) {
             return nsTime(b[k]["ns"]) + " (" + std::to_string(b[k]["fraction"].get<double>()).substr(0, 4) + ")";
         };
-        std::printf("  bounds           perfect %s, column along %c %s, frame buffer %s (fractions of the render time)\n",
+        std::printf("  bounds           of this balanced frame: perfect %s, column along %c %s, frame buffer %s (fractions of "
+                    "its render time)\n",
                     bound("perfect").c_str(), axis, bound("column").c_str(), bound("frame_buffer").c_str());
     }
     if (report.contains("comparison")) {
         const auto& c = report["comparison"];
         const int frame = c.value("balanced_frame", 1);
-        const std::string which = c["balanced_policy"].get<std::string>() + (frame > 1 ? ", frame " + std::to_string(frame) : "");
-        const bool balances = o.machine.balance.policy != "none";
+        const std::string policy = c["balanced_policy"].get<std::string>();
+        const std::string ofFrame = frame > 1 ? ", frame " + std::to_string(frame) : "", which = policy + ofFrame;
         std::printf("  comparison       this run: %s; the comparison run: %s\n",
-                    balances ? ("balancing with " + o.machine.balance.policy).c_str() : "no balancing",
-                    balances ? "no balancing" : ("balancing with " + which).c_str());
-        std::printf("  with / without   %s: %s, none: %s; ratio %.2f (bound %.2f: the heaviest column along %c spread "
-                    "evenly; paper about 0.2 at f = 1/N)\n",
-                    which.c_str(), nsTime(c["balanced_ns"]).c_str(),
-                    nsTime(c["unbalanced_ns"]).c_str(), c["ratio"].get<double>(), c["column_bound"].get<double>(), axis);
+                    balances ? ("balancing with " + policyName(policy)).c_str() : "no balancing (none)",
+                    balances ? "no balancing (none)" : ("balancing with " + policyName(policy) + ofFrame).c_str());
+        std::printf("  with / without   %s: %s, none: %s; ratio %.2f (bound %.2f: the unbalanced frame's heaviest column "
+                    "along %c spread evenly; paper about 0.2 at f = 1/N)\n",
+                    which.c_str(), nsTime(c["balanced_ns"]).c_str(), nsTime(c["unbalanced_ns"]).c_str(),
+                    c["ratio"].get<double>(), c["column_bound"].get<double>(), axis);
     }
     if (report.contains("frames")) {
         std::printf("  frames          ");
@@ -148,7 +156,7 @@ void printSummary(const Scene& scene, const RtsimOptions& o, const MachineResult
         if (!path.empty()) files += (files.empty() ? " " : ", ") + path + " (" + what + ")";
     };
     add(o.image, "image");
-    add(o.report, "report");
+    add(o.report, o.fullReport() ? "report" : "report, summary detail: --report-detail full keeps every field");
     add(o.vcd, "waveforms");
     add(o.vcd.empty() ? "" : gtkwPathFor(o.vcd), "GTKWave view");
     add(o.map, "mesh map");

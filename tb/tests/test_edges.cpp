@@ -390,6 +390,46 @@ TEST_F(Edges, TheWallClockIsTheWholeRunItsPartsAddUpAndTheReferenceRunsAreOne) {
     }
 }
 
+// ---- 4c. The report's detail: practical at any mesh ----
+
+TEST_F(Edges, ASummaryReportKeepsWhatIsReadAndAutoChoosesItForABigMesh) {
+    const std::string run = std::string(kSmall) + " --balance measured --frames 2 --no-baseline -q --image ''";
+    ASSERT_EQ(rtsim(run + " --report " + p("full.json")).code, 0);
+    const Outcome o = rtsim(run + " --report-detail summary --report " + p("sum.json"));
+    ASSERT_EQ(o.code, 0) << o.err;
+    const std::string fullText = slurp(dir_ / "full.json"), sumText = slurp(dir_ / "sum.json");
+    EXPECT_LT(sumText.size() * 2, fullText.size());
+    json full = json::parse(fullText), sum = json::parse(sumText);
+    EXPECT_EQ(full["report_detail"]["level"], "full");
+    EXPECT_EQ(sum["report_detail"], json({{"level", "summary"}, {"why", "--report-detail summary"}}));
+    // What the summary, the mesh map, --trace-nodes busiest, the frame loop and scripts read: the same.
+    for (const char* k : {"render_time_ns", "busiest_links", "boundaries", "totals", "bounds", "balance", "config", "frames"})
+        EXPECT_EQ(sum[k], full[k]) << k;
+    ASSERT_EQ(sum["nodes"].size(), full["nodes"].size());
+    for (size_t i = 0; i < sum["nodes"].size(); ++i)
+        for (const char* k : {"node", "box", "busy_ns", "wait_ns", "load", "busy_by_category", "rays_traced", "counters",
+                              "grid", "work_by_position"})
+            ASSERT_EQ(sum["nodes"][i][k], full["nodes"][i][k]) << k;
+    ASSERT_EQ(sum["links"].size(), full["links"].size());
+    for (size_t i = 0; i < sum["links"].size(); ++i)
+        for (const char* k : {"name", "from", "to", "utilisation", "saturated_ns", "peak_utilisation"})
+            ASSERT_EQ(sum["links"][i][k], full["links"][i][k]) << k;
+    EXPECT_FALSE(sum["links"][0].contains("messages"));  // (left out)
+    // A summary runs again, and continues a sequence as the full report does.
+    const Outcome again = rtsim("--rerun " + p("sum.json") + " -q --image '' --report " + p("again.json"));
+    ASSERT_EQ(again.code, 0) << again.err;
+    EXPECT_EQ(json::parse(slurp(dir_ / "again.json"))["render_time_ns"], sum["render_time_ns"]);
+    const std::string next = std::string(kSmall) + " --balance measured --no-baseline -q --image '' --boundaries-from ";
+    ASSERT_EQ(rtsim(next + p("full.json") + " --report " + p("n1.json")).code, 0);
+    ASSERT_EQ(rtsim(next + p("sum.json") + " --report " + p("n2.json")).code, 0);
+    EXPECT_EQ(json::parse(slurp(dir_ / "n1.json"))["boundaries"], json::parse(slurp(dir_ / "n2.json"))["boundaries"]);
+    // auto: full up to 4096 nodes, a summary beyond, and the report says why.
+    ASSERT_EQ(rtsim("--mesh-dims 17x16x16 --spheres 1 --size 8x8 --no-baseline -q --image '' --report " + p("big.json")).code, 0);
+    EXPECT_EQ(json::parse(slurp(dir_ / "big.json"))["report_detail"],
+              json({{"level", "summary"}, {"why", "--report-detail auto: 4352 nodes, more than 4096"}}));
+    bad(run + " --report-detail some", "--report-detail");
+}
+
 // ---- 5. Config files: the last value wins, each value checked ----
 
 TEST_F(Edges, ConfigFilesAreReadWholeInOrderAndTheLastValueWins) {

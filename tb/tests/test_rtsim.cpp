@@ -469,7 +469,7 @@ TEST_F(Rtsim, SummaryComparesTheFrameWithAndWithoutBalancing) {
     const double one = report(args + " --mesh 1", "o.json")["render_time_ns"];
     ASSERT_TRUE(m.contains("comparison"));
     const json& c = m["comparison"];
-    EXPECT_EQ(c["balanced_policy"], "measured");  // what --balance default selects
+    EXPECT_EQ(c["balanced_policy"], "measured");  // the recommended policy (--balance recommended)
     // One frame of resplit is one frame of slide; one frame of measured
     // keeps the starting split: the unbalanced frame, to the picosecond.
     EXPECT_EQ(report(args + " --balance resplit", "r.json")["render_time_ns"], slide["render_time_ns"]);
@@ -496,7 +496,12 @@ TEST_F(Rtsim, SummaryComparesTheFrameWithAndWithoutBalancing) {
     const json w = json::parse(slurp(dir_ / "w.json"));
     EXPECT_EQ(w["comparison"]["balanced_policy"], "work");
     EXPECT_EQ(w["comparison"]["unbalanced_ns"].get<double>(), none);
-    EXPECT_NE(b.out.find("bounds           perfect"), std::string::npos) << b.out;
+    EXPECT_NE(b.out.find("bounds           of this balanced frame: perfect"), std::string::npos) << b.out;
+    // Its two column bounds say whose they are: this balanced frame's, the unbalanced frame's.
+    EXPECT_NE(b.out.find("the unbalanced frame's heaviest column along x"), std::string::npos) << b.out;
+    // An unbalanced run names its comparison's policy as the recommended one.
+    EXPECT_NE(o.out.find("this run: no balancing (none); the comparison run: balancing with measured (the recommended "
+                         "policy), frame 2"), std::string::npos) << o.out;
 }
 
 // Issue 11: where the paper's rule used to lose (a frame 2.6 times longer
@@ -514,7 +519,7 @@ class NeverHurts : public Rtsim, public testing::WithParamInterface<Hurt> {};
 TEST_P(NeverHurts, DefaultPolicyLosesAtMostTwoPercent) {
     // The default keeps its first frame's split (measured); slide, the
     // paper's rule within a frame, is held there by its guard.
-    for (const char* policy : {"default", "slide"}) {
+    for (const char* policy : {"recommended", "slide"}) {
         SCOPED_TRACE(policy);
         const std::string along = " --eye=-1.3,0.5,0.5 --look-at=0.5,0.5,0.5 --fov 50";
         const std::string flags = std::string(" --size 128x128 --balance ") + policy + " " + GetParam().flags;
@@ -531,7 +536,7 @@ TEST_P(NeverHurts, DefaultPolicyLosesAtMostTwoPercent) {
 // the sequence slower than the first (the unbalanced frame) by 2 %.
 TEST_P(NeverHurts, DefaultPolicyInSteadyStateLosesAtMostTwoPercent) {
     const std::string along = " --eye=-1.3,0.5,0.5 --look-at=0.5,0.5,0.5 --fov 50";
-    const std::string flags = std::string(" --size 128x128 --balance default --frames 4 ") + GetParam().flags;
+    const std::string flags = std::string(" --size 128x128 --balance recommended --frames 4 ") + GetParam().flags;
     const std::string args = (std::string(GetParam().name) == "view_across" ? "" : along) + flags;
     const Outcome o = run(args + " -q --image '' --report " + (dir_ / "r.json").string());
     ASSERT_EQ(o.code, 0) << o.err;
@@ -735,6 +740,8 @@ TEST_F(Rtsim, BadConfigurationExits2NamingTheFlag) {
     expectBad("--fb-units 0", "--fb-units");
     expectBad("--fb-units 257", "--fb-units");
     expectBad("--balance sometimes", "--balance");
+    // `default` meant the recommended policy while the default of --balance was none: one name each now.
+    expectBad("--balance default", "--balance: 'default' names no policy: the recommended policy is measured (or 'recommended')");
     expectBad("--eye nan,0,0", "--eye");
     expectBad("--light 1,nan,1", "--light");
     expectBad("--eye-step 0,inf,0 --frames 2", "--eye-step");
@@ -1360,7 +1367,7 @@ TEST_F(Rtsim, WhereTheLinksAreTheFrameColumnsOwnPlanesMustBeatAlignedOnesClearly
     // of the first frame, the aligned planes 0.95. So the aligned planes
     // are chosen, and the second frame does not lose.
     const json r = report(" --scene " + std::string(RT_SCENE_DIR) + "/tetra-3.nff --size 256x256 --mesh 6"
-                          " --link-bandwidth 100MB/s --balance default --frames 2", "t.json");
+                          " --link-bandwidth 100MB/s --balance recommended --frames 2", "t.json");
     EXPECT_EQ(r["frames"][0]["then"]["next"], "aligned");
     EXPECT_LT(r["frames"][1]["render_time_ns"].get<double>(), r["frames"][0]["render_time_ns"].get<double>());
 }
