@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The mesh picture in doc/machine.md and the README: a 4x4x4 run of the
-# default scene balanced with the default policy, drawn by rtsim --map
+# default scene balanced with the recommended policy, drawn by rtsim --map
 # (scripts/mesh_map.py). To out/images/mesh-map.png; with --doc, to
 # doc/images/mesh-map.png (the published one).
 #   bash scripts/mesh_map_example.sh [--doc]
@@ -16,6 +16,6 @@ esac
 "$root/scripts/setup.sh" plots
 "$root/scripts/build.sh" >/dev/null
 mkdir -p "$dest"
-"$root/build/rtsim" --mesh 4 --size 96x96 --balance default --no-baseline -q --image '' \
+"$root/build/rtsim" --mesh 4 --size 96x96 --balance recommended --no-baseline -q --image '' \
   --map "$dest/mesh-map.png"
 echo "wrote ${dest#$root/}/mesh-map.png"

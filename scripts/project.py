@@ -39,6 +39,15 @@ VIEWS = {
 PRESETS = ["modern", "transputer-1987", "paper"]
 
 
+def policy_named(label):
+    """A balancing policy's name as a published CSV holds it, in today's
+    words: rows run before `--balance default` was retired (it meant
+    measured, the recommended policy) say `default` (or `default@K` for its
+    K-th frame)."""
+    head, at, frames = label.partition("@")
+    return ("measured" if head == "default" else head) + at + frames
+
+
 def preset_flags(name):
     """The flags that run rtsim on a preset."""
     return ["--config", os.path.join(ROOT, "configs", name + ".conf")]

@@ -33,7 +33,7 @@ from project import RESULTS, ROOT, RTREF, RTSIM, publish_table, spd_scene  # noq
 # Set on a stop: the workers start no more runs (outputs.guard kills the running ones).
 STOPPING = threading.Event()
 
-POLICIES = ["none", "slide", "work", "quantile", "resplit", "measured", "median", "default"]
+POLICIES = ["none", "slide", "work", "quantile", "resplit", "measured", "median", "recommended"]
 DIRS = ["+x", "-x", "+y", "-y", "+z", "-z"]
 
 
@@ -247,8 +247,9 @@ def main():
     a = ap.parse_args()
     if a.count < 1 or a.jobs < 1:
         raise outputs.ToolError(f"--count {a.count}, --jobs {a.jobs}: at least 1 each")
-    outputs.check_input(a.rtsim, "--rtsim")
-    outputs.check_input(a.rtref, "--rtref")
+    # Each run works in a folder of its own: the binaries by absolute path.
+    a.rtsim = os.path.abspath(outputs.check_input(a.rtsim, "--rtsim"))
+    a.rtref = os.path.abspath(outputs.check_input(a.rtref, "--rtref"))
     if a.doc:  # (checked before the runs, not after them)
         for page in (os.path.join(RESULTS, "stress.md"), os.path.join(ROOT, "doc", "robustness.md")):
             outputs.check_output(page, "--doc", doc=True)

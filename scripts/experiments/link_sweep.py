@@ -58,7 +58,7 @@ def main():
     ap.add_argument("--preset", default="modern", choices=sorted(PRESETS), help="configs/PRESET.conf")
     ap.add_argument("--latencies", help="swept latencies (default: the preset's)")
     ap.add_argument("--bandwidths", help="swept bandwidths (default: the preset's)")
-    ap.add_argument("--balance", default="default", help="the balancing policy compared with none")
+    ap.add_argument("--balance", default="measured", help="the balancing policy compared with none (default: measured, the recommended one)")
     ap.add_argument("--frames", type=int, default=6,
                     help="its steady state too: the last of this many frames (1: the first frame only)")
     ap.add_argument("--deep-depth", type=int, help="link depth of the repeated latency sweep (default: 4x the preset's)")
@@ -79,6 +79,7 @@ def main():
         write_csv(csv_path, sweep(a))
     rows = read_csv(csv_path)
     for r in rows:
+        r["balance"] = project.policy_named(r["balance"])
         r["N"] = int(r["N"])
         for k in ("latency_s", "bandwidth_Bps", "render_time_ns", "one_node_ns", "speedup", "balance_gain"):
             r[k] = float(r[k]) if r[k] != "" else None

@@ -49,7 +49,7 @@ class ReportDoc(unittest.TestCase):
         named = set(re.findall(r"`([\w.\[\]]+)`", doc))
         scene = os.path.join(os.path.dirname(ROOT), "shared", "scenes", "spd", "balls-1.nff")
         runs = [
-            ["--balance", "default", "--frames", "2", "--size", "24x24", "--mesh", "3", "--spheres", "80"],
+            ["--balance", "recommended", "--frames", "2", "--size", "24x24", "--mesh", "3", "--spheres", "80"],
             ["--mesh", "2", "--size", "16x16", "--spheres", "40", "--balance", "slide", "--link-control-depth", "2",
              "--balance-interval", "2us", "--node-speed", "0,0,0=2", "--node-cost", "1,0,0:sphere=20ns",
              "--link-set", "0,0,0,+x:latency=200ns", "--trace-nodes", "0,0,0", "--trace-links", "1,1,1,fb",
