@@ -56,6 +56,16 @@ def check_name(name, what="NAME"):
     return name
 
 
+def one_line_errors(ap):
+    """An argparse parser's errors in one line, 'PROG: error: why' and exit
+    2, without the usage (--help shows it). Returns the parser."""
+    def error(message):
+        print(f"{ap.prog}: error: {one_line(message)}", file=sys.stderr)
+        sys.exit(BAD_INPUT)
+    ap.error = error
+    return ap
+
+
 def _kind(mode):
     for test, word in ((stat.S_ISDIR, "a folder"), (stat.S_ISFIFO, "a FIFO"), (stat.S_ISCHR, "a device"),
                        (stat.S_ISBLK, "a device"), (stat.S_ISSOCK, "a socket"), (stat.S_ISLNK, "a symbolic link")):

@@ -68,13 +68,7 @@ def dask_address(text):
     return text
 
 
-def one_line_errors(ap):
-    """argparse's errors in one line, 'PROG: error: why' and exit 2, without
-    the usage (--help shows it)."""
-    def error(message):
-        print(f"{ap.prog}: error: {message}", file=sys.stderr)
-        sys.exit(outputs.BAD_INPUT)
-    ap.error = error
+one_line_errors = outputs.one_line_errors  # (the experiments call it as sweep's)
 
 
 def add_arguments(ap):
