@@ -14,15 +14,18 @@ point: it is left out of the line, its best and its knees, and said so.
 The chart goes to out/plots/ unless --out names a path (into doc/ only
 with --doc). Run with /usr/bin/python3 (Debian's python3-matplotlib)."""
 import argparse
+import contextlib
 import csv
 import io
 import math
 import os
 import re
 import sys
+import warnings
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from outputs import ToolError, check_distinct, check_input, check_output, guard, out_path, savefig  # noqa: E402
+from outputs import (ToolError, check_distinct, check_input, check_output, guard, one_line_errors, out_path,  # noqa: E402
+                     savefig)
 from project import pyplot  # noqa: E402
 
 # Units rtsim's flags take (tb/option_parsers.cpp): times and rates.
@@ -169,8 +172,8 @@ class Line:
     """One line of the chart: its points (x in SI, y as in the CSV, the x
     as written, the CSV line) in x order, and the points left out."""
 
-    def __init__(self, label):
-        self.label, self.points, self.left_out = label, [], []
+    def __init__(self, label, col):
+        self.label, self.col, self.points, self.left_out = label, col, [], []
 
     @property
     def xs(self):
@@ -191,7 +194,7 @@ def lines_of(table, x, ys, group):
         for col in ys:
             label = " ".join(s for s in ((f"{group}={row[group]}" if group else ""),
                                          (words(col) if len(ys) > 1 else "")) if s) or words(col)
-            ln = out.setdefault(label, Line(label))
+            ln = out.setdefault(label, Line(label, col))
             y = number(table, row, line, col)
             if y is None or not math.isfinite(y):
                 ln.left_out.append(f"{x}={row[x]} (line {line}: {col} {'empty' if y is None else row[col].strip()})")
@@ -204,6 +207,22 @@ def lines_of(table, x, ys, group):
 
 def words(col):
     return KNOWN[col][0] if col in KNOWN else col
+
+
+# A column not in KNOWN whose name ends in a unit: its values in that unit,
+# shown in the unit that suits a frame's times.
+SUFFIXES = {"_ns": ("us", 1e-3), "_us": ("us", 1.0), "_ms": ("ms", 1.0), "_s": ("s", 1.0)}
+
+
+def known(col):
+    """(words, quantity, unit shown, factor) of a column: KNOWN's, or its
+    name's unit suffix (x_ns: us), or None."""
+    if col in KNOWN:
+        return KNOWN[col]
+    for suffix, (unit, factor) in SUFFIXES.items():
+        if col.endswith(suffix) and len(col) > len(suffix):
+            return col, col[:-len(suffix)].replace("_", " "), unit, factor
+    return None
 
 
 def knee(xs, ys, level, logx, start=None):
@@ -241,7 +260,7 @@ def reference_of(line, reference):
 
 
 def parse_args(argv):
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap = one_line_errors(argparse.ArgumentParser(description=__doc__.split("\n\n")[0]))
     ap.add_argument("csv", help="a sweep's CSV (out/sweeps/NAME.csv)")
     ap.add_argument("--x", required=True, help="the column along x (a swept flag, say link-bandwidth)")
     ap.add_argument("--y", default="render_time_ns", help="the column(s) along y, comma-separated (default render_time_ns)")
@@ -293,15 +312,16 @@ def y_axis(cols):
     """(factor from y to the axis's unit, the unit, the axis's label): the
     columns' quantity and unit if they are known and share them, else
     their names, as given."""
-    known = {KNOWN[c][1:] for c in cols if c in KNOWN}
-    if len(known) == 1 and all(c in KNOWN for c in cols):
-        name, unit, factor = known.pop()
+    found = {known(c)[1:] for c in cols if known(c)}
+    if len(found) == 1 and all(known(c) for c in cols):
+        name, unit, factor = found.pop()
         return factor, unit, f"{name} ({unit})" if unit else name
     return 1.0, "", ", ".join(words(c) for c in cols)
 
 
-def shown_y(value, cols):
-    factor, unit, _ = y_axis(cols)
+def shown_y(value, col):
+    """A y value of column `col` in its unit (render_time_ns: '20693.8 us')."""
+    factor, unit, _ = y_axis([col])
     return f"{value * factor:.6g}{' ' + unit if unit else ''}"
 
 
@@ -324,10 +344,10 @@ def report_line(a, ys, ln, logx):
     best = min(range(len(yv)), key=lambda k: (yv[k], k))
     ref, why = reference_of(ln, a.reference)
     if ref is None:
-        print(f"{ln.label}: best {shown_y(yv[best], ys)} at {a.x}={shown[best]}; {why}: no knees")
+        print(f"{ln.label}: best {shown_y(yv[best], ln.col)} at {a.x}={shown[best]}; {why}: no knees")
         return marks
-    print(f"{ln.label}: reference {shown_y(yv[ref], ys)} at {a.x}={shown[ref]} ({why}); "
-          f"best {shown_y(yv[best], ys)} at {a.x}={shown[best]}")
+    print(f"{ln.label}: reference {shown_y(yv[ref], ln.col)} at {a.x}={shown[ref]} ({why}); "
+          f"best {shown_y(yv[best], ln.col)} at {a.x}={shown[best]}")
     marks.append((xs[ref], yv[ref], "o"))
     if not yv[ref] > 0:
         print(f"{ln.label}: the reference is not above 0: no knees")
@@ -353,14 +373,14 @@ def draw(a, ys, lines, path):
         marks = report_line(a, ys, ln, logx)
         if not ln.points:
             continue
-        (drawn,) = ax.plot([x * xf for x in ln.xs], [y * yf for y in ln.ys], "o-", label=ln.label, markersize=4)
+        (drawn,) = ax.plot([x * xf for x in ln.xs], [y * yf for y in ln.ys], "o-", label=literal(ln.label), markersize=4)
         for x, y, mark in marks:
             face = "none" if mark == "o" else drawn.get_color()
             ax.plot([x * xf], [y * yf], mark, color=drawn.get_color(), mfc=face, markersize=9 if mark != "o" else 11)
     ax.set_xscale("log" if logx else "linear")
     ax.set_yscale("log" if logy else "linear")
-    ax.set_xlabel(xlabel)
-    ax.set_ylabel(ylabel)
+    ax.set_xlabel(literal(xlabel))
+    ax.set_ylabel(literal(ylabel))
     why = {"max-x": "the largest x", "min-x": "the smallest x", "best": "the line's best"}.get(a.reference,
                                                                                             f"x = {a.reference}")
     ax.plot([], [], "ko", mfc="none", markersize=9, label=f"reference: {why}")
@@ -368,7 +388,7 @@ def draw(a, ys, lines, path):
     ax.plot([], [], "kX", label="2 x the reference")
     ax.legend(fontsize=8)
     ax.grid(alpha=0.3, which="both")
-    ax.set_title(a.title or os.path.basename(a.csv), fontsize=10)
+    ax.set_title(literal(a.title or os.path.basename(a.csv)), fontsize=10)
     fig.tight_layout()
     savefig(fig, path, dpi=110)
 
@@ -392,12 +412,44 @@ def analyse(a):
     return ys, lines
 
 
+def literal(text):
+    """`text` drawn as written: a '$' escaped, so that matplotlib reads no
+    mathtext in a title, a column's name or a group's value (an unclosed
+    \\frac was a ValueError)."""
+    return text.replace("$", r"\$")
+
+
+def deliver(text):
+    """The printout onto stdout: none if stdout is closed (>&-: the chart is
+    the result); a write that fails (> /dev/full) is one line, exit 1; a
+    reader gone (| head) is left to guard (a quiet exit)."""
+    try:
+        sys.stdout.write(text)
+        sys.stdout.flush()
+    except BrokenPipeError:
+        raise
+    except OSError as e:
+        # What is left in the buffer goes nowhere: the interpreter's own
+        # flush at exit would fail again and print its complaint.
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        raise ToolError(f"stdout: {e.strerror or e}: the chart is written, its printout is not", code=1)
+
+
 def main(argv=None):
     a = parse_args(argv)
+    if sys.stdout is None:  # >&-: the chart is the result; its printout goes nowhere
+        sys.stdout = open(os.devnull, "w")
     path = chart_path(a, a.y.split(","))  # checked before any work
-    ys, lines = analyse(a)
-    draw(a, ys, lines, path)
-    print(f"chart -> {path}")
+    # Printed whole at the end, so that stdout's failure is met in one place;
+    # a glyph the font lacks (a title in Japanese) is drawn as a box, not
+    # warned about in lines on stderr.
+    text = io.StringIO()
+    with contextlib.redirect_stdout(text), warnings.catch_warnings():
+        warnings.filterwarnings("ignore", message="Glyph .* missing from")
+        ys, lines = analyse(a)
+        draw(a, ys, lines, path)
+        print(f"chart -> {path}")
+    deliver(text.getvalue())
     return 0
 
 

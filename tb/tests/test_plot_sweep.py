@@ -1,8 +1,11 @@
 """Tests of the chart of a sweep (scripts/plot_sweep.py): the knees are where
 a hand computation puts them, measured from the reference asked for (by
 default the fast end of x, not the line's best); NaN and inf are left out
-and said; known columns are drawn in words and units; bad input gets one
-line naming the file and line; the chart goes under out/, never beside a
+and said; known columns are drawn in words and units, and each line's
+reference and best printed in its column's unit; bad input (argparse's
+too) gets one line naming the file and line; a title, a column or a group
+with '$' is drawn as written; a closed stdout is quiet and a full one one
+line; the chart goes under out/, never beside a
 CSV in doc/, and into doc/ only with --doc.
 Run by ctest as: /usr/bin/python3 test_plot_sweep.py."""
 import csv
@@ -194,6 +197,56 @@ class PlotSweep(unittest.TestCase):
         self.assertEqual(p.returncode, 0, p.stderr)
         self.assertIn("render time: reference 20 us at bw=2GB/s", p.stdout)
         self.assertIn("without balancing: reference 30 us at bw=2GB/s", p.stdout)
+
+    def test_each_lines_values_in_its_columns_unit(self):
+        # Two y columns of two units: each line's reference and best in its
+        # own (us for a time in ns, s for wall time), not raw; a column
+        # named in ns that is not known, in us too.
+        rows = [{"mesh": "1", "render_time_ns": "8553000", "wall_s": "0.0145", "queue_ns": "2500"},
+                {"mesh": "2", "render_time_ns": "4000000", "wall_s": "0.02", "queue_ns": "1500"}]
+        p, _ = self.plot(rows, "--x", "mesh", "--y", "render_time_ns,wall_s", "--reference", "min-x")
+        self.assertEqual(p.returncode, 0, p.stderr)
+        self.assertIn("render time: reference 8553 us at mesh=1 (the smallest x); best 4000 us at mesh=2", p.stdout)
+        self.assertIn("wall time: reference 0.0145 s at mesh=1 (the smallest x); best 0.0145 s at mesh=1", p.stdout)
+        p, _ = self.plot(rows, "--x", "mesh", "--y", "queue_ns")
+        self.assertIn("queue_ns: reference 1.5 us at mesh=2", p.stdout)
+
+    def test_argument_errors_in_one_line(self):
+        path = self.csv([{"bw": "1GB/s", "t": "1"}])
+        p = run(path)  # no --x
+        self.assertEqual((p.returncode, p.stderr.count("\n")), (2, 1), p.stderr)
+        self.assertIn("plot_sweep.py: error: the following arguments are required: --x", p.stderr)
+        p = run(path, "--x", "bw", "--bogus")
+        self.assertEqual((p.returncode, p.stderr.count("\n")), (2, 1), p.stderr)
+
+    def test_text_is_drawn_as_written(self):
+        # matplotlib reads $...$ as mathtext: an unclosed \frac in a title,
+        # a column's name or a group's value was a ValueError. Drawn
+        # literally, without a word on stderr (glyphs the font lacks too).
+        rows = [{"b$w": "1GB/s", "t": "2", "g": "$\\frac{a"}, {"b$w": "2GB/s", "t": "1", "g": "$\\frac{a"}]
+        p, png = self.plot(rows, "--x", "b$w", "--y", "t", "--group", "g",
+                           "--title", "\u65e5\u672c $\\frac{a}{b " * 20 + "cost $5 and $x^2$")
+        self.assertEqual((p.returncode, p.stderr), (0, ""))
+        self.assertEqual(png, b"\x89PNG\r\n\x1a\n")
+        self.assertEqual(plot_sweep.literal("$x^2$ costs $5"), r"\$x^2\$ costs \$5")
+
+    def test_a_closed_or_full_stdout(self):
+        # >&-: the chart is the result, drawn; its printout goes nowhere,
+        # quietly. > /dev/full: one line, exit 1, the chart written.
+        path = self.csv([{"bw": "1GB/s", "t": "2"}, {"bw": "2GB/s", "t": "1"}])
+        out = os.path.join(self.d, "c.png")
+        p = subprocess.run(["/usr/bin/python3", SCRIPT, path, "--x", "bw", "--y", "t", "--out", out],
+                           stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
+                           timeout=120, preexec_fn=lambda: os.close(1))
+        self.assertEqual((p.returncode, p.stderr), (0, ""))
+        self.assertTrue(os.path.exists(out))
+        os.remove(out)
+        with open("/dev/full", "w") as full:
+            p = subprocess.run(["/usr/bin/python3", SCRIPT, path, "--x", "bw", "--y", "t", "--out", out],
+                               stdout=full, stderr=subprocess.PIPE, text=True, timeout=120)
+        self.assertEqual((p.returncode, p.stderr), (1, "plot_sweep: stdout: No space left on device: the chart is "
+                                                       "written, its printout is not\n"))
+        self.assertTrue(os.path.exists(out))
 
 
 if __name__ == "__main__":
