@@ -14,13 +14,16 @@ and vector wires, integers, reals; $comment, $date and $version blocks,
 one line or several), and answers anything else with one line naming the
 file and line. Run with /usr/bin/python3."""
 import argparse
+import contextlib
+import io
+import itertools
 import os
 import re
 import sys
 from collections import defaultdict
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from outputs import ToolError, check_input, guard  # noqa: E402
+from outputs import ToolError, check_input, guard, one_line_errors  # noqa: E402
 
 WANTED = {"busy", "wait", "wire", "backlog"}
 SECONDS = {"s": 1.0, "ms": 1e-3, "us": 1e-6, "ns": 1e-9, "ps": 1e-12, "fs": 1e-15}
@@ -58,11 +61,13 @@ class Reader:
         self.source = lines(path)
         self.stream = self.tokens()
         self.n = 0
+        self.rest = (0, [], 0)  # the line the header ended on: its number, its words, the first not read
 
     def tokens(self):
         """(line number, word) of the words left in the file."""
         for n, words in self.source:
-            for w in words:
+            for i, w in enumerate(words):
+                self.rest = (n, words, i + 1)
                 yield n, w
 
     def fail(self, what):
@@ -136,7 +141,10 @@ class Reader:
         sinks = {code: [self.changes[name] for name in names] for code, names in self.names.items()}
         declared = self.declared
         free = None  # the $comment (or $date, $version) whose $end is still to come
-        for self.n, words in self.source:
+        # The words after $enddefinitions $end on its line first (a VCD
+        # may be all on one line), then the lines after it.
+        n, words, i = self.rest
+        for self.n, words in itertools.chain([(n, words[i:])], self.source):
             i = 0
             while i < len(words):
                 tok = words[i]
@@ -275,7 +283,7 @@ def time_text(ticks, seconds_per_tick):
 
 
 def parse_args(argv):
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap = one_line_errors(argparse.ArgumentParser(description=__doc__.split("\n\n")[0]))
     ap.add_argument("vcd", help="a VCD written by rtsim --vcd")
     ap.add_argument("--windows", type=int, default=10, help="time windows across the traced span (default 10)")
     ap.add_argument("--top", type=int, default=5, help="links listed (default 5; 0: all)")
@@ -312,18 +320,50 @@ def print_links(links, start, width, span, k, top):
               f" | {busy / span:.2f} | {sat_t / span:.2f}")
 
 
+def deliver(text):
+    """The summary onto stdout: a write that fails (> /dev/full) is one
+    line, exit 1, not an internal error; a reader gone (| head) is left
+    to guard (a quiet exit)."""
+    try:
+        sys.stdout.write(text)
+        sys.stdout.flush()
+    except BrokenPipeError:
+        raise
+    except OSError as e:
+        # What is left in the buffer goes nowhere: the interpreter's own
+        # flush at exit would fail again and print its complaint.
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        raise ToolError(f"stdout: {e.strerror or e}: the summary is not written", code=1)
+
+
 def main(argv=None):
     a = parse_args(argv)
+    if sys.stdout is None:  # >&-: Python gives no stdout at all
+        raise ToolError("stdout is closed: nowhere to print the summary")
+    # Printed whole at the end, so that stdout's failure is met in one place.
+    text = io.StringIO()
+    with contextlib.redirect_stdout(text):
+        summarise_file(a)
+    deliver(text.getvalue())
+    return 0
+
+
+def summarise_file(a):
     vcd = read(check_input(a.vcd, "VCD"))
-    if not vcd.changes:
+    if not vcd.names:
         raise ToolError(f"{a.vcd}: no busy, wait, wire or backlog signal changes in it (not an rtsim VCD?)")
+    if vcd.first is None:
+        # rtsim writes its declarations alone for a --trace-window after the run's end.
+        print(f"{a.vcd}: no time and no value change after the declarations: nothing was traced "
+              f"(a --trace-window after the run's end?)")
+        return
     tick = vcd.seconds_per_tick
     start, end = vcd.first, vcd.last
     if end == start:
         # rtsim writes one for --trace-window T,T: a state, no span to share out.
         print(f"{a.vcd}: the traced span is empty (from {time_text(start, tick)} to {time_text(end, tick)}): "
               f"no shares to give")
-        return 0
+        return
     width, nodes, links = summarise(vcd.changes, start, end, a.windows)
     span = end - start
     scale = "" if tick is not None else " (no $timescale: times in the VCD's ticks)"
@@ -335,7 +375,6 @@ def main(argv=None):
         print_links(links, start, width, span, a.windows, a.top)
     if not nodes and not links:
         print("\nno node's busy or link's wire in rtsim's layout (machine/node_X_Y_Z[/LINK]/SIGNAL)")
-    return 0
 
 
 if __name__ == "__main__":

@@ -3,10 +3,11 @@ written here by hand, every share it prints is the one worked out below;
 links are ranked by their time busy with a backlog; on a VCD of rtsim's,
 each node's busy share over the span is its report's busy time over the
 render time; times are read in the VCD's $timescale and printed in real
-units; a zero-length trace window, another tool's VCD (multi-line
-$comment/$date, vectors, reals), an extra $upscope, bytes that are not
-text, a folder and a closed stdout each get one line (or none) and no
-traceback.
+units; a zero-length trace window, a VCD with no value change, another tool's
+VCD (multi-line $comment/$date, vectors, reals), an extra $upscope, bytes
+that are not text, a folder, a bad flag, a closed or full stdout and a
+reader gone (| head) each get one line (or none) and no traceback; a VCD
+all on one line reads as the same on many.
 Run by ctest as: /usr/bin/python3 test_vcd_summary.py <rtsim binary>."""
 import json
 import os
@@ -249,6 +250,42 @@ r0 %
             p = summary(os.path.join(d, "missing.vcd"))
             self.assertNotEqual(p.returncode, 0)
             self.assertEqual(len(p.stderr.strip().splitlines()), 1)
+
+    def test_no_value_change_and_all_on_one_line(self):
+        # The declarations alone (rtsim writes them for a --trace-window
+        # after the run's end): said in one line, exit 0. A VCD all on one
+        # line: the changes after $enddefinitions on it are read.
+        with tempfile.TemporaryDirectory() as d:
+            path = os.path.join(d, "h.vcd")
+            with open(path, "w") as f:
+                f.write(HAND[:HAND.index("#0")])
+            p = summary(path)
+            self.assertEqual((p.returncode, p.stderr), (0, ""))
+            self.assertEqual(p.stdout, f"{path}: no time and no value change after the declarations: nothing was "
+                                       "traced (a --trace-window after the run's end?)\n")
+            with open(path, "w") as f:
+                f.write(HAND.replace("\n", " "))
+            p = summary(path, "--windows", "4")
+            self.assertEqual(p.returncode, 0, p.stderr)
+            self.assertIn(" 1.00 0.20 0.60 0.20 | 0.50", p.stdout)
+
+    def test_argument_errors_in_one_line(self):
+        p = summary(os.path.join(HERE, "corpus", "tiny.vcd"), "--windows", "abc")
+        self.assertEqual((p.returncode, p.stderr),
+                         (2, "vcd_summary.py: error: argument --windows: invalid int value: 'abc'\n"))
+
+    def test_a_closed_or_full_stdout_is_one_line(self):
+        # >&-: nowhere to print, said before reading; > /dev/full: the
+        # write fails, said, exit 1; never an internal error.
+        tiny = os.path.join(HERE, "corpus", "tiny.vcd")
+        p = subprocess.run(["/usr/bin/python3", SCRIPT, tiny], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+                           text=True, timeout=120, preexec_fn=lambda: os.close(1))
+        self.assertEqual((p.returncode, p.stderr), (2, "vcd_summary: stdout is closed: nowhere to print the summary\n"))
+        with open("/dev/full", "w") as full:
+            p = subprocess.run(["/usr/bin/python3", SCRIPT, tiny], stdout=full, stderr=subprocess.PIPE, text=True,
+                               timeout=120)
+        self.assertEqual((p.returncode, p.stderr),
+                         (1, "vcd_summary: stdout: No space left on device: the summary is not written\n"))
 
 
 if __name__ == "__main__":
