@@ -83,10 +83,15 @@ def under(path, folder):
 def check_output(path, flag="output", doc=False):
     """The absolute path of an output, checked before any work: absent or a
     regular file (not a folder, device, FIFO, socket or symbolic link), in
-    a folder that exists and takes a new file; under doc/ only with doc=True."""
+    a folder that exists and takes a new file (proved by making and removing
+    a temporary there: /proc or a read-only mount passes access() yet takes
+    none); under doc/ only with doc=True."""
     if not path:
         raise ToolError(f"{flag}: an empty path")
-    full = os.path.abspath(path)
+    try:
+        full = os.path.abspath(path)
+    except OSError:  # (getcwd: the working folder was deleted)
+        raise ToolError(f"{flag} {path}: the working folder is gone (deleted?): cd into one that exists") from None
     try:
         st = os.lstat(full)
     except FileNotFoundError:
@@ -102,7 +107,20 @@ def check_output(path, flag="output", doc=False):
         raise ToolError(f"{flag} {path}: the folder {folder} takes no new file")
     if not doc and under(full, DOC):
         raise ToolError(f"{flag} {path}: in doc/, which changes only with --doc")
+    _takes_a_file(full, flag, path)
     return full
+
+
+def _takes_a_file(full, flag, path):
+    """ToolError unless a temporary can be made (and is removed at once)
+    beside `full`: the rename that writes the output needs one there."""
+    folder, base = os.path.split(full)
+    try:
+        fd, temp = tempfile.mkstemp(dir=folder, prefix=base[:NAME_MAX] + ".incomplete-")
+    except OSError as e:
+        raise ToolError(f"{flag} {path}: the folder {folder} takes no new file ({e.strerror})") from None
+    os.close(fd)
+    os.remove(temp)
 
 
 def check_input(path, flag="input"):

@@ -8,9 +8,11 @@ scripts/experiments/; both import this module (an experiment puts scripts/
 on its path first). Standard library only: matplotlib is imported when a
 script asks for pyplot(). Runs on Dask workers too (scripts/sweep.py ships
 it by value)."""
+import atexit
 import glob
 import json
 import os
+import shutil
 import subprocess
 import tempfile
 import time
@@ -68,11 +70,69 @@ def spd_scene(name):
 # What every scripted run of rtsim adds to its flags: no reference runs, no summary.
 QUIET = ["--no-baseline", "-q"]
 
+# util-linux's setpriv: a child started through it gets SIGKILL when the
+# thread that started it dies, however it dies (kill -9 of a sweep too).
+SETPRIV = "/usr/bin/setpriv"
+REPORTS_PREFIX = "rtsim-reports-"
+
+
+def dies_with_parent(cmd):
+    """`cmd` run through setpriv --pdeathsig KILL where there is one: the
+    kernel kills the child when the thread that started it dies, even by
+    SIGKILL, which no handler of ours sees. (The signal follows the
+    starting thread, not the process: run_rtsim's callers wait for the
+    child in that thread, so it lives as long as the child must.)"""
+    if os.access(SETPRIV, os.X_OK):
+        return [SETPRIV, "--pdeathsig", "KILL", "--"] + cmd
+    return cmd
+
+
+def _alive(pid):
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    return True
+
+
+_reports = {}  # pid -> this process's folder of temporary reports
+
+
+def reports_folder():
+    """This process's folder of temporary reports, TMPDIR/rtsim-reports-PID,
+    made on first use and removed at exit. A process killed with SIGKILL
+    cannot remove its folder: the next process to make one removes every
+    rtsim-reports-PID whose PID no longer runs. (A PID reused since only
+    keeps a dead folder a little longer.)"""
+    pid = os.getpid()  # (a forked Dask worker gets a folder of its own)
+    # (No lock: the module travels to Dask workers by value, and a lock does
+    # not pickle. Threads that ask at once each make it, exist_ok.)
+    if pid not in _reports:
+        _reports[pid] = _make_reports_folder(pid)
+    return _reports[pid]
+
+
+def _make_reports_folder(pid):
+    """reports_folder's first call in a process: the dead processes' folders removed, its own made."""
+    tmp = tempfile.gettempdir()
+    for old in glob.glob(os.path.join(tmp, REPORTS_PREFIX + "*")):
+        tail = os.path.basename(old)[len(REPORTS_PREFIX):]
+        if tail.isdigit() and int(tail) != pid and not _alive(int(tail)):
+            shutil.rmtree(old, ignore_errors=True)
+    folder = os.path.join(tmp, REPORTS_PREFIX + str(pid))
+    os.makedirs(folder, 0o700, exist_ok=True)  # (a dead process's with our PID: its files stay till our exit)
+    atexit.register(shutil.rmtree, folder, True)
+    return folder
+
 
 def run_rtsim(args, binary=RTSIM, timeout=None, image="", report=None):
     """Runs rtsim quietly (-q, no reference runs) with `args`; returns (its
     report, the process's wall seconds). The report goes to a temporary file
-    unless `report` names one; the image nowhere unless `image` does. Raises
+    unless `report` names one (in reports_folder()); the image nowhere
+    unless `image` does. rtsim dies with the thread that waits for it
+    (dies_with_parent), even if this process is killed by SIGKILL. Raises
     RuntimeError with rtsim's exit code and message if it fails. rtsim runs
     in its own process group (outputs.run_child): a stop (Ctrl-C, SIGTERM)
     kills it and removes the temporary report."""
@@ -80,18 +140,18 @@ def run_rtsim(args, binary=RTSIM, timeout=None, image="", report=None):
         import outputs
         run, register, forget = outputs.run_child, outputs.register_temp, outputs.forget_temp
     except ImportError:
-        def run(cmd, timeout):
+        def run(cmd, timeout):  # noqa: F811
             return subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
         register = forget = lambda path: None
     temp = report is None
     if temp:
-        fd, report = tempfile.mkstemp(prefix="rtsim-report-", suffix=".json")
+        fd, report = tempfile.mkstemp(prefix="rtsim-report-", suffix=".json", dir=reports_folder())
         os.close(fd)
         register(report)
     try:
         cmd = [binary] + [str(a) for a in args] + QUIET + ["--image", image, "--report", report]
         t0 = time.perf_counter()
-        p = run(cmd, timeout=timeout)
+        p = run(dies_with_parent(cmd), timeout=timeout)
         wall = time.perf_counter() - t0
         if p.returncode != 0:
             raise RuntimeError(f"exit {p.returncode}: {p.stderr.strip()}")

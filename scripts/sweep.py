@@ -88,16 +88,20 @@ def add_arguments(ap):
                    help="the folder where finished points are journalled (default out/sweeps)")
 
 
-def add_output_arguments(ap, doc_page=None):
+def add_output_arguments(ap, doc_page=None, plot_only=True):
     """Where a sweep script writes, shared by every one: --out (the results
-    folder), --plot-only, and --doc, which publishes into doc/results/ and,
-    with `doc_page` (a script that publishes a table, publish_table), that
-    page's generated sections. Read them with parse_outputs."""
+    folder), --plot-only (only with plot_only: a script that can redraw its
+    results from its CSV; one that cannot must not offer it) and --doc,
+    which publishes into doc/results/ and, with `doc_page` (a script that
+    publishes a table, publish_table), that page's generated sections. Read
+    them with parse_outputs (a.plot_only is False where not offered)."""
     one_line_errors(ap)
     ap.add_argument("--out", help="the results folder (default: out/results/; with --doc, doc/results/); "
                                   "in doc/ only with --doc")
     what = "chart and table" if doc_page else "chart"
-    ap.add_argument("--plot-only", action="store_true", help=f"redraw the {what} from the CSV")
+    if plot_only:
+        ap.add_argument("--plot-only", action="store_true", help=f"redraw the {what} from the CSV")
+    ap.set_defaults(plot_only=False)
     page = f", and the generated tables of {os.path.relpath(doc_page, ROOT)}" if doc_page else ""
     ap.add_argument("--doc", action="store_true",
                     help="publish: write the results into doc/results/" + page + " (without it nothing in doc/ changes)")
@@ -283,8 +287,11 @@ _held = {}  # journal path -> [Journal, holders]: a sweep of this process may ta
 
 def journal_path(name, opts=None, make=True):
     """NAME's journal in the journal folder (--journal-dir), both checked:
-    NAME a name, the folder a folder outside doc/ (made if missing, unless
-    `make` is false: a check before any work writes nothing)."""
+    NAME a name, the folder a folder outside doc/. The default out/sweeps
+    is made with its parents; a folder the user names is made only when its
+    parent exists (as mkdir would: a typo makes no chain of folders), the
+    rule --out follows too. Nothing is made unless `make` (a check before
+    any work writes nothing)."""
     outputs.check_name(name, "NAME")
     folder = getattr(opts, "journal_dir", None) or JOURNALS
     if os.path.lexists(folder) and not os.path.isdir(folder):
@@ -292,6 +299,9 @@ def journal_path(name, opts=None, make=True):
     if outputs.under(folder, outputs.DOC):
         raise ToolError(f"--journal-dir {folder}: in doc/, which a sweep does not write")
     path = os.path.abspath(os.path.join(folder, name + ".jsonl"))
+    parent = os.path.dirname(os.path.abspath(folder))
+    if not os.path.lexists(folder) and os.path.abspath(folder) != os.path.abspath(JOURNALS) and not os.path.isdir(parent):
+        raise ToolError(f"--journal-dir {folder}: no folder {parent} to make it in")
     if not make:
         return path
     try:
@@ -308,16 +318,23 @@ class Journal:
     uses it: a second sweep of the same NAME at the same time is refused
     with one line rather than both writing one journal and one CSV. A
     damaged line (not UTF-8, not JSON, not a record, cut short by a kill)
-    is reported once as FILE:LINE and skipped; its point runs again."""
+    is reported once as FILE:LINE and skipped; any point it held runs
+    again. A journal this sweep created and left empty (refused before any
+    point finished) is removed when it closes."""
 
     def __init__(self, path, fresh=False, name=None):
         self.path = path
         self.done = {}
-        self.fd = os.open(path, os.O_RDWR | os.O_CREAT | os.O_APPEND | os.O_CLOEXEC, 0o666)
+        self.lines = {}  # id -> its line in the journal (for messages)
+        flags = os.O_RDWR | os.O_APPEND | os.O_CLOEXEC
+        try:
+            self.fd, self.created = os.open(path, flags | os.O_CREAT | os.O_EXCL, 0o666), True
+        except FileExistsError:
+            self.fd, self.created = os.open(path, flags | os.O_CREAT, 0o666), False
         try:
             fcntl.flock(self.fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except BlockingIOError:
-            os.close(self.fd)
+            os.close(self.fd)  # (created: then by the other sweep, which holds it)
             raise ToolError(f"sweep {name or os.path.basename(path)}: another sweep of that NAME is running "
                             f"(its journal {os.path.relpath(path)} is locked); wait for it or give another NAME") from None
         if fresh:
@@ -334,9 +351,10 @@ class Journal:
                 continue
             rec, why = self._record(raw)
             if rec is None:
-                print(f"{self.path}:{n}: {why}; skipped (its point runs again)", file=sys.stderr)
+                print(f"{self.path}:{n}: {why}; skipped (any point it held runs again)", file=sys.stderr)
             else:
                 self.done[rec["id"]] = rec
+                self.lines[rec["id"]] = n
 
     @staticmethod
     def _record(raw):
@@ -352,6 +370,8 @@ class Journal:
         for field, kind in RECORD_FIELDS.items():
             if not isinstance(rec.get(field), kind) or isinstance(rec.get(field), bool):
                 return None, f"not a journal record (no {field!r})"
+        if not rec["metrics"]:
+            return None, "not a journal record (empty 'metrics')"
         return rec, None
 
     def add(self, rec):
@@ -365,8 +385,36 @@ class Journal:
         os.fsync(self.fd)
         self.done[rec["id"]] = rec
 
+    def forget(self, point, why):
+        """Drops a record whose metrics this sweep cannot use (bad_metrics):
+        named FILE:LINE, its point runs again (its new record, appended,
+        wins when the journal is read next)."""
+        print(f"{self.path}:{self.lines.get(point, '?')}: {why}; skipped (its point runs again)", file=sys.stderr)
+        del self.done[point]
+
     def close(self):
+        # Still locked: a journal this sweep made and never wrote goes.
+        if self.created and os.fstat(self.fd).st_size == 0:
+            try:
+                os.remove(self.path)
+            except OSError:
+                pass
         os.close(self.fd)  # (and with it the lock)
+
+
+def bad_metrics(metrics, fields=None):
+    """What is wrong with a record's metrics for a sweep whose figures are
+    `fields` ({column: kind}, kind float for a number, str for text), or
+    None if nothing: a journal edited by hand, or written by another
+    version of the sweep, must not put 'abc' in a CSV or stop the sweep."""
+    for column, kind in (fields or {}).items():
+        value = metrics.get(column)
+        if kind is float:
+            if isinstance(value, bool) or not isinstance(value, (int, float)) or value != value:
+                return f"metrics {column!r} is {value!r}, not a number"
+        elif not isinstance(value, kind):
+            return f"metrics {column!r} is {value!r}, not {kind.__name__}"
+    return None
 
 
 class locked:
@@ -412,12 +460,15 @@ def _end_running(futs, within=0.8):
     """After a stop: kills the children of the points still running, and any
     a worker thread started in the meantime, until every point has ended
     (each ends as soon as its child is killed)."""
+    # (Not concurrent.futures.wait: a future the pool's shutdown cancelled
+    # stays CANCELLED, never "notified", and wait would count it as running
+    # until the deadline: every stop took the whole 0.8 s.)
     deadline = time.monotonic() + within
     while time.monotonic() < deadline:
         outputs.clean_up()
-        _, running = concurrent.futures.wait(futs, timeout=0.02)
-        if not running:
+        if all(f.done() for f in futs):
             return
+        time.sleep(0.01)
 
 
 STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
@@ -533,7 +584,7 @@ def _dask(todo, binary, connection, repeats, timeout):
             client.cancel(list(futs))
 
 
-def run(name, points, extract, csv_path, opts=None, repeats=1, timeout=None, binary=RTSIM):
+def run(name, points, extract, csv_path, opts=None, repeats=1, timeout=None, binary=RTSIM, fields=None, counts=None):
     """Runs a sweep and writes its CSV; returns the rows in point order.
 
     points:  list of {"params": {name: value}, "args": [rtsim flags]}
@@ -541,8 +592,14 @@ def run(name, points, extract, csv_path, opts=None, repeats=1, timeout=None, bin
     opts:    the parsed flags of add_arguments (None: local, all cores)
     repeats: runs per point; wall_s is their median (for timing sweeps),
              wall_s_min and wall_s_max their spread (with repeats > 1)
+    fields:  {column: float or str} that extract gives: a journalled
+             record without them runs again (bad_metrics)
+    counts:  a dict, given: counts["ran"] is the number of points run (the
+             others resumed)
     Bad input (a NAME that is not a name, a CSV path that is not an output,
-    a journal another sweep holds) raises outputs.ToolError before any run.
+    a journal another sweep holds) raises outputs.ToolError before any run;
+    a CSV another process wrote while the sweep ran is not overwritten
+    (write_csv), exit 2, the points journalled.
     """
     jobs = getattr(opts, "jobs", 0) or 0
     if jobs < 0:
@@ -555,6 +612,7 @@ def run(name, points, extract, csv_path, opts=None, repeats=1, timeout=None, bin
     if csv_path:
         csv_path = outputs.check_output(csv_path, "--csv", doc=bool(getattr(opts, "doc", None)))
         outputs.check_distinct([("the journal", path), ("--csv", csv_path)])
+        seen = csv_state(csv_path)
     connection = connect(opts)
     try:
         with locked(path, getattr(opts, "fresh", False), name) as journal:
@@ -564,7 +622,13 @@ def run(name, points, extract, csv_path, opts=None, repeats=1, timeout=None, bin
             ids = [p["id"] for p in points]
             if len(set(ids)) != len(ids):
                 raise ToolError(f"{name}: two points have the same flags")
+            for i in ids:
+                why = bad_metrics(journal.done[i]["metrics"], fields) if i in journal.done else None
+                if why:
+                    journal.forget(i, why)
             todo = [p for p in points if p["id"] not in journal.done]
+            if counts is not None:
+                counts["ran"] = len(todo)
             progress = Progress(name, len(points), len(points) - len(todo))
             runs = _dask(todo, binary, connection, repeats, timeout) if dask else _local(todo, binary, jobs, repeats, timeout)
             try:
@@ -581,7 +645,7 @@ def run(name, points, extract, csv_path, opts=None, repeats=1, timeout=None, bin
                 print(f"{name}: {sum(r['version'] != ver for r in rows)} point(s) resumed from other versions "
                       f"({', '.join(sorted(old))}); --fresh reruns them", file=sys.stderr)
             if csv_path:
-                write_csv(csv_path, rows)
+                write_csv(csv_path, rows, seen)
     finally:
         if connection:
             connection[2].close(timeout=2)
@@ -617,17 +681,47 @@ def row_of(point, rec, repeats):
     return row
 
 
-def write_csv(path, rows):
+_UNSEEN = object()
+
+
+def csv_state(path):
+    """What a CSV path holds, to tell later whether another process wrote
+    it: None (absent) or its (device, inode, size, time of change)."""
+    try:
+        st = os.stat(path)
+    except FileNotFoundError:
+        return None
+    return (st.st_dev, st.st_ino, st.st_size, st.st_mtime_ns, st.st_ctime_ns)
+
+
+def write_csv(path, rows, seen=_UNSEEN, shown=None):
     """Writes a list of dicts with the same keys as CSV, through a temporary
     beside it renamed over it (outputs.atomic): a kill never leaves half a
-    CSV. The caller has checked `path` (outputs.check_output)."""
+    CSV. The caller has checked `path` (outputs.check_output).
+
+    With `seen` (csv_state when the sweep started), the CSV is written only
+    if it still is what the sweep saw: two sweeps writing one CSV at once
+    (another NAME, another --journal-dir) would silently replace each
+    other's rows, so the later one refuses in one line (exit 2; its points
+    are journalled, a rerun with another --csv writes them at once). The
+    check and the rename hold a lock on the CSV's folder (flock), which
+    every sweep takes to write: no other sweep writes between them."""
     if not rows:
         raise ToolError(f"{path}: no rows to write")
     os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
-    with outputs.atomic(path, "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=list(rows[0].keys()), lineterminator="\n")
-        w.writeheader()
-        w.writerows(rows)
+    folder = os.open(os.path.dirname(os.path.abspath(path)), os.O_RDONLY | os.O_CLOEXEC)
+    try:
+        fcntl.flock(folder, fcntl.LOCK_EX)
+        if seen is not _UNSEEN and csv_state(path) != seen:
+            raise ToolError(f"{shown or '--csv ' + path}: written by another process while this sweep ran (another "
+                            "sweep with the same --csv?); left as it is: every point is journalled, rerun with "
+                            "another --csv to write this sweep's rows")
+        with outputs.atomic(path, "w", newline="") as f:
+            w = csv.DictWriter(f, fieldnames=list(rows[0].keys()), lineterminator="\n")
+            w.writeheader()
+            w.writerows(rows)
+    finally:
+        os.close(folder)  # (and with it the lock)
 
 
 def read_csv(path):

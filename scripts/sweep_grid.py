@@ -156,9 +156,11 @@ def sweep_id(sets, base, frames, gain, speedup, repeat):
     return hashlib.sha1(key.encode()).hexdigest()[:12]
 
 
-def check_csv_is_ours(path, ours):
+def check_csv_is_ours(path, ours, shown=None):
     """ToolError if `path` holds the rows of another sweep: two sweeps of
-    one NAME (or one --csv) never overwrite each other's rows unasked."""
+    one NAME (or one --csv) never overwrite each other's rows unasked.
+    `shown` names the CSV in messages (default '--csv PATH')."""
+    shown = shown or f"--csv {os.path.relpath(path)}"
     if not os.path.exists(path):
         return
     try:
@@ -167,11 +169,17 @@ def check_csv_is_ours(path, ours):
     except (OSError, UnicodeDecodeError, csv.Error):
         theirs = None
     if theirs is None:
-        raise ToolError(f"--csv {os.path.relpath(path)}: a file this sweep did not write (no sweep column); give this "
+        raise ToolError(f"{shown}: a file this sweep did not write (no sweep column); give this "
                         "one another NAME or --csv FILE, or remove that file")
     if theirs != ours:
-        raise ToolError(f"--csv {os.path.relpath(path)}: holds the rows of another sweep (other swept flags, base "
+        raise ToolError(f"{shown}: holds the rows of another sweep (other swept flags, base "
                         "flags or comparisons); give this one another NAME or --csv FILE, or remove that file")
+
+
+def csv_shown(given, name):
+    """How messages name the CSV: '--csv PATH' as given, or the default
+    said plainly (not as a path relative to the working folder)."""
+    return f"--csv {given}" if given else f"the CSV out/sweeps/{name}.csv (the default; --csv names another)"
 
 
 def check_csv_path(given, name):
@@ -181,7 +189,7 @@ def check_csv_path(given, name):
         return outputs.check_output(given, "--csv")
     path = os.path.join(SWEEPS, name + ".csv")
     if os.path.isdir(SWEEPS):
-        return outputs.check_output(path, "--csv")
+        return outputs.check_output(path, csv_shown(given, name))
     return path
 
 
@@ -232,6 +240,11 @@ def extract(report):
             "busiest_link_utilisation": link["utilisation"] if link else 0.0}
 
 
+# What extract gives, as sweep.bad_metrics checks a journalled record of it.
+FIELDS = {"render_time_ns": float, "frames_ns": str, "busiest_node": str, "busiest_node_busy": float,
+          "busiest_link": str, "busiest_link_utilisation": float}
+
+
 def rows_of(points, results, gain, speedup, sweep_of=""):
     """One row per point: the swept values, the point's figures, and its
     comparisons (time_none_ns and balance_ratio = time / time without
@@ -264,8 +277,18 @@ class Parser(argparse.ArgumentParser):
         raise ToolError(f"error: {message}")
 
 
+def check_working_folder():
+    """ToolError if the working folder is gone (deleted under a shell still
+    in it): every relative path would fail later, mid-sweep."""
+    try:
+        os.getcwd()
+    except OSError:
+        raise ToolError("error: the working folder is gone (deleted?): cd into a folder that exists") from None
+
+
 def main(argv=None):
     argv = sys.argv[1:] if argv is None else argv
+    check_working_folder()
     ours, rtsim_flags = (argv[:argv.index("--")], argv[argv.index("--") + 1:]) if "--" in argv else (argv, [])
     ap = Parser(
         prog="sweep.py", formatter_class=argparse.RawDescriptionHelpFormatter, epilog=EXAMPLES,
@@ -309,7 +332,12 @@ def main(argv=None):
     if a.dask_timeout <= 0:
         raise ToolError(f"error: --dask-timeout {a.dask_timeout:g}: more than 0 seconds")
     if not os.path.isfile(a.rtsim):
-        raise ToolError(f"error: {a.rtsim}: no rtsim binary there (build it with scripts/build.sh)")
+        raise ToolError(f"error: --rtsim {a.rtsim}: no rtsim binary there (build it with scripts/build.sh)")
+    if not os.access(a.rtsim, os.X_OK):
+        raise ToolError(f"error: --rtsim {a.rtsim}: not executable")
+    # A bare name (myrtsim) is the file checked here, in the working folder,
+    # not a program on PATH: every point runs it by its absolute path.
+    a.rtsim = os.path.abspath(a.rtsim)
     try:
         sets = [parse_set(s) for s in a.sets]
     except ValueError as e:
@@ -322,22 +350,28 @@ def main(argv=None):
     inputs = [(flag, value) for _, flag, value, kind, _ in found if flag in INPUTS and value and kind != "preset"]
     outputs.check_distinct([("--csv", csv_path), ("the journal", journal), ("--rtsim", a.rtsim)] + inputs)
     ours_id = sweep_id(sets, base, a.frames, a.gain, a.speedup, a.repeat)
+    shown = csv_shown(a.csv, a.name)
+    check_csv_is_ours(csv_path, ours_id, shown)  # (before the journal is made: a refusal leaves nothing)
+    seen = sweep.csv_state(csv_path)
     unique = {}
     for params, runs in points:
         for role, args in runs.items():
             unique.setdefault(tuple(args), {"params": {**params, "run": role}, "args": args})
     sweep.connect(a)  # (with --dask: the scheduler answers, or one line before anything is written)
     journal = sweep.journal_path(a.name, a)  # (its folder made)
+    counts = {}
     with sweep.locked(journal, a.fresh, a.name):  # held from the first point to the CSV
         os.makedirs(os.path.dirname(csv_path), exist_ok=True)
-        check_csv_is_ours(csv_path, ours_id)
-        results = sweep.run(a.name, list(unique.values()), extract, None, a, repeats=a.repeat, binary=a.rtsim)
+        results = sweep.run(a.name, list(unique.values()), extract, None, a, repeats=a.repeat, binary=a.rtsim,
+                            fields=FIELDS, counts=counts)
         for r, p in zip(results, unique.values()):
             r["args"] = p["args"]
         rows = rows_of(points, results, a.gain, a.speedup, ours_id)
-        sweep.write_csv(csv_path, rows)
-    shown = os.path.relpath(csv_path)
-    print(f"{len(rows)} points ({len(unique)} runs) -> {csv_path if shown.startswith('..') else shown}")
+        sweep.write_csv(csv_path, rows, seen, shown)
+    where = os.path.relpath(csv_path)
+    ran = counts.get("ran", len(unique))
+    print(f"{len(rows)} points ({ran} runs{f', {len(unique) - ran} resumed' if ran < len(unique) else ''}) -> "
+          f"{csv_path if where.startswith('..') else where}")
     return 0
 
 

@@ -69,6 +69,21 @@ class Sweep(unittest.TestCase):
                        check=True)
         return read_json(rep)["render_time_ns"]
 
+    def test_a_refused_sweep_leaves_no_journal_it_made(self):
+        """A sweep refused after its journal was opened (two points with one
+        set of flags), before any point finished: the empty journal it made
+        goes; a journal that was there stays."""
+        pts = points()
+        pts.append(dict(pts[0]))
+        with self.assertRaises(sweep.ToolError):
+            sweep.run("dup", pts, extract, None, self.opts(), binary=self.binary)
+        self.assertFalse(os.path.exists(os.path.join(self.dir, "dup.jsonl")))
+        open(os.path.join(self.dir, "dup.jsonl"), "w").close()
+        with self.assertRaises(sweep.ToolError):
+            sweep.run("dup", pts, extract, None, self.opts(), binary=self.binary)
+        self.assertTrue(os.path.exists(os.path.join(self.dir, "dup.jsonl")))
+        self.assertEqual(self.calls(), 0)
+
     def test_csv_in_point_order_with_command_and_version(self):
         out = os.path.join(self.dir, "s.csv")
         pts = points()

@@ -20,6 +20,7 @@ import hashlib
 import json
 import os
 import shlex
+import shutil
 import socket
 import stat
 import subprocess
@@ -307,7 +308,7 @@ class SweepEdges(unittest.TestCase):
         self.assertEqual(p.returncode, 0, p.stderr)
         warned = [ln for ln in p.stderr.splitlines() if ln.startswith(path + ":")]
         self.assertEqual([ln.split(":")[1] for ln in warned], ["1", "2", "3", "6", "7"], p.stderr)
-        self.assertTrue(all(ln.endswith("skipped (its point runs again)") for ln in warned), warned)
+        self.assertTrue(all(ln.endswith("skipped (any point it held runs again)") for ln in warned), warned)
         self.assertEqual(self.calls(), 5 + 3)  # the three points whose records were lost
         strip = [{k: v for k, v in r.items() if k != "wall_s"} for r in first]
         self.assertEqual([{k: v for k, v in r.items() if k != "wall_s"} for r in self.rows(out)], strip)
@@ -343,6 +344,78 @@ class SweepEdges(unittest.TestCase):
         self.assertEqual([r["a"] for r in self.rows(out)], ["1", "2", "3"])
         # Another grid under the same NAME, its CSV elsewhere: the journal keeps both.
         self.assertEqual(self.sweep("s", "--set", "b=1,2", csv_path=os.path.join(self.dir, "t.csv")).returncode, 0)
+
+    def test_a_csv_written_by_another_sweep_meanwhile_is_left_as_it_is(self):
+        """Two sweeps writing one CSV at once (other NAMEs, or one NAME and
+        two --journal-dir): the later refuses to replace the other's rows;
+        its points are journalled, a rerun with another --csv writes them
+        without running anything."""
+        out = os.path.join(self.dir, "shared.csv")
+        meddler = os.path.join(self.dir, "rtsim-meddler")  # the other sweep, writing the CSV while this one runs
+        with open(meddler, "w") as f:
+            f.write(FAKE.format(log=shlex.quote(self.log), factor=1) + f"printf 'theirs\\n' > {shlex.quote(out)}\n")
+        os.chmod(meddler, 0o755)
+        p = self.sweep("s", "--set", "a=1,2", binary=meddler, csv_path=out)
+        self.assertEqual(p.returncode, 2, p.stderr)  # (after the progress lines, one line)
+        self.assertTrue(p.stderr.strip().splitlines()[-1].startswith("sweep.py: --csv "), p.stderr)
+        self.assertIn("written by another process while this sweep ran", p.stderr.strip().splitlines()[-1])
+        with open(out) as f:
+            self.assertEqual(f.read(), "theirs\n")
+        self.assertEqual(self.calls(), 2)
+        p = self.sweep("s", "--set", "a=1,2", binary=meddler, csv_path=os.path.join(self.dir, "mine.csv"))
+        self.assertEqual(p.returncode, 0, p.stderr)
+        self.assertIn("2 points (0 runs, 2 resumed)", p.stdout)
+        self.assertEqual(self.calls(), 2)
+        self.assertEqual([r["a"] for r in self.rows(os.path.join(self.dir, "mine.csv"))], ["1", "2"])
+
+    def test_journal_records_with_bad_metrics_run_again(self):
+        out = os.path.join(self.dir, "s.csv")
+        self.assertEqual(self.sweep("s", "--set", "a=1,2,3", csv_path=out).returncode, 0)
+        first = [r["render_time_ns"] for r in self.rows(out)]
+        path = os.path.join(self.journals, "s.jsonl")
+        with open(path) as f:
+            recs = [json.loads(line) for line in f]
+        recs[0]["metrics"] = {}
+        recs[1]["metrics"]["render_time_ns"] = "abc"
+        with open(path, "w") as f:
+            f.write("".join(json.dumps(r) + "\n" for r in recs))
+        p = self.sweep("s", "--set", "a=1,2,3", csv_path=out)
+        self.assertEqual(p.returncode, 0, p.stderr)
+        warned = [ln for ln in p.stderr.splitlines() if ln.startswith(path + ":")]
+        self.assertEqual([ln.split(":")[1] for ln in warned], ["1", "2"], p.stderr)
+        self.assertIn("'abc', not a number", warned[1])
+        self.assertEqual(self.calls(), 3 + 2)
+        self.assertEqual([r["render_time_ns"] for r in self.rows(out)], first)
+
+    def test_refusals_before_any_run_leave_no_journal(self):
+        notes = os.path.join(self.dir, "notes.csv")
+        with open(notes, "w") as f:
+            f.write("x\n")
+        self.refused(self.sweep("zz", "--set", "a=1,2", csv_path=notes), "a file this sweep did not write")
+        self.refused(self.sweep("p", "--set", "a=1,2", csv_path="/proc/t.csv"), "takes no new file")
+        self.assertEqual(os.listdir(self.journals), [])
+        self.assertEqual(self.calls(), 0)
+        # The default CSV is named plainly, not as a path climbing from the working folder.
+        p = self.sweep("zz", "--set", "a=1", "--journal-dir", os.path.join(self.dir, "no", "such"))
+        self.refused(p, "--journal-dir")
+        self.assertFalse(os.path.exists(os.path.join(self.dir, "no")))
+
+    def test_working_folder_and_rtsim_names(self):
+        # A bare name is the binary in the working folder, run by its absolute path.
+        shutil.copy(self.fake, os.path.join(self.work, "myrtsim"))
+        out = os.path.join(self.dir, "r.csv")
+        p = subprocess.run(["/usr/bin/python3", SWEEP, "r", "--rtsim", "myrtsim", "--journal-dir", self.journals,
+                            "--csv", out, "--set", "a=1,2"], capture_output=True, text=True, timeout=60, cwd=self.work)
+        self.assertEqual(p.returncode, 0, p.stderr)
+        self.assertEqual(self.calls(), 2)
+        # A working folder deleted under the sweep: one line.
+        gone = os.path.join(self.dir, "gone")
+        os.mkdir(gone)
+        p = subprocess.run(f"cd {shlex.quote(gone)} && rmdir {shlex.quote(gone)} && /usr/bin/python3 {shlex.quote(SWEEP)} "
+                           f"g --rtsim {shlex.quote(self.fake)} --set a=1,2", shell=True, capture_output=True, text=True,
+                           timeout=60)
+        self.refused(p, "the working folder is gone")
+        self.assertEqual(self.calls(), 2)
 
     def test_repeat_keeps_the_median_and_the_spread(self):
         out = os.path.join(self.dir, "s.csv")
