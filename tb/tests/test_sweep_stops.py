@@ -146,7 +146,9 @@ class SweepStops(unittest.TestCase):
         except subprocess.TimeoutExpired:
             self.fail(f"{signal.Signals(signum).name}: the sweep did not end within 5 s")
         took = time.monotonic() - t0
-        self.assertLess(took, 1.0, f"{signal.Signals(signum).name}: the sweep took {took:.2f} s to end")
+        # (The stop returns as soon as the children are gone: waiting out a
+        # fixed delay once took 0.83 s every time.)
+        self.assertLess(took, 0.5, f"{signal.Signals(signum).name}: the sweep took {took:.2f} s to end")
         self.assertEqual(p.returncode, 130, err)
         self.assertEqual(err.strip().splitlines()[-1], f"sweep.py: stopped ({signal.Signals(signum).name})")
 
@@ -175,6 +177,33 @@ class SweepStops(unittest.TestCase):
         rerun = [k for _, k in self.starts()[len(started):]]
         self.assertEqual(sorted(rerun), list(range(FAST + 1, POINTS + 1)))  # the finished points were not rerun
         self.assertEqual(len(self.records()), POINTS)
+
+    def test_sigkill_leaves_no_child_and_the_next_sweep_cleans_up(self):
+        """kill -9 of a sweep: no handler runs, yet its rtsim children die
+        with it (setpriv --pdeathsig), and its folder of temporary reports
+        (TMPDIR/rtsim-reports-PID) goes when the next sweep starts."""
+        with open(self.binary, "w") as f:  # a fake that stays this process while it sleeps (exec)
+            f.write(f"#!/bin/sh\necho \"0 $$\" >> {shlex.quote(os.path.join(self.dir, 'starts.log'))}\n"
+                    "exec sleep 60\n")
+        p = self.start()
+        self.wait_for(lambda: len(self.starts()) == JOBS)
+        folders = os.listdir(self.temps)
+        self.assertEqual(folders, [f"rtsim-reports-{p.pid}"])
+        p.kill()
+        p.wait()
+        deadline = time.monotonic() + 2
+        while any(alive(pid) for pid, _ in self.starts()) and time.monotonic() < deadline:
+            time.sleep(0.02)
+        for pid, _ in self.starts():
+            self.assertFalse(alive(pid), "an rtsim of the killed sweep still runs")
+        self.assertEqual(os.listdir(self.temps), folders)  # (what a SIGKILL leaves: the folder, until the next sweep)
+        with open(self.binary, "w") as f:
+            f.write(FAKE.format(dir=shlex.quote(self.dir), fast=POINTS))
+        os.remove(self.journal)  # (nothing journalled; the lock died with the sweep)
+        again = self.start()
+        _, err = again.communicate(timeout=60)
+        self.assertEqual(again.returncode, 0, err)
+        self.assertEqual(os.listdir(self.temps), [])
 
     def test_ctrl_c_stops_the_sweep_and_its_children(self):
         self.stop_midway(signal.SIGINT)
