@@ -13,7 +13,8 @@ the MAX_LAYERS layers that hold its busiest nodes (--layers FROM:TO
 chooses others), and a mesh more than LABELLED nodes wide shows its loads
 as an image and only its saturated links. Usage:
 mesh_map.py REPORT.json -o OUT.png [--format png|svg|pdf] [--layers FROM:TO]
-(the format: the output's extension, unless given). Run with
+[--doc] (the format: the output's extension, unless given; -o under doc/
+only with --doc, which rtsim --map passes for the path its user named). Run with
 /usr/bin/python3 (Debian's python3-matplotlib). The same report gives the
 same file, byte for byte (no dates in it). A report that is not JSON, or
 lacks what the picture needs, gets one line naming the file and the line
@@ -26,7 +27,7 @@ import sys
 import textwrap
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from outputs import ToolError, check_distinct, check_input, check_output, guard, savefig  # noqa: E402
+from outputs import ToolError, check_distinct, check_input, check_output, guard, one_line_errors, savefig  # noqa: E402
 
 import matplotlib  # noqa: E402
 
@@ -157,6 +158,7 @@ class Report:
                 self.fail(where + ".node", f"{list(c)} twice")
             seen.add(c)
             self.number(n, "load", where)
+            self.number(n, "busy_ns", where, optional=True)  # the load's source: a damaged one is named too
 
     def links(self, r, dims):
         for i, link in enumerate(self.field(r, "links", list, "")):
@@ -399,9 +401,11 @@ def figure(r, asked=None):
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap = one_line_errors(argparse.ArgumentParser(description=__doc__.split("\n\n")[0]))
     ap.add_argument("report")
     ap.add_argument("-o", "--out", required=True)
+    ap.add_argument("--doc", action="store_true",
+                    help="allow -o under doc/ (rtsim --map passes it: its user named the path)")
     ap.add_argument("--format", choices=FORMATS, help="png, svg or pdf (default: the output's extension)")
     ap.add_argument("--layers", metavar="FROM:TO",
                     help=f"the layers along the balancing axis to draw (default: all, or for more than {MAX_LAYERS} "
@@ -410,10 +414,10 @@ def main(argv=None):
     fmt = a.format or a.out.rsplit(".", 1)[-1].lower()
     if fmt not in FORMATS:
         raise ToolError(f"{a.out}: the name must end in .png, .svg or .pdf (or give --format)")
-    # -o is always a path given (rtsim --map passes its own temporary beside
-    # the output it was asked for, which may be the docs' picture:
-    # scripts/mesh_map_example.sh): rtsim's own checks hold for it.
-    out = check_output(a.out, "-o", doc=True)
+    # Into doc/ only with --doc: rtsim --map passes it with the temporary
+    # beside the path its user named (scripts/mesh_map_example.sh --doc
+    # draws the docs' picture so), after rtsim's own checks of that path.
+    out = check_output(a.out, "-o", doc=a.doc)
     check_distinct([("report", a.report), ("-o", out)])
     r = read_report(a.report)
     draw(r, out, fmt, a.layers)

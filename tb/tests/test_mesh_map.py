@@ -3,8 +3,9 @@ with the boundary panel below when balancing ran (a taller picture), the
 same picture from the report written by --report (byte for byte, again
 and again), one colour bar (loads only, scaled to the busiest) and the
 busiest node ringed and named, also at 32 per axis, and a one-line error
-for a file that is not a report, bad JSON (with its line) or a field the
-picture needs gone wrong (named). Usage: test_mesh_map.py RTSIM."""
+for a file that is not a report, bad JSON (with its line), a field the
+picture needs gone wrong (named: a load or busy time 'abc' or NaN too) or
+a bad flag; -o under doc/ only with --doc, which rtsim --map passes. Usage: test_mesh_map.py RTSIM."""
 import json
 import os
 import struct
@@ -124,6 +125,11 @@ class MeshMap(unittest.TestCase):
         nodes = synthetic(2, [0, 0, 0])
         nodes["nodes"][1]["load"] = "x"
         fewer = synthetic(2, [0, 0, 0])
+
+        def busy(value):  # nodes[1]'s busy time (the load's source) damaged
+            r = synthetic(2, [0, 0, 0])
+            r["nodes"][1]["busy_ns"] = value
+            return r
         del fewer["nodes"][3]
         cases = {  # name: (text, what stderr says after the path)
             "cut": (good[:len(good) // 2], f":{good[:len(good) // 2].count(chr(10)) + 1}: not JSON"),
@@ -133,6 +139,10 @@ class MeshMap(unittest.TestCase):
             "fewer": (json.dumps(fewer), ": nodes: 7 of them; the 2x2x2 mesh has 8"),
             "list": ("[1, 2]", ": the top: not a JSON object"),
             "axis": (good.replace('"axis": "x"', '"axis": "w"'), ": config.balance.axis: 'w' is not x, y or z"),
+            "busy": (json.dumps(busy("abc")), ": nodes[1].busy_ns: 'abc' is not a finite number"),
+            "busy-nan": (json.dumps(busy(float("nan"))), ": nodes[1].busy_ns: 'nan' is not a finite number"),
+            "load-nan": (json.dumps(nodes).replace('"load": "x"', '"load": NaN'),
+                         ": nodes[1].load: 'nan' is not a finite number"),
         }
         for name, (text, said) in cases.items():
             with self.subTest(case=name):
@@ -160,6 +170,40 @@ class MeshMap(unittest.TestCase):
         self.assertEqual(p.stderr.count("\n"), 1, p.stderr)
         self.assertFalse(os.path.exists(os.path.join(self.d, "x.png")))
 
+    def test_doc_only_with_doc_and_rtsim_passes_it(self):
+        # mesh_map.py -o under doc/ without --doc: refused, nothing written
+        # (the test writes nothing into doc/ itself).
+        report = os.path.join(self.d, "r.json")
+        with open(report, "w") as f:
+            json.dump(synthetic(2, [0, 0, 0]), f)
+        into_doc = os.path.join(ROOT, "doc", "images", "mesh-map-test.png")
+        self.addCleanup(lambda: os.path.exists(into_doc) and os.remove(into_doc))  # written only by the bug
+        p = subprocess.run(["/usr/bin/python3", MESH_MAP, report, "-o", into_doc], capture_output=True, text=True)
+        self.assertEqual((p.returncode, p.stderr),
+                         (2, f"mesh_map: -o {into_doc}: in doc/, which changes only with --doc\n"))
+        self.assertFalse(os.path.exists(into_doc))
+        # rtsim --map passes --doc with the temporary beside the path its
+        # user named (rtsim --map doc/images/x.png is a choice): the
+        # script's arguments, recorded by a sitecustomize of the test's.
+        site, args = os.path.join(self.d, "site"), os.path.join(self.d, "args.txt")
+        os.mkdir(site)
+        with open(os.path.join(site, "sitecustomize.py"), "w") as f:
+            f.write("import os, sys\nif sys.argv and sys.argv[0].endswith('mesh_map.py'):\n"
+                    "    open(os.environ['MAP_ARGS'], 'w').write('\\n'.join(sys.argv[1:]))\n")
+        out = os.path.join(self.d, "m.png")
+        p = subprocess.run([RTSIM, *SMALL, "--map", out], capture_output=True, text=True,
+                           env=dict(os.environ, PYTHONPATH=site, MAP_ARGS=args))
+        self.assertEqual(p.returncode, 0, p.stderr)
+        with open(args) as f:
+            passed = f.read().split("\n")
+        self.assertEqual(passed[1:3], ["-o", passed[2]])
+        self.assertTrue(passed[2].startswith(out + ".incomplete-"), passed)
+        self.assertIn("--doc", passed)
+
+    def test_argument_errors_in_one_line(self):
+        p = subprocess.run(["/usr/bin/python3", MESH_MAP, "r.json"], capture_output=True, text=True)
+        self.assertEqual((p.returncode, p.stderr),
+                         (2, "mesh_map.py: error: the following arguments are required: -o/--out\n"))
 
 if __name__ == "__main__":
     RTSIM = sys.argv.pop(1)
