@@ -3,7 +3,8 @@ back"): the VCD reader of scripts/vcd_summary.py, the CSV reader of
 scripts/plot_sweep.py, the report reader of scripts/mesh_map.py and the
 sweep driver's journal (scripts/sweep.py), fed
 damaged copies of the small real files in tb/tests/corpus/ (bytes flipped
-or inserted, the file cut, lines deleted, duplicated or swapped; a CSV
+or inserted, the file cut, lines deleted, duplicated, swapped or run
+together; a CSV
 field or a report's field given another value), answer
 each with a result or one line and exit 2: never a traceback, never an
 "internal error", never more than one line. Hypothesis (Debian's
@@ -66,7 +67,7 @@ def corpus(name):
 def damage(data, draw):
     """`data` with one to three kinds of damage drawn by hypothesis."""
     for _ in range(draw(st.integers(1, 3))):
-        kind = draw(st.sampled_from(["flip", "insert", "cut", "delete", "duplicate", "swap"]))
+        kind = draw(st.sampled_from(["flip", "insert", "cut", "delete", "duplicate", "swap", "join"]))
         lines = data.split(b"\n")
         if kind == "flip" and data:
             i = draw(st.integers(0, len(data) - 1))
@@ -76,6 +77,10 @@ def damage(data, draw):
             data = data[:i] + draw(st.binary(min_size=1, max_size=8)) + data[i:]
         elif kind == "cut":
             data = data[:draw(st.integers(0, len(data)))]
+        elif kind == "join" and len(lines) > 1:  # lines i..j run together (a VCD may be all on one line)
+            i = draw(st.integers(0, len(lines) - 2))
+            j = draw(st.integers(i + 1, len(lines) - 1))
+            data = b"\n".join(lines[:i] + [b" ".join(lines[i:j + 1])] + lines[j + 1:])
         elif kind in ("delete", "duplicate", "swap") and len(lines) > 1:
             i, j = draw(st.integers(0, len(lines) - 1)), draw(st.integers(0, len(lines) - 1))
             if kind == "delete":
@@ -101,7 +106,7 @@ def read_by_the_picture(path):
     may be anything)."""
     if not path:
         return True
-    wanted = {"config": ("mesh", "balance"), "nodes": ("node", "load"),
+    wanted = {"config": ("mesh", "balance"), "nodes": ("node", "load", "busy_ns"),
               "links": ("from", "to", "utilisation", "saturated_ns"), "boundaries": ("column", "history"),
               "busiest_links": ("name", "utilisation", "saturated_ns"), "render_time_ns": ()}
     if path[0] not in wanted:
@@ -230,7 +235,7 @@ class ToolReaders(unittest.TestCase):
             journal = sweep.Journal(path)
             journal.close()
         for line in err.getvalue().splitlines():
-            self.assertRegex(line, r"^" + re.escape(path) + r":\d+: .*; skipped \(its point runs again\)$")
+            self.assertRegex(line, r"^" + re.escape(path) + r":\d+: .*; skipped \((its point|any point it held) runs again\)$")
         for rec in journal.done.values():
             for field, kind in sweep.RECORD_FIELDS.items():
                 self.assertIsInstance(rec[field], kind)
@@ -241,6 +246,8 @@ class ToolReaders(unittest.TestCase):
         cases = [
             ("tiny.vcd", ["vcd_summary.py"], 0, "5.04 us traced"),
             ("zero_window.vcd", ["vcd_summary.py"], 0, "the traced span is empty (from 1 us to 1 us)"),
+            ("header_only.vcd", ["vcd_summary.py"], 0, "no time and no value change after the declarations"),
+            ("one_line.vcd", ["vcd_summary.py"], 0, "5.04 us traced"),
             ("other_tool.vcd", ["vcd_summary.py"], 0, "100 ns traced"),
             ("extra_upscope.vcd", ["vcd_summary.py"], 2, "extra_upscope.vcd:110: $upscope without a $scope"),
             ("nan_inf.csv", ["plot_sweep.py", "--x", "bw", "--y", "t", "--out", "c.png"], 0,
