@@ -200,10 +200,18 @@ class MeshMap(unittest.TestCase):
         self.assertTrue(passed[2].startswith(out + ".incomplete-"), passed)
         self.assertIn("--doc", passed)
 
-    def test_argument_errors_in_one_line(self):
+    def test_argument_errors_in_one_line_and_a_closed_stdout(self):
         p = subprocess.run(["/usr/bin/python3", MESH_MAP, "r.json"], capture_output=True, text=True)
         self.assertEqual((p.returncode, p.stderr),
                          (2, "mesh_map.py: error: the following arguments are required: -o/--out\n"))
+        # >&-: it prints nothing, so a closed stdout is no matter.
+        report, out = os.path.join(self.d, "r.json"), os.path.join(self.d, "m.png")
+        with open(report, "w") as f:
+            json.dump(synthetic(2, [0, 0, 0]), f)
+        p = subprocess.run(["/usr/bin/python3", MESH_MAP, report, "-o", out], stdout=subprocess.DEVNULL,
+                           stderr=subprocess.PIPE, text=True, preexec_fn=lambda: os.close(1))
+        self.assertEqual((p.returncode, p.stderr), (0, ""))
+        self.assertTrue(os.path.exists(out))
 
 if __name__ == "__main__":
     RTSIM = sys.argv.pop(1)
