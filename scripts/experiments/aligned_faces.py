@@ -37,7 +37,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--fig4", default=os.path.join(ROOT, "doc", "results", "fig4.csv"),
                     help="Fig. 4's results, for the points where slide loses")
-    driver.add_output_arguments(ap, os.path.join(ROOT, "doc", "fig4.md"))
+    driver.add_output_arguments(ap, os.path.join(ROOT, "doc", "fig4.md"), plot_only=False)  # (it cannot redraw from a CSV)
     driver.add_arguments(ap)
     a = driver.parse_outputs(ap)
     losing = losing_points(outputs.check_input(a.fig4, "--fig4"), 1.02)

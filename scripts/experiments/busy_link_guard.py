@@ -59,7 +59,7 @@ def variants(shares):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--shares", default="1,0.8", help="busy-link guard shares to try (1: a full link)")
-    driver.add_output_arguments(ap, os.path.join(ROOT, "doc", "balancing.md"))
+    driver.add_output_arguments(ap, os.path.join(ROOT, "doc", "balancing.md"), plot_only=False)  # (it cannot redraw from a CSV)
     driver.add_arguments(ap)
     a = driver.parse_outputs(ap)
     shares = a.shares.split(",")

@@ -48,7 +48,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--frames", type=int, default=6)
     ap.add_argument("--sequence", type=int, default=10, help="frames of the resplit sequences")
-    driver.add_output_arguments(ap, os.path.join(ROOT, "doc", "balancing.md"))
+    driver.add_output_arguments(ap, os.path.join(ROOT, "doc", "balancing.md"), plot_only=False)  # (it cannot redraw from a CSV)
     driver.add_arguments(ap)
     a = driver.parse_outputs(ap)
     runs = [("none", []), ("slide", []), (f"slide@{a.frames}", ["--frames", a.frames]),

@@ -198,7 +198,7 @@ def main():
     ap.add_argument("--max-runs", type=int, default=800, help="runs per N of the --per-column refinement at most")
     ap.add_argument("--merge", metavar="CSV", action="append", default=[],
                     help="search nothing: add the rows of these CSVs (other runs' N) to --out's and write the table")
-    driver.add_output_arguments(ap, os.path.join(ROOT, "doc", "balancing.md"))
+    driver.add_output_arguments(ap, os.path.join(ROOT, "doc", "balancing.md"), plot_only=False)  # (it cannot redraw from a CSV)
     a = driver.parse_outputs(ap)
     stem = "partition_search" + variant(a.preset, a.tag) + ("" if a.view == "along" else f"-{a.view}")
     csv_path = os.path.join(a.out, stem + ".csv")

@@ -45,7 +45,9 @@ def main():
         ap.error(f"--repeats {a.repeats}: at least 1")
     a.jobs = a.jobs or 1  # timing: one run at a time unless asked
     csv_path = os.path.join(a.out, "speed_accuracy.csv")
-    if not a.plot_only:
+    if a.plot_only:  # (the CSV of an earlier run)
+        outputs.check_input(csv_path, "--plot-only: the CSV")
+    else:
         rows = sweep(a)
         write_csv(csv_path, rows)
     rows = read_csv(csv_path)

@@ -205,6 +205,28 @@ class BadInput(unittest.TestCase):
                     self.assert_one_line(cmd, words, cwd=d)
             self.assertEqual(os.listdir(d), [])
 
+    def test_plot_only_is_offered_only_where_it_redraws(self):
+        """Every experiment with --plot-only and no CSV to redraw refuses in
+        one line at once (it redraws; it never runs the experiment), and one
+        that cannot redraw does not offer the flag (argparse refuses it)."""
+        with tempfile.TemporaryDirectory() as d:
+            scripts = sorted(glob.glob(os.path.join(SCRIPTS, "experiments", "*.py")))
+            procs = [(path, subprocess.Popen(py(os.path.relpath(path, SCRIPTS), "--plot-only", "--out", d), cwd=d,
+                                             stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                                             text=True)) for path in scripts]
+            for path, p in procs:
+                with self.subTest(script=os.path.basename(path)):
+                    try:
+                        _, err = p.communicate(timeout=30)
+                    except subprocess.TimeoutExpired:
+                        p.kill()
+                        p.communicate()
+                        self.fail("--plot-only without its CSV ran the experiment")
+                    self.assertEqual(p.returncode, 2, err)
+                    self.assertEqual(err.strip().count("\n"), 0, err)
+                    self.assertTrue("--plot-only" in err, err)
+            self.assertEqual(os.listdir(d), [])
+
     def test_mutate_leaves_a_folder_of_someone_elses_alone(self):
         """--work names a folder mutate.py empties (its src/): one it did not
         make is refused, its files untouched."""
