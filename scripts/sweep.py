@@ -563,6 +563,31 @@ def connect(opts):
     return opts.dask_connection
 
 
+def kill_runs_of(binary):
+    """On a Dask worker: kills the worker's children that run `binary` (the
+    points a stopped sweep left running there; cancelling a future does not
+    end a task already running). Returns how many."""
+    import signal as signals  # (runs on a worker: shipped by value)
+    me, killed = os.getpid(), 0
+    for entry in os.listdir("/proc"):
+        if not entry.isdigit():
+            continue
+        try:
+            with open(f"/proc/{entry}/stat") as f:
+                parent = int(f.read().rsplit(")", 1)[1].split()[1])
+            with open(f"/proc/{entry}/cmdline", "rb") as f:
+                argv = f.read().decode(errors="replace").split("\0")
+        except (OSError, ValueError, IndexError):
+            continue
+        if parent == me and binary in argv:
+            try:
+                os.kill(int(entry), signals.SIGKILL)
+                killed += 1
+            except OSError:
+                pass
+    return killed
+
+
 def _dask(todo, binary, connection, repeats, timeout):
     """Yields (point, result or exception) as the cluster finishes them
     (connection: _connect's)."""
@@ -570,7 +595,7 @@ def _dask(todo, binary, connection, repeats, timeout):
     # Workers need not import these modules: ship their functions by value.
     cloudpickle.register_pickle_by_value(sys.modules[__name__])
     cloudpickle.register_pickle_by_value(project)
-    futs = {}
+    futs, finished = {}, False
     try:
         futs = {client.submit(run_repeated, binary, p["args"], repeats, timeout, pure=False): p for p in todo}
         for fut in distributed.as_completed(futs):
@@ -579,9 +604,13 @@ def _dask(todo, binary, connection, repeats, timeout):
             except Exception as e:  # noqa: BLE001 - reported per point
                 result = e
             yield futs[fut], result
+        finished = True
     finally:
         if futs:
             client.cancel(list(futs))
+        if futs and not finished:  # (a stop: the runs already on the workers end too)
+            with contextlib.suppress(Exception):
+                client.run(kill_runs_of, binary, on_error="ignore")
 
 
 def run(name, points, extract, csv_path, opts=None, repeats=1, timeout=None, binary=RTSIM, fields=None, counts=None):

@@ -21,6 +21,7 @@ import json
 import os
 import shlex
 import shutil
+import signal
 import socket
 import stat
 import subprocess
@@ -416,6 +417,37 @@ class SweepEdges(unittest.TestCase):
                            timeout=60)
         self.refused(p, "the working folder is gone")
         self.assertEqual(self.calls(), 2)
+
+    def test_a_stop_ends_the_runs_on_dask_workers_too(self):
+        """Ctrl-C to a sweep on a Dask cluster: one line, exit 130, and the
+        rtsim runs already on the workers end too (cancelling their futures
+        alone leaves them running to their end)."""
+        import distributed
+        starts = os.path.join(self.dir, "starts.log")
+        slow = os.path.join(self.dir, "rtsim-slow")
+        with open(slow, "w") as f:
+            f.write(f"#!/bin/sh\necho $$ >> {shlex.quote(starts)}\nsleep 30\n")
+        os.chmod(slow, 0o755)
+        pids = lambda: open(starts).read().split() if os.path.exists(starts) else []
+        alive = lambda pid: os.path.exists(f"/proc/{pid}") and open(f"/proc/{pid}/stat").read().rsplit(")", 1)[1].split()[0] != "Z"
+        with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None,
+                                      host="127.0.0.1", scheduler_port=0, silence_logs=40) as cluster:
+            p = subprocess.Popen(["/usr/bin/python3", SWEEP, "d", "--rtsim", slow, "--journal-dir", self.journals,
+                                  "--csv", os.path.join(self.dir, "d.csv"), "--dask", cluster.scheduler_address,
+                                  "--set", "a=1,2,3,4,5,6"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+            deadline = time.monotonic() + 30
+            while len(pids()) < 2 and time.monotonic() < deadline and p.poll() is None:
+                time.sleep(0.02)
+            self.assertEqual(len(pids()), 2, p.stderr.read() if p.poll() is not None else "no run started")
+            t0 = time.monotonic()
+            p.send_signal(signal.SIGINT)
+            _, err = p.communicate(timeout=10)
+            self.assertLess(time.monotonic() - t0, 1.0)
+            self.assertEqual(p.returncode, 130, err)
+            self.assertEqual(err.strip().splitlines(), ["sweep.py: stopped (SIGINT)"])
+            while any(alive(pid) for pid in pids()) and time.monotonic() < t0 + 1:
+                time.sleep(0.02)
+            self.assertFalse([pid for pid in pids() if alive(pid)], "a worker's rtsim still runs after the stop")
 
     def test_repeat_keeps_the_median_and_the_spread(self):
         out = os.path.join(self.dir, "s.csv")
