@@ -78,7 +78,7 @@ void RunOutputs::map(const nlohmann::json& report) {
     if (!report_) own.emplace("rtsim-map", ".json", report.dump());
     const std::string from = report_ ? report_->temp() : own->path();
     const TempFile log("rtsim-map", ".log");
-    // --doc: the user named this path himself (rtsim --map doc/x.png, as
+    // --doc: the user named this path himself (rtsim --map doc/MAP.png, as
     // scripts/mesh_map_example.sh --doc does), and checkOutputs held it to
     // rtsim's own rules; the script is given the temporary beside it.
     const int code = waitExit(spawn({"/usr/bin/python3", kMapScript, from, "-o", open(map_, o_.map).temp(), "--format",

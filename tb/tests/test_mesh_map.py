@@ -183,7 +183,7 @@ class MeshMap(unittest.TestCase):
                          (2, f"mesh_map: -o {into_doc}: in doc/, which changes only with --doc\n"))
         self.assertFalse(os.path.exists(into_doc))
         # rtsim --map passes --doc with the temporary beside the path its
-        # user named (rtsim --map doc/images/x.png is a choice): the
+        # user named (rtsim --map doc/images/MAP.png is a choice): the
         # script's arguments, recorded by a sitecustomize of the test's.
         site, args = os.path.join(self.d, "site"), os.path.join(self.d, "args.txt")
         os.mkdir(site)
