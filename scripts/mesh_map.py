@@ -411,8 +411,6 @@ def main(argv=None):
                     help=f"the layers along the balancing axis to draw (default: all, or for more than {MAX_LAYERS} "
                          f"the {MAX_LAYERS} with the busiest nodes)")
     a = ap.parse_args(argv)
-    if sys.stdout is None:  # >&-: nothing is printed, but guard flushes stdout
-        sys.stdout = open(os.devnull, "w")
     fmt = a.format or a.out.rsplit(".", 1)[-1].lower()
     if fmt not in FORMATS:
         raise ToolError(f"{a.out}: the name must end in .png, .svg or .pdf (or give --format)")

@@ -310,12 +310,22 @@ def one_line(text):
                    for c in str(text))
 
 
+# Whether the tool started with no stdout (>&-); guard gives it /dev/null.
+stdout_closed = False
+
+
 def guard(tool, main, argv=None):
     """Runs main(argv) as a tool's command line: ToolError -> 'tool: message'
     and its code; a stop -> 'tool: stopped (SIGINT)', exit 130; a closed
     stdout (| head) -> a quiet exit; any other error -> one line naming it,
-    exit 1 (RTSIM_TRACEBACK=1 shows the traceback). Returns the exit code."""
+    exit 1 (RTSIM_TRACEBACK=1 shows the traceback); a failed write to
+    stdout (> /dev/full) -> one line, exit 1; no stdout at all (>&-) -> what
+    the tool prints goes to /dev/null (stdout_closed says so). Returns the
+    exit code."""
+    global stdout_closed
     stop_handlers()
+    if sys.stdout is None:  # >&-: Python gives no stdout; what a tool prints goes nowhere
+        stdout_closed, sys.stdout = True, open(os.devnull, "w")
     try:
         code = main(argv) if argv is not None else main()
         sys.stdout.flush()
@@ -336,6 +346,14 @@ def guard(tool, main, argv=None):
         devnull = os.open(os.devnull, os.O_WRONLY)
         os.dup2(devnull, sys.stdout.fileno())
         return 0
+    except OSError as e:
+        clean_up()
+        if e.filename is None and sys.stdout is not None:  # stdout's own write (> /dev/full)
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())  # (nor again at exit)
+            print(f"{tool}: stdout: {e.strerror or e}", file=sys.stderr)
+        else:
+            print(f"{tool}: {one_line(e.filename) if e.filename else ''}: {e.strerror or one_line(e)}", file=sys.stderr)
+        return FAILED
     except Exception as e:  # noqa: BLE001 - the promise is one line, never a traceback
         clean_up()
         if os.environ.get("RTSIM_TRACEBACK"):

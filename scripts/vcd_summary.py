@@ -23,6 +23,7 @@ import sys
 from collections import defaultdict
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import outputs  # noqa: E402
 from outputs import ToolError, check_input, guard, one_line_errors  # noqa: E402
 
 WANTED = {"busy", "wait", "wire", "backlog"}
@@ -338,7 +339,7 @@ def deliver(text):
 
 def main(argv=None):
     a = parse_args(argv)
-    if sys.stdout is None:  # >&-: Python gives no stdout at all
+    if sys.stdout is None or outputs.stdout_closed:  # >&-: Python gives no stdout at all
         raise ToolError("stdout is closed: nowhere to print the summary")
     # Printed whole at the end, so that stdout's failure is met in one place.
     text = io.StringIO()

@@ -227,6 +227,22 @@ class BadInput(unittest.TestCase):
                     self.assertTrue("--plot-only" in err, err)
             self.assertEqual(os.listdir(d), [])
 
+    def test_a_full_or_closed_stdout_is_one_line_or_quiet(self):
+        """outputs.guard: a write to a full stdout (> /dev/full) is one line
+        naming stdout, exit 1; no stdout at all (>&-) is quiet, exit 0;
+        never an 'internal error'."""
+        tools = ["sweep.py", "plot_sweep.py", "vcd_summary.py", "mesh_map.py", "stress.py", "experiments/fig4.py"]
+        with open("/dev/full", "w") as full:
+            for tool in tools:
+                with self.subTest(tool=tool, stdout="full"):
+                    p = subprocess.run(py(tool, "--help"), stdout=full, stderr=subprocess.PIPE, text=True, timeout=60)
+                    self.assertEqual(p.returncode, 1, p.stderr)
+                    self.assertRegex(p.stderr, r"^[\w.]+: stdout: No space left on device\n$")
+                with self.subTest(tool=tool, stdout="closed"):
+                    p = subprocess.run(py(tool, "--help"), stdout=None, stderr=subprocess.PIPE, text=True, timeout=60,
+                                       pass_fds=(), preexec_fn=lambda: os.close(1))
+                    self.assertEqual((p.returncode, p.stderr), (0, ""))
+
     def test_mutate_leaves_a_folder_of_someone_elses_alone(self):
         """--work names a folder mutate.py empties (its src/): one it did not
         make is refused, its files untouched."""
