@@ -310,6 +310,22 @@ def one_line(text):
                    for c in str(text))
 
 
+def deliver(text, lost):
+    """A tool's printout onto stdout, whole at the end: a write that fails
+    (> /dev/full) is one line saying what is `lost`, exit 1; a reader gone
+    (| head) is left to guard (a quiet exit)."""
+    try:
+        sys.stdout.write(text)
+        sys.stdout.flush()
+    except BrokenPipeError:
+        raise
+    except OSError as e:
+        # What is left in the buffer goes nowhere: the interpreter's own
+        # flush at exit would fail again and print its complaint.
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        raise ToolError(f"stdout: {e.strerror or e}: {lost}", code=1)
+
+
 # Whether the tool started with no stdout (>&-); guard gives it /dev/null.
 stdout_closed = False
 

@@ -24,6 +24,7 @@ import sys
 import warnings
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import outputs  # noqa: E402
 from outputs import (ToolError, check_distinct, check_input, check_output, guard, one_line_errors, out_path,  # noqa: E402
                      savefig)
 from project import pyplot  # noqa: E402
@@ -419,21 +420,6 @@ def literal(text):
     return text.replace("$", r"\$")
 
 
-def deliver(text):
-    """The printout onto stdout: none if stdout is closed (>&-: the chart is
-    the result); a write that fails (> /dev/full) is one line, exit 1; a
-    reader gone (| head) is left to guard (a quiet exit)."""
-    try:
-        sys.stdout.write(text)
-        sys.stdout.flush()
-    except BrokenPipeError:
-        raise
-    except OSError as e:
-        # What is left in the buffer goes nowhere: the interpreter's own
-        # flush at exit would fail again and print its complaint.
-        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
-        raise ToolError(f"stdout: {e.strerror or e}: the chart is written, its printout is not", code=1)
-
 
 def main(argv=None):
     a = parse_args(argv)
@@ -449,7 +435,7 @@ def main(argv=None):
         ys, lines = analyse(a)
         draw(a, ys, lines, path)
         print(f"chart -> {path}")
-    deliver(text.getvalue())
+    outputs.deliver(text.getvalue(), "the chart is written, its printout is not")
     return 0
 
 

@@ -321,21 +321,6 @@ def print_links(links, start, width, span, k, top):
               f" | {busy / span:.2f} | {sat_t / span:.2f}")
 
 
-def deliver(text):
-    """The summary onto stdout: a write that fails (> /dev/full) is one
-    line, exit 1, not an internal error; a reader gone (| head) is left
-    to guard (a quiet exit)."""
-    try:
-        sys.stdout.write(text)
-        sys.stdout.flush()
-    except BrokenPipeError:
-        raise
-    except OSError as e:
-        # What is left in the buffer goes nowhere: the interpreter's own
-        # flush at exit would fail again and print its complaint.
-        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
-        raise ToolError(f"stdout: {e.strerror or e}: the summary is not written", code=1)
-
 
 def main(argv=None):
     a = parse_args(argv)
@@ -345,7 +330,7 @@ def main(argv=None):
     text = io.StringIO()
     with contextlib.redirect_stdout(text):
         summarise_file(a)
-    deliver(text.getvalue())
+    outputs.deliver(text.getvalue(), "the summary is not written")
     return 0
 
 
