@@ -326,6 +326,9 @@ def deliver(text, lost):
         raise ToolError(f"stdout: {e.strerror or e}: {lost}", code=1)
 
 
+# Whether a progress line on stderr waits for its end (a stop's line then
+# starts on a new one).
+line_open = False
 # Whether the tool started with no stdout (>&-); guard gives it /dev/null.
 stdout_closed = False
 
@@ -353,7 +356,7 @@ def guard(tool, main, argv=None):
     except (Stopped, KeyboardInterrupt) as e:
         clean_up()
         name = e.args[0] if isinstance(e, Stopped) else "SIGINT"
-        print(f"\n{tool}: stopped ({name})", file=sys.stderr)
+        print(("\n" if line_open else "") + f"{tool}: stopped ({name})", file=sys.stderr)
         return STOPPED
     except BrokenPipeError:
         clean_up()

@@ -71,6 +71,18 @@ def dask_address(text):
 one_line_errors = outputs.one_line_errors  # (the experiments call it as sweep's)
 
 
+def dask_seconds(text):
+    """--dask-timeout: seconds, more than 0 and at most an hour (nan and inf
+    would wait for ever, or not at all)."""
+    try:
+        value = float(text)
+    except ValueError:
+        value = float("nan")
+    if not 0 < value <= 3600:
+        raise argparse.ArgumentTypeError(f"{text!r}: seconds, more than 0 and at most 3600")
+    return value
+
+
 def add_arguments(ap):
     """The driver's flags, shared by every sweep script."""
     if not isinstance(ap, argparse.ArgumentParser) or type(ap).error is argparse.ArgumentParser.error:
@@ -80,7 +92,7 @@ def add_arguments(ap):
                    help="parallel local runs (default 0: one per core; a negative count is refused)")
     g.add_argument("--dask", metavar="ADDRESS", type=dask_address,
                    help="submit the points to this Dask scheduler (tcp://HOST:PORT, such as tcp://10.0.0.5:8786)")
-    g.add_argument("--dask-timeout", metavar="SECONDS", type=float, default=DASK_TIMEOUT,
+    g.add_argument("--dask-timeout", metavar="SECONDS", type=dask_seconds, default=DASK_TIMEOUT,
                    help=f"how long to wait for the Dask scheduler to answer (default {DASK_TIMEOUT:g} s); "
                         "no answer: one line, exit 2")
     g.add_argument("--fresh", action="store_true", help="forget the journal and rerun every point")
@@ -452,6 +464,7 @@ class Progress:
         left = (self.total - self.done) * elapsed / ran if ran else 0
         print(f"\r{self.name}: {self.done}/{self.total} points ({self.resumed} resumed), "
               f"{elapsed:.0f} s, about {left:.0f} s left   ", end="", file=sys.stderr, flush=True)
+        outputs.line_open = True  # (a stop's line starts on a line of its own)
 
 
 # --- running the points ----------------------------------------------------
@@ -544,6 +557,9 @@ def _connect(address, timeout):
     except ImportError:
         raise ToolError("--dask needs Debian's python3-distributed (bash scripts/setup.sh dask)") from None
     logging.getLogger("distributed").setLevel(logging.CRITICAL)
+    # A stop while connecting leaves the client's tasks pending: asyncio
+    # would complain of them in lines of its own at exit.
+    logging.getLogger("asyncio").setLevel(logging.CRITICAL)
     try:
         return distributed, cloudpickle, distributed.Client(address, timeout=timeout)
     except Exception as e:  # noqa: BLE001 - OSError, TimeoutError, asyncio's: all say "no scheduler there"
@@ -664,8 +680,9 @@ def run(name, points, extract, csv_path, opts=None, repeats=1, timeout=None, bin
                 failed = _journal_runs(runs, journal, extract, binary, ver, progress)
             finally:
                 runs.close()  # (on a stop: no queued point starts, the running ones are killed)
-            if todo:
+            if todo and outputs.line_open:
                 print(file=sys.stderr)
+                outputs.line_open = False
             if failed:
                 raise ToolError(f"{name}: {len(failed)} point(s) failed; first: {failed[0]}", outputs.FAILED)
             rows = [row_of(p, journal.done[p["id"]], repeats) for p in points]

@@ -268,6 +268,7 @@ class SweepEdges(unittest.TestCase):
             (["--set", "a=1,2", "--csv", os.path.join(sweep.ROOT, "doc", "x.csv")], "in doc/"),
             (["--set", "a=1,2", "--journal-dir", "/dev/null"], "--journal-dir /dev/null: not a folder"),
             (["--set", "a=1,2", "--jobs", "-1"], "--jobs: '-1'"),
+            (["--set", "a=1,2", "--dask", "tcp://127.0.0.1:1", "--dask-timeout", "nan"], "--dask-timeout: 'nan'"),
             (["--set", "a=1,2", "--repeat", "0"], "--repeat 0: at least 1"),
             (["--set", "a=1,2", "--dask", "nohost:8786"], "tcp://HOST:PORT"),
             (["--set", "a=1,2", "--dask", "tcp://nohost"], "tcp://HOST:PORT"),

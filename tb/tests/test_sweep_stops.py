@@ -178,6 +178,18 @@ class SweepStops(unittest.TestCase):
         self.assertEqual(sorted(rerun), list(range(FAST + 1, POINTS + 1)))  # the finished points were not rerun
         self.assertEqual(len(self.records()), POINTS)
 
+    def test_a_stop_before_any_point_ends_is_one_line(self):
+        """No progress line was printed yet: the stop's line is the only
+        one on stderr (it began with an empty line)."""
+        with open(self.binary, "w") as f:
+            f.write(f"#!/bin/sh\necho \"0 $$\" >> {shlex.quote(os.path.join(self.dir, 'starts.log'))}\n"
+                    "exec sleep 60\n")
+        p = self.start()
+        self.wait_for(lambda: len(self.starts()) == JOBS)
+        os.kill(p.pid, signal.SIGINT)
+        _, err = p.communicate(timeout=5)
+        self.assertEqual((p.returncode, err), (130, "sweep.py: stopped (SIGINT)\n"))
+
     def test_sigkill_leaves_no_child_and_the_next_sweep_cleans_up(self):
         """kill -9 of a sweep: no handler runs, yet its rtsim children die
         with it (setpriv --pdeathsig), and its folder of temporary reports
