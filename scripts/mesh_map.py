@@ -106,6 +106,8 @@ class Report:
         v = obj[key]
         if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
             self.fail(f"{where}.{key}", f"{str(v)[:30]!r} is not a finite number")
+        if v < 0:  # (every figure the picture reads is a time, a load or a share)
+            self.fail(f"{where}.{key}", f"{v!r} is below 0")
         return float(v)
 
     def field(self, obj, key, kind, where):

@@ -141,6 +141,7 @@ class MeshMap(unittest.TestCase):
             "axis": (good.replace('"axis": "x"', '"axis": "w"'), ": config.balance.axis: 'w' is not x, y or z"),
             "busy": (json.dumps(busy("abc")), ": nodes[1].busy_ns: 'abc' is not a finite number"),
             "busy-nan": (json.dumps(busy(float("nan"))), ": nodes[1].busy_ns: 'nan' is not a finite number"),
+            "busy-below-0": (json.dumps(busy(-5)), ": nodes[1].busy_ns: -5 is below 0"),
             "load-nan": (json.dumps(nodes).replace('"load": "x"', '"load": NaN'),
                          ": nodes[1].load: 'nan' is not a finite number"),
         }
