@@ -423,8 +423,6 @@ def literal(text):
 
 def main(argv=None):
     a = parse_args(argv)
-    if sys.stdout is None:  # >&-: the chart is the result; its printout goes nowhere
-        sys.stdout = open(os.devnull, "w")
     path = chart_path(a, a.y.split(","))  # checked before any work
     # Printed whole at the end, so that stdout's failure is met in one place;
     # a glyph the font lacks (a title in Japanese) is drawn as a box, not
