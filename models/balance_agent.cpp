@@ -156,6 +156,10 @@ void BalanceAgent::act() {
         giveToStartTarget();
         return;
     }
+    if (gather_.due()) {
+        gatherStep();
+        return;
+    }
     for (int i : {0, 1}) {
         if (!advancing_[i]) continue;
         if (advanceStep(i)) return;

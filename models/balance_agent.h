@@ -129,6 +129,12 @@ public:
     // How long every message sent so far to that neighbour keeps the link
     // busy, including what waits to go (LinkSendIf::occupied).
     virtual Picos linkOccupied(int side) const = 0;
+    // Sends a balancing message on the link in direction `dir` (`sample`'s
+    // planes to a neighbouring column) and charges it.
+    virtual void sendOn(int dir, Message m) = 0;
+    // `sample` begins (the sample's primary rays first); the host calls
+    // sampleReady once its part of the sample is in.
+    virtual void sampleBegins() = 0;
 };
 
 class BalanceAgent {
@@ -155,7 +161,7 @@ public:
     // kernel catch up as after any step it takes (the node is a method
     // process: it cannot wait in the middle of an action). Each side's
     // actions run in lockstep order, the lower side's first.
-    bool pending() const { return startLo_ || startHi_ || advancing_[0] || advancing_[1]; }
+    bool pending() const { return startLo_ || startHi_ || advancing_[0] || advancing_[1] || gather_.due(); }
     void act();
 
     const BalanceStats& stats() const { return stats_; }
@@ -173,6 +179,23 @@ public:
     // reach one that lay beyond it (a plane that moves across several boxes
     // moves in a chain of slides, each node passing on what it took).
     void tookSlab();
+
+    // `sample`'s first frame (balance_sample.cpp; sample_split.h): the node
+    // holds its faces and records the work of the sample's rays by where it
+    // happened; once its own part of the sample is in (sampleReady) and the
+    // column's sum from below has come (onSample), it passes the sum on up;
+    // the top node splits the column's sum (splitBySample) and sends the
+    // planes down (onPlanes); every node passes them on and moves its faces
+    // to them as startAt does, once, and then holds. A column none of whose
+    // nodes generates primary rays takes the planes of one neighbouring
+    // column (`feeder`: its direction; -1: the column gathers its own; -2:
+    // none, the faces hold); `floodTo`: the columns this one feeds.
+    void startSample(int feeder, const std::array<bool, 6>& floodTo);
+    bool sampling() const { return gather_.on && !gather_.passed; }
+    void recordSample(double where, Picos work);
+    void sampleReady();
+    void onSample(const Message& m);
+    void onPlanes(int fromDir, const Message& m);
 
     // --faces ideal-layer: the layer's faces, summed and decided without
     // messages (ideal_layer_faces.h); this node adds its loads to them and
@@ -224,10 +247,28 @@ private:
     // Due for act(): the faces startAt moves, and the sides whose lockstep
     // advances, from the time of the report or interval that made them due.
     bool startLo_ = false, startHi_ = false;
-    double startTo_[2] = {0, 0};
+    double startTo_[2] = {std::nan(""), std::nan("")};  // (NaN: no target, as before the planes come)
     std::array<bool, 2> advancing_{};
     std::array<Picos, 2> advanceAt_{};
     void recordInterval(const IntervalRecord& r);
+    // `sample`'s gather (balance_sample.cpp).
+    struct Gather {
+        bool on = false;  // the column gathers its own planes
+        bool ready = false, below = false, passed = false, adopted = false;
+        double lo = 0, hi = 1;      // the box along the axis while it samples
+        std::vector<double> own;    // the sample's work here, in kSampleBins bins over [lo, hi]
+        std::vector<double> sum;    // the column's (ColumnSample) from its lowest node through this one
+        std::vector<double> planes;
+        bool up = false, down = false, adopt = false;  // due: the sum up, the planes down, the faces to them
+        std::array<bool, 6> flood{};  // due: the planes to these neighbouring columns
+        bool due() const { return up || down || adopt || flood[0] || flood[1] || flood[2] || flood[3] || flood[4] || flood[5]; }
+    };
+    void gatherStep();      // one action of the gather (act)
+    void passSum();         // ready and the sum from below in: up, or (the top) split
+    void takePlanes(std::vector<double> planes, int fromDir);
+    Gather gather_;
+    std::array<bool, 6> floodTo_{};
+    int feeder_ = -1;
     BalanceStats stats_;
     IntervalRecord pending_{0, 0, 0};  // intervals closed since the last record
     uint64_t pendingCount_ = 0;

@@ -69,7 +69,7 @@ ColumnPlanes initialPlanes(const MachineConfig& cfg, const Lattice& cuts, const 
     ColumnPlanes planes(size_t(g.count()), cuts.planes(g.axis));
     // (the minimum less a report's rounding of its decimals)
     if (!cfg.startBoundaries.empty()) planes = withInnerPlanes("start boundaries", planes, cfg.startBoundaries, minThickness, 1e-9);
-    else if (cfg.balance.policy == "median") atObjectMedians(planes, g, cuts, world, bins, minThickness);
+    else if (cfg.balance.policy == "median" || cfg.balance.policy == "sample") atObjectMedians(planes, g, cuts, world, bins, minThickness);
     return planes;
 }
 

@@ -15,6 +15,8 @@ const char* msgTypeName(MsgType t) {
         case MsgType::Ack: return "ack";
         case MsgType::FbExpect: return "fb_expect";
         case MsgType::FbDone: return "fb_done";
+        case MsgType::Sample: return "sample";
+        case MsgType::Planes: return "planes";
     }
     return "?";
 }

@@ -6,6 +6,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "sample_split.h"
+
 namespace rt {
 
 namespace {
@@ -212,10 +214,49 @@ void Machine::giveOutPrimaryRays(const ColumnPlanes& planes) {
     for (const RayJob& j : primaries.misses)
         units_[j.pixel % uint32_t(cfg_.fbUnits)].addOwn(shader_.miss(j, hostCounters));
     primaryMisses_ = primaries.misses.size();
+    if (cfg_.balance.policy == "sample" && cfg_.targetBoundaries.empty()) prepareSample(primaries.perNode);
     CreditShares credit = shareCredit(primaries.perNode, maxExp_);
     for (size_t i = 0; i < nodes_.size(); ++i)
         nodes_[i].assignPrimaries(std::move(primaries.perNode[i]), credit.exp[i], credit.remainder[i]);
     units_[0].keep(credit.host);
+}
+
+// `sample`'s first frame (sample_split.h): where each node's planes come
+// from. A column none of
+// whose nodes generates primary rays takes its planes from one neighbouring
+// column, its feeder, the same for all its nodes (so its faces' targets
+// agree): the nearest that generates, by a breadth-first search over the
+// columns from those that do, in link order.
+void Machine::prepareSample(const std::vector<std::vector<uint32_t>>& perNode) {
+    const ColumnGeometry& g = columns_;
+    std::vector<int> feeder(size_t(g.count()), -2);  // per column: the direction of its feeder; -1: it generates; -2: none
+    std::vector<int> queue;
+    for (size_t i = 0; i < nodes_.size(); ++i) {
+        const int col = g.columnOf(nodes_[i].cell());
+        if (!perNode[i].empty() && feeder[size_t(col)] == -2) {
+            feeder[size_t(col)] = -1;
+            queue.push_back(col);
+        }
+    }
+    std::sort(queue.begin(), queue.end());
+    for (size_t q = 0; q < queue.size(); ++q) {
+        const Cell c = g.cell(queue[q] % g.dims[g.u], queue[q] / g.dims[g.u], 0);
+        for (int d = 0; d < kDirs; ++d) {
+            const Cell n = neighbour(c, d);
+            if (dirAxis(d) == g.axis || !inMesh(n, cfg_.dims) || feeder[size_t(g.columnOf(n))] != -2) continue;
+            feeder[size_t(g.columnOf(n))] = opposite(d);  // (back to this column)
+            queue.push_back(g.columnOf(n));
+        }
+    }
+    for (size_t i = 0; i < nodes_.size(); ++i) {
+        const Cell& c = nodes_[i].cell();
+        std::array<bool, 6> flood{};  // the neighbouring columns this one feeds
+        for (int d = 0; d < kDirs; ++d) {
+            const Cell n = neighbour(c, d);
+            flood[size_t(d)] = dirAxis(d) != g.axis && inMesh(n, cfg_.dims) && feeder[size_t(g.columnOf(n))] == opposite(d);
+        }
+        nodes_[i].setSample(feeder[size_t(g.columnOf(c))], flood);
+    }
 }
 
 void Machine::endFrame() {

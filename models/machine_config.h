@@ -74,7 +74,7 @@ struct BalanceConfig {
 
     bool dynamic() const;         // a policy that moves boundaries during the frame
     // A policy that re-splits from the frame before's work (resplit, measured).
-    bool betweenFrames() const { return policy == "resplit" || policy == "measured"; }
+    bool betweenFrames() const { return policy == "resplit" || policy == "measured" || policy == "sample"; }
     // One whose first frame keeps its starting split and only measures (measured).
     bool firstFrameHolds() const { return policy == "measured"; }
     double gainOf() const;        // gain, or the policy's default

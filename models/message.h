@@ -1,6 +1,7 @@
 // What travels on a link or a frame-buffer port. Every message has a type and
 // a size in bytes; the size is what the link's bandwidth is charged for.
 #pragma once
+#include <algorithm>
 #include <cstdint>
 #include <memory>
 #include <utility>
@@ -16,8 +17,10 @@ enum class MsgType : uint8_t {
     Ray = 0, Contributions = 1, Credit = 2, LoadReport = 3, Slide = 4, Ack = 5,
     FbExpect = 6,  // frame-buffer unit 0 to unit u, at the end: how many contributions u must have
     FbDone = 7,    // unit u back to unit 0: it has accumulated them all
+    Sample = 8,    // `sample`: the column's sampled work by position, from its lowest node through the sender
+    Planes = 9,    // `sample`: the column's planes, from its top node down (and to columns without primary rays)
 };
-constexpr int kMsgTypes = 8;
+constexpr int kMsgTypes = 10;
 const char* msgTypeName(MsgType t);
 
 // Wire sizes (bytes). A ray: origin, direction, t0, tEnd, weight (doubles,
@@ -30,6 +33,8 @@ constexpr uint32_t kSlideBytes = 8 + 4;                     // new boundary, obj
 constexpr uint32_t kAckBytes = 8;                           // the boundary taken
 constexpr uint32_t kUnitCountBytes = 2 + 4;                 // Credit: a frame-buffer unit and a count
 constexpr uint32_t kFbExpectBytes = 8;                      // the count
+constexpr uint32_t kHandedBytes = 4 + 2;                    // a primary ray handed over: pixel, credit exponent
+constexpr uint32_t kValueBytes = 8;                         // Sample, Planes: per bin, per plane (a double)
 
 // The smallest message each kind of link carries, which sets how soon a
 // message not yet sent can arrive (the lookahead, MachineConfig::lookahead;
@@ -43,6 +48,13 @@ constexpr uint32_t kSmallestFbMessage = kHeaderBytes;
 
 // Bytes of one object on the wire: id, material, kind, then its geometry.
 uint32_t objectBytes(const Shape& s);
+
+// A primary ray not yet generated: its pixel and its credit exponent.
+struct Primary {
+    uint32_t pixel;
+    uint16_t exp;
+};
+using HandedPrimaries = std::vector<Primary>;
 
 // One ray on the wire, with its credit 2^-creditExp: what kRayBytes counts,
 // the job without its ray's reciprocal direction. The receiver computes that
@@ -109,6 +121,8 @@ struct MessageBody {
     double sum = 0;                            // LoadReport: the column's demand up to the reporter (policy.h)
     double boundary = 0;                       // Slide, Ack: the boundary's new coordinate
     std::vector<Shape> objects;                // Slide: the objects of the moved slab
+    std::vector<double> values;                // Sample: work per bin (ps); Planes: the inner planes (none: held)
+    HandedPrimaries primaries;                 // Slide (`sample`): the slab's primary rays not yet generated
 };
 
 // 128 bytes: two cache lines. A link holds every message sent on it until
@@ -178,6 +192,8 @@ struct Message {
         return m;
     }
     static Message fbDone() { return Message(MsgType::FbDone); }
+    static Message sample(std::vector<double> bins) { return valued(MsgType::Sample, std::move(bins)); }
+    static Message planes(std::vector<double> planes) { return valued(MsgType::Planes, std::move(planes)); }
 
     bool batched() const { return body_ && !body_->batch.empty(); }
     size_t rayCount() const { return batched() ? body_->batch.size() : 1; }
@@ -204,24 +220,35 @@ struct Message {
             case MsgType::Slide: {
                 uint32_t b = kHeaderBytes + kSlideBytes;
                 for (const Shape& s : body().objects) b += objectBytes(s);
-                return b;
+                return b + uint32_t(body().primaries.size()) * kHandedBytes;
             }
             case MsgType::Ack: return kHeaderBytes + kAckBytes;
             case MsgType::FbExpect: return kHeaderBytes + kFbExpectBytes;
             case MsgType::FbDone: return kHeaderBytes;
+            // (a Planes message with no plane still carries its count: at least an ack's bytes)
+            case MsgType::Sample:
+            case MsgType::Planes: return kHeaderBytes + std::max<uint32_t>(kAckBytes, uint32_t(body().values.size()) * kValueBytes);
         }
         return kHeaderBytes;
     }
 
 private:
     explicit Message(MsgType t) : type(t) {}
+    static Message valued(MsgType t, std::vector<double> v) {
+        Message m(t);
+        m.body().values = std::move(v);
+        return m;
+    }
     std::unique_ptr<MessageBody> body_;
 };
 static_assert(sizeof(Message) == 128, "a message: a ray, its type and the body's pointer");
 
-// Load reports, slides and acks: the balancing protocol's messages, which a
-// link's control lane carries (link.h).
-inline bool isControl(MsgType t) { return t == MsgType::LoadReport || t == MsgType::Slide || t == MsgType::Ack; }
+// Load reports, slides, acks and `sample`'s gather: the balancing protocol's
+// messages, which a link's control lane carries (link.h).
+inline bool isControl(MsgType t) {
+    return t == MsgType::LoadReport || t == MsgType::Slide || t == MsgType::Ack || t == MsgType::Sample ||
+           t == MsgType::Planes;
+}
 
 // A step's sends, in order: each a destination (a link direction, or kDirs
 // + unit for a frame-buffer unit) and its message.

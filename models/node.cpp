@@ -99,8 +99,14 @@ void Node::start() {
                                                   params_.columnLength, out[sideDir(-1)].size() > 0,
                                                   out[sideDir(+1)].size() > 0, params_.minThickness);
         balance_->shareFaces(params_.layerFaces);
-        if (startTargets_) balance_->startAt((*startTargets_)[0], (*startTargets_)[1]);
-        else if (bal.firstFrameHolds()) balance_->startAt(std::nan(""), std::nan(""));  // hold, and measure
+        if (startTargets_) {
+            balance_->startAt((*startTargets_)[0], (*startTargets_)[1]);
+            sample_.reset();
+        } else if (bal.firstFrameHolds()) {
+            balance_->startAt(std::nan(""), std::nan(""));  // hold, and measure
+        } else if (sample_) {
+            balance_->startSample(sample_->feeder, sample_->floodTo);
+        }
     }
     runAhead_ = runAhead_ && !balance_ && trace_.busy < 0;
     ledger_.configure(time_.decoupled(), time_.decoupled() && balance_);
@@ -194,8 +200,10 @@ bool Node::nothingToDo() const {
 // The control lane's messages are handled before any ray (link.h), as an
 // interrupt-driven link controller would.
 bool Node::takeControl(std::optional<Message>& control, int& controlDir) {
-    for (int side : {-1, +1}) {
-        const int d = sideDir(side);
+    // Along the axis, the lower side first; then, for `sample`'s planes, the neighbouring columns.
+    const int ax = params_.balance.axis;
+    for (int k = 0; k < (sample_ ? kDirs : 2); ++k) {
+        const int d = k < 2 ? sideDir(k ? +1 : -1) : k - 2 + (k - 2 >= 2 * ax ? 2 : 0);  // (laterals in order)
         if (input_.controlArrived(d, now_)) {
             control = input_.consumeControl(d, now_);
             ++stats_.messagesReceived;
@@ -228,6 +236,7 @@ bool Node::takeWork(Work& w, std::optional<Message>& control, int& controlDir) {
         ++stats_.raysGenerated;
         ++stats_.raysCreated;
         ++stats_.counters.primaryRays;
+        if (sample_) sampleGenerated();
         return true;
     }
     return false;
@@ -265,8 +274,10 @@ void Node::step(Work& w) {
     stats_.contributionsSent += contributions_.size();
     const BusyParts parts = costs_.stepParts(before, stats_.counters, outbox_.size(), w.fromLink ? 1 : 0, w.generated ? 1 : 0);
     const Picos cost = sumOf(parts);
-    if (balance_ && std::isfinite(span.where))  // (the faces only for `resplit`'s forecast: not on slide's path)
+    if (balance_ && std::isfinite(span.where)) {  // (the faces only for `resplit`'s forecast: not on slide's path)
         balance_->recordStep(span.where, cost, params_.balance.betweenFrames() ? axialFaces(w, parts, span) : FaceCrossings{});
+        if (sample_ && balance_->sampling() && inSample(w.job.pixel, uint32_t(params_.camera.width()))) recordSample(parts, span);
+    }
     markQueueDepth();
     chargeAndSend(parts, true);
 }

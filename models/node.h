@@ -36,6 +36,7 @@
 #include "queue_marks.h"
 #include "ray_batcher.h"
 #include "region.h"
+#include "sample_split.h"
 #include "shading.h"
 #include "time_keeper.h"
 #include "time_ledger.h"
@@ -78,14 +79,18 @@ public:
     // watchdog's progress, how far it may run ahead of the kernel (its
     // lookahead), and (`resplit` with a frame before) where its faces along
     // the axis go at the frame's start (NaN: that face stays).
-    void assignPrimaries(std::vector<uint32_t> pixels, int primaryExp, const Credit& remainder) {
-        input_.assignPrimaries(std::move(pixels), primaryExp);
+    void assignPrimaries(const std::vector<uint32_t>& pixels, int primaryExp, const Credit& remainder) {
+        input_.assignPrimaries(pixels, primaryExp, sample_ ? uint32_t(params_.camera.width()) : 0);
         fbOut_.setCredit(remainder);
     }
     void enableTrace(const NodeTrace& t) { trace_ = t; }
     void setProgress(Progress* p) { progress_ = p; }
     void setQuantum(Picos q) { time_.setQuantum(q); }
     void setStartTargets(double lo, double hi) { startTargets_ = {lo, hi}; }
+    // `sample`'s first frame (balance_sample.cpp), before its primary rays:
+    // the direction its column takes its planes from (-1: its own gather;
+    // -2: none, it holds); the neighbouring columns it passes them to.
+    void setSample(int feeder, const std::array<bool, 6>& floodTo);
 
     // What the node still holds (rays in hand or in its input links, rays
     // in partial batches, contributions, credit), for the watchdog's
@@ -126,6 +131,8 @@ private:
     void forward(const Work& w, int dir, bool passing);
     void terminate(const Work& w, std::vector<RayJob>& spawned);
     void markQueueDepth();
+    void recordSample(const BusyParts& parts, const TracedSpan& span);
+    void noteOccupied();  // occupied_, from the box and its objects
     // Advances the node's time by a step's cost, sends what the step made,
     // and lets the kernel catch up as the quantum asks (with a ray step that
     // leaves nothing to do, by waiting for work at once: mayWaitForWork).
@@ -157,6 +164,9 @@ private:
     Picos rayOccupies(int side) const override;
     Picos reportTime(int side) const override;  // 0 on the rays' FIFO: not paced
     Picos linkOccupied(int side) const override;
+    void sendOn(int dir, Message m) override;
+    void sampleBegins() override;
+    void sampleGenerated();  // a primary ray generated: the gather may start
     void takeSlab(int side, double boundary, std::vector<Shape> objects);
     void rebuild(const Box& box, std::vector<Shape> objects);
     int sideDir(int side) const { return dirOf(params_.balance.axis, side); }  // side -1 / +1 -> link direction
@@ -179,6 +189,14 @@ private:
     std::vector<Link*> fbLinks_;           // fb's, by unit
     std::unique_ptr<BalanceAgent> balance_;  // dynamic policies; made at the start
     std::optional<std::array<double, 2>> startTargets_;
+    struct SampleSetup {
+        int feeder = -1;
+        std::array<bool, 6> floodTo{};
+        uint64_t trigger = 0;  // the gather starts once the node has generated this many primary rays
+        bool armed = false;
+    };
+    std::optional<SampleSetup> sample_;
+    std::array<double, 2> occupied_{};  // along the axis, the part of the box its objects occupy (recordSample)
     Progress* progress_ = nullptr;  // the watchdog's (watchdog.h)
     NodeTrace trace_;  // (signals -1: not traced)
 

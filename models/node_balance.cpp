@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "node.h"
+#include "grid.h"
 #include "slab.h"
 
 namespace rt {
@@ -22,6 +23,33 @@ void Node::rebuild(const Box& box, std::vector<Shape> objects) {
         }
     std::sort(objects.begin(), objects.end(), [](const Shape& a, const Shape& b) { return a.id < b.id; });
     region_ = std::make_unique<Region>(box, std::move(objects), AccelKind::Grid);
+    if (sample_) noteOccupied();
+}
+
+void Node::setSample(int feeder, const std::array<bool, 6>& floodTo) {
+    sample_ = SampleSetup{feeder, floodTo};
+    noteOccupied();
+}
+
+// `sample` begins: the gather starts once the node has generated its
+// sample's primary rays (first in its queue). Their rays go ahead of the
+// rest's in every queue they reach, and the gather's messages follow them
+// on the same links (doc/balancing.md, "One frame: sample, then split").
+void Node::sampleBegins() {
+    sample_->trigger = stats_.counters.primaryRays + input_.primaries().sampleLeft();
+    sample_->armed = true;
+    sampleGenerated();
+}
+
+void Node::sampleGenerated() {
+    if (!sample_->armed || stats_.counters.primaryRays < sample_->trigger) return;
+    sample_->armed = false;
+    balance_->sampleReady();
+}
+
+void Node::noteOccupied() {
+    const Box part = UniformGrid::occupiedPart(region_->objects(), region_->box());
+    occupied_ = {part.lo[params_.balance.axis], part.hi[params_.balance.axis]};
 }
 
 // With targets for the frame's start, the node's primary rays are those of
@@ -65,14 +93,33 @@ FaceCrossings Node::axialFaces(const Work& w, const BusyParts& parts, const Trac
     return f;
 }
 
+// `sample`: a sample ray's step, each part of its work where it happened:
+// its generation where it started (that stays with the node that generates
+// it), its shading at its hit, its tests and voxel steps in the middle of the
+// part of its segment where the box's objects are (the grid spans only
+// that: UniformGrid::occupiedPart), the rest in the middle of its segment.
+void Node::recordSample(const BusyParts& parts, const TracedSpan& span) {
+    Picos tests = parts[kVoxelSteps], rest = sumOf(parts) - parts[kRayGeneration] - parts[kShading];
+    for (int k = 0; k < kPrimitiveKinds; ++k) tests += parts[size_t(k)];
+    rest -= tests;
+    const double a = std::max(std::min(span.from, span.to), occupied_[0]);
+    const double b = std::min(std::max(span.from, span.to), occupied_[1]);
+    if (parts[kRayGeneration]) balance_->recordSample(span.from, parts[kRayGeneration]);
+    if (parts[kShading]) balance_->recordSample(span.to, parts[kShading]);
+    if (tests) balance_->recordSample(a <= b ? 0.5 * (a + b) : span.where, tests);
+    if (rest) balance_->recordSample(span.where, rest);
+}
+
 // At the end of each interval: the agent records the node's load over it,
 // and reports and decides with each neighbour as far as the lockstep allows.
 void Node::closeInterval() {
     balance_->closeInterval(now_, stats_.busy, stats_.wait, input_.depth(now_));
 }
 
-void Node::sendReport(int side, Message m) {
-    outbox_.push_back({sideDir(side), std::move(m)});
+void Node::sendReport(int side, Message m) { sendOn(sideDir(side), std::move(m)); }
+
+void Node::sendOn(int dir, Message m) {
+    outbox_.push_back({dir, std::move(m)});
     traceState(true, false);
     finishControlStep(0, 0);
 }
@@ -80,12 +127,21 @@ void Node::sendReport(int side, Message m) {
 void Node::control(Message& m, int fromDir) {
     const int side = dirStep(fromDir);  // the neighbour is below (-1) or above (+1) along the axis
     traceState(true, false);
+    if (m.type == MsgType::Planes) {  // (from above, or from a neighbouring column)
+        finishControlStep(1, 0);
+        balance_->onPlanes(fromDir, m);
+        return;
+    }
     if (dirAxis(fromDir) != params_.balance.axis)
         throw std::logic_error(std::string(name()) + ": control message off the progress axis");
-    if (m.type == MsgType::LoadReport) {
+    if (m.type == MsgType::Sample) {
+        finishControlStep(1, 0);
+        balance_->onSample(m);
+    } else if (m.type == MsgType::LoadReport) {
         finishControlStep(1, 0);
         balance_->onReport(side, m, now_);
     } else if (m.type == MsgType::Slide) {
+        input_.primaries().take(m.body().primaries);
         takeSlab(side, m.body().boundary, std::move(m.body().objects));
     } else if (m.type == MsgType::Ack) {
         ++stats_.acks;
@@ -109,7 +165,11 @@ void Node::giveSlab(int side, double boundary) {
         trace_.vcd->step(now_, trace_.slides[face], 1);
     }
     stats_.objectsSent += moved;
-    outbox_.push_back({sideDir(side), Message::slide(boundary, std::move(objects.give))});
+    Message slide = Message::slide(boundary, std::move(objects.give));
+    // `sample`: the primary rays that start in the slab go with it (in
+    // the other policies a node generates the rays the host gave it).
+    if (sample_) slide.body().primaries = input_.handOver(params_.camera, params_.world, ax, boundary, side > 0);
+    outbox_.push_back({sideDir(side), std::move(slide)});
     rebuild(own, std::move(objects.keep));
     finishControlStep(0, moved);
 }

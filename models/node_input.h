@@ -16,6 +16,7 @@
 #include "arrival_queue.h"
 #include "camera.h"
 #include "link.h"
+#include "primary_queue.h"
 #include "ray_batcher.h"
 #include "shading.h"
 
@@ -49,11 +50,11 @@ public:
         for (int d = 0; d < kDirs; ++d) links_[size_t(d)] = in[d].size() ? &asLink(*in[d].operator->()) : nullptr;
     }
     // Before the start: the pixels whose primary rays this node generates,
-    // each with credit 2^-exp.
-    void assignPrimaries(std::vector<uint32_t> pixels, int exp) {
-        pixels_ = std::move(pixels);
-        primaryExp_ = exp;
+    // each with credit 2^-exp; `sampleWidth`: `sample`'s first (primary_queue.h).
+    void assignPrimaries(const std::vector<uint32_t>& pixels, int exp, uint32_t sampleWidth = 0) {
+        primaries_.assign(pixels, uint16_t(exp), sampleWidth);
     }
+    PrimaryQueue& primaries() { return primaries_; }
 
     // A ray spawned here.
     void spawn(const RayJob& j, uint16_t creditExp) { local_.push_back(Work{j, creditExp, false, false, -1}); }
@@ -82,18 +83,22 @@ public:
     Message consumeControl(int dir, Picos now) { return links_[size_t(dir)]->consumeControl(now); }
     // The next primary ray, if any pixel is left.
     bool nextPrimary(Work& w, const Camera& camera, const Box& world) {
-        if (nextPixel_ >= pixels_.size()) return false;
-        const uint32_t p = pixels_[nextPixel_++];
-        w = Work{primaryJob(camera, int(p % uint32_t(camera.width())), int(p / uint32_t(camera.width())), world),
-                 uint16_t(primaryExp_), false, true, -1};
+        Primary p;
+        if (!primaries_.next(p)) return false;
+        const uint32_t width = uint32_t(camera.width());
+        w = Work{primaryJob(camera, int(p.pixel % width), int(p.pixel / width), world), p.exp, false, true, -1};
         return true;
     }
+    // `sample`: the primary rays not yet generated that start at or beyond
+    // `boundary` along `axis` (below it if !upper), taken out with their
+    // credit, to go with a slab (MessageBody::primaries).
+    HandedPrimaries handOver(const Camera& camera, const Box& world, int axis, double boundary, bool upper);
 
     size_t inHand() const { return local_.size() + (received_.size() - receivedNext_); }
     // Its queue at `at`: rays in hand and messages arrived by then, not yet
     // taken (counted in simulated time, so the same in every exact mode).
     size_t depth(Picos at) const { return inHand() + arrivals_.arrivedBy(at); }
-    size_t primariesLeft() const { return pixels_.size() - nextPixel_; }
+    size_t primariesLeft() const { return primaries_.left(); }
     // Rays, contributions and credit on their way to it (for the watchdog's message).
     uint64_t onTheirWay() const;
     // Where it waits for input (arrival_queue.h).
@@ -107,9 +112,7 @@ private:
     RayList received_;                  // the rest of the last batch received (FIFO)
     size_t receivedNext_ = 0;
     int8_t receivedFrom_ = -1;          // the link it came on
-    std::vector<uint32_t> pixels_;
-    size_t nextPixel_ = 0;
-    int primaryExp_ = 0;
+    PrimaryQueue primaries_;
 };
 
 }  // namespace rt

@@ -24,6 +24,11 @@ const std::vector<PolicyInfo>& policies() {
          "as resplit, but the first frame keeps its starting split and only measures where the work is (no slides "
          "within a frame: the first frame is never slower than without balancing)",
          PolicyKind::Dynamic, 0.25, makeSlidePolicy},
+        {"sample",
+         "the first frame starts at the object-median split, gathers where a sample of its rays (one pixel in 16, "
+         "generated first) did their work up each column, and moves every plane once to where that work splits "
+         "evenly; later frames re-split as resplit",
+         PolicyKind::Dynamic, 0.25, makeSlidePolicy},
         {"median", "a static split at the object-median, no messages", PolicyKind::Static, 0.0, nullptr},
     };
     return all;

@@ -62,6 +62,56 @@ def variant(preset, tag=""):
     return "".join("-" + x for x in ([] if preset == "modern" else [preset]) + ([tag] if tag else []))
 
 
+def add_machine_arguments(ap, preset, script):
+    """The experiment scripts' machine: --preset (configs/PRESET.conf), and a
+    variant of it, --extra flags named by --tag (their files SCRIPT-PRESET-TAG.*)."""
+    ap.add_argument("--preset", default=preset, help="configs/PRESET.conf")
+    ap.add_argument("--extra", default="", help="more rtsim flags for every run")
+    ap.add_argument("--tag", default="", help=f"name of the --extra variant: its files are {script}-PRESET-TAG.*")
+
+
+def check_variant(a):
+    """--preset and --tag name files: names, not paths, and the preset one that exists."""
+    import outputs
+    outputs.check_input(preset_flags(outputs.check_name(a.preset, "--preset"))[1], "--preset")
+    if a.tag:
+        outputs.check_name(a.tag, "--tag")
+
+
+def machine(a):
+    """The machine's name in titles and table markers: the preset, and the tag of its variant."""
+    return a.preset + (f" {a.tag}" if a.tag else "")
+
+
+def invocation(a):
+    """The flags that name the machine, for a table's "written by" line."""
+    return f"--preset {a.preset}" + (f" --tag {a.tag} --extra={a.extra!r}" if a.tag else "")
+
+
+def best_static(a):
+    """The best static split's ratio per (view, N) at f = 1/N, where
+    scripts/experiments/partition_search.py has found it for this preset:
+    the better of its one set of planes and, where --per-column refined
+    it, each column's own: {(view, N): (ratio, its busiest node's busy
+    time as a fraction of none's, or None where not recorded)}."""
+    from sweep import read_csv  # (sweep imports this module)
+    best = {}
+    for view in VIEWS:
+        stem = "partition_search" + variant(a.preset, a.tag) + ("" if view == "along" else f"-{view}")
+        path = os.path.join(a.out, stem + ".csv")
+        if not os.path.exists(path):  # a run under out/ uses the published search
+            path = os.path.join(RESULTS, stem + ".csv")
+        if os.path.exists(path):
+            for r in read_csv(path):  # one set of planes for all columns, or each column's own where refined
+                own = r.get("columns_ratio")
+                if own and float(own) < float(r["ratio"]):
+                    busiest = r.get("columns_max_busy")
+                    best[(r["view"], int(r["N"]))] = (float(own), float(busiest) if busiest else None)
+                else:
+                    best[(r["view"], int(r["N"]))] = (float(r["ratio"]), None)
+    return best
+
+
 def spd_scene(name):
     """The path of an SPD scene: 'balls-4' -> .../shared/scenes/spd/balls-4.nff."""
     return os.path.join(SPD, name + ".nff")

@@ -14,7 +14,7 @@ the benchmark's fastest mode under 1 % error); fully traced runs with a VCD,
 with and without balancing; balancing with the control lane; finite output
 buffers (senders block); a frame sequence under resplit. Reports are compared
 without the fields that measure the host, not the machine: wall_s,
-rerun.version and kernel.delta_cycles (how many delta cycles the SystemC
+wall_clock, rerun.version and kernel.delta_cycles (how many delta cycles the SystemC
 kernel ran depends on how processes wait, not on what the machine does).
 DIR is a folder of the user's (in doc/ it is refused): --record writes its
 files there, --compare writes the new run's beside it, in DIR.new.
@@ -50,7 +50,8 @@ RUNS = [
                         "--frames", "3", "--ray-batch", "4", "--fb-units", "3"], []),
 ]
 
-HOST_FIELDS = [("wall_s",), ("wall_elaboration_s",), ("wall_startup_s",), ("rerun", "version"), ("kernel", "delta_cycles")]
+HOST_FIELDS = [("wall_s",), ("wall_elaboration_s",), ("wall_startup_s",), ("wall_clock",), ("rerun", "version"),
+               ("kernel", "delta_cycles")]
 
 
 def run(build, out_dir, name, flags):

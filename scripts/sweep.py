@@ -579,6 +579,16 @@ def csv_state(path):
     return (st.st_dev, st.st_ino, st.st_size, st.st_mtime_ns, st.st_ctime_ns)
 
 
+def swept_rows(a, csv_path, make):
+    """A sweep script's rows: with --plot-only, read from its CSV of an earlier
+    run (which must be there); otherwise make()'s, written to that CSV first."""
+    if a.plot_only:
+        outputs.check_input(csv_path, "--plot-only: the CSV")
+    else:
+        write_csv(csv_path, make())
+    return read_csv(csv_path)
+
+
 def write_csv(path, rows, seen=_UNSEEN, shown=None):
     """Writes a list of dicts with the same keys as CSV, through a temporary
     beside it renamed over it (outputs.atomic): a kill never leaves half a

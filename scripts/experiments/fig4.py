@@ -23,8 +23,7 @@ sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__)))) 
 import project  # noqa: E402
 import outputs  # noqa: E402
 import sweep as driver  # noqa: E402
-from project import PAPER_SCENE, RESULTS, ROOT, VIEWS, preset_flags, publish_table, variant  # noqa: E402
-from sweep import read_csv, write_csv  # noqa: E402
+from project import PAPER_SCENE, ROOT, VIEWS, check_variant, invocation, machine, preset_flags, publish_table, variant  # noqa: E402,E501
 
 # The experiment (doc/balancing.md, "Fig. 4"): the paper's scene, progress
 # axis x, the camera looking along x or across it (project.VIEWS).
@@ -38,9 +37,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--n", default="2,3,4,5,6,7,8")
     ap.add_argument("--policies", default=POLICIES, help="policies compared with none")
-    ap.add_argument("--preset", default="modern", help="configs/PRESET.conf")
-    ap.add_argument("--extra", default="", help="more rtsim flags for every run")
-    ap.add_argument("--tag", default="", help="name of the --extra variant: its files are fig4-PRESET-TAG.*")
+    project.add_machine_arguments(ap, "modern", "fig4")
     ap.add_argument("--steady", default=STEADY, help="policies whose steady state is drawn too ('': none)")
     ap.add_argument("--frames", type=int, default=6, help="frames of the steady-state curves (the last is plotted)")
     driver.add_output_arguments(ap, os.path.join(ROOT, "doc", "fig4.md"))
@@ -53,11 +50,7 @@ def main():
         policies += [f"{p}@{a.frames}" for p in a.steady.split(",")]
     stem = "fig4" + variant(a.preset, a.tag)
     csv_path = os.path.join(a.out, stem + ".csv")
-    if a.plot_only:  # (the CSV of an earlier run)
-        outputs.check_input(csv_path, "--plot-only: the CSV")
-    else:
-        write_csv(csv_path, sweep(a, ns, policies))
-    rows = read_csv(csv_path)
+    rows = driver.swept_rows(a, csv_path, lambda: sweep(a, ns, policies))
     for r in rows:
         r["N"] = int(r["N"])
         for k in ("f", "ratio", "column_bound", "perfect_bound", "fb_bound", "time_none_ns", "time_ns", "busy_ratio",
@@ -69,23 +62,6 @@ def main():
     gap = STEADY_GAP if STEADY_GAP + f"@{a.frames}" in policies else None
     if gap:
         gap_table(a, rows, ns, f"{gap}@{a.frames}", os.path.join(a.out, stem + "-gap.md"))
-
-
-def check_variant(a):
-    """--preset and --tag name files (configs/PRESET.conf, fig4-PRESET-TAG.*):
-    names, not paths, and the preset one that exists."""
-    outputs.check_input(preset_flags(outputs.check_name(a.preset, "--preset"))[1], "--preset")
-    if a.tag:
-        outputs.check_name(a.tag, "--tag")
-
-
-def machine(a):
-    """The machine's name in titles and table markers: the preset, and the tag of its variant."""
-    return a.preset + (f" {a.tag}" if a.tag else "")
-
-
-def invocation(a):
-    return f"--preset {a.preset}" + (f" --tag {a.tag} --extra={a.extra!r}" if a.tag else "")
 
 
 def sweep(a, ns, policies):
@@ -218,29 +194,6 @@ def frames_table(a, rows, policies, md_path):
     publish_table(lines, md_path, a.doc or None, f"fig4 frames {machine(a)}")
 
 
-def best_static(a):
-    """The best static split's ratio per (view, N) at f = 1/N, where
-    scripts/experiments/partition_search.py has found it for this preset:
-    the better of its one set of planes and, where --per-column refined
-    it, each column's own: {(view, N): (ratio, its busiest node's busy
-    time as a fraction of none's, or None where not recorded)}."""
-    best = {}
-    for view in VIEWS:
-        stem = "partition_search" + variant(a.preset, a.tag) + ("" if view == "along" else f"-{view}")
-        path = os.path.join(a.out, stem + ".csv")
-        if not os.path.exists(path):  # a run under out/ uses the published search
-            path = os.path.join(RESULTS, stem + ".csv")
-        if os.path.exists(path):
-            for r in read_csv(path):  # one set of planes for all columns, or each column's own where refined
-                own = r.get("columns_ratio")
-                if own and float(own) < float(r["ratio"]):
-                    busiest = r.get("columns_max_busy")
-                    best[(r["view"], int(r["N"]))] = (float(own), float(busiest) if busiest else None)
-                else:
-                    best[(r["view"], int(r["N"]))] = (float(r["ratio"]), None)
-    return best
-
-
 def gap_table(a, rows, ns, policy, md_path):
     """Where the distance from 1/N goes, at f = 1/N, for `policy`'s steady
     state, as fractions of the unbalanced frame: the perfect bound (all the
@@ -252,7 +205,7 @@ def gap_table(a, rows, ns, policy, md_path):
     to the ratio; the best static split beside it where searched, with
     its own busiest node where the search recorded it (a split with a
     busier busiest node can still make the shorter frame: it waits less)."""
-    best = best_static(a)
+    best = project.best_static(a)
     lines = [f"<!-- written by scripts/experiments/fig4.py {invocation(a)}; do not edit -->",
              f"| view | N | 1/N | perfect bound | + unequal columns | + work balancing added | + imbalance left | "
              f"+ fill and drain | = {policy} | best static split | its busiest node | "

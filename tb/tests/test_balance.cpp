@@ -154,6 +154,7 @@ static std::vector<Case> policyCases() {
     for (const char* s : {"balls-3", "procedural"})
         for (const char* p : {"slide", "work", "quantile", "median"})
             for (Picos iv : {Picos(700000), Picos(3000000), Picos(20000000)}) v.push_back({s, p, iv});
+    for (const char* s : {"balls-3", "procedural"}) v.push_back({s, "sample", 3000000});  // (no intervals: one move)
     return v;
 }
 
@@ -202,6 +203,10 @@ static std::vector<Fidelity> fidelityCases() {
     for (const char* s : {"balls-3", "procedural"})
         for (Picos q : {Picos(1000), Picos(5000000)})
             for (int k : {1, 16}) v.push_back({s, "slide", q, k, 2});
+    // `sample`'s gather and planes, and its slabs carrying primary rays, in every mode and on the lane.
+    for (const char* s : {"balls-3", "procedural"})
+        for (Picos q : {Picos(1000), Picos(100000000)})
+            for (int lane : {0, 2}) v.push_back({s, "sample", q, 16, lane});
     return v;
 }
 
@@ -260,7 +265,7 @@ TEST_P(Pathological, SpheresCentredOnBoundaryPlanes) {
     runAndCompare(s, config());
 }
 
-INSTANTIATE_TEST_SUITE_P(Policies, Pathological, testing::Values("slide", "work", "quantile", "median"),
+INSTANTIATE_TEST_SUITE_P(Policies, Pathological, testing::Values("slide", "work", "quantile", "median", "sample"),
                          [](const testing::TestParamInfo<std::string>& i) { return i.param; });
 
 TEST(Balance, SlowNodeGetsAThinnerBox) {

@@ -21,6 +21,7 @@
 #include "minimax_split.h"
 #include "policy.h"
 #include "between_frames.h"
+#include "sample_split.h"
 #include "work_by_position.h"
 
 using namespace rt;
@@ -188,6 +189,10 @@ struct FakeHost : BalanceHost {
     Picos reportTime(int) const override { return reportWire; }
     Picos linkOccupied(int) const override { return occupied; }
     Picos rayOccupies(int) const override { return rayTime; }
+    std::vector<std::pair<int, Message>> sent;  // sendOn: (direction, message)
+    int begun = 0;                              // sampleBegins calls
+    void sendOn(int dir, Message m) override { sent.push_back({dir, std::move(m)}); }
+    void sampleBegins() override { ++begun; }
 };
 
 // Takes every action the agent has due, as a node does between its steps.
@@ -1103,4 +1108,75 @@ TEST(Agent, StartAtMovesEachFaceByItsOwnerAndHolds) {
     settle(c);
     ASSERT_EQ(hc.slabs.size(), 1u);
     EXPECT_EQ(hc.slabs[0], std::make_pair(-1, 1.95));
+}
+
+// `sample`'s gather on a column of three boxes [0,1], [1,2], [2,3] along x,
+// worked by hand. The lowest node's sample: 10 ps in each of its 64 bins
+// (640); the middle one's: none; the top one's: 20 in its first bin. The
+// column's 660 split in three parts of 220: 22 of the lowest node's bins
+// (plane 0.34375), 22 more (0.6875), and the rest (420 - 220 + 20 = 220).
+// The lowest node gives [0.34375, 1] up; the middle one gives up towards
+// 0.6875 as far as its minimum thickness (0.05) allows, [1.05, 2], and
+// passes on the rest once it has the lowest one's slab (tookSlab); the top
+// one's plane lies below its box: it gives nothing.
+TEST(Agent, SampleGathersUpTheColumnSplitsAtTheTopAndMovesEachFaceOnce) {
+    BalanceConfig cfg = agentConfig();
+    cfg.policy = "sample";
+    FakeHost h[3];
+    for (int k = 0; k < 3; ++k) h[k].b = Box{Vec3(double(k), 0.0, 0.0), Vec3(double(k + 1), 1.0, 1.0)};
+    const Box world{Vec3(0.0), Vec3(3.0, 1.0, 1.0)};
+    std::vector<std::unique_ptr<BalanceAgent>> a;
+    for (int k = 0; k < 3; ++k) a.push_back(std::make_unique<BalanceAgent>(cfg, h[k], world, k, 3, k > 0, k < 2, 0.05));
+    const std::array<bool, 6> none{};
+    for (int k = 0; k < 3; ++k) {
+        a[size_t(k)]->startSample(-1, none);
+        EXPECT_EQ(h[k].begun, 1);
+        EXPECT_TRUE(a[size_t(k)]->sampling());
+    }
+    for (int b = 0; b < 64; ++b) a[0]->recordSample((b + 0.5) / 64, 10);
+    a[2]->recordSample(2.001, 20);
+    a[1]->sampleReady();  // nothing goes up before the lowest node's sum
+    a[2]->sampleReady();
+    EXPECT_FALSE(a[1]->pending());
+    a[0]->sampleReady();
+    settle(*a[0]);
+    ASSERT_EQ(h[0].reports.size(), 1u);
+    EXPECT_EQ(h[0].reports[0].first, +1);
+    EXPECT_EQ(h[0].reports[0].second.type, MsgType::Sample);
+    EXPECT_EQ(h[0].reports[0].second.body().values.size(), size_t(kSampleBins + 2));
+    EXPECT_FALSE(a[0]->sampling());
+    a[1]->onSample(h[0].reports[0].second);
+    settle(*a[1]);
+    ASSERT_EQ(h[1].reports.size(), 1u);
+    EXPECT_EQ(h[1].reports[0].second.body().values.size(), size_t(2 * (kSampleBins + 2)));
+    a[2]->onSample(h[1].reports[0].second);
+    settle(*a[2]);
+    ASSERT_EQ(h[2].reports.size(), 1u);
+    const Message& planes = h[2].reports[0].second;
+    EXPECT_EQ(h[2].reports[0].first, -1);
+    ASSERT_EQ(planes.type, MsgType::Planes);
+    ASSERT_EQ(planes.body().values.size(), 2u);
+    EXPECT_NEAR(planes.body().values[0], 0.34375, 1e-6);
+    EXPECT_NEAR(planes.body().values[1], 0.6875, 1e-6);
+    EXPECT_TRUE(h[2].slabs.empty());
+    a[1]->onPlanes(dirOf(0, +1), planes);
+    settle(*a[1]);
+    ASSERT_EQ(h[1].reports.size(), 2u);  // the planes, passed down
+    EXPECT_EQ(h[1].reports[1].first, -1);
+    ASSERT_EQ(h[1].slabs.size(), 1u);
+    EXPECT_EQ(h[1].slabs[0], std::make_pair(+1, 1.05));
+    a[0]->onPlanes(dirOf(0, +1), h[1].reports[1].second);
+    settle(*a[0]);
+    ASSERT_EQ(h[0].slabs.size(), 1u);
+    EXPECT_EQ(h[0].slabs[0], std::make_pair(+1, planes.body().values[0]));
+    EXPECT_EQ(h[0].reports.size(), 1u);  // nothing below it to pass them to
+    // The middle node takes the lowest one's slab and passes on the rest to its plane.
+    h[1].b.lo[0] = planes.body().values[0];
+    a[1]->tookSlab();
+    settle(*a[1]);
+    ASSERT_EQ(h[1].slabs.size(), 2u);
+    EXPECT_EQ(h[1].slabs[1], std::make_pair(+1, planes.body().values[1]));
+    // Then it holds: planes twice, a sum it did not wait for, are errors.
+    EXPECT_THROW(a[1]->onPlanes(dirOf(0, +1), planes), std::logic_error);
+    EXPECT_THROW(a[1]->onSample(h[0].reports[0].second), std::logic_error);
 }

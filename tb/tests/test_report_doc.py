@@ -16,7 +16,7 @@ import unittest
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
 RTSIM = os.path.abspath(sys.argv.pop(1)) if len(sys.argv) > 1 else os.path.join(ROOT, "build", "rtsim")
-TYPES = {"ray", "contributions", "credit", "load_report", "slide", "ack", "fb_expect", "fb_done"}
+TYPES = {"ray", "contributions", "credit", "load_report", "slide", "ack", "sample", "planes", "fb_expect", "fb_done"}
 
 
 # Fields documented as another's set: a node's costs as config.costs, a

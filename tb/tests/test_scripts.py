@@ -83,20 +83,19 @@ class Scripts(unittest.TestCase):
         self.assertEqual({c: [round(p, 9) for p in v] for c, v in partition_search.planes_of(report, 2).items()}, cols)
 
     def test_the_gap_tables_best_split_is_the_better_search_with_its_own_busiest_node(self):
-        """fig4.py's gap table: the best static split is the better of the
-        one-set search and the per-column one, and the busiest node shown
-        beside it is the per-column split's only where that one won (the
-        one-set search records none)."""
-        sys.path.insert(0, os.path.join(SCRIPTS, "experiments"))
+        """fig4.py's gap table and first_frame.py's targets: the best static
+        split (project.best_static) is the better of the one-set search and
+        the per-column one, and the busiest node shown beside it is the
+        per-column split's only where that one won (the one-set search
+        records none)."""
         import argparse
-        import fig4
         import sweep
         with tempfile.TemporaryDirectory() as d:
             rows = [{"view": "along", "N": "4", "ratio": "0.30", "columns_ratio": "0.28", "columns_max_busy": "0.26"},
                     {"view": "along", "N": "5", "ratio": "0.25", "columns_ratio": "0.26", "columns_max_busy": "0.24"},
                     {"view": "along", "N": "8", "ratio": "0.20", "columns_ratio": "", "columns_max_busy": ""}]
             sweep.write_csv(os.path.join(d, "partition_search-paper.csv"), rows)
-            best = fig4.best_static(argparse.Namespace(preset="paper", tag="", out=d))
+            best = project.best_static(argparse.Namespace(preset="paper", tag="", out=d))
         self.assertEqual(best[("along", 4)], (0.28, 0.26))
         self.assertEqual(best[("along", 5)], (0.25, None))  # the one set won: its busiest node was not recorded
         self.assertEqual(best[("along", 8)], (0.20, None))
