@@ -51,6 +51,7 @@
 #include "machine_config.h"
 #include "message.h"
 #include "policy.h"
+#include "sample_split.h"
 #include "work_by_position.h"
 
 namespace rt {
@@ -193,8 +194,8 @@ public:
     void startSample(int feeder, const std::array<bool, 6>& floodTo);
     bool sampling() const { return gather_.on && !gather_.passed; }
     void recordSample(double where, Picos work);
-    void sampleReady();
-    void onSample(const Message& m);
+    void sampleReady(Picos now);
+    void onSample(const Message& m, Picos now);
     void onPlanes(int fromDir, const Message& m);
 
     // --faces ideal-layer: the layer's faces, summed and decided without
@@ -257,14 +258,14 @@ private:
         bool ready = false, below = false, passed = false, adopted = false;
         double lo = 0, hi = 1;      // the box along the axis while it samples
         std::vector<double> own;    // the sample's work here, in kSampleBins bins over [lo, hi]
-        std::vector<double> sum;    // the column's (ColumnSample) from its lowest node through this one
+        ColumnSample sum;           // the column's, from its lowest node through this one
         std::vector<double> planes;
         bool up = false, down = false, adopt = false;  // due: the sum up, the planes down, the faces to them
         std::array<bool, 6> flood{};  // due: the planes to these neighbouring columns
         bool due() const { return up || down || adopt || flood[0] || flood[1] || flood[2] || flood[3] || flood[4] || flood[5]; }
     };
     void gatherStep();      // one action of the gather (act)
-    void passSum();         // ready and the sum from below in: up, or (the top) split
+    void passSum(Picos now);  // ready and the sum from below in: up, or (the top) split
     void takePlanes(std::vector<double> planes, int fromDir);
     Gather gather_;
     std::array<bool, 6> floodTo_{};

@@ -35,33 +35,37 @@ void BalanceAgent::recordSample(double where, Picos work) {
     g.own[size_t(std::clamp(k, 0, kSampleBins - 1))] += double(work);
 }
 
-void BalanceAgent::sampleReady() {
+void BalanceAgent::sampleReady(Picos now) {
     if (!gather_.on || gather_.ready) return;
     gather_.ready = true;
-    passSum();
+    passSum(now);
 }
 
-void BalanceAgent::onSample(const Message& m) {
+void BalanceAgent::onSample(const Message& m, Picos now) {
     if (!gather_.on || gather_.below) throw std::logic_error("balance agent: a column's sample it did not wait for");
-    gather_.sum = m.body().values;
+    gather_.sum = ColumnSample::of(m.body().values);
+    if (!gather_.sum.wellFormed() || gather_.sum.hi() != gather_.lo)
+        throw std::logic_error("balance agent: a column's sample that does not end where the box begins");
     gather_.below = true;
-    passSum();
+    passSum(now);
 }
 
-void BalanceAgent::passSum() {
+// The top node moves the column only where the forecast from the sample
+// says it pays by now (samplePays); else the planes it sends are none, and
+// every face holds.
+void BalanceAgent::passSum(Picos now) {
     Gather& g = gather_;
     if (!g.ready || !g.below || g.passed) return;
     g.passed = true;  // (recording stops: the sum holds what was traced by now)
-    ColumnSample column{std::move(g.sum)};
-    column.add(g.lo, g.hi, g.own);
-    g.sum = std::move(column.values);
+    g.sum.add(g.lo, g.hi, g.own);
+    g.sum.compress(kSampleCells);
     if (sides_[1].present) {
         g.up = true;
         return;
     }
-    column.values = g.sum;
-    if (!column.wellFormed()) throw std::logic_error("balance agent: a column's sample out of order");
-    takePlanes(splitBySample(column, count_, minThickness_), -1);
+    std::vector<double> planes = splitBySample(g.sum, count_, minThickness_);
+    if (!planes.empty() && !samplePays(g.sum, dearestPart(g.sum, planes), double(now))) planes.clear();
+    takePlanes(std::move(planes), -1);
 }
 
 void BalanceAgent::onPlanes(int fromDir, const Message& m) {
@@ -88,7 +92,7 @@ void BalanceAgent::gatherStep() {
     Gather& g = gather_;
     if (g.up) {
         g.up = false;
-        host_.sendReport(+1, Message::sample(g.sum));
+        host_.sendReport(+1, Message::sample(g.sum.values()));
         return;
     }
     if (g.down) {

@@ -44,7 +44,7 @@ void Node::sampleBegins() {
 void Node::sampleGenerated() {
     if (!sample_->armed || stats_.counters.primaryRays < sample_->trigger) return;
     sample_->armed = false;
-    balance_->sampleReady();
+    balance_->sampleReady(now_);
 }
 
 void Node::noteOccupied() {
@@ -136,7 +136,7 @@ void Node::control(Message& m, int fromDir) {
         throw std::logic_error(std::string(name()) + ": control message off the progress axis");
     if (m.type == MsgType::Sample) {
         finishControlStep(1, 0);
-        balance_->onSample(m);
+        balance_->onSample(m, now_);
     } else if (m.type == MsgType::LoadReport) {
         finishControlStep(1, 0);
         balance_->onReport(side, m, now_);

@@ -1,6 +1,7 @@
 #include "sample_split.h"
 
 #include <algorithm>
+#include <numeric>
 
 namespace rt {
 
@@ -9,39 +10,68 @@ bool inSample(uint32_t pixel, uint32_t width) {
 }
 
 void ColumnSample::add(double lo, double hi, const std::vector<double>& bins) {
-    values.push_back(lo);
-    values.push_back(hi);
-    values.insert(values.end(), bins.begin(), bins.end());
+    if (edges.empty()) edges.push_back(lo);
+    const double w = (hi - lo) / double(bins.size());
+    double box = 0;
+    for (size_t k = 0; k < bins.size(); ++k) {
+        edges.push_back(k + 1 == bins.size() ? hi : lo + double(k + 1) * w);
+        mass.push_back(bins[k]);
+        box += bins[k];
+    }
+    busiestBox = std::max(busiestBox, box);
+}
+
+void ColumnSample::compress(int cells) {
+    if (int(mass.size()) <= cells) return;
+    const double all = total();
+    std::vector<double> e{lo()}, m;
+    if (all > 0) {
+        double done = 0;  // the work below edge e.back()
+        for (int j = 1; j < cells; ++j) {
+            const double x = cut(e.back(), hi(), all * j / cells - done);
+            if (!(x > e.back()) || !(x < hi())) continue;
+            m.push_back(within(e.back(), x));
+            done += m.back();
+            e.push_back(x);
+        }
+    }
+    m.push_back(all - std::accumulate(m.begin(), m.end(), 0.0));
+    e.push_back(hi());
+    edges = std::move(e);
+    mass = std::move(m);
+}
+
+std::vector<double> ColumnSample::values() const {
+    std::vector<double> v{busiestBox};
+    v.insert(v.end(), edges.begin(), edges.end());
+    v.insert(v.end(), mass.begin(), mass.end());
+    return v;
+}
+
+ColumnSample ColumnSample::of(const std::vector<double>& v) {
+    ColumnSample c;
+    if (v.size() < 4 || v.size() % 2) return c;
+    const size_t k = (v.size() - 2) / 2;
+    c.busiestBox = v[0];
+    c.edges.assign(v.begin() + 1, v.begin() + 2 + long(k));
+    c.mass.assign(v.begin() + 2 + long(k), v.end());
+    return c;
 }
 
 bool ColumnSample::wellFormed() const {
-    const size_t stride = kSampleBins + 2;
-    if (values.empty() || values.size() % stride) return false;
-    for (size_t n = 0; n < values.size(); n += stride) {
-        if (!(values[n] < values[n + 1])) return false;
-        if (n && values[n] != values[n - stride + 1]) return false;
-        for (size_t k = 0; k < size_t(kSampleBins); ++k)
-            if (!(values[n + 2 + k] >= 0)) return false;
-    }
-    return true;
+    if (mass.empty() || edges.size() != mass.size() + 1) return false;
+    for (size_t k = 0; k < mass.size(); ++k)
+        if (!(edges[k] < edges[k + 1]) || !(mass[k] >= 0)) return false;
+    return busiestBox >= 0;
 }
 
-double ColumnSample::total() const {
-    double t = 0;
-    for (size_t n = 0; n < values.size(); n += kSampleBins + 2)
-        for (size_t k = 0; k < size_t(kSampleBins); ++k) t += values[n + 2 + k];
-    return t;
-}
+double ColumnSample::total() const { return std::accumulate(mass.begin(), mass.end(), 0.0); }
 
 double ColumnSample::below(double x) const {
     double sum = 0;
-    for (size_t n = 0; n < values.size(); n += kSampleBins + 2) {
-        const double lo = values[n], hi = values[n + 1], w = (hi - lo) / kSampleBins;
-        for (size_t k = 0; k < size_t(kSampleBins); ++k) {
-            const double a = lo + double(k) * w;
-            if (x <= a) return sum;
-            sum += values[n + 2 + k] * std::min(1.0, (x - a) / w);
-        }
+    for (size_t k = 0; k < mass.size(); ++k) {
+        if (x <= edges[k]) return sum;
+        sum += mass[k] * std::min(1.0, (x - edges[k]) / (edges[k + 1] - edges[k]));
     }
     return sum;
 }
@@ -50,15 +80,12 @@ double ColumnSample::within(double a, double b) const { return b > a ? below(b) 
 
 double ColumnSample::cut(double from, double limit, double work) const {
     double left = work;
-    for (size_t n = 0; n < values.size(); n += kSampleBins + 2) {
-        const double lo = values[n], hi = values[n + 1], w = (hi - lo) / kSampleBins;
-        for (size_t k = 0; k < size_t(kSampleBins); ++k) {
-            const double a = std::max(from, lo + double(k) * w), z = std::min(limit, lo + double(k + 1) * w);
-            if (!(z > a)) continue;
-            const double mass = values[n + 2 + k] * (z - a) / w;
-            if (mass > 0 && mass >= left) return a + (z - a) * (left / mass);
-            left -= mass;
-        }
+    for (size_t k = 0; k < mass.size(); ++k) {
+        const double a = std::max(from, edges[k]), z = std::min(limit, edges[k + 1]);
+        if (!(z > a)) continue;
+        const double part = mass[k] * (z - a) / (edges[k + 1] - edges[k]);
+        if (part > 0 && part >= left) return a + (z - a) * (left / part);
+        left -= part;
     }
     return limit;
 }
@@ -114,6 +141,23 @@ std::vector<double> splitBySample(const ColumnSample& column, int count, double 
         from = c;
     }
     return column.within(from, column.hi()) <= hi * (1 + 1e-9) ? even : planes;
+}
+
+double dearestPart(const ColumnSample& column, const std::vector<double>& planes) {
+    double most = 0, from = column.lo();
+    for (double x : planes) {
+        most = std::max(most, column.within(from, x));
+        from = x;
+    }
+    return std::max(most, column.within(from, column.hi()));
+}
+
+bool samplePays(const ColumnSample& column, double dearest, double elapsed) {
+    const double share = double(kSampleSide * kSampleSide);  // the frame's work over the sample's
+    const double hold = share * column.busiestBox;
+    if (!(hold > 0)) return false;
+    const double left = std::max(0.0, 1 - elapsed / hold);
+    return left * (hold - share * dearest) > kSampleMinGain * hold;
 }
 
 }  // namespace rt

@@ -26,22 +26,36 @@ bool inSample(uint32_t pixel, uint32_t width);
 
 // A node records its sample's work in this many equal bins over its box
 // (which holds still while it samples): finer where the boxes are thin, as
-// where the objects crowd, at 8 bytes a bin in the gather's messages.
+// where the objects crowd.
 constexpr int kSampleBins = 64;
+// The gather's messages carry the column's sample in at most this many
+// cells (8 bytes an edge and a mass each): past it, the cells are merged
+// to equal shares of the work, so a message stays about 2 KB however long
+// the column. (Grown with the column, they made a 64-long column's
+// gather 1 ms long on 1 GB/s links, with the rays queued behind it.)
+constexpr int kSampleCells = 128;
 
-// A column's sample as the gather carries it up: for each node from the
-// lowest, its box's extent along the axis and its bins.
+// A column's sample as the gather carries it up: the work (ps) in cells
+// along the axis, each spread evenly over its cell, and the most work any
+// one node's box of the column held (what the frame would take, times the
+// sample's share, with the boxes as they stand).
 struct ColumnSample {
-    std::vector<double> values;  // per node: lo, hi, then kSampleBins bins of work (ps)
+    std::vector<double> edges;  // K + 1, increasing
+    std::vector<double> mass;   // K
+    double busiestBox = 0;
+    // A node's bins over its box [lo, hi], above the cells so far (lo the last edge).
     void add(double lo, double hi, const std::vector<double>& bins);
-    // The work between a and b (work inside a bin taken as spread evenly over it).
+    // At most `cells` cells: each then an equal share of the work.
+    void compress(int cells);
+    std::vector<double> values() const;  // for a message: busiestBox, then the edges, then the masses
+    static ColumnSample of(const std::vector<double>& values);  // (empty if they are not a sample)
     double within(double a, double b) const;
     // The coordinate c >= from where [from, c] holds `work`; `limit` if [from, limit] holds less.
     double cut(double from, double limit, double work) const;
     double total() const;
-    double lo() const { return values.empty() ? 0 : values[0]; }
-    double hi() const { return values.empty() ? 0 : values[values.size() - kSampleBins - 1]; }
-    bool wellFormed() const;  // whole nodes, each box in order, meeting the last, and no bin negative
+    double lo() const { return edges.empty() ? 0 : edges.front(); }
+    double hi() const { return edges.empty() ? 0 : edges.back(); }
+    bool wellFormed() const;  // edges increasing, one more than the masses, no mass negative
 
 private:
     double below(double x) const;  // the work below x
@@ -52,5 +66,17 @@ private:
 // minThickness thick, the slack shared evenly; empty if no work was
 // recorded.
 std::vector<double> splitBySample(const ColumnSample& column, int count, double minThickness);
+// The work of the dearest part between `planes` (the column's ends outside them).
+double dearestPart(const ColumnSample& column, const std::vector<double>& planes);
+
+// Whether moving to planes whose dearest part holds `dearest` of the sample
+// pays, `elapsed` into the frame: the frame at the boxes as they stand
+// takes about the sample's share times the busiest box's sample
+// (ColumnSample::busiestBox), and what is left of it then shrinks by
+// dearest / busiestBox; the move must save kSampleMinGain of that frame.
+// (A 64-long column of 1 GB/s links gathers for about as long as the whole
+// frame takes: moving then only costs.)
+constexpr double kSampleMinGain = 0.04;
+bool samplePays(const ColumnSample& column, double dearest, double elapsed);
 
 }  // namespace rt

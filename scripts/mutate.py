@@ -110,6 +110,9 @@ MUTANTS = [
     ("sample-planes-not-moved", "models/balance_sample.cpp",
      "    g.adopt = !g.planes.empty();", "    g.adopt = false;",
      "sample gathers and splits but the faces never move to the planes"),
+    ("sample-moves-however-late", "models/balance_sample.cpp",
+     "    if (!planes.empty() && !samplePays(g.sum, dearestPart(g.sum, planes), double(now))) planes.clear();", "",
+     "sample's top node moves the column however late its sum comes, even where the move cannot pay"),
     ("sample-primaries-stay", "models/node_balance.cpp",
      "    if (sample_) slide.body().primaries = input_.handOver(", "    if (false) slide.body().primaries = input_.handOver(",
      "sample's slabs leave their primary rays with the giver, which generates them for a box it no longer has"),
@@ -381,7 +384,8 @@ def main():
     outputs.check_output(os.path.join(results, "mutate.md"), "the table", doc=args.doc)
     if args.doc:
         outputs.check_output(os.path.join(ROOT, "doc", "robustness.md"), "--doc", doc=True)
-    src, build, log = (os.path.join(args.work, d) for d in ("src", "build", "log.txt"))
+    src, log = (os.path.join(args.work, d) for d in ("src", "log.txt"))
+    build = os.path.join(src, "build")  # where the scripts the suite runs look for rtsim, as in a clone
     if os.path.exists(src):
         shutil.rmtree(src)
     files = subprocess.run(["git", "ls-files", "-z"], cwd=ROOT, check=True, capture_output=True).stdout.split(b"\0")

@@ -1135,21 +1135,21 @@ TEST(Agent, SampleGathersUpTheColumnSplitsAtTheTopAndMovesEachFaceOnce) {
     }
     for (int b = 0; b < 64; ++b) a[0]->recordSample((b + 0.5) / 64, 10);
     a[2]->recordSample(2.001, 20);
-    a[1]->sampleReady();  // nothing goes up before the lowest node's sum
-    a[2]->sampleReady();
+    a[1]->sampleReady(0);  // nothing goes up before the lowest node's sum
+    a[2]->sampleReady(0);
     EXPECT_FALSE(a[1]->pending());
-    a[0]->sampleReady();
+    a[0]->sampleReady(0);
     settle(*a[0]);
     ASSERT_EQ(h[0].reports.size(), 1u);
     EXPECT_EQ(h[0].reports[0].first, +1);
     EXPECT_EQ(h[0].reports[0].second.type, MsgType::Sample);
-    EXPECT_EQ(h[0].reports[0].second.body().values.size(), size_t(kSampleBins + 2));
+    EXPECT_EQ(h[0].reports[0].second.body().values.size(), size_t(2 * kSampleBins + 2));  // busiest box, edges, masses
     EXPECT_FALSE(a[0]->sampling());
-    a[1]->onSample(h[0].reports[0].second);
+    a[1]->onSample(h[0].reports[0].second, 0);
     settle(*a[1]);
     ASSERT_EQ(h[1].reports.size(), 1u);
-    EXPECT_EQ(h[1].reports[0].second.body().values.size(), size_t(2 * (kSampleBins + 2)));
-    a[2]->onSample(h[1].reports[0].second);
+    EXPECT_EQ(h[1].reports[0].second.body().values.size(), size_t(4 * kSampleBins + 2));
+    a[2]->onSample(h[1].reports[0].second, 0);
     settle(*a[2]);
     ASSERT_EQ(h[2].reports.size(), 1u);
     const Message& planes = h[2].reports[0].second;
@@ -1178,5 +1178,34 @@ TEST(Agent, SampleGathersUpTheColumnSplitsAtTheTopAndMovesEachFaceOnce) {
     EXPECT_EQ(h[1].slabs[1], std::make_pair(+1, planes.body().values[1]));
     // Then it holds: planes twice, a sum it did not wait for, are errors.
     EXPECT_THROW(a[1]->onPlanes(dirOf(0, +1), planes), std::logic_error);
-    EXPECT_THROW(a[1]->onSample(h[0].reports[0].second), std::logic_error);
+    EXPECT_THROW(a[1]->onSample(h[0].reports[0].second, 0), std::logic_error);
+}
+
+// The same gather on two boxes, the sum reaching the top late in the frame:
+// the boxes as they stand would take 16 x 640 ps (the lowest box's sample),
+// so at 10,000 ps less than 4 % of that frame is left to gain from: the
+// planes sent down are none, and no face moves.
+TEST(Agent, SampleHoldsWhereTheMoveComesTooLateToPay) {
+    BalanceConfig cfg = agentConfig();
+    cfg.policy = "sample";
+    FakeHost h[2];
+    for (int k = 0; k < 2; ++k) h[k].b = Box{Vec3(double(k), 0.0, 0.0), Vec3(double(k + 1), 1.0, 1.0)};
+    const Box world{Vec3(0.0), Vec3(2.0, 1.0, 1.0)};
+    BalanceAgent a(cfg, h[0], world, 0, 2, false, true, 0.05), b(cfg, h[1], world, 1, 2, true, false, 0.05);
+    const std::array<bool, 6> none{};
+    a.startSample(-1, none);
+    b.startSample(-1, none);
+    for (int k = 0; k < 64; ++k) a.recordSample((k + 0.5) / 64, 10);
+    a.sampleReady(0);
+    settle(a);
+    b.sampleReady(10000);
+    b.onSample(h[0].reports[0].second, 10000);
+    settle(b);
+    ASSERT_EQ(h[1].reports.size(), 1u);
+    EXPECT_EQ(h[1].reports[0].second.type, MsgType::Planes);
+    EXPECT_TRUE(h[1].reports[0].second.body().values.empty());
+    a.onPlanes(dirOf(0, +1), h[1].reports[0].second);
+    settle(a);
+    EXPECT_TRUE(h[0].slabs.empty());
+    EXPECT_TRUE(h[1].slabs.empty());
 }

@@ -38,12 +38,14 @@ TEST(SampleSplit, ThePatternIsEveryFourthRowAndColumn) {
 
 // Two nodes: [0, 1] with 1 ps in each bin (64 in all, 64 per unit length),
 // [1, 3] with 2 (128 in all, 64 per unit length).
-TEST(SampleSplit, AColumnsSampleSpreadsEachBinEvenly) {
+TEST(SampleSplit, AColumnsSampleSpreadsEachCellEvenly) {
     ColumnSample c;
     c.add(0, 1, bins(1));
     c.add(1, 3, bins(2));
     ASSERT_TRUE(c.wellFormed());
+    EXPECT_EQ(c.mass.size(), 128u);
     EXPECT_DOUBLE_EQ(c.total(), 192);
+    EXPECT_DOUBLE_EQ(c.busiestBox, 128);
     EXPECT_DOUBLE_EQ(c.lo(), 0);
     EXPECT_DOUBLE_EQ(c.hi(), 3);
     EXPECT_NEAR(c.within(0, 0.5), 32, 1e-9);
@@ -52,22 +54,41 @@ TEST(SampleSplit, AColumnsSampleSpreadsEachBinEvenly) {
     EXPECT_NEAR(c.cut(0, 3, 128), 2.0, 1e-12);
     EXPECT_NEAR(c.cut(0.5, 3, 32), 1.0, 1e-12);
     EXPECT_DOUBLE_EQ(c.cut(2, 3, 1000), 3.0);  // less than asked for: the limit
+    const ColumnSample back = ColumnSample::of(c.values());  // as a message carries it
+    EXPECT_EQ(back.edges, c.edges);
+    EXPECT_EQ(back.mass, c.mass);
+    EXPECT_EQ(back.busiestBox, c.busiestBox);
 }
 
-TEST(SampleSplit, AColumnsSampleMustBeWholeNodesThatMeet) {
-    ColumnSample gap;
-    gap.add(0, 1, bins(1));
-    gap.add(1.1, 2, bins(1));
-    EXPECT_FALSE(gap.wellFormed());
-    ColumnSample negative;
-    negative.add(0, 1, bins(-1));
+// Compressed to 4 cells: each a quarter of the 192 (48, at 64 per unit
+// length throughout): edges at 0, 0.75, 1.5, 2.25 and 3.
+TEST(SampleSplit, CompressedCellsHoldEqualSharesAndKeepTheEnds) {
+    ColumnSample c;
+    c.add(0, 1, bins(1));
+    c.add(1, 3, bins(2));
+    c.compress(4);
+    ASSERT_TRUE(c.wellFormed());
+    ASSERT_EQ(c.mass.size(), 4u);
+    const std::vector<double> want{0, 0.75, 1.5, 2.25, 3};
+    for (size_t k = 0; k < want.size(); ++k) EXPECT_NEAR(c.edges[k], want[k], 1e-12) << k;
+    for (double m : c.mass) EXPECT_NEAR(m, 48, 1e-9);
+    EXPECT_DOUBLE_EQ(c.busiestBox, 128);  // (what the boxes held, not the cells)
+    c.compress(8);                         // fewer cells already: unchanged
+    EXPECT_EQ(c.mass.size(), 4u);
+}
+
+TEST(SampleSplit, AColumnsSampleMustBeWellFormed) {
+    ColumnSample c;
+    c.add(0, 1, bins(1));
+    ASSERT_TRUE(c.wellFormed());
+    ColumnSample back = c;
+    back.edges[3] = back.edges[2];  // a cell of no width
+    EXPECT_FALSE(back.wellFormed());
+    ColumnSample negative = c;
+    negative.mass[5] = -1;
     EXPECT_FALSE(negative.wellFormed());
-    ColumnSample cut;
-    cut.add(0, 1, bins(1));
-    cut.values.pop_back();
-    EXPECT_FALSE(cut.wellFormed());
-    ColumnSample empty;
-    EXPECT_FALSE(empty.wellFormed());
+    EXPECT_FALSE(ColumnSample::of({1, 0, 1}).wellFormed());  // an odd count: no sample
+    EXPECT_FALSE(ColumnSample{}.wellFormed());
 }
 
 TEST(SampleSplit, EvenWorkSplitsEvenly) {
@@ -111,6 +132,23 @@ TEST(SampleSplit, EveryBoxKeepsTheMinimumThickness) {
     }
     EXPECT_GE(1 - last, 0.1 * (1 - 1e-9));
     EXPECT_NEAR(c.within(last, 1), 100, 1e-9);  // the dearest part: all of it, nowhere cheaper
+}
+
+// The move pays when what is left of the frame at the boxes as they stand
+// shrinks by more than 4 % of that frame: busiest box 100 (x 16: 1,600),
+// dearest part after the split 50 (800). At 0 the move saves 800; at 1,400
+// an eighth of the frame is left and it saves 100 (6 %); at 1,500, 50 (3 %).
+TEST(SampleSplit, AMovePaysOnlyWhileEnoughOfTheFrameIsLeft) {
+    ColumnSample c;
+    c.add(0, 1, bins(100.0 / kSampleBins));
+    ASSERT_DOUBLE_EQ(c.busiestBox, 100);
+    EXPECT_TRUE(samplePays(c, 50, 0));
+    EXPECT_TRUE(samplePays(c, 50, 1400));
+    EXPECT_FALSE(samplePays(c, 50, 1500));
+    EXPECT_FALSE(samplePays(c, 99, 0));    // 16 of 1,600: 1 %
+    EXPECT_FALSE(samplePays(c, 50, 5000));  // past the frame's end as it stood
+    EXPECT_FALSE(samplePays(ColumnSample{}, 0, 0));
+    EXPECT_NEAR(dearestPart(c, {0.25, 0.5}), 50, 1e-9);
 }
 
 TEST(SampleSplit, NoWorkGivesNoPlanes) {
