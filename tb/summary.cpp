@@ -77,6 +77,32 @@ void printTraffic(const nlohmann::json& report) {
                 "messages waiting for the wire; node_X_Y_Z_py: from node X,Y,Z towards +y, _fb: to its frame-buffer unit)\n");
 }
 
+// How the boundaries ended (stability.h), and where a balanced frame took
+// longer than the unbalanced one (the comparison run's), that it did: the
+// summary never calls boundaries converged over a frame that lost. (With
+// --eye-step every frame has a view of its own: only the last one's
+// unbalanced frame is known.)
+std::string stabilityWord(const nlohmann::json& report) {
+    std::string word = report["balance"]["stability"].get<std::string>();
+    if (!report.contains("comparison")) return word;
+    const double none = report["comparison"]["unbalanced_ns"].get<double>();
+    const bool moves = !report["config"]["frames"].value("eye_step", nlohmann::json::array()).empty();
+    std::vector<double> frames;
+    if (report.contains("frames") && !moves)
+        for (const auto& f : report["frames"]) frames.push_back(f["render_time_ns"].get<double>());
+    else
+        frames.push_back(report["render_time_ns"].get<double>());
+    const size_t first = moves && report.contains("frames") ? report["frames"].size() : 1;
+    for (size_t k = 0; k < frames.size(); ++k)
+        if (none > 0 && frames[k] > none) {
+            char buf[160];
+            std::snprintf(buf, sizeof buf, "%s, but frame %zu took %.3f times the unbalanced frame", word.c_str(),
+                          first + k, frames[k] / none);
+            return buf;
+        }
+    return word;
+}
+
 // A policy as the summary names it: the recommended one says so.
 std::string policyName(const std::string& policy) {
     return policy == kRecommendedPolicy ? policy + " (the recommended policy)" : policy;
@@ -91,8 +117,7 @@ void printBalancing(const RtsimOptions& o, const nlohmann::json& report) {
     if (balances) {
         std::printf("  balancing        %s along %c: %zu slides; max / mean load %.2f; boundaries %s\n",
                     policyName(o.machine.balance.policy).c_str(), axis, report["balance"]["slides"].get<size_t>(),
-                    report["balance"]["max_over_mean_load"].get<double>(),
-                    report["balance"]["stability"].get<std::string>().c_str());
+                    report["balance"]["max_over_mean_load"].get<double>(), stabilityWord(report).c_str());
         const auto& b = report["bounds"];
         auto bound = [&](const char* k) {
             return nsTime(b[k]["ns"]) + " (" + std::to_string(b[k]["fraction"].get<double>()).substr(0, 4) + ")";
