@@ -6,6 +6,7 @@
 #include <string>
 
 #include "frame_forecast.h"
+#include "move_forecast.h"
 
 namespace rt {
 namespace {
@@ -94,7 +95,8 @@ ResplitChoice resplitChoice(const nlohmann::json& r, const MachineConfig& m) {
             const FrameForecast::Forecast t = f.forecast(planes);
             const bool linkBound = t.passes > 0 && t.linkNs >= t.nodeNs;
             const double beat = linkBound ? (1 - kMinForecastGain) * c.forecastNs : c.forecastNs;
-            if (t.frameNs < beat && t.frameNs < (1 - kMinForecastGain) * c.heldNs) c = {name, planes, t.frameNs, c.heldNs};
+            const double ns = t.frameNs + moveNs(r, m, now, planes);  // and getting there (move_forecast.h)
+            if (ns < beat && ns < (1 - kMinForecastGain) * c.heldNs) c = {name, planes, ns, c.heldNs};
         }
         return c;
     });

@@ -30,9 +30,9 @@ InnerPlanes averagedBoundaries(const nlohmann::json& r, const MachineConfig& m);
 
 // `resplit`'s planes for the frame after report `r`'s (frame_forecast.h):
 // of the planes where `r`'s frame ended, the best per column and the best
-// for all columns, the ones of the shortest forecast frame; the planes
-// move only if that forecast is at least kMinForecastGain shorter than the
-// forecast for holding them (the forecast is within about 10 % of the frames
+// for all columns, the ones of the shortest forecast frame, getting there
+// included (move_forecast.h); the planes move only if that forecast is at
+// least kMinForecastGain shorter than the forecast for holding them (the forecast is within about 10 % of the frames
 // measured; a move that gains less can lose). Where the links are the
 // frame, the columns' own planes must also be kMinForecastGain shorter
 // than the aligned ones: the rays they pass on between columns are what

@@ -28,7 +28,8 @@ PAPER = 0.2
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--n", default="4,5,6,7,8")
-    ap.add_argument("--policies", default=POLICIES, help="policies compared with none")
+    ap.add_argument("--policies", default=POLICIES,
+                    help="policies compared with none (POLICY@K: its frame K of a sequence, the last one's time)")
     project.add_machine_arguments(ap, "paper", "first_frame")
     driver.add_output_arguments(ap, os.path.join(ROOT, "doc", "balancing.md"))
     driver.add_arguments(ap)
@@ -52,9 +53,11 @@ def sweep(a, ns, policies):
     for view, cam in VIEWS.items():
         for n in ns:
             for policy in ["none"] + policies:
+                name, _, frames = policy.partition("@")  # "measured@6": measured's sixth frame
                 points.append({"params": {"view": view, "N": n, "policy": policy},
                                "args": preset_flags(a.preset) + PAPER_SCENE + cam +
-                               ["--mesh", n, "--concentration", f"{1 / n:.6f}", "--balance", policy] + a.extra.split()})
+                               ["--mesh", n, "--concentration", f"{1 / n:.6f}", "--balance", name] +
+                               (["--frames", frames] if frames else []) + a.extra.split()})
     runs = driver.run("first_frame" + (variant(a.preset, a.tag) or "-modern"), points, extract, None, a)
     by = {(r["view"], r["N"], r["policy"]): r for r in runs}
     return [{"preset": a.preset, "view": view, "N": n, "policy": p,

@@ -21,6 +21,7 @@
 #include "minimax_split.h"
 #include "policy.h"
 #include "between_frames.h"
+#include "move_forecast.h"
 #include "sample_split.h"
 #include "work_by_position.h"
 
@@ -1208,4 +1209,32 @@ TEST(Agent, SampleHoldsWhereTheMoveComesTooLateToPay) {
     settle(a);
     EXPECT_TRUE(h[0].slabs.empty());
     EXPECT_TRUE(h[1].slabs.empty());
+}
+
+// What getting to new planes costs, by hand (move_forecast.h): boxes [0,1],
+// [1,2], [2,3] along x holding 10, 20 and 30 objects; links of 100 ns and
+// 42 GB/s (1 ns an object's 42 bytes), handling 40 + 40 ns a slide, grid
+// updates 4 ns an object on each node (9 ns an object in all). Plane 1 from
+// 1 to 2.5 crosses the second box and half the third: 2 hops of 180 ns,
+// and 20 + 15 objects passed on average half of the chain's 2 + 1:
+// 360 + 35 x 1.5 x 9 = 832.5 ns. Plane 2 stays. With the hops on the
+// links (--hop-handling link), no handling: 200 + 472.5.
+TEST(Resplit, GettingToNewPlanesCostsItsChainOfSlabs) {
+    nlohmann::json r;
+    const double objects[] = {10, 20, 30};
+    for (int k = 0; k < 3; ++k)
+        r["nodes"].push_back({{"node", {k, 0, 0}},
+                              {"box", {{double(k), 0.0, 0.0}, {double(k + 1), 1.0, 1.0}}},
+                              {"objects", objects[k]}});
+    MachineConfig m;
+    m.dims = {3, 1, 1};
+    m.link.latency = 100000;
+    m.link.bandwidth = 42e9;
+    m.balance.rebuildCost = 4000;
+    const InnerPlanes from{{1.0, 2.0}}, to{{2.5, 2.0}};
+    EXPECT_NEAR(moveNs(r, m, from, to), 832.5, 1e-9);
+    EXPECT_NEAR(moveNs(r, m, to, from), 832.5, 1e-9);  // the same chain back
+    EXPECT_DOUBLE_EQ(moveNs(r, m, from, from), 0.0);
+    m.hopsByLinks = true;
+    EXPECT_NEAR(moveNs(r, m, from, to), 672.5, 1e-9);
 }

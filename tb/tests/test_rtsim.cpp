@@ -1493,15 +1493,34 @@ TEST_F(Rtsim, MessagesCarryTheirSystemCReportIds) {
 }
 
 // The summary never calls boundaries converged over a frame that lost: the
-// built-in scene at 64x64 on 33x1x1, where measured's second frame took
-// 3.5 times the unbalanced one (issue 61), says which frame and how much;
-// on 4x4x4, where no frame lost, it says converged and no more.
+// built-in scene at 64x64 on 33x1x1, where sample's frame takes 1.64 times
+// the unbalanced one (its object-median start loses there), says which
+// frame and how much; on 4x4x4 under measured, where no frame lost, it
+// says converged and no more.
 TEST_F(Rtsim, TheSummaryNamesAFrameThatLostBesideConvergedBoundaries) {
-    const Outcome lost = run("--size 64x64 --mesh-dims 33x1x1 --balance measured --frames 3 --image ''");
+    const Outcome lost = run("--size 64x64 --mesh-dims 33x1x1 --balance sample --image ''");
     ASSERT_EQ(lost.code, 0) << lost.err;
-    EXPECT_NE(lost.out.find("boundaries converged, but frame 2 took 3.5"), std::string::npos) << lost.out;
+    EXPECT_NE(lost.out.find("boundaries converged, but frame 1 took 1.6"), std::string::npos) << lost.out;
     const Outcome fine = run("--size 64x64 --balance measured --frames 3 --image ''");
     ASSERT_EQ(fine.code, 0) << fine.err;
     EXPECT_NE(fine.out.find("boundaries converged\n"), std::string::npos) << fine.out;
     EXPECT_EQ(fine.out.find(", but frame"), std::string::npos) << fine.out;
+}
+
+// The recommended policy on long columns, where moving the planes costs more
+// than it saves: on the built-in scene at 64x64 its second frame took 3.5
+// times the unbalanced one on 33x1x1 and 1.37 times on 64x2x1 (issue 61),
+// the planes passed along chains of up to a dozen boxes. Counting that
+// (move_forecast.h), no frame is slower than the unbalanced one by 2 %.
+TEST_F(Rtsim, TheRecommendedPolicyNeverLosesOnALongColumn) {
+    for (const char* dims : {"33x1x1", "64x2x1"}) {
+        SCOPED_TRACE(dims);
+        const Outcome o = run(std::string("--size 64x64 --balance measured --frames 3 -q --image '' --mesh-dims ") + dims +
+                              " --report " + (dir_ / "r.json").string());
+        ASSERT_EQ(o.code, 0) << o.err;
+        const json r = json::parse(slurp(dir_ / "r.json"));
+        ASSERT_EQ(r["frames"].size(), 3u);
+        const double none = r["comparison"]["unbalanced_ns"].get<double>();
+        for (const json& f : r["frames"]) EXPECT_LE(f["render_time_ns"].get<double>(), 1.02 * none) << f.dump();
+    }
 }

@@ -116,6 +116,16 @@ TEST(InitialSplit, TheCreditSharesSumToExactlyOne) {
 
 namespace {
 
+// These reports' frames last nanoseconds: the machine they are of moves its
+// planes for nothing (no latency, no handling), so a move is judged by the
+// frame it makes alone (what a move costs: Resplit.GettingToNewPlanes...).
+MachineConfig freeMoves(std::array<int, 3> dims, int axis = 0) {
+    MachineConfig m = mesh(dims, axis);
+    m.link.latency = 0;
+    m.costs.send = m.costs.recv = 0;
+    return m;
+}
+
 // A report of a 3x1x1 mesh along x: boundary 1 from `b1` (at time 0) to
 // `b1end` (at 5 ns), boundary 2 at 2/3 throughout; the nodes' busy times.
 nlohmann::json report(double renderNs, double b1, double b1end, std::array<double, 3> busy) {
@@ -151,7 +161,7 @@ TEST(BetweenFrames, ResplitEvensTheBusiestNodeByTheForecast) {
     // with planes at 2/9 and 5/9 (node 0's 2 over [0, 1/3] reach 4/3 at 2/9;
     // its last 2/3 and node 1's 1 over [1/3, 2/3] reach 4/3 more at 5/9).
     // The search places planes on the work's bins (1/384 here).
-    const ResplitChoice c = resplitChoice(report(10, 1.0 / 3, 1.0 / 3, {2, 1, 1}), mesh({3, 1, 1}));
+    const ResplitChoice c = resplitChoice(report(10, 1.0 / 3, 1.0 / 3, {2, 1, 1}), freeMoves({3, 1, 1}));
     ASSERT_EQ(c.planes.size(), 1u);
     ASSERT_EQ(c.planes[0].size(), 2u);
     EXPECT_NEAR(c.planes[0][0], 2.0 / 9, 1.0 / 384);
@@ -170,7 +180,7 @@ TEST(BetweenFrames, ResplitPlacesTheWorkWhereItHappened) {
     // 0.75 / 0.05 + 0.5 / (1/3) per unit above it: (4/3 - 0.825) / 16.5.
     nlohmann::json r = report(10, 1.0 / 3, 1.0 / 3, {2, 1, 1});
     r["nodes"][0]["work_by_position"] = {{"axis_from", 0.0}, {"bin_width", 0.05}, {"first_bin", 0}, {"ns", {0.75, 0.75}}};
-    const InnerPlanes t = resplitTargets(r, mesh({3, 1, 1}));
+    const InnerPlanes t = resplitTargets(r, freeMoves({3, 1, 1}));
     ASSERT_EQ(t.size(), 1u);
     EXPECT_NEAR(t[0][0], 0.05 + (4.0 / 3 - 0.825) / 16.5, 1.0 / 384);
     // The second: 2 below 1/3 (node 0), then node 1's 1 over [1/3, 2/3]: 8/3 at 1/3 + 2/9.
@@ -181,16 +191,16 @@ TEST(BetweenFrames, ResplitHoldsThePlanesWhenTheForecastGainsLittle) {
     // Busy 1.04, 1, 1: the best forecast, 3.04 / 3 each, is 2.6 % shorter
     // than holding (1.04), less than kMinForecastGain: the planes hold, where
     // the frame ended them.
-    const ResplitChoice c = resplitChoice(report(10, 0.30, 0.31, {1.04, 1, 1}), mesh({3, 1, 1}));
+    const ResplitChoice c = resplitChoice(report(10, 0.30, 0.31, {1.04, 1, 1}), freeMoves({3, 1, 1}));
     EXPECT_STREQ(c.what, "held");
     EXPECT_EQ(c.planes, (InnerPlanes{{0.31, 2.0 / 3}}));
     EXPECT_NEAR(c.forecastNs, c.heldNs, 1e-12);
     // At 1.1 it moves.
-    EXPECT_STRNE(resplitChoice(report(10, 0.30, 0.31, {1.1, 1, 1}), mesh({3, 1, 1})).what, "held");
+    EXPECT_STRNE(resplitChoice(report(10, 0.30, 0.31, {1.1, 1, 1}), freeMoves({3, 1, 1})).what, "held");
 }
 
 TEST(BetweenFrames, ResplitHoldsTheFastestFrameOnceAResplitLoses) {
-    const MachineConfig m = mesh({3, 1, 1});
+    const MachineConfig m = freeMoves({3, 1, 1});
     ResplitSequence s(m);
     const auto first = s.next(report(100, 0.30, 0.31, {2, 1, 1}), 1);  // re-split after frame 1
     ASSERT_TRUE(first);
@@ -210,7 +220,7 @@ TEST(BetweenFrames, ResplitHoldsTheFastestFrameOnceAResplitLoses) {
 TEST(BetweenFrames, MeasuredHoldsItsStartingSplitWhenReSplittingDoesNotPay) {
     // measured's frame 1 was the starting split itself: when neither of the
     // first two re-split frames beats it, the start is held, with no trial.
-    MachineConfig m = mesh({3, 1, 1});
+    MachineConfig m = freeMoves({3, 1, 1});
     m.balance.policy = "measured";
     ResplitSequence s(m);
     ASSERT_TRUE(s.next(report(100, 0.30, 0.30, {2, 1, 1}), 1));
@@ -223,7 +233,7 @@ TEST(BetweenFrames, MeasuredHoldsItsStartingSplitWhenReSplittingDoesNotPay) {
 }
 
 TEST(BetweenFrames, ResplitThatDoesNotPayTriesTheStartingSplit) {
-    const MachineConfig m = mesh({3, 1, 1});
+    const MachineConfig m = freeMoves({3, 1, 1});
     for (const double trial : {95.0, 105.0}) {
         ResplitSequence s(m);
         s.next(report(100, 0.30, 0.31, {2, 1, 1}), 1);
