@@ -1,11 +1,13 @@
 #!/usr/bin/python3
 """Does the default balancing ever hurt on real scenes? Eric Haines' SPD
 scenes (balls-4, balls-5, tetra-3, gears-2, rings-2) on N x N x N meshes
-(N = 4, 6, 8) over a sweep of link bandwidths, each rendered without
+(N = 4, 6, 8), or meshes of other shapes (--shapes 64x1x1,...), over a
+sweep of link bandwidths, each rendered without
 balancing and with the default policy over --frames frames of the same
 view: every frame's time against the unbalanced frame's, the first frame
 and the steady state (the last) apart. With --doc, writes doc/results/spd_never_hurts.{csv,md}
-and, with --doc, the table of the worst points into doc/balancing.md.
+and, with --doc, the table of the worst points into doc/balancing.md
+(with --tag TAG: spd_never_hurts-TAG.*, and its own section).
 Run with /usr/bin/python3."""
 import argparse
 import os
@@ -27,6 +29,8 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--scenes", default=SCENES)
     ap.add_argument("--n", default="4,6,8")
+    ap.add_argument("--shapes", default="", help="mesh shapes WxHxD instead of --n's cubes (e.g. 64x1x1,33x1x1)")
+    ap.add_argument("--tag", default="", help="names the files (spd_never_hurts-TAG.*) and the doc section")
     ap.add_argument("--bandwidths", default="100MB/s,200MB/s,400MB/s,1GB/s")
     ap.add_argument("--size", default="256x256")
     ap.add_argument("--policy", default="measured", help="the policy compared with none (default: measured, the recommended one)")
@@ -35,8 +39,10 @@ def main():
     driver.add_output_arguments(ap, os.path.join(ROOT, "doc", "balancing.md"))
     driver.add_arguments(ap)
     a = driver.parse_outputs(ap)
-    csv_path = os.path.join(a.out, "spd_never_hurts.csv")
+    stem = "spd_never_hurts" + ("-" + outputs.check_name(a.tag, "--tag") if a.tag else "")
+    csv_path = os.path.join(a.out, stem + ".csv")
     outputs.numbers(a.n, "--n")
+    meshes = [["--mesh-dims", d] for d in a.shapes.split(",")] if a.shapes else [["--mesh", n] for n in a.n.split(",")]
     for scene in a.scenes.split(","):
         outputs.check_input(os.path.join(SPD, outputs.check_name(scene, "--scenes") + ".nff"), "--scenes")
     if a.plot_only:  # (the CSV of an earlier run)
@@ -44,19 +50,20 @@ def main():
     else:
         points = []
         for scene in a.scenes.split(","):
-            for n in a.n.split(","):
+            for mesh in meshes:
                 for bw in a.bandwidths.split(","):
-                    base = ["--scene", os.path.join(SPD, scene + ".nff"), "--size", a.size, "--mesh", n,
+                    base = ["--scene", os.path.join(SPD, scene + ".nff"), "--size", a.size, *mesh,
                             "--link-bandwidth", bw] + a.extra.split()
                     for policy in ("none", a.policy):
                         frames = ["--frames", a.frames] if policy != "none" else []
-                        points.append({"params": {"scene": scene, "N": int(n), "bandwidth": bw, "policy": policy},
+                        n = mesh[1] if a.shapes else int(mesh[1])
+                        points.append({"params": {"scene": scene, "N": n, "bandwidth": bw, "policy": policy},
                                        "args": base + ["--balance", policy] + frames})
-        driver.run("spd-never-hurts", points, extract, csv_path, a)
+        driver.run("spd-never-hurts" + ("-" + a.tag if a.tag else ""), points, extract, csv_path, a)
     rows = read_csv(csv_path)
     for r in rows:
         r["policy"] = project.policy_named(r["policy"])
-    table(a, rows, os.path.join(a.out, "spd_never_hurts.md"))
+    table(a, rows, os.path.join(a.out, stem + ".md"))
 
 
 def extract(r):
@@ -77,8 +84,10 @@ def table(a, rows, md_path):
         ratios = [float(x) / t0 for x in r["frames_ns"].split()]
         points.append({"scene": r["scene"], "N": r["N"], "bandwidth": r["bandwidth"], "none": t0, "ratios": ratios})
     points.sort(key=lambda p: -max(p["ratios"]))
-    lines = ["<!-- written by scripts/experiments/spd_never_hurts.py; do not edit -->",
-             f"{len(points)} points ({a.scenes.replace(',', ', ')}; N = {a.n.replace(',', ', ')}; links "
+    how = " ".join(f"--{k} {v}" for k, v in (("shapes", a.shapes), ("tag", a.tag)) if v)
+    lines = [f"<!-- written by scripts/experiments/spd_never_hurts.py{' ' + how if how else ''}; do not edit -->",
+             f"{len(points)} points ({a.scenes.replace(',', ', ')}; "
+             f"{'meshes ' + a.shapes.replace(',', ', ') if a.shapes else 'N = ' + a.n.replace(',', ', ')}; links "
              f"{a.bandwidths.replace(',', ', ')}; {a.size}); `--balance {a.policy}` over {a.frames} frames, each "
              f"frame's time / the unbalanced frame's. First frame: worst {max(p['ratios'][0] for p in points):.3f}; "
              f"any frame: worst {max(max(p['ratios']) for p in points):.3f}, points with a frame above 1.02: "
@@ -104,7 +113,7 @@ def table(a, rows, md_path):
         t = p["none"] / 1e6
         lines.append(f"| {p['scene']} | {p['N']} | {p['bandwidth']} | {t:,.2f} ms | " +
                      " | ".join(f"{x:.3f}" for x in p["ratios"]) + f" | {max(p['ratios']):.3f} |")
-    publish_table(lines, md_path, a.doc or None, "spd never hurts")
+    publish_table(lines, md_path, a.doc or None, "spd never hurts" + (" " + a.tag if a.tag else ""))
 
 
 if __name__ == "__main__":
