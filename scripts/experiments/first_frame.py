@@ -113,6 +113,7 @@ def plot(a, rows, ns, policies, best, path):
         ax.plot(ns, [1 / n for n in ns], color="green", linestyle=":", linewidth=1, label="1/N")
         ax.axhline(PAPER, color="grey", linestyle="-.", linewidth=1, label="paper: about 0.2")
         ax.set_ylim(0, 1)
+        ax.set_xticks(ns)
         ax.set_xlabel("N")
         ax.set_title(f"view {view}", fontsize=9)
         ax.grid(alpha=0.3)
