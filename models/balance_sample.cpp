@@ -31,8 +31,9 @@ void BalanceAgent::startSample(int feeder, const std::array<bool, 6>& floodTo) {
 
 void BalanceAgent::recordSample(double where, Picos work) {
     Gather& g = gather_;
-    const int k = int(std::floor((where - g.lo) / (g.hi - g.lo) * kSampleBins));
-    g.own[size_t(std::clamp(k, 0, kSampleBins - 1))] += double(work);
+    const double k = std::floor((where - g.lo) / (g.hi - g.lo) * kSampleBins);  // (clamped before it is an index)
+    if (!std::isfinite(k)) return;
+    g.own[size_t(std::clamp(k, 0.0, double(kSampleBins - 1)))] += double(work);
 }
 
 void BalanceAgent::sampleReady(Picos now) {
