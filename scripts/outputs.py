@@ -382,10 +382,10 @@ def guard(tool, main, argv=None):
         return FAILED
 
 
-def numbers(text, flag, kind=int):
+def numbers(text, flag, kind=int, least=None, most=None):
     """A flag's comma-separated list of numbers (whole ones for kind=int,
-    as in --n 2,4,8), or ToolError naming the flag: one line, not a
-    ValueError's traceback."""
+    as in --n 2,4,8), each within [least, most] where given, or ToolError
+    naming the flag: one line, not a ValueError's traceback."""
     try:
         values = [kind(x) for x in text.split(",")]
     except (ValueError, TypeError, AttributeError):
@@ -393,4 +393,9 @@ def numbers(text, flag, kind=int):
     if not values or any(v != v or v in (float("inf"), float("-inf")) for v in values):
         what = "whole numbers" if kind is int else "numbers"
         raise ToolError(f"{flag} {text!r}: a comma-separated list of {what}")
+    out = [v for v in values if (least is not None and v < least) or (most is not None and v > most)]
+    if out:
+        bounds = " and ".join(b for b in (f"at least {least}" if least is not None else "",
+                                          f"at most {most}" if most is not None else "") if b)
+        raise ToolError(f"{flag} {text!r}: {out[0]}, where each must be {bounds}")
     return values

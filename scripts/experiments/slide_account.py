@@ -29,7 +29,7 @@ def main():
     driver.add_output_arguments(ap, os.path.join(ROOT, "doc", "balancing.md"))
     driver.add_arguments(ap)
     a = driver.parse_outputs(ap)
-    ns = outputs.numbers(a.n, "--n")
+    ns = outputs.numbers(a.n, "--n", least=2, most=64)  # (nodes per axis: a column has a plane)
     project.check_variant(a)
     stem = "slide_account" + variant(a.preset, a.tag)
     rows = driver.swept_rows(a, os.path.join(a.out, stem + ".csv"), lambda: sweep(a, ns))
