@@ -186,7 +186,8 @@ public:
     // happened; once its own part of the sample is in (sampleReady) and the
     // column's sum from below has come (onSample), it passes the sum on up;
     // the top node splits the column's sum (splitBySample) and sends the
-    // planes down (onPlanes); every node passes them on and moves its faces
+    // planes down (onPlanes), none where the move would not pay by then
+    // (samplePays: every face holds); every node passes them on and moves its faces
     // to them as startAt does, once, and then holds. A column none of whose
     // nodes generates primary rays takes the planes of one neighbouring
     // column (`feeder`: its direction; -1: the column gathers its own; -2:
