@@ -29,7 +29,7 @@ uint64_t NodeInput::onTheirWay() const {
 
 HandedPrimaries NodeInput::handOver(const Camera& camera, const Box& world, int axis, double boundary, bool upper) {
     return primaries_.handOver([&](uint32_t p) {
-        const RayJob j = primaryJob(camera, int(p % uint32_t(camera.width())), int(p / uint32_t(camera.width())), world);
+        const RayJob j = primaryOf(camera, p, world);
         const double x = j.ray.at(j.t0)[axis];
         return upper ? x >= boundary : x < boundary;
     });

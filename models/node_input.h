@@ -85,14 +85,18 @@ public:
     bool nextPrimary(Work& w, const Camera& camera, const Box& world) {
         Primary p;
         if (!primaries_.next(p)) return false;
-        const uint32_t width = uint32_t(camera.width());
-        w = Work{primaryJob(camera, int(p.pixel % width), int(p.pixel / width), world), p.exp, false, true, -1};
+        w = Work{primaryOf(camera, p.pixel, world), p.exp, false, true, -1};
         return true;
     }
     // `sample`: the primary rays not yet generated that start at or beyond
     // `boundary` along `axis` (below it if !upper), taken out with their
     // credit, to go with a slab (MessageBody::primaries).
     HandedPrimaries handOver(const Camera& camera, const Box& world, int axis, double boundary, bool upper);
+    // The primary ray of an image pixel (its index, row by row).
+    static RayJob primaryOf(const Camera& camera, uint32_t pixel, const Box& world) {
+        const uint32_t width = uint32_t(camera.width());
+        return primaryJob(camera, int(pixel % width), int(pixel / width), world);
+    }
 
     size_t inHand() const { return local_.size() + (received_.size() - receivedNext_); }
     // Its queue at `at`: rays in hand and messages arrived by then, not yet

@@ -135,12 +135,7 @@ std::vector<double> splitBySample(const ColumnSample& column, int count, double 
         even.push_back(c);
         x = c;
     }
-    double from = column.lo();
-    for (double c : even) {
-        if (column.within(from, c) > hi * (1 + 1e-9)) return planes;
-        from = c;
-    }
-    return column.within(from, column.hi()) <= hi * (1 + 1e-9) ? even : planes;
+    return dearestPart(column, even) <= hi * (1 + 1e-9) ? even : planes;
 }
 
 double dearestPart(const ColumnSample& column, const std::vector<double>& planes) {
