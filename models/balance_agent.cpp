@@ -277,12 +277,14 @@ void BalanceAgent::decide(int i, Picos now) {
             return;
         }
         // What the slide returns: the slab's share of this node's work (by
-        // the work recorded there, or its thickness if none was) over the
-        // guard's horizon, and of the work waiting now.
+        // the work recorded there, or its thickness if none was, or for a
+        // relaying policy none was in the slab) over the guard's horizon,
+        // and of the work waiting now.
         const double lo = q.own.lo[q.axis], hi = q.own.hi[q.axis];
         const double a = q.upper ? *b : lo, z = q.upper ? hi : *b;
-        const double inBox = s.sentProfile.within(lo, hi);
-        const double share = inBox > 0 ? s.sentProfile.within(a, z) / inBox : (z - a) / (hi - lo);
+        const double inBox = s.sentProfile.within(lo, hi), inSlab = s.sentProfile.within(a, z);
+        const bool byThickness = !(inBox > 0) || (policy_->relays() && !(inSlab > 0));
+        const double share = byThickness ? (z - a) / (hi - lo) : inSlab / inBox;
         const double returns =
             share * (q.mine.load() * double(cfg_.interval) * cfg_.horizon + double(q.mine.backlog));
         if (cfg_.wireShare > 0) {

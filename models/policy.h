@@ -65,6 +65,9 @@ public:
     // and at most one of them may give. The result must leave the box at
     // least minThickness thick (clampGive does).
     virtual std::optional<double> decide(const BalanceConfig& cfg, const SlideQuery& q) const = 0;
+    // The guard counts a slab with no recorded work by its thickness, so
+    // that empty slabs pass work on down the column (`relay`).
+    virtual bool relays() const { return false; }
 };
 
 // The boundary moved into the box by `delta`, kept at least minThickness

@@ -6,12 +6,17 @@ namespace rt {
 std::unique_ptr<BalancePolicy> makeSlidePolicy();
 std::unique_ptr<BalancePolicy> makeWorkPolicy();
 std::unique_ptr<BalancePolicy> makeQuantilePolicy();
+std::unique_ptr<BalancePolicy> makeRelayPolicy();
 
 const std::vector<PolicyInfo>& policies() {
     static const std::vector<PolicyInfo> all = {
         {"none", "boundaries stay where they start", PolicyKind::None, 0.0, nullptr},
         {"slide", "the paper: the heavier node moves its face by gain x load difference x thickness", PolicyKind::Dynamic,
          0.25, makeSlidePolicy},
+        {"relay",
+         "the paper's rule read so that work travels down a column: load as demand (work done and waiting, it does "
+         "not saturate), and a slab with no recorded work counts by its thickness, so empty slabs pass work on",
+         PolicyKind::Dynamic, 0.25, makeRelayPolicy},
         {"work", "the heavier node sheds gain x half the busy-time gap from its work next to the boundary",
          PolicyKind::Dynamic, 0.25, makeWorkPolicy},
         {"quantile", "each boundary moves gain of the way to its quantile of the column's demand (work done and waiting)",

@@ -14,6 +14,7 @@ import json
 import os
 import shutil
 import subprocess
+import sys
 import tempfile
 import time
 
@@ -253,12 +254,20 @@ def update_doc_section(path, name, text):
 
 def publish_table(lines, md_path, doc_path, section):
     """A generated markdown table (lines[0] a "written by" comment): to its
-    results file, into its section of a doc page (if doc_path), and to stdout."""
+    results file, to stdout, and into its section of a doc page (if
+    doc_path). False, with one line on stderr, where no page has the
+    section (a variant no page shows: its table stays in its results file)."""
     import outputs
     outputs.write_text(md_path, "\n".join(lines) + "\n")
-    if doc_path:
-        update_doc_section(doc_path, section, "\n".join(lines[1:]))
     print("\n".join(lines[1:]))
+    if doc_path:
+        try:
+            update_doc_section(doc_path, section, "\n".join(lines[1:]))
+        except ValueError as e:
+            print(f"{os.path.basename(sys.argv[0])}: {e}; the table is in {os.path.relpath(md_path, ROOT)}",
+                  file=sys.stderr)
+            return False
+    return True
 
 
 def pyplot():

@@ -21,13 +21,13 @@ import outputs  # noqa: E402
 import sweep as driver  # noqa: E402
 from project import PAPER_SCENE, ROOT, VIEWS, preset_flags, publish_table, variant  # noqa: E402
 
-POLICIES = "median,slide,sample"
+POLICIES = "median,slide,relay,sample"
 PAPER = 0.2
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--n", default="4,5,6,7,8")
+    ap.add_argument("--n", default="2,3,4,5,6,7,8")
     ap.add_argument("--policies", default=POLICIES,
                     help="policies compared with none (POLICY@K: its frame K of a sequence, the last one's time)")
     project.add_machine_arguments(ap, "paper", "first_frame")
@@ -105,10 +105,10 @@ def plot(a, rows, ns, policies, best, path):
         for p in policies:
             ys = [next(r["ratio"] for r in rows if r["view"] == view and r["N"] == n and r["policy"] == p) for n in ns]
             ax.plot(ns, ys, marker="o", label=p)
-        bs = [best.get((view, n)) for n in ns]
-        if all(b is not None for b in bs):
-            ax.plot(ns, bs, "k--", linewidth=1, label="best static split")
-            ax.plot(ns, [factor(a) * max(1 / n, b) for n, b in zip(ns, bs)], "r:", linewidth=1,
+        known = [(n, best[(view, n)]) for n in ns if (view, n) in best]  # where the search has run
+        if known:
+            ax.plot([n for n, _ in known], [b for _, b in known], "k--", linewidth=1, label="best static split")
+            ax.plot([n for n, _ in known], [factor(a) * max(1 / n, b) for n, b in known], "r:", linewidth=1,
                     label=f"target: {factor(a)} x max(1/N, best)")
         ax.plot(ns, [1 / n for n in ns], color="green", linestyle=":", linewidth=1, label="1/N")
         ax.axhline(PAPER, color="grey", linestyle="-.", linewidth=1, label="paper: about 0.2")

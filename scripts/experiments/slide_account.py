@@ -1,6 +1,7 @@
 #!/usr/bin/python3
-"""Where the paper's rule (`slide`) spends its one frame, on the paper's
-machine: Fig. 4's scene at f = 1/N along the progress axis, one frame. Per N:
+"""Where the paper's rule (`slide`, and its relaying reading `relay`) spends
+its one frame, on the paper's machine: Fig. 4's scene at f = 1/N along the
+progress axis, one frame. Per policy and N:
 the frame against the unbalanced one; how many layers of a column worked
 most of the frame (a layer: the nodes of one index along the columns; it
 worked when its nodes were busy half the frame or more, on average); the
@@ -25,32 +26,38 @@ from project import PAPER_SCENE, ROOT, VIEWS, preset_flags, publish_table, varia
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--n", default="4,8")
+    ap.add_argument("--policies", default="slide,relay",
+                    help="the in-frame policies taken apart (relay: the paper's rule read so that work travels)")
     project.add_machine_arguments(ap, "paper", "slide_account")
     driver.add_output_arguments(ap, os.path.join(ROOT, "doc", "balancing.md"))
     driver.add_arguments(ap)
     a = driver.parse_outputs(ap)
     ns = outputs.numbers(a.n, "--n", least=2, most=64)  # (nodes per axis: a column has a plane)
     project.check_variant(a)
+    policies = [p for p in a.policies.split(",") if p]
+    if not policies:
+        raise outputs.ToolError("--policies: name at least one policy")
     stem = "slide_account" + variant(a.preset, a.tag)
-    rows = driver.swept_rows(a, os.path.join(a.out, stem + ".csv"), lambda: sweep(a, ns))
+    rows = driver.swept_rows(a, os.path.join(a.out, stem + ".csv"), lambda: sweep(a, ns, policies))
     table(a, rows, os.path.join(a.out, stem + ".md"))
 
 
-def sweep(a, ns):
+def sweep(a, ns, policies):
     points = [{"params": {"N": n, "policy": p},
                "args": preset_flags(a.preset) + PAPER_SCENE + VIEWS["along"] +
                ["--mesh", n, "--concentration", f"{1 / n:.6f}", "--balance", p] + a.extra.split()}
-              for n in ns for p in ("none", "slide")]
+              for n in ns for p in ["none"] + policies]
     runs = driver.run("slide_account" + (variant(a.preset, a.tag) or "-modern"), points, extract, None, a)
     by = {(r["N"], r["policy"]): r for r in runs}
     best = project.best_static(a)
     rows = []
-    for n in ns:
-        r = dict(by[(n, "slide")])
-        r["ratio"] = r["render_time_ns"] / by[(n, "none")]["render_time_ns"]
-        b = best.get(("along", n))
-        r["best_static"] = b[0] if b else ""
-        rows.append(r)
+    for p in policies:
+        for n in ns:
+            r = dict(by[(n, p)])
+            r["ratio"] = r["render_time_ns"] / by[(n, "none")]["render_time_ns"]
+            b = best.get(("along", n))
+            r["best_static"] = b[0] if b else ""
+            rows.append(r)
     return rows
 
 
@@ -81,13 +88,13 @@ def extract(r):
 
 def table(a, rows, md_path):
     lines = [f"<!-- written by scripts/experiments/slide_account.py {project.invocation(a)}; do not edit -->",
-             "| N | slide / none | best static split | layers working (of N) | each layer's busy share | rounds per "
+             "| policy | N | frame / none | best static split | layers working (of N) | each layer's busy share | rounds per "
              "boundary | slides | refused: cost | stale | hop | busy link | plane 1 moved (median) | plane N-1 moved | last slide "
              "(share of the frame) |",
-             "|---:|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+             "|---|---:|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
     for r in rows:
         best = f"{float(r['best_static']):.3f}" if r["best_static"] not in ("", None) else "-"
-        lines.append(f"| {r['N']} | {float(r['ratio']):.3f} | {best} | {r['layers_working']} | {r['layer_busy']} | "
+        lines.append(f"| {r['policy']} | {r['N']} | {float(r['ratio']):.3f} | {best} | {r['layers_working']} | {r['layer_busy']} | "
                      f"{float(r['rounds']):.0f} | {r['slides']} | {r['refused_cost']} | {r['refused_stale']} | "
                      f"{r['refused_latency']} | {r['refused_busy_link']} | {float(r['first_plane_moved']):+.4f} | "
                      f"{float(r['last_plane_moved']):+.4f} | {float(r['last_slide_share']):.2f} |")

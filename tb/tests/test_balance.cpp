@@ -155,6 +155,7 @@ static std::vector<Case> policyCases() {
         for (const char* p : {"slide", "work", "quantile", "median"})
             for (Picos iv : {Picos(700000), Picos(3000000), Picos(20000000)}) v.push_back({s, p, iv});
     for (const char* s : {"balls-3", "procedural"}) v.push_back({s, "sample", 3000000});  // (no intervals: one move)
+    for (const char* s : {"balls-3", "procedural"}) v.push_back({s, "relay", 3000000});  // (slide's protocol, other loads)
     return v;
 }
 
@@ -265,7 +266,7 @@ TEST_P(Pathological, SpheresCentredOnBoundaryPlanes) {
     runAndCompare(s, config());
 }
 
-INSTANTIATE_TEST_SUITE_P(Policies, Pathological, testing::Values("slide", "work", "quantile", "median", "sample"),
+INSTANTIATE_TEST_SUITE_P(Policies, Pathological, testing::Values("slide", "relay", "work", "quantile", "median", "sample"),
                          [](const testing::TestParamInfo<std::string>& i) { return i.param; });
 
 TEST(Balance, SlowNodeGetsAThinnerBox) {

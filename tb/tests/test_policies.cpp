@@ -116,6 +116,29 @@ TEST(Slide, NeverBelowMinimumThicknessEvenAfterGivingOnTheOtherSide) {
     EXPECT_FALSE(decide(b, q));  // nothing left to give on the lower side
 }
 
+// `relay` takes the load as demand: two nodes busy all the round (the
+// paper's loads 1 and 1, inside any dead band) still differ when one has
+// 60 of work waiting and the other none: (80 - 20) / (80 + 20) = 0.6.
+TEST(Relay, DemandDoesNotSaturateAndOnlyTheHeavierGives) {
+    const BalanceConfig b = config("relay");
+    SlideQuery q = query(1.0, 1.0);
+    EXPECT_FALSE(decide(config("slide"), q));
+    EXPECT_FALSE(decide(b, q));  // no backlog on either side: equal
+    q.mine.busy = q.theirs.busy = 20;
+    q.mine.wait = q.theirs.wait = 0;
+    q.mine.backlog = 60;
+    const auto x = decide(b, q);
+    ASSERT_TRUE(x);
+    EXPECT_NEAR(*x, 1.0 - 0.5 * 0.6 * 1.0, 1e-12);  // gain x relative demand difference x thickness
+    std::swap(q.mine, q.theirs);
+    EXPECT_FALSE(decide(b, q));  // the lighter never gives
+    q.mine.backlog = 2;
+    q.theirs.backlog = 0;
+    EXPECT_FALSE(decide(b, q));  // 22 against 20: 0.048, inside the dead band of 0.05
+    EXPECT_TRUE(findPolicy("relay")->make()->relays());
+    EXPECT_FALSE(findPolicy("slide")->make()->relays());
+}
+
 TEST(Work, ShedsFromTheWorkNextToTheBoundary) {
     const BalanceConfig b = config("work", 1.0);
     SlideQuery q = query(1.0, 0.2);
@@ -570,6 +593,33 @@ TEST(Agent, GuardStopsStaleCostlyAndLatencyBoundSlides) {
     BalanceConfig off = cfg;
     off.guard = false;
     EXPECT_EQ(run(off, 20 * us + 200 * us, 1000 * us, 100 * us).first, 1u);
+}
+
+// A slab with no recorded work in it (the giver's work lies at 0.1, the
+// slab is [0.75, 1]): `slide`'s guard counts no return and refuses even a
+// 1 us slab; `relay`'s counts the slab by its thickness, a quarter of
+// load 1 x 20 us x 10 intervals = 50 us, and gives it for up to that.
+TEST(Agent, RelayPassesOnASlabWithNoWorkRecordedInIt) {
+    const Box world{Vec3(0.0), Vec3(2.0, 1.0, 1.0)};
+    auto run = [&](const std::string& policy, Picos cost) {
+        FakeHost ha, hb;
+        ha.cost = cost;
+        BalanceConfig cfg = agentConfig();
+        cfg.policy = policy;
+        BalanceAgent a(cfg, ha, world, 0, 2, false, true, 0.05), b(cfg, hb, world, 1, 2, true, false, 0.05);
+        a.recordStep(0.1, 1 * us);
+        a.closeInterval(20 * us, 20 * us, 0, 0);
+        settle(a);
+        b.closeInterval(20 * us, 0, 20 * us, 0);
+        settle(b);
+        a.onReport(+1, hb.reports[0].second, 21 * us);
+        settle(a);
+        return std::make_pair(ha.slabs.size(), a.stats().skippedCost);
+    };
+    EXPECT_EQ(run("slide", 1 * us), std::make_pair(size_t(0), uint64_t(1)));
+    EXPECT_EQ(run("relay", 1 * us), std::make_pair(size_t(1), uint64_t(0)));
+    EXPECT_EQ(run("relay", 49 * us), std::make_pair(size_t(1), uint64_t(0)));
+    EXPECT_EQ(run("relay", 51 * us), std::make_pair(size_t(0), uint64_t(1)));
 }
 
 // --guard-wire: the giver's link to the taker had its wire busy for

@@ -1513,7 +1513,8 @@ TEST_F(Rtsim, TheSummaryNamesAFrameThatLostBesideConvergedBoundaries) {
 // the planes passed along chains of up to a dozen boxes. Counting that
 // (move_forecast.h), no frame is slower than the unbalanced one by 2 %.
 TEST_F(Rtsim, TheRecommendedPolicyNeverLosesOnALongColumn) {
-    for (const char* dims : {"33x1x1", "64x1x1", "64x2x1"}) {
+    // (and 32 nodes along one axis, x or z)
+    for (const char* dims : {"32x1x1", "33x1x1", "64x1x1", "64x2x1", "2x2x32 --axis z"}) {
         SCOPED_TRACE(dims);
         const Outcome o = run(std::string("--size 64x64 --balance measured --frames 3 -q --image '' --mesh-dims ") + dims +
                               " --report " + (dir_ / "r.json").string());
