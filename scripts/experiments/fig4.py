@@ -27,7 +27,7 @@ from project import PAPER_SCENE, ROOT, VIEWS, check_variant, invocation, machine
 
 # The experiment (doc/balancing.md, "Fig. 4"): the paper's scene, progress
 # axis x, the camera looking along x or across it (project.VIEWS).
-POLICIES = "median,slide,work"
+POLICIES = "median,slide,sample,work"
 STEADY = "slide,resplit,measured"  # their steady state too: "resplit@6" is resplit's frame 6
 PAPER = 0.2
 STEADY_GAP = "measured"  # the policy whose steady state the gap table takes apart (the default)
@@ -122,7 +122,7 @@ def extract(r):
 def plot(a, rows, ns, policies, path):
     plt = project.pyplot()
     colours = {"median": "#7a7a7a", "slide": "#1f77b4", "work": "#d62728", "resplit": "#2a9d55",
-               "quantile": "#9467bd", "measured": "#e07b00"}
+               "quantile": "#9467bd", "measured": "#e07b00", "sample": "#8c564b"}
     fig, axes = plt.subplots(len(VIEWS), len(ns), figsize=(2.6 * len(ns) + 1, 2.7 * len(VIEWS) + 0.8),
                              sharey=True, squeeze=False)
     for row, view in enumerate(VIEWS):
@@ -156,21 +156,24 @@ def plot(a, rows, ns, policies, path):
 
 
 def table(a, rows, ns, policies, md_path):
-    """The f = 1/N points: every policy's ratio beside the bounds, and for
-    the paper's rule (slide) the work it added and its own column bound."""
+    """The f = 1/N points: every policy's ratio beside the bounds and the
+    best static split where searched, and for the paper's rule (slide) the
+    work it added and its own column bound."""
     head = " | ".join(policies)
+    best = project.best_static(a)
     main = "slide" if "slide" in policies else policies[0]
     lines = [f"<!-- written by scripts/experiments/fig4.py {invocation(a)}; do not edit -->",
-             f"| view | N | {head} | column bound | perfect bound | frame buffer | 1/N | paper | "
+             f"| view | N | {head} | best static split | column bound | perfect bound | frame buffer | 1/N | paper | "
              f"{main}: busy time added | {main}: its own column bound |",
-             "|---|---:|" + "---:|" * (len(policies) + 7)]
+             "|---|---:|" + "---:|" * (len(policies) + 8)]
     for view in VIEWS:
         for n in ns:
             at = [r for r in rows if r["view"] == view and r["N"] == n and abs(r["f"] - 1 / n) < 1e-6]
             ratio = {r["policy"]: r["ratio"] for r in at}
             m = next(r for r in at if r["policy"] == main)
+            b = best.get((view, n), (None, None))[0]
             lines.append(f"| {view} | {n} | " + " | ".join(f"{ratio[p]:.2f}" for p in policies) +
-                         f" | {at[0]['column_bound']:.2f} | {at[0]['perfect_bound']:.2f} | {at[0]['fb_bound']:.3f}"
+                         f" | {f'{b:.2f}' if b else '-'} | {at[0]['column_bound']:.2f} | {at[0]['perfect_bound']:.2f} | {at[0]['fb_bound']:.3f}"
                          f" | {1 / n:.2f} | {PAPER} | {100 * (m['busy_ratio'] - 1):+.0f} % | {m['own_column_bound']:.2f} |")
     doc = a.doc if a.doc else None
     publish_table(lines, md_path, doc, f"fig4 table {machine(a)}")
