@@ -128,7 +128,7 @@ def check_page(path, names, problems):
             continue  # a pattern (fig4[-PRESET].csv, out/NAME) rather than a file
         for p in expand(mention.rstrip(".,")):
             full = os.path.join(ROOT, p)
-            # (a stem stands for its files: models/link for link.h and link.cpp)
+            # (a stem stands for its files: models/channel/link for link.h and link.cpp)
             if not os.path.exists(full) and not glob.glob(full + ".*") and not glob.glob(full + "-*"):
                 problems.append(f"{at(m)}: names a missing file: {p}")
     for m in CITE.finditer(text):
@@ -157,9 +157,10 @@ def main():
     for path in pages() + sources():
         check_page(path, names, problems)
     machine = open(os.path.join(ROOT, "doc", "machine.md")).read()
-    for f in sorted(os.listdir(os.path.join(ROOT, "models"))):
+    for path in sorted(glob.glob(os.path.join(ROOT, "models", "**", "*.*"), recursive=True)):
+        f = os.path.basename(path)
         if f.endswith((".h", ".cpp")) and f"`{f}`" not in machine:
-            problems.append(f"doc/machine.md: the file table does not name models/{f}")
+            problems.append(f"doc/machine.md: the file table does not name {os.path.relpath(path, ROOT)}")
     with open(os.path.join(ROOT, "README.md")) as f:
         readme = f.read().split("\n")
     first = next((n for n, line in enumerate(readme, 1) if line.startswith("    bash ")), None)

@@ -399,3 +399,10 @@ def numbers(text, flag, kind=int, least=None, most=None):
                                           f"at most {most}" if most is not None else "") if b)
         raise ToolError(f"{flag} {text!r}: {out[0]}, where each must be {bounds}")
     return values
+
+
+def read_csv(path):
+    """A CSV's rows as dicts (its header the keys)."""
+    import csv
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))

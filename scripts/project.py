@@ -95,7 +95,7 @@ def best_static(a):
     the better of its one set of planes and, where --per-column refined
     it, each column's own: {(view, N): (ratio, its busiest node's busy
     time as a fraction of none's, or None where not recorded)}."""
-    from sweep import read_csv  # (sweep imports this module)
+    from outputs import read_csv
     best = {}
     for view in VIEWS:
         stem = "partition_search" + variant(a.preset, a.tag) + ("" if view == "along" else f"-{view}")

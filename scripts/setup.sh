@@ -7,7 +7,7 @@ packages=(
   g++ make cmake pkg-config
   libsystemc-dev      # SystemC 2.3.4 (models/)
   libjemalloc-dev     # rtsim's allocator, on huge pages (tb/rtsim.cpp)
-  libboost-dev        # small_vector: a message's rays inline (models/message.h)
+  libboost-dev        # small_vector: a message's rays inline (models/channel/message.h)
   libglm-dev          # vector maths (sw/)
   libcli11-dev        # command lines
   nlohmann-json3-dev  # reports and stats

@@ -2,7 +2,7 @@
 NAME --set FLAG=V1,V2 ... -- RTSIM_FLAGS): the grid of points (the product
 of the --set lists) over the base flags, each point one rtsim run and, where
 asked, its comparison runs (the same flags without balancing; on one
-computer), run by the sweep driver (sweep.run: parallel or Dask, journal,
+computer), run by the sweep driver (sweep_driver.run: parallel or Dask, journal,
 resume, provenance), one CSV row per point. doc/exploration.md, "Sweeps of
 your own", shows it at work."""
 import argparse
@@ -15,11 +15,11 @@ import textwrap
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import outputs  # noqa: E402
-import sweep  # noqa: E402
+import sweep_driver  # noqa: E402
 from outputs import ToolError  # noqa: E402
 from project import QUIET, RTSIM  # noqa: E402
 
-SWEEPS = sweep.JOURNALS  # out/sweeps: the CSV beside its journal
+SWEEPS = sweep_driver.JOURNALS  # out/sweeps: the CSV beside its journal
 # rtsim's flags that write a file (rtsim --help, "Outputs"): the driver gives
 # every run its own report and no image; the others would write into the
 # working folder, once per point. Refused in --set, the base flags and presets.
@@ -114,10 +114,10 @@ def settings(sets, base):
         if flag in INPUTS and value is not None:
             outputs.check_input(value, flag)
         if flag == "--config" and value is not None:
-            out += [(f"{value}:{n}", "--" + name, v, "preset", swept) for n, name, v in sweep.config_lines(value)]
+            out += [(f"{value}:{n}", "--" + name, v, "preset", swept) for n, name, v in sweep_driver.config_lines(value)]
         if flag == "--rerun" and value is not None:  # a report's flags, read as a preset's
             out += [(f"{value}: rerun.flags:{n}", "--" + name, v, "preset", swept)
-                    for n, name, v in sweep.rerun_lines(value)]
+                    for n, name, v in sweep_driver.rerun_lines(value)]
     return out
 
 
@@ -240,7 +240,7 @@ def extract(report):
             "busiest_link_utilisation": link["utilisation"] if link else 0.0}
 
 
-# What extract gives, as sweep.bad_metrics checks a journalled record of it.
+# What extract gives, as sweep_driver.bad_metrics checks a journalled record of it.
 FIELDS = {"render_time_ns": float, "frames_ns": str, "busiest_node": str, "busiest_node_busy": float,
           "busiest_link": str, "busiest_link_utilisation": float}
 
@@ -320,7 +320,7 @@ def main(argv=None):
                                   "or an input)")
     ap.add_argument("--rtsim", default=RTSIM, help="the rtsim binary (default: build/rtsim, scripts/build.sh); "
                                                    "part of each point's identity in the journal")
-    sweep.add_arguments(ap)
+    sweep_driver.add_arguments(ap)
     a = ap.parse_args(ours)
     outputs.check_name(a.name, "NAME")
     if not a.sets:
@@ -345,29 +345,29 @@ def main(argv=None):
     base = base_flags(rtsim_flags)
     points = [(params, runs_of(args, a.frames, a.gain, a.speedup)) for params, args in grid(sets, base)]
     found = check_settings(sets, base, a.frames, a.speedup)
-    journal = sweep.journal_path(a.name, a, make=False)
+    journal = sweep_driver.journal_path(a.name, a, make=False)
     csv_path = check_csv_path(a.csv, a.name)
     inputs = [(flag, value) for _, flag, value, kind, _ in found if flag in INPUTS and value and kind != "preset"]
     outputs.check_distinct([("--csv", csv_path), ("the journal", journal), ("--rtsim", a.rtsim)] + inputs)
     ours_id = sweep_id(sets, base, a.frames, a.gain, a.speedup, a.repeat)
     shown = csv_shown(a.csv, a.name)
     check_csv_is_ours(csv_path, ours_id, shown)  # (before the journal is made: a refusal leaves nothing)
-    seen = sweep.csv_state(csv_path)
+    seen = sweep_driver.csv_state(csv_path)
     unique = {}
     for params, runs in points:
         for role, args in runs.items():
             unique.setdefault(tuple(args), {"params": {**params, "run": role}, "args": args})
-    sweep.connect(a)  # (with --dask: the scheduler answers, or one line before anything is written)
-    journal = sweep.journal_path(a.name, a)  # (its folder made)
+    sweep_driver.connect(a)  # (with --dask: the scheduler answers, or one line before anything is written)
+    journal = sweep_driver.journal_path(a.name, a)  # (its folder made)
     counts = {}
-    with sweep.locked(journal, a.fresh, a.name):  # held from the first point to the CSV
+    with sweep_driver.locked(journal, a.fresh, a.name):  # held from the first point to the CSV
         os.makedirs(os.path.dirname(csv_path), exist_ok=True)
-        results = sweep.run(a.name, list(unique.values()), extract, None, a, repeats=a.repeat, binary=a.rtsim,
+        results = sweep_driver.run(a.name, list(unique.values()), extract, None, a, repeats=a.repeat, binary=a.rtsim,
                             fields=FIELDS, counts=counts)
         for r, p in zip(results, unique.values()):
             r["args"] = p["args"]
         rows = rows_of(points, results, a.gain, a.speedup, ours_id)
-        sweep.write_csv(csv_path, rows, seen, shown)
+        sweep_driver.write_csv(csv_path, rows, seen, shown)
     where = os.path.relpath(csv_path)
     ran = counts.get("ran", len(unique))
     print(f"{len(rows)} points ({ran} runs{f', {len(unique) - ran} resumed' if ran < len(unique) else ''}) -> "

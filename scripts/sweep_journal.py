@@ -1,4 +1,4 @@
-"""The sweep driver's journal (scripts/sweep.py): finished points, one
+"""The sweep driver's journal (scripts/sweep_driver.py): finished points, one
 JSON record per line in out/sweeps/NAME.jsonl, appended as they finish;
 locked while a sweep uses it; a damaged line named FILE:LINE and skipped,
 its point run again. Standard library only."""

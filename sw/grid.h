@@ -30,7 +30,7 @@ public:
     // (an object listed in a cell), and the bytes it takes at its peak
     // while being built. Objects that overlap much make references grow as
     // their count squared: start-up refuses a machine that would not fit
-    // (models/binning_memory.h).
+    // (models/machine/binning_memory.h).
     struct Size {
         uint64_t cells = 0, references = 0;
         double bytes(size_t objects) const;

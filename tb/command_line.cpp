@@ -90,13 +90,6 @@ std::vector<std::string> checkedArgs(const ConfigLine& line, bool report, std::s
 
 }  // namespace
 
-bool isOutputOrInternal(const std::string& name) {
-    for (const char* o : {"image", "report", "vcd", "quiet", "verbose", "map", "config", "rerun", "as-frame", "as-baseline",
-                          "as-comparison", "as-first-pass", "frame-index", "targets-from", "help"})
-        if (name == o) return true;
-    return false;
-}
-
 std::vector<NamedFile> CommandLine::inputs(const RtsimOptions& o) const {
     std::vector<NamedFile> in;
     for (const std::string& c : configs) in.push_back({"--config", c, false});

@@ -53,7 +53,5 @@ struct ConfigSource {
 // then `rest` (the command line after argv[0]). Throws as above.
 CommandLine mergeFlags(const std::vector<ConfigSource>& sources, const std::vector<std::string>& rest, const std::string& argv0);
 
-// Flags no report may carry: outputs, what runs a program, internal flags.
-bool isOutputOrInternal(const std::string& name);
 
 }  // namespace rt

@@ -1,11 +1,38 @@
 #include "config_echo.h"
 
-#include <filesystem>
+#include <openssl/evp.h>
 
-#include "report.h"
-#include "rerun.h"
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+
+#include "analysis/report.h"
 
 namespace rt {
+
+std::string sha256OfFile(const std::string& path) {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec)) throw std::runtime_error(path + ": not a regular file");  // (/dev/zero never ends)
+    std::ifstream f(path, std::ios::binary);
+    if (!f) throw std::runtime_error(path + ": cannot read");
+    EVP_MD_CTX* ctx = EVP_MD_CTX_new();
+    EVP_DigestInit_ex(ctx, EVP_sha256(), nullptr);
+    char buf[1 << 16];
+    while (f.read(buf, sizeof buf) || f.gcount() > 0) EVP_DigestUpdate(ctx, buf, size_t(f.gcount()));
+    unsigned char md[EVP_MAX_MD_SIZE];
+    unsigned int n = 0;
+    EVP_DigestFinal_ex(ctx, md, &n);
+    EVP_MD_CTX_free(ctx);
+    std::string hex;
+    char h[3];
+    for (unsigned int i = 0; i < n; ++i) {
+        std::snprintf(h, sizeof h, "%02x", md[i]);
+        hex += h;
+    }
+    return hex;
+}
+
 namespace {
 
 nlohmann::json vec(const Vec3& v) { return nlohmann::json{v.x, v.y, v.z}; }

@@ -1,5 +1,5 @@
 // The report's `config`: every setting as the run used it, the machine's
-// (models/report.h) and the run's own (the scene file and its SHA-256, or
+// (models/analysis/report.h) and the run's own (the scene file and its SHA-256, or
 // the procedural parameters; the camera and lights as this frame sees them;
 // the frame sequence). A rerun without flags of its own must arrive at the
 // report's (tb/rerun.h).
@@ -12,6 +12,10 @@
 #include "scene.h"
 
 namespace rt {
+
+// SHA-256 of a file's bytes, in hex; throws std::runtime_error if unreadable.
+std::string sha256OfFile(const std::string& path);
+
 
 // Throws (std::runtime_error from sha256OfFile) if the scene file cannot be read.
 nlohmann::json configEcho(const RtsimOptions& o, const Scene& scene);

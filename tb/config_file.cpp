@@ -163,4 +163,11 @@ std::string configLine(const std::string& name, const std::vector<std::string>& 
     return line + "]";
 }
 
+bool isOutputOrInternal(const std::string& name) {
+    for (const char* o : {"image", "report", "vcd", "quiet", "verbose", "map", "config", "rerun", "as-frame", "as-baseline",
+                          "as-comparison", "as-first-pass", "frame-index", "targets-from", "help"})
+        if (name == o) return true;
+    return false;
+}
+
 }  // namespace rt

@@ -48,4 +48,7 @@ std::string configValue(const std::string& value);
 // `name=value` or `name=[a, b]` (the form CLI11 writes, which reports keep).
 std::string configLine(const std::string& name, const std::vector<std::string>& values);
 
+// Flags no report may carry: outputs, what runs a program, internal flags.
+bool isOutputOrInternal(const std::string& name);
+
 }  // namespace rt

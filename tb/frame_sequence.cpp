@@ -4,10 +4,10 @@
 #include <string>
 #include <vector>
 
-#include "between_frames.h"
+#include "balance/between_frames.h"
 #include "stops.h"
 #include "subprocess.h"
-#include "watchdog.h"
+#include "process/watchdog.h"
 
 namespace rt {
 namespace {

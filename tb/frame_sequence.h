@@ -2,7 +2,7 @@
 // child rtsim (SystemC elaborates once per process), in turn; each starts
 // where the one before left the boundaries (a dynamic policy's), and
 // `resplit` chooses each next frame's boundaries between them
-// (models/between_frames.h). This process then renders the last frame.
+// (models/balance/between_frames.h). This process then renders the last frame.
 // Only the last frame's report is kept between frames (one entry per
 // frame: its time and slides), so memory does not grow with K.
 #pragma once

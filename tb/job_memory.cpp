@@ -2,7 +2,7 @@
 
 #include <cstdint>
 
-#include "binning_memory.h"
+#include "machine/binning_memory.h"
 #include "grid.h"
 #include "messages.h"
 #include "scene_error.h"

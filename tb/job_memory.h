@@ -1,5 +1,5 @@
 // What a run's processes need at once, counted before any of it is
-// allocated (the binning of models/binning_memory.h, the image, the nodes),
+// allocated (the binning of models/machine/binning_memory.h, the image, the nodes),
 // and checked against what the process may use (sw/memory_estimate.h: the
 // physical memory, the cgroup's limit, RLIMIT_AS). A run is more than its
 // frame:

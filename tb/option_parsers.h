@@ -12,7 +12,7 @@
 #include <string>
 #include <utility>
 
-#include "machine_config.h"
+#include "config/machine_config.h"
 
 namespace rt {
 

@@ -6,7 +6,7 @@
 #include <stdexcept>
 
 #include "subprocess.h"
-#include "trace_writer.h"
+#include "trace/trace_writer.h"
 
 namespace rt {
 namespace {

@@ -6,7 +6,7 @@
 #include "messages.h"
 #include "stops.h"
 #include "subprocess.h"
-#include "watchdog.h"
+#include "process/watchdog.h"
 
 namespace rt {
 namespace {

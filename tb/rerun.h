@@ -31,9 +31,6 @@ namespace rt {
 // internal flags.
 std::string flagsGiven(const CLI::App& app);
 
-// SHA-256 of a file's bytes, in hex; throws std::runtime_error if unreadable.
-std::string sha256OfFile(const std::string& path);
-
 struct Rerun {
     std::string path;            // the report given
     nlohmann::json rerun;        // its `rerun` (flags, version)

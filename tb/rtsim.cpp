@@ -8,7 +8,7 @@
 // sc_main reads the command line, then takes the run's steps in turn:
 // the scene, the settings echoed into the report, the boundaries a frame
 // starts from, the earlier frames of a sequence (frame_sequence.h), the
-// machine itself (models/machine.h), the reference runs
+// machine itself (models/machine/machine.h), the reference runs
 // (reference_runs.h), the outputs (outputs.h) and the summary (summary.h).
 #include <malloc.h>
 #include <signal.h>
@@ -25,19 +25,19 @@
 #include <nlohmann/json.hpp>
 #include <systemc>
 
-#include "between_frames.h"
+#include "balance/between_frames.h"
 #include "command_line.h"
 #include "config_echo.h"
 #include "frame_sequence.h"
 #include "job_memory.h"
 #include "json_input.h"
-#include "machine.h"
+#include "machine/machine.h"
 #include "memory_estimate.h"
 #include "messages.h"
 #include "output_file.h"
 #include "outputs.h"
 #include "reference_runs.h"
-#include "report.h"
+#include "analysis/report.h"
 #include "rerun.h"
 #include "rtsim_cli.h"
 #include "scene_error.h"

@@ -4,7 +4,7 @@
 
 #include "json_input.h"
 #include "option_parsers.h"
-#include "policy.h"
+#include "balance/policy.h"
 
 namespace rt {
 namespace {

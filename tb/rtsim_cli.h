@@ -6,7 +6,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "machine_config.h"
+#include "config/machine_config.h"
 #include "scene_options.h"
 
 namespace rt {
@@ -18,7 +18,7 @@ struct RtsimOptions {
     std::string meshDims;  // "XxYxZ", overrides --mesh
     std::string image = "rtsim.png", report, vcd, map;
     // --report-detail: auto (full up to kFullReportNodes nodes, summary
-    // beyond), full or summary (models/report.h, ReportDetail).
+    // beyond), full or summary (models/analysis/report.h, ReportDetail).
     std::string reportDetail = "auto";
     static constexpr int kFullReportNodes = 4096;  // 16x16x16
     bool baseline = true;  // also run a 1x1x1 mesh for the speed-up

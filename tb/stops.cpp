@@ -9,13 +9,13 @@
 
 #include "output_file.h"
 #include "subprocess.h"
-#include "watchdog.h"
+#include "wall_limit.h"
+#include "process/watchdog.h"
 
 namespace rt {
 namespace {
 
 volatile sig_atomic_t orderly = 0;
-double wallLimit = 0;
 
 // Async-signal-safe line writing: fixed buffers, no allocation.
 struct Line {
@@ -57,7 +57,7 @@ const char* nameOf(int sig) { return sig == SIGINT ? "SIGINT" : sig == SIGTERM ?
     Line l;
     if (sig == SIGALRM) {
         l << "rtsim: error: watchdog: the wall-clock limit of ";
-        l.seconds(wallLimit) << " s was reached during start-up\n";
+        l.seconds(wallLimitSeconds()) << " s was reached during start-up\n";
     } else {
         l << "rtsim: stopped by signal " << long(sig) << " (" << nameOf(sig) << ")"
           << (second ? " a second time: at once" : " during start-up") << "\n";
@@ -79,8 +79,6 @@ extern "C" void onStop(int sig) {
     signalChildrenNow(sig);
 }
 
-double elapsed() { return std::chrono::duration<double>(std::chrono::steady_clock::now() - programStart()).count(); }
-
 }  // namespace
 
 void installStopHandlers() {
@@ -93,23 +91,15 @@ void installStopHandlers() {
 }
 
 void setWallLimit(double seconds) {
-    wallLimit = seconds;
+    recordWallLimit(seconds);
     if (seconds <= 0) return;
-    const double left = seconds - elapsed();
+    const double left = seconds - wallElapsed();
     itimerval t{};
     t.it_value.tv_sec = left > 0 ? time_t(left) : 0;
     t.it_value.tv_usec = left > 0 ? suseconds_t((left - double(time_t(left))) * 1e6) : 1;
     if (t.it_value.tv_sec == 0 && t.it_value.tv_usec == 0) t.it_value.tv_usec = 1;
     setitimer(ITIMER_REAL, &t, nullptr);
 }
-
-double wallLeft() {
-    if (wallLimit <= 0) return -1;
-    const double left = wallLimit - elapsed();
-    return left > 0.001 ? left : 0.001;
-}
-
-bool wallPassed() { return wallLimit > 0 && elapsed() >= wallLimit; }
 
 OrderlyStops::OrderlyStops() : before_(orderly) { orderly = 1; }
 OrderlyStops::~OrderlyStops() { orderly = before_; }

@@ -6,7 +6,7 @@
 //    wall-clock limit) and one line.
 //  - While the machine runs, the watchdog stops it at its next wake (every
 //    millisecond of simulated time), with the report and the VCD so far
-//    (models/watchdog.h).
+//    (models/process/watchdog.h).
 //  - While child runs go (the earlier frames of a sequence, the reference
 //    runs: "orderly" stops), each child is told once; rtsim then writes
 //    what it has: the frames so far, or the finished frame's outputs.
@@ -15,6 +15,8 @@
 // left of it.
 #pragma once
 
+#include "wall_limit.h"
+
 namespace rt {
 
 // Installs the handlers (first thing in main) and starts the wall clock.
@@ -22,10 +24,7 @@ void installStopHandlers();
 // After the flags are read: --watchdog-wall's limit in seconds (0: none);
 // a timer ends a start-up that passes it.
 void setWallLimit(double seconds);
-// Seconds left of the wall-clock limit (at least 1 ms); -1 without one.
-double wallLeft();
-// Whether the wall-clock limit has passed.
-bool wallPassed();
+// (wallLeft, wallPassed: wall_limit.h)
 
 // While one lives, a stop is orderly (see above).
 class OrderlyStops {

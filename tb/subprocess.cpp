@@ -15,7 +15,7 @@
 
 #include "json_input.h"
 #include "output_file.h"
-#include "stops.h"
+#include "wall_limit.h"
 
 namespace rt {
 namespace {

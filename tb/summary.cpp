@@ -6,7 +6,7 @@
 #include <utility>
 #include <vector>
 
-#include "trace_writer.h"
+#include "trace/trace_writer.h"
 
 namespace rt {
 namespace {

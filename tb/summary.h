@@ -4,7 +4,7 @@
 #pragma once
 #include <nlohmann/json.hpp>
 
-#include "machine.h"
+#include "machine/machine.h"
 #include "rtsim_cli.h"
 #include "wall_clock.h"
 

@@ -4,7 +4,7 @@
 #include <numeric>
 
 #include "messages.h"
-#include "report.h"
+#include "analysis/report.h"
 #include "subprocess.h"
 
 namespace rt {

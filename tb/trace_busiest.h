@@ -14,7 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "mesh_geometry.h"
+#include "base/mesh_geometry.h"
 #include "rtsim_cli.h"
 
 namespace rt {

@@ -5,7 +5,7 @@ doc/results/fig4.csv, and the points where it gains most, rendered without
 balancing, with `slide` (each column moves its own faces) and with `slide
 --faces ideal-layer` (faces shared by a layer, moved by the paper's rule on
 the layer's summed loads, read without messages: an optimistic bound on any
-layer agreement built from messages; models/ideal_layer_faces.h). Reports
+layer agreement built from messages; models/balance/ideal_layer_faces.h). Reports
 the ratios to the unbalanced frame, the busy time, the rays passed on
 untraced between columns and the slides. With --doc, writes
 doc/results/aligned_faces.{csv,md} and the table into doc/fig4.md.
@@ -16,9 +16,10 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # scripts/: project, sweep
 import outputs  # noqa: E402
-import sweep as driver  # noqa: E402
+import sweep_driver as driver  # noqa: E402
 from project import PAPER_SCENE, ROOT, VIEWS, publish_table  # noqa: E402
-from sweep import read_csv, write_csv  # noqa: E402
+from outputs import read_csv  # noqa: E402
+from sweep_driver import write_csv  # noqa: E402
 
 # Where `slide` gains most (f = 1/N along the axis, and the view across at
 # N = 4): what the shared planes cost where balancing works.

@@ -21,10 +21,10 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # scripts/: project, sweep
 import outputs  # noqa: E402
-import sweep as driver  # noqa: E402
+import sweep_driver as driver  # noqa: E402
 import link_sweep  # noqa: E402
 from project import PAPER_SCENE, ROOT, VIEWS, preset_flags, publish_table  # noqa: E402
-from sweep import write_csv  # noqa: E402
+from sweep_driver import write_csv  # noqa: E402
 
 PRESETS = ("modern", "transputer-1987")
 

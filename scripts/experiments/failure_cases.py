@@ -16,9 +16,9 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # scripts/: project, sweep
 import outputs  # noqa: E402
-import sweep as driver  # noqa: E402
+import sweep_driver as driver  # noqa: E402
 from project import PAPER_SCENE, ROOT, VIEWS, publish_table  # noqa: E402
-from sweep import write_csv  # noqa: E402
+from sweep_driver import write_csv  # noqa: E402
 
 # Fig. 4 points (modern) where `slide`'s first frame gains most and where it
 # loses most, for what its slides cost: rays forwarded, and of them rays

@@ -22,7 +22,7 @@ import sys
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # scripts/: project, sweep
 import project  # noqa: E402
 import outputs  # noqa: E402
-import sweep as driver  # noqa: E402
+import sweep_driver as driver  # noqa: E402
 from project import PAPER_SCENE, ROOT, VIEWS, check_variant, invocation, machine, preset_flags, publish_table, variant  # noqa: E402,E501
 
 # The experiment (doc/balancing.md, "Fig. 4"): the paper's scene, progress

@@ -23,9 +23,10 @@ import sys
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # scripts/: project, sweep
 import project  # noqa: E402
 import outputs  # noqa: E402
-import sweep as driver  # noqa: E402
+import sweep_driver as driver  # noqa: E402
 from project import PAPER_SCENE, ROOT, preset_flags, publish_table  # noqa: E402
-from sweep import read_csv, write_csv  # noqa: E402
+from outputs import read_csv  # noqa: E402
+from sweep_driver import write_csv  # noqa: E402
 
 SCENE = PAPER_SCENE + ["--concentration", "0.25"]
 # Per preset (configs/NAME.conf): its link, and the swept values around it:

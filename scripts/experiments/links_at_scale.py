@@ -16,10 +16,10 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # scripts/: project, sweep
 import outputs  # noqa: E402
-import sweep as driver  # noqa: E402
+import sweep_driver as driver  # noqa: E402
 from plot_sweep import knee, quantity  # noqa: E402
 from project import ROOT, SPD, publish_table  # noqa: E402
-from sweep import read_csv  # noqa: E402
+from outputs import read_csv  # noqa: E402
 
 BANDWIDTHS = "50MB/s,100MB/s,200MB/s,400MB/s,1GB/s,4GB/s,16GB/s"
 

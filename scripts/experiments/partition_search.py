@@ -19,9 +19,10 @@ import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # scripts/: project, sweep
 import outputs  # noqa: E402
-import sweep as driver  # noqa: E402
+import sweep_driver as driver  # noqa: E402
 from project import PAPER_SCENE, ROOT, VIEWS, preset_flags, publish_table, variant  # noqa: E402
-from sweep import read_csv, write_csv  # noqa: E402
+from outputs import read_csv  # noqa: E402
+from sweep_driver import write_csv  # noqa: E402
 
 
 def args_of(a, n, f, balance=("none",)):

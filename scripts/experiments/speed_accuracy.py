@@ -16,9 +16,10 @@ import sys
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # scripts/: project, sweep
 import outputs  # noqa: E402
 import project  # noqa: E402
-import sweep as driver  # noqa: E402
+import sweep_driver as driver  # noqa: E402
 from project import PAPER_SCENE, ROOT, publish_table, spd_scene  # noqa: E402
-from sweep import read_csv, write_csv  # noqa: E402
+from outputs import read_csv  # noqa: E402
+from sweep_driver import write_csv  # noqa: E402
 
 SCENES = {
     "balls-4": ["--scene", spd_scene("balls-4"), "--size", "256x256"],

@@ -4,7 +4,7 @@ interval, at two link latencies, on the paper's experiment at rtsim's
 defaults (1,000 spheres crowded into the first quarter of x, 4x4x4 mesh).
 Each point is judged converged, oscillating or diverging from its boundaries'
 movement after the transient (the report's balance.stability, computed by
-models/stability.cpp). With --doc, writes doc/results/stability[-PRESET].csv and .png;
+models/analysis/stability.cpp). With --doc, writes doc/results/stability[-PRESET].csv and .png;
 --preset transputer-1987 maps the 1987 machine (intervals in ms, its link
 latency and 30 times it). `resplit` balances a frame as `slide` does, so
 this map is its within-frame map too; its between-frame behaviour is in
@@ -18,10 +18,10 @@ import sys
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # scripts/: project, sweep
 import project  # noqa: E402
 import outputs  # noqa: E402
-import sweep as driver  # noqa: E402
+import sweep_driver as driver  # noqa: E402
 from project import PAPER_SCENE, preset_flags  # noqa: E402
 
-DEFAULT_GAIN = 0.25  # models/machine_config.h
+DEFAULT_GAIN = 0.25  # models/config/machine_config.h
 # Per preset: the default interval (us), the swept intervals and latencies.
 PRESETS = {
     "modern": {"interval_us": 20, "intervals_us": "2,5,10,20,50", "latencies": "100ns,2us"},

@@ -5,7 +5,7 @@
 #pragma once
 #include <cmath>
 
-#include "node.h"
+#include "node/node.h"
 
 namespace rt::test {
 

@@ -9,10 +9,10 @@
 
 #include <gtest/gtest.h>
 
-#include "machine.h"
+#include "machine/machine.h"
 #include "renderer.h"
 #include "scenes.h"
-#include "stability.h"
+#include "analysis/stability.h"
 
 using namespace rt;
 

@@ -1,14 +1,14 @@
-// The frame buffer (models/frame_buffer.*), held to things outside the model:
+// The frame buffer (models/framebuffer/frame_buffer.*), held to things outside the model:
 // the reference renderer's image and its contributions (every one
 // accumulated exactly once, in the unit that holds its pixel), and the end
 // of the frame and back-pressure against closed forms worked out here by
-// hand. Also the render-time bounds (models/bounds.*).
+// hand. Also the render-time bounds (models/analysis/bounds.*).
 #include <random>
 
 #include <gtest/gtest.h>
 
-#include "bounds.h"
-#include "machine.h"
+#include "analysis/bounds.h"
+#include "machine/machine.h"
 #include "renderer.h"
 #include "scenes.h"
 

@@ -13,18 +13,18 @@
 
 #include "command_line.h"
 #include "config_file.h"
-#include "cost_model.h"
+#include "node/cost_model.h"
 #include "grid.h"
 #include "job_memory.h"
 #include "json_input.h"
-#include "machine_config.h"
+#include "config/machine_config.h"
 #include "memory_estimate.h"
 #include "output_file.h"
 #include "scene_error.h"
 #include "rtsim_cli.h"
 #include "sphere.h"
-#include "units.h"
-#include "vcd_stream.h"
+#include "base/units.h"
+#include "trace/vcd_stream.h"
 
 using namespace rt;
 namespace fs = std::filesystem;

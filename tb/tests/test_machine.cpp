@@ -6,11 +6,11 @@
 #include <gtest/gtest.h>
 
 #include "busy_by_hand.h"
-#include "link.h"
-#include "machine.h"
+#include "channel/link.h"
+#include "machine/machine.h"
 #include "renderer.h"
 #include "scenes.h"
-#include "time_keeper.h"
+#include "process/time_keeper.h"
 
 using namespace rt;
 

@@ -9,16 +9,16 @@
 #include <gtest/gtest.h>
 
 #include "busy_by_hand.h"
-#include "busy_parts.h"
-#include "cost_model.h"
-#include "fb_outbox.h"
-#include "mesh_geometry.h"
-#include "message.h"
-#include "queue_marks.h"
-#include "ray_batcher.h"
-#include "route.h"
-#include "slab.h"
-#include "time_ledger.h"
+#include "node/busy_parts.h"
+#include "node/cost_model.h"
+#include "node/fb_outbox.h"
+#include "base/mesh_geometry.h"
+#include "channel/message.h"
+#include "base/queue_marks.h"
+#include "channel/ray_batcher.h"
+#include "channel/route.h"
+#include "balance/slab.h"
+#include "node/time_ledger.h"
 
 using namespace rt;
 

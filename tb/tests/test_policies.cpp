@@ -14,16 +14,16 @@
 
 #include <gtest/gtest.h>
 
-#include "balance_agent.h"
-#include "fifo.h"
-#include "frame_forecast.h"
-#include "link.h"
-#include "minimax_split.h"
-#include "policy.h"
-#include "between_frames.h"
-#include "move_forecast.h"
-#include "sample_split.h"
-#include "work_by_position.h"
+#include "balance/balance_agent.h"
+#include "base/fifo.h"
+#include "balance/frame_forecast.h"
+#include "channel/link.h"
+#include "balance/minimax_split.h"
+#include "balance/policy.h"
+#include "balance/between_frames.h"
+#include "balance/move_forecast.h"
+#include "balance/sample_split.h"
+#include "balance/work_by_position.h"
 
 using namespace rt;
 
@@ -841,7 +841,7 @@ TEST(ControlLane, AStreamOfReportsCannotStarveARay) {
     EXPECT_EQ(l.consume(1204 * ns).type, MsgType::Ray);
 }
 
-// ---- --faces ideal-layer (models/ideal_layer_faces.h) ----
+// ---- --faces ideal-layer (models/balance/ideal_layer_faces.h) ----
 
 TEST(IdealLayerFaces, SlideRuleOnTheLayersSummedLoadsByHand) {
     // Layers [0,1] [1,2] [2,3]; gain 0.25, dead band 0.05, minimum 0.05.
@@ -879,7 +879,7 @@ TEST(IdealLayerFaces, SlideRuleOnTheLayersSummedLoadsByHand) {
     EXPECT_THROW(g.face(1, 1), std::logic_error);
 }
 
-// ---- resplit: between frames (models/frame_forecast.h, minimax_split.h, between_frames.h) ----
+// ---- resplit: between frames (models/balance/frame_forecast.h, minimax_split.h, between_frames.h) ----
 
 namespace {
 // Part costs on a grid of m cells: the sum of the cells' costs, and `cut`

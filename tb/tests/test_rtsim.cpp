@@ -555,7 +555,7 @@ INSTANTIATE_TEST_SUITE_P(FailureCases, NeverHurts,
                                          Hurt{"view_across", ""}),
                          [](const testing::TestParamInfo<Hurt>& i) { return std::string(i.param.name); });
 
-// --faces ideal-layer (models/ideal_layer_faces.h). Spheres everywhere,
+// --faces ideal-layer (models/balance/ideal_layer_faces.h). Spheres everywhere,
 // viewed across the axis (rtsim's camera): `slide`'s columns move their
 // faces apart, and rays crossing into a neighbouring column whose face is
 // elsewhere are passed on untraced. With the layer's shared planes the faces

@@ -14,8 +14,8 @@
 #include <nlohmann/json.hpp>
 
 #include "command_test.h"
-#include "primary_queue.h"
-#include "sample_split.h"
+#include "node/primary_queue.h"
+#include "balance/sample_split.h"
 
 using namespace rt;
 using json = nlohmann::json;

@@ -30,7 +30,7 @@ class Scripts(unittest.TestCase):
         for path in scripts:
             with open(path) as f:
                 # a module (project.py; outputs.py, which only names argparse) or a script
-                # with positional arguments; sweep.py is a module with a command line (sweep_grid.py)
+                # with positional arguments; sweep.py is the command line of sweep_grid.py
                 text = f.read()
                 if "__main__" not in text or ("argparse" not in text and os.path.basename(path) != "sweep.py"):
                     continue
@@ -38,6 +38,26 @@ class Scripts(unittest.TestCase):
                 p = subprocess.run(["/usr/bin/python3", path, "--help"], capture_output=True, text=True, timeout=60)
                 self.assertEqual(p.returncode, 0, p.stderr)
                 self.assertIn("usage:", p.stdout)
+
+    def test_the_layer_check_finds_a_planted_include_up_and_a_loop(self):
+        """check_layers.py (the test Layers): an include from a lower folder
+        of models/ up to a higher one, or beside it in its own layer, and a
+        loop of units or modules, are each a problem; down and within a folder
+        are not."""
+        import check_layers as c
+        self.assertEqual(c.layer_problems("models/node/node.h", "models/base/units.h"), [])
+        self.assertEqual(c.layer_problems("models/node/node.cpp", "models/node/node.h"), [])
+        self.assertEqual(c.layer_problems("tb/rtsim.cpp", "models/machine/machine.h"), [])
+        self.assertEqual(len(c.layer_problems("models/base/units.h", "models/node/node.h")), 1)
+        self.assertIn("its own layer", c.layer_problems("models/node/node.h", "models/framebuffer/frame_buffer.h")[0])
+        self.assertEqual(len(c.layer_problems("sw/box.h", "models/base/units.h")), 1)
+        self.assertEqual(len(c.layer_problems("models/machine/machine.h", "tb/stops.h")), 1)
+        self.assertIn("in no layer", c.layer_problems(os.path.join("models", "new", "x.h"), "models/base/units.h")[0])
+        self.assertEqual(c.cycles({"a": {"b"}, "b": {"c"}, "c": set()}), [])
+        self.assertEqual(c.cycles({"a": {"b"}, "b": {"c"}, "c": {"a"}}), ["a -> b -> c -> a"])
+        graph, problems = c.cpp_graph()  # the tree as it is: clean
+        self.assertGreater(len(graph), 100)
+        self.assertEqual(problems + c.cycles(graph) + c.cycles(c.py_graph()) + c.doc_order(), [])
 
     def test_a_section_that_moved_is_written_where_it_is(self):
         """update_doc_section follows a section to the one page that has
@@ -68,7 +88,7 @@ class Scripts(unittest.TestCase):
         sys.path.insert(0, os.path.join(SCRIPTS, "experiments"))
         import argparse
         import partition_search
-        import sweep
+        import sweep_driver as sweep
         small = lambda args: project.run_rtsim([("16x16" if x == "256x256" else x) for x in args], binary=RTSIM)
         run, sweep.run_rtsim = sweep.run_rtsim, small
         try:
@@ -89,7 +109,7 @@ class Scripts(unittest.TestCase):
         per-column split's only where that one won (the one-set search
         records none)."""
         import argparse
-        import sweep
+        import sweep_driver as sweep
         with tempfile.TemporaryDirectory() as d:
             rows = [{"view": "along", "N": "4", "ratio": "0.30", "columns_ratio": "0.28", "columns_max_busy": "0.26"},
                     {"view": "along", "N": "5", "ratio": "0.25", "columns_ratio": "0.26", "columns_max_busy": "0.24"},

@@ -10,8 +10,8 @@
 
 #include <gtest/gtest.h>
 
-#include "between_frames.h"
-#include "initial_split.h"
+#include "balance/between_frames.h"
+#include "balance/initial_split.h"
 #include "procedural.h"
 #include "shading.h"
 

@@ -1,4 +1,4 @@
-"""Tests of the sweep driver (scripts/sweep.py): parallel local runs, CSV in
+"""Tests of the sweep driver (scripts/sweep_driver.py): parallel local runs, CSV in
 point order with command and version, resume without rerunning, a failing
 point reported, an edited preset rerun, and the same sweep through a local
 Dask cluster.
@@ -16,7 +16,7 @@ import unittest
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "..", "scripts"))
-import sweep  # noqa: E402
+import sweep_driver as sweep  # noqa: E402
 
 RTSIM = os.path.abspath(sys.argv.pop(1)) if len(sys.argv) > 1 else sweep.RTSIM
 SMALL = ["--spheres", "60", "--radius", "0.05", "--size", "24x24", "--seed", "3"]

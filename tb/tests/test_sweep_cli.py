@@ -33,7 +33,7 @@ import unittest
 HERE = os.path.dirname(os.path.abspath(__file__))
 SCRIPTS = os.path.join(HERE, "..", "..", "scripts")
 sys.path.insert(0, SCRIPTS)
-import sweep  # noqa: E402
+import sweep_driver as sweep  # noqa: E402
 
 RTSIM = os.path.abspath(sys.argv.pop(1)) if len(sys.argv) > 1 else sweep.RTSIM
 SMALL = ["--spheres", "60", "--radius", "0.05", "--size", "24x24", "--seed", "3", "--balance", "measured"]

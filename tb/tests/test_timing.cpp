@@ -28,10 +28,10 @@
 
 #include <gtest/gtest.h>
 
-#include "arrival_queue.h"
+#include "channel/arrival_queue.h"
 #include "busy_by_hand.h"
-#include "link.h"
-#include "machine.h"
+#include "channel/link.h"
+#include "machine/machine.h"
 #include "nff_reader.h"
 #include "renderer.h"
 

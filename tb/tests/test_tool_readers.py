@@ -1,7 +1,7 @@
 """The tools' readers never trace back (issue 60, "Readers that never trace
 back"): the VCD reader of scripts/vcd_summary.py, the CSV reader of
 scripts/plot_sweep.py, the report reader of scripts/mesh_map.py and the
-sweep driver's journal (scripts/sweep.py), fed
+sweep driver's journal (scripts/sweep_driver.py), fed
 damaged copies of the small real files in tb/tests/corpus/ (bytes flipped
 or inserted, the file cut, lines deleted, duplicated, swapped or run
 together; a CSV
@@ -42,7 +42,7 @@ sys.path.insert(0, SCRIPTS)
 import mesh_map  # noqa: E402
 import outputs  # noqa: E402
 import plot_sweep  # noqa: E402
-import sweep  # noqa: E402
+import sweep_driver as sweep  # noqa: E402
 import vcd_summary  # noqa: E402
 
 # The same cases every run, nothing written beside the tests, no time limit

@@ -1,0 +1,365 @@
+#include "analysis/report.h"
+
+#include <algorithm>
+#include <tuple>
+#include <vector>
+
+#include "analysis/bounds.h"
+#include "counters_json.h"
+#include "analysis/stability.h"
+
+namespace rt {
+namespace {
+
+nlohmann::json cellJson(const Cell& c) { return {c[0], c[1], c[2]}; }
+double ns(Picos p) { return double(p) / 1000.0; }
+
+nlohmann::json costsJson(const Costs& c) {
+    return {{"test_sphere_ns", ns(c.test[0])}, {"test_polygon_ns", ns(c.test[1])}, {"test_cone_ns", ns(c.test[2])},
+            {"voxel_step_ns", ns(c.voxelStep)}, {"ray_generation_ns", ns(c.rayGen)}, {"shading_ns", ns(c.shade)},
+            {"send_ns", ns(c.send)},            {"receive_ns", ns(c.recv)}};
+}
+
+nlohmann::json linkJson(const LinkParams& l) {
+    nlohmann::json j = {{"latency_ns", ns(l.latency)},
+                        {"bandwidth_bytes_per_s", l.bandwidth},
+                        {"depth", l.depth},
+                        {"control_depth", l.controlDepth},
+                        {"out_depth", l.outDepth}};
+    if (l.engine) j["engine_ns"] = ns(l.engine);  // --hop-handling link: the sending engine's time per message
+    return j;
+}
+
+// Latencies in ps: p50, p95 and max in ns (histogram.h: exact for a few
+// distinct values, within 0.8 % beyond).
+nlohmann::json percentilesJson(const Histogram& h) {
+    return {{"p50", h.percentile(0.5) / 1000.0}, {"p95", h.percentile(0.95) / 1000.0}, {"max", ns(Picos(h.max()))}};
+}
+
+}  // namespace
+
+nlohmann::json machineConfigJson(const MachineConfig& cfg, int width, int height) {
+    nlohmann::json c;
+    c["mesh"] = {cfg.dims[0], cfg.dims[1], cfg.dims[2]};
+    c["image"] = {width, height};
+    c["max_depth"] = cfg.maxDepth;
+    c["costs"] = costsJson(cfg.costs);
+    c["speed"] = cfg.speed;
+    for (const auto& [cell, s] : cfg.nodeSpeed) c["node_speed"].push_back({{"node", cellJson(cell)}, {"speed", s}});
+    for (const auto& [cell, k] : cfg.nodeCosts) c["node_costs"].push_back({{"node", cellJson(cell)}, {"costs", costsJson(k)}});
+    c["hop_handling"] = cfg.hopsByLinks ? "link" : "processor";
+    c["link"] = linkJson(cfg.link);
+    for (const auto& [key, l] : cfg.linkOverride)
+        c["link_overrides"].push_back({{"node", cellJson(key.first)}, {"dir", dirName(key.second)}, {"link", linkJson(l)}});
+    c["fb_units"] = cfg.fbUnits;
+    c["fb_port"] = linkJson(cfg.fbPort);
+    c["fb_batch"] = cfg.fbBatch;
+    c["ray_batch"] = cfg.rayBatch;
+    c["host_cost_ns"] = ns(cfg.hostCost);
+    c["quantum_ns"] = ns(cfg.lookaheadQuantum ? cfg.lookahead() : cfg.quantum);
+    c["quantum"] = cfg.lookaheadQuantum ? "lookahead" : "fixed";  // lookahead: each process its own, quantum_ns the smallest
+    c["link_stats"] = cfg.linkDistributions ? "full" : "counts";
+
+    const BalanceConfig& bc = cfg.balance;
+    c["balance"] = {{"policy", bc.policy},               {"axis", std::string(1, "xyz"[bc.axis])},
+                    {"interval_ns", ns(bc.interval)},    {"gain", bc.gainOf()},
+                    {"deadband", bc.deadband},           {"min_thickness", bc.minThickness},
+                    {"bins", bc.bins},                   {"rebuild_cost_ns", ns(bc.rebuildCost)},
+                    {"guard", bc.guard},                 {"max_age_intervals", bc.maxAge},
+                    {"guard_horizon_intervals", bc.horizon}, {"guard_hop_steps", bc.hopRatio},
+                    {"guard_wire_share", bc.wireShare},  {"report_share", bc.reportShare},    {"faces", bc.idealLayerFaces ? "ideal-layer" : "column"}};
+    c["watchdog"] = {{"span_ns", ns(cfg.watchdogSpan)}, {"wall_s", cfg.watchdogWall}};
+    auto& tr = c["trace"];
+    tr["nodes"] = nlohmann::json::array();
+    for (const Cell& n : cfg.traceNodes) tr["nodes"].push_back(cellJson(n));
+    tr["links"] = nlohmann::json::array();
+    for (const auto& [n, d] : cfg.traceLinks)
+        tr["links"].push_back({{"node", cellJson(n)}, {"dir", d < 0 ? "all" : d == kDirs ? "fb" : dirName(d)}});
+    tr["window_ns"] = cfg.traceTo == ~Picos(0) ? nlohmann::json{ns(cfg.traceFrom), nullptr}  // (to the end)
+                                                : nlohmann::json{ns(cfg.traceFrom), ns(cfg.traceTo)};
+    return c;
+}
+
+namespace {
+
+nlohmann::json busyPartsJson(const BusyParts& p) {
+    nlohmann::json j = nlohmann::json::object();
+    for (int k = 0; k < kBusyKinds; ++k) j[busyKindName(k)] = ns(p[size_t(k)]);
+    return j;
+}
+
+// Where along the axis the node's work happened (`resplit`'s forecast,
+// frame_forecast.h).
+nlohmann::json workByPositionJson(const BalanceStats& stats) {
+    const WorkByPosition& w = stats.work;
+    nlohmann::json wj;  // bin k: axis_from + [k, k + 1) x bin_width
+    wj["axis_from"] = w.from();
+    wj["bin_width"] = w.binWidth();
+    wj["first_bin"] = w.firstBin();
+    wj["ns"] = nlohmann::json::array();
+    for (double b : w.bins()) wj["ns"].push_back(b / 1000.0);
+    // Of it, the tests of segments that neither entered nor left by a face
+    // along the axis (FaceCrossings::within), in the same bins.
+    if (const WorkByPosition& in = stats.within; !in.bins().empty()) {
+        auto& ij = wj["within"] = {{"first_bin", in.firstBin()}, {"ns", nlohmann::json::array()}};
+        for (double b : in.bins()) ij["ns"].push_back(b / 1000.0);
+    }
+    // Handling rays across the faces along the axis (not in the bins)
+    wj["face_handling_ns"] = ns(stats.faceCost);
+    wj["face_crossings"] = stats.faceCrossings;
+    // and, by position, how many traced segments a plane there would
+    // cut: cuts[k] at the upper edge of bin first_bin + k.
+    for (int up = 0; up < 2; ++up) {
+        const WorkByPosition& sp = stats.spans[size_t(up)];
+        auto& cj = wj[up == 0 ? "cuts_up" : "cuts_down"];
+        cj["first_bin"] = sp.firstBin();
+        auto& cuts = cj["rays"] = nlohmann::json::array();
+        double running = 0;
+        for (double b : sp.bins()) cuts.push_back(running += b);
+    }
+    // Rays sent to each neighbouring column, by where they left.
+    for (int d = 0; d < 6; ++d)
+        if (const WorkByPosition& l = stats.lateral[size_t(d)]; !l.bins().empty())
+            wj["lateral"][linkSuffix(d)] = {{"first_bin", l.firstBin()}, {"rays", l.bins()}};
+    return wj;
+}
+
+// Per node: its box, time, counts and (`full`) balancing intervals.
+nlohmann::json nodeJson(const MachineResult& r, size_t i, bool full) {
+    const NodeStats& s = r.nodes[i];
+    nlohmann::json n;
+    n["node"] = cellJson(r.cells[i]);
+    n["box"] = {{r.boxes[i].lo.x, r.boxes[i].lo.y, r.boxes[i].lo.z}, {r.boxes[i].hi.x, r.boxes[i].hi.y, r.boxes[i].hi.z}};
+    n["objects"] = r.objectsPerNode[i];
+    if (i < r.grids.size() && r.grids[i]) {
+        const Box& b = r.grids[i]->span;
+        n["grid"] = {{"cells", r.grids[i]->cells}, {"span", {{b.lo.x, b.lo.y, b.lo.z}, {b.hi.x, b.hi.y, b.hi.z}}}};
+    }
+    n["busy_ns"] = ns(s.busy);
+    n["wait_ns"] = ns(s.wait);  // busy + wait = render time (checked at the end of every run)
+    n["blocked_ns"] = ns(s.blocked);  // of the wait: on a full output buffer (--link-out-depth)
+    n["busy_by_category"] = busyPartsJson(s.busyBy);  // sums to busy_ns (in whole ps)
+    n["load"] = s.busy + s.wait ? double(s.busy) / double(s.busy + s.wait) : 0.0;
+    n["rays_traced"] = s.raysTraced;
+    n["rays_generated"] = s.raysGenerated;
+    n["rays_forwarded"] = s.raysForwarded;
+    n["rays_passed"] = s.raysPassed;  // of those, sent on without tracing (a face elsewhere)
+    n["rays_passed_between_columns"] = s.raysPassedBetweenColumns;  // of those, from another column
+    n["rays_created"] = s.raysCreated;
+    n["rays_terminated"] = s.raysTerminated;
+    n["messages_sent"] = s.messagesSent;
+    n["messages_received"] = s.messagesReceived;
+    n["contributions_sent"] = s.contributionsSent;
+    n["queue_high_water"] = s.queueHighWater;
+    n["last_active_ns"] = ns(s.lastActive);
+    n["counters"] = countersJson(s.counters);
+    n["slides_given"] = s.slides.size();
+    n["slides_taken"] = s.slidesTaken;
+    n["objects_sent"] = s.objectsSent;
+    n["objects_received"] = s.objectsReceived;
+    if (!s.balance.work.bins().empty()) n["work_by_position"] = workByPositionJson(s.balance);
+    if (full && !s.balance.intervals.empty()) {
+        auto& iv = n["intervals"];
+        iv["intervals_per_record"] = s.balance.intervalsPerRecord;  // > 1: merged to bound the report
+        for (const IntervalRecord& x : s.balance.intervals) {
+            iv["end_ns"].push_back(ns(x.end));
+            iv["busy_ns"].push_back(ns(x.busy));
+            iv["wait_ns"].push_back(ns(x.wait));
+        }
+    }
+    return n;
+}
+
+// Per link: messages, bytes and wire time by type, utilisation, waits and
+// (--link-stats full) latency percentiles and high-water marks.
+nlohmann::json linkJsonOf(const LinkReport& l, Picos renderTime, bool distributions, bool full) {
+    nlohmann::json lj;
+    lj["name"] = l.name;
+    lj["from"] = cellJson(l.from);
+    lj["to"] = l.dir < 0 ? "fb" : dirName(l.dir);
+    if (full) lj["params"] = linkJson(l.params);
+    for (int t = 0; full && t < kMsgTypes; ++t) {
+        const char* name = msgTypeName(MsgType(t));
+        lj["messages"][name] = l.stats.messages[size_t(t)];
+        lj["bytes"][name] = l.stats.bytes[size_t(t)];
+        lj["wire_ns"][name] = ns(l.stats.wire[size_t(t)]);
+    }
+    // The wire's busy time over the frame (a port's channels are wires side
+    // by side: their busy time over the frame's as many).
+    const Picos busy = l.stats.wireBusy();
+    lj["wire_busy_ns"] = ns(busy);
+    lj["channels"] = l.channels;
+    lj["utilisation"] = renderTime ? double(busy) / (double(renderTime) * l.channels) : 0.0;
+    lj["saturated_ns"] = ns(l.stats.saturated);  // busy with a backlog waiting for the wire
+    if (distributions) lj["peak_utilisation"] = l.stats.windows.peak(renderTime, l.channels);
+    if (!full) return lj;
+    lj["consumed"] = l.stats.consumed;
+    lj["slot_wait_ns"] = ns(l.stats.slotWait);
+    lj["wire_wait_ns"] = ns(l.stats.wireWait);
+    if (distributions) {  // (--link-stats counts: not kept)
+        if (l.stats.latency.count()) lj["latency_ns"] = percentilesJson(l.stats.latency);
+        if (l.stats.controlLatency.count()) lj["control_latency_ns"] = percentilesJson(l.stats.controlLatency);
+        lj["backlog_high_water"] = l.stats.backlogHighWater;
+        lj["peak_window_ns"] = ns(l.stats.windows.width());
+        lj["buffer_high_water"] = l.stats.bufferHighWater;
+    }
+    return lj;
+}
+
+// The links, the three busiest wires (ties: the first in the list) and the
+// totals by message type.
+void addLinks(nlohmann::json& j, const MachineResult& r, const MachineConfig& cfg, bool full) {
+    std::array<uint64_t, kMsgTypes> msgs{}, bytes{};
+    double rayWire = 0;  // (summed as the forecast summed the links' own: the same bits)
+    for (const LinkReport& l : r.links) {
+        if (l.dir >= 0) rayWire += ns(l.stats.wire[size_t(MsgType::Ray)]);
+        for (size_t t = 0; t < size_t(kMsgTypes); ++t) {
+            msgs[t] += l.stats.messages[t];
+            bytes[t] += l.stats.bytes[t];
+        }
+        j["links"].push_back(linkJsonOf(l, r.renderTime, cfg.linkDistributions, full));
+    }
+    const std::vector<size_t> busiest = linksByBacklog(j["links"]);
+    j["busiest_links"] = nlohmann::json::array();
+    for (size_t i = 0; i < std::min<size_t>(3, busiest.size()); ++i) {
+        const auto& l = j["links"][busiest[i]];
+        nlohmann::json b = {{"name", l["name"]}, {"utilisation", l["utilisation"]}, {"saturated_ns", l["saturated_ns"]}};
+        if (l.contains("peak_utilisation")) b["peak_utilisation"] = l["peak_utilisation"];
+        j["busiest_links"].push_back(std::move(b));
+    }
+    j["totals"]["ray_wire_ns"] = rayWire;  // resplit's forecast (frame_forecast.h); a summary has no per-link wire_ns
+    for (int t = 0; t < kMsgTypes; ++t) {
+        j["totals"]["messages"][msgTypeName(MsgType(t))] = msgs[size_t(t)];
+        j["totals"]["bytes"][msgTypeName(MsgType(t))] = bytes[size_t(t)];
+    }
+}
+
+// The frame buffer: per unit, and its busiest unit's busy time (the floor
+// the frame buffer puts under the frame: its bound).
+nlohmann::json frameBufferJson(const MachineResult& r, const Bounds& bd) {
+    nlohmann::json fb;
+    Picos total = 0;
+    uint64_t contributions = 0;
+    for (size_t u = 0; u < r.frameBuffer.size(); ++u) {
+        const FrameBufferStats& s = r.frameBuffer[u].stats;
+        total += s.busy;
+        contributions += s.contributions;
+        fb["units"].push_back({{"unit", u},
+                               {"busy_ns", ns(s.busy)},
+                               {"last_active_ns", ns(s.lastActive)},
+                               {"contributions", s.contributions},
+                               {"contribution_messages", s.contributionMessages},
+                               {"credit_messages", s.creditMessages}});
+    }
+    fb["busy_ns"] = ns(bd.frameBuffer);
+    fb["busy_total_ns"] = ns(total);
+    fb["contributions"] = contributions;
+    return fb;
+}
+
+// Balancing: the number of slides, how even the loads are (max / mean)
+// over the whole frame, whether the boundaries settled, the decisions,
+// what the guard stopped, and how old the loads they used were (the older
+// of the two, in intervals).
+nlohmann::json balanceJson(const MachineResult& r, const MachineConfig& cfg, const nlohmann::json& nodes) {
+    size_t slides = 0;
+    for (const BoundaryHistory& h : r.boundaries) slides += h.positions.size() - 1;
+    double maxLoad = 0, sumLoad = 0;
+    for (const auto& n : nodes) {
+        maxLoad = std::max(maxLoad, n["load"].get<double>());
+        sumLoad += n["load"].get<double>();
+    }
+    nlohmann::json b = {{"slides", slides},
+                        {"max_over_mean_load", sumLoad > 0 ? maxLoad / (sumLoad / double(r.nodes.size())) : 0.0}};
+    const int ax = cfg.balance.axis;
+    const StabilityVerdict st = judgeStability(r.boundaries, r.renderTime, r.worldBox.extent()[ax] / cfg.dims[ax]);
+    b["stability"] = stabilityName(st.overall);
+    b["boundaries_converged"] = st.converged;
+    b["boundaries_oscillating"] = st.oscillating;
+    b["boundaries_diverging"] = st.diverging;
+    BalanceStats all;
+    for (const NodeStats& s : r.nodes) {
+        all.decisions += s.balance.decisions;
+        all.skippedStale += s.balance.skippedStale;
+        all.skippedLatency += s.balance.skippedLatency;
+        all.skippedCost += s.balance.skippedCost;
+        all.skippedBusyLink += s.balance.skippedBusyLink;
+        all.ages.merge(s.balance.ages);
+    }
+    b["decisions"] = all.decisions;
+    b["guard_stale"] = all.skippedStale;
+    b["guard_latency"] = all.skippedLatency;
+    b["guard_cost"] = all.skippedCost;
+    b["guard_busy_link"] = all.skippedBusyLink;
+    if (all.ages.count() > 0)
+        b["load_age_intervals"] = {{"median", all.ages.percentile(0.5) / BalanceStats::kAgeUnits},
+                                   {"p95", all.ages.percentile(0.95) / BalanceStats::kAgeUnits},
+                                   {"max", double(all.ages.max()) / BalanceStats::kAgeUnits}};
+    return b;
+}
+
+nlohmann::json boundariesJson(const MachineResult& r) {
+    nlohmann::json out = nlohmann::json::array();  // empty, not missing, with one node along the axis
+    for (const BoundaryHistory& h : r.boundaries) {
+        nlohmann::json bj;
+        bj["column"] = {h.column[0], h.column[1]};
+        bj["index"] = h.index;
+        for (const auto& [t, x] : h.positions) bj["history"].push_back({ns(t), x});
+        out.push_back(bj);
+    }
+    return out;
+}
+
+}  // namespace
+
+std::vector<size_t> linksByBacklog(const nlohmann::json& links) {
+    std::vector<std::pair<double, double>> key;  // (saturated_ns, utilisation)
+    for (const auto& l : links) key.push_back({l.at("saturated_ns").get<double>(), l.at("utilisation").get<double>()});
+    std::vector<size_t> idx(key.size());
+    for (size_t i = 0; i < idx.size(); ++i) idx[i] = i;
+    std::stable_sort(idx.begin(), idx.end(), [&](size_t a, size_t b) { return key[a] > key[b]; });
+    return idx;
+}
+
+nlohmann::json machineReport(const MachineResult& r, const MachineConfig& cfg, ReportDetail detail) {
+    const bool full = detail == ReportDetail::Full;
+    nlohmann::json j;
+    j["config"] = machineConfigJson(cfg, r.image.width, r.image.height);
+    j["render_time_ns"] = ns(r.renderTime);
+    if (!r.incomplete.empty()) j["incomplete"] = r.incomplete;  // stopped by the watchdog: every figure up to then
+    j["wall_s"] = r.wallSeconds;
+    j["wall_elaboration_s"] = r.wallElaborationSeconds;  // of wall_s: building the machine, to the first event
+    j["wall_startup_s"] = r.wallStartupSeconds;  // the process, to the first event (reading the scene included)
+    NodeStats total;
+    for (size_t i = 0; i < r.nodes.size(); ++i) {
+        const NodeStats& s = r.nodes[i];
+        total.busy += s.busy;
+        total.busyBy += s.busyBy;
+        total.blocked += s.blocked;
+        total.raysForwarded += s.raysForwarded;
+        total.raysPassed += s.raysPassed;
+        total.raysPassedBetweenColumns += s.raysPassedBetweenColumns;
+        j["nodes"].push_back(nodeJson(r, i, full));
+    }
+    addLinks(j, r, cfg, full);
+    j["totals"]["busy_ns"] = ns(total.busy);
+    j["totals"]["busy_by_category"] = busyPartsJson(total.busyBy);
+    j["totals"]["blocked_ns"] = ns(total.blocked);
+    j["totals"]["rays_forwarded"] = total.raysForwarded;
+    j["totals"]["rays_passed"] = total.raysPassed;
+    j["totals"]["rays_passed_between_columns"] = total.raysPassedBetweenColumns;
+    j["totals"]["primary_misses"] = r.primaryMisses;
+    const Bounds bd = renderTimeBounds(r, cfg);  // bounds.h
+    j["frame_buffer"] = frameBufferJson(r, bd);
+    // Each bound in ns and as a fraction of the render time.
+    auto bound = [&](Picos t) {
+        return nlohmann::json{{"ns", ns(t)}, {"fraction", r.renderTime ? double(t) / double(r.renderTime) : 0.0}};
+    };
+    j["bounds"] = {{"perfect", bound(bd.perfect)}, {"column", bound(bd.column)}, {"frame_buffer", bound(bd.frameBuffer)}};
+    j["kernel"] = {{"delta_cycles", r.deltaCycles}};
+    j["boundaries"] = boundariesJson(r);
+    j["balance"] = balanceJson(r, cfg, j["nodes"]);
+    return j;
+}
+
+}  // namespace rt

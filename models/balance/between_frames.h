@@ -1,0 +1,101 @@
+// Balancing between the frames of a sequence (--frames, --boundaries-from;
+// doc/balancing.md, "Between frames"): where a frame's boundaries start,
+// read from the report of the frame before, and `resplit`'s choice of the
+// next frame's boundaries. Plain C++ on reports (JSON), run by rtsim between
+// the child processes that render the frames.
+#pragma once
+#include <optional>
+#include <utility>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "balance/frame_forecast.h"
+#include "config/machine_config.h"
+
+namespace rt {
+
+// Each column's inner planes where the run of report `r` ended them (their
+// last positions in its boundary histories), for MachineConfig::
+// startBoundaries; with `atStart`, where they stood when it began. Throws
+// std::runtime_error if `r` is not a report of this mesh and axis.
+InnerPlanes lastBoundaries(const nlohmann::json& r, const MachineConfig& m, bool atStart = false);
+
+// The time-weighted mean position of a boundary over [0, end]: `history`
+// holds (time, position) from time 0 on, in time order.
+double timeAveraged(const std::vector<std::pair<double, double>>& history, double end);
+
+// Each column's planes as they stood on average over the frame of report `r`.
+InnerPlanes averagedBoundaries(const nlohmann::json& r, const MachineConfig& m);
+
+// `resplit`'s planes for the frame after report `r`'s (frame_forecast.h):
+// of the planes where `r`'s frame ended, the best per column and the best
+// for all columns, the ones of the shortest forecast frame, getting there
+// included (move_forecast.h); the planes move only if that forecast is at
+// least kMinForecastGain shorter than the forecast for holding them (the forecast is within about 10 % of the frames
+// measured; a move that gains less can lose). Where the links are the
+// frame, the columns' own planes must also be kMinForecastGain shorter
+// than the aligned ones: the rays they pass on between columns are what
+// the forecast counts short there.
+// (4 %: with the forecast's tandem term, modern across N = 4 forecast 4.9 %
+// for a move that made its frame 0.509 of the unbalanced one from 0.536;
+// on the SPD scenes' 60 points no frame then lost more than 2 %.)
+constexpr double kMinForecastGain = 0.04;
+struct ResplitChoice {
+    const char* what;  // "held", "per column" or "aligned"
+    InnerPlanes planes;
+    double forecastNs, heldNs;  // the next frame, forecast: with these planes; with the planes held
+};
+ResplitChoice resplitChoice(const nlohmann::json& r, const MachineConfig& m);
+InnerPlanes resplitTargets(const nlohmann::json& r, const MachineConfig& m);
+
+// `resplit` and `measured` over a sequence of frames: what the next frame
+// does. Each frame re-splits by the forecast from the one before
+// (resplitChoice), as long as that keeps making frames faster:
+//  - once a re-split frame is not faster than the fastest re-split frame
+//    so far, when that one beat the first frame, the boundaries return to
+//    its planes and hold from then on (the forecast missed there: on
+//    balls-4, N = 4, 1 GB/s, moving on after such a frame made frames of
+//    0.23 and then 0.50 of the unbalanced one);
+//  - if neither of the first two re-split frames beats the first frame,
+//    re-splitting does not pay here (past the links' knee thinner boxes
+//    cost more link time than they save). (Two tries, not one: a first
+//    re-split a few per cent slower than the first frame is often followed
+//    by faster ones.) `measured`'s first frame was the starting split: it is
+//    held. `resplit`'s was balanced by `slide`: one frame holds the split
+//    the first frame started from; where even the first frame's slides
+//    lose, that one wins and is held; otherwise every later frame is the
+//    first one again.
+class ResplitSequence {
+public:
+    explicit ResplitSequence(const MachineConfig& m) : m_(m), firstHolds_(m.balance.firstFrameHolds()) {}
+    // After frame `frame` (1-based), whose report is `r`: the next frame's
+    // targets, or nothing if the next frame is to be the first one again.
+    std::optional<InnerPlanes> next(const nlohmann::json& r, int frame);
+    // Whether the next frame starts where frame 1 did (the starting split's
+    // trial), not where the frame before left the boundaries: in a steady
+    // state the faces would be moved back once, and that frame is to show
+    // the split itself.
+    bool startsAfresh() const { return afresh_; }
+    // What next() chose and why, for the report's frames: {"next": "per
+    // column" | "aligned" | "held" | "the fastest frame's planes" | "the
+    // starting split" | "frame 1 again"}, with the forecasts when it re-split.
+    const nlohmann::json& said() const { return said_; }
+
+private:
+    static constexpr int kTries = 2;
+    static constexpr int kPatience = 1;  // such frames in a row before the fastest one's planes are held
+    const MachineConfig& m_;
+    bool firstHolds_;  // frame 1 held the starting split (measured): it needs no trial
+    double firstNs_ = 0, bestNs_ = 1e300;  // the first frame's time; the fastest re-split frame's
+    int resplits_ = 0;                     // re-split frames so far
+    int misses_ = 0;                       // re-split frames in a row not faster than the fastest
+    InnerPlanes best_;  // where the fastest re-split frame left the boundaries (not its report: K frames keep one)
+    InnerPlanes start_;  // where frame 1's boundaries started
+    std::optional<InnerPlanes> held_;
+    bool tryingStart_ = false, again_ = false, afresh_ = false;
+    nlohmann::json said_;
+    std::optional<InnerPlanes> forecast(const nlohmann::json& r);  // resplitChoice, said
+};
+
+}  // namespace rt

@@ -1,0 +1,292 @@
+#include "balance/frame_forecast.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <stdexcept>
+#include <tuple>
+
+#include "balance/minimax_split.h"
+#include "balance/work_by_position.h"
+
+namespace rt {
+namespace {
+
+// What the searches may cost between two frames: about 10^8 part costs.
+constexpr double kSearchBudget = 1e8;
+constexpr int kMaxGrid = 512;
+
+// `v` spread evenly over [a, b] into bins of width w from lo (a point if b <= a).
+void spread(std::vector<double>& bins, double lo, double w, double a, double b, double v) {
+    const int last = int(bins.size()) - 1;
+    auto binOf = [&](double x) { return std::clamp(int(std::floor((x - lo) / w)), 0, last); };
+    if (!(b > a)) {
+        bins[size_t(binOf(a))] += v;
+        return;
+    }
+    for (int k = binOf(a); k <= binOf(b); ++k) {
+        const double from = std::max(a, lo + k * w), to = std::min(b, lo + (k + 1) * w);
+        if (to > from) bins[size_t(k)] += v * (to - from) / (b - a);
+    }
+}
+
+double number(const nlohmann::json& j, const char* key) { return j.contains(key) ? j.at(key).get<double>() : 0.0; }
+
+}  // namespace
+
+FrameForecast::FrameForecast(const nlohmann::json& r, const MachineConfig& m, const InnerPlanes& averaged)
+    : g_(m.balance.axis, m.dims), n_(g_.length()), bins_(WorkByPosition::kBinsPerBox * g_.length()) {
+    const int ax = g_.axis;
+    lo_ = 1e300;
+    hi_ = -1e300;
+    for (const auto& node : r.at("nodes")) {
+        const auto box = node.at("box").get<std::array<std::array<double, 3>, 2>>();
+        lo_ = std::min(lo_, box[0][size_t(ax)]);
+        hi_ = std::max(hi_, box[1][size_t(ax)]);
+    }
+    if (!(hi_ > lo_)) throw std::runtime_error("a report whose boxes span nothing along the axis");
+    minBins_ = m.balance.minThickness * WorkByPosition::kBinsPerBox;
+    columns_.assign(size_t(g_.count()), Column{});
+    for (Column& c : columns_) {
+        c.perBin.assign(size_t(bins_), 0.0);
+        c.withinBelow.assign(size_t(bins_), 0.0);
+        c.up = c.down = std::vector<double>(size_t(bins_ + 1), 0.0);
+    }
+    double raysOnLinks = 0;
+    for (const auto& node : r.at("nodes")) raysOnLinks += readNode(node, averaged);
+    for (Column& c : columns_) {
+        c.below.assign(size_t(bins_ + 1), 0.0);
+        for (int k = 0; k < bins_; ++k) c.below[size_t(k + 1)] = c.below[size_t(k)] + c.perBin[size_t(k)];
+        c.perBin = {};
+        std::sort(c.oneCell.begin(), c.oneCell.end());  // (disjoint boxes: in order along the column)
+        c.withinBelow.insert(c.withinBelow.begin(), 0.0);  // per bin to below each edge
+        for (int k = 0; k < bins_; ++k) c.withinBelow[size_t(k + 1)] += c.withinBelow[size_t(k)];
+        c.perCrossing = c.faceRays > 0 ? c.faceNs / c.faceRays : 0;
+    }
+    std::map<std::pair<int, int>, std::vector<double>> lateral;  // (from, to) column: rays by bin
+    for (const Lateral& l : lateral_) {
+        std::vector<double>& v = lateral[{l.from, l.to}];
+        if (v.empty()) v.assign(size_t(bins_), 0.0);
+        v[size_t(l.bin)] += l.rays;
+    }
+    for (const auto& [key, v] : lateral) {
+        std::vector<double> below(size_t(bins_ + 1), 0.0);
+        for (int k = 0; k < bins_; ++k) below[size_t(k + 1)] = below[size_t(k)] + v[size_t(k)];
+        columns_[size_t(key.first)].lateralBelow.push_back(std::move(below));
+    }
+    raysOnLinks += r.contains("totals") ? number(r.at("totals"), "rays_passed") : 0;
+    // The rays' wire time on the links between nodes: the report's sum (a
+    // summary's links have no wire_ns), or the links' own in an older report.
+    const bool summed = r.contains("totals") && r.at("totals").contains("ray_wire_ns");
+    double wire = summed ? number(r.at("totals"), "ray_wire_ns") : 0;
+    double busiestLink = 0, busiestNode = 0;
+    if (r.contains("links"))
+        for (const auto& l : r.at("links"))
+            if (l.value("to", "") != "fb") {
+                if (!summed && l.contains("wire_ns")) wire += number(l.at("wire_ns"), "ray");
+                busiestLink = std::max(busiestLink, number(l, "wire_busy_ns"));
+            }
+    for (const auto& node : r.at("nodes")) busiestNode = std::max(busiestNode, node.at("busy_ns").get<double>());
+    wirePerRay_ = raysOnLinks > 0 ? wire / raysOnLinks : 0;
+    // Where a node set the frame, the searches keep the links below it by
+    // the tandem margin (Forecast::frameNs); where a link did, as before.
+    linkWeight_ = busiestNode >= busiestLink ? kTandem : 1.0;
+}
+
+// One node's report entry into its column; returns the rays it put on links.
+double FrameForecast::readNode(const nlohmann::json& node, const InnerPlanes& averaged) {
+    const Cell cell = node.at("node").get<Cell>();
+    const size_t col = size_t(g_.columnOf(cell));
+    Column& c = columns_.at(col);
+    const int k = cell[size_t(g_.axis)];
+    const double w = (hi_ - lo_) / bins_;
+    double rest = node.at("busy_ns").get<double>(), rays = 0;
+    // The box as it stood on average over the frame.
+    const std::vector<double>& planes = averaged.at(col);
+    const double boxLo = k == 0 ? lo_ : planes.at(size_t(k - 1)), boxHi = k == n_ - 1 ? hi_ : planes.at(size_t(k));
+    if (node.contains("work_by_position")) {
+        const auto& p = node.at("work_by_position");
+        const double from = p.at("axis_from").get<double>(), width = p.at("bin_width").get<double>();
+        const bool oneCell = node.contains("grid") && node.at("grid").at("cells").at(size_t(g_.axis)).get<int>() == 1;
+        if (oneCell && p.contains("within") && edgeOf(boxHi) > edgeOf(boxLo)) {
+            c.oneCell.push_back({edgeOf(boxLo), edgeOf(boxHi)});
+            double bin = p.at("within").at("first_bin").get<double>();
+            for (const auto& v : p.at("within").at("ns")) {
+                spread(c.withinBelow, lo_, w, from + bin * width, from + (bin + 1) * width, v.get<double>());
+                ++bin;
+            }
+        }
+        double b = p.at("first_bin").get<double>();
+        for (const auto& v : p.at("ns")) {
+            spread(c.perBin, lo_, w, from + b * width, from + (b + 1) * width, v.get<double>());
+            rest -= v.get<double>();
+            ++b;
+        }
+        rest -= number(p, "face_handling_ns");
+        c.faceNs += number(p, "face_handling_ns");
+        c.faceRays += number(p, "face_crossings");
+        rays += number(p, "face_crossings") / 2;  // (each crossing is counted by both its nodes)
+        for (const char* dir : {"cuts_up", "cuts_down"}) {
+            if (!p.contains(dir)) continue;
+            std::vector<double>& cuts = dir[5] == 'u' ? c.up : c.down;
+            double e = p.at(dir).at("first_bin").get<double>() + 1;  // each count stands at its bin's upper edge
+            for (const auto& v : p.at(dir).at("rays")) {
+                const int edge = int(std::lround((from + e * width - lo_) / w));
+                if (edge > 0 && edge < bins_) cuts[size_t(edge)] += v.get<double>();
+                ++e;
+            }
+        }
+        if (p.contains("lateral"))
+            for (const auto& [name, h] : p.at("lateral").items()) {
+                const Cell to = neighbour(cell, dirOf(int(name.at(1) - 'x'), name.at(0) == 'p' ? +1 : -1));
+                double b2 = h.at("first_bin").get<double>();
+                for (const auto& v : h.at("rays")) {
+                    const double x = from + (b2 + 0.5) * width, n = v.get<double>();
+                    ++b2;
+                    if (!(n > 0) || !inMesh(to, g_.dims)) continue;
+                    rays += n;
+                    lateral_.push_back({int(col), g_.columnOf(to), std::clamp(int(std::floor((x - lo_) / w)), 0, bins_ - 1), n});
+                }
+            }
+    }
+    // The rest (rays passed on, balancing) over the box.
+    spread(c.perBin, lo_, w, boxLo, boxHi, std::max(0.0, rest));
+    return rays;
+}
+
+double FrameForecast::work(const Column& c, int i, int j) const {
+    auto cut = [&](int e) { return e > 0 && e < bins_ ? c.up[size_t(e)] + c.down[size_t(e)] : 0.0; };
+    double w = c.below[size_t(j)] - c.below[size_t(i)] + c.perCrossing * (cut(i) + cut(j));
+    // The one-cell boxes the part overlaps (the searches ask for every part:
+    // a few boxes each, found by bisection, not all of the column's).
+    auto box = std::partition_point(c.oneCell.begin(), c.oneCell.end(), [&](const std::pair<int, int>& x) { return x.second <= i; });
+    for (; box != c.oneCell.end() && box->first < j; ++box) {
+        const auto [from, to] = *box;
+        const int a = std::max(i, from), b = std::min(j, to);
+        w += (c.withinBelow[size_t(b)] - c.withinBelow[size_t(a)]) * (oneCellGrowth(j - i, to - from) - 1);
+    }
+    return w;
+}
+
+double oneCellGrowth(double thickness, double measured) {
+    // The grid's cells per unit length along the axis stay about 1 /
+    // measured as a box grows (objects grow with its volume): round(t /
+    // measured) cells, at least one.
+    const double cells = std::max(1.0, std::round(thickness / measured));
+    return thickness / cells / measured;
+}
+
+double FrameForecast::partCost(const Column& c, int i, int j) const {
+    // The node's busy time, or the wire time of the busier link through its
+    // upper plane, or of its busiest link to a neighbouring column (the
+    // rays it sends there: more, the longer its part).
+    double rays = j < bins_ ? std::max(c.up[size_t(j)], c.down[size_t(j)]) : 0.0;
+    for (const std::vector<double>& below : c.lateralBelow) rays = std::max(rays, below[size_t(j)] - below[size_t(i)]);
+    return std::max(work(c, i, j), linkWeight_ * wirePerRay_ * rays);
+}
+
+int FrameForecast::edgeOf(double x) const {
+    return std::clamp(int(std::lround((x - lo_) / (hi_ - lo_) * bins_)), 0, bins_);
+}
+
+int FrameForecast::ownerOf(const std::vector<double>& planes, double x) const {
+    return int(std::upper_bound(planes.begin(), planes.end(), x) - planes.begin());
+}
+
+FrameForecast::Forecast FrameForecast::forecast(const InnerPlanes& planes) const {
+    if (planes.size() != columns_.size()) throw std::invalid_argument("forecast: planes for another mesh");
+    Forecast f;
+    std::vector<std::vector<double>> busy(columns_.size()), up(columns_.size()), down(columns_.size());
+    for (size_t c = 0; c < columns_.size(); ++c) {
+        std::vector<int> e{0};
+        for (double x : planes[c]) e.push_back(edgeOf(x));
+        e.push_back(bins_);
+        for (size_t k = 0; k + 1 < e.size(); ++k) busy[c].push_back(work(columns_[c], e[k], e[k + 1]));
+        for (size_t k = 1; k + 1 < e.size(); ++k) {
+            up[c].push_back(columns_[c].up[size_t(e[k])]);
+            down[c].push_back(columns_[c].down[size_t(e[k])]);
+        }
+    }
+    std::map<std::tuple<int, int, int>, double> across;  // rays from (column, node) to a column
+    for (const Lateral& l : lateral_) {
+        const double x = lo_ + (l.bin + 0.5) * (hi_ - lo_) / bins_;
+        const int from = ownerOf(planes[size_t(l.from)], x), to = ownerOf(planes[size_t(l.to)], x);
+        across[{l.from, from, l.to}] += l.rays;
+        const int s = to > from ? 1 : -1;
+        for (int j = from; j != to; j += s) {  // passed on along the axis, from the node of the sender's index
+            busy[size_t(l.to)][size_t(j)] += l.rays * 2 * columns_[size_t(l.to)].perCrossing;
+            (s > 0 ? up : down)[size_t(l.to)][size_t(s > 0 ? j : j - 1)] += l.rays;
+            f.passes += l.rays;
+        }
+    }
+    double rays = 0;
+    for (size_t c = 0; c < columns_.size(); ++c) {
+        for (double b : busy[c]) f.nodeNs = std::max(f.nodeNs, b);
+        for (double x : up[c]) rays = std::max(rays, x);
+        for (double x : down[c]) rays = std::max(rays, x);
+    }
+    for (const auto& [key, x] : across) rays = std::max(rays, x);
+    f.linkNs = rays * wirePerRay_;
+    f.frameNs = std::max({f.nodeNs, f.linkNs, kTandem * std::min(f.nodeNs, f.linkNs)});
+    return f;
+}
+
+std::vector<int> FrameForecast::gridEdges() const {
+    const double cols = double(columns_.size());
+    const int m = std::clamp(int(std::sqrt(2 * kSearchBudget / (cols * (n_ + 1)))), std::min(bins_, 4 * n_),
+                             std::min(bins_, kMaxGrid));
+    std::vector<int> e;
+    for (int i = 0; i <= m; ++i) e.push_back(int(std::lround(double(i) * bins_ / m)));
+    return e;
+}
+
+int FrameForecast::minCells(int cells) const {
+    return std::max(1, int(std::ceil(minBins_ * cells / bins_ - 1e-9)) + 1);
+}
+
+std::vector<double> FrameForecast::planesOf(const std::vector<int>& edges) const {
+    // Inner edges as positions, every box at least the minimum thickness.
+    const double minT = minBins_ * (hi_ - lo_) / bins_ * (1 + 1e-9);  // (the machine's check is exact)
+    std::vector<double> x(size_t(n_ + 1));
+    x.front() = lo_;
+    x.back() = hi_;
+    for (int k = 1; k < n_; ++k) x[size_t(k)] = lo_ + (hi_ - lo_) * edges[size_t(k)] / bins_;
+    for (int k = 1; k < n_; ++k) x[size_t(k)] = std::max(x[size_t(k)], x[size_t(k - 1)] + minT);
+    for (int k = n_ - 1; k >= 1; --k) x[size_t(k)] = std::min(x[size_t(k)], x[size_t(k + 1)] - minT);
+    return std::vector<double>(x.begin() + 1, x.end() - 1);
+}
+
+namespace {
+PartCosts costsOn(const std::vector<int>& grid) { return PartCosts{int(grid.size()) - 1, std::vector<double>(grid.size() * grid.size(), 0.0)}; }
+}  // namespace
+
+std::vector<double> FrameForecast::searchOn(const std::vector<int>& grid, const PartCosts& pc) const {
+    std::vector<int> e = minimaxSplit(pc, n_, minCells(pc.m));
+    for (int& x : e) x = grid[size_t(x)];
+    return planesOf(e);
+}
+
+InnerPlanes FrameForecast::perColumn() const {
+    const std::vector<int> grid = gridEdges();
+    const int m = int(grid.size()) - 1;
+    InnerPlanes out;
+    PartCosts pc = costsOn(grid);
+    for (const Column& c : columns_) {
+        for (int i = 0; i < m; ++i)
+            for (int j = i + 1; j <= m; ++j) pc.at(i, j) = partCost(c, grid[size_t(i)], grid[size_t(j)]);
+        out.push_back(searchOn(grid, pc));
+    }
+    return out;
+}
+
+InnerPlanes FrameForecast::aligned() const {
+    const std::vector<int> grid = gridEdges();
+    const int m = int(grid.size()) - 1;
+    PartCosts pc = costsOn(grid);
+    for (const Column& c : columns_)
+        for (int i = 0; i < m; ++i)
+            for (int j = i + 1; j <= m; ++j) pc.at(i, j) = std::max(pc.at(i, j), partCost(c, grid[size_t(i)], grid[size_t(j)]));
+    return InnerPlanes(columns_.size(), searchOn(grid, pc));
+}
+
+}  // namespace rt

@@ -1,0 +1,131 @@
+#include "balance/initial_split.h"
+
+#include <algorithm>
+#include <optional>
+#include <stdexcept>
+#include <string>
+
+#include "shading.h"
+
+namespace rt {
+namespace {
+
+// `median`: boundary k of each column at the k/N quantile of the centres of
+// the objects in the column, kept inside the guards (every box at least the
+// minimum thickness).
+void atObjectMedians(ColumnPlanes& planes, const ColumnGeometry& g, const Lattice& cuts, const Box& world,
+                     const ObjectBins& bins, double minThickness) {
+    const int ax = g.axis, n = g.length();
+    for (int j = 0; j < g.dims[g.v]; ++j)
+        for (int i = 0; i < g.dims[g.u]; ++i) {
+            Box column = cuts.cellBox(g.cell(i, j, 0));
+            column.lo[ax] = world.lo[ax];
+            column.hi[ax] = world.hi[ax];
+            std::vector<double> centres;
+            for (const Shape& s : bins.overlapping(column)) {
+                const Box ob = s.bounds();
+                centres.push_back(0.5 * (ob.lo[ax] + ob.hi[ax]));
+            }
+            std::vector<double>& b = planes[size_t(g.indexOf(i, j))];
+            if (centres.empty()) continue;
+            std::sort(centres.begin(), centres.end());
+            for (int k = 1; k < n; ++k) {
+                const double q = centres[std::min(centres.size() - 1, centres.size() * size_t(k) / size_t(n))];
+                const double lo = b[size_t(k - 1)] + minThickness, hi = world.hi[ax] - (n - k) * minThickness;
+                b[size_t(k)] = std::clamp(q, lo, hi);
+            }
+        }
+}
+
+}  // namespace
+
+ColumnPlanes withInnerPlanes(const char* what, ColumnPlanes planes, const std::vector<std::vector<double>>& inner,
+                             double minThickness, double slack) {
+    const std::string w = what;
+    if (inner.size() != planes.size())
+        throw std::invalid_argument(w + ": " + std::to_string(inner.size()) + " columns, the mesh has " + std::to_string(planes.size()));
+    for (size_t c = 0; c < planes.size(); ++c) {
+        const size_t n = planes[c].size() - 1;
+        if (inner[c].size() != n - 1)
+            throw std::invalid_argument(w + ": column " + std::to_string(c) + " has " + std::to_string(inner[c].size()) +
+                                        " planes, not " + std::to_string(n - 1));
+        std::copy(inner[c].begin(), inner[c].end(), planes[c].begin() + 1);
+        for (size_t k = 0; k < n; ++k)
+            if (!(planes[c][k + 1] - planes[c][k] >= minThickness * (1 - slack)))
+                throw std::invalid_argument(w + ": column " + std::to_string(c) + ", box " + std::to_string(k) +
+                                            " is thinner than the minimum thickness");
+    }
+    return planes;
+}
+
+double minThicknessOf(const MachineConfig& cfg, const Box& world) {
+    const int ax = cfg.balance.axis;
+    return cfg.balance.minThickness * world.extent()[ax] / cfg.dims[ax];
+}
+
+ColumnPlanes initialPlanes(const MachineConfig& cfg, const Lattice& cuts, const Box& world, const ObjectBins& bins,
+                           double minThickness) {
+    const ColumnGeometry g(cfg.balance.axis, cfg.dims);
+    ColumnPlanes planes(size_t(g.count()), cuts.planes(g.axis));
+    // (the minimum less a report's rounding of its decimals)
+    if (!cfg.startBoundaries.empty()) planes = withInnerPlanes("start boundaries", planes, cfg.startBoundaries, minThickness, 1e-9);
+    else if (cfg.balance.policy == "median" || cfg.balance.policy == "sample") atObjectMedians(planes, g, cuts, world, bins, minThickness);
+    return planes;
+}
+
+Box nodeBox(const Cell& c, const Lattice& cuts, const ColumnGeometry& g, const ColumnPlanes& planes) {
+    Box b = cuts.cellBox(c);
+    const std::vector<double>& p = planes[size_t(g.columnOf(c))];
+    b.lo[g.axis] = p[size_t(c[g.axis])];
+    b.hi[g.axis] = p[size_t(c[g.axis] + 1)];
+    return b;
+}
+
+PrimaryRays assignPrimaryRays(const Camera& camera, const Box& world, const Lattice& cuts, const ColumnGeometry& g,
+                              const ColumnPlanes& planes) {
+    PrimaryRays r;
+    r.perNode.resize(size_t(g.dims[0] * g.dims[1] * g.dims[2]));
+    const int ax = g.axis;
+    for (int y = 0; y < camera.height(); ++y)
+        for (int x = 0; x < camera.width(); ++x) {
+            const RayJob j = primaryJob(camera, x, y, world);
+            std::optional<Cell> c = cuts.locate(j.ray, j.t0);
+            if (!c) {
+                r.misses.push_back(j);
+                continue;
+            }
+            // Along the axis, the column's own planes decide.
+            const std::vector<double>& b = planes[size_t(g.columnOf(*c))];
+            for (int k = 0; k < g.length(); ++k) {
+                const Interval s = slabInterval(j.ray, ax, b[size_t(k)], b[size_t(k + 1)]);
+                if (s.lo <= j.t0 && j.t0 < s.hi) (*c)[ax] = k;
+            }
+            r.perNode[nodeIndex(*c, g.dims)].push_back(j.pixel);
+        }
+    return r;
+}
+
+CreditShares shareCredit(const std::vector<std::vector<uint32_t>>& perNode, int maxExp) {
+    size_t busyNodes = 0;
+    for (const auto& p : perNode) busyNodes += !p.empty();
+    const int hostExp = ceilLog2(busyNodes);
+    CreditShares s;
+    for (const auto& pixels : perNode) {
+        Credit remainder(maxExp);
+        int exp = 0;
+        if (!pixels.empty()) {
+            const uint64_t p = pixels.size();
+            const int c = ceilLog2(p);
+            exp = hostExp + c;
+            remainder.add(exp, (uint64_t(1) << c) - p);
+        }
+        s.exp.push_back(exp);
+        s.remainder.push_back(std::move(remainder));
+    }
+    // 1 - busyNodes * 2^-hostExp stays with the host (unit 0).
+    s.host = Credit(maxExp);
+    s.host.add(hostExp, (uint64_t(1) << hostExp) - busyNodes);
+    return s;
+}
+
+}  // namespace rt

@@ -1,0 +1,68 @@
+// Where a frame starts (doc/machine.md, "A node"; doc/balancing.md): each
+// column's boundaries along the progress axis, each node's box, which node
+// generates each primary ray, and how the host's credit is shared out for
+// the end-of-frame protocol (credit.h). Plain functions of the
+// configuration and the scene, run before the simulation.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "camera.h"
+#include "channel/credit.h"
+#include "lattice.h"
+#include "config/machine_config.h"
+#include "ray_job.h"
+#include "region.h"
+
+namespace rt {
+
+// Per column (ColumnGeometry order): its N + 1 planes along the axis, the
+// world's ends included.
+using ColumnPlanes = std::vector<std::vector<double>>;
+
+// The thinnest a node's box may become along the axis: --min-thickness of
+// a uniform slice of the world.
+double minThicknessOf(const MachineConfig& cfg, const Box& world);
+
+// `planes` with each column's inner planes replaced by `inner`'s, for
+// `what` ("start boundaries", "target boundaries"). Throws
+// std::invalid_argument, naming `what`, if `inner` has another number of
+// columns or of planes in one, or a box thinner than minThickness (less
+// `slack` of it).
+ColumnPlanes withInnerPlanes(const char* what, ColumnPlanes planes, const std::vector<std::vector<double>>& inner,
+                             double minThickness, double slack);
+
+// The planes each column starts with: where a frame before left them
+// (cfg.startBoundaries, each box at least `minThickness`), or the policy's
+// own start: uniform (`cuts`, the paper), or for `median` at the quantiles
+// of the object centres in the column. Throws std::invalid_argument for
+// start boundaries that do not fit the mesh.
+ColumnPlanes initialPlanes(const MachineConfig& cfg, const Lattice& cuts, const Box& world, const ObjectBins& bins,
+                           double minThickness);
+
+// Node c's box: its cell of the uniform split, with the column's planes along the axis.
+Box nodeBox(const Cell& c, const Lattice& cuts, const ColumnGeometry& g, const ColumnPlanes& planes);
+
+// The host's job description: each primary ray goes to the node that owns
+// the point where it starts inside the world box (by `planes` along the
+// axis); rays that miss the world are the background, which the host fills
+// in itself.
+struct PrimaryRays {
+    std::vector<std::vector<uint32_t>> perNode;  // pixels, by node index
+    std::vector<RayJob> misses;                  // primary rays that miss the world box
+};
+PrimaryRays assignPrimaryRays(const Camera& camera, const Box& world, const Lattice& cuts, const ColumnGeometry& g,
+                              const ColumnPlanes& planes);
+
+// Credit (weight throwing): the host keeps what it does not hand out; each
+// node with P > 0 primary rays gets 2^-hostExp (hostExp = ceil(log2 of the
+// nodes with any)) and gives each of them 2^-exp, exp = hostExp +
+// ceil(log2 P), keeping the rest. The parts sum to exactly 1.
+struct CreditShares {
+    std::vector<int> exp;            // per node: its primary rays' exponent (0: none)
+    std::vector<Credit> remainder;   // per node: what it keeps of its share
+    Credit host;                     // what the host keeps
+};
+CreditShares shareCredit(const std::vector<std::vector<uint32_t>>& perNode, int maxExp);
+
+}  // namespace rt

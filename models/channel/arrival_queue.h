@@ -1,0 +1,164 @@
+// The order in which a process takes its input: of the messages at the heads
+// of its input links, the one that arrived first, ties to the lower port.
+// Nodes and the host take their input in this order, which is what makes a
+// run independent of the order in which the kernel runs processes.
+//
+// The links tell the queue when their oldest unconsumed message changes (a
+// message lands in an empty link, the oldest is consumed, or a control
+// message goes ahead), with its arrival, and the queue keeps each port's
+// head. With a few ports (a node has six) a choice scans those heads, which
+// sit in the queue itself. With many (a frame-buffer unit has one port per
+// node: 4,096 on a 16x16x16 mesh) it also keeps a min-heap of (arrival,
+// port); entries are checked against the port's head when they reach the
+// top and dropped if it has moved on, so a choice costs O(log ports). Either
+// way a choice touches no link.
+//
+// It also wakes its process: a process with nothing to do waits until its
+// next known arrival (waitForInput), and only a message that lands in an
+// empty link and arrives sooner than that notifies it. A message behind
+// another in its link, or sent to a busy process, costs the kernel nothing.
+#pragma once
+#include <algorithm>
+#include <functional>
+#include <queue>
+#include <vector>
+
+#include <boost/container/small_vector.hpp>
+#include <systemc>
+
+#include "channel/link.h"
+
+namespace rt {
+
+class ArrivalQueue : public ArrivalListener {
+public:
+    // Listens to every bound port of `ports` (an sc_vector of LinkRecvIf
+    // ports; an unbound one keeps its index, empty).
+    template <class Ports>
+    void listen(Ports& ports) {
+        std::vector<LinkRecvIf*> links(ports.size(), nullptr);
+        for (size_t i = 0; i < ports.size(); ++i)
+            if (ports[i].size()) links[i] = ports[i].operator->();
+        listen(std::move(links));
+    }
+    // Listens to these links (a null one keeps its port, empty).
+    void listen(std::vector<LinkRecvIf*> links) {
+        links_ = std::move(links);
+        head_.assign(links_.size(), kNone);
+        for (size_t i = 0; i < links_.size(); ++i)
+            if (links_[i]) links_[i]->setListener(this, int(i));  // (it tells the head it has now)
+    }
+    // Listens to every link a multiport is bound to, in binding order.
+    void listen(sc_core::sc_port<LinkRecvIf, 0>& multiport) {
+        std::vector<LinkRecvIf*> links(size_t(multiport.size()));
+        for (int i = 0; i < multiport.size(); ++i) links[size_t(i)] = multiport[i];
+        listen(std::move(links));
+    }
+
+    // A process that may take its input late (a frame-buffer unit other
+    // than 0: FrameBufferUnit::setLate) is woken up to `late` after a message
+    // on ports below `punctualFrom` arrives, and at once by one on the others.
+    void setLate(Picos late, size_t punctualFrom) {
+        late_ = late;
+        punctualFrom_ = punctualFrom;
+    }
+
+    void headChanged(int port, Picos arrival) override {
+        head_[size_t(port)] = arrival;
+        if (arrival == kNone) return;
+        if (heaped()) heap_.push({arrival, port});
+        const Picos w = std::max(arrival, notBefore_) + (size_t(port) < punctualFrom_ ? late_ : 0);
+        if (waiting_ && w < wakeAt_) {  // sooner than the waiting process expects
+            wakeAt_ = w;
+            arrived_.notify(sc_core::sc_time::from_value(w - sc_core::sc_time_stamp().value()));
+        }
+    }
+
+    // In the calling (method) process, at local time `now` (at or ahead of
+    // the kernel's): if a message has arrived by `now`, whether the kernel
+    // must still catch up with `now`; otherwise, until the next message
+    // arrives or `deadline`, whichever is first. Arms the process's next
+    // activation for then and returns true, or returns false if no wait is
+    // needed. One wait, however far ahead `now` is: the process looks at its
+    // input only once the kernel is there, so nothing that arrives by then
+    // can be missed. The process calls woke() when it runs again.
+    bool waitForInput(Picos now, Picos deadline = ~Picos(0)) {
+        Picos next;
+        oldest(now, next);
+        if (late_ > 0) {  // the first message late, those on punctual ports at once
+            if (next != kNone) next += late_;
+            for (size_t p = punctualFrom_; p < head_.size(); ++p) next = std::min(next, head_[p]);
+        }
+        next = std::max(now, std::min(next, deadline));
+        const Picos k = sc_core::sc_time_stamp().value();
+        if (next <= k) return false;
+        waiting_ = true;
+        notBefore_ = now;
+        wakeAt_ = next;
+        if (next != ~Picos(0)) sc_core::next_trigger(sc_core::sc_time::from_value(next - k), arrived_);
+        else sc_core::next_trigger(arrived_);
+        return true;
+    }
+    void woke() { waiting_ = false; }
+
+    // The port whose oldest message has arrived by `now` and arrived first
+    // (ties to the lower port), or -1; `next` gets the earliest arrival of any
+    // unconsumed message (~0 if none).
+    int oldest(Picos now, Picos& next) {
+        if (!heaped()) {
+            int port = -1;
+            next = kNone;
+            for (size_t p = 0; p < head_.size(); ++p)
+                if (head_[p] < next) {  // (strictly: ties to the lower port)
+                    next = head_[p];
+                    port = int(p);
+                }
+            return next <= now ? port : -1;
+        }
+        while (!heap_.empty()) {
+            const Entry& e = heap_.top();
+            if (head_[size_t(e.port)] == e.arrival) break;
+            heap_.pop();  // that message has been consumed
+        }
+        if (heap_.empty()) {
+            next = ~Picos(0);
+            return -1;
+        }
+        next = heap_.top().arrival;
+        return next <= now ? heap_.top().port : -1;
+    }
+
+    // Messages on the listened links or arrived there, not yet taken.
+    size_t unconsumed() const { return buffered; }
+
+    // Messages that have arrived at the listened ports by `t`, not yet taken.
+    size_t arrivedBy(Picos t) const {
+        size_t n = 0;
+        for (const LinkRecvIf* l : links_)
+            if (l) n += l->arrivedBy(t);
+        return n;
+    }
+
+private:
+
+    struct Entry {
+        Picos arrival;
+        int port;
+        bool operator>(const Entry& o) const { return arrival != o.arrival ? arrival > o.arrival : port > o.port; }
+    };
+    static constexpr Picos kNone = ~Picos(0);
+    static constexpr size_t kScanned = 8;  // ports up to which a choice scans the heads, without the heap
+    bool heaped() const { return head_.size() > kScanned; }
+    std::vector<LinkRecvIf*> links_;
+    // Each port's oldest unconsumed arrival, as its link last said (kNone: empty).
+    boost::container::small_vector<Picos, kScanned> head_;
+    std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> heap_;
+    sc_core::sc_event arrived_;  // wakes the waiting process
+    bool waiting_ = false;
+    Picos notBefore_ = 0;        // while waiting: the process's local time, before which it takes nothing
+    Picos wakeAt_ = 0;           // while waiting: when the process wakes anyway
+    Picos late_ = 0;             // setLate
+    size_t punctualFrom_ = ~size_t(0);
+};
+
+}  // namespace rt

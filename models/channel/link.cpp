@@ -1,0 +1,299 @@
+#include "channel/link.h"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace rt {
+
+const char* msgTypeName(MsgType t) {
+    switch (t) {
+        case MsgType::Ray: return "ray";
+        case MsgType::Contributions: return "contributions";
+        case MsgType::Credit: return "credit";
+        case MsgType::LoadReport: return "load_report";
+        case MsgType::Slide: return "slide";
+        case MsgType::Ack: return "ack";
+        case MsgType::FbExpect: return "fb_expect";
+        case MsgType::FbDone: return "fb_done";
+        case MsgType::Sample: return "sample";
+        case MsgType::Planes: return "planes";
+    }
+    return "?";
+}
+
+uint32_t objectBytes(const Shape& s) {
+    const uint32_t head = 4 + 4 + 1;  // id, material, kind
+    if (std::holds_alternative<Sphere>(s.geometry)) return head + 4 * 8 + 1;
+    if (const auto* p = std::get_if<Polygon>(&s.geometry)) return head + 4 + uint32_t(p->vertices.size()) * 3 * 8;
+    return head + 8 * 8 + 1;  // cone: two centres, two radii, inside flag
+}
+
+Link::Link(std::string name, const LinkParams& params, uint32_t smallest)
+    : params_(params), smallest_(smallest), name_(std::move(name)) {
+    lanes_[kData].slots = uint32_t(params.depth);
+    lanes_[kControl].slots = uint32_t(params.controlDepth);
+    if (params.outDepth > 0) room_ = std::make_unique<sc_core::sc_event>();
+}
+
+// (Most messages on a link are of one size: rays, or full batches.)
+Picos Link::transferTime(uint32_t bytes) const {
+    if (bytes != lastBytes_) {
+        // (A message of a size the configuration did not bound: a slab of
+        // many objects at a low bandwidth; machine_config.h checks the rest.)
+        if (!(wirePicos(params_, bytes) <= double(kMaxTimeValue)))
+            throw std::runtime_error(name_ + ": a message of " + std::to_string(bytes) + " bytes would take more than 1,000 s on the wire at " +
+                                     formatRate(params_.bandwidth) + " (--link-bandwidth, --link-set)");
+        lastBytes_ = bytes;
+        lastTransfer_ = wireTime(params_, bytes);
+    }
+    return lastTransfer_;
+}
+
+// A message's changes on the link's signals, each recorded at a time no
+// earlier than the kernel's (VcdStream's horizon): sent (by the sender, at
+// its time), on the wire (when its slot is free: at or after the receiver
+// consumed the message before it), consumed (by the receiver, at its time).
+// With a control lane a data message's start may still move when a control
+// message goes ahead: then all but its consumption are recorded when it is
+// consumed (and the horizon waits for the link's oldest message).
+void Link::traceStart(Picos start, Picos transfer) {
+    VcdStream& v = *trace_.vcd;
+    v.step(start, trace_.backlog, -1);
+    v.step(start, trace_.wire, 1);
+    v.step(start + transfer, trace_.wire, -1);
+    v.step(start, trace_.buffered, 1);
+}
+
+void Link::send(Message&& m, Picos t) {
+    const int type = int(m.type);
+    const uint32_t bytes = m.bytes();
+    // The receiver runs ahead by its lookahead, which counts on no message
+    // arriving sooner than the smallest one would.
+    if (bytes < smallest_)
+        throw std::logic_error(name_ + ": a " + msgTypeName(m.type) + " message of " + std::to_string(bytes) +
+                               " bytes, smaller than the " + std::to_string(smallest_) + " its receiver's lookahead counts on");
+    if (trace_.vcd && params_.controlDepth == 0) trace_.vcd->step(t, trace_.backlog, 1);
+    TypeCounts& counts = byType_[size_t(type)];
+    ++counts.messages;
+    counts.bytes += bytes;
+    ++counts.inFlight;
+    const int lane = laneOf(m.type);
+    Lane& l = lanes_[lane];
+    {  // what the link owes for it (occupied())
+        const Picos transfer = transferTime(bytes);
+        owedWire_ += transfer;
+        l.held += transfer + 2 * params_.latency;
+    }
+    if (progress_ && !isControl(m.type)) progress_->mark(t);  // work moves; load reports alone are no progress
+    const bool nothingWaits = l.waiting() == 0;
+    l.backlog.emplace_back(t, bytes, m.type);
+    l.messages.emplace_back(std::move(m));
+    if (nothingWaits && l.slotFree()) {
+        putOnWire(lane, slotTime(l));  // the usual case: a slot is free, nothing waits before it
+        return;
+    }
+    startWaiting(lane);
+}
+
+Picos Link::slotTime(const Lane& l) const {
+    if (l.wired < l.slots) return 0;  // a slot not used yet
+    return l.takenAt(l.wired - l.slots) + params_.latency;  // the credit travelled back
+}
+
+void Link::startWaiting(int lane) {
+    Lane& l = lanes_[lane];
+    while (l.waiting() > 0 && l.slotFree()) {
+        const Picos slot = slotTime(l);
+        if (params_.outDepth > 0) {  // a sender blocked on the full buffer has room from then
+            const Picos room = std::max(l.firstWaiting().sent, slot), k = sc_core::sc_time_stamp().value();
+            room_->notify(sc_core::sc_time::from_value(room > k ? room - k : 0));
+        }
+        putOnWire(lane, slot);
+    }
+}
+
+Picos Link::roomAt(MsgType type, Picos t) {
+    if (params_.outDepth <= 0) return t;
+    Lane& l = lanes_[laneOf(type)];
+    while (!l.leaving.empty() && l.leaving.front() <= t) l.leaving.pop_front();
+    // Held at `t`: the backlog, and those that leave it later than `t`
+    // (in the order they leave: slots come back in order).
+    const size_t held = l.waiting() + l.leaving.size(), cap = size_t(params_.outDepth);
+    if (held < cap) return t;
+    const size_t mustLeave = held - cap + 1;
+    return l.leaving.size() >= mustLeave ? l.leaving[mustLeave - 1] : kRoomUnknown;
+}
+
+void Link::putOnWire(int lane, Picos slot) {
+    Lane& l = lanes_[lane];
+    const Waiting& w = l.firstWaiting();
+    const Picos sent = w.sent;
+    const Picos transfer = transferTime(w.bytes);
+    const Picos ready = std::max(sent, slot);
+    // Until its slot is free it is in the sender's output buffer. (With a
+    // quantum the slot may be known before the message is sent, when the
+    // receiver runs ahead: it waits all the same, without a backlog.)
+    if (params_.outDepth > 0 && ready > sent) l.leaving.push_back(ready);
+    Picos start;
+    if (lane == kData) {
+        start = std::max(ready, wireFree_);
+        wireFree_ = start + transfer;
+    } else {
+        start = scheduleControl(ready, transfer);
+    }
+    const Picos arrival = start + transfer + params_.latency;
+    checkSimTime(arrival, name_.c_str());  // (a backlog of long messages can pass the counter)
+    // Messages sent before this one and still off the wire when it was sent.
+    if (distributions_) {
+        while (!l.waitedUntil.empty() && l.waitedUntil.front() <= sent) l.waitedUntil.pop_front();
+        if (start > sent) l.waitedUntil.push_back(start);
+        stats_.backlogHighWater = std::max(stats_.backlogHighWater, l.waitedUntil.size());
+    }
+    byType_[size_t(w.type)].wire += transfer;
+    if (trace_.vcd && params_.controlDepth == 0) traceStart(start, transfer);
+    l.onWire_.fit(l.taken, l.wired);
+    l.onWire_[l.wired] = Timed(w, arrival, start, ready, transfer);
+    l.backlog.pop_front();
+    ++l.wired;
+    if (listener_) ++listener_->buffered;
+    if (l.buffered() == 1) headChanged();
+}
+
+Picos Link::occupied() const {
+    Picos slots = lanes_[kData].held / Picos(params_.depth);
+    if (params_.controlDepth > 0) slots = std::max(slots, lanes_[kControl].held / Picos(params_.controlDepth));
+    return std::max(owedWire_, slots);
+}
+
+void Link::endFrame(Picos end) {
+    const bool late = tracesLate();  // a lane's messages are traced when consumed: these never were
+    for (const Lane& l : lanes_) {
+        for (size_t i = 0; i < l.buffered(); ++i) {
+            const Timed& m = l.onWire(i);
+            const Picos done = m.start + m.transfer;
+            if (done > end) byType_[size_t(m.type)].wire -= done - std::max(m.start, end);
+            if (m.ready < end) countSaturation(m.ready, std::min(m.start, end), std::min(done, end));
+            if (m.sent < end) countWaits(m, end);  // up to the end, as its backlog signal shows them
+            if (late) {
+                trace_.vcd->step(m.sent, trace_.backlog, 1);
+                traceStart(m.start, m.transfer);
+            }
+        }
+        for (size_t i = 0; i < l.waiting(); ++i) {
+            if (l.backlog[i].sent < end) stats_.slotWait += end - l.backlog[i].sent;  // still waiting for a slot
+            if (late) trace_.vcd->step(l.backlog[i].sent, trace_.backlog, 1);
+        }
+    }
+}
+
+void Link::countWaits(const Timed& m, Picos upTo) {
+    stats_.slotWait += std::min(m.ready, upTo) - m.sent;
+    stats_.wireWait += std::min(m.start, upTo) - std::min(m.ready, upTo);
+}
+
+// (Messages are counted in the order they are consumed, in which their wire
+// waits end in order on each lane: the union is counted as it grows. A
+// control message overtaking data ones may end its wait before the last
+// counted: its overlap is not counted twice.)
+void Link::countSaturation(Picos ready, Picos start, Picos end) {
+    if (distributions_) stats_.windows.add(start, end);  // (--link-stats full)
+    const Picos from = std::max(ready, saturatedUntil_);
+    if (start > from) stats_.saturated += start - from;
+    saturatedUntil_ = std::max(saturatedUntil_, start);
+}
+
+Picos Link::scheduleControl(Picos ready, Picos transfer) {
+    Lane& data = lanes_[kData];  // on the wire in the order they went on it
+    const size_t onWire = data.buffered();
+    size_t first = 0;  // the first data message not started by `ready`
+    while (first < onWire && data.onWire(first).start < ready) ++first;
+    if (first < onWire && data.onWire(first).owed) ++first;  // its turn: it goes first (round-robin)
+    Picos start = std::max(ready, controlFree_);
+    if (first > 0) start = std::max(start, data.onWire(first - 1).start + data.onWire(first - 1).transfer);  // on the wire then
+    controlFree_ = start + transfer;
+    Picos end = controlFree_;
+    if (first < onWire && data.onWire(first).ready < end) data.onWire(first).owed = true;  // it waits for this one
+    for (size_t i = first; i < onWire; ++i) {
+        Timed& d = data.onWire(i);
+        d.start = std::max(d.ready, end);
+        end = d.start + d.transfer;
+        d.t = end + params_.latency;
+    }
+    wireFree_ = std::max(wireFree_, end);
+    if (first == 0 && onWire > 0) headChanged();  // the data head moved
+    return start;
+}
+
+bool Link::peekArrival(Picos& arrival) const {
+    arrival = headArrival();
+    return arrival != ~Picos(0);
+}
+
+size_t Link::arrivedBy(Picos t) const {
+    size_t n = 0;
+    for (const Lane& l : lanes_)
+        for (size_t i = 0; i < l.buffered() && l.onWire(i).t <= t; ++i) ++n;  // buffers are in arrival order
+    return n;
+}
+
+bool Link::controlArrivedBy(Picos t) const {
+    const Lane& c = lanes_[kControl];
+    return c.buffered() && c.head().t <= t;
+}
+
+Message Link::consumeControl(Picos t) { return take(kControl, t); }
+
+Message Link::consume(Picos t) {
+    const Lane &d = lanes_[kData], &c = lanes_[kControl];
+    const bool control = c.buffered() && (!d.buffered() || c.head().t <= d.head().t);  // ties to control
+    return take(control ? kControl : kData, t);
+}
+
+Message Link::take(int lane, Picos t) {
+    Lane& l = lanes_[lane];
+    if (!l.buffered() || l.head().t > t) throw std::logic_error(name_ + ": consumed before arrival");
+    const uint64_t j = l.taken;  // its number
+    const Timed& head = l.head();
+    // Messages on the lane when it went on the wire: those before it taken
+    // after that (take times do not decrease), and itself. They held a slot
+    // each then, so they are the last `slots` at most (its own slot came
+    // back after message j - slots was taken).
+    if (keepsBufferMark(l)) {
+        if (j + 1 > l.slots) l.markFrom = std::max(l.markFrom, j + 1 - l.slots);
+        while (l.markFrom < j && l.takenAt(l.markFrom) <= head.start) ++l.markFrom;
+        stats_.bufferHighWater = std::max(stats_.bufferHighWater, size_t(j - l.markFrom + 1));
+    }
+    // Its take time, beside those the next slots need (message n's slot is
+    // message n - slots's) and those the mark may still read (from markFrom,
+    // which the mark's count above keeps at most `slots` back).
+    uint64_t from = l.wired >= l.slots ? l.wired - l.slots : 0;
+    if (keepsBufferMark(l)) from = std::min(from, l.markFrom);
+    l.takenAt_.fit(std::min(from, j), j);
+    l.takenAt_[j] = t;
+    countWaits(head, t);  // (taken after its arrival: its whole waits)
+    countSaturation(head.ready, head.start, head.start + head.transfer);
+    ++stats_.consumed;
+    if (distributions_) (isControl(head.type) ? stats_.controlLatency : stats_.latency).add(t - head.sent);
+    if (trace_.vcd) {
+        VcdStream& v = *trace_.vcd;
+        if (params_.controlDepth > 0) {  // (its start may have moved: recorded now, when final)
+            v.step(head.sent, trace_.backlog, 1);
+            traceStart(head.start, head.transfer);
+        }
+        v.step(t, trace_.buffered, -1);
+    }
+    Message m = std::move(l.messages.front());
+    l.messages.pop_front();
+    ++l.taken;
+    if (!l.messages.empty()) {  // the next one, written long ago by the sender: on its way to the cache
+        const char* next = reinterpret_cast<const char*>(&l.messages.front());
+        for (size_t b = 0; b < sizeof(Message); b += 64) __builtin_prefetch(next + b);
+    }
+    if (listener_) --listener_->buffered;
+    --byType_[size_t(m.type)].inFlight;
+    headChanged();
+    startWaiting(lane);
+    return m;
+}
+
+}  // namespace rt

@@ -1,0 +1,304 @@
+// A one-way link between two nodes (or a node and the frame buffer): a FIFO
+// channel with a latency, a bandwidth and a depth.
+//
+// Timing: a message sent at (sender) time t starts on the wire at
+//   start = max(t, wire free, a credit slot free)
+// takes ceil(bytes / bandwidth) (at least 1 ps) on the wire, and arrives
+// latency later. The link holds at most `depth` messages that the receiver
+// has not consumed; a consumed message's slot comes back to the sender one
+// latency later (credit-based flow control). Messages that find no slot wait
+// in the sender's own memory (the link's backlog, its output buffer). By
+// default that buffer is unbounded and a sender never blocks: back-pressure
+// delays messages but cannot deadlock the machine. With an output depth
+// (LinkParams::outDepth, --link-out-depth), a buffer holds at most that many
+// messages per lane, and a sender that finds it full blocks until a message
+// leaves it for a slot (roomAt, roomEvent; Node::sendOutbox charges the
+// blocked time). Then two nodes that fill each other's links can deadlock
+// (doc/machine.md, "Finite output buffers").
+//
+// The control lane. Load reports, slides and acks (the balancing protocol)
+// travel in a second virtual channel with its own `controlDepth` slots and
+// priority on the wire: a control message goes on the wire as soon as the
+// message being sent when it became ready has left, ahead of every data
+// message not yet started, which moves back behind it; except the data
+// message the previous control message went ahead of, which goes first. So
+// while both lanes have messages ready the wire alternates between them
+// (round-robin arbitration, as virtual-channel hardware does): a control
+// message waits for at most one data message beyond the one on the wire,
+// and a stream of control messages cannot starve the rays (a link whose
+// reports alone fill the wire once held a ray back for ever). The two lanes share
+// the wire's bandwidth and latency. The receiver may take a control message
+// ahead of data that arrived before it (Node::takeWork does). This is what
+// link hardware with virtual channels does, and it keeps the balancing's
+// decisions from waiting behind rays (doc/balancing.md, "The control lane").
+// Order still holds where the protocol needs it: each lane is FIFO, and a
+// data message sent after a control message arrives after it.
+//
+// Every time is computed from the others when it becomes known, never by
+// polling, so the outcome does not depend on the order in which the kernel
+// runs processes at one instant; it also lets senders and receivers run
+// ahead of the kernel (temporal decoupling). A control message moves back
+// only data messages that have not started yet, so none that a receiver
+// could have taken (their arrival is more than one latency after the
+// sender's time, which is the lookahead).
+#pragma once
+#include <algorithm>
+#include <array>
+#include <memory>
+#include <stdexcept>
+#include <string>
+
+#include <systemc>
+
+#include "base/fifo.h"
+#include "channel/link_if.h"
+#include "channel/link_stats.h"
+#include "channel/message.h"
+#include "base/numbered_ring.h"
+#include "base/progress.h"
+#include "trace/vcd_stream.h"
+
+namespace rt {
+
+// A link's signals in the VCD: the wire busy (a bit; a frame-buffer port's
+// channels share one count), messages buffered (on the wire or arrived, not
+// consumed) and the backlog (sent, not yet on the wire); Link::traceStart
+// says when each change is recorded.
+struct LinkTrace {
+    VcdStream* vcd = nullptr;
+    int wire = -1, buffered = -1, backlog = -1;
+};
+
+// A channel, but not an sc_object: ports bind to its interfaces, and a
+// machine has tens of thousands of links (a frame-buffer port from every node
+// to every unit), which SystemC's object hierarchy registers by name and
+// unregisters one linear search at a time.
+class Link final : public LinkSendIf, public LinkRecvIf {
+public:
+    // `smallest`: the fewest bytes a message on it may have (message.h,
+    // smallestMeshMessage); its receiver's lookahead counts on it, and send
+    // refuses a smaller message.
+    Link(std::string name, const LinkParams& params, uint32_t smallest = kHeaderBytes);
+    // The soonest after its sender's time that a message sent on it arrives.
+    Picos lookahead() const { return linkLookahead(params_, smallest_); }
+
+    void send(Message&& m, Picos t) override;
+    Picos roomAt(MsgType type, Picos t) override;
+    const sc_core::sc_event& roomEvent() const override { return *room_; }
+    bool peekArrival(Picos& arrival) const override;
+    Message consume(Picos t) override;
+    bool controlArrivedBy(Picos t) const override;
+    Message consumeControl(Picos t) override;
+    void setListener(ArrivalListener* l, int port) override {
+        if (listener_) listener_->buffered -= unconsumed();
+        listener_ = l;
+        listenerPort_ = port;
+        if (listener_) listener_->buffered += unconsumed();
+        headChanged();
+    }
+
+    const LinkParams& params() const override { return params_; }
+    LinkStats stats() const {
+        LinkStats s;
+        static_cast<LinkFlow&>(s) = stats_;
+        for (size_t t = 0; t < size_t(kMsgTypes); ++t) {
+            s.messages[t] = byType_[t].messages;
+            s.bytes[t] = byType_[t].bytes;
+            s.wire[t] = byType_[t].wire;
+        }
+        return s;
+    }
+    // The frame ended at `end`: the wire time after it is taken out of the
+    // figures (a node running ahead of the kernel may have sent a load
+    // report that goes on the wire after the last contribution arrived;
+    // the frame's figures, as its waveforms, end with the frame); messages
+    // not taken by then add their waits up to it (their backlog signal). A link
+    // with a control lane traces a message when it is consumed; those never
+    // consumed are traced now, as a link without one traced them when sent.
+    void endFrame(Picos end);
+    Picos occupied() const override;
+    void setProgress(Progress* p) { progress_ = p; }
+    // Whether it keeps its latency distributions and high-water marks
+    // (MachineConfig::linkDistributions); set before the first message.
+    void keepDistributions(bool keep) { distributions_ = keep; }
+    // A message's time on the wire [start, end) and its wait for it from
+    // `ready`, in the saturation figures (LinkFlow::windows, saturated).
+    void countSaturation(Picos ready, Picos start, Picos end);
+    void setTrace(const LinkTrace& t) { trace_ = t; }
+    // Whether changes it records later may be earlier than the kernel's time
+    // (with a control lane: Link::traceStart).
+    bool tracesLate() const { return trace_.vcd && params_.controlDepth > 0; }
+    // When the oldest message not yet consumed was sent (~0 if none): no
+    // change this link records later is earlier (VcdStream's horizon).
+    Picos oldestSent() const {
+        Picos t = ~Picos(0);
+        for (const Lane& l : lanes_) {  // (a lane's buffer is older than its backlog, each in the order sent)
+            if (l.buffered()) t = std::min(t, l.head().sent);
+            else if (l.waiting()) t = std::min(t, l.firstWaiting().sent);
+        }
+        return t;
+    }
+    size_t backlog() const { return lanes_[0].waiting() + lanes_[1].waiting(); }
+    // Messages of this type sent and not yet consumed.
+    uint64_t inFlight(MsgType t) const { return byType_[size_t(t)].inFlight; }
+    uint64_t workInFlight() const override {
+        uint64_t n = 0;
+        for (int t = 0; t < kMsgTypes; ++t)
+            if (!isControl(MsgType(t))) n += byType_[size_t(t)].inFlight;
+        return n;
+    }
+    size_t arrivedBy(Picos t) const override;
+    size_t unconsumed() const override { return lanes_[0].buffered() + lanes_[1].buffered(); }
+    const std::string& name() const { return name_; }
+
+private:
+    // A message's times on the link, kept apart from the message itself:
+    // the times are read and written several times (sent, given a slot,
+    // moved back by a control message, taken), a message is written once
+    // and read once. A message waiting for a slot needs only when it was
+    // sent and its size; the rest is known once it has a slot. With a
+    // quantum most messages wait for a slot, and some links hold many
+    // thousands at once (the output buffer of the node that generates the
+    // primary rays: 126,000 on balls-4 at 512x512), which the links write
+    // to memory and read back long after; so a waiting message's record is
+    // 16 bytes, and the records of the few on the wire (at most a slot
+    // each), which every change touches, are a queue of their own.
+    struct Waiting {
+        Waiting(Picos sent_, uint32_t bytes_, MsgType type_) : sent(sent_), bytes(bytes_), type(type_) {}
+        Picos sent;  // when the sender sent it
+        uint32_t bytes;
+        MsgType type;
+    };
+    struct Timed {
+        Timed() = default;
+        Timed(const Waiting& w, Picos arrival, Picos start_, Picos ready_, Picos transfer_)
+            : t(arrival), sent(w.sent), start(start_), ready(ready_), transfer(transfer_), bytes(w.bytes), type(w.type) {}
+        Picos t = 0;         // its arrival
+        Picos sent = 0;      // when the sender sent it
+        Picos start = 0;     // when it went on the wire
+        Picos ready = 0;     // when it could have (sent, and a slot free)
+        Picos transfer = 0;  // its time on the wire
+        uint32_t bytes = 0;
+        MsgType type = MsgType::Ray;
+        bool owed = false;   // a data message a control message went ahead of: it goes before the next one
+    };
+    // One virtual channel: its slots, its buffer and its backlog.
+    //
+    // Messages are numbered in the order sent, from 0. The backlog (sent,
+    // waiting for a slot) is `backlog`; the messages themselves, on the wire
+    // or waiting, are in `messages`, in the order sent. The receiver takes
+    // them in that order, and taking message j gives its slot back one
+    // latency later: message n goes on the wire with the slot of message
+    // n - slots (the first `slots` with unused ones, free from time 0). So
+    // at most `slots` are on the wire at once (the buffer: on the wire or
+    // arrived, not taken), and a slot is free while fewer are.
+    //
+    // By number, without moving or dropping anything as messages go on the
+    // wire and are taken: the records of those on the wire (from `taken` to
+    // `wired`) in `onWire_`, and when the last ones were taken (those a
+    // slot or the buffer's high-water mark may still need: at most `slots`
+    // before the oldest on the wire) in `takenAt_`; message n at n mod each
+    // ring's size, a power of two that grows as the window does (to at most
+    // slots and 2 slots).
+    struct Lane {
+        Fifo<Waiting> backlog;
+        Fifo<Message> messages;
+        NumberedRing<Timed> onWire_;
+        NumberedRing<Picos> takenAt_;
+        uint64_t taken = 0;      // messages taken so far (the oldest on the wire's number)
+        uint64_t wired = 0;      // messages put on the wire so far (the next one's number)
+        uint64_t markFrom = 0;   // the first message that may still count towards the buffer's high-water mark
+        uint32_t slots = 0;
+        // Every message sent: its transfer and the latency there and back,
+        // summed (the slots' round trips it owes, for occupied()).
+        Picos held = 0;
+        // For the backlog's high-water mark: when the messages that waited
+        // for the wire started.
+        Fifo<Picos> waitedUntil;
+        // With an output depth: when the messages that left the backlog
+        // (given a slot) leave the sender's buffer, from the sender's time on.
+        Fifo<Picos> leaving;
+        size_t buffered() const { return size_t(wired - taken); }
+        size_t waiting() const { return backlog.size(); }
+        Timed& onWire(size_t i) { return onWire_[taken + i]; }  // i < buffered(), oldest first
+        const Timed& onWire(size_t i) const { return onWire_[taken + i]; }
+        Timed& head() { return onWire(0); }  // the oldest on the wire (buffered() > 0)
+        const Timed& head() const { return onWire(0); }
+        const Waiting& firstWaiting() const { return backlog.front(); }  // (waiting() > 0)
+        bool slotFree() const { return buffered() < slots; }
+        Picos takenAt(uint64_t j) const { return takenAt_[j]; }
+    };
+    static constexpr int kData = 0, kControl = 1;
+    int laneOf(MsgType t) const { return params_.controlDepth > 0 && isControl(t) ? kControl : kData; }
+    void startWaiting(int lane);  // puts backlog messages on the wire while slots allow
+    Picos slotTime(const Lane& l) const;  // when the slot of the lane's next message on the wire became free (one must be)
+    // Messages on a lane at once (each holding a slot) are at most its
+    // slots: once the buffer's high-water mark has reached that, no message
+    // can raise it, and the lane stops keeping what it needs for it (most
+    // messages on the 16x16x16 mesh go on links that fill their 16 slots).
+    bool keepsBufferMark(const Lane& l) const { return distributions_ && stats_.bufferHighWater < l.slots; }
+    void putOnWire(int lane, Picos slot);  // the lane's first waiting message
+    // A message's slot and wire waits (LinkFlow::slotWait, wireWait) up to
+    // `upTo`: at its take, all of them; at the frame's end, those so far.
+    void countWaits(const Timed& m, Picos upTo);
+    // A control message ready at `ready`: its start on the wire, after the
+    // message being sent then; the data messages not started by then move
+    // back behind it.
+    Picos scheduleControl(Picos ready, Picos transfer);
+    Message take(int lane, Picos t);
+    Picos transferTime(uint32_t bytes) const;
+    // The oldest unconsumed message's arrival (~0 if none), and telling the listener.
+    Picos headArrival() const {
+        const Lane &d = lanes_[kData], &c = lanes_[kControl];
+        return std::min(d.buffered() ? d.head().t : ~Picos(0), c.buffered() ? c.head().t : ~Picos(0));
+    }
+    void headChanged() {
+        if (listener_) listener_->headChanged(listenerPort_, headArrival());
+    }
+    void traceStart(Picos start, Picos transfer);  // (trace_ set)
+
+    // What a message sent or taken touches comes first, so that it shares
+    // a few cache lines: on a large mesh a link is out of cache whenever it
+    // is used (the 16x16x16 mesh has about 90,000 links).
+    LinkParams params_;
+    uint32_t smallest_;
+    bool distributions_ = true;  // keepDistributions
+    mutable uint32_t lastBytes_ = 0;   // transferTime's last message size
+    mutable Picos lastTransfer_ = 0;   // and its time on the wire
+    Picos owedWire_ = 0;     // every message sent: its time on the wire (occupied())
+    Picos wireFree_ = 0;     // the end of the last transmission scheduled
+    Picos controlFree_ = 0;  // the end of the last control transmission
+    Picos saturatedUntil_ = 0;  // LinkFlow::saturated counted up to here
+    ArrivalListener* listener_ = nullptr;
+    Progress* progress_ = nullptr;  // the watchdog's (machine.h)
+    int listenerPort_ = 0;
+    LinkTrace trace_;
+    LinkFlow stats_;
+    std::array<Lane, 2> lanes_;
+    // By type, counted as messages are sent, go on the wire and are taken:
+    // a type's four figures in one half cache line (stats() adds the first
+    // three to the rest).
+    struct alignas(32) TypeCounts {
+        uint64_t messages = 0, bytes = 0;
+        Picos wire = 0;
+        uint64_t inFlight = 0;  // sent, not yet consumed
+    };
+    std::array<TypeCounts, kMsgTypes> byType_{};
+    std::string name_;
+    // A message left a full output buffer's backlog: only with an output
+    // depth (168 bytes, on each of the 16x16x16 mesh's 90,000 links).
+    std::unique_ptr<sc_core::sc_event> room_;
+};
+
+// The link behind a port: every channel a node or a unit is bound to is a
+// Link, and holding it as one (Link is final) makes the calls at every
+// message direct instead of virtual, through the interfaces' thunks: with
+// the ring keeping its room (fifo.h), 3 to 4 % of the 100 us run on
+// balls-4 at 512x512, N = 4.
+template <class If>
+Link& asLink(If& i) {
+    if (auto* l = dynamic_cast<Link*>(&i)) return *l;
+    throw std::logic_error("a port bound to a channel that is not a Link");
+}
+
+}  // namespace rt

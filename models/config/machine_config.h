@@ -1,0 +1,223 @@
+// Everything that configures the machine: mesh shape, per-operation costs,
+// node speeds, link and frame-buffer port settings, with per-node and
+// per-link overrides. Plain data with named fields (no globals); rtsim fills
+// it from its command line or config file. Defaults and where their values
+// come from: doc/machine.md, "Costs".
+#pragma once
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <map>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "lattice.h"
+#include "channel/link_params.h"
+#include "base/mesh_geometry.h"
+#include "base/units.h"
+
+namespace rt {
+
+// Processing cost of each operation, before the node's speed factor.
+struct Costs {
+    std::array<Picos, 3> test{10000, 20000, 20000};  // intersection test: sphere, polygon, cone
+    Picos voxelStep = 4000;
+    Picos rayGen = 20000;   // generating one primary ray
+    Picos shade = 50000;    // shading one hit (spawning its rays and contributions)
+    Picos send = 40000;     // handling one outgoing message (link or frame-buffer port)
+    Picos recv = 40000;     // handling one incoming message
+};
+
+// Sliding boundaries (doc/balancing.md). Every column of nodes along the
+// progress axis owns its own boundaries between them. Policies are named
+// (models/config/policy_table.cpp): none, slide, work, quantile, resplit, measured, median.
+// The recommended policy (doc/balancing.md; `--balance recommended`; the
+// default of --balance is none, no balancing).
+// `measured` keeps the starting split for the first frame, measuring where
+// the work is, and from the second frame on re-splits each column between
+// frames as `resplit` does: a first frame is never slower than without
+// balancing (within a frame, sliding lost up to 39 % on balls-4), and the
+// steady state is `resplit`'s.
+constexpr const char* kRecommendedPolicy = "measured";
+
+struct BalanceConfig {
+    std::string policy = "none";
+    int axis = 0;                 // progress axis: 0 x, 1 y, 2 z
+    Picos interval = 20000000;    // 20 us between load reports
+    double gain = 0;              // how far a decision moves (the policy's; 0: its default, gainOf())
+    double deadband = 0.05;       // no slide while the difference is at most this (the policy's measure)
+    double minThickness = 0.05;   // a box never gets thinner than this fraction of its initial thickness
+    int bins = 16;                // work profile: bins per initial box thickness along the axis
+    Picos rebuildCost = 20000;    // updating a node's grid: per object moved in or out
+    // The guard (every policy; balance_agent.h): no slide on loads older than
+    // maxAge intervals, or whose cost exceeds the work it moves over the
+    // next `horizon` intervals.
+    bool guard = true;
+    double maxAge = 4;
+    double horizon = 10;
+    double hopRatio = 4;          // no slide while a ray's hop takes longer than this many mean steps
+    // No slide across a link that would be busy more than this share of an
+    // interval after it (its last interval's share plus the rays the slab's
+    // work sends across, by the link's narrower limit: its wire, or its
+    // slots' round trips; 1: a full link, the default; 0: off;
+    // doc/balancing.md, "A busy-link guard").
+    double wireShare = 1;
+    // Load reports on a control lane take at most this share of the link's
+    // time: a node reports to a neighbour again only once reportTime /
+    // reportShare has passed since its last report there (balance_agent.h,
+    // "Pacing"; on the rays' FIFO reports wait their turn and are not paced).
+    double reportShare = 0.02;
+    // Faces shared by a layer and agreed at no cost (ideal_layer_faces.h): a
+    // measuring device for `slide`, off on a real machine.
+    bool idealLayerFaces = false;
+
+    bool dynamic() const;         // a policy that moves boundaries during the frame
+    // A policy that re-splits from the frame before's work (resplit, measured).
+    bool betweenFrames() const { return policy == "resplit" || policy == "measured" || policy == "sample"; }
+    // One whose first frame keeps its starting split and only measures (measured).
+    bool firstFrameHolds() const { return policy == "measured"; }
+    double gainOf() const;        // gain, or the policy's default
+    // Throws std::invalid_argument("--flag: what") for the first bad value.
+    // `reportFloor`: the shortest interval a node can report in;
+    // `carriedBoundaries`: the frame starts where another left its faces.
+    void validate(Picos reportFloor, bool carriedBoundaries) const;
+};
+
+// The mesh's limits: nodes per axis, and nodes in all (32 x 32 x 32, or a
+// flatter shape such as 64 x 64 x 8); a run that would not fit the
+// machine's memory is refused before it starts with its estimate
+// (binning_memory.h).
+constexpr int kMaxNodesPerAxis = 64;
+constexpr long kMaxNodes = 32768;
+
+struct MachineConfig {
+    std::array<int, 3> dims{4, 4, 4};  // nodes along x, y, z
+    int width = 0, height = 0;         // image size (0: the scene's)
+    int maxDepth = 5;
+
+    Costs costs;
+    double speed = 1.0;                // node speed factor: time = cost / speed
+    std::map<Cell, double> nodeSpeed;  // per-node speed overrides
+    std::map<Cell, Costs> nodeCosts;   // per-node cost overrides (whole sets)
+
+    LinkParams link;
+    std::map<std::pair<Cell, int>, LinkParams> linkOverride;  // (source node, direction)
+
+    // Who pays for a hop (doc/machine.md, "Who pays for a hop"): the node's
+    // processor handles each message it sends and receives (--cost-send,
+    // --cost-recv charged to its busy time, as a node whose routing runs in
+    // software), or the links' own engines do (DMA, as the paper's simulator
+    // assumes): then the sender's --cost-send holds the wire before each
+    // message (LinkParams::engine) and the receiver's --cost-recv adds to the
+    // link's latency, and the processors pay nothing for a hop.
+    bool hopsByLinks = false;  // --hop-handling link
+
+    // The frame buffer (doc/machine.md, "The frame buffer"): fbUnits units,
+    // pixel-interleaved (pixel p in unit p mod fbUnits); 1 is a single host.
+    // Each node has a port to each unit (and each unit but 0 one to unit 0).
+    int fbUnits = 16;
+    LinkParams fbPort{200000, 1e9, 16};
+    Picos hostCost = 5000;             // per contribution accumulated, in its unit
+    int fbBatch = 32;                  // contributions per frame-buffer message
+    int rayBatch = 1;                  // rays per link message (sent when full or before the node waits)
+
+    BalanceConfig balance;
+    // Where each column's boundaries along the progress axis start: per
+    // column (in Machine::columnOf order), its N - 1 inner planes, each box
+    // at least the minimum thickness; empty: the policy's own start (uniform,
+    // or the object medians for `median`). A frame of --frames starts where
+    // the one before ended (--boundaries-from).
+    std::vector<std::vector<double>> startBoundaries;
+    // `resplit`: where each column's inner planes go at the start of the
+    // frame (the quantiles of the frame before's busy time; same layout as
+    // startBoundaries). The nodes move there with slides at time 0 and keep
+    // their boxes for the frame; empty: no frame before (within-frame slides).
+    std::vector<std::vector<double>> targetBoundaries;
+
+    // What the links keep of each message beyond counts and times: their
+    // latency distributions (p50, p95, max) and their backlog and buffer
+    // high-water marks. Keeping them costs 7 to 8 % of a 100 us run's wall
+    // time on balls-4 at 512x512 (each touches a link's figures once per
+    // message, long after the link was last used); without them (--link-stats
+    // counts) the report leaves those fields out and everything else,
+    // timing included, is the same to the bit (doc/exploration.md,
+    // "Fidelity knobs"; doc/machine.md, the report).
+    bool linkDistributions = true;
+
+    // Tracing (VCD); empty path: none. The VCD is streamed into vcdPath;
+    // its .gtkw (MachineResult::gtkw) opens it by vcdName's file name (rtsim:
+    // streams into a temporary file, renamed to --vcd at the end; empty
+    // vcdName: vcdPath's).
+    std::string vcdPath, vcdName;
+    std::vector<Cell> traceNodes;      // empty: every node
+    // Links traced besides the traced nodes' own: (node, direction), the
+    // direction kDirs for its frame-buffer port, -1 for all of them.
+    std::vector<std::pair<Cell, int>> traceLinks;
+    Picos traceFrom = 0, traceTo = ~Picos(0);
+
+    // Temporal decoupling (TLM-2.0 style): a process may run this far ahead of
+    // the kernel's time before it synchronises. 0: synchronise after every
+    // step (exact). No larger than the lookahead: still exact, because no
+    // message can arrive sooner than one latency and its own time on the
+    // wire after the kernel's time (doc/time.md, "Local time").
+    Picos quantum = 0;
+    // --quantum lookahead (the default): each process runs ahead by its own
+    // lookahead instead, the largest quantum that is still exact for it: the
+    // soonest a message not yet sent can arrive at it, the smallest over its
+    // input links of their latency plus the smallest message's time on
+    // their wire (Machine; doc/time.md, "Local time"). `quantum` then
+    // holds the smallest of them (lookahead()), for the report.
+    bool lookaheadQuantum = false;
+    // With lookaheadQuantum: how late the frame-buffer units other than 0
+    // may take the nodes' contributions (FrameBufferUnit::setLate), so that
+    // one activation takes many; the simulated times are the same (0: as
+    // they arrive). Not with waveforms or --fb-out-depth.
+    Picos fbLate = 10000000;  // 10 us
+
+    bool showProgress = false;
+
+    // The watchdog (machine.h): a run in which no ray, contribution or
+    // credit moves for watchdogSpan of simulated time (0: the larger of
+    // 100 us and 1,000 times the largest cost, latency or ray message's wire
+    // time: nothing in a running frame waits that long),
+    // or that runs longer than watchdogWall seconds of wall-clock time (0:
+    // no limit), stops as incomplete.
+    Picos watchdogSpan = 0;
+    double watchdogWall = 0;
+    // Test only: unit 0 drops the first credit message it takes, so the
+    // frame never completes (the watchdog's planted bug).
+    bool faultDropFirstCredit = false;
+
+    int nodeCount() const { return dims[0] * dims[1] * dims[2]; }
+    double speedOf(const Cell& c) const;
+    const Costs& costsOf(const Cell& c) const;
+    const LinkParams& linkOf(const Cell& from, int dir) const;
+    // As the machine builds them, with the hop handling applied: the mesh
+    // link from `from` towards `dir`, the node's frame-buffer port, the
+    // costs its processor pays.
+    LinkParams meshLinkOf(const Cell& from, int dir) const;
+    LinkParams fbPortOf(const Cell& from) const;
+    Costs processorCostsOf(const Cell& c) const;
+    // The machine's lookahead: the smallest of its processes' (see
+    // lookaheadQuantum): over every mesh link and frame-buffer port, its
+    // latency plus the smallest message it carries on its wire (a link with
+    // a control lane: its latency alone, for its sender). A quantum up to
+    // this is still exact for every process.
+    Picos lookahead() const;
+    // The watchdog's span: watchdogSpan, or its default for a scene of
+    // `objects` objects.
+    Picos watchdogSpanOrDefault(size_t objects) const;
+    // Throws std::invalid_argument("--flag: what") for the first bad value.
+    void validate() const;
+    // The times the model derives from the flags for one event, each at
+    // most kMaxTimeValue (1,000 s) like any time given: a full message's
+    // time on each link's wire, a full frame-buffer message's handling,
+    // each cost at the slowest node's speed, a slide's grid update for all
+    // `objects`, a load report's pacing gap. Throws std::invalid_argument
+    // ("--flag: what") naming the flags (derived_times.cpp). Sums of them
+    // are checked in the run as they are made (units.h).
+    void checkDerivedTimes(size_t objects) const;
+};
+
+}  // namespace rt

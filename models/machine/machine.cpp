@@ -1,0 +1,384 @@
+#include "machine/machine.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include "balance/sample_split.h"
+
+namespace rt {
+
+namespace {
+
+int imageWidth(const Scene& s, const MachineConfig& c) { return c.width ? c.width : s.view.width; }
+int imageHeight(const Scene& s, const MachineConfig& c) { return c.height ? c.height : s.view.height; }
+
+}  // namespace
+
+Machine::Machine(sc_core::sc_module_name name, const Scene& scene, const MachineConfig& config)
+    : sc_module(name),
+      scene_(scene),
+      cfg_(config),
+      width_(imageWidth(scene, config)),
+      height_(imageHeight(scene, config)),
+      world_(scene.worldBox()),
+      columns_(config.balance.axis, config.dims),
+      cuts_(Lattice::uniform(world_, config.dims)),
+      camera_(scene.view, width_, height_),
+      shader_(scene, config.maxDepth),
+      units_("fb"),
+      nodes_("node") {
+    cfg_.validate();
+    minThickness_ = minThicknessOf(cfg_, world_);
+    // Each node's objects (and the median's columns) found by binning, not by
+    // scanning the scene once per box.
+    const ObjectBins bins(scene_.objects, cuts_, roundingMargin(world_));
+    columnPlanes_ = initialPlanes(cfg_, cuts_, world_, bins, minThickness_);
+    // With targets for the frame's start (resplit), each box at least the
+    // minimum thickness, exactly: the moves at the start reach a target only
+    // then (a give leaves its giver that thick), and a node generates its
+    // primary rays only once its faces are at their targets
+    // (Node::holdsPrimaries).
+    const ColumnPlanes targets = cfg_.targetBoundaries.empty()
+                                     ? columnPlanes_
+                                     : withInnerPlanes("target boundaries", columnPlanes_, cfg_.targetBoundaries, minThickness_, 0);
+    // Credit precision: the host's split, a node's split over its primary
+    // rays, and one split per ray-tree level (a hit spawns at most L + 2 rays
+    // and keeps a share: L + 3 parts).
+    maxExp_ = ceilLog2(uint64_t(cfg_.nodeCount()) + 1) + ceilLog2(uint64_t(long(width_) * height_) + 1) +
+              (cfg_.maxDepth + 1) * ceilLog2(scene.lights.size() + 3) + 2;
+    buildUnits();
+    buildNodes(bins);
+    buildLinks();
+    for (Node& n : nodes_) n.setProgress(&watchdog_->progress());
+    if (cfg_.faultDropFirstCredit) units_[0].dropFirstCredit();
+    units_[0].onFinish([this] { endProcesses(); });
+    if (!cfg_.vcdPath.empty()) setupTraces();
+    giveOutPrimaryRays(targets);
+}
+
+Machine::~Machine() = default;
+
+void Machine::buildUnits() {
+    const int k = cfg_.fbUnits;
+    const size_t pixels = size_t(long(width_) * height_);
+    units_.init(size_t(k), [&](const char* n, size_t u) {
+        return new FrameBufferUnit(n, int(u), k, pixels, cfg_.hostCost, maxExp_, cfg_.showProgress, cfg_.quantum);
+    });
+}
+
+void Machine::buildNodes(const ObjectBins& bins) {
+    const int ax = columns_.axis;
+    if (cfg_.balance.idealLayerFaces) {  // every column starts with the same planes (validate)
+        const std::vector<double>& b = columnPlanes_.front();
+        layerFaces_ = std::make_unique<IdealLayerFaces>(std::vector<double>(b.begin() + 1, b.end() - 1), world_.lo[ax],
+                                                        world_.hi[ax], cfg_.balance.deadband, cfg_.balance.gainOf(),
+                                                        minThickness_);
+    }
+    nodeParams_.reset(new NodeParams{shader_,       camera_,      world_,        cfg_.fbUnits,
+                                     cfg_.fbBatch,  cfg_.rayBatch, cfg_.balance,  cfg_.dims[ax],
+                                     minThickness_, cfg_.quantum,  layerFaces_.get(),
+                                     cfg_.lookaheadQuantum && !cfg_.balance.dynamic()});
+    nodes_.init(size_t(cfg_.nodeCount()), [&](const char*, size_t i) {
+        const Cell c = cellAt(i, cfg_.dims);
+        const Box b = nodeBox(c, cuts_, columns_, columnPlanes_);
+        return new Node(nodeName(c).c_str(), c, b, bins.overlapping(b), *nodeParams_, cfg_.processorCostsOf(c), cfg_.speedOf(c));
+    });
+    if (cfg_.targetBoundaries.empty()) return;
+    for (Node& node : nodes_) {  // resplit: where each node's faces go at the frame's start
+        const Cell& c = node.cell();
+        const std::vector<double>& t = cfg_.targetBoundaries[size_t(columns_.columnOf(c))];
+        const double nan = std::nan("");
+        node.setStartTargets(c[ax] > 0 ? t[size_t(c[ax] - 1)] : nan, c[ax] + 1 < cfg_.dims[ax] ? t[size_t(c[ax])] : nan);
+    }
+}
+
+// Links between face neighbours, one per direction, and the frame-buffer
+// ports; each process's lookahead is the smallest of its inputs'. Then the
+// watchdog, which the links mark progress to.
+void Machine::buildLinks() {
+    std::vector<Picos> nodeLookahead(nodes_.size(), kNoInput), unitLookahead(units_.size(), kNoInput);
+    const size_t most = nodes_.size() * size_t(kDirs + cfg_.fbUnits);  // (grown once, not by doubling)
+    links_.reserve(most);
+    reportOf_.reserve(most);
+    linkInfo_.reserve(nodes_.size() * size_t(kDirs + 1));
+    for (Node& n : nodes_) {
+        linkNeighbours(n, nodeLookahead);
+        linkToFrameBuffer(n, unitLookahead);
+    }
+    linkUnits(unitLookahead);
+    if (cfg_.lookaheadQuantum) setLookaheads(nodeLookahead, unitLookahead);
+    if (cfg_.lookaheadQuantum && cfg_.fbLate > 0 && cfg_.vcdPath.empty() && cfg_.fbPort.outDepth == 0)
+        for (int u = 1; u < cfg_.fbUnits; ++u) units_[size_t(u)].setLate(cfg_.fbLate);
+    startWatchdog();
+    for (auto* links : {&links_, &unitLinks_})
+        for (auto& l : *links) {
+            l->setProgress(&watchdog_->progress());
+            l->keepDistributions(cfg_.linkDistributions);
+        }
+}
+
+void Machine::linkNeighbours(Node& n, std::vector<Picos>& nodeLookahead) {
+    const Cell c = n.cell();
+    for (int d = 0; d < kDirs; ++d) {
+        const Cell m = neighbour(c, d);
+        if (!inMesh(m, cfg_.dims)) continue;
+        const std::string lname = nodeName(c) + "_" + linkSuffix(d);
+        // Without a dynamic policy there is no control traffic and the
+        // lane stays empty: one FIFO is the same link, cheaper to simulate.
+        LinkParams p = cfg_.meshLinkOf(c, d);
+        if (!cfg_.balance.dynamic()) p.controlDepth = 0;
+        links_.push_back(std::make_unique<Link>(lname, p, smallestMeshMessage(cfg_.balance.dynamic())));
+        n.out[d].bind(*links_.back());
+        meshLinks_[{nodeIndex(c), d}] = links_.back().get();
+        nodes_[nodeIndex(m)].in[opposite(d)].bind(*links_.back());
+        Picos& receiver = nodeLookahead[nodeIndex(m)];
+        receiver = std::min(receiver, links_.back()->lookahead());
+        // A control lane places a control message among the data messages
+        // on the wire when it is sent, from the slots the receiver has
+        // returned by then, which come back one latency after it consumed:
+        // its sender runs ahead by no more than that latency, as before
+        // the smallest message's wire time counted (the lane is not yet
+        // exact either way: doc/balancing.md, "The control lane").
+        Picos& sender = nodeLookahead[nodeIndex(c)];
+        if (p.controlDepth > 0) sender = std::min(sender, p.latency);
+        reportOf_.push_back(linkInfo_.size());
+        linkInfo_.push_back({lname, c, d, links_.back()->params(), 1, {}});
+    }
+}
+
+// A node's port to the frame buffer: a channel to each unit, reported as one.
+void Machine::linkToFrameBuffer(Node& n, std::vector<Picos>& unitLookahead) {
+    const int k = cfg_.fbUnits;
+    const std::string fname = nodeName(n.cell()) + "_fb";
+    const LinkParams port = cfg_.fbPortOf(n.cell());
+    for (int u = 0; u < k; ++u) {
+        links_.push_back(std::make_unique<Link>(k > 1 ? fname + std::to_string(u) : fname, port));
+        n.fb.bind(*links_.back());                   // the node's u-th binding
+        units_[size_t(u)].addNodeLink(*links_.back());  // the unit's input from this node (nodes in order)
+        unitLookahead[size_t(u)] = std::min(unitLookahead[size_t(u)], links_.back()->lookahead());
+        reportOf_.push_back(linkInfo_.size());
+    }
+    linkInfo_.push_back({fname, n.cell(), -1, port, k, {}});
+}
+
+// Unit 0 and each other unit: a port each way, for the end-of-frame check.
+void Machine::linkUnits(std::vector<Picos>& unitLookahead) {
+    for (int u = 1; u < cfg_.fbUnits; ++u) {
+        const std::string up = "fb" + std::to_string(u) + "_to_fb0", down = "fb0_to_fb" + std::to_string(u);
+        unitLinks_.push_back(std::make_unique<Link>(up, cfg_.fbPort));
+        units_[size_t(u)].toController.bind(*unitLinks_.back());
+        units_[0].in.bind(*unitLinks_.back());  // (after the nodes' links)
+        unitLookahead[0] = std::min(unitLookahead[0], unitLinks_.back()->lookahead());
+        unitLinks_.push_back(std::make_unique<Link>(down, cfg_.fbPort));
+        units_[0].toUnits.bind(*unitLinks_.back());
+        units_[size_t(u)].in.bind(*unitLinks_.back());
+        unitLookahead[size_t(u)] = std::min(unitLookahead[size_t(u)], unitLinks_.back()->lookahead());
+    }
+}
+
+// --quantum lookahead: each process runs ahead of the kernel by its own
+// lookahead, the soonest a message not yet sent can reach it (every sender's
+// time is at least the kernel's): the smallest over its input links of
+// their latency plus the smallest message's time on their wire. A node's
+// inputs are its neighbours' links (rays of 132 bytes, 16 with a dynamic
+// policy's acks; a node that sends on a control lane, no more than the
+// lane's latency, above); a unit's, the nodes' ports and the units' links
+// (a header of 8 bytes). A process with no inputs (one node) takes the
+// machine's smallest.
+void Machine::setLookaheads(const std::vector<Picos>& nodes, const std::vector<Picos>& units) {
+    const Picos fallback = cfg_.lookahead();
+    for (size_t i = 0; i < nodes_.size(); ++i) nodes_[i].setQuantum(nodes[i] == kNoInput ? fallback : nodes[i]);
+    for (size_t u = 0; u < units_.size(); ++u) units_[u].setQuantum(units[u] == kNoInput ? fallback : units[u]);
+}
+
+void Machine::startWatchdog() {
+    Watchdog::Machine watched{[this] { return controller().done(); },
+                              [this] {
+                                  if (vcd_) vcd_->flush(traceHorizon());
+                              },
+                              [this] { return whoHolds(); }, [this] { endProcesses(); }};
+    watchdog_ = std::make_unique<Watchdog>("watchdog", cfg_.watchdogSpanOrDefault(scene_.objects.size()),
+                                           cfg_.watchdogWall, std::move(watched));
+}
+
+// The host's job description (initial_split.h): each node's primary rays
+// and credit, and the background of the rays that miss the world.
+void Machine::giveOutPrimaryRays(const ColumnPlanes& planes) {
+    // With targets for the frame's start (resplit), each node generates the
+    // primary rays of the box it is to have, once it has it (Node::takeWork).
+    PrimaryRays primaries = assignPrimaryRays(camera_, world_, cuts_, columns_, planes);
+    Counters hostCounters;
+    for (const RayJob& j : primaries.misses)
+        units_[j.pixel % uint32_t(cfg_.fbUnits)].addOwn(shader_.miss(j, hostCounters));
+    primaryMisses_ = primaries.misses.size();
+    if (cfg_.balance.policy == "sample" && cfg_.targetBoundaries.empty()) prepareSample(primaries.perNode);
+    CreditShares credit = shareCredit(primaries.perNode, maxExp_);
+    for (size_t i = 0; i < nodes_.size(); ++i)
+        nodes_[i].assignPrimaries(std::move(primaries.perNode[i]), credit.exp[i], credit.remainder[i]);
+    units_[0].keep(credit.host);
+}
+
+// `sample`'s first frame (sample_split.h): where each node's planes come
+// from. A column none of
+// whose nodes generates primary rays takes its planes from one neighbouring
+// column, its feeder, the same for all its nodes (so its faces' targets
+// agree): the nearest that generates, by a breadth-first search over the
+// columns from those that do, in link order.
+void Machine::prepareSample(const std::vector<std::vector<uint32_t>>& perNode) {
+    const ColumnGeometry& g = columns_;
+    std::vector<int> feeder(size_t(g.count()), -2);  // per column: the direction of its feeder; -1: it generates; -2: none
+    std::vector<int> queue;
+    for (size_t i = 0; i < nodes_.size(); ++i) {
+        const int col = g.columnOf(nodes_[i].cell());
+        if (!perNode[i].empty() && feeder[size_t(col)] == -2) {
+            feeder[size_t(col)] = -1;
+            queue.push_back(col);
+        }
+    }
+    std::sort(queue.begin(), queue.end());
+    for (size_t q = 0; q < queue.size(); ++q) {
+        const Cell c = g.cell(queue[q] % g.dims[g.u], queue[q] / g.dims[g.u], 0);
+        for (int d = 0; d < kDirs; ++d) {
+            const Cell n = neighbour(c, d);
+            if (dirAxis(d) == g.axis || !inMesh(n, cfg_.dims) || feeder[size_t(g.columnOf(n))] != -2) continue;
+            feeder[size_t(g.columnOf(n))] = opposite(d);  // (back to this column)
+            queue.push_back(g.columnOf(n));
+        }
+    }
+    for (size_t i = 0; i < nodes_.size(); ++i) {
+        const Cell& c = nodes_[i].cell();
+        std::array<bool, 6> flood{};  // the neighbouring columns this one feeds
+        for (int d = 0; d < kDirs; ++d) {
+            const Cell n = neighbour(c, d);
+            flood[size_t(d)] = dirAxis(d) != g.axis && inMesh(n, cfg_.dims) && feeder[size_t(g.columnOf(n))] == opposite(d);
+        }
+        nodes_[i].setSample(feeder[size_t(g.columnOf(c))], flood);
+    }
+}
+
+void Machine::endFrame() {
+    for (Node& n : nodes_) n.endFrame(frameEnd(), !stopped());
+    for (auto& l : links_) l->endFrame(frameEnd());
+}
+
+// Ends every process but the caller's, from within the simulation, just
+// before it stops: sc_stop finishes the current delta cycle, and a process
+// ended here does not run in it. Newest first: the kernel finds a killed
+// process in its list of processes from the newest on, so ending the
+// oldest first took a search of every process for each (about 3 s at
+// 32,768 nodes).
+void Machine::endProcesses() {
+    const sc_core::sc_process_handle self = sc_core::sc_get_current_process_handle();
+    auto end = [&](const sc_core::sc_object& module) {
+        for (sc_core::sc_object* child : module.get_child_objects()) {
+            sc_core::sc_process_handle h(child);
+            if (h.valid() && h != self && !h.terminated()) h.kill();
+        }
+    };
+    end(*watchdog_);
+    for (size_t i = nodes_.size(); i-- > 0;) end(nodes_[i]);
+    for (size_t u = units_.size(); u-- > 0;) end(units_[u]);
+}
+
+// Which nodes still hold work or credit, and how much credit unit 0 lacks:
+// where to look when a frame does not end.
+std::string Machine::whoHolds() const {
+    std::ostringstream s;
+    int listed = 0, more = 0;
+    for (const Node& n : nodes_) {
+        const std::string h = n.holding();
+        if (h.empty()) continue;
+        if (listed < 6) s << (listed ? "; " : "") << nodeName(n.cell()) << ": " << h;
+        else ++more;
+        ++listed;
+    }
+    if (!listed) s << "no node holds work or credit";
+    if (more) s << "; and " << more << " more nodes";
+    s << "; unit 0 has " << controller().creditReturned() << " of the frame's credit back";
+    return s.str();
+}
+
+MachineResult Machine::collect(double wallSeconds) {
+    MachineResult r;
+    r.image = assembleImage(units_, width_, height_);
+    for (const FrameBufferUnit& u : units_) r.frameBuffer.push_back({u.stats()});
+    r.renderTime = frameEnd();
+    r.incomplete = watchdog_->stall();
+    for (const Node& n : nodes_) {
+        r.nodes.push_back(n.stats());
+        r.cells.push_back(n.cell());
+        r.boxes.push_back(n.region().box());
+        r.objectsPerNode.push_back(n.region().objects().size());
+        const Lattice* g = n.region().accelerator().grid();
+        if (g && !n.region().objects().empty())
+            r.grids.push_back(MachineResult::Grid{{g->cells(0), g->cells(1), g->cells(2)}, g->bounds()});
+        else
+            r.grids.push_back(std::nullopt);
+    }
+    r.links = std::move(linkInfo_);  // (collected once, at the end)
+    for (size_t i = 0; i < links_.size(); ++i) mergeChannel(r.links[reportOf_[i]].stats, links_[i]->stats());
+    r.boundaries = boundaryHistories();
+    r.worldBox = world_;
+    r.primaryMisses = primaryMisses_;
+    r.deltaCycles = sc_core::sc_delta_count();
+    r.wallSeconds = wallSeconds;
+    r.gtkw = gtkw_;
+    return r;
+}
+
+// Each boundary's positions over time, from the slides its two nodes gave.
+std::vector<BoundaryHistory> Machine::boundaryHistories() const {
+    const ColumnGeometry& g = columns_;
+    std::vector<BoundaryHistory> out;
+    for (int j = 0; j < g.dims[g.v]; ++j)
+        for (int i = 0; i < g.dims[g.u]; ++i)
+            for (int k = 1; k < g.length(); ++k) {
+                BoundaryHistory h{{i, j}, k, {{0, columnPlanes_[size_t(g.indexOf(i, j))][size_t(k)]}}};
+                std::vector<std::pair<Picos, double>> moves;
+                for (const SlideEvent& e : nodes_[nodeIndex(g.cell(i, j, k - 1))].stats().slides)
+                    if (e.side > 0) moves.push_back({e.t, e.boundary});
+                for (const SlideEvent& e : nodes_[nodeIndex(g.cell(i, j, k))].stats().slides)
+                    if (e.side < 0) moves.push_back({e.t, e.boundary});
+                std::stable_sort(moves.begin(), moves.end(),
+                                 [](const auto& a, const auto& b) { return a.first < b.first; });
+                h.positions.insert(h.positions.end(), moves.begin(), moves.end());
+                out.push_back(std::move(h));
+            }
+    return out;
+}
+
+namespace {
+// The process's start, for the start-up wall time (set at static initialisation).
+const std::chrono::steady_clock::time_point kProcessStart = std::chrono::steady_clock::now();
+double secondsBetween(std::chrono::steady_clock::time_point a, std::chrono::steady_clock::time_point b) {
+    return std::chrono::duration<double>(b - a).count();
+}
+}  // namespace
+
+void Machine::start_of_simulation() { started_ = std::chrono::steady_clock::now(); }
+
+MachineResult runMachine(const Scene& scene, const MachineConfig& config) {
+    sc_core::sc_set_time_resolution(1, sc_core::SC_PS);
+    const auto t0 = std::chrono::steady_clock::now();
+    Machine machine("machine", scene, config);
+    try {
+        sc_core::sc_start();
+    } catch (const sc_core::sc_report& e) {
+        // An exception thrown in a process comes out wrapped in a report of
+        // several lines; its own message is the one line to show.
+        throw std::runtime_error(e.get_msg());
+    }
+    machine.endFrame();
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    machine.checkConservation();
+    machine.closeTraces();
+    MachineResult r = machine.collect(wall);
+    r.wallElaborationSeconds = secondsBetween(t0, machine.started());
+    r.wallStartupSeconds = secondsBetween(kProcessStart, machine.started());
+    return r;
+}
+
+}  // namespace rt

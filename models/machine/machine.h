@@ -1,0 +1,169 @@
+// The machine: an X x Y x Z mesh of nodes (sc_vector), a link per direction
+// between face neighbours, the frame-buffer units (sc_vector) and a port from
+// every node to every unit, and its watchdog. Built from a scene and a
+// MachineConfig; runMachine() elaborates, simulates one frame and returns
+// the image and every statistic.
+//
+//   machine.cpp        building it, running it, collecting the results
+//   machine_trace.cpp  its VCD: which signals, and when a change is final
+//   machine_checks.cpp the conservation laws, checked at the end of a run
+//   initial_split.h    where the frame starts (boxes, primary rays, credit)
+//   watchdog.h         stopping a run that is stuck, too long or interrupted
+#pragma once
+#include <array>
+#include <chrono>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <systemc>
+
+#include "framebuffer/frame_buffer.h"
+#include "balance/initial_split.h"
+#include "lattice.h"
+#include "node/node.h"
+#include "trace/vcd_stream.h"
+#include "process/watchdog.h"
+
+namespace rt {
+
+// One link of the report: a mesh link, or a node's port to the frame buffer
+// (its channels to the K units together: counts summed, high-water marks the
+// largest channel's).
+struct LinkReport {
+    std::string name;
+    Cell from;
+    int dir;  // -1: the node's frame-buffer port
+    LinkParams params;
+    int channels = 1;  // wires merged into it: a frame-buffer port has one per unit
+    LinkStats stats;
+};
+
+struct FrameBufferUnitReport {
+    FrameBufferStats stats;
+};
+
+// One boundary between two nodes of a column along the progress axis.
+struct BoundaryHistory {
+    std::array<int, 2> column;  // the column's coordinates on the other two axes (in axis order)
+    int index;                  // 1 .. N-1: between nodes index-1 and index along the axis
+    std::vector<std::pair<Picos, double>> positions;  // (time, coordinate), from the start
+};
+
+struct MachineResult {
+    Image image;
+    Picos renderTime = 0;
+    std::vector<NodeStats> nodes;  // x fastest, then y, then z
+    std::vector<Cell> cells;
+    std::vector<Box> boxes;
+    std::vector<size_t> objectsPerNode;
+    struct Grid {
+        std::array<int, 3> cells{};
+        Box span;  // the part of the box it covers
+    };
+    std::vector<std::optional<Grid>> grids;  // per node: its grid, if it holds objects
+    std::vector<LinkReport> links;
+    std::vector<FrameBufferUnitReport> frameBuffer;  // per unit
+    uint64_t primaryMisses = 0;   // primary rays that miss the world box (the host fills them in)
+    std::vector<BoundaryHistory> boundaries;
+    Box worldBox;
+    uint64_t deltaCycles = 0;
+    double wallSeconds = 0;
+    // Of it, building the machine until the first simulated event; and the
+    // process's wall time up to that event (reading the scene included).
+    double wallElaborationSeconds = 0, wallStartupSeconds = 0;
+    // The VCD's GTKWave save file (trace_writer.h), if it was traced.
+    std::string gtkw;
+    // Empty for a run that ended; otherwise why the watchdog stopped it
+    // (renderTime is then when it stopped, and every figure is up to then).
+    std::string incomplete;
+};
+
+class Machine : public sc_core::sc_module {
+public:
+    Machine(sc_core::sc_module_name name, const Scene& scene, const MachineConfig& config);
+    ~Machine() override;
+
+    MachineResult collect(double wallSeconds);
+    // The first simulated event is next: the wall clock's start-up ends.
+    void start_of_simulation() override;
+    std::chrono::steady_clock::time_point started() const { return started_; }
+    // The frame is over (ended, or stopped): every node's and link's figures as of its end.
+    void endFrame();
+    // Checks the conservation laws at the end of a run; throws
+    // std::runtime_error naming the first one broken (machine_checks.cpp).
+    void checkConservation() const;
+    // Ends the VCD (if any) at the frame's end and makes its .gtkw
+    // (MachineResult::gtkw).
+    void closeTraces();
+
+    size_t nodeIndex(const Cell& c) const { return rt::nodeIndex(c, cfg_.dims); }
+
+private:
+    // Building (machine.cpp).
+    void buildUnits();
+    void buildNodes(const ObjectBins& bins);
+    void buildLinks();
+    void linkNeighbours(Node& n, std::vector<Picos>& nodeLookahead);
+    void linkToFrameBuffer(Node& n, std::vector<Picos>& unitLookahead);
+    void linkUnits(std::vector<Picos>& unitLookahead);
+    void startWatchdog();
+    void prepareSample(const std::vector<std::vector<uint32_t>>& perNode);
+    void giveOutPrimaryRays(const ColumnPlanes& planes);  // the planes the nodes are to have (the targets, if any)
+    // --quantum lookahead: each process runs ahead by its own, the smallest
+    // of its input links' (Link::lookahead; kNoInput: it has none).
+    static constexpr Picos kNoInput = ~Picos(0);
+    void setLookaheads(const std::vector<Picos>& nodes, const std::vector<Picos>& units);
+    std::vector<BoundaryHistory> boundaryHistories() const;
+    const FrameBufferUnit& controller() const { return units_[0]; }  // unit 0 ends the frame
+    // Ends every process but the caller's, from within the simulation.
+    void endProcesses();
+    std::string whoHolds() const;
+    // When the frame ended, or when the watchdog stopped it.
+    Picos frameEnd() const { return stopped() ? watchdog_->stalledAt() : controller().renderTime(); }
+    bool stopped() const { return !watchdog_->stall().empty(); }
+
+    // Tracing: the VCD, written as the run goes (vcd_stream.h), and the
+    // links that record into it (machine_trace.cpp).
+    void setupTraces();
+    void traceNodes(std::vector<NodeTrace>& traces);
+    void traceUnits();
+    void traceBoundaries(std::vector<NodeTrace>& traces);
+    Picos traceHorizon() const;
+    std::unique_ptr<VcdStream> vcd_;
+    std::string gtkw_;
+    std::vector<const Link*> tracedLinks_;
+
+    std::chrono::steady_clock::time_point started_;
+    const Scene& scene_;
+    MachineConfig cfg_;
+    int width_, height_;
+    Box world_;
+    ColumnGeometry columns_;
+    Lattice cuts_;             // the initial uniform split; along the axis, columns have their own planes
+    ColumnPlanes columnPlanes_;
+    double minThickness_;
+    std::unique_ptr<IdealLayerFaces> layerFaces_;  // --faces ideal-layer
+    Camera camera_;
+    Shader shader_;
+    int maxExp_;
+    std::unique_ptr<NodeParams> nodeParams_;  // what the nodes share (they hold a reference)
+    sc_core::sc_vector<FrameBufferUnit> units_;
+    sc_core::sc_vector<Node> nodes_;
+    std::vector<std::unique_ptr<Link>> links_;
+    std::vector<std::unique_ptr<Link>> unitLinks_;  // units 1..K-1: [2(u-1)] u -> 0, [2(u-1) + 1] 0 -> u
+    std::map<std::pair<size_t, int>, Link*> meshLinks_;  // (node, direction) -> its outgoing link
+    std::vector<LinkReport> linkInfo_;  // the report's links
+    std::vector<size_t> reportOf_;      // per link in links_: its entry in linkInfo_
+    uint64_t primaryMisses_ = 0;
+    std::unique_ptr<Watchdog> watchdog_;
+};
+
+// Elaborates the machine, runs one frame, checks conservation, writes the
+// VCD (and .gtkw) if configured. Call once per process (SystemC elaborates
+// once).
+MachineResult runMachine(const Scene& scene, const MachineConfig& config);
+
+}  // namespace rt

@@ -1,0 +1,40 @@
+#include "node/fb_outbox.h"
+
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+
+namespace rt {
+
+void FrameBufferOutbox::send(int unit, Outbox& out) {
+    std::vector<Contribution>& p = pending_[size_t(unit)];
+    std::vector<Contribution> batch;
+    if (p.size() >= size_t(batch_)) {  // a full batch: hand over the list itself
+        batch.swap(p);
+        p.reserve(size_t(batch_));     // the unit keeps the list: it should hold no spare room
+    } else {
+        batch.assign(p.begin(), p.end());  // a part batch: a list of its size
+        p.clear();
+    }
+    count_ -= batch.size();
+    sentSince_[size_t(unit)] += uint32_t(batch.size());
+    out.push_back({target(unit), Message::contributions(std::move(batch))});
+}
+
+void FrameBufferOutbox::flush(Outbox& out, const std::string& who) {
+    for (size_t u = 0; u < pending_.size(); ++u)
+        if (!pending_[u].empty()) send(int(u), out);
+    if (!credit_.isZero()) {
+        std::vector<std::pair<uint16_t, uint32_t>> counts;
+        for (size_t u = 1; u < sentSince_.size(); ++u)
+            if (sentSince_[u]) counts.push_back({uint16_t(u), sentSince_[u]});
+        std::fill(sentSince_.begin(), sentSince_.end(), 0);
+        out.push_back({target(0), Message::credit(credit_, std::move(counts))});
+        credit_.clear();
+    } else if (std::any_of(sentSince_.begin(), sentSince_.end(), [](uint32_t n) { return n != 0; })) {
+        // A contribution is made with credit kept for it (Node::terminate), so this cannot happen.
+        throw std::logic_error(who + ": contributions sent without credit to cover them");
+    }
+}
+
+}  // namespace rt

@@ -1,0 +1,227 @@
+// One computer of the mesh: a SystemC module with one tracer process, six
+// link ports (+x -x +y -y +z -z; unbound on the mesh faces) and an output
+// port to each frame-buffer unit. It owns one box of space, only the
+// objects that overlap it and a grid over them (Region, sw/region.h), and
+// it knows the camera, lights and materials (the job's configuration),
+// nothing else of the scene.
+//
+// The process runs one step at a time: take a ray (node_input.h), trace it
+// through the box (Region::trace), and send what comes out: a ray
+// leaving the box to the neighbour it enters (route.h, ray_batcher.h),
+// contributions to the frame-buffer unit that holds their pixel
+// (fb_outbox.h). A step's time comes from cost_model.h and goes into the
+// node's time ledger (time_ledger.h); the node synchronises with the
+// kernel as time_keeper.h says. The balancing protocol runs in its
+// BalanceAgent (balance_agent.h); the node's side of it (reports, slabs,
+// link timing for the guard) is node_balance.cpp. doc/machine.md, "A node".
+#pragma once
+#include <array>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <systemc>
+
+#include "balance/balance_agent.h"
+#include "camera.h"
+#include "node/cost_model.h"
+#include "node/fb_outbox.h"
+#include "channel/link.h"
+#include "config/machine_config.h"
+#include "node/node_input.h"
+#include "node/node_stats.h"
+#include "node/node_trace.h"
+#include "base/progress.h"
+#include "base/queue_marks.h"
+#include "channel/ray_batcher.h"
+#include "region.h"
+#include "balance/sample_split.h"
+#include "shading.h"
+#include "process/time_keeper.h"
+#include "node/time_ledger.h"
+
+namespace rt {
+
+// What every node of a machine shares: the job, the balancing and the
+// machine's settings (the Machine keeps it for the nodes' lifetime).
+struct NodeParams {
+    const Shader& shader;
+    const Camera& camera;
+    Box world;
+    int fbUnits = 1, fbBatch = 1, rayBatch = 1;
+    const BalanceConfig& balance;
+    int columnLength = 1;   // nodes along the balancing axis
+    double minThickness;    // absolute, along the balancing axis
+    Picos quantum = 0;
+    IdealLayerFaces* layerFaces = nullptr;  // --faces ideal-layer (the machine's)
+    // The quantum is the node's lookahead and no dynamic policy runs: the
+    // node synchronises only when it must read its input beyond what it
+    // sees (Node::takeWork), not after every step that takes it a lookahead
+    // ahead; a traced node does not (its queue is recorded at each step).
+    bool runAhead = false;
+};
+
+class Node : public sc_core::sc_module, private BalanceHost {
+public:
+    SC_HAS_PROCESS(Node);
+    Node(sc_core::sc_module_name name, const Cell& cell, const Box& box, std::vector<Shape> objects,
+         const NodeParams& params, const Costs& costs, double speed);
+
+    sc_core::sc_vector<sc_core::sc_port<LinkSendIf, 1, sc_core::SC_ZERO_OR_MORE_BOUND>> out;
+    sc_core::sc_vector<sc_core::sc_port<LinkRecvIf, 1, sc_core::SC_ZERO_OR_MORE_BOUND>> in;
+    // Bound once per frame-buffer unit, in unit order (a multiport: one
+    // object, not one per unit, since a big mesh has tens of thousands).
+    sc_core::sc_port<LinkSendIf, 0> fb;
+
+    // Before the start: the host's job description (its primary rays, and
+    // the credit it keeps of its share), its signals in the VCD, the
+    // watchdog's progress, how far it may run ahead of the kernel (its
+    // lookahead), and (`resplit` with a frame before) where its faces along
+    // the axis go at the frame's start (NaN: that face stays).
+    void assignPrimaries(const std::vector<uint32_t>& pixels, int primaryExp, const Credit& remainder) {
+        input_.assignPrimaries(pixels, primaryExp, sample_ ? uint32_t(params_.camera.width()) : 0);
+        fbOut_.setCredit(remainder);
+    }
+    void enableTrace(const NodeTrace& t) { trace_ = t; }
+    void setProgress(Progress* p) { progress_ = p; }
+    void setQuantum(Picos q) { time_.setQuantum(q); }
+    void setStartTargets(double lo, double hi) { startTargets_ = {lo, hi}; }
+    // `sample`'s first frame (balance_sample.cpp), before its primary rays:
+    // the direction its column takes its planes from (-1: its own gather;
+    // -2: none, it holds); the neighbouring columns it passes them to.
+    void setSample(int feeder, const std::array<bool, 6>& floodTo);
+
+    // What the node still holds (rays in hand or in its input links, rays
+    // in partial batches, contributions, credit), for the watchdog's
+    // message; empty if nothing.
+    std::string holding() const;
+    // The frame ended at `end` (`complete`: it was not stopped): the node's
+    // figures as of then (time_ledger.h).
+    void endFrame(Picos end, bool complete = true);
+
+    const Cell& cell() const { return cell_; }
+    const Region& region() const { return *region_; }
+    const NodeStats& stats() const { return stats_; }
+
+private:
+    // ---- The process (node.cpp) ----
+    void run();      // the method process: one activation
+    void start();    // its first
+    void proceed();  // one turn of the node's loop
+    // Where the process goes on when it runs next: its start, after letting
+    // the kernel catch up, after waiting for input (endWait), after waiting
+    // for room in an output buffer (sendOutbox, then endSend).
+    enum class Resume : uint8_t { Start, Synced, Input, Room };
+    void suspend(Resume r);  // the process returns; its next activation is armed
+    // Takes the next ray (or control message, into `control`); false if none.
+    bool takeWork(Work& w, std::optional<Message>& control, int& controlDir);
+    bool takeControl(std::optional<Message>& control, int& controlDir);  // control messages first
+    void takeMessage(int dir, Picos arrival, Work& w, std::optional<Message>& control, int& controlDir);
+    void step(Work& w);
+    // A traced segment along the progress axis: the middle (where its work
+    // is), its ends, and the face it left by (-1: it ended in the box).
+    struct TracedSpan {
+        double where = std::nan(""), from = std::nan(""), to = std::nan("");
+        int exit = -1;
+    };
+    bool holdsPrimaries();
+    int traceInBox(Work& w, const BoxSlabs& box, TracedSpan& span);  // -2: ended here; else the exit's direction
+    FaceCrossings axialFaces(const Work& w, const BusyParts& parts, const TracedSpan& span) const;
+    void forward(const Work& w, int dir, bool passing);
+    void terminate(const Work& w, std::vector<RayJob>& spawned);
+    void markQueueDepth();
+    void recordSample(const BusyParts& parts, const TracedSpan& span);
+    void noteOccupied();  // occupied_, from the box and its objects
+    // Advances the node's time by a step's cost, sends what the step made,
+    // and lets the kernel catch up as the quantum asks (with a ray step that
+    // leaves nothing to do, by waiting for work at once: mayWaitForWork).
+    // The node may be suspended when it returns: nothing may follow it in a
+    // turn that reads the input or acts on the machine.
+    void chargeAndSend(const BusyParts& parts, bool mayWaitForWork = false);
+    // A step of messages alone (flushes, balancing): sends and receives
+    // handled, and the grid updated for the objects that moved in or out.
+    // `balancing`: its messages are balancing's (busy_by_category), not a flush of rays or contributions.
+    void finishControlStep(uint64_t recvs, size_t movedObjects, bool balancing = true);
+    bool sendOutbox();  // false: suspended, waiting for room
+    void endSend();
+    void waitForWork();
+    void endWait();
+    bool nothingToDo() const;
+    bool flushRays();  // sends every partial ray batch; false if there was none
+    void flushToFrameBuffer();
+    void traceState(bool busy, bool waiting);  // at now_
+    Picos kernel() const { return sc_core::sc_time_stamp().value(); }
+
+    // ---- Balancing: the node's side (node_balance.cpp) ----
+    void control(Message& m, int fromDir);
+    void closeInterval();
+    const Box& box() const override { return region_->box(); }
+    void sendReport(int side, Message m) override;
+    void giveSlab(int side, double boundary) override;
+    Picos slabCost(int side, double boundary) const override;
+    Picos hopTime(int side) const override;
+    Picos rayOccupies(int side) const override;
+    Picos reportTime(int side) const override;  // 0 on the rays' FIFO: not paced
+    Picos linkOccupied(int side) const override;
+    void sendOn(int dir, Message m) override;
+    void sampleBegins() override;
+    void sampleGenerated();  // a primary ray generated: the gather may start
+    void takeSlab(int side, double boundary, std::vector<Shape> objects);
+    void rebuild(const Box& box, std::vector<Shape> objects);
+    int sideDir(int side) const { return dirOf(params_.balance.axis, side); }  // side -1 / +1 -> link direction
+    const LinkParams& linkTo(int side) const { return out[sideDir(side)]->params(); }
+
+    const NodeParams& params_;
+    Cell cell_;
+    std::unique_ptr<Region> region_;  // the box, its objects and their grid
+    double margin_;                   // object overlap margin, the same in every node (the world's)
+    CostModel costs_;
+    NodeStats stats_;
+    TimeLedger ledger_{stats_};
+    QueueDepthMarks marks_{stats_.queueHighWater};
+    TimeKeeper time_;  // when to let the kernel catch up
+    NodeInput input_;
+    RayBatcher batcher_;
+    FrameBufferOutbox fbOut_;
+    Outbox outbox_;    // this step's sends
+    std::array<Link*, kDirs> outLinks_{};  // out[d]'s link (null: none), set at the start
+    std::vector<Link*> fbLinks_;           // fb's, by unit
+    std::unique_ptr<BalanceAgent> balance_;  // dynamic policies; made at the start
+    std::optional<std::array<double, 2>> startTargets_;
+    struct SampleSetup {
+        int feeder = -1;
+        std::array<bool, 6> floodTo{};
+        uint64_t trigger = 0;  // the gather starts once the node has generated this many primary rays
+        bool armed = false;
+    };
+    std::optional<SampleSetup> sample_;
+    std::array<double, 2> occupied_{};  // along the axis, the part of the box its objects occupy (recordSample)
+    Progress* progress_ = nullptr;  // the watchdog's (watchdog.h)
+    NodeTrace trace_;  // (signals -1: not traced)
+
+    // The process between activations (run): how it goes on, its local
+    // time, and the step whose outbox is being sent: the next message, the
+    // step's cost, whether it may wait for work at once, and the time
+    // blocked so far.
+    Resume resume_ = Resume::Start;
+    bool suspended_ = false;
+    bool intervalClosed_ = false;  // the last turn closed an interval whose actions are being taken
+    Picos now_ = 0;
+    size_t outboxNext_ = 0;
+    Picos sendCost_ = 0, sendBlocked_ = 0;
+    bool sendMayWait_ = false;
+    // Running ahead (NodeParams::runAhead): takeWork found it must see its
+    // input as of now_ first.
+    bool runAhead_ = false, mustSee_ = false;
+    // What proceed and step work on, members rather than locals: a Work and
+    // an empty optional Message on the stack were cleared (392 bytes) at
+    // every turn, and the scratch lists would allocate at every step.
+    Work work_;
+    std::optional<Message> control_;
+    std::vector<RayJob> spawned_;
+    std::vector<Contribution> contributions_;
+    Mailbox mailbox_;
+};
+
+}  // namespace rt
