@@ -21,6 +21,7 @@ invariant 7), for Python.
 
 Standard library only."""
 import contextlib
+import csv
 import os
 import re
 import signal
@@ -403,6 +404,5 @@ def numbers(text, flag, kind=int, least=None, most=None):
 
 def read_csv(path):
     """A CSV's rows as dicts (its header the keys)."""
-    import csv
     with open(path, newline="") as f:
         return list(csv.DictReader(f))

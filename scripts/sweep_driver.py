@@ -20,16 +20,11 @@ through project.run_rtsim (scripts/project.py).
 Dask workers must see the same checkout at the same path (a shared file
 system): they run the rtsim binary named in the command.
 """
-import argparse
 import concurrent.futures
 import contextlib
 import csv
 import fcntl
-import hashlib
-import json
 import os
-import re
-import shlex
 import signal
 import statistics
 import sys
@@ -40,233 +35,16 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import outputs  # noqa: E402
 import project  # noqa: E402
 from outputs import ToolError  # noqa: E402
-from project import ROOT, RTSIM, run_rtsim, version  # noqa: E402
+from project import ROOT, RTSIM, run_rtsim, version  # noqa: E402,F401
 # The journal of finished points (scripts/sweep_journal.py).
 from sweep_journal import JOURNALS, RECORD_FIELDS, Journal, bad_metrics, journal_path, locked  # noqa: E402,F401
-# Flags every point gets (project.run_rtsim): no reference runs, quiet, no image.
-FIXED_FLAGS = project.QUIET + ["--image", ""]
-DASK_ADDRESS = re.compile(r"(tcp|tls)://(\[[0-9A-Fa-f:.]+\]|[A-Za-z0-9_.-]+):([0-9]{1,5})")
-DASK_TIMEOUT = 10.0
+# The flags every sweep script shares (scripts/sweep_flags.py), the driver's API.
+from sweep_flags import (DASK_TIMEOUT, add_arguments, add_output_arguments, check_out_folder,  # noqa: E402,F401
+                         parse_outputs)
 
 
-def jobs_count(text):
-    """--jobs: 0 is every core; a negative count is refused."""
-    try:
-        n = int(text)
-    except ValueError:
-        n = -1
-    if n < 0:
-        raise argparse.ArgumentTypeError(f"{text!r}: a count of parallel runs, 0 (one per core) or more")
-    return n
-
-
-def dask_address(text):
-    """--dask: a scheduler's address, tcp://HOST:PORT (or tls://)."""
-    m = DASK_ADDRESS.fullmatch(text)
-    if not m or not 0 < int(m.group(3)) < 65536:
-        raise argparse.ArgumentTypeError(f"{text!r}: a scheduler's address, tcp://HOST:PORT (such as tcp://10.0.0.5:8786)")
-    return text
-
-
-one_line_errors = outputs.one_line_errors  # (the experiments call it as sweep's)
-
-
-def dask_seconds(text):
-    """--dask-timeout: seconds, more than 0 and at most an hour (nan and inf
-    would wait for ever, or not at all)."""
-    try:
-        value = float(text)
-    except ValueError:
-        value = float("nan")
-    if not 0 < value <= 3600:
-        raise argparse.ArgumentTypeError(f"{text!r}: seconds, more than 0 and at most 3600")
-    return value
-
-
-def add_arguments(ap):
-    """The driver's flags, shared by every sweep script."""
-    if not isinstance(ap, argparse.ArgumentParser) or type(ap).error is argparse.ArgumentParser.error:
-        one_line_errors(ap)
-    g = ap.add_argument_group("sweep driver")
-    g.add_argument("--jobs", type=jobs_count, default=0,
-                   help="parallel local runs (default 0: one per core; a negative count is refused)")
-    g.add_argument("--dask", metavar="ADDRESS", type=dask_address,
-                   help="submit the points to this Dask scheduler (tcp://HOST:PORT, such as tcp://10.0.0.5:8786)")
-    g.add_argument("--dask-timeout", metavar="SECONDS", type=dask_seconds, default=DASK_TIMEOUT,
-                   help=f"how long to wait for the Dask scheduler to answer (default {DASK_TIMEOUT:g} s); "
-                        "no answer: one line, exit 2")
-    g.add_argument("--fresh", action="store_true", help="forget the journal and rerun every point")
-    g.add_argument("--journal-dir", default=JOURNALS,
-                   help="the folder where finished points are journalled (default out/sweeps)")
-
-
-def add_output_arguments(ap, doc_page=None, plot_only=True):
-    """Where a sweep script writes, shared by every one: --out (the results
-    folder), --plot-only (only with plot_only: a script that can redraw its
-    results from its CSV; one that cannot must not offer it) and --doc,
-    which publishes into doc/results/ and, with `doc_page` (a script that
-    publishes a table, publish_table), that page's generated sections. Read
-    them with parse_outputs (a.plot_only is False where not offered)."""
-    one_line_errors(ap)
-    ap.add_argument("--out", help="the results folder (default: out/results/; with --doc, doc/results/); "
-                                  "in doc/ only with --doc")
-    what = "chart and table" if doc_page else "chart"
-    if plot_only:
-        ap.add_argument("--plot-only", action="store_true", help=f"redraw the {what} from the CSV")
-    ap.set_defaults(plot_only=False)
-    page = f", and the generated tables of {os.path.relpath(doc_page, ROOT)}" if doc_page else ""
-    ap.add_argument("--doc", action="store_true",
-                    help="publish: write the results into doc/results/" + page + " (without it nothing in doc/ changes)")
-    ap.set_defaults(doc_page=doc_page)
-
-
-def check_out_folder(path, publish):
-    """The results folder of --out: a folder (made if missing), in doc/ only
-    when publishing. ToolError otherwise."""
-    if os.path.lexists(path) and not os.path.isdir(path):
-        raise ToolError(f"--out {path}: not a folder")
-    if not publish and outputs.under(path, outputs.DOC):
-        raise ToolError(f"--out {path}: in doc/, which changes only with --doc")
-    try:
-        os.makedirs(path, exist_ok=True)
-    except OSError as e:
-        raise ToolError(f"--out {path}: {e.strerror}")
-    if not os.access(path, os.W_OK | os.X_OK):
-        raise ToolError(f"--out {path}: the folder takes no new file")
-    return path
-
-
-def parse_outputs(ap):
-    """Parses the flags of a script set up by add_output_arguments: a.out is
-    the results folder (checked, made if missing); a.doc the page to publish
-    into, or None. A user's run writes under out/ and leaves doc/ as
-    committed. Bad flags: one line (ap.error), exit 2."""
-    a = ap.parse_args()
-    publish = bool(getattr(a, "doc", False))
-    a.out = a.out or (project.RESULTS if publish else os.path.join(ROOT, "out", "results"))
-    a.doc = a.doc_page if publish else None
-    try:
-        check_out_folder(a.out, publish)
-    except ToolError as e:
-        ap.error(str(e))
-    return a
-
-
-# --- what a point is -------------------------------------------------------
-
-_binary_ids = {}
-
-
-def binary_id(binary):
-    """The identity of an rtsim binary: the SHA-256 of its bytes (cached by
-    path, size and time of change), so that points run by another binary,
-    or by this one rebuilt, are not resumed as this one's."""
-    try:
-        st = os.stat(binary)
-    except OSError as e:
-        raise ToolError(f"--rtsim {binary}: {e.strerror}")
-    key = (os.path.realpath(binary), st.st_size, st.st_mtime_ns)
-    if key not in _binary_ids:
-        h = hashlib.sha256()
-        with open(binary, "rb") as f:
-            for block in iter(lambda: f.read(1 << 20), b""):
-                h.update(block)
-        _binary_ids[key] = h.hexdigest()[:16]
-    return _binary_ids[key]
-
-
-def point_id(args, binary=None, repeats=1):
-    """A stable name for a point: a hash of its flags, of the settings in
-    the preset files they name (--config), of the rtsim binary that runs it
-    (binary_id) and, when a point runs more than once, of its repeats; so
-    that a point whose preset was edited, or run by another binary, runs
-    again rather than being resumed from the journal."""
-    key = "\0".join(str(a) for a in args)
-    settings = preset_settings(args)
-    if settings is not None:
-        key += "\0--config settings\0" + settings
-    if binary is not None:
-        key += "\0binary\0" + binary_id(binary)
-    if repeats > 1:
-        key += f"\0repeats\0{repeats}"
-    return hashlib.sha1(key.encode()).hexdigest()[:12]
-
-
-def config_paths(args):
-    """The preset files (--config FILE, --config=FILE) a list of flags names, in order."""
-    args = [str(a) for a in args]
-    paths = []
-    for i, a in enumerate(args):
-        if a == "--config" and i + 1 < len(args):
-            paths.append(args[i + 1])
-        elif a.startswith("--config="):
-            paths.append(a.split("=", 1)[1])
-    return paths
-
-
-def config_lines(path):
-    """The settings of a preset file as rtsim reads it (tb/config_file.h):
-    [(line number, name, value)] for its `name = value` lines (comments and
-    blanks aside; the value unquoted, its inline comment dropped; a flag
-    alone has the value 'true'). ToolError 'PATH:LINE: why' for a line that
-    is not text; a line rtsim cannot read is left for rtsim to name."""
-    outputs.check_input(path, "--config")
-    with open(path, "rb") as f:
-        return parse_config(f.read((1 << 20) + 1), path)
-
-
-def rerun_lines(path):
-    """The settings a report's rerun.flags give a run (rtsim --rerun
-    REPORT), as config_lines gives a preset's; ToolError if it is not a
-    report."""
-    outputs.check_input(path, "--rerun")
-    try:
-        with open(path, "rb") as f:
-            flags = json.loads(f.read().decode("utf-8"))["rerun"]["flags"]
-        if not isinstance(flags, str):
-            raise TypeError
-    except (UnicodeDecodeError, json.JSONDecodeError, KeyError, TypeError):
-        raise ToolError(f"--rerun {path}: not an rtsim report (no rerun.flags)") from None
-    return parse_config(flags.encode(), f"{path}: rerun.flags")
-
-
-def parse_config(data, origin):
-    """config_lines of the bytes of a config text; `origin` names it in errors."""
-    out = []
-    for n, raw in enumerate(data.split(b"\n"), 1):
-        if b"\0" in raw:
-            raise ToolError(f"{origin}:{n}: a NUL byte (not a text file)")
-        line = raw.strip()
-        if not line or line[:1] in (b"#", b";"):
-            continue
-        try:
-            text = line.decode("utf-8")
-        except UnicodeDecodeError:
-            raise ToolError(f"{origin}:{n}: not UTF-8 text (rtsim's presets are UTF-8)") from None
-        m = re.match(r"([A-Za-z0-9][A-Za-z0-9_-]*)\s*(?:=\s*(.*))?$", text)
-        if not m:
-            continue
-        value = "true" if m.group(2) is None else re.split(r"\s#", m.group(2), 1)[0].strip()
-        if len(value) >= 2 and value[0] == value[-1] and value[0] in "\"'":
-            value = value[1:-1]
-        out.append((n, m.group(1), value))
-    return out
-
-
-def preset_settings(args):
-    """The settings of the preset files the flags name (their lines without
-    comments and blanks, as rtsim reads them), or None if they name none.
-    ToolError for a preset that is not a readable text file."""
-    paths = config_paths(args)
-    if not paths:
-        return None
-    return "\n".join(f"{name} = {value}" for path in paths for _, name, value in config_lines(path))
-
-
-def command(args, binary=RTSIM):
-    """The command line of a point as run, relative to the repository."""
-    rel = os.path.relpath(binary, ROOT)
-    return shlex.join([rel] + [str(a) for a in args] + FIXED_FLAGS + ["--report", "REPORT.json"])
+# What a point is (scripts/sweep_points.py).
+from sweep_points import FIXED_FLAGS, command, point_id  # noqa: E402,F401
 
 
 class Cancelled(Exception):

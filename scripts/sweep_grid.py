@@ -16,6 +16,7 @@ import textwrap
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import outputs  # noqa: E402
 import sweep_driver  # noqa: E402
+import sweep_points  # noqa: E402
 from outputs import ToolError  # noqa: E402
 from project import QUIET, RTSIM  # noqa: E402
 
@@ -114,10 +115,10 @@ def settings(sets, base):
         if flag in INPUTS and value is not None:
             outputs.check_input(value, flag)
         if flag == "--config" and value is not None:
-            out += [(f"{value}:{n}", "--" + name, v, "preset", swept) for n, name, v in sweep_driver.config_lines(value)]
+            out += [(f"{value}:{n}", "--" + name, v, "preset", swept) for n, name, v in sweep_points.config_lines(value)]
         if flag == "--rerun" and value is not None:  # a report's flags, read as a preset's
             out += [(f"{value}: rerun.flags:{n}", "--" + name, v, "preset", swept)
-                    for n, name, v in sweep_driver.rerun_lines(value)]
+                    for n, name, v in sweep_points.rerun_lines(value)]
     return out
 
 
