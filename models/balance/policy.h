@@ -4,8 +4,9 @@
 // own (tb/tests/test_policies.cpp); the protocol around it (rounds, reports,
 // the guard, the slab handover) is models/balance/balance_agent.h.
 //
-// A new policy is one file (a class derived from BalancePolicy) and one line
-// in config/policy_table.cpp.
+// A new policy is one file (a class derived from BalancePolicy and its
+// maker), and the maker's declaration and one entry in
+// config/policy_table.cpp.
 #pragma once
 #include <memory>
 #include <optional>

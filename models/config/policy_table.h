@@ -1,8 +1,8 @@
 // The balancing policies by name, kind and default gain: what --balance
 // accepts and what the configuration needs to know of a policy (whether it
 // moves boundaries during the frame, its gain). The policies themselves are
-// in balance/ (policy.h); each one's maker is named here, so that a new
-// policy is one file there and one line in policy_table.cpp.
+// in balance/ (policy.h), each with its maker; a new policy is one file
+// there, and its maker's declaration and one entry in policy_table.cpp.
 #pragma once
 #include <memory>
 #include <string>
