@@ -236,6 +236,27 @@ def run_and_compare(index, scene, args, rtsim, rtref, tmp):
     return ""
 
 
+def publish(a, configs, failures, summary):
+    """The figures and the configurations per policy, to doc/results/stress.md and doc/robustness.md."""
+    policies = {}
+    for _, args in configs:
+        p = args[args.index("--balance") + 1]
+        policies[p] = policies.get(p, 0) + 1
+    lines = ["<!-- written by scripts/stress.py --doc; do not edit -->",
+             f"`scripts/stress.py --count {a.count} --seed {a.seed}`: {summary} on {a.jobs} workers.",
+             "Each configuration: rtref once and rtsim three times, with its flags on the command line, "
+             "spread over two --config files (with decoys a later value replaces) and the command line, and "
+             "rerun from its report in another folder: exit 0, the image rtref gives, and the same image and "
+             "report each time (wall-clock fields and rerun.of aside); then the report made hostile (a flag "
+             "naming an output, a field of the wrong type, nesting 100 deep): exit 2, one line, nothing written.",
+             "",
+             "| policy | configurations |", "|---|---:|"]
+    lines += [f"| {p} | {n} |" for p, n in sorted(policies.items())]
+    if failures:
+        lines += ["", "Failures:", ""] + [f"- {i}: {why} (`rtsim {shlex.join(args)}`)" for i, why, args in failures]
+    publish_table(lines, os.path.join(RESULTS, "stress.md"), os.path.join(ROOT, "doc", "robustness.md"), "stress")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--count", type=int, default=1000)
@@ -277,28 +298,11 @@ def main():
             outputs.clean_up()
             raise
     wall = time.time() - t0
-    policies = {}
-    for _, args in configs:
-        p = args[args.index("--balance") + 1]
-        policies[p] = policies.get(p, 0) + 1
     summary = (f"{a.count} configurations (seed {a.seed}), {a.count - len(failures)} passed, "
                f"{len(failures)} failed, {wall:.0f} s")
     print(f"stress: {summary}")
     if a.doc:
-        lines = ["<!-- written by scripts/stress.py --doc; do not edit -->",
-                 f"`scripts/stress.py --count {a.count} --seed {a.seed}`: {summary} on {a.jobs} workers.",
-                 "Each configuration: rtref once and rtsim three times, with its flags on the command line, "
-                 "spread over two --config files (with decoys a later value replaces) and the command line, and "
-                 "rerun from its report in another folder: exit 0, the image rtref gives, and the same image and "
-                 "report each time (wall-clock fields and rerun.of aside); then the report made hostile (a flag "
-                 "naming an output, a field of the wrong type, nesting 100 deep): exit 2, one line, nothing written.",
-                 "",
-                 "| policy | configurations |", "|---|---:|"]
-        lines += [f"| {p} | {n} |" for p, n in sorted(policies.items())]
-        if failures:
-            lines += ["", "Failures:", ""] + [f"- {i}: {why} (`rtsim {shlex.join(args)}`)" for i, why, args in failures]
-        publish_table(lines, os.path.join(RESULTS, "stress.md"),
-                      os.path.join(ROOT, "doc", "robustness.md"), "stress")
+        publish(a, configs, failures, summary)
     return 1 if failures else 0
 
 

@@ -279,16 +279,7 @@ def run(name, points, extract, csv_path, opts=None, repeats=1, timeout=None, bin
     try:
         with locked(path, getattr(opts, "fresh", False), name) as journal:
             ver = version()
-            for p in points:
-                p["id"] = point_id(p["args"], binary, repeats)
-            ids = [p["id"] for p in points]
-            if len(set(ids)) != len(ids):
-                raise ToolError(f"{name}: two points have the same flags")
-            for i in ids:
-                why = bad_metrics(journal.done[i]["metrics"], fields) if i in journal.done else None
-                if why:
-                    journal.forget(i, why)
-            todo = [p for p in points if p["id"] not in journal.done]
+            todo = _to_run(name, points, journal, binary, repeats, fields)
             if counts is not None:
                 counts["ran"] = len(todo)
             progress = Progress(name, len(points), len(points) - len(todo))
@@ -303,10 +294,7 @@ def run(name, points, extract, csv_path, opts=None, repeats=1, timeout=None, bin
             if failed:
                 raise ToolError(f"{name}: {len(failed)} point(s) failed; first: {failed[0]}", outputs.FAILED)
             rows = [row_of(p, journal.done[p["id"]], repeats) for p in points]
-            old = {r["version"] for r in rows if r["version"] != ver}
-            if old:
-                print(f"{name}: {sum(r['version'] != ver for r in rows)} point(s) resumed from other versions "
-                      f"({', '.join(sorted(old))}); --fresh reruns them", file=sys.stderr)
+            _say_older(name, rows, ver)
             if csv_path:
                 write_csv(csv_path, rows, seen)
     finally:
@@ -314,6 +302,29 @@ def run(name, points, extract, csv_path, opts=None, repeats=1, timeout=None, bin
             connection[2].close(timeout=2)
             opts.dask_connection = None
     return rows
+
+
+def _to_run(name, points, journal, binary, repeats, fields):
+    """Each point named by its flags (p["id"]); those the journal does not
+    hold, or holds without the figures `fields` asks for, to run."""
+    for p in points:
+        p["id"] = point_id(p["args"], binary, repeats)
+    ids = [p["id"] for p in points]
+    if len(set(ids)) != len(ids):
+        raise ToolError(f"{name}: two points have the same flags")
+    for i in ids:
+        why = bad_metrics(journal.done[i]["metrics"], fields) if i in journal.done else None
+        if why:
+            journal.forget(i, why)
+    return [p for p in points if p["id"] not in journal.done]
+
+
+def _say_older(name, rows, ver):
+    """One line where points were resumed from another version of the tree."""
+    old = {r["version"] for r in rows if r["version"] != ver}
+    if old:
+        print(f"{name}: {sum(r['version'] != ver for r in rows)} point(s) resumed from other versions "
+              f"({', '.join(sorted(old))}); --fresh reruns them", file=sys.stderr)
 
 
 def _journal_runs(runs, journal, extract, binary, ver, progress):

@@ -287,10 +287,8 @@ def check_working_folder():
         raise ToolError("error: the working folder is gone (deleted?): cd into a folder that exists") from None
 
 
-def main(argv=None):
-    argv = sys.argv[1:] if argv is None else argv
-    check_working_folder()
-    ours, rtsim_flags = (argv[:argv.index("--")], argv[argv.index("--") + 1:]) if "--" in argv else (argv, [])
+def parser():
+    """The command line's flags (--help: EXAMPLES after them)."""
     ap = Parser(
         prog="sweep.py", formatter_class=argparse.RawDescriptionHelpFormatter, epilog=EXAMPLES,
         usage="/usr/bin/python3 scripts/sweep.py NAME --set FLAG=V1,V2,... [--set ...] [options] -- RTSIM_FLAGS...",
@@ -322,7 +320,11 @@ def main(argv=None):
     ap.add_argument("--rtsim", default=RTSIM, help="the rtsim binary (default: build/rtsim, scripts/build.sh); "
                                                    "part of each point's identity in the journal")
     sweep_driver.add_arguments(ap)
-    a = ap.parse_args(ours)
+    return ap
+
+
+def check_args(a):
+    """One line and exit 2 for a value that cannot make a sweep."""
     outputs.check_name(a.name, "NAME")
     if not a.sets:
         raise ToolError("error: nothing to sweep: give at least one --set FLAG=V1,V2,...")
@@ -336,6 +338,15 @@ def main(argv=None):
         raise ToolError(f"error: --rtsim {a.rtsim}: no rtsim binary there (build it with scripts/build.sh)")
     if not os.access(a.rtsim, os.X_OK):
         raise ToolError(f"error: --rtsim {a.rtsim}: not executable")
+
+
+def main(argv=None):
+    argv = sys.argv[1:] if argv is None else argv
+    check_working_folder()
+    ours, rtsim_flags = (argv[:argv.index("--")], argv[argv.index("--") + 1:]) if "--" in argv else (argv, [])
+    ap = parser()
+    a = ap.parse_args(ours)
+    check_args(a)
     # A bare name (myrtsim) is the file checked here, in the working folder,
     # not a program on PATH: every point runs it by its absolute path.
     a.rtsim = os.path.abspath(a.rtsim)

@@ -230,6 +230,11 @@ def main():
     keys = list(dict.fromkeys(k for r in rows for k in r))  # the per-column fields where refined
     rows = [{k: r.get(k, "") for k in keys} for r in rows]
     write_csv(csv_path, rows)
+    return table(a, rows, os.path.join(a.out, stem + ".md"))
+
+
+def table(a, rows, md_path):
+    """The searches' table, to md_path and (--doc) its section of the page; 1 where no page shows it."""
     lines = [f"<!-- written by scripts/experiments/partition_search.py --preset {a.preset} --view {a.view}"
              f"{' --tag ' + a.tag + ' --extra=' + repr(a.extra) if a.tag else ''}; do not edit -->",
              "| view | N | f | none | best static partition, one set of planes | ratio | its planes along x | runs | "
@@ -243,7 +248,7 @@ def main():
                      f"{own} |")
     section = f"partition search {a.preset}" + (f" {a.tag}" if a.tag else "") + ("" if a.view == "along" else f" {a.view}")
     # (--doc for a view or variant no page shows: only the modern machine along the axis is in balancing.md)
-    return 0 if publish_table(lines, os.path.join(a.out, stem + ".md"), a.doc or None, section) else 1
+    return 0 if publish_table(lines, md_path, a.doc or None, section) else 1
 
 
 if __name__ == "__main__":
