@@ -53,5 +53,4 @@ struct ConfigSource {
 // then `rest` (the command line after argv[0]). Throws as above.
 CommandLine mergeFlags(const std::vector<ConfigSource>& sources, const std::vector<std::string>& rest, const std::string& argv0);
 
-
 }  // namespace rt
