@@ -144,17 +144,23 @@ def _local(todo, binary, jobs, repeats, timeout):
         yield from _run_pool(todo, binary, jobs, repeats, timeout, stop)
 
 
+def _as_finished(futs, as_completed):
+    """Yields (point, result or exception) as the futures {future: point}
+    finish, by the pool's or the cluster's as_completed."""
+    for fut in as_completed(futs):
+        try:
+            result = fut.result()
+        except Exception as e:  # noqa: BLE001 - reported per point
+            result = e
+        yield futs[fut], result
+
+
 def _run_pool(todo, binary, jobs, repeats, timeout, stop):
     pool = concurrent.futures.ThreadPoolExecutor(max_workers=jobs)
     futs = {pool.submit(run_repeated, binary, p["args"], repeats, timeout, stop): p for p in todo}
     finished = False
     try:
-        for fut in concurrent.futures.as_completed(futs):
-            try:
-                result = fut.result()
-            except Exception as e:  # noqa: BLE001 - reported per point
-                result = e
-            yield futs[fut], result
+        yield from _as_finished(futs, concurrent.futures.as_completed)
         finished = True
     finally:
         if not finished:
@@ -231,12 +237,7 @@ def _dask(todo, binary, connection, repeats, timeout):
     futs, finished = {}, False
     try:
         futs = {client.submit(run_repeated, binary, p["args"], repeats, timeout, pure=False): p for p in todo}
-        for fut in distributed.as_completed(futs):
-            try:
-                result = fut.result()
-            except Exception as e:  # noqa: BLE001 - reported per point
-                result = e
-            yield futs[fut], result
+        yield from _as_finished(futs, distributed.as_completed)
         finished = True
     finally:
         if futs:

@@ -230,6 +230,23 @@ BalanceConfig agentConfig() {
     return b;
 }
 
+// One round between node 0 of a column of two (busy all of its 20 us, its
+// one 1 us step at `where`) and node 1 (idle all of it): node 0 decides at
+// `decideAt` on node 1's report. Its slabs are in ha.slabs.
+BalanceStats oneRound(const BalanceConfig& cfg, FakeHost& ha, double where, Picos decideAt) {
+    const Box world{Vec3(0.0), Vec3(2.0, 1.0, 1.0)};
+    FakeHost hb;
+    BalanceAgent a(cfg, ha, world, 0, 2, false, true, 0.05), b(cfg, hb, world, 1, 2, true, false, 0.05);
+    a.recordStep(where, 1 * us);
+    a.closeInterval(20 * us, 20 * us, 0, 0);
+    settle(a);
+    b.closeInterval(20 * us, 0, 20 * us, 0);
+    settle(b);
+    a.onReport(+1, hb.reports[0].second, decideAt);
+    settle(a);
+    return a.stats();
+}
+
 }  // namespace
 
 TEST(Agent, OneRoundEachWayAndOnlyTheHeavierGives) {
@@ -559,20 +576,13 @@ TEST(Histogram, TheOrderValuesComeInDoesNotMatter) {
 }
 
 TEST(Agent, GuardStopsStaleCostlyAndLatencyBoundSlides) {
-    const Box world{Vec3(0.0), Vec3(2.0, 1.0, 1.0)};
     auto run = [&](BalanceConfig cfg, Picos decideAt, Picos cost, Picos hop) {
-        FakeHost ha, hb;
+        FakeHost ha;
         ha.cost = cost;
         ha.hop = hop;
-        BalanceAgent a(cfg, ha, world, 0, 2, false, true, 0.05), b(cfg, hb, world, 1, 2, true, false, 0.05);
-        a.recordStep(0.9, 1 * us);  // mean step 1 us, its work in the slab the policy gives ([0.75, 1])
-        a.closeInterval(20 * us, 20 * us, 0, 0);
-        settle(a);
-        b.closeInterval(20 * us, 0, 20 * us, 0);
-        settle(b);
-        a.onReport(+1, hb.reports[0].second, decideAt);
-        settle(a);
-        return std::make_pair(ha.slabs.size(), a.stats());
+        // (mean step 1 us, its work in the slab the policy gives: [0.75, 1])
+        const BalanceStats s = oneRound(cfg, ha, 0.9, decideAt);
+        return std::make_pair(ha.slabs.size(), s);
     };
     const BalanceConfig cfg = agentConfig();
     EXPECT_EQ(run(cfg, 21 * us, 0, 0).first, 1u);  // fresh, cheap, short hops: gives
@@ -600,21 +610,13 @@ TEST(Agent, GuardStopsStaleCostlyAndLatencyBoundSlides) {
 // 1 us slab; `relay`'s counts the slab by its thickness, a quarter of
 // load 1 x 20 us x 10 intervals = 50 us, and gives it for up to that.
 TEST(Agent, RelayPassesOnASlabWithNoWorkRecordedInIt) {
-    const Box world{Vec3(0.0), Vec3(2.0, 1.0, 1.0)};
     auto run = [&](const std::string& policy, Picos cost) {
-        FakeHost ha, hb;
+        FakeHost ha;
         ha.cost = cost;
         BalanceConfig cfg = agentConfig();
         cfg.policy = policy;
-        BalanceAgent a(cfg, ha, world, 0, 2, false, true, 0.05), b(cfg, hb, world, 1, 2, true, false, 0.05);
-        a.recordStep(0.1, 1 * us);
-        a.closeInterval(20 * us, 20 * us, 0, 0);
-        settle(a);
-        b.closeInterval(20 * us, 0, 20 * us, 0);
-        settle(b);
-        a.onReport(+1, hb.reports[0].second, 21 * us);
-        settle(a);
-        return std::make_pair(ha.slabs.size(), a.stats().skippedCost);
+        const uint64_t refused = oneRound(cfg, ha, 0.1, 21 * us).skippedCost;
+        return std::make_pair(ha.slabs.size(), refused);
     };
     EXPECT_EQ(run("slide", 1 * us), std::make_pair(size_t(0), uint64_t(1)));
     EXPECT_EQ(run("relay", 1 * us), std::make_pair(size_t(1), uint64_t(0)));
