@@ -115,70 +115,68 @@ def check_arguments(a):
             outputs.check_output(os.path.join(ROOT, "doc", page), "--doc", doc=True)
 
 
-def benchmark(a, pin, tmp):
-    """Every table but the comparison with another build (against), in the
-    temporary folder `tmp`."""
-    build = FAST_BUILD
-    report = os.path.join(tmp, "r.json")
+class Runs:
+    """The command lines of one benchmark, in the temporary folder `tmp`."""
 
-    def rtsim(n, extra=(), scene=None, size=None, image="s.png"):
-        return [os.path.join(build, "rtsim"), "--scene", scene or a.scene, "--size", size or a.size, "--mesh", str(n),
-                "--no-baseline", "-q", "--image", os.path.join(tmp, image), "--report", report] + list(extra)
+    def __init__(self, a, tmp):
+        self.a, self.tmp, self.build = a, tmp, FAST_BUILD
+        self.report = os.path.join(tmp, "r.json")
 
-    def rtref(scene=None, size=None, image="r.png"):
-        return [os.path.join(build, "rtref"), scene or a.scene, "--size", size or a.size, "-o", os.path.join(tmp, image)]
+    def rtsim(self, n, extra=(), scene=None, size=None, image="s.png"):
+        a = self.a
+        return [os.path.join(self.build, "rtsim"), "--scene", scene or a.scene, "--size", size or a.size,
+                "--mesh", str(n), "--no-baseline", "-q", "--image", os.path.join(self.tmp, image),
+                "--report", self.report] + list(extra)
 
-    def same(x, y):
-        with open(os.path.join(tmp, x), "rb") as f, open(os.path.join(tmp, y), "rb") as g:
+    def rtref(self, scene=None, size=None, image="r.png"):
+        return [os.path.join(self.build, "rtref"), scene or self.a.scene, "--size", size or self.a.size,
+                "-o", os.path.join(self.tmp, image)]
+
+    def same(self, x, y):
+        with open(os.path.join(self.tmp, x), "rb") as f, open(os.path.join(self.tmp, y), "rb") as g:
             return f.read() == g.read()
 
-    if a.against:
-        return against(a, tmp, rtsim, pin)
-    if a.tracing_runs:
-        tracing(a, tmp, rtsim, report)
-    if a.tracing_only:
-        return
-    name = os.path.splitext(os.path.basename(a.scene))[0]
-    modes = "| mode | flags | rtsim wall | rtref wall | rtsim / rtref | render time | error vs exact | image = rtref |\n" \
-            "|---|---|---:|---:|---:|---:|---:|---|\n"
-    exact_report = None
-    ratio_of = {}
+    def last_report(self):
+        with open(self.report) as f:
+            return json.load(f)
 
-    redos = {}  # by mode: runs made again (measure)
 
-    def measure(label, flags):
-        """Each rtsim run between two rtref runs (the one after it is the
-        next one's before): its ratio is to their mean, and a run whose two
-        rtref times differ by more than BRACKET fell across a change of the
-        CPU's speed and is made again (at most REDOS times a mode)."""
-        sim, ref, ratios, mem = [], [], [], []
-        redone = 0
-        before, _ = timed(rtref())
-        while len(sim) < a.runs:
-            ws, ms = timed(rtsim(a.mesh, flags))
-            after, _ = timed(rtref())
-            wr = (before + after) / 2
-            spread = abs(after / before - 1)
-            before = after
-            if spread > BRACKET and redone < REDOS:
-                redone += 1
-                print(f"{label}: rtref {spread * 100:.0f} % apart around rtsim's run; made again", file=sys.stderr)
-                continue
-            sim.append(ws)
-            ref.append(wr)
-            ratios.append(ws / wr)
-            mem.append(ms)
-            print(f"{label}, run {len(sim)}: rtsim {ws:.3f} s, rtref {wr:.3f} s, ratio {ws / wr:.2f}", file=sys.stderr)
-        redos[label] = redos.get(label, 0) + redone
-        with open(report) as f:
-            return sim, ref, ratios, mem, json.load(f), same("s.png", "r.png")
+def measure(runs, label, flags, redos):
+    """Each rtsim run between two rtref runs (the one after it is the next
+    one's before): its ratio is to their mean, and a run whose two rtref
+    times differ by more than BRACKET fell across a change of the CPU's
+    speed and is made again (at most REDOS times a mode; counted in
+    `redos`)."""
+    a = runs.a
+    sim, ref, ratios, mem = [], [], [], []
+    redone = 0
+    before, _ = timed(runs.rtref())
+    while len(sim) < a.runs:
+        ws, ms = timed(runs.rtsim(a.mesh, flags))
+        after, _ = timed(runs.rtref())
+        wr = (before + after) / 2
+        spread = abs(after / before - 1)
+        before = after
+        if spread > BRACKET and redone < REDOS:
+            redone += 1
+            print(f"{label}: rtref {spread * 100:.0f} % apart around rtsim's run; made again", file=sys.stderr)
+            continue
+        sim.append(ws)
+        ref.append(wr)
+        ratios.append(ws / wr)
+        mem.append(ms)
+        print(f"{label}, run {len(sim)}: rtsim {ws:.3f} s, rtref {wr:.3f} s, ratio {ws / wr:.2f}", file=sys.stderr)
+    redos[label] = redos.get(label, 0) + redone
+    return sim, ref, ratios, mem, runs.last_report(), runs.same("s.png", "r.png")
 
-    measured = {label: measure(label, flags) for label, flags in MODES}
-    # This machine has slow spells that last minutes and need not slow rtsim
-    # and rtref alike (one try had lockstep faster than the lookahead). A mode
-    # whose rtref median strays more than DRIFT from the median of every
-    # rtref run is measured again, at most RERUNS times.
-    reruns = {}
+
+def measure_modes(runs, redos, reruns):
+    """Every mode of MODES measured. This machine has slow spells that last
+    minutes and need not slow rtsim and rtref alike (one try had lockstep
+    faster than the lookahead). A mode whose rtref median strays more than
+    DRIFT from the median of every rtref run is measured again, at most
+    RERUNS times (counted in `reruns`)."""
+    measured = {label: measure(runs, label, flags, redos) for label, flags in MODES}
     for label, flags in MODES:
         for _ in range(RERUNS):
             usual = statistics.median(t for m in measured.values() for t in m[1])
@@ -186,19 +184,33 @@ def benchmark(a, pin, tmp):
                 break
             print(f"{label}: rtref's median {statistics.median(measured[label][1]):.3f} s strays from "
                   f"{usual:.3f} s; measured again", file=sys.stderr)
-            measured[label] = measure(label, flags)
+            measured[label] = measure(runs, label, flags, redos)
             reruns[label] = reruns.get(label, 0) + 1
+    return measured
+
+
+def modes_table(measured):
+    """The table of modes against rtref, each mode's (ratio, error), and the
+    exact mode's report, peak memory and wall."""
+    modes = "| mode | flags | rtsim wall | rtref wall | rtsim / rtref | render time | error vs exact | image = rtref |\n" \
+            "|---|---|---:|---:|---:|---:|---:|---|\n"
+    exact, ratio_of = None, {}
     for label, flags in MODES:
         sim, ref, ratios, mem, r, identical = measured[label]
-        if exact_report is None:
-            exact_report, exact_mem, exact_wall = r, max(mem), statistics.median(sim)
-        err = r["render_time_ns"] / exact_report["render_time_ns"] - 1
+        if exact is None:
+            exact = (r, max(mem), statistics.median(sim))
+        err = r["render_time_ns"] / exact[0]["render_time_ns"] - 1
         ratio_of[label] = (statistics.median(ratios), err)
         modes += (f"| {label} | `{' '.join(flags) or '(defaults)'}` | {statistics.median(sim):.3f} s | "
                   f"{statistics.median(ref):.3f} s | **{statistics.median(ratios):.2f}** | "
                   f"{r['render_time_ns'] / 1e6:.3f} ms | {err * 100:+.4f} % | "
                   f"{'yes' if identical else 'NO'} |\n")
-    r = exact_report
+    return modes, ratio_of, exact
+
+
+def quantities_table(a, pin, exact, redos, reruns):
+    r, exact_mem, exact_wall = exact
+    name = os.path.splitext(os.path.basename(a.scene))[0]
     msgs = sum(r["totals"]["messages"].values())
     rows = [
         ("scene", f"{name} at {a.size}, N = {a.mesh} ({a.mesh ** 3} nodes), default costs and links; "
@@ -214,45 +226,73 @@ def benchmark(a, pin, tmp):
         ("machine", machine() + (f"; every run pinned to CPU {pin}" if pin is not None else "; runs not pinned")),
         ("version (git describe)", a.version),
     ]
-    table = "| quantity | value |\n|---|---|\n" + "".join(f"| {k} | {v} |\n" for k, v in rows)
-    big, big_figures = "", None
-    if a.big_runs:
-        spd5 = os.path.join(os.path.dirname(a.scene), "balls-5.nff")
+    return "| quantity | value |\n|---|---|\n" + "".join(f"| {k} | {v} |\n" for k, v in rows)
+
+
+def big_table(runs):
+    """The 16x16x16 mesh on balls-5 at 1024x1024: the table and (median
+    wall, peak memory, image identical), or ("", None) when skipped."""
+    a = runs.a
+    if not a.big_runs:
+        return "", None
+    spd5 = os.path.join(os.path.dirname(a.scene), "balls-5.nff")
+    walls, mems = [], []
+    for i in range(a.big_runs):
+        w, m = timed(runs.rtsim(16, [], spd5, "1024x1024", "big.png"))
+        walls.append(w)
+        mems.append(m)
+        print(f"16x16x16 balls-5 1024x1024, run {i + 1}: {w:.1f} s, {m:.0f} MiB", file=sys.stderr)
+    g = runs.last_report()
+    wr, _ = timed(runs.rtref(spd5, "1024x1024", "bigref.png"))
+    identical = runs.same("big.png", "bigref.png")
+    return (("\n16x16x16 mesh (4,096 nodes) on balls-5 (66,430 spheres) at 1024x1024, exact mode, "
+             f"{a.big_runs} runs:\n\n| quantity | value |\n|---|---|\n"
+             f"| rtsim wall (median) | {statistics.median(walls):.1f} s (runs: "
+             f"{', '.join(f'{w:.1f}' for w in walls)}) |\n"
+             f"| rtsim peak memory (max) | {max(mems):.0f} MiB |\n"
+             f"| rtref wall (one run) | {wr:.1f} s |\n"
+             f"| simulated render time | {g['render_time_ns'] / 1e6:.3f} ms |\n"
+             f"| ray messages | {g['totals']['messages']['ray']:,} |\n"
+             f"| image identical to rtref's | {'yes' if identical else 'NO'} |\n"),
+            (statistics.median(walls), max(mems), identical))
+
+
+def growth_table(runs):
+    a = runs.a
+    if not a.growth:
+        return ""
+    growth = ("\nWall time against mesh size (same scene and costs, exact mode):\n\n"
+              "| N | nodes | rtsim wall (median of %d) | peak memory | ray messages | render time |\n"
+              "|---:|---:|---:|---:|---:|---:|\n" % a.growth_runs)
+    for n in [int(x) for x in a.growth.split(",")]:
         walls, mems = [], []
-        for i in range(a.big_runs):
-            w, m = timed(rtsim(16, [], spd5, "1024x1024", "big.png"))
+        for _ in range(a.growth_runs):
+            w, m = timed(runs.rtsim(n))
             walls.append(w)
             mems.append(m)
-            print(f"16x16x16 balls-5 1024x1024, run {i + 1}: {w:.1f} s, {m:.0f} MiB", file=sys.stderr)
-        with open(report) as f:
-            g = json.load(f)
-        wr, _ = timed(rtref(spd5, "1024x1024", "bigref.png"))
-        big_figures = (statistics.median(walls), max(mems), same("big.png", "bigref.png"))
-        big = ("\n16x16x16 mesh (4,096 nodes) on balls-5 (66,430 spheres) at 1024x1024, exact mode, "
-               f"{a.big_runs} runs:\n\n| quantity | value |\n|---|---|\n"
-               f"| rtsim wall (median) | {statistics.median(walls):.1f} s (runs: "
-               f"{', '.join(f'{w:.1f}' for w in walls)}) |\n"
-               f"| rtsim peak memory (max) | {max(mems):.0f} MiB |\n"
-               f"| rtref wall (one run) | {wr:.1f} s |\n"
-               f"| simulated render time | {g['render_time_ns'] / 1e6:.3f} ms |\n"
-               f"| ray messages | {g['totals']['messages']['ray']:,} |\n"
-               f"| image identical to rtref's | {'yes' if same('big.png', 'bigref.png') else 'NO'} |\n")
-    growth = ""
-    if a.growth:
-        growth = ("\nWall time against mesh size (same scene and costs, exact mode):\n\n"
-                  "| N | nodes | rtsim wall (median of %d) | peak memory | ray messages | render time |\n"
-                  "|---:|---:|---:|---:|---:|---:|\n" % a.growth_runs)
-        for n in [int(x) for x in a.growth.split(",")]:
-            walls, mems = [], []
-            for _ in range(a.growth_runs):
-                w, m = timed(rtsim(n))
-                walls.append(w)
-                mems.append(m)
-            with open(report) as f:
-                g = json.load(f)
-            growth += (f"| {n} | {n ** 3} | {statistics.median(walls):.3f} s | {max(mems):.0f} MiB | "
-                       f"{g['totals']['messages']['ray']:,} | {g['render_time_ns'] / 1e6:.3f} ms |\n")
-            print(f"N={n}: {statistics.median(walls):.3f} s", file=sys.stderr)
+        g = runs.last_report()
+        growth += (f"| {n} | {n ** 3} | {statistics.median(walls):.3f} s | {max(mems):.0f} MiB | "
+                   f"{g['totals']['messages']['ray']:,} | {g['render_time_ns'] / 1e6:.3f} ms |\n")
+        print(f"N={n}: {statistics.median(walls):.3f} s", file=sys.stderr)
+    return growth
+
+
+def benchmark(a, pin, tmp):
+    """Every table but the comparison with another build (against), in the
+    temporary folder `tmp`."""
+    runs = Runs(a, tmp)
+    if a.against:
+        return against(a, tmp, runs.rtsim, pin)
+    if a.tracing_runs:
+        tracing(a, tmp, runs.rtsim, runs.report)
+    if a.tracing_only:
+        return
+    redos, reruns = {}, {}  # by mode: runs made again, modes measured again
+    measured = measure_modes(runs, redos, reruns)
+    modes, ratio_of, exact = modes_table(measured)
+    table = quantities_table(a, pin, exact, redos, reruns)
+    big, big_figures = big_table(runs)
+    growth = growth_table(runs)
     goals = targets(ratio_of, big_figures)
     out = "Against the targets (issue 14):\n\n" + goals + "\n" + modes + "\n" + table + big + growth
     print(out, end="")

@@ -1,17 +1,20 @@
 #!/usr/bin/python3
-"""Checks that the model and the testbench stay readable: no source file in
-models/ or tb/ (tests aside) over 450 lines, no function there over 60.
+"""Checks that the sources stay readable: no source file in models/, tb/,
+sw/ or scripts/ (tests aside) over 450 lines, no function there over 60.
 
   /usr/bin/python3 scripts/check_sizes.py            # the limits; exit 1 if any is passed
   /usr/bin/python3 scripts/check_sizes.py --top 15   # also the longest files and functions
 
-A function is a brace-delimited body at namespace or class scope whose
+In C++ a function is a brace-delimited body at namespace or class scope whose
 opening brace follows a parameter list (lambdas and local classes count
 towards the function that holds them); its length runs from the line of
 its name to its closing brace. Comments and string literals are skipped.
+In Python a function is a def, from its line to its last; nested defs
+count towards the def that holds them.
 Standard library only (the suite runs it as the test SourceSizes).
 """
 import argparse
+import ast
 import os
 import re
 import sys
@@ -20,7 +23,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import outputs  # noqa: E402
 from project import ROOT  # noqa: E402
 
-FOLDERS = ("models", "tb")
+FOLDERS = ("models", "tb", "sw", "scripts")
 MAX_FILE, MAX_FUNCTION = 450, 60
 # What may stand between a parameter list and a function body.
 TRAILER = re.compile(r"\)\s*(const|override|final|noexcept|mutable|&|->\s*[\w:<>,\s*&]+|\s)*$")
@@ -30,9 +33,9 @@ TRAILER_INIT = re.compile(r"\)\s*(noexcept\s*)?:\s*[\w:]+\s*[({].*$", re.S)
 def sources():
     for folder in FOLDERS:
         for dirpath, dirnames, files in os.walk(os.path.join(ROOT, folder)):
-            dirnames[:] = [d for d in dirnames if d != "tests"]
+            dirnames[:] = sorted(d for d in dirnames if d not in ("tests", "__pycache__"))
             for f in sorted(files):
-                if f.endswith((".cpp", ".h")):
+                if f.endswith((".cpp", ".h", ".py")):
                     yield os.path.relpath(os.path.join(dirpath, f), ROOT)
 
 
@@ -88,6 +91,20 @@ def functions(text):
     return found
 
 
+def python_functions(text):
+    """(name, first line, last line) of each outermost def in Python text."""
+    found = []
+
+    def visit(node):
+        for child in ast.iter_child_nodes(node):
+            if isinstance(child, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                found.append((child.name, child.lineno, child.end_lineno))
+            else:
+                visit(child)
+    visit(ast.parse(text))
+    return found
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--top", type=int, default=0, help="also list the N longest files and functions")
@@ -97,7 +114,8 @@ def main():
         with open(os.path.join(ROOT, path)) as f:
             text = f.read()
         files.append((text.count("\n"), path))
-        funcs += [(last - first + 1, f"{path}:{first} {name}") for name, first, last in functions(text)]
+        found = python_functions(text) if path.endswith(".py") else functions(text)
+        funcs += [(last - first + 1, f"{path}:{first} {name}") for name, first, last in found]
     bad = [f"{path}: {n} lines (at most {MAX_FILE})" for n, path in files if n > MAX_FILE]
     bad += [f"{where}: {n} lines (at most {MAX_FUNCTION})" for n, where in funcs if n > MAX_FUNCTION]
     if a.top:

@@ -56,121 +56,156 @@ public:
     Scene parse() {
         Scene s;
         s.name = name_;
-        std::array<int, 6> viewSeen{};  // from at up angle hither resolution
-        int viewLine = 0;
         while (pos_ < toks_.size()) {
             const Token& kw = toks_[pos_++];
             line_ = kw.line;
-            const std::string& k = kw.text;
-            if (k == "v") {
-                viewLine = kw.line;
-            } else if (k == "from") {
-                s.view.from = vec("'from' eye position");
-                viewSeen[0] = 1;
-            } else if (k == "at") {
-                s.view.at = vec("'at' look-at point");
-                viewSeen[1] = 1;
-            } else if (k == "up") {
-                s.view.up = vec("'up' vector");
-                viewSeen[2] = 1;
-            } else if (k == "angle") {
-                s.view.angle = number("'angle' in degrees");
-                if (!(s.view.angle > 0 && s.view.angle < 180)) fail("'angle' must be in (0, 180) degrees");
-                viewSeen[3] = 1;
-            } else if (k == "hither") {
-                s.view.hither = number("'hither' distance");
-                if (s.view.hither < 0) fail("'hither' must not be negative");
-                viewSeen[4] = 1;
-            } else if (k == "resolution") {
-                s.view.width = integer("'resolution' width");
-                s.view.height = integer("'resolution' height");
-                if (s.view.width <= 0 || s.view.height <= 0) fail("'resolution' must be positive");
-                if (s.view.width > 65536 || s.view.height > 65536) fail("'resolution' must be at most 65536");
-                viewSeen[5] = 1;
-            } else if (k == "b") {
-                s.background = vec("background colour 'b r g b'");
-            } else if (k == "l") {
-                Light l;
-                l.position = vec("light position 'l x y z'");
-                if (nextIsNumberOnLine(kw.line)) l.colour = vec("light colour 'l x y z r g b'");
-                s.lights.push_back(l);
-            } else if (k == "f") {
-                Material m;
-                m.colour = vec("material colour 'f r g b'");
-                m.kd = number("Kd of 'f'");
-                m.ks = number("Ks of 'f'");
-                m.shine = number("Shine of 'f'");
-                m.t = number("T of 'f'");
-                const double ior = number("index of refraction of 'f'");
-                if (m.t < 0 || m.t > 1) fail("transmittance T of 'f' must be in [0, 1]");
-                if (m.t > 0) {
-                    if (!(ior > 0)) fail("index of refraction of 'f' must be positive when T > 0");
-                    m.ior = ior;
-                }
-                s.materials.push_back(m);
-            } else if (k == "s") {
-                Sphere sp;
-                sp.centre = vec("sphere centre 's x y z r'");
-                const double r = number("sphere radius");
-                if (r == 0) fail("sphere radius must not be zero");
-                // Below 1e-12 of its centre's distance from the origin a sphere
-                // has no extent in doubles there (1e-9 at 1e9 collapsed the
-                // world box's planes).
-                const double far = std::max({std::abs(sp.centre.x), std::abs(sp.centre.y), std::abs(sp.centre.z)});
-                if (std::abs(r) < 1e-12 * far)
-                    fail("sphere radius " + shortNumber(std::abs(r)) + " is too small for a centre that far from the origin (" +
-                         shortNumber(far) + "): at least 1e-12 of it, or the sphere has no extent in doubles");
-                sp.radius = std::abs(r);
-                sp.insideVisible = r < 0;
-                add(s, sp);
-            } else if (k == "p" || k == "pp") {
-                const bool normals = k == "pp";
-                const int count = integer("vertex count of '" + k + "'");
-                if (count < 3) fail("polygon needs at least 3 vertices, got " + std::to_string(count));
-                Polygon poly;
-                for (int i = 0; i < count; ++i) {
-                    poly.vertices.push_back(vec("vertex " + std::to_string(i + 1) + " of '" + k + "'"));
-                    if (normals) {
-                        const Vec3 vn = vec("normal " + std::to_string(i + 1) + " of 'pp'");
-                        if (glm::length(vn) == 0) fail("zero-length vertex normal in 'pp'");
-                    }
-                }
-                line_ = kw.line;
-                if (!poly.finish()) fail("polygon vertices are collinear (no plane)");
-                add(s, poly);
-            } else if (k == "c") {
-                Cone c;
-                c.base = vec("cone base centre 'c bx by bz br ax ay az ar'");
-                const double rb = number("cone base radius");
-                c.apex = vec("cone apex centre");
-                const double ra = number("cone apex radius");
-                if ((rb > 0 && ra < 0) || (rb < 0 && ra > 0)) fail("cone radii must not have opposite signs");
-                c.baseRadius = std::abs(rb);
-                c.apexRadius = std::abs(ra);
-                c.insideVisible = rb < 0 || ra < 0;
-                line_ = kw.line;
-                if (!c.finish()) fail("degenerate cone: base and apex coincide or both radii are zero");
-                add(s, c);
-            } else {
-                fail("unknown keyword '" + k + "'");
-            }
+            if (!viewKeyword(s.view, kw) && !sceneKeyword(s, kw)) fail("unknown keyword '" + kw.text + "'");
         }
-        static const char* names[6] = {"from", "at", "up", "angle", "hither", "resolution"};
-        line_ = toks_.empty() ? 1 : toks_.back().line;
-        if (!viewLine) fail("no viewpoint: the 'v' block is missing");
-        for (int i = 0; i < 6; ++i)
-            if (!viewSeen[i]) fail(std::string("viewpoint block lacks '") + names[i] + "'");
-        line_ = viewLine;
-        const Vec3 dir = s.view.at - s.view.from;
-        if (glm::length(dir) == 0) fail("'from' and 'at' are the same point");
-        if (glm::length(s.view.up) == 0) fail("'up' vector has zero length");
-        if (glm::length(glm::cross(dir, s.view.up)) <= 1e-12 * glm::length(dir) * glm::length(s.view.up))
-            fail("'up' is parallel to the viewing direction");
+        checkView(s.view);
         if (s.materials.empty()) s.materials.push_back(Material{});
         return s;
     }
 
 private:
+    // The 'v' block: which of from at up angle hither resolution were given.
+    std::array<int, 6> viewSeen_{};
+    int viewLine_ = 0;
+
+    bool viewKeyword(View& v, const Token& kw) {
+        const std::string& k = kw.text;
+        if (k == "v") {
+            viewLine_ = kw.line;
+        } else if (k == "from") {
+            v.from = vec("'from' eye position");
+            viewSeen_[0] = 1;
+        } else if (k == "at") {
+            v.at = vec("'at' look-at point");
+            viewSeen_[1] = 1;
+        } else if (k == "up") {
+            v.up = vec("'up' vector");
+            viewSeen_[2] = 1;
+        } else if (k == "angle") {
+            v.angle = number("'angle' in degrees");
+            if (!(v.angle > 0 && v.angle < 180)) fail("'angle' must be in (0, 180) degrees");
+            viewSeen_[3] = 1;
+        } else if (k == "hither") {
+            v.hither = number("'hither' distance");
+            if (v.hither < 0) fail("'hither' must not be negative");
+            viewSeen_[4] = 1;
+        } else if (k == "resolution") {
+            v.width = integer("'resolution' width");
+            v.height = integer("'resolution' height");
+            if (v.width <= 0 || v.height <= 0) fail("'resolution' must be positive");
+            if (v.width > 65536 || v.height > 65536) fail("'resolution' must be at most 65536");
+            viewSeen_[5] = 1;
+        } else {
+            return false;
+        }
+        return true;
+    }
+
+    bool sceneKeyword(Scene& s, const Token& kw) {
+        const std::string& k = kw.text;
+        if (k == "b") {
+            s.background = vec("background colour 'b r g b'");
+        } else if (k == "l") {
+            Light l;
+            l.position = vec("light position 'l x y z'");
+            if (nextIsNumberOnLine(kw.line)) l.colour = vec("light colour 'l x y z r g b'");
+            s.lights.push_back(l);
+        } else if (k == "f") {
+            s.materials.push_back(material());
+        } else if (k == "s") {
+            add(s, sphere());
+        } else if (k == "p" || k == "pp") {
+            add(s, polygon(kw));
+        } else if (k == "c") {
+            add(s, cone(kw.line));
+        } else {
+            return false;
+        }
+        return true;
+    }
+
+    void checkView(const View& v) {
+        static const char* names[6] = {"from", "at", "up", "angle", "hither", "resolution"};
+        line_ = toks_.empty() ? 1 : toks_.back().line;
+        if (!viewLine_) fail("no viewpoint: the 'v' block is missing");
+        for (int i = 0; i < 6; ++i)
+            if (!viewSeen_[i]) fail(std::string("viewpoint block lacks '") + names[i] + "'");
+        line_ = viewLine_;
+        const Vec3 dir = v.at - v.from;
+        if (glm::length(dir) == 0) fail("'from' and 'at' are the same point");
+        if (glm::length(v.up) == 0) fail("'up' vector has zero length");
+        if (glm::length(glm::cross(dir, v.up)) <= 1e-12 * glm::length(dir) * glm::length(v.up))
+            fail("'up' is parallel to the viewing direction");
+    }
+
+    Material material() {
+        Material m;
+        m.colour = vec("material colour 'f r g b'");
+        m.kd = number("Kd of 'f'");
+        m.ks = number("Ks of 'f'");
+        m.shine = number("Shine of 'f'");
+        m.t = number("T of 'f'");
+        const double ior = number("index of refraction of 'f'");
+        if (m.t < 0 || m.t > 1) fail("transmittance T of 'f' must be in [0, 1]");
+        if (m.t > 0) {
+            if (!(ior > 0)) fail("index of refraction of 'f' must be positive when T > 0");
+            m.ior = ior;
+        }
+        return m;
+    }
+
+    Sphere sphere() {
+        Sphere sp;
+        sp.centre = vec("sphere centre 's x y z r'");
+        const double r = number("sphere radius");
+        if (r == 0) fail("sphere radius must not be zero");
+        // Below 1e-12 of its centre's distance from the origin a sphere has
+        // no extent in doubles there: the world box's planes collapse.
+        const double far = std::max({std::abs(sp.centre.x), std::abs(sp.centre.y), std::abs(sp.centre.z)});
+        if (std::abs(r) < 1e-12 * far)
+            fail("sphere radius " + shortNumber(std::abs(r)) + " is too small for a centre that far from the origin (" +
+                 shortNumber(far) + "): at least 1e-12 of it, or the sphere has no extent in doubles");
+        sp.radius = std::abs(r);
+        sp.insideVisible = r < 0;
+        return sp;
+    }
+
+    Polygon polygon(const Token& kw) {
+        const std::string& k = kw.text;
+        const bool normals = k == "pp";
+        const int count = integer("vertex count of '" + k + "'");
+        if (count < 3) fail("polygon needs at least 3 vertices, got " + std::to_string(count));
+        Polygon poly;
+        for (int i = 0; i < count; ++i) {
+            poly.vertices.push_back(vec("vertex " + std::to_string(i + 1) + " of '" + k + "'"));
+            if (normals) {
+                const Vec3 vn = vec("normal " + std::to_string(i + 1) + " of 'pp'");
+                if (glm::length(vn) == 0) fail("zero-length vertex normal in 'pp'");
+            }
+        }
+        line_ = kw.line;
+        if (!poly.finish()) fail("polygon vertices are collinear (no plane)");
+        return poly;
+    }
+
+    Cone cone(int line) {
+        Cone c;
+        c.base = vec("cone base centre 'c bx by bz br ax ay az ar'");
+        const double rb = number("cone base radius");
+        c.apex = vec("cone apex centre");
+        const double ra = number("cone apex radius");
+        if ((rb > 0 && ra < 0) || (rb < 0 && ra > 0)) fail("cone radii must not have opposite signs");
+        c.baseRadius = std::abs(rb);
+        c.apexRadius = std::abs(ra);
+        c.insideVisible = rb < 0 || ra < 0;
+        line_ = line;
+        if (!c.finish()) fail("degenerate cone: base and apex coincide or both radii are zero");
+        return c;
+    }
+
     template <class G>
     void add(Scene& s, G geometry) {
         if (s.materials.empty()) s.materials.push_back(Material{});  // objects before any 'f': white, diffuse

@@ -39,6 +39,46 @@ nlohmann::json statsJson(const rt::Scene& scene, const rt::RenderResult& r, int 
     return j;
 }
 
+// The outputs first: a path that cannot be written is found now, not after
+// the render.
+void checkOutputs(const std::string& out, const std::string& stats, const rt::SceneOptions& sceneOpt) {
+    rt::checkWritable("--output", out);
+    rt::checkExtension("--output", out, {".png"});
+    std::vector<rt::NamedFile> files{{"--output", out, true}};
+    if (!stats.empty()) {
+        rt::checkWritable("--stats", stats);
+        rt::checkExtension("--stats", stats, {".json"});
+        files.push_back({"--stats", stats, true});
+    }
+    if (!sceneOpt.file.empty()) files.push_back({"the scene", sceneOpt.file, false});
+    rt::checkDistinct(files);  // (no output over another, or over the scene)
+}
+
+// Objects that overlap many cells make the grid's references grow as their
+// count squared: refused with the estimate, not a bad_alloc.
+void checkFits(const rt::Scene& scene, const rt::RenderOptions& ro) {
+    rt::refuseIfTooBig("--size " + std::to_string(ro.width) + "x" + std::to_string(ro.height),
+                       rt::kRtrefBytesPerPixel * ro.width * ro.height);
+    const rt::UniformGrid::Size grid = rt::UniformGrid::sizeFor(scene.objects, scene.worldBox());
+    if (grid.references > rt::UniformGrid::kMaxReferences)
+        throw rt::SceneError(scene.name + ": a grid of " + std::to_string(grid.references) +
+                             " references (objects listed in cells), more than a grid holds (2^32 - 1)");
+    rt::refuseIfTooBig(scene.name + ": its " + std::to_string(scene.objects.size()) + " objects binned into its grid",
+                       grid.bytes(scene.objects.size()) + rt::kRtrefBytesPerPixel * ro.width * ro.height);
+}
+
+void printSummary(const rt::Scene& scene, const rt::RenderResult& r, const std::string& accel, const std::string& out,
+                  double wall) {
+    const rt::Counters& c = r.counters;
+    std::cout << "rtref: " << scene.name << " (" << scene.objects.size() << " objects, " << accel << ") "
+              << r.image.width << "x" << r.image.height << " -> " << out << "\n"
+              << "  rays: " << c.primaryRays << " primary (" << c.primaryHits << " hit), " << c.shadowRays
+              << " shadow (" << c.shadowHits << " blocked), " << c.secondaryRays << " secondary ("
+              << c.secondaryHits << " hit)\n"
+              << "  intersection tests: " << c.intersectionTests() << ", voxel steps: " << c.voxelSteps << "\n"
+              << "  wall: " << wall << " s, " << (wall > 0 ? double(c.rays()) / wall : 0.0) << " rays/s\n";
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -64,31 +104,11 @@ int main(int argc, char** argv) {
         return 2;
     }
     try {
-        // Outputs first: a path that cannot be written is found now, not
-        // after the render.
-        rt::checkWritable("--output", out);
-        rt::checkExtension("--output", out, {".png"});
-        std::vector<rt::NamedFile> files{{"--output", out, true}};
-        if (!stats.empty()) {
-            rt::checkWritable("--stats", stats);
-            rt::checkExtension("--stats", stats, {".json"});
-            files.push_back({"--stats", stats, true});
-        }
-        if (!sceneOpt.file.empty()) files.push_back({"the scene", sceneOpt.file, false});
-        rt::checkDistinct(files);  // (no output over another, or over the scene)
+        checkOutputs(out, stats, sceneOpt);
         const rt::Scene scene = sceneOpt.load();
         rt::RenderOptions ro;
         sceneOpt.imageSize(scene, ro.width, ro.height);
-        rt::refuseIfTooBig("--size " + std::to_string(ro.width) + "x" + std::to_string(ro.height),
-                           rt::kRtrefBytesPerPixel * ro.width * ro.height);
-        // Objects that overlap many cells make the grid's references grow as
-        // their count squared: refused with the estimate, not a bad_alloc.
-        const rt::UniformGrid::Size grid = rt::UniformGrid::sizeFor(scene.objects, scene.worldBox());
-        if (grid.references > rt::UniformGrid::kMaxReferences)
-            throw rt::SceneError(scene.name + ": a grid of " + std::to_string(grid.references) +
-                                 " references (objects listed in cells), more than a grid holds (2^32 - 1)");
-        rt::refuseIfTooBig(scene.name + ": its " + std::to_string(scene.objects.size()) + " objects binned into its grid",
-                           grid.bytes(scene.objects.size()) + rt::kRtrefBytesPerPixel * ro.width * ro.height);
+        checkFits(scene, ro);
         ro.maxDepth = depth;
         ro.threads = threads;
         const auto t0 = std::chrono::steady_clock::now();
@@ -107,14 +127,7 @@ int main(int argc, char** argv) {
         }
         image.commit();
         if (statsFile) statsFile->commit();
-        const rt::Counters& c = r.counters;
-        std::cout << "rtref: " << scene.name << " (" << scene.objects.size() << " objects, " << accel << ") "
-                  << r.image.width << "x" << r.image.height << " -> " << out << "\n"
-                  << "  rays: " << c.primaryRays << " primary (" << c.primaryHits << " hit), " << c.shadowRays
-                  << " shadow (" << c.shadowHits << " blocked), " << c.secondaryRays << " secondary ("
-                  << c.secondaryHits << " hit)\n"
-                  << "  intersection tests: " << c.intersectionTests() << ", voxel steps: " << c.voxelSteps << "\n"
-                  << "  wall: " << wall << " s, " << (wall > 0 ? double(c.rays()) / wall : 0.0) << " rays/s\n";
+        printSummary(scene, r, accel, out, wall);
     } catch (const rt::SceneError& e) {
         std::cerr << "rtref: error: " << e.what() << "\n";
         return 2;

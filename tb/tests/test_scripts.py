@@ -59,6 +59,23 @@ class Scripts(unittest.TestCase):
         self.assertGreater(len(graph), 100)
         self.assertEqual(problems + c.cycles(graph) + c.cycles(c.py_graph()) + c.doc_order(), [])
 
+    def test_the_size_check_measures_functions_in_cpp_and_python(self):
+        """check_sizes.py (the test SourceSizes): a C++ body runs from its
+        name to its closing brace, a braced block inside it is not a function
+        of its own; a Python def from its line to its last, a nested def
+        counting towards the def around it; every folder it covers is
+        searched, tests aside."""
+        import check_sizes as c
+        cpp = "int f(int a) {\n  if (a) {\n    return 1;\n  }\n  return 0;\n}\nstruct S {\n  void g() const { }\n};\n"
+        self.assertEqual(c.functions(cpp), [("f", 1, 6), ("g", 8, 8)])
+        body = "".join(f"    x{i} = {i}\n" for i in range(60))
+        py_text = "def outer():\n    def inner():\n        pass\n" + body + "\nclass K:\n    def m(self):\n        pass\n"
+        self.assertEqual(c.python_functions(py_text), [("outer", 1, 63), ("m", 66, 67)])
+        found = list(c.sources())
+        for folder in ("models/", "tb/", "sw/", "scripts/", "scripts/experiments/"):
+            self.assertTrue(any(p.startswith(folder) for p in found), folder)
+        self.assertFalse(any("/tests/" in p for p in found))
+
     def test_a_section_that_moved_is_written_where_it_is(self):
         """update_doc_section follows a section to the one page that has
         its markers, and writes the new text there (not another page's)."""
