@@ -4,7 +4,7 @@
 // settings in the stable region, and balancing that never hurts where the
 // paper's rule used to (slow links, spheres everywhere, the view across the
 // axis). The policies' decisions and the protocol on their own:
-// test_policies.cpp.
+// test_policies.cpp and test_agent.cpp.
 #include <random>
 
 #include <gtest/gtest.h>

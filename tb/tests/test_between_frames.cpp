@@ -1,0 +1,303 @@
+// Between frames on their own (resplit): the minimax split, the frame
+// forecast, work by position, and what getting to new planes costs,
+// against values worked out by hand (no machine run).
+#include <algorithm>
+#include <set>
+#include <string>
+#include <cmath>
+#include <deque>
+#include <map>
+#include <memory>
+#include <random>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "balance/balance_agent.h"
+#include "base/fifo.h"
+#include "balance/frame_forecast.h"
+#include "channel/link.h"
+#include "balance/minimax_split.h"
+#include "balance/policy.h"
+#include "balance/between_frames.h"
+#include "balance/move_forecast.h"
+#include "balance/sample_split.h"
+#include "balance/work_by_position.h"
+
+#include "policy_test.h"
+
+using namespace rt;
+using namespace rt::test;
+
+// ---- resplit: between frames (models/balance/frame_forecast.h, minimax_split.h, between_frames.h) ----
+
+namespace {
+// Part costs on a grid of m cells: the sum of the cells' costs, and `cut`
+// more for a part whose ends lie on an edge listed (not the line's ends).
+PartCosts sumOfCells(const std::vector<double>& cells, const std::map<int, double>& cut = {}) {
+    const int m = int(cells.size());
+    PartCosts c{m, std::vector<double>(size_t(m + 1) * size_t(m + 1), 0.0)};
+    for (int i = 0; i < m; ++i)
+        for (int j = i + 1; j <= m; ++j) {
+            double x = 0;
+            for (int k = i; k < j; ++k) x += cells[size_t(k)];
+            for (int e : {i, j})
+                if (auto it = cut.find(e); it != cut.end()) x += it->second;
+            c.cost[size_t(i) * size_t(m + 1) + size_t(j)] = x;
+        }
+    return c;
+}
+}  // namespace
+
+TEST(MinimaxSplit, EqualCellsSplitEvenly) {
+    EXPECT_EQ(minimaxSplit(sumOfCells(std::vector<double>(12, 1.0)), 4, 1), (std::vector<int>{0, 3, 6, 9, 12}));
+    // 3 1 1 3 in cells of 1, 1, 1, 1 each of 2: two parts of 4 each.
+    EXPECT_EQ(minimaxSplit(sumOfCells({1.5, 1.5, 0.5, 0.5, 0.5, 0.5, 1.5, 1.5}), 2, 1), (std::vector<int>{0, 4, 8}));
+}
+
+TEST(MinimaxSplit, APlaneWhereManyRaysCrossCostsItsNeighbours) {
+    // Ten cells of 1 in two parts: the middle, edge 5, gives 5 and 5; a
+    // plane there cuts rays that cost each side 3 more (8 and 8), so the
+    // plane moves to edge 4 or 6 (4 + 0 and 6, or 6 and 4): the dearest part 6.
+    const std::vector<int> e = minimaxSplit(sumOfCells(std::vector<double>(10, 1.0), {{5, 3.0}}), 2, 1);
+    EXPECT_TRUE(e == (std::vector<int>{0, 4, 10}) || e == (std::vector<int>{0, 6, 10})) << e[1];
+    // Where the cut costs less than it saves, the plane stays.
+    EXPECT_EQ(minimaxSplit(sumOfCells(std::vector<double>(10, 1.0), {{5, 0.5}}), 2, 1), (std::vector<int>{0, 5, 10}));
+}
+
+TEST(MinimaxSplit, AmongEqualDearestPartsTheRestShareEvenly) {
+    // One cell of 10 dominates; the other 9 cells of 1 go to the two other
+    // parts as evenly as they can (sum of squares): 4 and 5, not 1 and 8.
+    std::vector<double> cells(10, 1.0);
+    cells[0] = 10;
+    const std::vector<int> e = minimaxSplit(sumOfCells(cells), 3, 1);
+    EXPECT_EQ(e[1], 1);
+    EXPECT_TRUE(e[2] == 5 || e[2] == 6) << e[2];
+}
+
+TEST(MinimaxSplit, EveryPartAtLeastTheMinimumWide) {
+    std::vector<double> cells(12, 0.0);
+    cells[0] = 100;  // all the work in the first cell: quarters would be one cell each
+    const std::vector<int> e = minimaxSplit(sumOfCells(cells), 4, 3);
+    EXPECT_EQ(e, (std::vector<int>{0, 3, 6, 9, 12}));
+    EXPECT_THROW(minimaxSplit(sumOfCells(cells), 4, 4), std::invalid_argument);
+    EXPECT_THROW(minimaxSplit(sumOfCells(cells), 0, 1), std::invalid_argument);
+}
+
+namespace {
+// A report of an N x 1 x 2 mesh along x over [0, 1] (two columns, z = 0
+// and z = 1), planes at k / N, each node busy `busy` with all of it spread
+// over its box; `extra` edits it.
+nlohmann::json forecastReport(int n, double busy) {
+    nlohmann::json r;
+    r["render_time_ns"] = 1000;
+    r["config"]["mesh"] = {n, 1, 2};
+    r["config"]["balance"]["axis"] = "x";
+    for (int z = 0; z < 2; ++z) {
+        for (int k = 1; k < n; ++k) r["boundaries"].push_back({{"column", {0, z}}, {"index", k}, {"history", {{0, double(k) / n}}}});
+        for (int k = 0; k < n; ++k)
+            r["nodes"].push_back({{"node", {k, 0, z}},
+                                  {"box", {{double(k) / n, 0, z}, {double(k + 1) / n, 1, z + 1}}},
+                                  {"busy_ns", busy}});
+    }
+    return r;
+}
+MachineConfig forecastMesh(int n) {
+    MachineConfig m;
+    m.dims = {n, 1, 2};
+    m.balance.axis = 0;
+    return m;
+}
+}  // namespace
+
+TEST(FrameForecast, BusyTimesAndCutsByHand) {
+    // Two nodes per column, 100 ns each spread over its half. Node 0 of
+    // column z = 0 also crossed its upper face 40 times at 2 ns each (80
+    // ns, not in its spread busy time), and the rays a plane would cut are
+    // 10 going up at every position of [0, 1) (bins of 1/256: 128 per box).
+    nlohmann::json r = forecastReport(2, 100);
+    auto& w = r["nodes"][0]["work_by_position"];
+    w = {{"axis_from", 0.0}, {"bin_width", 1.0 / 256}, {"first_bin", 0}, {"ns", nlohmann::json::array()},
+         {"face_handling_ns", 80.0}, {"face_crossings", 40}};
+    w["cuts_up"] = {{"first_bin", 0}, {"rays", std::vector<double>(255, 10.0)}};
+    r["nodes"][0]["busy_ns"] = 180.0;
+    const MachineConfig m = forecastMesh(2);
+    const FrameForecast f(r, m, InnerPlanes{{0.5}, {0.5}});
+    // Held at 0.5: node 0 of column 0 does its 100, plus 10 cut rays at
+    // 2 ns (its column's 80 ns / 40 crossings): 120; the others 100.
+    EXPECT_NEAR(f.forecast({{0.5}, {0.5}}).nodeNs, 120, 1e-9);
+    // At 0.25: node 1 has 50 of node 0's and its 100, and the cut: 170.
+    EXPECT_NEAR(f.forecast({{0.25}, {0.5}}).nodeNs, 170, 1e-9);
+    // The search evens column 0: x + 20 = (1 - x) ... busy below x is 200 x
+    // for x < 0.5: 200 x + 20 = 200 - 200 x + 20 gives x = 0.5 again.
+    const InnerPlanes p = f.perColumn();
+    EXPECT_NEAR(p[0][0], 0.5, 1.0 / 256);
+    EXPECT_NEAR(f.forecast(p).nodeNs, 120, 200.0 / 256 + 1e-9);
+    // No links in the report: no wire time forecast.
+    EXPECT_EQ(f.forecast(p).linkNs, 0);
+}
+
+TEST(FrameForecast, OneCellGrowthIsTheNewCellOverTheOld) {
+    EXPECT_DOUBLE_EQ(oneCellGrowth(1.0, 1.0), 1.0);
+    EXPECT_DOUBLE_EQ(oneCellGrowth(1.4, 1.0), 1.4);   // still one cell, 1.4 times as thick
+    EXPECT_DOUBLE_EQ(oneCellGrowth(0.5, 1.0), 0.5);   // thinner: one cell, half as thick
+    EXPECT_DOUBLE_EQ(oneCellGrowth(1.6, 1.0), 0.8);   // two cells of 0.8
+    EXPECT_DOUBLE_EQ(oneCellGrowth(3.0, 1.0), 1.0);   // three cells of 1
+}
+
+TEST(FrameForecast, TestsWithinABoxOfOneCellAlongTheAxisGrowWithItsCell) {
+    // Column z = 0, node 0 over [0, 0.5): 100 ns of work spread over its
+    // box, 60 of it the tests of rays running across the axis inside it,
+    // and its grid has one cell along x. Every other node: 100 ns spread.
+    nlohmann::json r = forecastReport(2, 100);
+    auto& w = r["nodes"][0]["work_by_position"];
+    w = {{"axis_from", 0.0}, {"bin_width", 1.0 / 256}, {"first_bin", 0}, {"ns", std::vector<double>(128, 100.0 / 128)},
+         {"face_handling_ns", 0.0}, {"face_crossings", 0}};
+    w["within"] = {{"first_bin", 0}, {"ns", std::vector<double>(128, 60.0 / 128)}};
+    r["nodes"][0]["grid"] = {{"cells", {1, 3, 3}}, {"span", {{0, 0, 0}, {0.5, 1, 1}}}};
+    const MachineConfig m = forecastMesh(2);
+    const FrameForecast one(r, m, InnerPlanes{{0.5}, {0.5}});
+    // Held: as measured.
+    EXPECT_NEAR(one.forecast({{0.5}, {0.5}}).nodeNs, 100, 1e-9);
+    // Node 0 to [0, 0.625), 1.25 times as thick, still one cell: its 100,
+    // its 60 within 1.25 times (+15), and 25 of node 1's: 140.
+    EXPECT_NEAR(one.forecast({{0.625}, {0.5}}).nodeNs, 140, 1e-9);
+    // Node 0 to [0, 0.375): 75 of its own, of which 45 within at 0.75
+    // (-11.25): 63.75. Node 1, [0.375, 1), 0.625 thick: node 0's last 25
+    // (15 within, at 1.25 times: +3.75) and its 100: 128.75.
+    EXPECT_NEAR(one.forecast({{0.375}, {0.5}}).nodeNs, 128.75, 1e-9);
+    // With two cells along x the cells do not change with the box: no scaling.
+    r["nodes"][0]["grid"]["cells"] = {2, 3, 3};
+    const FrameForecast two(r, m, InnerPlanes{{0.5}, {0.5}});
+    EXPECT_NEAR(two.forecast({{0.625}, {0.5}}).nodeNs, 125, 1e-9);
+    EXPECT_NEAR(two.forecast({{0.375}, {0.5}}).nodeNs, 125, 1e-9);
+}
+
+TEST(FrameForecast, RaysAcrossColumnsArePassedWhereThePlanesDiffer) {
+    // 30 rays left node 0 of column z = 0 for column z = 1 at x in the bin
+    // [0.2, 0.2 + 1/256); a receive and a send cost 1 ns each (the column
+    // handled 20 crossings for 20 ns).
+    nlohmann::json r = forecastReport(2, 0);
+    auto& w = r["nodes"][2]["work_by_position"];  // node 0 of column z = 1: its handling cost
+    w = {{"axis_from", 0.0}, {"bin_width", 1.0 / 256}, {"first_bin", 0}, {"ns", nlohmann::json::array()},
+         {"face_handling_ns", 20.0}, {"face_crossings", 20}};
+    r["nodes"][0]["work_by_position"] = {{"axis_from", 0.0}, {"bin_width", 1.0 / 256}, {"first_bin", 51},
+                                         {"ns", nlohmann::json::array()}};
+    r["nodes"][0]["work_by_position"]["lateral"]["pz"] = {{"first_bin", 51}, {"rays", {30.0}}};
+    r["links"] = nlohmann::json::array({{{"to", "+z"}, {"wire_ns", {{"ray", 300.0}}}}, {{"to", "fb"}, {"wire_ns", {{"ray", 1e6}}}}});
+    const FrameForecast f(r, forecastMesh(2), InnerPlanes{{0.5}, {0.5}});
+    // Planes alike: the rays go from node 0 to node 0, owner there; none passed.
+    const FrameForecast::Forecast same = f.forecast({{0.5}, {0.5}});
+    EXPECT_EQ(same.passes, 0);
+    EXPECT_EQ(same.nodeNs, 0);
+    // Column 1's plane at 0.1: x = 0.2 is its node 1's; node 0 passes the
+    // 30 rays up: 30 x (1 + 1) ns, and the link up through 0.1 carries them.
+    const FrameForecast::Forecast moved = f.forecast({{0.5}, {0.1}});
+    EXPECT_EQ(moved.passes, 30);
+    EXPECT_NEAR(moved.nodeNs, 60, 1e-9);
+    // Wire per ray: 300 ns over the rays the links carried, the frame
+    // buffer's links aside: the 30 across and 20 / 2 along the axis (each
+    // crossing counted by both its nodes), 7.5 ns; the busiest link (the
+    // one across, and the one up through 0.1) carries 30.
+    EXPECT_NEAR(moved.linkNs, 225, 1e-9);
+    EXPECT_NEAR(moved.frameNs, 225, 1e-9);
+}
+
+TEST(FrameForecast, ANodesLinkToANeighbouringColumnCarriesTheRaysOfItsPart) {
+    // Node 0 of column z = 0 sent 2 rays to column z = 1 from each bin of
+    // [0, 0.5) (256 rays); the links' rays took 512 ns on the wire, 2 ns
+    // each; no other work. Its link there carries the rays of its part:
+    // 512 ns with the plane at 0.5. Both searches halve its part (the plane
+    // at 0.25: 128 rays, 256 ns); a search that saw only the nodes' busy
+    // times and the links along the axis would see no cost anywhere.
+    nlohmann::json r = forecastReport(2, 0);
+    auto& w = r["nodes"][0]["work_by_position"];
+    w = {{"axis_from", 0.0}, {"bin_width", 1.0 / 256}, {"first_bin", 0}, {"ns", nlohmann::json::array()}};
+    w["lateral"]["pz"] = {{"first_bin", 0}, {"rays", std::vector<double>(128, 2.0)}};
+    r["links"] = nlohmann::json::array({{{"to", "+z"}, {"wire_ns", {{"ray", 512.0}}}}});
+    const FrameForecast f(r, forecastMesh(2), InnerPlanes{{0.5}, {0.5}});
+    EXPECT_NEAR(f.forecast({{0.5}, {0.5}}).linkNs, 512, 1e-9);
+    for (const InnerPlanes& p : {f.perColumn(), f.aligned()}) {
+        EXPECT_NEAR(p[0][0], 0.25, 1.0 / 256);
+        EXPECT_NEAR(f.forecast({p[0], p[0]}).linkNs, 256, 2 * 2 + 1e-9);  // (within a bin's 2 rays)
+    }
+}
+
+TEST(FrameForecast, ANodeAndALinkCloseTogetherMakeALongerFrame) {
+    // The setup above (node 0 of column 0's link to column 1 carries 512
+    // ns of rays with the plane at 0.5), each node also busy `busy` over
+    // its box. Far apart, the frame is the dearer of the two; within
+    // kTandem of each other, kTandem times the cheaper: the link queues the
+    // rays behind it and the nodes after it get them late.
+    for (const auto& [busy, frame] : {std::pair<double, double>{100, 512}, {2000, 2000}, {500, 550}, {540, 563.2}}) {
+        nlohmann::json r = forecastReport(2, busy);
+        auto& w = r["nodes"][0]["work_by_position"];
+        w = {{"axis_from", 0.0}, {"bin_width", 1.0 / 256}, {"first_bin", 0}, {"ns", nlohmann::json::array()}};
+        w["lateral"]["pz"] = {{"first_bin", 0}, {"rays", std::vector<double>(128, 2.0)}};
+        r["links"] = nlohmann::json::array({{{"to", "+z"}, {"wire_ns", {{"ray", 512.0}}}}});
+        const FrameForecast::Forecast f = FrameForecast(r, forecastMesh(2), InnerPlanes{{0.5}, {0.5}}).forecast({{0.5}, {0.5}});
+        EXPECT_NEAR(f.nodeNs, busy, 1e-9);
+        EXPECT_NEAR(f.linkNs, 512, 1e-9);
+        EXPECT_NEAR(f.frameNs, frame, 1e-9) << busy;
+    }
+}
+
+TEST(Resplit, WorkByPositionKeepsOnlyTheSpanTraced) {
+    // The world [0, 4] in 2 boxes: 256 bins of 1/64. Steps at 1.001 and
+    // 1.01 share bin 64; one at 0.5 (bin 32) grows the span downwards, one
+    // at 3.99 (bin 255) upwards; NaN is no position.
+    WorkByPosition w(0, 4, 2);
+    EXPECT_DOUBLE_EQ(w.binWidth(), 1.0 / 64);
+    w.add(1.001, 3);
+    w.add(1.01, 4);
+    EXPECT_EQ(w.firstBin(), 64);
+    EXPECT_EQ(w.bins(), (std::vector<double>{7}));
+    w.add(0.5, 2);
+    w.add(3.99, 1);
+    w.add(std::nan(""), 100);
+    EXPECT_EQ(w.firstBin(), 32);
+    ASSERT_EQ(w.bins().size(), size_t(255 - 32 + 1));
+    EXPECT_EQ(w.bins().front(), 2);
+    EXPECT_EQ(w.bins()[64 - 32], 7);
+    EXPECT_EQ(w.bins().back(), 1);
+    double sum = 0;
+    for (double b : w.bins()) sum += b;
+    EXPECT_EQ(sum, 10);
+}
+
+TEST(Resplit, TimeAveragedPosition) {
+    // At 1 for 2 ns, then at 3 for 2 ns.
+    EXPECT_DOUBLE_EQ(timeAveraged({{0, 1}, {2, 3}}, 4), 2.0);
+    // A move after the end does not count.
+    EXPECT_DOUBLE_EQ(timeAveraged({{0, 1}, {2, 3}, {9, 100}}, 4), 2.0);
+    EXPECT_DOUBLE_EQ(timeAveraged({{0, 5}}, 10), 5.0);
+}
+
+// What getting to new planes costs, by hand (move_forecast.h): boxes [0,1],
+// [1,2], [2,3] along x holding 10, 20 and 30 objects; links of 100 ns and
+// 42 GB/s (1 ns an object's 42 bytes), handling 40 + 40 ns a slide, grid
+// updates 4 ns an object on each node (9 ns an object in all). Plane 1 from
+// 1 to 2.5 crosses the second box and half the third: 2 hops of 180 ns,
+// and 20 + 15 objects passed on average half of the chain's 2 + 1:
+// 360 + 35 x 1.5 x 9 = 832.5 ns. Plane 2 stays. With the hops on the
+// links (--hop-handling link), no handling: 200 + 472.5.
+TEST(Resplit, GettingToNewPlanesCostsItsChainOfSlabs) {
+    nlohmann::json r;
+    const double objects[] = {10, 20, 30};
+    for (int k = 0; k < 3; ++k)
+        r["nodes"].push_back({{"node", {k, 0, 0}},
+                              {"box", {{double(k), 0.0, 0.0}, {double(k + 1), 1.0, 1.0}}},
+                              {"objects", objects[k]}});
+    MachineConfig m;
+    m.dims = {3, 1, 1};
+    m.link.latency = 100000;
+    m.link.bandwidth = 42e9;
+    m.balance.rebuildCost = 4000;
+    const InnerPlanes from{{1.0, 2.0}}, to{{2.5, 2.0}};
+    EXPECT_NEAR(moveNs(r, m, from, to), 832.5, 1e-9);
+    EXPECT_NEAR(moveNs(r, m, to, from), 832.5, 1e-9);  // the same chain back
+    EXPECT_DOUBLE_EQ(moveNs(r, m, from, from), 0.0);
+    m.hopsByLinks = true;
+    EXPECT_NEAR(moveNs(r, m, from, to), 672.5, 1e-9);
+}

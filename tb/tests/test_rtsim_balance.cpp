@@ -1,0 +1,586 @@
+// rtsim end to end with balancing: the summary's comparison with the
+// unbalanced frame, the cases where balancing must not lose, the guards,
+// boundaries in the waveform, and frame sequences carrying the boundaries.
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <fstream>
+#include <sstream>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "rtsim_test.h"
+
+using nlohmann::json;
+using namespace rt::test;
+
+// The main job's comparison: the same frame balanced and not, each checked
+// against a run of its own, and the speed-up against a run on one node.
+TEST_F(Rtsim, SummaryComparesTheFrameWithAndWithoutBalancing) {
+    const std::string args = std::string(kSmall) + " --mesh 3 --balance-interval 3us";
+    const Outcome o = run(args + " --image '' --report " + (dir_ / "m.json").string());
+    ASSERT_EQ(o.code, 0) << o.err;
+    const json m = json::parse(slurp(dir_ / "m.json"));
+    const double none = report(args + " --balance none", "n.json")["render_time_ns"];
+    const json slide = report(args + " --balance slide", "s.json");
+    const json noneReport = json::parse(slurp(dir_ / "n.json"));
+    const double one = report(args + " --mesh 1", "o.json")["render_time_ns"];
+    ASSERT_TRUE(m.contains("comparison"));
+    const json& c = m["comparison"];
+    EXPECT_EQ(c["balanced_policy"], "measured");  // the recommended policy (--balance recommended)
+    // One frame of resplit is one frame of slide; one frame of measured
+    // keeps the starting split: the unbalanced frame, to the picosecond.
+    EXPECT_EQ(report(args + " --balance resplit", "r.json")["render_time_ns"], slide["render_time_ns"]);
+    const json measured = report(args + " --balance measured", "d.json");
+    EXPECT_EQ(measured["render_time_ns"].get<double>(), none);
+    EXPECT_EQ(measured["balance"]["slides"], 0);
+    EXPECT_GT(slide["balance"]["slides"].get<int>(), 0);
+    // So a single frame is compared with the default's second frame: re-split from where the first measured the work.
+    const double second = report(args + " --balance measured --frames 2", "d2.json")["render_time_ns"];
+    EXPECT_LT(second, none);
+    EXPECT_EQ(c["balanced_frame"], 2);
+    EXPECT_EQ(c["unbalanced_ns"].get<double>(), none);
+    EXPECT_EQ(c["balanced_ns"].get<double>(), second);
+    EXPECT_DOUBLE_EQ(c["ratio"].get<double>(), second / none);
+    EXPECT_EQ(c["column_bound"], noneReport["bounds"]["column"]["fraction"]);
+    EXPECT_DOUBLE_EQ(m["baseline"]["speedup"].get<double>(), one / none);
+    char ratio[32];
+    std::snprintf(ratio, sizeof ratio, "ratio %.2f", c["ratio"].get<double>());
+    EXPECT_NE(o.out.find(ratio), std::string::npos) << o.out;
+    EXPECT_NE(o.out.find("frame buffer     16 units"), std::string::npos) << o.out;
+    // A balancing run compares itself with the frame unbalanced, and prints its bounds.
+    const Outcome b = run(args + " --balance work --image '' --report " + (dir_ / "w.json").string());
+    ASSERT_EQ(b.code, 0) << b.err;
+    const json w = json::parse(slurp(dir_ / "w.json"));
+    EXPECT_EQ(w["comparison"]["balanced_policy"], "work");
+    EXPECT_EQ(w["comparison"]["unbalanced_ns"].get<double>(), none);
+    EXPECT_NE(b.out.find("bounds           of this balanced frame: perfect"), std::string::npos) << b.out;
+    // Its two column bounds say whose they are: this balanced frame's, the unbalanced frame's.
+    EXPECT_NE(b.out.find("the unbalanced frame's heaviest column along x"), std::string::npos) << b.out;
+    // An unbalanced run names its comparison's policy as the recommended one.
+    EXPECT_NE(o.out.find("this run: no balancing (none); the comparison run: balancing with measured (the recommended "
+                         "policy), frame 2"), std::string::npos) << o.out;
+}
+
+// Issue 11: where the paper's rule used to lose (a frame 2.6 times longer
+// with 3 us links; 0.3 GB/s links; spheres everywhere; the view across the
+// axis), slide with its guard loses at most 2 %: the summary's ratio
+// time(balanced) / time(none) is at most 1 / 0.98; so does the default,
+// whose first frame does not slide. Without the guard the 3 us case loses
+// far more, so the guard is what slide's hold.
+struct Hurt {
+    const char* name;
+    const char* flags;
+};
+class NeverHurts : public Rtsim, public testing::WithParamInterface<Hurt> {};
+
+TEST_P(NeverHurts, DefaultPolicyLosesAtMostTwoPercent) {
+    // The default keeps its first frame's split (measured); slide, the
+    // paper's rule within a frame, is held there by its guard.
+    for (const char* policy : {"recommended", "slide"}) {
+        SCOPED_TRACE(policy);
+        const std::string along = " --eye=-1.3,0.5,0.5 --look-at=0.5,0.5,0.5 --fov 50";
+        const std::string flags = std::string(" --size 128x128 --balance ") + policy + " " + GetParam().flags;
+        const std::string args = (std::string(GetParam().name) == "view_across" ? "" : along) + flags;
+        const Outcome o = run(args + " -q --image '' --report " + (dir_ / "r.json").string());
+        ASSERT_EQ(o.code, 0) << o.err;
+        const json r = json::parse(slurp(dir_ / "r.json"));
+        EXPECT_LE(r["comparison"]["ratio"].get<double>(), 1 / 0.98) << r["comparison"].dump();
+    }
+}
+
+// The same cases in steady state: the fourth frame of the default policy
+// (measured) against the fourth frame without balancing, and no frame of
+// the sequence slower than the first (the unbalanced frame) by 2 %.
+TEST_P(NeverHurts, DefaultPolicyInSteadyStateLosesAtMostTwoPercent) {
+    const std::string along = " --eye=-1.3,0.5,0.5 --look-at=0.5,0.5,0.5 --fov 50";
+    const std::string flags = std::string(" --size 128x128 --balance recommended --frames 4 ") + GetParam().flags;
+    const std::string args = (std::string(GetParam().name) == "view_across" ? "" : along) + flags;
+    const Outcome o = run(args + " -q --image '' --report " + (dir_ / "r.json").string());
+    ASSERT_EQ(o.code, 0) << o.err;
+    const json r = json::parse(slurp(dir_ / "r.json"));
+    ASSERT_EQ(r["frames"].size(), 4u);
+    EXPECT_EQ(r["comparison"]["balanced_policy"], "measured");
+    EXPECT_LE(r["comparison"]["ratio"].get<double>(), 1 / 0.98) << r["comparison"].dump();
+    for (const json& f : r["frames"])  // no frame of the sequence, the first included
+        EXPECT_LE(f["render_time_ns"].get<double>(), r["frames"][0]["render_time_ns"].get<double>() / 0.98) << f.dump();
+}
+
+INSTANTIATE_TEST_SUITE_P(FailureCases, NeverHurts,
+                         testing::Values(Hurt{"links_3us", "--link-latency 3us"},
+                                         Hurt{"links_300MBps", "--link-bandwidth 300MB/s"},
+                                         Hurt{"spheres_everywhere", "--concentration 1"},
+                                         Hurt{"view_across", ""}),
+                         [](const testing::TestParamInfo<Hurt>& i) { return std::string(i.param.name); });
+
+// --faces ideal-layer (models/balance/ideal_layer_faces.h). Spheres everywhere,
+// viewed across the axis (rtsim's camera): `slide`'s columns move their
+// faces apart, and rays crossing into a neighbouring column whose face is
+// elsewhere are passed on untraced. With the layer's shared planes the faces
+// stay in line, up to the columns' lag in reaching them; the image is the
+// unbalanced run's, byte for byte.
+TEST_F(Rtsim, IdealLayerFacesStayInLineAndKeepTheImage) {
+    const std::string procedural = " --spheres 1000 --radius 0.02 --seed 5 --concentration 1 --size 96x96 -q";
+    auto between = [&](const std::string& flags, const std::string& image) {
+        const Outcome o = run(procedural + flags + " --image " + (dir_ / image).string() + " --report " +
+                              (dir_ / "r.json").string());
+        EXPECT_EQ(o.code, 0) << o.err;
+        EXPECT_EQ(o.err, "");  // the baseline and the balancing comparison ran (their policies share no faces)
+        const json r = json::parse(slurp(dir_ / "r.json"));
+        EXPECT_TRUE(r.contains("baseline"));
+        return std::make_pair(r["totals"]["rays_passed_between_columns"].get<uint64_t>(),
+                              r["balance"].value("slides", 0));
+    };
+    const auto none = between(" --balance none", "none.png");
+    const auto columns = between(" --balance slide", "columns.png");
+    const auto layers = between(" --balance slide --faces ideal-layer", "layers.png");
+    EXPECT_EQ(none.second, 0);
+    EXPECT_GT(layers.second, 50);
+    EXPECT_GT(columns.first, 400u);
+    EXPECT_LT(layers.first * 5, columns.first) << layers.first << " against " << columns.first;
+    EXPECT_EQ(slurp(dir_ / "layers.png"), slurp(dir_ / "none.png"));
+    EXPECT_EQ(slurp(dir_ / "columns.png"), slurp(dir_ / "none.png"));
+    // Only with slide's rule, in one frame from faces in line: one line each.
+    for (const char* bad : {" --balance work --faces ideal-layer", " --balance slide --faces ideal-layer --frames 2",
+                            " --balance slide --faces aligned"})
+        expectBad(procedural + bad, "--faces");
+}
+
+// Issue 11's age target at the ends of the link sweep, with the control
+// lane: the 95th percentile age of the loads slide's decisions
+// used is at most 2 intervals plus a report's own crossing of one link
+// (latency + 52 bytes at the link's bandwidth), and the reports cost no more
+// than 2 % of the frame. On the rays' FIFO the 100 us case reached 10.3
+// intervals, and without pacing the 10 MB/s one made the frame 13 % longer.
+struct Speed {
+    const char* name;
+    const char* flags;
+    double latencyUs, bytesPerUs;
+};
+class LoadAges : public Rtsim, public testing::WithParamInterface<Speed> {};
+
+TEST_P(LoadAges, StayWithinTwoIntervalsAndAReportsCrossing) {
+    const Speed& s = GetParam();
+    const Outcome o = run(std::string(" --eye=-1.3,0.5,0.5 --look-at=0.5,0.5,0.5 --fov 50 --size 64x64 --balance slide"
+                                      " --link-control-depth 2 ") +
+                          s.flags + " -q --image '' --report " + (dir_ / "r.json").string());
+    ASSERT_EQ(o.code, 0) << o.err;
+    const json r = json::parse(slurp(dir_ / "r.json"));
+    const double interval = 20, reportBytes = 8 + 44;  // us: rtsim's default interval
+    const double target = 2 + (s.latencyUs + reportBytes / s.bytesPerUs) / interval;
+    ASSERT_GT(r["balance"]["decisions"].get<int>(), 100);
+    EXPECT_LE(r["balance"]["load_age_intervals"]["p95"].get<double>(), target) << r["balance"].dump();
+    EXPECT_LE(r["comparison"]["ratio"].get<double>(), 1 / 0.98) << r["comparison"].dump();
+}
+
+INSTANTIATE_TEST_SUITE_P(LinkSweepEnds, LoadAges,
+                         testing::Values(Speed{"latency_10ns", "--link-latency 10ns", 0.01, 1000},
+                                         Speed{"latency_100us", "--link-latency 100us", 100, 1000},
+                                         Speed{"bandwidth_10MBps", "--link-bandwidth 10MB/s", 0.1, 10},
+                                         Speed{"bandwidth_100GBps", "--link-bandwidth 100GB/s", 0.1, 100000}),
+                         [](const testing::TestParamInfo<Speed>& i) { return std::string(i.param.name); });
+
+TEST_F(Rtsim, WithoutTheGuardTheSlowLinksCaseLoses) {
+    const Outcome o = run(" --eye=-1.3,0.5,0.5 --look-at=0.5,0.5,0.5 --fov 50 --size 128x128 --balance slide "
+                          "--link-latency 3us --no-guard -q --image '' --report " + (dir_ / "r.json").string());
+    ASSERT_EQ(o.code, 0) << o.err;
+    const json r = json::parse(slurp(dir_ / "r.json"));
+    EXPECT_GT(r["comparison"]["ratio"].get<double>(), 1.1) << r["comparison"].dump();
+}
+
+// The 1987 machine at its bandwidth knee (360 KB/s links, N = 2): without
+// the busy-link guard (--guard-wire 0) slide's slides pass the
+// cost test, but each moves work across a link the rays already fill, and
+// the frame becomes link-bound: 1.19 times the unbalanced frame. With the
+// guard at its default (1: a full link) a slide that would fill the link
+// (its last interval's share plus the rays the slab's work sends across) is
+// stopped, and the frame is shorter than the unbalanced one (0.88).
+TEST_F(Rtsim, TheBusyLinkGuardKeepsBalancingFromLosingAtTheBandwidthKnee) {
+    const std::string args = " --config " RT_CONFIG_DIR "/transputer-1987.conf --spheres 1000 --concentration 0.25 "
+                             "--size 128x128 --mesh 2 --link-latency 1.5us --link-bandwidth 360KB/s --balance slide "
+                             "-q --image '' --report " + (dir_ / "r.json").string();
+    const Outcome without = run(args + " --guard-wire 0");
+    ASSERT_EQ(without.code, 0) << without.err;
+    const json w = json::parse(slurp(dir_ / "r.json"));
+    EXPECT_GT(w["comparison"]["ratio"].get<double>(), 1.1) << w["comparison"].dump();
+    EXPECT_EQ(w["balance"]["guard_busy_link"], 0);
+    EXPECT_EQ(w["config"]["balance"]["guard_wire_share"], 0.0);
+    const Outcome with = run(args);
+    ASSERT_EQ(with.code, 0) << with.err;
+    const json g = json::parse(slurp(dir_ / "r.json"));
+    EXPECT_LE(g["comparison"]["ratio"].get<double>(), 1 / 0.98) << g["comparison"].dump();
+    EXPECT_GT(g["balance"]["guard_busy_link"].get<int>(), 0);
+    EXPECT_EQ(g["config"]["balance"]["guard_wire_share"], 1.0);
+}
+
+// The busy-link guard counts a link's slots where they, not its wire, are
+// the narrower limit (Link::occupied). The 1987 machine with 200 us links:
+// a ray message takes 110 us on the wire (132 bytes at 1.2 MB/s), but with
+// 2 slots each holds one for 110 + 2 x 200 us, so the link carries one
+// every 255 us at best. No wire is busy a third of the frame, yet the guard
+// stops slides across links whose slots are full (30 here), and the frame is
+// 0.90 of the unbalanced one. With 64 slots the wire is the narrower limit
+// again ((110 + 400) / 64 < 110 us), busier (0.42 of the frame), and the
+// guard stops a tenth as many or fewer (1 here).
+TEST_F(Rtsim, TheBusyLinkGuardCountsALinksSlotsWhereTheyAreTheNarrowerLimit) {
+    const std::string args = " --config " RT_CONFIG_DIR "/transputer-1987.conf --spheres 1000 --concentration 0.25 "
+                             "--size 128x128 --mesh 2 --link-latency 200us --balance slide -q --image '' --report " +
+                             (dir_ / "r.json").string();
+    auto busiestWire = [](const json& r) {
+        double u = 0;
+        for (const json& l : r["links"])
+            if (l["to"] != "fb") u = std::max(u, l["utilisation"].get<double>());
+        return u;
+    };
+    ASSERT_EQ(run(args + " --link-depth 2").code, 0);
+    const json two = json::parse(slurp(dir_ / "r.json"));
+    EXPECT_LT(busiestWire(two), 0.34);
+    EXPECT_GT(two["balance"]["guard_busy_link"].get<int>(), 0);
+    EXPECT_LT(two["comparison"]["ratio"].get<double>(), 0.93) << two["comparison"].dump();
+    ASSERT_EQ(run(args + " --link-depth 64").code, 0);
+    const json many = json::parse(slurp(dir_ / "r.json"));
+    EXPECT_GT(busiestWire(many), busiestWire(two));
+    EXPECT_LE(10 * many["balance"]["guard_busy_link"].get<int>(), two["balance"]["guard_busy_link"].get<int>());
+}
+
+
+
+TEST_F(Rtsim, BoundariesInTheWaveformAndTheSummary) {
+    const std::string vcd = (dir_ / "b.vcd").string();
+    const Outcome o = run(std::string(kSmall) + " --mesh 2 --balance slide --gain 1 --balance-interval 2us --no-baseline"
+                                                " --image '' --vcd " + vcd);
+    ASSERT_EQ(o.code, 0) << o.err;
+    const std::string text = slurp(vcd);
+    EXPECT_NE(text.find("$scope module boundaries $end"), std::string::npos);
+    EXPECT_NE(text.find("$var real 64"), std::string::npos);
+    EXPECT_NE(text.find(" slides $end"), std::string::npos);
+    EXPECT_NE(slurp(dir_ / "b.gtkw").find("machine.boundaries.col_0_0_b1.position"), std::string::npos);
+    const std::string cmd = "vcd2fst " + vcd + " " + (dir_ / "b.fst").string() + " >/dev/null 2>&1";
+    EXPECT_EQ(std::system(cmd.c_str()), 0);
+    EXPECT_NE(o.out.find("balancing        slide along x"), std::string::npos) << o.out;
+    const json r = report(std::string(kSmall) + " --mesh 2 --balance slide --gain 1 --balance-interval 2us");
+    EXPECT_GT(r["balance"]["slides"].get<size_t>(), 0u);
+    EXPECT_EQ(r["boundaries"].size(), 4u);  // a 2x2x2 mesh: 4 columns along x, one boundary each
+    EXPECT_TRUE(r["nodes"][0].contains("intervals"));
+}
+
+// ---- Frames: the boundaries carried from one frame to the next ----
+
+namespace {
+// Each column's inner boundaries where a report's run ended them, keyed by
+// (column, index); and where it started them.
+std::map<std::pair<std::string, int>, double> boundaryEnds(const json& r, bool last) {
+    std::map<std::pair<std::string, int>, double> m;
+    for (const json& h : r["boundaries"])
+        m[{h["column"].dump(), h["index"].get<int>()}] = (last ? h["history"].back() : h["history"].front())[1].get<double>();
+    return m;
+}
+const char* kSliding = " --spheres 300 --radius 0.03 --size 48x48 --mesh 3 --balance slide --balance-interval 5us"
+                       " --eye=-1.3,0.5,0.5 --look-at=0.5,0.5,0.5 --fov 50";
+}  // namespace
+
+TEST_F(Rtsim, BoundariesFromAReportStartWhereItsRunEnded) {
+    const json a = report(kSliding, "a.json");
+    ASSERT_GT(a["balance"]["slides"].get<int>(), 0);
+    const json b = report(std::string(kSliding) + " --boundaries-from " + (dir_ / "a.json").string(), "b.json");
+    const auto ended = boundaryEnds(a, true), started = boundaryEnds(b, false);
+    ASSERT_EQ(ended.size(), 3u * 3 * 2);
+    EXPECT_EQ(ended, started);
+    // Not where a run starts on its own: the uniform split.
+    EXPECT_NE(boundaryEnds(a, false), started);
+}
+
+TEST_F(Rtsim, FramesCarryTheBoundariesAndEachFrameIsARunFromThePreviousOne) {
+    // Three frames in one command against the same three frames run by hand,
+    // each from the report of the one before: the same render times, and
+    // the last frame's image is the image (the same as without balancing).
+    const json f = report(std::string(kSliding) + " --frames 3", "f.json");
+    ASSERT_EQ(f["frames"].size(), 3u);
+    std::vector<double> byHand;
+    std::string from;
+    for (int k = 0; k < 3; ++k) {
+        const std::string name = "h" + std::to_string(k) + ".json";
+        const json h = report(std::string(kSliding) + from, name);
+        byHand.push_back(h["render_time_ns"].get<double>());
+        from = " --boundaries-from " + (dir_ / name).string();
+    }
+    for (int k = 0; k < 3; ++k) EXPECT_EQ(f["frames"][k]["render_time_ns"].get<double>(), byHand[size_t(k)]) << k;
+    EXPECT_EQ(f["render_time_ns"].get<double>(), byHand[2]);
+    EXPECT_NE(byHand[0], byHand[1]);  // the second frame starts elsewhere
+    ASSERT_EQ(run(std::string(kSliding) + " --frames 3 -q --no-baseline --image " + (dir_ / "f.png").string()).code, 0);
+    ASSERT_EQ(run(std::string(kSliding) + " --balance none -q --no-baseline --image " + (dir_ / "n.png").string()).code, 0);
+    EXPECT_EQ(slurp(dir_ / "f.png"), slurp(dir_ / "n.png"));
+}
+
+TEST_F(Rtsim, ACameraPathMovesTheEyeEachFrame) {
+    // Frame 3 of a path is the view moved two steps: the same image as one
+    // frame rendered from there.
+    const std::string scene = " --spheres 300 --radius 0.03 --size 48x48 --mesh 2 --look-at=0.5,0.5,0.5 -q --no-baseline";
+    ASSERT_EQ(run(scene + " --eye=-1.3,0.5,0.5 --eye-step 0,0.2,0.1 --frames 3 --balance slide --image " +
+                  (dir_ / "p.png").string()).code, 0);
+    ASSERT_EQ(run(scene + " --eye=-1.3,0.9,0.7 --balance none --image " + (dir_ / "q.png").string()).code, 0);
+    ASSERT_EQ(run(scene + " --eye=-1.3,0.5,0.5 --balance none --image " + (dir_ / "r.png").string()).code, 0);
+    EXPECT_EQ(slurp(dir_ / "p.png"), slurp(dir_ / "q.png"));
+    EXPECT_NE(slurp(dir_ / "p.png"), slurp(dir_ / "r.png"));
+}
+
+TEST_F(Rtsim, BoundariesFromAnotherMeshIsBadInput) {
+    report(std::string(kSliding), "a.json");
+    const Outcome o = run(std::string(kSliding) + " --mesh 2 -q --image '' --boundaries-from " + (dir_ / "a.json").string());
+    EXPECT_EQ(o.code, 2);
+    EXPECT_NE(o.err.find("--boundaries-from"), std::string::npos) << o.err;
+    EXPECT_NE(o.err.find("another mesh"), std::string::npos) << o.err;
+    EXPECT_EQ(std::count(o.err.begin(), o.err.end(), '\n'), 1) << o.err;
+    std::ofstream(dir_ / "bad.json") << "{ not json";
+    EXPECT_EQ(run(std::string(kSliding) + " -q --image '' --boundaries-from " + (dir_ / "bad.json").string()).code, 2);
+}
+
+TEST_F(Rtsim, ResplitMovesTheBoundariesAtTheStartOfEachFrameAndKeepsTheFastest) {
+    // Frame 1 balances as slide; every later frame starts by moving each
+    // face once, at time 0, to the quantiles of the frame before's busy
+    // time, and holds it. Over eight frames it settles on the fastest split
+    // it has seen, well below the unbalanced frame.
+    const std::string k = std::string(kSliding) + " --balance resplit";
+    const json none = report(std::string(kSliding) + " --balance none", "n.json");
+    const json f = report(k + " --frames 8", "f.json");
+    ASSERT_EQ(f["frames"].size(), 8u);
+    EXPECT_GT(f["frames"][0]["slides"].get<int>(), 18);
+    double fastest = 1e300;
+    for (size_t i = 1; i < 8; ++i) {
+        // Each face of the 3 x 3 columns at most twice: once, or, when its
+        // target lies past the next box, what that box has and then the rest.
+        EXPECT_LE(f["frames"][i]["slides"].get<int>(), 2 * 3 * 3 * 2) << i;
+        if (i < 7) fastest = std::min(fastest, f["frames"][i]["render_time_ns"].get<double>());
+    }
+    // The last frames hold the fastest frame's planes. A frame that holds
+    // them is not the one that moved to them (no slides at its start), so
+    // the order its work happens in, and its time, may differ a little.
+    EXPECT_EQ(f["frames"][6]["then"]["next"], "held");
+    EXPECT_LE(f["render_time_ns"].get<double>(), 1.005 * fastest);
+    EXPECT_LT(f["render_time_ns"].get<double>(), 0.8 * none["render_time_ns"].get<double>());
+    // The moves of a re-split frame happen at its start.
+    const json g = report(k + " --frames 3", "g.json");
+    ASSERT_GT(g["balance"]["slides"].get<int>(), 0);
+    for (const json& h : g["boundaries"])
+        for (const json& p : h["history"]) EXPECT_LT(p[0].get<double>(), 1000.0) << h.dump();
+    ASSERT_EQ(run(k + " --frames 3 -q --no-baseline --image " + (dir_ / "g.png").string()).code, 0);
+    ASSERT_EQ(run(std::string(kSliding) + " --balance none -q --no-baseline --image " + (dir_ / "n.png").string()).code, 0);
+    EXPECT_EQ(slurp(dir_ / "g.png"), slurp(dir_ / "n.png"));
+}
+
+TEST_F(Rtsim, FramesWithOneNodeAlongTheBalancingAxis) {
+    // No boundaries to carry from frame to frame: found by scripts/stress.py
+    // (the report had no "boundaries" and the frame loop stopped, exit 1).
+    for (const char* p : {"slide", "resplit", "measured", "quantile"}) {
+        SCOPED_TRACE(p);
+        const json r = report(std::string(kSmall) + " --mesh-dims 2x1x2 --axis y --frames 2 --balance " + p);
+        EXPECT_EQ(r["frames"].size(), 2u);
+        EXPECT_TRUE(r["boundaries"].empty());
+    }
+}
+
+TEST_F(Rtsim, ResplitGoesBackToTheFirstFrameWhereReSplittingDoesNotPay) {
+    // 500 spheres over half the world, 4x4x4, 150 MB/s: the forecast holds
+    // frame 1's planes (its slides made none), so neither frame 2 nor 3
+    // beats the first, which its load reports' small gain did; frame 4
+    // holds the split frame 1 started from (to the picosecond the
+    // unbalanced run), and since it does not beat frame 1 either, every
+    // later frame is the first one again.
+    const ResplitAgainstNone f = resplitAgainstNone("150MB/s", " --spheres 500 --radius 0.02 --concentration 0.5 --mesh 4");
+    const double first = f.ns[0];
+    EXPECT_LT(first, f.none);
+    EXPECT_GT(f.ns[1], first);
+    EXPECT_GT(f.ns[2], first);
+    EXPECT_EQ(f.ns[3], f.none);
+    EXPECT_EQ(f.slides[3], 0);
+    EXPECT_EQ(f.ns[4], first);
+    EXPECT_EQ(f.ns[5], first);
+    EXPECT_EQ(f.last, first);
+}
+
+TEST_F(Rtsim, ResplitHoldsThePlanesWhereTheForecastSeesNoGain) {
+    // Spheres spread evenly, 30 MB/s: the frame is the links' (slide's first
+    // frame makes no slide, and its load reports make it slower than the
+    // unbalanced one):
+    // the forecast from frame 1 finds no planes that would be faster, so
+    // frames 2 to 6 hold frame 1's planes, the starting split, with no
+    // slides and no load reports: the unbalanced run's time to the picosecond.
+    const ResplitAgainstNone f = resplitAgainstNone("30MB/s");
+    EXPECT_GT(f.ns[0], f.none);
+    for (int i = 1; i < 6; ++i) {
+        EXPECT_EQ(f.ns[size_t(i)], f.none) << "frame " << i + 1;
+        EXPECT_EQ(f.slides[size_t(i)], 0) << "frame " << i + 1;
+    }
+    EXPECT_EQ(f.last, f.none);
+    const json r = report(" --spheres 300 --radius 0.03 --concentration 1 --size 48x48 --mesh 3 --balance-interval 5us --link-bandwidth 30MB/s"
+                          " --balance resplit --frames 2", "h.json");
+    EXPECT_EQ(r["frames"][0]["then"]["next"], "held");
+    EXPECT_LT(r["frames"][0]["then"]["forecast_ns"].get<double>(), 1.01 * r["frames"][1]["render_time_ns"].get<double>());
+}
+
+TEST_F(Rtsim, WhereTheLinksAreTheFrameColumnsOwnPlanesMustBeatAlignedOnesClearly) {
+    // tetra-3, N = 6, 100 MB/s: the links are the frame. The forecast puts
+    // the columns' own planes 1.7 % ahead of one set for all, but they pass
+    // rays between columns, which it counts short there: they measured 1.14
+    // of the first frame, the aligned planes 0.95. So the aligned planes
+    // are chosen, and the second frame does not lose.
+    const json r = report(" --scene " + std::string(RT_SCENE_DIR) + "/tetra-3.nff --size 256x256 --mesh 6"
+                          " --link-bandwidth 100MB/s --balance recommended --frames 2", "t.json");
+    EXPECT_EQ(r["frames"][0]["then"]["next"], "aligned");
+    EXPECT_LT(r["frames"][1]["render_time_ns"].get<double>(), r["frames"][0]["render_time_ns"].get<double>());
+}
+
+TEST_F(Rtsim, AReSplitFrameGeneratesEachPrimaryRayInTheBoxItMovesTo) {
+    // Targets for the frame's start, the same planes in every column: each
+    // node generates the primary rays of the box it is to have, once its
+    // faces are there, so no ray is passed on (before, the nodes generated
+    // them in the boxes they started with and passed 265 on); the image is
+    // the unbalanced run's.
+    const std::string k = " --spheres 300 --radius 0.03 --size 48x48 --mesh 3 --no-baseline -q";
+    ASSERT_EQ(run(k + " --balance none --report " + (dir_ / "n.json").string() + " --image " + (dir_ / "n.png").string()).code, 0);
+    std::ofstream(dir_ / "t.json") << nlohmann::json(std::vector<std::vector<double>>(9, {0.3, 0.55})).dump();
+    const Outcome o = run(k + " --balance measured --boundaries-from " + (dir_ / "n.json").string() + " --targets-from " +
+                          (dir_ / "t.json").string() + " --report " + (dir_ / "m.json").string() + " --image " +
+                          (dir_ / "m.png").string());
+    ASSERT_EQ(o.code, 0) << o.err;
+    const json m = json::parse(slurp(dir_ / "m.json"));
+    EXPECT_EQ(m["balance"]["slides"].get<int>(), 18);
+    EXPECT_EQ(m["totals"]["rays_passed"].get<int>(), 0);
+    for (const json& h : m["boundaries"]) EXPECT_DOUBLE_EQ(h["history"].back()[1].get<double>(), h["index"] == 1 ? 0.3 : 0.55);
+    EXPECT_EQ(slurp(dir_ / "m.png"), slurp(dir_ / "n.png"));
+    // A target box thinner than the minimum could never be reached (nor
+    // its primary rays generated): refused, in one line.
+    std::ofstream(dir_ / "thin.json") << nlohmann::json(std::vector<std::vector<double>>(9, {0.3, 0.3001})).dump();
+    const Outcome thin = run(k + " --balance measured --boundaries-from " + (dir_ / "n.json").string() +
+                             " --targets-from " + (dir_ / "thin.json").string() + " --image ''");
+    EXPECT_EQ(thin.code, 1) << thin.err;  // (the run refuses it, as a start box too thin)
+    EXPECT_NE(thin.err.find("thinner than the minimum thickness"), std::string::npos) << thin.err;
+    EXPECT_EQ(std::count(thin.err.begin(), thin.err.end(), '\n'), 1) << thin.err;
+}
+
+// A report reruns its run (tb/rerun.h): the flags it records, from another
+// folder, give the same report (wall-clock figures and the rerun's own
+// record aside) and the same image; flags given after --rerun change what
+// they name; an edited scene file, or a report without flags, is refused.
+TEST_F(Rtsim, AReportRerunsToTheSameRun) {
+    const fs::path scene = dir_ / "scene.nff", elsewhere = dir_ / "elsewhere";
+    fs::copy_file(fs::path(RT_SCENE_DIR) / "balls-1.nff", scene);
+    std::ofstream(dir_ / "more.conf") << "link-depth = 3\nnode-speed = [\"1,0,0=0.5\"]\n";
+    fs::create_directories(elsewhere);
+    struct Case {
+        const char* name;
+        std::string args;
+    };
+    const std::vector<Case> cases{
+        {"file", "--scene scene.nff --size 24x24 --mesh-dims 3x2x1 --balance slide --no-guard --gain 0.4"
+                 " --link-set 0,0,0,+x:latency=1us,bandwidth=200MB/s --node-cost 1,1,0:sphere=30ns --frames 2"},
+        {"procedural", std::string(kSmall) + " --mesh 2 --concentration 0.5 --seed 9 --light 1,2,3 --light 0,-2,1"
+                       " --eye 0.5,-2,0.6 --cost-recv 70ns --quantum 0 --ray-batch 4 --fb-units 3 --config more.conf"},
+    };
+    for (const Case& c : cases) {
+        SCOPED_TRACE(c.name);
+        const std::string name = c.name;
+        const Outcome o = run(c.args + " -q --image " + name + ".png --report " + name + ".json", dir_);
+        ASSERT_EQ(o.code, 0) << o.err;
+        const Outcome again = run("--rerun ../" + name + ".json -q --image again.png --report again.json", elsewhere);
+        ASSERT_EQ(again.code, 0) << again.err;
+        EXPECT_EQ(slurp(dir_ / (name + ".png")), slurp(elsewhere / "again.png"));
+        json a = json::parse(slurp(dir_ / (name + ".json"))), b = json::parse(slurp(elsewhere / "again.json"));
+        EXPECT_EQ(b["rerun"]["of"], a["rerun"]);
+        EXPECT_EQ(b["rerun"]["flags"], a["rerun"]["flags"]);
+        a.erase("rerun");
+        b.erase("rerun");
+        dropWall(a);
+        dropWall(b);
+        EXPECT_EQ(a["render_time_ns"], b["render_time_ns"]);
+        EXPECT_EQ(a, b);
+        // A flag after --rerun changes what it names, and nothing is refused.
+        const Outcome what = run("--rerun ../" + name + ".json --link-latency 777ns -q --image '' --report what.json", elsewhere);
+        ASSERT_EQ(what.code, 0) << what.err;
+        const json w = json::parse(slurp(elsewhere / "what.json"));
+        EXPECT_EQ(w["config"]["link"]["latency_ns"], 777.0);
+        EXPECT_EQ(w["config"]["mesh"], a["config"]["mesh"]);
+        EXPECT_NE(w["render_time_ns"], a["render_time_ns"]);
+    }
+    // The scene file edited since: refused, naming it.
+    std::ofstream(scene, std::ios::app) << "s 0 0 0 0.1\n";
+    expectBad("--rerun " + (dir_ / "file.json").string(), "scene.nff has changed since");
+    // Not a report with flags.
+    std::ofstream(dir_ / "old.json") << "{\"config\": {}}";
+    expectBad("--rerun " + (dir_ / "old.json").string(), "rerun.flags: missing");
+    expectBad("--rerun " + (dir_ / "file.png").string(), "not JSON");
+    expectBad("--rerun " + (dir_ / "file.json").string() + " --config " + (dir_ / "more.conf").string(), "cannot be combined");
+}
+
+// Messages go through SystemC's reporting with an ID per kind
+// (tb/messages.h): with --verbose each line names its ID, and rtsim says
+// what it does; without, the same one line and exit code as ever.
+TEST_F(Rtsim, MessagesCarryTheirSystemCReportIds) {
+    struct Case {
+        std::string args;
+        int code;
+        const char* id;
+    };
+    std::ofstream(dir_ / "bad.nff") << "v\nfrom 0 0 nope\n";
+    const std::vector<Case> cases{
+        {"--scene " + (dir_ / "bad.nff").string(), 2, "rtsim/scene"},
+        {"--scene " + (dir_ / "none.nff").string(), 2, "rtsim/config"},  // (a flag naming no file)
+        {std::string(kSmall) + " --image /nonexistent/x.png", 2, "rtsim/output"},
+        {"--mesh 0", 2, "rtsim/config"},
+        {"--rerun " + (dir_ / "none.json").string(), 2, "rtsim/config"},
+        {std::string(kSmall) + " --mesh 2 --fault-drop-credit --no-baseline -q --image ''", 3, "rtsim/watchdog"},
+    };
+    for (const Case& c : cases) {
+        SCOPED_TRACE(c.args);
+        const Outcome plain = run(c.args);
+        EXPECT_EQ(plain.code, c.code) << plain.err;
+        EXPECT_EQ(std::count(plain.err.begin(), plain.err.end(), '\n'), 1) << plain.err;
+        EXPECT_EQ(plain.err.rfind("rtsim: error: ", 0), 0u) << plain.err;
+        EXPECT_EQ(plain.err.find("[rtsim/"), std::string::npos) << plain.err;
+        const Outcome v = run(c.args + " -v");
+        EXPECT_EQ(v.code, c.code) << v.err;
+        const std::string last = v.err.substr(v.err.rfind('\n', v.err.size() - 2) == std::string::npos ? 0 : v.err.rfind('\n', v.err.size() - 2) + 1);
+        EXPECT_NE(last.find(std::string(" [") + c.id + "]\n"), std::string::npos) << v.err;
+    }
+    // What rtsim does, with -v only.
+    const Outcome ok = run(std::string(kSmall) + " --mesh 2 --no-baseline -q --image '' -v");
+    ASSERT_EQ(ok.code, 0) << ok.err;
+    EXPECT_NE(ok.err.find("rtsim: quantum: each process's lookahead (the smallest 208 ns); watchdog after "), std::string::npos) << ok.err;  // a unit's: 200 ns and an 8-byte header at 1 GB/s
+    EXPECT_NE(ok.err.find("[rtsim/info]"), std::string::npos) << ok.err;
+    EXPECT_EQ(run(std::string(kSmall) + " --mesh 2 --no-baseline -q --image ''").err, "");
+}
+
+// The summary never calls boundaries converged over a frame that lost: the
+// built-in scene at 64x64 on 33x1x1, where sample's frame takes 1.64 times
+// the unbalanced one (its object-median start loses there), says which
+// frame and how much; on 4x4x4 under measured, where no frame lost, it
+// says converged and no more.
+TEST_F(Rtsim, TheSummaryNamesAFrameThatLostBesideConvergedBoundaries) {
+    const Outcome lost = run("--size 64x64 --mesh-dims 33x1x1 --balance sample --image ''");
+    ASSERT_EQ(lost.code, 0) << lost.err;
+    EXPECT_NE(lost.out.find("boundaries converged, but frame 1 took 1.6"), std::string::npos) << lost.out;
+    const Outcome fine = run("--size 64x64 --balance measured --frames 3 --image ''");
+    ASSERT_EQ(fine.code, 0) << fine.err;
+    EXPECT_NE(fine.out.find("boundaries converged\n"), std::string::npos) << fine.out;
+    EXPECT_EQ(fine.out.find(", but frame"), std::string::npos) << fine.out;
+}
+
+// The recommended policy on long columns, where moving the planes costs more
+// than it saves: on the built-in scene at 64x64 its second frame took 3.5
+// times the unbalanced one on 33x1x1, 4.0 on 64x1x1 and 1.37 on 64x2x1 (issue 61),
+// the planes passed along chains of up to a dozen boxes. Counting that
+// (move_forecast.h), no frame is slower than the unbalanced one by 2 %.
+TEST_F(Rtsim, TheRecommendedPolicyNeverLosesOnALongColumn) {
+    // (and 32 nodes along one axis, x or z)
+    for (const char* dims : {"32x1x1", "33x1x1", "64x1x1", "64x2x1", "2x2x32 --axis z"}) {
+        SCOPED_TRACE(dims);
+        const Outcome o = run(std::string("--size 64x64 --balance measured --frames 3 -q --image '' --mesh-dims ") + dims +
+                              " --report " + (dir_ / "r.json").string());
+        ASSERT_EQ(o.code, 0) << o.err;
+        const json r = json::parse(slurp(dir_ / "r.json"));
+        ASSERT_EQ(r["frames"].size(), 3u);
+        const double none = r["comparison"]["unbalanced_ns"].get<double>();
+        for (const json& f : r["frames"]) EXPECT_LE(f["render_time_ns"].get<double>(), 1.02 * none) << f.dump();
+    }
+}
