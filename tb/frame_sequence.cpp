@@ -16,8 +16,9 @@ namespace {
 extern "C" int mallctl(const char* name, void* old, size_t* oldLength, void* value, size_t length) __attribute__((weak));
 
 // A frame's report is parsed, used and freed; the allocator would keep its
-// pages for 30 s (malloc_conf in rtsim.cpp), and at four frames a second a
-// 512-node mesh's parent grew by 5 MB a frame. Handed back at once instead.
+// pages for 30 s (malloc_conf in rtsim.cpp), and at several frames a second
+// the parent would grow by a report's size every frame. Handed back at
+// once instead.
 void releaseFreedPages() {
     if (mallctl) mallctl("arena.4096.purge", nullptr, nullptr, nullptr, 0);  // (4096: every arena)
 }

@@ -51,13 +51,11 @@
 // pages. The model's data is spread over every node (its grid, objects, link
 // buffers, stack) and a run visits them in turn, so most of its cost is
 // memory access, not arithmetic; 2 MB pages cut the TLB misses and the page
-// faults, about 9 % of the wall time on balls-4 at 512x512, N = 4
-// (doc/exploration.md, "Performance"). Freed pages go back to the system
-// over 30 s rather than the default 10: a link's backlog grows to tens of
-// megabytes, runs empty and grows again, and each time it found pages
-// given back and the kernel had to zero fresh ones (7 % of that run's wall
-// time, in clear_page; 5 % faster with the longer decay, the same peak
-// memory). jemalloc reads this at start-up.
+// faults. Freed pages go back to the system over 30 s rather than the
+// default 10: a link's backlog grows to tens of megabytes, runs empty and
+// grows again, and each time it would find pages given back and the kernel
+// would zero fresh ones. (What each bought: doc/history.md, "Figures behind
+// the code's comments".) jemalloc reads this at start-up.
 extern "C" {
 const char* malloc_conf = "thp:always,metadata_thp:always,dirty_decay_ms:30000,muzzy_decay_ms:30000";
 }

@@ -17,8 +17,8 @@
 // that both ends of the link count alike, so their reports leave together.
 // On a slow link reports on the control lane then do not crowd out the
 // rays: at 10 MB/s a 52-byte report takes 5.2 us on the wire, a quarter of a
-// 20 us interval, and with the lane's priority reports every interval made
-// the frame 13 % longer (doc/balancing.md, "The control lane"). A round then
+// 20 us interval, and with the lane's priority reports every interval
+// would lengthen the frame (doc/balancing.md, "The control lane"). A round then
 // spans more intervals; its loads are no older for it. (On the rays' FIFO
 // the host reports no wire time: reports wait their turn, unpaced.)
 //

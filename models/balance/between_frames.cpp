@@ -87,9 +87,8 @@ ResplitChoice resplitChoice(const nlohmann::json& r, const MachineConfig& m) {
         // Columns' own planes pass rays on between columns, which the
         // forecast counts short where the links are the frame: there they
         // must beat the aligned planes by the margin a move needs to beat
-        // holding (tetra-3, N = 6, 100 MB/s: forecast 1.7 % faster than
-        // aligned planes, they measured 1.14 of the unbalanced frame
-        // against 0.95).
+        // holding (the case that showed it: doc/history.md, "Figures behind
+        // the code's comments").
         const std::pair<const char*, InnerPlanes> candidates[] = {{"aligned", f.aligned()}, {"per column", f.perColumn()}};
         for (const auto& [name, planes] : candidates) {
             const FrameForecast::Forecast t = f.forecast(planes);

@@ -32,14 +32,13 @@ InnerPlanes averagedBoundaries(const nlohmann::json& r, const MachineConfig& m);
 // of the planes where `r`'s frame ended, the best per column and the best
 // for all columns, the ones of the shortest forecast frame, getting there
 // included (move_forecast.h); the planes move only if that forecast is at
-// least kMinForecastGain shorter than the forecast for holding them (the forecast is within about 10 % of the frames
-// measured; a move that gains less can lose). Where the links are the
-// frame, the columns' own planes must also be kMinForecastGain shorter
-// than the aligned ones: the rays they pass on between columns are what
-// the forecast counts short there.
-// (4 %: with the forecast's tandem term, modern across N = 4 forecast 4.9 %
-// for a move that made its frame 0.509 of the unbalanced one from 0.536;
-// on the SPD scenes' 60 points no frame then lost more than 2 %.)
+// least kMinForecastGain shorter than the forecast for holding them: the
+// forecast misses the frames measured by some per cent, and a move that
+// gains less than its miss can lose. Where the links are the frame, the
+// columns' own planes must also be kMinForecastGain shorter than the
+// aligned ones: the rays they pass on between columns are what the
+// forecast counts short there. (Why 4 %, and the misses measured:
+// doc/history.md, "Figures behind the code's comments".)
 constexpr double kMinForecastGain = 0.04;
 struct ResplitChoice {
     const char* what;  // "held", "per column" or "aligned"

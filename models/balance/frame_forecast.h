@@ -45,9 +45,9 @@ using InnerPlanes = std::vector<std::vector<double>>;
 
 // How much longer than the cheaper of the busiest node and the busiest link
 // a frame is where the two are close (the forecast's frame: the dearer, or
-// this times the cheaper). Fitted on the modern machine across the axis at
-// N = 4 and 5, where the frames ran 7 % and 10 % past the busiest node with
-// a link within 2 % of it (doc/balancing.md, "Between frames").
+// this times the cheaper): a node and a link that both work near all of the
+// frame wait for each other. Fitted on frames measured (doc/balancing.md,
+// "Between frames").
 constexpr double kTandem = 1.1;
 
 // How many times the tests of a ray running across the axis inside a box

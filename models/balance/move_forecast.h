@@ -6,11 +6,9 @@
 // move wait for them (a node generates its primary rays once its faces are
 // at their targets). Plain C++ on reports (JSON), beside frame_forecast.h.
 //
-// Measured where it was missing (the built-in scene at 64x64, 33x1x1): the
-// forecast for the re-split frame was 102.5 us, the frame 492 us; its
-// busiest node spent 45.5 us updating its grid for slabs passed along
-// chains of up to a dozen boxes (doc/balancing.md, "The rule, and how it
-// runs").
+// Without it a forecast can miss by a factor: on a long column the slabs
+// pass along chains of boxes, and each box on the chain updates its grid
+// for them (doc/balancing.md, "The rule, and how it runs").
 #pragma once
 #include <nlohmann/json.hpp>
 

@@ -17,10 +17,8 @@
 namespace rt {
 
 // The sample: the pixels on every kSampleSide-th row and column, one in 16.
-// A regular pattern, not a random one: on the paper's machine (N = 4 to 8,
-// f = 1/N, both views) a random 1/16 of the pixels put the planes where a
-// whole frame took 1.3 times as long as with the pattern's at N = 8, and
-// 1/25 or 1/64 of the pixels were worse again (doc/balancing.md).
+// A regular pattern, not a random one: a random sample of the same size
+// put the planes worse, and smaller samples worse again (doc/balancing.md).
 constexpr uint32_t kSampleSide = 4;
 bool inSample(uint32_t pixel, uint32_t width);
 
@@ -31,8 +29,8 @@ constexpr int kSampleBins = 64;
 // The gather's messages carry the column's sample in at most this many
 // cells (8 bytes an edge and a mass each): past it, the cells are merged
 // to equal shares of the work, so a message stays about 2 KB however long
-// the column. (Grown with the column, they made a 64-long column's
-// gather 1 ms long on 1 GB/s links, with the rays queued behind it.)
+// the column. (Grown with the column, they would make a long column's
+// gather long, with the rays queued behind it.)
 constexpr int kSampleCells = 128;
 
 // A column's sample as the gather carries it up: the work (ps) in cells

@@ -9,19 +9,15 @@
 // its items in address order, which the processor prefetches. Past that it
 // is a list of such chunks, filled at the back and freed at the front, so a
 // backlog of 100,000 messages that the receiver takes long after they were
-// sent is never copied to a block twice its size (each doubling touched
-// fresh pages, which the kernel zeroes: on balls-4 at 512x512 that was 4 %
-// of rtsim's time) and holds at most three chunks more than its items need.
-// A ring keeps its room: with a quantum most links fill and drain every
-// quantum, and giving the room back when the ring drained or ran empty (then
-// doubling it again from a few items at the next burst) moved each message
-// about once more (Fifo<Message>::moveOut, 1.1 % of the samples of the
-// 100 us run on balls-4 at 512x512, N = 4, and a fifth of its cache misses
-// under cachegrind; keeping the room made that run 1 to 3 % faster). So a
-// ring holds room for the largest burst it has had, at most a chunk (64
-// KiB); a queue of chunks gives them all back when it runs empty (on the
-// 16x16x16 mesh the kept rooms add about 36 MiB to the peak, 471 against
-// 435 MiB).
+// sent is never copied to a block twice its size (each doubling touches
+// fresh pages, which the kernel zeroes) and holds at most three chunks more
+// than its items need. A ring keeps its room: with a quantum most links
+// fill and drain every quantum, and giving the room back when the ring
+// drained or ran empty (then doubling it again from a few items at the next
+// burst) would move each message about once more. So a ring holds room for
+// the largest burst it has had, at most a chunk (64 KiB); a queue of chunks
+// gives them all back when it runs empty. (What each choice bought:
+// doc/history.md, "Figures behind the code's comments".)
 #pragma once
 #include <cstddef>
 #include <cstdint>

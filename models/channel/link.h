@@ -292,9 +292,8 @@ private:
 
 // The link behind a port: every channel a node or a unit is bound to is a
 // Link, and holding it as one (Link is final) makes the calls at every
-// message direct instead of virtual, through the interfaces' thunks: with
-// the ring keeping its room (fifo.h), 3 to 4 % of the 100 us run on
-// balls-4 at 512x512, N = 4.
+// message direct instead of virtual, through the interfaces' thunks (what
+// that bought: doc/history.md, "Figures behind the code's comments").
 template <class If>
 Link& asLink(If& i) {
     if (auto* l = dynamic_cast<Link*>(&i)) return *l;

@@ -158,8 +158,8 @@ void BalanceConfig::validate(Picos reportFloor, bool carriedBoundaries) const {
     if (interval == 0) throw std::invalid_argument("--balance-interval: must be positive");
     // An interval a node cannot honour: every interval wakes every node and
     // sends a report each way, so one shorter than handling a report (or
-    // than 1 ns) only burns the run's time and memory (1 ps once ran 20 s
-    // and died of bad_alloc).
+    // than 1 ns) only burns the run's time and memory, until the run runs out
+    // of memory.
     if (dynamic() && interval < reportFloor)
         throw std::invalid_argument("--balance-interval: " + formatTime(interval) +
                                     " is shorter than a node takes to send and take a load report (" +

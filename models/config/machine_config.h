@@ -37,7 +37,7 @@ struct Costs {
 // `measured` keeps the starting split for the first frame, measuring where
 // the work is, and from the second frame on re-splits each column between
 // frames as `resplit` does: a first frame is never slower than without
-// balancing (within a frame, sliding lost up to 39 % on balls-4), and the
+// balancing (sliding within a frame can lose: doc/balancing.md), and the
 // steady state is `resplit`'s.
 constexpr const char* kRecommendedPolicy = "measured";
 
@@ -137,12 +137,11 @@ struct MachineConfig {
 
     // What the links keep of each message beyond counts and times: their
     // latency distributions (p50, p95, max) and their backlog and buffer
-    // high-water marks. Keeping them costs 7 to 8 % of a 100 us run's wall
-    // time on balls-4 at 512x512 (each touches a link's figures once per
-    // message, long after the link was last used); without them (--link-stats
+    // high-water marks. Keeping them costs wall time (each touches a link's
+    // figures once per message, long after the link was last used; how much:
+    // doc/exploration.md, "Fidelity knobs"); without them (--link-stats
     // counts) the report leaves those fields out and everything else,
-    // timing included, is the same to the bit (doc/exploration.md,
-    // "Fidelity knobs"; doc/machine.md, the report).
+    // timing included, is the same to the bit (doc/machine.md, the report).
     bool linkDistributions = true;
 
     // Tracing (VCD); empty path: none. The VCD is streamed into vcdPath;

@@ -50,7 +50,7 @@ public:
 
     // The links from the nodes, in node order, given before the start. Not
     // bound to a port: a multiport checks each new binding against every
-    // one before it, which at 32,768 nodes took 3.8 s of the start-up.
+    // one before it, quadratic in the nodes.
     void addNodeLink(Link& l) { fromNodes_.push_back(&l); }
     // Then (unit 0) the links from units 1..K-1, or (the others) from unit 0.
     sc_core::sc_port<LinkRecvIf, 0, sc_core::SC_ZERO_OR_MORE_BOUND> in;

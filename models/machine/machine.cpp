@@ -268,8 +268,8 @@ void Machine::endFrame() {
 // before it stops: sc_stop finishes the current delta cycle, and a process
 // ended here does not run in it. Newest first: the kernel finds a killed
 // process in its list of processes from the newest on, so ending the
-// oldest first took a search of every process for each (about 3 s at
-// 32,768 nodes).
+// oldest first would take a search of every process for each: quadratic
+// in the nodes.
 void Machine::endProcesses() {
     const sc_core::sc_process_handle self = sc_core::sc_get_current_process_handle();
     auto end = [&](const sc_core::sc_object& module) {

@@ -214,9 +214,9 @@ private:
     // Running ahead (NodeParams::runAhead): takeWork found it must see its
     // input as of now_ first.
     bool runAhead_ = false, mustSee_ = false;
-    // What proceed and step work on, members rather than locals: a Work and
-    // an empty optional Message on the stack were cleared (392 bytes) at
-    // every turn, and the scratch lists would allocate at every step.
+    // What proceed and step work on, members rather than locals: as locals a
+    // Work and an empty optional Message would be cleared at every turn, and
+    // the scratch lists would allocate at every step.
     Work work_;
     std::optional<Message> control_;
     std::vector<RayJob> spawned_;

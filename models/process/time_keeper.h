@@ -19,8 +19,9 @@
 // synchronising first. With a quantum, a process whose next input
 // is already on its way and due within the quantum idles until it arrives
 // without waiting for the kernel (mayIdleUntil). Most of a node's time is
-// idle, so this is what makes a quantum pay: on balls-4 at 512x512, N = 4,
-// a 10 us quantum took 3.5 M delta cycles before these two, 0.27 M after.
+// idle, so this is what makes a quantum pay: without these two, a process
+// would synchronise with the kernel at every idle step (doc/history.md,
+// "Figures behind the code's comments").
 //
 // The processes are method processes (SC_METHOD): a wait is the process
 // returning with its next activation armed (next_trigger). An activation
