@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "balance/between_frames.h"
+#include "frame_state_json.h"
 #include "stops.h"
 #include "subprocess.h"
 #include "process/watchdog.h"
@@ -87,9 +88,11 @@ EarlierFrames runEarlierFrames(const std::vector<std::string>& args, RtsimOption
         if (!last) throw std::runtime_error("frame " + std::to_string(k + 1) + " of " + std::to_string(o.frames) + " failed");
         out.frames.push_back(frameEntry(k + 1, *last));
         releaseFreedPages();  // (the report before this one's)
-        if (carry) o.machine.startBoundaries = lastBoundaries(*last, o.machine);
+        if (!carry && !resplit) continue;
+        const FrameState state = frameStateFromReport(*last);
+        if (carry) o.machine.startBoundaries = lastBoundaries(state, o.machine);
         if (!resplit) continue;
-        const auto next = sequence.next(*last, k + 1);
+        const auto next = sequence.next(state, k + 1);
         out.frames.back()["then"] = sequence.said();
         if (next) {
             o.machine.targetBoundaries = *next;

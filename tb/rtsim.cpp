@@ -29,6 +29,7 @@
 #include "command_line.h"
 #include "config_echo.h"
 #include "frame_sequence.h"
+#include "frame_state_json.h"
 #include "job_memory.h"
 #include "json_input.h"
 #include "machine/machine.h"
@@ -159,7 +160,8 @@ Stop echoConfig(const rt::RtsimOptions& o, const rt::Scene& scene, const rt::Com
 Stop startBoundaries(rt::RtsimOptions& o) {
     try {
         if (!o.boundariesFrom.empty()) {
-            const nlohmann::json prev = rt::readJsonFile(o.boundariesFrom, rt::kMaxReportBytes);  // (limits as --rerun's)
+            const rt::FrameState prev =  // (limits as --rerun's)
+                rt::frameStateFromReport(rt::readJsonFile(o.boundariesFrom, rt::kMaxReportBytes));
             o.machine.startBoundaries = rt::lastBoundaries(prev, o.machine);
             if (o.machine.balance.betweenFrames() && o.targetsFrom.empty())  // (a frame loop gives its own)
                 o.machine.targetBoundaries = rt::resplitTargets(prev, o.machine);

@@ -7,6 +7,7 @@
 #include "analysis/bounds.h"
 #include "counters_json.h"
 #include "analysis/stability.h"
+#include "machine/frame_state_of.h"
 
 namespace rt {
 namespace {
@@ -88,44 +89,30 @@ nlohmann::json busyPartsJson(const BusyParts& p) {
     return j;
 }
 
+nlohmann::json binnedJson(const Binned& b, const char* values) {
+    return {{"first_bin", b.firstBin}, {values, b.values}};
+}
+
 // Where along the axis the node's work happened (`resplit`'s forecast,
-// frame_forecast.h).
-nlohmann::json workByPositionJson(const BalanceStats& stats) {
-    const WorkByPosition& w = stats.work;
-    nlohmann::json wj;  // bin k: axis_from + [k, k + 1) x bin_width
-    wj["axis_from"] = w.from();
-    wj["bin_width"] = w.binWidth();
-    wj["first_bin"] = w.firstBin();
-    wj["ns"] = nlohmann::json::array();
-    for (double b : w.bins()) wj["ns"].push_back(b / 1000.0);
-    // Of it, the tests of segments that neither entered nor left by a face
-    // along the axis (FaceCrossings::within), in the same bins.
-    if (const WorkByPosition& in = stats.within; !in.bins().empty()) {
-        auto& ij = wj["within"] = {{"first_bin", in.firstBin()}, {"ns", nlohmann::json::array()}};
-        for (double b : in.bins()) ij["ns"].push_back(b / 1000.0);
-    }
-    // Handling rays across the faces along the axis (not in the bins)
-    wj["face_handling_ns"] = ns(stats.faceCost);
-    wj["face_crossings"] = stats.faceCrossings;
-    // and, by position, how many traced segments a plane there would
-    // cut: cuts[k] at the upper edge of bin first_bin + k.
-    for (int up = 0; up < 2; ++up) {
-        const WorkByPosition& sp = stats.spans[size_t(up)];
-        auto& cj = wj[up == 0 ? "cuts_up" : "cuts_down"];
-        cj["first_bin"] = sp.firstBin();
-        auto& cuts = cj["rays"] = nlohmann::json::array();
-        double running = 0;
-        for (double b : sp.bins()) cuts.push_back(running += b);
-    }
-    // Rays sent to each neighbouring column, by where they left.
+// frame_forecast.h): bin k is axis_from + [k, k + 1) x bin_width.
+nlohmann::json workByPositionJson(const WorkAlongAxis& w) {
+    nlohmann::json wj;
+    wj["axis_from"] = w.axisFrom;
+    wj["bin_width"] = w.binWidth;
+    wj["first_bin"] = w.ns.firstBin;
+    wj["ns"] = w.ns.values;
+    if (w.within) wj["within"] = binnedJson(*w.within, "ns");
+    wj["face_handling_ns"] = w.faceHandlingNs;
+    wj["face_crossings"] = w.faceCrossings;
+    wj["cuts_up"] = binnedJson(w.cuts[0], "rays");
+    wj["cuts_down"] = binnedJson(w.cuts[1], "rays");
     for (int d = 0; d < 6; ++d)
-        if (const WorkByPosition& l = stats.lateral[size_t(d)]; !l.bins().empty())
-            wj["lateral"][linkSuffix(d)] = {{"first_bin", l.firstBin()}, {"rays", l.bins()}};
+        if (w.lateral[size_t(d)]) wj["lateral"][linkSuffix(d)] = binnedJson(*w.lateral[size_t(d)], "rays");
     return wj;
 }
 
 // Per node: its box, time, counts and (`full`) balancing intervals.
-nlohmann::json nodeJson(const MachineResult& r, size_t i, bool full) {
+nlohmann::json nodeJson(const MachineResult& r, const NodeFrameState& st, size_t i, bool full) {
     const NodeStats& s = r.nodes[i];
     nlohmann::json n;
     n["node"] = cellJson(r.cells[i]);
@@ -157,7 +144,7 @@ nlohmann::json nodeJson(const MachineResult& r, size_t i, bool full) {
     n["slides_taken"] = s.slidesTaken;
     n["objects_sent"] = s.objectsSent;
     n["objects_received"] = s.objectsReceived;
-    if (!s.balance.work.bins().empty()) n["work_by_position"] = workByPositionJson(s.balance);
+    if (st.work) n["work_by_position"] = workByPositionJson(*st.work);
     if (full && !s.balance.intervals.empty()) {
         auto& iv = n["intervals"];
         iv["intervals_per_record"] = s.balance.intervalsPerRecord;  // > 1: merged to bound the report
@@ -208,11 +195,9 @@ nlohmann::json linkJsonOf(const LinkReport& l, Picos renderTime, bool distributi
 
 // The links, the three busiest wires (ties: the first in the list) and the
 // totals by message type.
-void addLinks(nlohmann::json& j, const MachineResult& r, const MachineConfig& cfg, bool full) {
+void addLinks(nlohmann::json& j, const MachineResult& r, const MachineConfig& cfg, const FrameState& st, bool full) {
     std::array<uint64_t, kMsgTypes> msgs{}, bytes{};
-    double rayWire = 0;  // (summed as the forecast summed the links' own: the same bits)
     for (const LinkReport& l : r.links) {
-        if (l.dir >= 0) rayWire += ns(l.stats.wire[size_t(MsgType::Ray)]);
         for (size_t t = 0; t < size_t(kMsgTypes); ++t) {
             msgs[t] += l.stats.messages[t];
             bytes[t] += l.stats.bytes[t];
@@ -227,7 +212,7 @@ void addLinks(nlohmann::json& j, const MachineResult& r, const MachineConfig& cf
         if (l.contains("peak_utilisation")) b["peak_utilisation"] = l["peak_utilisation"];
         j["busiest_links"].push_back(std::move(b));
     }
-    j["totals"]["ray_wire_ns"] = rayWire;  // resplit's forecast (frame_forecast.h); a summary has no per-link wire_ns
+    j["totals"]["ray_wire_ns"] = st.rayWireNs;  // resplit's forecast (frame_forecast.h); a summary has no per-link wire_ns
     for (int t = 0; t < kMsgTypes; ++t) {
         j["totals"]["messages"][msgTypeName(MsgType(t))] = msgs[size_t(t)];
         j["totals"]["bytes"][msgTypeName(MsgType(t))] = bytes[size_t(t)];
@@ -298,13 +283,13 @@ nlohmann::json balanceJson(const MachineResult& r, const MachineConfig& cfg, con
     return b;
 }
 
-nlohmann::json boundariesJson(const MachineResult& r) {
+nlohmann::json boundariesJson(const FrameState& st) {
     nlohmann::json out = nlohmann::json::array();  // empty, not missing, with one node along the axis
-    for (const BoundaryHistory& h : r.boundaries) {
+    for (const BoundaryState& h : st.boundaries) {
         nlohmann::json bj;
         bj["column"] = {h.column[0], h.column[1]};
         bj["index"] = h.index;
-        for (const auto& [t, x] : h.positions) bj["history"].push_back({ns(t), x});
+        for (const auto& [t, x] : h.history) bj["history"].push_back({t, x});
         out.push_back(bj);
     }
     return out;
@@ -323,6 +308,7 @@ std::vector<size_t> linksByBacklog(const nlohmann::json& links) {
 
 nlohmann::json machineReport(const MachineResult& r, const MachineConfig& cfg, ReportDetail detail) {
     const bool full = detail == ReportDetail::Full;
+    const FrameState st = frameStateOf(r, cfg);  // what the next frame takes: serialised as it is
     nlohmann::json j;
     j["config"] = machineConfigJson(cfg, r.image.width, r.image.height);
     j["render_time_ns"] = ns(r.renderTime);
@@ -339,9 +325,9 @@ nlohmann::json machineReport(const MachineResult& r, const MachineConfig& cfg, R
         total.raysForwarded += s.raysForwarded;
         total.raysPassed += s.raysPassed;
         total.raysPassedBetweenColumns += s.raysPassedBetweenColumns;
-        j["nodes"].push_back(nodeJson(r, i, full));
+        j["nodes"].push_back(nodeJson(r, st.nodes[i], i, full));
     }
-    addLinks(j, r, cfg, full);
+    addLinks(j, r, cfg, st, full);
     j["totals"]["busy_ns"] = ns(total.busy);
     j["totals"]["busy_by_category"] = busyPartsJson(total.busyBy);
     j["totals"]["blocked_ns"] = ns(total.blocked);
@@ -357,7 +343,7 @@ nlohmann::json machineReport(const MachineResult& r, const MachineConfig& cfg, R
     };
     j["bounds"] = {{"perfect", bound(bd.perfect)}, {"column", bound(bd.column)}, {"frame_buffer", bound(bd.frameBuffer)}};
     j["kernel"] = {{"delta_cycles", r.deltaCycles}};
-    j["boundaries"] = boundariesJson(r);
+    j["boundaries"] = boundariesJson(st);
     j["balance"] = balanceJson(r, cfg, j["nodes"]);
     return j;
 }

@@ -11,44 +11,28 @@
 namespace rt {
 namespace {
 
-// The report is of this mesh and progress axis.
-void checkSameMachine(const nlohmann::json& r, const MachineConfig& m) {
-    const auto dims = r.at("config").at("mesh").get<std::array<int, 3>>();
-    const std::string axis = r.at("config").at("balance").at("axis").get<std::string>();
-    if (dims != m.dims || axis != std::string(1, "xyz"[m.balance.axis]))
-        throw std::runtime_error("its run is of another mesh or progress axis");
-}
-
-// A JSON error in a report, said as one line.
-template <class F>
-auto readReport(F f) -> decltype(f()) {
-    try {
-        return f();
-    } catch (const nlohmann::json::exception& e) {
-        throw std::runtime_error(std::string("not an rtsim report (") + e.what() + ")");
-    }
+// The frame ran on this mesh and progress axis.
+void checkSameMachine(const FrameState& r, const MachineConfig& m) {
+    if (r.dims != m.dims || r.axis != m.balance.axis) throw std::runtime_error("its run is of another mesh or progress axis");
 }
 
 }  // namespace
 
-InnerPlanes lastBoundaries(const nlohmann::json& r, const MachineConfig& m, bool atStart) {
+InnerPlanes lastBoundaries(const FrameState& r, const MachineConfig& m, bool atStart) {
     const ColumnGeometry g(m.balance.axis, m.dims);
-    return readReport([&] {
-        checkSameMachine(r, m);
-        InnerPlanes b(size_t(g.count()), std::vector<double>(size_t(g.length() - 1), std::nan("")));
-        for (const auto& h : r.at("boundaries")) {
-            const auto col = h.at("column").get<std::array<int, 2>>();
-            const int k = h.at("index").get<int>();
-            if (!g.isColumn(col[0], col[1]) || k < 1 || k >= g.length())
-                throw std::runtime_error("a boundary outside the mesh");
-            const auto& history = h.at("history");
-            b[size_t(g.indexOf(col[0], col[1]))][size_t(k - 1)] = (atStart ? history.front() : history.back()).at(1).get<double>();
-        }
-        for (const auto& c : b)
-            for (double x : c)
-                if (!std::isfinite(x)) throw std::runtime_error("a boundary missing from its history");
-        return b;
-    });
+    checkSameMachine(r, m);
+    InnerPlanes b(size_t(g.count()), std::vector<double>(size_t(g.length() - 1), std::nan("")));
+    for (const BoundaryState& h : r.boundaries) {
+        const int k = h.index;
+        if (!g.isColumn(h.column[0], h.column[1]) || k < 1 || k >= g.length())
+            throw std::runtime_error("a boundary outside the mesh");
+        if (h.history.empty()) throw std::runtime_error("a boundary with no history");
+        b[size_t(g.indexOf(h.column[0], h.column[1]))][size_t(k - 1)] = (atStart ? h.history.front() : h.history.back()).second;
+    }
+    for (const auto& c : b)
+        for (double x : c)
+            if (!std::isfinite(x)) throw std::runtime_error("a boundary missing from its history");
+    return b;
 }
 
 double timeAveraged(const std::vector<std::pair<double, double>>& history, double end) {
@@ -63,59 +47,50 @@ double timeAveraged(const std::vector<std::pair<double, double>>& history, doubl
     return sum / end;
 }
 
-InnerPlanes averagedBoundaries(const nlohmann::json& r, const MachineConfig& m) {
+InnerPlanes averagedBoundaries(const FrameState& r, const MachineConfig& m) {
     InnerPlanes planes = lastBoundaries(r, m);  // the same mesh and axis, and every plane there
     const ColumnGeometry g(m.balance.axis, m.dims);
-    return readReport([&] {
-        const double end = r.at("render_time_ns").get<double>();
-        for (const auto& h : r.at("boundaries")) {
-            const auto col = h.at("column").get<std::array<int, 2>>();
-            std::vector<std::pair<double, double>> history;
-            for (const auto& p : h.at("history")) history.push_back({p.at(0).get<double>(), p.at(1).get<double>()});
-            planes[size_t(g.indexOf(col[0], col[1]))][size_t(h.at("index").get<int>() - 1)] = timeAveraged(history, end);
-        }
-        return planes;
-    });
+    for (const BoundaryState& h : r.boundaries)
+        planes[size_t(g.indexOf(h.column[0], h.column[1]))][size_t(h.index - 1)] = timeAveraged(h.history, r.renderTimeNs);
+    return planes;
 }
 
-ResplitChoice resplitChoice(const nlohmann::json& r, const MachineConfig& m) {
+ResplitChoice resplitChoice(const FrameState& r, const MachineConfig& m) {
     const InnerPlanes now = lastBoundaries(r, m);
-    return readReport([&] {
-        const FrameForecast f(r, m, averagedBoundaries(r, m));
-        ResplitChoice c{"held", now, f.forecast(now).frameNs, 0};
-        c.heldNs = c.forecastNs;
-        // Columns' own planes pass rays on between columns, which the
-        // forecast counts short where the links are the frame: there they
-        // must beat the aligned planes by the margin a move needs to beat
-        // holding (the case that showed it: doc/history.md, "Figures behind
-        // the code's comments").
-        const std::pair<const char*, InnerPlanes> candidates[] = {{"aligned", f.aligned()}, {"per column", f.perColumn()}};
-        for (const auto& [name, planes] : candidates) {
-            const FrameForecast::Forecast t = f.forecast(planes);
-            const bool linkBound = t.passes > 0 && t.linkNs >= t.nodeNs;
-            const double beat = linkBound ? (1 - kMinForecastGain) * c.forecastNs : c.forecastNs;
-            const double ns = t.frameNs + moveNs(r, m, now, planes);  // and getting there (move_forecast.h)
-            if (ns < beat && ns < (1 - kMinForecastGain) * c.heldNs) c = {name, planes, ns, c.heldNs};
-        }
-        return c;
-    });
+    const FrameForecast f(r, m, averagedBoundaries(r, m));
+    ResplitChoice c{"held", now, f.forecast(now).frameNs, 0};
+    c.heldNs = c.forecastNs;
+    // Columns' own planes pass rays on between columns, which the
+    // forecast counts short where the links are the frame: there they
+    // must beat the aligned planes by the margin a move needs to beat
+    // holding (the case that showed it: doc/history.md, "Figures behind
+    // the code's comments").
+    const std::pair<const char*, InnerPlanes> candidates[] = {{"aligned", f.aligned()}, {"per column", f.perColumn()}};
+    for (const auto& [name, planes] : candidates) {
+        const FrameForecast::Forecast t = f.forecast(planes);
+        const bool linkBound = t.passes > 0 && t.linkNs >= t.nodeNs;
+        const double beat = linkBound ? (1 - kMinForecastGain) * c.forecastNs : c.forecastNs;
+        const double ns = t.frameNs + moveNs(r, m, now, planes);  // and getting there (move_forecast.h)
+        if (ns < beat && ns < (1 - kMinForecastGain) * c.heldNs) c = {name, planes, ns, c.heldNs};
+    }
+    return c;
 }
 
-InnerPlanes resplitTargets(const nlohmann::json& r, const MachineConfig& m) { return resplitChoice(r, m).planes; }
+InnerPlanes resplitTargets(const FrameState& r, const MachineConfig& m) { return resplitChoice(r, m).planes; }
 
-std::optional<InnerPlanes> ResplitSequence::forecast(const nlohmann::json& r) {
+std::optional<InnerPlanes> ResplitSequence::forecast(const FrameState& r) {
     const ResplitChoice c = resplitChoice(r, m_);
     said_ = {{"next", c.what}, {"forecast_ns", c.forecastNs}, {"held_forecast_ns", c.heldNs}};
     return c.planes;
 }
 
-std::optional<InnerPlanes> ResplitSequence::next(const nlohmann::json& r, int frame) {
+std::optional<InnerPlanes> ResplitSequence::next(const FrameState& r, int frame) {
     afresh_ = false;
     said_ = {{"next", "frame 1 again"}};
     if (again_) return std::nullopt;
     said_ = {{"next", "held"}};
     if (held_) return held_;
-    const double t = r.at("render_time_ns").get<double>();
+    const double t = r.renderTimeNs;
     if (frame == 1) {
         firstNs_ = t;
         start_ = lastBoundaries(r, m_, true);

@@ -1,8 +1,7 @@
 // Balancing between the frames of a sequence (--frames, --boundaries-from;
 // doc/balancing.md, "Between frames"): where a frame's boundaries start,
-// read from the report of the frame before, and `resplit`'s choice of the
-// next frame's boundaries. Plain C++ on reports (JSON), run by rtsim between
-// the child processes that render the frames.
+// taken from what the frame before left behind (frame_state.h), and
+// `resplit`'s choice of the next frame's boundaries.
 #pragma once
 #include <optional>
 #include <utility>
@@ -11,24 +10,25 @@
 #include <nlohmann/json.hpp>
 
 #include "balance/frame_forecast.h"
+#include "balance/frame_state.h"
 #include "config/machine_config.h"
 
 namespace rt {
 
-// Each column's inner planes where the run of report `r` ended them (their
-// last positions in its boundary histories), for MachineConfig::
-// startBoundaries; with `atStart`, where they stood when it began. Throws
-// std::runtime_error if `r` is not a report of this mesh and axis.
-InnerPlanes lastBoundaries(const nlohmann::json& r, const MachineConfig& m, bool atStart = false);
+// Each column's inner planes where frame `r` ended them (their last
+// positions in its boundary histories), for MachineConfig::startBoundaries;
+// with `atStart`, where they stood when it began. Throws std::runtime_error
+// if `r` ran on another mesh or axis, or lacks a boundary.
+InnerPlanes lastBoundaries(const FrameState& r, const MachineConfig& m, bool atStart = false);
 
 // The time-weighted mean position of a boundary over [0, end]: `history`
 // holds (time, position) from time 0 on, in time order.
 double timeAveraged(const std::vector<std::pair<double, double>>& history, double end);
 
-// Each column's planes as they stood on average over the frame of report `r`.
-InnerPlanes averagedBoundaries(const nlohmann::json& r, const MachineConfig& m);
+// Each column's planes as they stood on average over frame `r`.
+InnerPlanes averagedBoundaries(const FrameState& r, const MachineConfig& m);
 
-// `resplit`'s planes for the frame after report `r`'s (frame_forecast.h):
+// `resplit`'s planes for the frame after frame `r` (frame_forecast.h):
 // of the planes where `r`'s frame ended, the best per column and the best
 // for all columns, the ones of the shortest forecast frame, getting there
 // included (move_forecast.h); the planes move only if that forecast is at
@@ -45,8 +45,8 @@ struct ResplitChoice {
     InnerPlanes planes;
     double forecastNs, heldNs;  // the next frame, forecast: with these planes; with the planes held
 };
-ResplitChoice resplitChoice(const nlohmann::json& r, const MachineConfig& m);
-InnerPlanes resplitTargets(const nlohmann::json& r, const MachineConfig& m);
+ResplitChoice resplitChoice(const FrameState& r, const MachineConfig& m);
+InnerPlanes resplitTargets(const FrameState& r, const MachineConfig& m);
 
 // `resplit` and `measured` over a sequence of frames: what the next frame
 // does. Each frame re-splits by the forecast from the one before
@@ -68,9 +68,9 @@ InnerPlanes resplitTargets(const nlohmann::json& r, const MachineConfig& m);
 class ResplitSequence {
 public:
     explicit ResplitSequence(const MachineConfig& m) : m_(m), firstHolds_(m.balance.firstFrameHolds()) {}
-    // After frame `frame` (1-based), whose report is `r`: the next frame's
+    // After frame `frame` (1-based), which left `r`: the next frame's
     // targets, or nothing if the next frame is to be the first one again.
-    std::optional<InnerPlanes> next(const nlohmann::json& r, int frame);
+    std::optional<InnerPlanes> next(const FrameState& r, int frame);
     // Whether the next frame starts where frame 1 did (the starting split's
     // trial), not where the frame before left the boundaries: in a steady
     // state the faces would be moved back once, and that frame is to show
@@ -94,7 +94,7 @@ private:
     std::optional<InnerPlanes> held_;
     bool tryingStart_ = false, again_ = false, afresh_ = false;
     nlohmann::json said_;
-    std::optional<InnerPlanes> forecast(const nlohmann::json& r);  // resplitChoice, said
+    std::optional<InnerPlanes> forecast(const FrameState& r);  // resplitChoice, said
 };
 
 }  // namespace rt

@@ -30,21 +30,18 @@ void spread(std::vector<double>& bins, double lo, double w, double a, double b, 
     }
 }
 
-double number(const nlohmann::json& j, const char* key) { return j.contains(key) ? j.at(key).get<double>() : 0.0; }
-
 }  // namespace
 
-FrameForecast::FrameForecast(const nlohmann::json& r, const MachineConfig& m, const InnerPlanes& averaged)
+FrameForecast::FrameForecast(const FrameState& r, const MachineConfig& m, const InnerPlanes& averaged)
     : g_(m.balance.axis, m.dims), n_(g_.length()), bins_(WorkByPosition::kBinsPerBox * g_.length()) {
     const int ax = g_.axis;
     lo_ = 1e300;
     hi_ = -1e300;
-    for (const auto& node : r.at("nodes")) {
-        const auto box = node.at("box").get<std::array<std::array<double, 3>, 2>>();
-        lo_ = std::min(lo_, box[0][size_t(ax)]);
-        hi_ = std::max(hi_, box[1][size_t(ax)]);
+    for (const NodeFrameState& node : r.nodes) {
+        lo_ = std::min(lo_, node.box.lo[ax]);
+        hi_ = std::max(hi_, node.box.hi[ax]);
     }
-    if (!(hi_ > lo_)) throw std::runtime_error("a report whose boxes span nothing along the axis");
+    if (!(hi_ > lo_)) throw std::runtime_error("a frame whose boxes span nothing along the axis");
     minBins_ = m.balance.minThickness * WorkByPosition::kBinsPerBox;
     columns_.assign(size_t(g_.count()), Column{});
     for (Column& c : columns_) {
@@ -53,7 +50,7 @@ FrameForecast::FrameForecast(const nlohmann::json& r, const MachineConfig& m, co
         c.up = c.down = std::vector<double>(size_t(bins_ + 1), 0.0);
     }
     double raysOnLinks = 0;
-    for (const auto& node : r.at("nodes")) raysOnLinks += readNode(node, averaged);
+    for (const NodeFrameState& node : r.nodes) raysOnLinks += readNode(node, averaged);
     for (Column& c : columns_) {
         c.below.assign(size_t(bins_ + 1), 0.0);
         for (int k = 0; k < bins_; ++k) c.below[size_t(k + 1)] = c.below[size_t(k)] + c.perBin[size_t(k)];
@@ -74,80 +71,70 @@ FrameForecast::FrameForecast(const nlohmann::json& r, const MachineConfig& m, co
         for (int k = 0; k < bins_; ++k) below[size_t(k + 1)] = below[size_t(k)] + v[size_t(k)];
         columns_[size_t(key.first)].lateralBelow.push_back(std::move(below));
     }
-    raysOnLinks += r.contains("totals") ? number(r.at("totals"), "rays_passed") : 0;
-    // The rays' wire time on the links between nodes: the report's sum (a
-    // summary's links have no wire_ns), or the links' own in an older report.
-    const bool summed = r.contains("totals") && r.at("totals").contains("ray_wire_ns");
-    double wire = summed ? number(r.at("totals"), "ray_wire_ns") : 0;
-    double busiestLink = 0, busiestNode = 0;
-    if (r.contains("links"))
-        for (const auto& l : r.at("links"))
-            if (l.value("to", "") != "fb") {
-                if (!summed && l.contains("wire_ns")) wire += number(l.at("wire_ns"), "ray");
-                busiestLink = std::max(busiestLink, number(l, "wire_busy_ns"));
-            }
-    for (const auto& node : r.at("nodes")) busiestNode = std::max(busiestNode, node.at("busy_ns").get<double>());
-    wirePerRay_ = raysOnLinks > 0 ? wire / raysOnLinks : 0;
+    raysOnLinks += double(r.raysPassed);
+    double busiestNode = 0;
+    for (const NodeFrameState& node : r.nodes) busiestNode = std::max(busiestNode, node.busyNs);
+    wirePerRay_ = raysOnLinks > 0 ? r.rayWireNs / raysOnLinks : 0;
+    const double busiestLink = r.busiestLinkWireNs;
     // Where a node set the frame, the searches keep the links below it by
     // the tandem margin (Forecast::frameNs); where a link did, as before.
     linkWeight_ = busiestNode >= busiestLink ? kTandem : 1.0;
 }
 
-// One node's report entry into its column; returns the rays it put on links.
-double FrameForecast::readNode(const nlohmann::json& node, const InnerPlanes& averaged) {
-    const Cell cell = node.at("node").get<Cell>();
+// One node's part of the frame into its column; returns the rays it put on links.
+double FrameForecast::readNode(const NodeFrameState& node, const InnerPlanes& averaged) {
+    const Cell cell = node.cell;
     const size_t col = size_t(g_.columnOf(cell));
     Column& c = columns_.at(col);
     const int k = cell[size_t(g_.axis)];
     const double w = (hi_ - lo_) / bins_;
-    double rest = node.at("busy_ns").get<double>(), rays = 0;
+    double rest = node.busyNs, rays = 0;
     // The box as it stood on average over the frame.
     const std::vector<double>& planes = averaged.at(col);
     const double boxLo = k == 0 ? lo_ : planes.at(size_t(k - 1)), boxHi = k == n_ - 1 ? hi_ : planes.at(size_t(k));
-    if (node.contains("work_by_position")) {
-        const auto& p = node.at("work_by_position");
-        const double from = p.at("axis_from").get<double>(), width = p.at("bin_width").get<double>();
-        const bool oneCell = node.contains("grid") && node.at("grid").at("cells").at(size_t(g_.axis)).get<int>() == 1;
-        if (oneCell && p.contains("within") && edgeOf(boxHi) > edgeOf(boxLo)) {
+    if (node.work) {
+        const WorkAlongAxis& p = *node.work;
+        const double from = p.axisFrom, width = p.binWidth;
+        const bool oneCell = node.gridCells && (*node.gridCells)[size_t(g_.axis)] == 1;
+        if (oneCell && p.within && edgeOf(boxHi) > edgeOf(boxLo)) {
             c.oneCell.push_back({edgeOf(boxLo), edgeOf(boxHi)});
-            double bin = p.at("within").at("first_bin").get<double>();
-            for (const auto& v : p.at("within").at("ns")) {
-                spread(c.withinBelow, lo_, w, from + bin * width, from + (bin + 1) * width, v.get<double>());
+            double bin = double(p.within->firstBin);
+            for (double v : p.within->values) {
+                spread(c.withinBelow, lo_, w, from + bin * width, from + (bin + 1) * width, v);
                 ++bin;
             }
         }
-        double b = p.at("first_bin").get<double>();
-        for (const auto& v : p.at("ns")) {
-            spread(c.perBin, lo_, w, from + b * width, from + (b + 1) * width, v.get<double>());
-            rest -= v.get<double>();
+        double b = double(p.ns.firstBin);
+        for (double v : p.ns.values) {
+            spread(c.perBin, lo_, w, from + b * width, from + (b + 1) * width, v);
+            rest -= v;
             ++b;
         }
-        rest -= number(p, "face_handling_ns");
-        c.faceNs += number(p, "face_handling_ns");
-        c.faceRays += number(p, "face_crossings");
-        rays += number(p, "face_crossings") / 2;  // (each crossing is counted by both its nodes)
-        for (const char* dir : {"cuts_up", "cuts_down"}) {
-            if (!p.contains(dir)) continue;
-            std::vector<double>& cuts = dir[5] == 'u' ? c.up : c.down;
-            double e = p.at(dir).at("first_bin").get<double>() + 1;  // each count stands at its bin's upper edge
-            for (const auto& v : p.at(dir).at("rays")) {
+        rest -= p.faceHandlingNs;
+        c.faceNs += p.faceHandlingNs;
+        c.faceRays += double(p.faceCrossings);
+        rays += double(p.faceCrossings) / 2;  // (each crossing is counted by both its nodes)
+        for (int up = 0; up < 2; ++up) {
+            std::vector<double>& cuts = up == 0 ? c.up : c.down;
+            double e = double(p.cuts[size_t(up)].firstBin) + 1;  // each count stands at its bin's upper edge
+            for (double v : p.cuts[size_t(up)].values) {
                 const int edge = int(std::lround((from + e * width - lo_) / w));
-                if (edge > 0 && edge < bins_) cuts[size_t(edge)] += v.get<double>();
+                if (edge > 0 && edge < bins_) cuts[size_t(edge)] += v;
                 ++e;
             }
         }
-        if (p.contains("lateral"))
-            for (const auto& [name, h] : p.at("lateral").items()) {
-                const Cell to = neighbour(cell, dirOf(int(name.at(1) - 'x'), name.at(0) == 'p' ? +1 : -1));
-                double b2 = h.at("first_bin").get<double>();
-                for (const auto& v : h.at("rays")) {
-                    const double x = from + (b2 + 0.5) * width, n = v.get<double>();
-                    ++b2;
-                    if (!(n > 0) || !inMesh(to, g_.dims)) continue;
-                    rays += n;
-                    lateral_.push_back({int(col), g_.columnOf(to), std::clamp(int(std::floor((x - lo_) / w)), 0, bins_ - 1), n});
-                }
+        for (int d = 0; d < 6; ++d) {
+            if (!p.lateral[size_t(d)]) continue;
+            const Cell to = neighbour(cell, d);
+            double b2 = double(p.lateral[size_t(d)]->firstBin);
+            for (double n : p.lateral[size_t(d)]->values) {
+                const double x = from + (b2 + 0.5) * width;
+                ++b2;
+                if (!(n > 0) || !inMesh(to, g_.dims)) continue;
+                rays += n;
+                lateral_.push_back({int(col), g_.columnOf(to), std::clamp(int(std::floor((x - lo_) / w)), 0, bins_ - 1), n});
             }
+        }
     }
     // The rest (rays passed on, balancing) over the box.
     spread(c.perBin, lo_, w, boxLo, boxHi, std::max(0.0, rest));

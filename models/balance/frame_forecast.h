@@ -2,7 +2,7 @@
 // along the axis, and the planes that make it shortest: `resplit`'s and
 // `measured`'s choice between frames (doc/balancing.md, "Between frames").
 //
-// From the report of the frame before it takes, per column: the tracing
+// From what the frame before left behind (frame_state.h) it takes, per column: the tracing
 // work by where it happened (work_by_position), the rays a plane would cut
 // at each position, in each direction (cuts_up, cuts_down), what a node
 // spends on a ray across a face (face_handling_ns / face_crossings), and
@@ -27,13 +27,11 @@
 // the nodes after it get them late (modern, across, N = 4: busiest node
 // 732 us, busiest link 715 us, frame 785 us; with the last plane moved so
 // that the link is 648 us, frame 736 us). The frames measured are within a
-// few per cent of this, at default links and past the knee alike. Plain
-// C++ on reports (JSON).
+// few per cent of this, at default links and past the knee alike.
 #pragma once
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
+#include "balance/frame_state.h"
 #include "config/machine_config.h"
 #include "base/mesh_geometry.h"
 #include "balance/minimax_split.h"
@@ -57,9 +55,9 @@ double oneCellGrowth(double thickness, double measured);
 
 class FrameForecast {
 public:
-    // From report `r` (of this mesh and axis: the caller checks) and the
-    // planes as they stood on average over its frame.
-    FrameForecast(const nlohmann::json& r, const MachineConfig& m, const InnerPlanes& averaged);
+    // From frame `r` (of this mesh and axis: the caller checks) and the
+    // planes as they stood on average over it.
+    FrameForecast(const FrameState& r, const MachineConfig& m, const InnerPlanes& averaged);
 
     struct Forecast {
         double frameNs = 0;  // the dearer of the two below
@@ -96,7 +94,7 @@ private:
         int from, to, bin;  // columns; the bin it left from
         double rays;
     };
-    double readNode(const nlohmann::json& node, const InnerPlanes& averaged);
+    double readNode(const NodeFrameState& node, const InnerPlanes& averaged);
     double work(const Column& c, int i, int j) const;  // forecast busy between edges i < j, passes aside
     double partCost(const Column& c, int i, int j) const;  // what the searches minimise the largest of
     int edgeOf(double x) const;

@@ -7,17 +7,14 @@
 
 namespace rt {
 
-double moveNs(const nlohmann::json& r, const MachineConfig& m, const InnerPlanes& from, const InnerPlanes& to) {
+double moveNs(const FrameState& r, const MachineConfig& m, const InnerPlanes& from, const InnerPlanes& to) {
     const ColumnGeometry g(m.balance.axis, m.dims);
     const int ax = g.axis, n = g.length();
     // Each column's boxes along the axis and their objects.
     std::vector<std::vector<std::array<double, 3>>> boxes(size_t(g.count()), std::vector<std::array<double, 3>>(size_t(n)));
-    for (const auto& node : r.at("nodes")) {
-        const Cell c = node.at("node").get<Cell>();
-        const auto b = node.at("box").get<std::array<std::array<double, 3>, 2>>();
-        boxes[size_t(g.columnOf(c))][size_t(c[size_t(ax)])] = {b[0][size_t(ax)], b[1][size_t(ax)],
-                                                              node.value("objects", 0.0)};  // (none recorded: none moved)
-    }
+    for (const NodeFrameState& node : r.nodes)
+        boxes[size_t(g.columnOf(node.cell))][size_t(node.cell[size_t(ax)])] = {node.box.lo[ax], node.box.hi[ax],
+                                                                              double(node.objects)};
     const LinkParams& l = m.link;
     const Costs& k = m.costs;
     const double hop = double(l.latency) + (m.hopsByLinks ? 0.0 : double(k.send + k.recv));  // ps

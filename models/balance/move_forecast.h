@@ -4,14 +4,12 @@
 // carrying the slab's objects: the giver's and the taker's handling and
 // grid updates for them, and their time on the link. The nodes whose faces
 // move wait for them (a node generates its primary rays once its faces are
-// at their targets). Plain C++ on reports (JSON), beside frame_forecast.h.
+// at their targets). Beside frame_forecast.h, on the same frame state.
 //
 // Without it a forecast can miss by a factor: on a long column the slabs
 // pass along chains of boxes, and each box on the chain updates its grid
 // for them (doc/balancing.md, "The rule, and how it runs").
 #pragma once
-#include <nlohmann/json.hpp>
-
 #include "balance/frame_forecast.h"
 #include "config/machine_config.h"
 
@@ -23,9 +21,9 @@ constexpr double kSlabObjectBytes = 42;
 // The longest chain of handovers that moving each column's planes from
 // `from` to `to` takes, in ns: per box a plane crosses, a slide's latency
 // and handling on both nodes, and for each object between the plane's old
-// and new place (the boxes' object counts in report `r`, shared out by
+// and new place (the boxes' object counts in frame `r`, shared out by
 // length) its bytes on the link and the grid updates on both nodes, once
 // per box it is passed through (on average half the chain).
-double moveNs(const nlohmann::json& r, const MachineConfig& m, const InnerPlanes& from, const InnerPlanes& to);
+double moveNs(const FrameState& r, const MachineConfig& m, const InnerPlanes& from, const InnerPlanes& to);
 
 }  // namespace rt

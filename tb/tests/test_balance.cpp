@@ -9,6 +9,9 @@
 
 #include <gtest/gtest.h>
 
+#include "analysis/report.h"
+#include "frame_state_json.h"
+#include "machine/frame_state_of.h"
 #include "machine/machine.h"
 #include "renderer.h"
 #include "scenes.h"
@@ -332,3 +335,83 @@ TEST(Balance, ContributionsNeverTrailTheCredit) {
     runAndCompare(s, c);
 }
 
+
+namespace {
+
+void expectSameBinned(const Binned& a, const Binned& b, const std::string& what) {
+    EXPECT_EQ(a.firstBin, b.firstBin) << what;
+    EXPECT_EQ(a.values, b.values) << what;  // (doubles, to the bit)
+}
+
+void expectSameWork(const WorkAlongAxis& a, const WorkAlongAxis& b, const std::string& at) {
+    EXPECT_EQ(a.axisFrom, b.axisFrom) << at;
+    EXPECT_EQ(a.binWidth, b.binWidth) << at;
+    expectSameBinned(a.ns, b.ns, at + " ns");
+    ASSERT_EQ(a.within.has_value(), b.within.has_value()) << at;
+    if (a.within) expectSameBinned(*a.within, *b.within, at + " within");
+    EXPECT_EQ(a.faceHandlingNs, b.faceHandlingNs) << at;
+    EXPECT_EQ(a.faceCrossings, b.faceCrossings) << at;
+    for (int up = 0; up < 2; ++up) expectSameBinned(a.cuts[size_t(up)], b.cuts[size_t(up)], at + " cuts");
+    for (int d = 0; d < 6; ++d) {
+        ASSERT_EQ(a.lateral[size_t(d)].has_value(), b.lateral[size_t(d)].has_value()) << at << " " << dirName(d);
+        if (a.lateral[size_t(d)]) expectSameBinned(*a.lateral[size_t(d)], *b.lateral[size_t(d)], at + " lateral");
+    }
+}
+
+void expectSameState(const FrameState& a, const FrameState& b) {
+    EXPECT_EQ(a.dims, b.dims);
+    EXPECT_EQ(a.axis, b.axis);
+    EXPECT_EQ(a.renderTimeNs, b.renderTimeNs);
+    EXPECT_EQ(a.raysPassed, b.raysPassed);
+    EXPECT_EQ(a.rayWireNs, b.rayWireNs);
+    EXPECT_EQ(a.busiestLinkWireNs, b.busiestLinkWireNs);
+    ASSERT_EQ(a.nodes.size(), b.nodes.size());
+    for (size_t i = 0; i < a.nodes.size(); ++i) {
+        const NodeFrameState &x = a.nodes[i], &y = b.nodes[i];
+        const std::string at = "node " + std::to_string(i);
+        EXPECT_EQ(x.cell, y.cell) << at;
+        EXPECT_TRUE(x.box.lo == y.box.lo && x.box.hi == y.box.hi) << at;
+        EXPECT_EQ(x.objects, y.objects) << at;
+        EXPECT_EQ(x.gridCells, y.gridCells) << at;
+        EXPECT_EQ(x.busyNs, y.busyNs) << at;
+        ASSERT_EQ(x.work.has_value(), y.work.has_value()) << at;
+        if (x.work) expectSameWork(*x.work, *y.work, at);
+    }
+    ASSERT_EQ(a.boundaries.size(), b.boundaries.size());
+    for (size_t i = 0; i < a.boundaries.size(); ++i) {
+        EXPECT_EQ(a.boundaries[i].column, b.boundaries[i].column);
+        EXPECT_EQ(a.boundaries[i].index, b.boundaries[i].index);
+        EXPECT_EQ(a.boundaries[i].history, b.boundaries[i].history);
+    }
+}
+
+}  // namespace
+
+// What a frame leaves behind for the next (frame_state.h) is the same value
+// taken from the machine and read back from its report, written to text
+// and parsed, at either level of detail: a frame continued from a report
+// (--boundaries-from, a child frame) is the frame continued in memory. A
+// run that slides, with rays across columns, so every part has values.
+TEST(BetweenFrames, TheReportHoldsTheFrameStateToTheBit) {
+    const Scene s = crowded(0.4, 300, 0.03);
+    MachineConfig c;
+    c.width = c.height = 48;
+    c.dims = {3, 2, 2};
+    c.balance.policy = "resplit";
+    c.balance.interval = 5 * 1000000;  // 5 us
+    const MachineResult r = runMachine(s, c);
+    const FrameState state = frameStateOf(r, c);
+    ASSERT_GT(slidesIn(r), 0u);
+    size_t lateral = 0, cuts = 0;
+    for (const NodeFrameState& n : state.nodes)
+        if (n.work) {
+            for (const auto& l : n.work->lateral) lateral += l ? l->values.size() : 0;
+            cuts += n.work->cuts[0].values.size() + n.work->cuts[1].values.size();
+        }
+    EXPECT_GT(lateral, 0u);
+    EXPECT_GT(cuts, 0u);
+    for (const ReportDetail detail : {ReportDetail::Full, ReportDetail::Summary}) {
+        const nlohmann::json text = nlohmann::json::parse(machineReport(r, c, detail).dump());
+        expectSameState(state, frameStateFromReport(text));
+    }
+}

@@ -14,6 +14,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "frame_state_json.h"
 #include "balance/balance_agent.h"
 #include "base/fifo.h"
 #include "balance/frame_forecast.h"
@@ -123,7 +124,7 @@ TEST(FrameForecast, BusyTimesAndCutsByHand) {
     w["cuts_up"] = {{"first_bin", 0}, {"rays", std::vector<double>(255, 10.0)}};
     r["nodes"][0]["busy_ns"] = 180.0;
     const MachineConfig m = forecastMesh(2);
-    const FrameForecast f(r, m, InnerPlanes{{0.5}, {0.5}});
+    const FrameForecast f(frameStateFromReport(r), m, InnerPlanes{{0.5}, {0.5}});
     // Held at 0.5: node 0 of column 0 does its 100, plus 10 cut rays at
     // 2 ns (its column's 80 ns / 40 crossings): 120; the others 100.
     EXPECT_NEAR(f.forecast({{0.5}, {0.5}}).nodeNs, 120, 1e-9);
@@ -157,7 +158,7 @@ TEST(FrameForecast, TestsWithinABoxOfOneCellAlongTheAxisGrowWithItsCell) {
     w["within"] = {{"first_bin", 0}, {"ns", std::vector<double>(128, 60.0 / 128)}};
     r["nodes"][0]["grid"] = {{"cells", {1, 3, 3}}, {"span", {{0, 0, 0}, {0.5, 1, 1}}}};
     const MachineConfig m = forecastMesh(2);
-    const FrameForecast one(r, m, InnerPlanes{{0.5}, {0.5}});
+    const FrameForecast one(frameStateFromReport(r), m, InnerPlanes{{0.5}, {0.5}});
     // Held: as measured.
     EXPECT_NEAR(one.forecast({{0.5}, {0.5}}).nodeNs, 100, 1e-9);
     // Node 0 to [0, 0.625), 1.25 times as thick, still one cell: its 100,
@@ -169,7 +170,7 @@ TEST(FrameForecast, TestsWithinABoxOfOneCellAlongTheAxisGrowWithItsCell) {
     EXPECT_NEAR(one.forecast({{0.375}, {0.5}}).nodeNs, 128.75, 1e-9);
     // With two cells along x the cells do not change with the box: no scaling.
     r["nodes"][0]["grid"]["cells"] = {2, 3, 3};
-    const FrameForecast two(r, m, InnerPlanes{{0.5}, {0.5}});
+    const FrameForecast two(frameStateFromReport(r), m, InnerPlanes{{0.5}, {0.5}});
     EXPECT_NEAR(two.forecast({{0.625}, {0.5}}).nodeNs, 125, 1e-9);
     EXPECT_NEAR(two.forecast({{0.375}, {0.5}}).nodeNs, 125, 1e-9);
 }
@@ -186,7 +187,7 @@ TEST(FrameForecast, RaysAcrossColumnsArePassedWhereThePlanesDiffer) {
                                          {"ns", nlohmann::json::array()}};
     r["nodes"][0]["work_by_position"]["lateral"]["pz"] = {{"first_bin", 51}, {"rays", {30.0}}};
     r["links"] = nlohmann::json::array({{{"to", "+z"}, {"wire_ns", {{"ray", 300.0}}}}, {{"to", "fb"}, {"wire_ns", {{"ray", 1e6}}}}});
-    const FrameForecast f(r, forecastMesh(2), InnerPlanes{{0.5}, {0.5}});
+    const FrameForecast f(frameStateFromReport(r), forecastMesh(2), InnerPlanes{{0.5}, {0.5}});
     // Planes alike: the rays go from node 0 to node 0, owner there; none passed.
     const FrameForecast::Forecast same = f.forecast({{0.5}, {0.5}});
     EXPECT_EQ(same.passes, 0);
@@ -216,7 +217,7 @@ TEST(FrameForecast, ANodesLinkToANeighbouringColumnCarriesTheRaysOfItsPart) {
     w = {{"axis_from", 0.0}, {"bin_width", 1.0 / 256}, {"first_bin", 0}, {"ns", nlohmann::json::array()}};
     w["lateral"]["pz"] = {{"first_bin", 0}, {"rays", std::vector<double>(128, 2.0)}};
     r["links"] = nlohmann::json::array({{{"to", "+z"}, {"wire_ns", {{"ray", 512.0}}}}});
-    const FrameForecast f(r, forecastMesh(2), InnerPlanes{{0.5}, {0.5}});
+    const FrameForecast f(frameStateFromReport(r), forecastMesh(2), InnerPlanes{{0.5}, {0.5}});
     EXPECT_NEAR(f.forecast({{0.5}, {0.5}}).linkNs, 512, 1e-9);
     for (const InnerPlanes& p : {f.perColumn(), f.aligned()}) {
         EXPECT_NEAR(p[0][0], 0.25, 1.0 / 256);
@@ -236,7 +237,7 @@ TEST(FrameForecast, ANodeAndALinkCloseTogetherMakeALongerFrame) {
         w = {{"axis_from", 0.0}, {"bin_width", 1.0 / 256}, {"first_bin", 0}, {"ns", nlohmann::json::array()}};
         w["lateral"]["pz"] = {{"first_bin", 0}, {"rays", std::vector<double>(128, 2.0)}};
         r["links"] = nlohmann::json::array({{{"to", "+z"}, {"wire_ns", {{"ray", 512.0}}}}});
-        const FrameForecast::Forecast f = FrameForecast(r, forecastMesh(2), InnerPlanes{{0.5}, {0.5}}).forecast({{0.5}, {0.5}});
+        const FrameForecast::Forecast f = FrameForecast(frameStateFromReport(r), forecastMesh(2), InnerPlanes{{0.5}, {0.5}}).forecast({{0.5}, {0.5}});
         EXPECT_NEAR(f.nodeNs, busy, 1e-9);
         EXPECT_NEAR(f.linkNs, 512, 1e-9);
         EXPECT_NEAR(f.frameNs, frame, 1e-9) << busy;
@@ -283,12 +284,15 @@ TEST(Resplit, TimeAveragedPosition) {
 // 360 + 35 x 1.5 x 9 = 832.5 ns. Plane 2 stays. With the hops on the
 // links (--hop-handling link), no handling: 200 + 472.5.
 TEST(Resplit, GettingToNewPlanesCostsItsChainOfSlabs) {
-    nlohmann::json r;
-    const double objects[] = {10, 20, 30};
-    for (int k = 0; k < 3; ++k)
-        r["nodes"].push_back({{"node", {k, 0, 0}},
-                              {"box", {{double(k), 0.0, 0.0}, {double(k + 1), 1.0, 1.0}}},
-                              {"objects", objects[k]}});
+    FrameState r;
+    const size_t objects[] = {10, 20, 30};
+    for (int k = 0; k < 3; ++k) {
+        NodeFrameState n;
+        n.cell = {k, 0, 0};
+        n.box = Box{Vec3(double(k), 0.0, 0.0), Vec3(double(k + 1), 1.0, 1.0)};
+        n.objects = objects[k];
+        r.nodes.push_back(n);
+    }
     MachineConfig m;
     m.dims = {3, 1, 1};
     m.link.latency = 100000;

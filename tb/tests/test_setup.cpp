@@ -10,6 +10,7 @@
 
 #include <gtest/gtest.h>
 
+#include "frame_state_json.h"
 #include "balance/between_frames.h"
 #include "balance/initial_split.h"
 #include "procedural.h"
@@ -128,7 +129,7 @@ MachineConfig freeMoves(std::array<int, 3> dims, int axis = 0) {
 
 // A report of a 3x1x1 mesh along x: boundary 1 from `b1` (at time 0) to
 // `b1end` (at 5 ns), boundary 2 at 2/3 throughout; the nodes' busy times.
-nlohmann::json report(double renderNs, double b1, double b1end, std::array<double, 3> busy) {
+nlohmann::json reportJson(double renderNs, double b1, double b1end, std::array<double, 3> busy) {
     nlohmann::json r;
     r["render_time_ns"] = renderNs;
     r["config"]["mesh"] = {3, 1, 1};
@@ -140,19 +141,26 @@ nlohmann::json report(double renderNs, double b1, double b1end, std::array<doubl
         r["nodes"].push_back({{"node", {k, 0, 0}}, {"box", {{planes[k], 0, 0}, {planes[k + 1], 1, 1}}}, {"busy_ns", busy[size_t(k)]}});
     return r;
 }
+// The same, as the frame state read back from it.
+FrameState report(double renderNs, double b1, double b1end, std::array<double, 3> busy) {
+    return frameStateFromReport(reportJson(renderNs, b1, b1end, busy));
+}
 
 }  // namespace
 
 TEST(BetweenFrames, BoundariesReadBackFromAReport) {
     const MachineConfig m = mesh({3, 1, 1});
-    const nlohmann::json r = report(10, 0.3, 0.4, {1, 1, 1});
+    const FrameState r = report(10, 0.3, 0.4, {1, 1, 1});
     EXPECT_EQ(lastBoundaries(r, m), (InnerPlanes{{0.4, 2.0 / 3}}));
     EXPECT_EQ(lastBoundaries(r, m, true), (InnerPlanes{{0.3, 2.0 / 3}}));
     EXPECT_THROW(lastBoundaries(r, mesh({3, 1, 1}, 1)), std::runtime_error);  // another axis
     EXPECT_THROW(lastBoundaries(r, mesh({2, 1, 1})), std::runtime_error);     // another mesh
-    nlohmann::json broken = r;
+    nlohmann::json broken = reportJson(10, 0.3, 0.4, {1, 1, 1});
     broken.erase("boundaries");
-    EXPECT_THROW(lastBoundaries(broken, m), std::runtime_error);
+    EXPECT_THROW(frameStateFromReport(broken), std::runtime_error);
+    FrameState missing = r;
+    missing.boundaries.pop_back();
+    EXPECT_THROW(lastBoundaries(missing, m), std::runtime_error);
 }
 
 TEST(BetweenFrames, ResplitEvensTheBusiestNodeByTheForecast) {
@@ -178,9 +186,9 @@ TEST(BetweenFrames, ResplitPlacesTheWorkWhereItHappened) {
     // first plane where 4/3 lies below: 1.5 by 0.1 already, so within
     // [0.05, 0.1): 0.75 + 0.5 x 0.05 / (1/3) below 0.05 (0.825), and
     // 0.75 / 0.05 + 0.5 / (1/3) per unit above it: (4/3 - 0.825) / 16.5.
-    nlohmann::json r = report(10, 1.0 / 3, 1.0 / 3, {2, 1, 1});
+    nlohmann::json r = reportJson(10, 1.0 / 3, 1.0 / 3, {2, 1, 1});
     r["nodes"][0]["work_by_position"] = {{"axis_from", 0.0}, {"bin_width", 0.05}, {"first_bin", 0}, {"ns", {0.75, 0.75}}};
-    const InnerPlanes t = resplitTargets(r, freeMoves({3, 1, 1}));
+    const InnerPlanes t = resplitTargets(frameStateFromReport(r), freeMoves({3, 1, 1}));
     ASSERT_EQ(t.size(), 1u);
     EXPECT_NEAR(t[0][0], 0.05 + (4.0 / 3 - 0.825) / 16.5, 1.0 / 384);
     // The second: 2 below 1/3 (node 0), then node 1's 1 over [1/3, 2/3]: 8/3 at 1/3 + 2/9.
