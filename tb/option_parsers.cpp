@@ -12,38 +12,40 @@ bool readInt(const std::string& text, int& out, int least) {
     return (in >> out) && in.eof() && out >= least;
 }
 
-// Cost names used by --node-cost.
+// Cost names used by --node-cost (config/machine_config.h, costParams).
 Picos* costField(Costs& c, const std::string& name) {
-    if (name == "sphere") return &c.test[0];
-    if (name == "polygon") return &c.test[1];
-    if (name == "cone") return &c.test[2];
-    if (name == "voxel") return &c.voxelStep;
-    if (name == "raygen") return &c.rayGen;
-    if (name == "shade") return &c.shade;
-    if (name == "send") return &c.send;
-    if (name == "recv") return &c.recv;
+    for (const Param<Costs>& p : costParams())
+        if (name == p.name) return &fieldOf<Picos>(p, c);
     return nullptr;
 }
 
-// One "key=value" of --link-set into `p`.
+// One "key=value" of --link-set into `p` (channel/link_params.h, linkParams).
 void setLinkField(LinkParams& p, const std::string& key, const std::string& val) {
     const std::string flag = "--link-set";
-    if (key == "latency") p.latency = parseTimeOf(flag, val);
-    else if (key == "bandwidth") p.bandwidth = parseRateOf(flag, val);
-    else if (key == "depth") {
-        if (!readInt(val, p.depth, 1)) throw OptionError(flag, "depth must be a positive integer, got '" + val + "'");
-    } else if (key == "control_depth") {
-        if (!readInt(val, p.controlDepth, 0))
-            throw OptionError(flag, "control_depth must be a non-negative integer, got '" + val + "'");
-    } else if (key == "out_depth") {
-        if (!readInt(val, p.outDepth, 0))
-            throw OptionError(flag, "out_depth must be a non-negative integer, got '" + val + "'");
-    } else {
-        throw OptionError(flag, "unknown setting '" + key + "' (latency, bandwidth, depth, control_depth, out_depth)");
+    std::string keys;
+    for (const Param<LinkParams>& l : linkParams()) {
+        keys += std::string(keys.empty() ? "" : ", ") + linkSetKey(l.name);
+        if (key != linkSetKey(l.name)) continue;
+        if (l.kind == ParamKind::Time) {
+            fieldOf<Picos>(l, p) = parseTimeOf(flag, val);
+        } else if (l.kind == ParamKind::Rate) {
+            fieldOf<double>(l, p) = parseRateOf(flag, val);
+        } else if (!readInt(val, fieldOf<int>(l, p), int(l.lo))) {
+            throw OptionError(flag, key + (l.lo >= 1 ? " must be a positive integer" : " must be a non-negative integer") +
+                                        ", got '" + val + "'");
+        }
+        return;
     }
+    throw OptionError(flag, "unknown setting '" + key + "' (" + keys + ")");
 }
 
 }  // namespace
+
+std::string linkSetKey(const std::string& name) {
+    std::string k = name;
+    std::replace(k.begin(), k.end(), '-', '_');
+    return k;
+}
 
 Cell parseCell(const std::string& flag, const std::string& text) {
     Cell c{};

@@ -23,6 +23,9 @@ struct OptionError : std::invalid_argument {
 
 // "x,y,z" node coordinates.
 Cell parseCell(const std::string& flag, const std::string& text);
+// A link setting's key in --link-set: its table name with '_' for '-'
+// ("control-depth": control_depth).
+std::string linkSetKey(const std::string& name);
 // --trace-nodes busiest[:K]: K, 1..64 (4 without it).
 int parseBusiest(const std::string& text);
 // A non-negative time with a unit ("20ns"), at most 1,000 s.

@@ -1,5 +1,7 @@
 #include "rtsim_cli.h"
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 
 #include "json_input.h"
@@ -8,8 +10,7 @@
 
 namespace rt {
 namespace {
-const std::string gm = "Machine", gc = "Costs", gl = "Links", go = "Outputs", gb = "Balancing (sliding boundaries)",
-                  gf = "Frames";
+const std::string go = "Outputs", gf = "Frames";
 
 // Runs a parser of option_parsers.h, its error reported as CLI11's ("FLAG: what", exit 2).
 template <class F>
@@ -54,6 +55,48 @@ void addChoice(CLI::App& app, const std::string& flag, bool& target, const std::
         ->group(group);
 }
 
+// A rate's default as the flags write one ("1GB/s").
+std::string rateText(double bps) {
+    std::string s = formatRate(bps);
+    s.erase(std::remove(s.begin(), s.end(), ' '), s.end());
+    return s;
+}
+
+// The flag `flag` for row `p` of a parameter table (base/param.h), setting
+// its field in `s`: its value read by kind, checked against its range.
+template <class S>
+void addParam(CLI::App& app, const Param<S>& p, S& s, const std::string& flag, const char* help, const std::string& group) {
+    switch (p.kind) {
+        case ParamKind::Time: addTime(app, flag, fieldOf<Picos>(p, s), help, group); return;
+        case ParamKind::Rate: {
+            double& f = fieldOf<double>(p, s);
+            app.add_option_function<std::string>(flag, [flag, &f](const std::string& v) { f = cli([&] { return parseRateOf(flag, v); }); }, help)
+                ->default_str(p.shown ? p.shown : rateText(f))->group(group);
+            return;
+        }
+        case ParamKind::Count:
+            app.add_option(flag, fieldOf<int>(p, s), help)->check(CLI::Range(int(p.lo), int(p.hi)))->capture_default_str()->group(group);
+            return;
+        case ParamKind::Real: {
+            CLI::Option* o = app.add_option(flag, fieldOf<double>(p, s), help);
+            if (p.openBelow) {
+                const double lo = p.lo;
+                o->check(CLI::Validator([lo](std::string& v) { return std::stod(v) > lo ? std::string() : std::string("must be positive"); }, "", ""));
+            } else if (std::isinf(p.hi)) {
+                o->check(CLI::NonNegativeNumber);
+            } else {
+                o->check(CLI::Range(p.lo, p.hi));
+            }
+            if (p.shown) o->default_str(p.shown);
+            else o->capture_default_str();
+            o->group(group);
+            return;
+        }
+        case ParamKind::Choice: addChoice(app, flag, fieldOf<bool>(p, s), p.on, p.off, help, group); return;
+        default: throw std::logic_error("parameter " + flag + ": not a value");
+    }
+}
+
 }  // namespace
 
 // The flags, group by group, in the order --help lists them (and a
@@ -65,10 +108,7 @@ void RtsimOptions::addTo(CLI::App& app) {
     // mesh: the spheres crowd into the first 1/N = 1/4 of the progress axis.
     scene.procedural.concentration = 0.25;
     scene.addTo(app, false);
-    addMachineFlags(app);
-    addCostFlags(app);
-    addLinkFlags(app);
-    addBalanceFlags(app);
+    addMachineParams(app);
     addOutputFlags(app);
     addFrameFlags(app);
     // (Read before parsing, tb/command_line.h; here for --help.)
@@ -77,96 +117,77 @@ void RtsimOptions::addTo(CLI::App& app) {
                    "command line; the last value of a flag wins)");
 }
 
-void RtsimOptions::addMachineFlags(CLI::App& app) {
+// The machine's parameters, from their tables (config/machine_config.h,
+// channel/link_params.h), in the tables' order.
+void RtsimOptions::addMachineParams(CLI::App& app) {
     MachineConfig& m = machine;
-    app.add_option("--mesh", mesh, "nodes per axis: an N x N x N mesh (at most 32: 32,768 nodes)")
-        ->check(CLI::Range(1, 32))->capture_default_str()->group(gm);
-    app.add_option("--mesh-dims", meshDims,
-                   "mesh shape XxYxZ instead of --mesh: each 1..64, at most 32,768 nodes (such as 64x64x8); a mesh "
-                   "whose grids would not fit in memory is refused with the estimate")
-        ->group(gm);
-    app.add_option("--max-depth", m.maxDepth, "mirror/refraction levels below the primary ray")
-        ->check(CLI::Range(0, 39))->capture_default_str()->group(gm);
+    for (const Param<MachineConfig>& p : machineParams()) {
+        const std::string group = p.group;
+        if (p.kind == ParamKind::Special) {
+            addSpecial(app, p.name, p.help, group);
+        } else if (p.kind != ParamKind::Part) {
+            addParam(app, p, m, std::string("--") + p.name, p.help, group);
+        } else if (p.part == std::string("costs")) {
+            for (const Param<Costs>& c : costParams()) addParam(app, c, m.costs, std::string("--cost-") + c.name, c.help, group);
+        } else if (p.part == std::string("link") || p.part == std::string("fb-port")) {
+            const bool port = p.part == std::string("fb-port");
+            for (const Param<LinkParams>& l : linkParams())
+                if (!port || l.portHelp)
+                    addParam(app, l, port ? m.fbPort : m.link, std::string(port ? "--fb-" : "--link-") + l.name,
+                             port ? l.portHelp : l.help, group);
+        } else {
+            for (const Param<BalanceConfig>& b : balanceParams()) {
+                if (b.kind == ParamKind::Special) addSpecial(app, b.name, b.help, group);
+                else addParam(app, b, m.balance, std::string("--") + b.name, b.help, group);
+            }
+        }
+    }
 }
 
-void RtsimOptions::addCostFlags(CLI::App& app) {
+// The rows of kind Special: flags with a syntax of their own.
+void RtsimOptions::addSpecial(CLI::App& app, const std::string& name, const char* help, const std::string& group) {
     MachineConfig& m = machine;
-    addTime(app, "--cost-sphere", m.costs.test[0], "intersection test, sphere", gc);
-    addTime(app, "--cost-polygon", m.costs.test[1], "intersection test, polygon", gc);
-    addTime(app, "--cost-cone", m.costs.test[2], "intersection test, cone/cylinder", gc);
-    addTime(app, "--cost-voxel", m.costs.voxelStep, "one voxel step of the 3D-DDA", gc);
-    addTime(app, "--cost-raygen", m.costs.rayGen, "generating one primary ray", gc);
-    addTime(app, "--cost-shade", m.costs.shade, "shading one hit", gc);
-    addTime(app, "--cost-send", m.costs.send, "handling one outgoing message", gc);
-    addTime(app, "--cost-recv", m.costs.recv, "handling one incoming message", gc);
-    addChoice(app, "--hop-handling", m.hopsByLinks, "link", "processor",
-              "who pays for a hop: processor (each node's busy time pays --cost-send and --cost-recv per message) or "
-              "link (the links' engines do: --cost-send holds the wire before each message, --cost-recv adds to the "
-              "latency; the processors pay nothing for a hop)",
-              gc);
-    addTime(app, "--cost-host", m.hostCost, "frame buffer: accumulating one contribution", gc);
-    app.add_option_function<double>("--speed", [&m](double s) {
-           if (!(s > 0)) throw CLI::ValidationError("--speed", "must be positive");
-           m.speed = s;
-       }, "node speed factor (time = cost / speed)")
-        ->default_str("1")->group(gc);
-    app.add_option_function<std::vector<std::string>>("--node-speed", [&m](const std::vector<std::string>& v) {
-           for (const std::string& s : v) {
-               const auto [cell, speed] = cli([&] { return parseNodeSpeed(s); });
-               m.nodeSpeed[cell] = speed;
-           }
-       }, "speed factor of one node: x,y,z=SPEED (repeatable)")
-        ->group(gc);
-    app.add_option("--node-cost", nodeCostSpecs_, "a cost of one node: x,y,z:NAME=TIME, NAME one of sphere polygon cone voxel raygen shade send recv (repeatable)")
-        ->group(gc);
+    const std::string flag = "--" + name;
+    if (name == "mesh") {
+        app.add_option(flag, mesh, help)->check(CLI::Range(1, 32))->capture_default_str()->group(group);
+    } else if (name == "mesh-dims") {
+        app.add_option(flag, meshDims, help)->group(group);
+    } else if (name == "node-speed") {
+        app.add_option_function<std::vector<std::string>>(flag, [&m](const std::vector<std::string>& v) {
+               for (const std::string& s : v) {
+                   const auto [cell, speed] = cli([&] { return parseNodeSpeed(s); });
+                   m.nodeSpeed[cell] = speed;
+               }
+           }, help)
+            ->group(group);
+    } else if (name == "node-cost") {
+        std::string names;
+        for (const Param<Costs>& c : costParams()) names += std::string(names.empty() ? "" : " ") + c.name;
+        app.add_option(flag, nodeCostSpecs_, "a cost of one node: x,y,z:NAME=TIME, NAME one of " + names + " (repeatable)")->group(group);
+    } else if (name == "quantum") {
+        app.add_option(flag, quantum_, help)->capture_default_str()->group(group);
+    } else if (name == "link-set") {
+        std::string keys;
+        for (const Param<LinkParams>& l : linkParams())
+            keys += std::string(keys.empty() ? "" : ",") + linkSetKey(l.name) + "=" +
+                    (l.kind == ParamKind::Time ? "T" : l.kind == ParamKind::Rate ? "R" : "N");
+        app.add_option(flag, linkSpecs_, "one link: x,y,z,DIR:" + keys + " (DIR +x -x +y -y +z -z; any subset; repeatable)")->group(group);
+    } else if (name == "balance") {
+        addPolicyFlag(app, group);
+    } else if (name == "no-guard") {
+        // (Plain flags, not CLI11's negated ones: a report's echo of the flags
+        // given (rerun.h) writes a negated flag's stored value, which reads back
+        // inverted.)
+        app.add_flag(flag, noGuard_, help)->group(group);
+    } else if (name == "fault-drop-credit") {
+        app.add_flag(flag, m.faultDropFirstCredit, help)->group(group);
+    } else {
+        throw std::logic_error("parameter " + flag + ": no reader for it");
+    }
 }
 
-// The quantum (with the machine's flags), then the links and ports.
-void RtsimOptions::addLinkFlags(CLI::App& app) {
-    MachineConfig& m = machine;
-    app.add_option("--quantum", quantum_,
-                   "temporal decoupling: how far a process may run ahead of the kernel. 'lookahead': each process's own, "
-                   "the largest that is still exact (its input links' latency plus the smallest message's time on their "
-                   "wire); 0: synchronise after every step (also exact, slower); a time: every process by that much, "
-                   "exact up to the smallest lookahead, beyond it faster and timing approximate")
-        ->capture_default_str()
-        ->group(gm);
-    addTime(app, "--link-latency", m.link.latency, "link latency", gl);
-    app.add_option_function<std::string>("--link-bandwidth", [&m](const std::string& s) { m.link.bandwidth = cli([&] { return parseRateOf("--link-bandwidth", s); }); }, "link bandwidth")
-        ->default_str("1GB/s")->group(gl);
-    app.add_option("--link-depth", m.link.depth, "messages a link holds before back-pressure")
-        ->check(CLI::Range(1, 1000000))->capture_default_str()->group(gl);
-    app.add_option("--link-control-depth", m.link.controlDepth,
-                   "slots of the links' control lane (load reports, slides, acks ahead of rays); 0: no lane, one FIFO")
-        ->check(CLI::Range(0, 1000000))->capture_default_str()->group(gl);
-    app.add_option("--link-out-depth", m.link.outDepth,
-                   "messages a sender's output buffer holds per link and lane while they wait for a slot; a node whose "
-                   "buffer is full blocks (charged as wait, reported as blocked); 0: unbounded, senders never block")
-        ->check(CLI::Range(0, 1000000))->capture_default_str()->group(gl);
-    addChoice(app, "--link-stats", m.linkDistributions, "full", "counts",
-              "what the links keep beyond message counts, bytes, wire, wait and backlog times: full (also latency percentiles, "
-              "backlog and buffer high-water marks and the busiest window's utilisation) or counts (not those: a 100 us run "
-              "about 7 % faster; timing unchanged)",
-              gl);
-    app.add_option("--link-set", linkSpecs_, "one link: x,y,z,DIR:latency=T,bandwidth=R,depth=N,control_depth=N,out_depth=N (DIR +x -x +y -y +z -z; any subset; repeatable)")
-        ->group(gl);
-    app.add_option("--fb-units", m.fbUnits,
-                   "frame-buffer units, pixel-interleaved (pixel p in unit p mod K), each with a port from every node; "
-                   "1: a single host")
-        ->check(CLI::Range(1, 256))->capture_default_str()->group(gl);
-    addTime(app, "--fb-latency", m.fbPort.latency, "frame-buffer port latency", gl);
-    app.add_option_function<std::string>("--fb-bandwidth", [&m](const std::string& s) { m.fbPort.bandwidth = cli([&] { return parseRateOf("--fb-bandwidth", s); }); }, "frame-buffer port bandwidth")
-        ->default_str("1GB/s")->group(gl);
-    app.add_option("--fb-depth", m.fbPort.depth, "messages a frame-buffer port holds")->check(CLI::Range(1, 1000000))->capture_default_str()->group(gl);
-    app.add_option("--fb-out-depth", m.fbPort.outDepth,
-                   "messages a node's output buffer holds per frame-buffer port; a node whose buffer is full blocks; 0: unbounded")
-        ->check(CLI::Range(0, 1000000))->capture_default_str()->group(gl);
-    app.add_option("--ray-batch", m.rayBatch, "rays per link message (sent when full or before a node waits)")
-        ->check(CLI::Range(1, 65536))->capture_default_str()->group(gl);
-    app.add_option("--fb-batch", m.fbBatch, "contributions per frame-buffer message")->check(CLI::Range(1, 65536))->capture_default_str()->group(gl);
-}
-
-void RtsimOptions::addBalanceFlags(CLI::App& app) {
+// --balance: a policy by name (config/policy_table.h).
+void RtsimOptions::addPolicyFlag(CLI::App& app, const std::string& group) {
     BalanceConfig& b = machine.balance;
     // One name each: none (the default) does not balance, recommended is
     // kRecommendedPolicy; `default` meant the latter while being the former.
@@ -185,58 +206,10 @@ void RtsimOptions::addBalanceFlags(CLI::App& app) {
                                                            " (or 'recommended'); no balancing is none, the default");
            else throw CLI::ValidationError("--balance", "expected " + names + ", got '" + s + "'");
        }, policyHelp)
-        ->default_str("none")->group(gb);
-    addTime(app, "--balance-interval", b.interval, "time between load reports", gb);
-    app.add_option("--gain", b.gain,
-                   "slide: step = gain x load difference x thickness; work: share of the busy-time gap moved; "
-                   "quantile: share of the way to the target")
-        ->check(CLI::NonNegativeNumber)->default_str("0: the policy's, slide and work 0.25, quantile 0.5")->group(gb);
-    app.add_option("--deadband", b.deadband, "no slide while the load difference is at most this")
-        ->check(CLI::Range(0.0, 0.999))->capture_default_str()->group(gb);
-    app.add_option("--min-thickness", b.minThickness, "guard: a box keeps at least this fraction of its initial thickness")
-        ->check(CLI::Range(1e-6, 1.0))->capture_default_str()->group(gb);
-    // (Plain flags, not CLI11's negated ones: a report's echo of the flags
-    // given (rerun.h) writes a negated flag's stored value, which reads back
-    // inverted.)
-    app.add_flag("--no-guard", noGuard_,
-                 "no guard: slide on loads however old, and whatever the slide costs against the work it moves")
-        ->group(gb);
-    app.add_option("--max-age", b.maxAge, "guard: no slide on loads older than this many intervals")
-        ->check(CLI::Range(0.0, 1e9))->capture_default_str()->group(gb);
-    app.add_option("--guard-hop", b.hopRatio,
-                   "guard: no slide while a ray's hop to the neighbour (latency + wire) takes longer than this many "
-                   "of the giver's mean ray steps")
-        ->check(CLI::Range(0.0, 1e9))->capture_default_str()->group(gb);
-    app.add_option("--guard-wire", b.wireShare,
-                   "guard: no slide across a link that would be busy more than this share of an interval after it: "
-                   "the last interval's share plus a ray message per ray step the slab's work took, each by the link's "
-                   "narrower limit, its wire or its slots (1: a full link; 0: off)")
-        ->check(CLI::Range(0.0, 1e9))->capture_default_str()->group(gb);
-    app.add_option("--guard-horizon", b.horizon,
-                   "guard: no slide that costs more than the work it moves over this many intervals")
-        ->check(CLI::Range(0.0, 1e9))->capture_default_str()->group(gb);
-    app.add_option("--report-share", b.reportShare,
-                   "load reports on a control lane take at most this share of the link's time: a node reports to a "
-                   "neighbour again only once a report's time on the wire divided by this has passed")
-        ->check(CLI::Range(1e-6, 1.0))->capture_default_str()->group(gb);
-    addChoice(app, "--faces", b.idealLayerFaces, "ideal-layer", "column",
-              "column: each column moves its own faces (the machine); ideal-layer: a measuring device, faces shared by a "
-              "layer and moved by slide's rule on the layer's summed loads, read without messages (doc/balancing.md)",
-              gb);
-    app.add_option("--bins", b.bins, "work profile: bins per box thickness along the axis")->check(CLI::Range(1, 4096))->capture_default_str()->group(gb);
-    addTime(app, "--cost-rebuild", b.rebuildCost, "updating a node's grid, per object moved in or out", gb);
+        ->default_str("none")->group(group);
 }
 
 void RtsimOptions::addOutputFlags(CLI::App& app) {
-    MachineConfig& m = machine;
-    addTime(app, "--watchdog", m.watchdogSpan,
-            "stop a run in which no ray, contribution or credit moves for this long in simulated time (exit 3, the "
-            "report and VCD so far marked incomplete); 0: the larger of 100 us and 1,000 times the largest cost, "
-            "latency or ray wire time",
-            go);
-    app.add_option("--watchdog-wall", m.watchdogWall, "also stop it after this many seconds of wall-clock time (0: no limit)")
-        ->check(CLI::Range(0.0, 1e9))->capture_default_str()->group(go);
-    app.add_flag("--fault-drop-credit", m.faultDropFirstCredit, "test only: unit 0 loses the first credit it takes")->group("");
     app.add_option("--image", image, "output PNG")->capture_default_str()->group(go);
     app.add_option("--report", report, "JSON report (with the flags given: --rerun runs it again)")->group(go);
     // (Read before parsing, tb/rerun.h; here for --help.)

@@ -52,10 +52,9 @@ struct RtsimOptions {
     void checkAlone();
 
 private:
-    void addMachineFlags(CLI::App& app);
-    void addCostFlags(CLI::App& app);
-    void addLinkFlags(CLI::App& app);
-    void addBalanceFlags(CLI::App& app);
+    void addMachineParams(CLI::App& app);
+    void addSpecial(CLI::App& app, const std::string& name, const char* help, const std::string& group);
+    void addPolicyFlag(CLI::App& app, const std::string& group);
     void addOutputFlags(CLI::App& app);
     void addFrameFlags(CLI::App& app);
     void actAsReference();

@@ -15,18 +15,33 @@ namespace {
 nlohmann::json cellJson(const Cell& c) { return {c[0], c[1], c[2]}; }
 double ns(Picos p) { return double(p) / 1000.0; }
 
+// Each row of a parameter table with an echo, at its place in `j`, in the
+// report's units (base/param.h).
+template <class S>
+void echoParams(nlohmann::json& j, const std::vector<Param<S>>& rows, const S& s) {
+    for (const Param<S>& p : rows) {
+        if (!p.echo) continue;
+        nlohmann::json& at = j[nlohmann::json::json_pointer(p.echo)];
+        switch (p.kind) {
+            case ParamKind::Time: at = ns(fieldOf<Picos>(p, s)); break;
+            case ParamKind::Rate:
+            case ParamKind::Real: at = fieldOf<double>(p, s); break;
+            case ParamKind::Count: at = fieldOf<int>(p, s); break;
+            case ParamKind::Choice: at = fieldOf<bool>(p, s) ? p.on : p.off; break;
+            default: break;
+        }
+    }
+}
+
 nlohmann::json costsJson(const Costs& c) {
-    return {{"test_sphere_ns", ns(c.test[0])}, {"test_polygon_ns", ns(c.test[1])}, {"test_cone_ns", ns(c.test[2])},
-            {"voxel_step_ns", ns(c.voxelStep)}, {"ray_generation_ns", ns(c.rayGen)}, {"shading_ns", ns(c.shade)},
-            {"send_ns", ns(c.send)},            {"receive_ns", ns(c.recv)}};
+    nlohmann::json j = nlohmann::json::object();
+    echoParams(j, costParams(), c);
+    return j;
 }
 
 nlohmann::json linkJson(const LinkParams& l) {
-    nlohmann::json j = {{"latency_ns", ns(l.latency)},
-                        {"bandwidth_bytes_per_s", l.bandwidth},
-                        {"depth", l.depth},
-                        {"control_depth", l.controlDepth},
-                        {"out_depth", l.outDepth}};
+    nlohmann::json j = nlohmann::json::object();
+    echoParams(j, linkParams(), l);
     if (l.engine) j["engine_ns"] = ns(l.engine);  // --hop-handling link: the sending engine's time per message
     return j;
 }
@@ -43,33 +58,25 @@ nlohmann::json machineConfigJson(const MachineConfig& cfg, int width, int height
     nlohmann::json c;
     c["mesh"] = {cfg.dims[0], cfg.dims[1], cfg.dims[2]};
     c["image"] = {width, height};
-    c["max_depth"] = cfg.maxDepth;
+    // The machine's parameters (config/machine_config.h), then what the
+    // special flags set and what the machine derives.
+    echoParams(c, machineParams(), cfg);
     c["costs"] = costsJson(cfg.costs);
-    c["speed"] = cfg.speed;
+    c["link"] = linkJson(cfg.link);
+    c["fb_port"] = linkJson(cfg.fbPort);
+    const BalanceConfig& bc = cfg.balance;
+    c["balance"] = nlohmann::json::object();
+    echoParams(c["balance"], balanceParams(), bc);
+    c["balance"]["policy"] = bc.policy;
+    c["balance"]["axis"] = std::string(1, "xyz"[bc.axis]);
+    c["balance"]["gain"] = bc.gainOf();
+    c["balance"]["guard"] = bc.guard;
     for (const auto& [cell, s] : cfg.nodeSpeed) c["node_speed"].push_back({{"node", cellJson(cell)}, {"speed", s}});
     for (const auto& [cell, k] : cfg.nodeCosts) c["node_costs"].push_back({{"node", cellJson(cell)}, {"costs", costsJson(k)}});
-    c["hop_handling"] = cfg.hopsByLinks ? "link" : "processor";
-    c["link"] = linkJson(cfg.link);
     for (const auto& [key, l] : cfg.linkOverride)
         c["link_overrides"].push_back({{"node", cellJson(key.first)}, {"dir", dirName(key.second)}, {"link", linkJson(l)}});
-    c["fb_units"] = cfg.fbUnits;
-    c["fb_port"] = linkJson(cfg.fbPort);
-    c["fb_batch"] = cfg.fbBatch;
-    c["ray_batch"] = cfg.rayBatch;
-    c["host_cost_ns"] = ns(cfg.hostCost);
     c["quantum_ns"] = ns(cfg.lookaheadQuantum ? cfg.lookahead() : cfg.quantum);
     c["quantum"] = cfg.lookaheadQuantum ? "lookahead" : "fixed";  // lookahead: each process its own, quantum_ns the smallest
-    c["link_stats"] = cfg.linkDistributions ? "full" : "counts";
-
-    const BalanceConfig& bc = cfg.balance;
-    c["balance"] = {{"policy", bc.policy},               {"axis", std::string(1, "xyz"[bc.axis])},
-                    {"interval_ns", ns(bc.interval)},    {"gain", bc.gainOf()},
-                    {"deadband", bc.deadband},           {"min_thickness", bc.minThickness},
-                    {"bins", bc.bins},                   {"rebuild_cost_ns", ns(bc.rebuildCost)},
-                    {"guard", bc.guard},                 {"max_age_intervals", bc.maxAge},
-                    {"guard_horizon_intervals", bc.horizon}, {"guard_hop_steps", bc.hopRatio},
-                    {"guard_wire_share", bc.wireShare},  {"report_share", bc.reportShare},    {"faces", bc.idealLayerFaces ? "ideal-layer" : "column"}};
-    c["watchdog"] = {{"span_ns", ns(cfg.watchdogSpan)}, {"wall_s", cfg.watchdogWall}};
     auto& tr = c["trace"];
     tr["nodes"] = nlohmann::json::array();
     for (const Cell& n : cfg.traceNodes) tr["nodes"].push_back(cellJson(n));

@@ -52,6 +52,8 @@ inline Cell cellAt(size_t i, const std::array<int, 3>& dims) {
 inline std::string nodeName(const Cell& c) {
     return "node_" + std::to_string(c[0]) + "_" + std::to_string(c[1]) + "_" + std::to_string(c[2]);
 }
+// A node as the flags name it: "x,y,z".
+inline std::string cellText(const Cell& c) { return std::to_string(c[0]) + "," + std::to_string(c[1]) + "," + std::to_string(c[2]); }
 inline std::string linkSuffix(int d) { return std::string(d % 2 ? "m" : "p") + "xyz"[dirAxis(d)]; }
 
 // The columns along the progress axis: the nodes that share their

@@ -6,6 +6,9 @@
 #include <cmath>
 #include <cstdint>
 
+#include <vector>
+
+#include "base/param.h"
 #include "base/units.h"
 
 namespace rt {
@@ -34,6 +37,29 @@ struct LinkParams {
     // when it is the sender's --cost-send.
     Picos engine = 0;
 };
+
+// The settings a flag sets: --link-NAME for the mesh links (and --link-set's
+// keys, NAME with '_' for '-'), --fb-NAME for the frame-buffer ports where
+// they have it; echoed in the report's config.link, link_overrides and
+// fb_port (base/param.h).
+inline const std::vector<Param<LinkParams>>& linkParams() {
+    static const std::vector<Param<LinkParams>> rows = {
+        alsoForPorts(timeParam("latency", &LinkParams::latency, "/latency_ns", "link latency"), "frame-buffer port latency"),
+        alsoForPorts(rateParam("bandwidth", &LinkParams::bandwidth, "/bandwidth_bytes_per_s", "link bandwidth"),
+                     "frame-buffer port bandwidth"),
+        alsoForPorts(numberParam("depth", &LinkParams::depth, 1, 1000000, "/depth", "messages a link holds before back-pressure"),
+                     "messages a frame-buffer port holds"),
+        numberParam("control-depth", &LinkParams::controlDepth, 0, 1000000, "/control_depth",
+                    "slots of the links' control lane (load reports, slides, acks ahead of rays); 0: no lane, one FIFO"),
+        alsoForPorts(numberParam("out-depth", &LinkParams::outDepth, 0, 1000000, "/out_depth",
+                                 "messages a sender's output buffer holds per link and lane while they wait for a slot; a "
+                                 "node whose buffer is full blocks (charged as wait, reported as blocked); 0: unbounded, "
+                                 "senders never block"),
+                     "messages a node's output buffer holds per frame-buffer port; a node whose buffer is full blocks; 0: "
+                     "unbounded"),
+    };
+    return rows;
+}
 
 // A message of `bytes` on a link of `p`: its time on the wire in
 // picoseconds (the engine's handling, then the bytes at the bandwidth),

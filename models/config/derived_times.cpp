@@ -33,23 +33,13 @@ void boundWire(const LinkParams& l, const std::string& flag, uint32_t bytes, con
     bound(wirePicos(l, bytes), flag, message + " (" + std::to_string(bytes) + " bytes) at " + formatRate(l.bandwidth) + " on the wire");
 }
 
-const char* const kCostNames[] = {"--cost-sphere", "--cost-polygon", "--cost-cone"};
-
+// Every cost (costParams) at `speed`.
 void boundCosts(const Costs& c, double speed, const std::string& speedFlag) {
-    auto one = [&](Picos cost, const std::string& flag) {
-        bound(double(cost) / speed, speedFlag + " with " + flag, "one operation");
-    };
-    for (int k = 0; k < kPrimitiveKinds; ++k) one(c.test[size_t(k)], kCostNames[k]);
-    one(c.voxelStep, "--cost-voxel");
-    one(c.rayGen, "--cost-raygen");
-    one(c.shade, "--cost-shade");
-    one(c.send, "--cost-send");
-    one(c.recv, "--cost-recv");
+    for (const Param<Costs>& p : costParams())
+        bound(double(fieldOf<Picos>(p, c)) / speed, speedFlag + " with --cost-" + p.name, "one operation");
 }
 
 }  // namespace
-
-std::string cellText(const Cell& c) { return std::to_string(c[0]) + "," + std::to_string(c[1]) + "," + std::to_string(c[2]); }
 
 void MachineConfig::checkDerivedTimes(size_t objects) const {
     const uint32_t rays = kHeaderBytes + uint32_t(rayBatch) * kRayBytes;

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 #include <stdexcept>
 
 namespace rt {
@@ -79,13 +80,39 @@ Picos MachineConfig::lookahead() const {
     return l;
 }
 
-static void checkLink(const LinkParams& l, const std::string& flag) {
-    if (!(l.bandwidth > 0) || !std::isfinite(l.bandwidth))
-        throw std::invalid_argument(flag + ": bandwidth must be positive and finite");
-    if (l.depth < 1 || l.depth > 1000000) throw std::invalid_argument(flag + ": depth must be in 1..1000000");
-    if (l.controlDepth < 0 || l.controlDepth > 1000000) throw std::invalid_argument(flag + ": control depth must be in 0..1000000");
-    if (l.outDepth < 0 || l.outDepth > 1000000) throw std::invalid_argument(flag + ": output depth must be in 0..1000000");
+namespace {
+
+std::string number(double v) {
+    std::ostringstream s;
+    s << v;
+    return s.str();
 }
+
+// Each row's value in its range (base/param.h), as the command line checks
+// it: a configuration built in code is checked alike. `flag`: the flags'
+// prefix ("--", "--link-", ...).
+template <class S>
+void checkRanges(const std::vector<Param<S>>& rows, const S& s, const std::string& flag) {
+    for (const Param<S>& p : rows) {
+        const std::string name = flag + p.name;
+        if (p.kind == ParamKind::Count) {
+            const int v = fieldOf<int>(p, s);
+            if (v < p.lo || v > p.hi) throw std::invalid_argument(name + ": must be in " + number(p.lo) + ".." + number(p.hi));
+        } else if (p.kind == ParamKind::Real) {
+            const double v = fieldOf<double>(p, s);
+            if (!std::isfinite(v) || (p.openBelow ? !(v > p.lo) : !(v >= p.lo)) || v > p.hi)
+                throw std::invalid_argument(name + (p.openBelow ? ": must be above " : ": must be at least ") + number(p.lo) +
+                                            (std::isinf(p.hi) ? "" : " and at most " + number(p.hi)));
+        } else if (p.kind == ParamKind::Rate) {
+            const double v = fieldOf<double>(p, s);
+            if (!(v > 0) || !std::isfinite(v)) throw std::invalid_argument(name + ": must be positive and finite");
+        }
+    }
+}
+
+void checkLink(const LinkParams& l, const std::string& flag) { checkRanges(linkParams(), l, flag); }
+
+}  // namespace
 
 Picos MachineConfig::watchdogSpanOrDefault(size_t objects) const {
     if (watchdogSpan) return watchdogSpan;
@@ -101,9 +128,11 @@ Picos MachineConfig::watchdogSpanOrDefault(size_t objects) const {
     for (const auto& [where, l] : linkOverride) link(l);
     double slowest = speed;
     for (const auto& [cell, f] : nodeSpeed) slowest = std::min(slowest, f);
-    auto step = [&](const Costs& c) {
+    auto step = [&](const Costs& c) {  // every object tested, and each other cost once
         const Picos test = *std::max_element(c.test.begin(), c.test.end());
-        const double t = double(objects) * double(test) + double(c.rayGen + c.shade + c.send + c.recv);
+        double t = double(objects) * double(test);
+        for (const Param<Costs>& p : costParams()) t += double(fieldOf<Picos>(p, c));
+        for (const Picos x : c.test) t -= double(x);
         longest = std::max(longest, t / slowest);
     };
     step(costs);
@@ -131,22 +160,18 @@ void MachineConfig::validate() const {
         throw std::invalid_argument("--mesh: at most " + std::to_string(kMaxNodes) + " nodes (32 x 32 x 32), not " +
                                     std::to_string(long(dims[0]) * dims[1] * dims[2]));
     if (width < 0 || height < 0) throw std::invalid_argument("--size: must be positive");
-    if (maxDepth < 0 || maxDepth > 39) throw std::invalid_argument("--max-depth: must be in 0..39");
-    if (!(speed > 0) || !std::isfinite(speed)) throw std::invalid_argument("--speed: must be positive");
+    checkRanges(machineParams(), *this, "--");
     for (const auto& [c, s] : nodeSpeed) {
         if (!(s > 0) || !std::isfinite(s)) throw std::invalid_argument("--node-speed: must be positive");
         checkNode(c, dims, "--node-speed");
     }
     for (const auto& [c, k] : nodeCosts) checkNode(c, dims, "--node-cost");
-    checkLink(link, "--link-bandwidth/--link-depth");
-    checkLink(fbPort, "--fb-bandwidth/--fb-depth");
+    checkLink(link, "--link-");
+    checkLink(fbPort, "--fb-");
     for (const auto& [key, l] : linkOverride) {
-        checkLink(l, "--link-set");
+        checkLink(l, "--link-set " + cellText(key.first) + "," + dirName(key.second) + " ");
         checkNode(key.first, dims, "--link-set", key.second);
     }
-    if (fbUnits < 1 || fbUnits > 256) throw std::invalid_argument("--fb-units: must be in 1..256");
-    if (fbBatch < 1 || fbBatch > 65536) throw std::invalid_argument("--fb-batch: must be in 1..65536");
-    if (rayBatch < 1 || rayBatch > 65536) throw std::invalid_argument("--ray-batch: must be in 1..65536");
     for (const Cell& c : traceNodes) checkNode(c, dims, "--trace-nodes");
     for (const auto& [c, d] : traceLinks) checkNode(c, dims, "--trace-links", d);
     if (traceFrom > traceTo) throw std::invalid_argument("--trace-window: start after end");
@@ -173,16 +198,7 @@ void BalanceConfig::validate(Picos reportFloor, bool carriedBoundaries) const {
     if (idealLayerFaces && carriedBoundaries)
         throw std::invalid_argument("--faces ideal-layer: needs every column's faces in line at the start (one frame, "
                                     "no --boundaries-from)");
-    auto atLeast0 = [](double x) { return x >= 0 && std::isfinite(x); };
-    if (!atLeast0(gain)) throw std::invalid_argument("--gain: must be positive (0: the policy's)");
-    if (!atLeast0(maxAge)) throw std::invalid_argument("--max-age: must be non-negative");
-    if (!atLeast0(horizon)) throw std::invalid_argument("--guard-horizon: must be non-negative");
-    if (!atLeast0(hopRatio)) throw std::invalid_argument("--guard-hop: must be non-negative");
-    if (!atLeast0(wireShare)) throw std::invalid_argument("--guard-wire: must be non-negative (0: off)");
-    if (!(reportShare > 0) || !(reportShare <= 1)) throw std::invalid_argument("--report-share: must be in (0, 1]");
-    if (!(deadband >= 0) || !(deadband < 1)) throw std::invalid_argument("--deadband: must be in [0, 1)");
-    if (!(minThickness > 0) || !(minThickness <= 1)) throw std::invalid_argument("--min-thickness: must be in (0, 1]");
-    if (bins < 1 || bins > 4096) throw std::invalid_argument("--bins: must be in 1..4096");
+    checkRanges(balanceParams(), *this, "--");
 }
 
 }  // namespace rt

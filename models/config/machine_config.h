@@ -15,6 +15,7 @@
 #include "lattice.h"
 #include "channel/link_params.h"
 #include "base/mesh_geometry.h"
+#include "base/param.h"
 #include "base/units.h"
 
 namespace rt {
@@ -28,6 +29,22 @@ struct Costs {
     Picos send = 40000;     // handling one outgoing message (link or frame-buffer port)
     Picos recv = 40000;     // handling one incoming message
 };
+
+// The costs a flag sets (base/param.h): --cost-NAME, --node-cost's NAMEs,
+// the report's config.costs and node_costs.
+inline const std::vector<Param<Costs>>& costParams() {
+    static const std::vector<Param<Costs>> rows = {
+        timeParamAt<Costs>("sphere", [](Costs& c) -> Picos& { return c.test[0]; }, "/test_sphere_ns", "intersection test, sphere"),
+        timeParamAt<Costs>("polygon", [](Costs& c) -> Picos& { return c.test[1]; }, "/test_polygon_ns", "intersection test, polygon"),
+        timeParamAt<Costs>("cone", [](Costs& c) -> Picos& { return c.test[2]; }, "/test_cone_ns", "intersection test, cone/cylinder"),
+        timeParam("voxel", &Costs::voxelStep, "/voxel_step_ns", "one voxel step of the 3D-DDA"),
+        timeParam("raygen", &Costs::rayGen, "/ray_generation_ns", "generating one primary ray"),
+        timeParam("shade", &Costs::shade, "/shading_ns", "shading one hit"),
+        timeParam("send", &Costs::send, "/send_ns", "handling one outgoing message"),
+        timeParam("recv", &Costs::recv, "/receive_ns", "handling one incoming message"),
+    };
+    return rows;
+}
 
 // Sliding boundaries (doc/balancing.md). Every column of nodes along the
 // progress axis owns its own boundaries between them. Policies are named
@@ -83,6 +100,45 @@ struct BalanceConfig {
     // `carriedBoundaries`: the frame starts where another left its faces.
     void validate(Picos reportFloor, bool carriedBoundaries) const;
 };
+
+// The balancing settings a flag sets (base/param.h), echoed in the report's
+// config.balance; --balance (the policy) and --no-guard are read by the
+// command line itself, and the echo's gain is gainOf().
+inline const std::vector<Param<BalanceConfig>>& balanceParams() {
+    using B = BalanceConfig;
+    static const std::vector<Param<B>> rows = {
+        specialParam<B>("balance", nullptr),
+        timeParam("balance-interval", &B::interval, "/interval_ns", "time between load reports"),
+        shownAs(numberParam("gain", &B::gain, 0, std::numeric_limits<double>::infinity(), nullptr,
+                            "slide: step = gain x load difference x thickness; work: share of the busy-time gap moved; "
+                            "quantile: share of the way to the target"),
+                "0: the policy's, slide and work 0.25, quantile 0.5"),
+        numberParam("deadband", &B::deadband, 0.0, 0.999, "/deadband", "no slide while the load difference is at most this"),
+        numberParam("min-thickness", &B::minThickness, 1e-6, 1.0, "/min_thickness",
+                    "guard: a box keeps at least this fraction of its initial thickness"),
+        specialParam<B>("no-guard", "no guard: slide on loads however old, and whatever the slide costs against the work it moves"),
+        numberParam("max-age", &B::maxAge, 0.0, 1e9, "/max_age_intervals", "guard: no slide on loads older than this many intervals"),
+        numberParam("guard-hop", &B::hopRatio, 0.0, 1e9, "/guard_hop_steps",
+                    "guard: no slide while a ray's hop to the neighbour (latency + wire) takes longer than this many of "
+                    "the giver's mean ray steps"),
+        numberParam("guard-wire", &B::wireShare, 0.0, 1e9, "/guard_wire_share",
+                    "guard: no slide across a link that would be busy more than this share of an interval after it: the "
+                    "last interval's share plus a ray message per ray step the slab's work took, each by the link's "
+                    "narrower limit, its wire or its slots (1: a full link; 0: off)"),
+        numberParam("guard-horizon", &B::horizon, 0.0, 1e9, "/guard_horizon_intervals",
+                    "guard: no slide that costs more than the work it moves over this many intervals"),
+        numberParam("report-share", &B::reportShare, 1e-6, 1.0, "/report_share",
+                    "load reports on a control lane take at most this share of the link's time: a node reports to a "
+                    "neighbour again only once a report's time on the wire divided by this has passed"),
+        choiceParam("faces", &B::idealLayerFaces, "ideal-layer", "column", "/faces",
+                    "column: each column moves its own faces (the machine); ideal-layer: a measuring device, faces shared "
+                    "by a layer and moved by slide's rule on the layer's summed loads, read without messages "
+                    "(doc/balancing.md)"),
+        numberParam("bins", &B::bins, 1, 4096, "/bins", "work profile: bins per box thickness along the axis"),
+        timeParam("cost-rebuild", &B::rebuildCost, "/rebuild_cost_ns", "updating a node's grid, per object moved in or out"),
+    };
+    return rows;
+}
 
 // The mesh's limits: nodes per axis, and nodes in all (32 x 32 x 32, or a
 // flatter shape such as 64 x 64 x 8); a run that would not fit the
@@ -218,5 +274,63 @@ struct MachineConfig {
     // are checked in the run as they are made (units.h).
     void checkDerivedTimes(size_t objects) const;
 };
+
+// The machine's parameters in the order rtsim's --help lists them (and a
+// report's rerun.flags records them), with the other tables' rows in their
+// places (base/param.h). A field without a row here (the image size, the
+// trace's settings, the boundaries) is set by rtsim's other flags.
+inline const std::vector<Param<MachineConfig>>& machineParams() {
+    using M = MachineConfig;
+    static const char *gm = "Machine", *gc = "Costs", *gl = "Links", *go = "Outputs";
+    static const std::vector<Param<M>> rows = {
+        specialParam<M>("mesh", "nodes per axis: an N x N x N mesh (at most 32: 32,768 nodes)", gm),
+        specialParam<M>("mesh-dims",
+                        "mesh shape XxYxZ instead of --mesh: each 1..64, at most 32,768 nodes (such as 64x64x8); a mesh "
+                        "whose grids would not fit in memory is refused with the estimate",
+                        gm),
+        numberParam("max-depth", &M::maxDepth, 0, 39, "/max_depth", "mirror/refraction levels below the primary ray", gm),
+        partParam<M>("costs", gc),
+        choiceParam("hop-handling", &M::hopsByLinks, "link", "processor", "/hop_handling",
+                    "who pays for a hop: processor (each node's busy time pays --cost-send and --cost-recv per message) "
+                    "or link (the links' engines do: --cost-send holds the wire before each message, --cost-recv adds to "
+                    "the latency; the processors pay nothing for a hop)",
+                    gc),
+        timeParam("cost-host", &M::hostCost, "/host_cost_ns", "frame buffer: accumulating one contribution", gc),
+        above(numberParam("speed", &M::speed, 0.0, std::numeric_limits<double>::infinity(), "/speed",
+                          "node speed factor (time = cost / speed)", gc)),
+        specialParam<M>("node-speed", "speed factor of one node: x,y,z=SPEED (repeatable)", gc),
+        specialParam<M>("node-cost", nullptr, gc),
+        specialParam<M>("quantum",
+                        "temporal decoupling: how far a process may run ahead of the kernel. 'lookahead': each process's "
+                        "own, the largest that is still exact (its input links' latency plus the smallest message's time "
+                        "on their wire); 0: synchronise after every step (also exact, slower); a time: every process by "
+                        "that much, exact up to the smallest lookahead, beyond it faster and timing approximate",
+                        gm),
+        partParam<M>("link", gl),
+        choiceParam("link-stats", &M::linkDistributions, "full", "counts", "/link_stats",
+                    "what the links keep beyond message counts, bytes, wire, wait and backlog times: full (also latency "
+                    "percentiles, backlog and buffer high-water marks and the busiest window's utilisation) or counts "
+                    "(not those: a 100 us run about 7 % faster; timing unchanged)",
+                    gl),
+        specialParam<M>("link-set", nullptr, gl),
+        numberParam("fb-units", &M::fbUnits, 1, 256, "/fb_units",
+                    "frame-buffer units, pixel-interleaved (pixel p in unit p mod K), each with a port from every node; "
+                    "1: a single host",
+                    gl),
+        partParam<M>("fb-port", gl),
+        numberParam("ray-batch", &M::rayBatch, 1, 65536, "/ray_batch", "rays per link message (sent when full or before a node waits)", gl),
+        numberParam("fb-batch", &M::fbBatch, 1, 65536, "/fb_batch", "contributions per frame-buffer message", gl),
+        partParam<M>("balance", "Balancing (sliding boundaries)"),
+        timeParam("watchdog", &M::watchdogSpan, "/watchdog/span_ns",
+                  "stop a run in which no ray, contribution or credit moves for this long in simulated time (exit 3, the "
+                  "report and VCD so far marked incomplete); 0: the larger of 100 us and 1,000 times the largest cost, "
+                  "latency or ray wire time",
+                  go),
+        numberParam("watchdog-wall", &M::watchdogWall, 0.0, 1e9, "/watchdog/wall_s",
+                    "also stop it after this many seconds of wall-clock time (0: no limit)", go),
+        specialParam<M>("fault-drop-credit", "test only: unit 0 loses the first credit it takes", ""),
+    };
+    return rows;
+}
 
 }  // namespace rt

@@ -11,6 +11,7 @@
 
 #include <gtest/gtest.h>
 
+#include "cli_test.h"
 #include "command_line.h"
 #include "config_file.h"
 #include "node/cost_model.h"
@@ -27,6 +28,7 @@
 #include "trace/vcd_stream.h"
 
 using namespace rt;
+using rt::test::parsed;
 namespace fs = std::filesystem;
 using nlohmann::json;
 
@@ -165,17 +167,6 @@ CommandLine merge(const std::vector<std::pair<std::string, bool>>& texts, const 
     for (size_t i = 0; i < texts.size(); ++i)
         sources.push_back({parseConfig(texts[i].first, "f" + std::to_string(i + 1)), texts[i].second});
     return mergeFlags(sources, rest, "rtsim");
-}
-
-// The options a merged command line gives.
-RtsimOptions parsed(const CommandLine& cl) {
-    RtsimOptions o;
-    CLI::App app;
-    o.addTo(app);
-    std::vector<std::string> reversed(cl.args.rbegin(), cl.args.rend() - 1);
-    app.parse(reversed);
-    o.finish();
-    return o;
 }
 
 }  // namespace

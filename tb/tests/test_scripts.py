@@ -76,6 +76,29 @@ class Scripts(unittest.TestCase):
             self.assertTrue(any(p.startswith(folder) for p in found), folder)
         self.assertFalse(any("/tests/" in p for p in found))
 
+    def test_a_parameter_touches_its_declaration_and_where_it_acts(self):
+        """Parameters declared once (doc/machine.md, "Parameters, declared
+        once"): of the sources that make rtsim (models/, tb/, sw/ and the
+        tools in scripts/, tests and planted bugs aside), those that name
+        one parameter, the cost of shading a hit (--cost-shade, the field
+        Costs::shade, echoed as shading_ns), are the file that declares it
+        (its field and its row) and the one where it acts: nothing else
+        makes its flag, checks it, echoes it or lists it. (The studies in
+        scripts/experiments/ read it from reports, as any user may.)"""
+        import re
+        names = re.compile(r"\bshade\b|cost-shade|shading_ns")
+        found = set()
+        for folder in ("models", "tb", "sw", "scripts"):
+            for dirpath, dirnames, files in os.walk(os.path.join(project.ROOT, folder)):
+                dirnames[:] = [d for d in dirnames if d not in ("tests", "experiments", "__pycache__")]
+                for f in files:
+                    path = os.path.relpath(os.path.join(dirpath, f), project.ROOT)
+                    if f.endswith((".h", ".cpp", ".py")) and path != os.path.join("scripts", "mutants.py"):
+                        with open(os.path.join(project.ROOT, path)) as fh:
+                            if names.search(fh.read()):
+                                found.add(path)
+        self.assertEqual(found, {"models/config/machine_config.h", "models/node/cost_model.h"})
+
     def test_a_section_that_moved_is_written_where_it_is(self):
         """update_doc_section follows a section to the one page that has
         its markers, and writes the new text there (not another page's)."""
