@@ -77,10 +77,17 @@ void Machine::buildNodes(const ObjectBins& bins) {
                                                         world_.hi[ax], cfg_.balance.deadband, cfg_.balance.gainOf(),
                                                         minThickness_);
     }
-    nodeParams_.reset(new NodeParams{shader_,       camera_,      world_,        cfg_.fbUnits,
-                                     cfg_.fbBatch,  cfg_.rayBatch, cfg_.balance,  cfg_.dims[ax],
-                                     minThickness_, cfg_.quantum,  layerFaces_.get(),
-                                     cfg_.lookaheadQuantum && !cfg_.balance.dynamic()});
+    nodeParams_ = std::make_unique<NodeParams>(shader_, camera_, cfg_.balance);
+    NodeParams& p = *nodeParams_;
+    p.world = world_;
+    p.fbUnits = cfg_.fbUnits;
+    p.fbBatch = cfg_.fbBatch;
+    p.rayBatch = cfg_.rayBatch;
+    p.columnLength = cfg_.dims[ax];
+    p.minThickness = minThickness_;
+    p.quantum = cfg_.quantum;
+    p.layerFaces = layerFaces_.get();
+    p.runAhead = cfg_.lookaheadQuantum && !cfg_.balance.dynamic();
     nodes_.init(size_t(cfg_.nodeCount()), [&](const char*, size_t i) {
         const Cell c = cellAt(i, cfg_.dims);
         const Box b = nodeBox(c, cuts_, columns_, columnPlanes_);

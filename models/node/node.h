@@ -46,13 +46,14 @@ namespace rt {
 // What every node of a machine shares: the job, the balancing and the
 // machine's settings (the Machine keeps it for the nodes' lifetime).
 struct NodeParams {
+    NodeParams(const Shader& s, const Camera& c, const BalanceConfig& b) : shader(s), camera(c), balance(b) {}
     const Shader& shader;
     const Camera& camera;
     Box world;
     int fbUnits = 1, fbBatch = 1, rayBatch = 1;
     const BalanceConfig& balance;
     int columnLength = 1;   // nodes along the balancing axis
-    double minThickness;    // absolute, along the balancing axis
+    double minThickness = 0;  // absolute, along the balancing axis
     Picos quantum = 0;
     IdealLayerFaces* layerFaces = nullptr;  // --faces ideal-layer (the machine's)
     // The quantum is the node's lookahead and no dynamic policy runs: the

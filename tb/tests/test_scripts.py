@@ -236,6 +236,7 @@ class BadInput(unittest.TestCase):
         with tempfile.TemporaryDirectory() as d:
             cases = [
                 (py("bench_edges.py", "--runs", "0"), "--runs 0"),
+                (py("bench_frames.py", "--frames", "1"), "--frames 1"),
                 (py("bench_edges.py", "--rtsim", "/dev/zero"), "a device"),
                 (py("bench_rtref.py", "--rtref", rtref, "--scene", d), "--scene"),
                 (py("bench_rtsim.py", "--growth", "x"), "--growth"),

@@ -172,6 +172,7 @@ class ToolsLeaveNoTrace(unittest.TestCase):
         self.run_tool([PY, s("bench_rtsim.py"), "--growth", "x"], codes=(2,))
         self.run_tool([PY, s("bench_scaling.py"), "--n", "x"], codes=(2,))
         self.run_tool([PY, s("bench_edges.py"), "--runs", "0"], codes=(2,))
+        self.run_tool([PY, s("bench_frames.py"), "--runs", "0"], codes=(2,))
         self.run_tool([PY, s("stress.py"), "--count", "2", "--jobs", "1", "--rtsim", RTSIM, "--rtref", RTREF])
         self.run_tool([PY, s("same_outputs.py"), "--record", self.file("same"), "--only", "out-depth-lockstep",
                        "--build", os.path.dirname(RTSIM)])
