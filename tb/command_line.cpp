@@ -96,7 +96,6 @@ std::vector<NamedFile> CommandLine::inputs(const RtsimOptions& o) const {
     if (rerun) in.push_back({"--rerun", rerun->path, false});
     if (!o.scene.file.empty()) in.push_back({"--scene", o.scene.file, false});
     if (!o.boundariesFrom.empty()) in.push_back({"--boundaries-from", o.boundariesFrom, false});
-    if (!o.targetsFrom.empty()) in.push_back({"--targets-from", o.targetsFrom, false});
     return in;
 }
 

@@ -164,8 +164,8 @@ std::string configLine(const std::string& name, const std::vector<std::string>& 
 }
 
 bool isOutputOrInternal(const std::string& name) {
-    for (const char* o : {"image", "report", "vcd", "quiet", "verbose", "map", "config", "rerun", "as-frame", "as-baseline",
-                          "as-comparison", "as-first-pass", "frame-index", "targets-from", "help"})
+    for (const char* o : {"image", "report", "vcd", "quiet", "verbose", "map", "config", "rerun", "as-baseline",
+                          "as-comparison", "as-first-pass", "help"})
         if (name == o) return true;
     return false;
 }

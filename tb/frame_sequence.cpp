@@ -2,104 +2,110 @@
 
 #include <stdexcept>
 #include <string>
-#include <vector>
 
+#include "analysis/report.h"
 #include "balance/between_frames.h"
-#include "frame_state_json.h"
+#include "config_echo.h"
+#include "machine/frame_state_of.h"
+#include "machine/machine.h"
 #include "stops.h"
-#include "subprocess.h"
-#include "process/watchdog.h"
+#include "wall_limit.h"
 
 namespace rt {
 namespace {
 
-// jemalloc's (tb/rtsim.cpp links it; a sanitizer build has none).
-extern "C" int mallctl(const char* name, void* old, size_t* oldLength, void* value, size_t length) __attribute__((weak));
-
-// A frame's report is parsed, used and freed; the allocator would keep its
-// pages for 30 s (malloc_conf in rtsim.cpp), and at several frames a second
-// the parent would grow by a report's size every frame. Handed back at
-// once instead.
-void releaseFreedPages() {
-    if (mallctl) mallctl("arena.4096.purge", nullptr, nullptr, nullptr, 0);  // (4096: every arena)
+nlohmann::json frameEntry(int number, double renderTimeNs, size_t slides) {
+    return {{"frame", number}, {"render_time_ns", renderTimeNs}, {"slides", slides}};
 }
 
-nlohmann::json frameEntry(int number, const nlohmann::json& report) {
-    return {{"frame", number}, {"render_time_ns", report["render_time_ns"]}, {"slides", report["balance"].value("slides", 0)}};
+size_t slidesOf(const MachineResult& r) {
+    size_t slides = 0;
+    for (const BoundaryHistory& h : r.boundaries) slides += h.positions.size() - 1;
+    return slides;
 }
 
 // A sequence stopped in frame `k` (1-based) of `count`: the stopped frame's
-// report so far, if it wrote one, with the frames before it.
+// report so far, if it ran, with the frames before it.
 nlohmann::json stoppedSequence(const std::optional<nlohmann::json>& partial, nlohmann::json frames, int k, int count,
                                const std::string& why) {
     const std::string which = "frame " + std::to_string(k) + " of " + std::to_string(count);
     nlohmann::json r = partial ? *partial : nlohmann::json::object();
     if (partial) {
-        nlohmann::json entry = frameEntry(k, r);
+        nlohmann::json entry = frameEntry(k, r["render_time_ns"].get<double>(), r["balance"].value("slides", size_t(0)));
         entry["incomplete"] = true;
         frames.push_back(entry);
     }
     r["frames"] = frames;
-    r["incomplete"] = which + ": " + (partial ? r.value("incomplete", why) : why);
+    r["incomplete"] = which + ": " + why;
     return r;
+}
+
+// An earlier frame's machine: the sequence's, with the start and targets
+// the loop chose, and nothing traced (the outputs are the last frame's).
+MachineConfig earlierFrameConfig(const MachineConfig& m) {
+    MachineConfig c = m;
+    c.vcdPath.clear();
+    c.vcdName.clear();
+    c.traceNodes.clear();
+    c.traceLinks.clear();
+    c.showProgress = false;
+    return c;
+}
+
+// A frame stopped by the watchdog or a signal: its report so far, as the
+// last frame's would be (its config echo that of frame `k`, 0-based).
+nlohmann::json partialReport(const MachineResult& r, const MachineConfig& m, RtsimOptions& o, const Scene& scene, int k) {
+    nlohmann::json report = machineReport(r, m, o.fullReport() ? ReportDetail::Full : ReportDetail::Summary);
+    report["report_detail"] = {{"level", o.fullReport() ? "full" : "summary"}, {"why", o.reportDetailWhy()}};
+    const int last = o.frameIndex;
+    o.frameIndex = k;
+    report["config"] = configEcho(o, scene);
+    o.frameIndex = last;
+    return report;
 }
 
 }  // namespace
 
-EarlierFrames runEarlierFrames(const std::vector<std::string>& args, RtsimOptions& o) {
+Vec3 eyeOfFrame(const RtsimOptions& o, const Vec3& firstEye, int index) {
+    if (o.eyeStep.empty()) return firstEye;
+    return firstEye + Vec3(o.eyeStep[0], o.eyeStep[1], o.eyeStep[2]) * double(index);
+}
+
+EarlierFrames runEarlierFrames(const Scene& scene, const Vec3& firstEye, RtsimOptions& o) {
     EarlierFrames out;
-    const OrderlyStops orderly;  // a stop is passed to the frame running, and the sequence so far written
+    if (o.frames < 2) return out;
+    const OrderlyStops orderly;  // a stop ends the frame running, and the sequence so far is written
     const bool carry = o.machine.balance.dynamic(), resplit = o.machine.balance.betweenFrames();
     ResplitSequence sequence(o.machine);
     const MachineConfig first = o.machine;  // how frame 1 starts
-    bool again = false;                     // resplit: every later frame is the first one again
-    bool afresh = false;                    // resplit: the next frame starts where frame 1 did
-    std::optional<nlohmann::json> last;     // the frame before's report
+    Scene frameScene = scene;
     for (int k = 0; k + 1 < o.frames; ++k) {
         if (stopSignal || wallPassed()) {  // (between two frames)
             out.exitCode = stopSignal ? 128 + int(stopSignal) : 3;
-            out.stopped = stoppedSequence(std::nullopt, out.frames, k + 1, o.frames,
-                                          stopSignal ? "stopped by signal " + std::to_string(int(stopSignal)) + " before it began"
-                                                     : "the wall-clock limit was reached before it began");
+            out.why = stopSignal ? "stopped by signal " + std::to_string(int(stopSignal)) + " before it began"
+                                 : "the wall-clock limit was reached before it began";
+            out.stopped = stoppedSequence(std::nullopt, out.frames, k + 1, o.frames, out.why);
             return out;
         }
-        std::vector<std::string> extra = {"--as-frame", "--frame-index", std::to_string(k)};
-        std::optional<TempFile> from, targets;  // (removed once the frame ran)
-        if (carry && k > 0 && !again && !afresh) {
-            from.emplace("rtsim-frame", ".json", last->dump() + "\n");
-            extra.insert(extra.end(), {"--boundaries-from", from->path()});
-        }
-        if (resplit && k > 0 && !again) {
-            targets.emplace("rtsim-frame", ".json", nlohmann::json(o.machine.targetBoundaries).dump() + "\n");
-            extra.insert(extra.end(), {"--targets-from", targets->path()});
-        }
-        Child child(args, extra);
-        if (child.stopped()) {
-            const int code = child.exitCode();
-            // Stopped (the child said why on stderr): its report so far, with
-            // the frames before it. No image, no VCD (those are of the last frame).
-            out.exitCode = code;
-            out.childSaid = true;
-            out.stopped = stoppedSequence(child.stoppedReport(), out.frames, k + 1, o.frames,
-                                          code == 3 ? "stopped by the watchdog" : "stopped by a signal");
+        frameScene.view.from = eyeOfFrame(o, firstEye, k);
+        const MachineConfig m = earlierFrameConfig(o.machine);
+        const MachineResult r = runMachine(frameScene, m);
+        if (!r.incomplete.empty()) {  // the watchdog or a signal
+            out.exitCode = stopSignal ? 128 + int(stopSignal) : 3;
+            out.why = r.incomplete;
+            out.stopped = stoppedSequence(partialReport(r, m, o, frameScene, k), out.frames, k + 1, o.frames, r.incomplete);
             return out;
         }
-        last = child.report();
-        if (!last) throw std::runtime_error("frame " + std::to_string(k + 1) + " of " + std::to_string(o.frames) + " failed");
-        out.frames.push_back(frameEntry(k + 1, *last));
-        releaseFreedPages();  // (the report before this one's)
-        if (!carry && !resplit) continue;
-        const FrameState state = frameStateFromReport(*last);
+        const FrameState state = frameStateOf(r, m);
+        out.frames.push_back(frameEntry(k + 1, state.renderTimeNs, slidesOf(r)));
         if (carry) o.machine.startBoundaries = lastBoundaries(state, o.machine);
         if (!resplit) continue;
         const auto next = sequence.next(state, k + 1);
         out.frames.back()["then"] = sequence.said();
         if (next) {
             o.machine.targetBoundaries = *next;
-            afresh = sequence.startsAfresh();
-            if (afresh) o.machine.startBoundaries = first.startBoundaries;
-        } else {
-            again = true;
+            if (sequence.startsAfresh()) o.machine.startBoundaries = first.startBoundaries;
+        } else {  // (every later frame is the first one again)
             o.machine.startBoundaries = first.startBoundaries;
             o.machine.targetBoundaries = first.targetBoundaries;
         }
@@ -108,7 +114,7 @@ EarlierFrames runEarlierFrames(const std::vector<std::string>& args, RtsimOption
 }
 
 void listFrames(nlohmann::json& report, nlohmann::json frames, int count) {
-    frames.push_back(frameEntry(count, report));
+    frames.push_back(frameEntry(count, report["render_time_ns"].get<double>(), report["balance"].value("slides", size_t(0))));
     report["frames"] = frames;
 }
 

@@ -1,8 +1,7 @@
 // A report read back into what its frame left behind (balance/frame_state.h):
-// the user's edge of the frame state (--boundaries-from) and, until frames
-// run in one machine, the frames of a sequence run as child processes. The
-// report holds the state to the bit (models/analysis/report.cpp writes it),
-// so a frame continued from its report is the frame continued in memory.
+// the user's edge of the frame state (--boundaries-from). The report holds
+// the state to the bit (models/analysis/report.cpp writes it), so a frame
+// continued from its report is the frame continued in memory.
 #pragma once
 #include <nlohmann/json.hpp>
 

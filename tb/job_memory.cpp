@@ -24,7 +24,7 @@ JobMemory jobMemory(const RtsimOptions& o, const Scene& scene) {
     j.grids = b.bytes;
     j.largestGrid = b.largestGrid;
     const bool single = o.machine.dims == std::array<int, 3>{1, 1, 1};
-    if (!o.baseline) return j;  // (a reference run or an earlier frame has no reference runs of its own)
+    if (!o.baseline) return j;  // (a reference run has none of its own)
     if (o.machine.dims[size_t(o.machine.balance.axis)] > 1) j.comparison = j.frame;  // the same mesh and scene
     if (!single) {
         MachineConfig one = o.machine;  // as the baseline runs: one node, no boundaries (rtsim_cli.cpp)

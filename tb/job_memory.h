@@ -3,9 +3,9 @@
 // and checked against what the process may use (sw/memory_estimate.h: the
 // physical memory, the cgroup's limit, RLIMIT_AS). A run is more than its
 // frame:
-//  - --frames K: the frames before the last run one at a time, each in a
-//    child process with the same mesh and scene (each a frame's memory)
-//    while this one waits holding the scene; then this one runs the last;
+//  - --frames K: the frames run one at a time in this process, each on a
+//    machine of its own with the same mesh and scene (each a frame's
+//    memory, freed before the next);
 //  - the reference runs (unless --no-baseline): with the frame still held,
 //    two child processes at once, the same mesh balanced the other way (a
 //    frame's memory again) and the 1x1x1 baseline (every object in one grid,

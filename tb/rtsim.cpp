@@ -102,7 +102,7 @@ Stop readCommandLine(CLI::App& app, rt::RtsimOptions& o, rt::CommandLine& cl, in
 
 // The outputs checked (before the run, not after it), the scene read, the
 // image's size checked against the machine's memory.
-Stop loadScene(rt::RtsimOptions& o, const rt::CommandLine& cl, rt::Scene& scene) {
+Stop loadScene(rt::RtsimOptions& o, const rt::CommandLine& cl, rt::Scene& scene, rt::Vec3& firstEye) {
     try {
         rt::checkOutputs(o, cl.inputs(o));
         if (cl.rerun && !cl.givesScene()) rt::checkRerunSceneFile(*cl.rerun, o.scene);  // (before the file is parsed)
@@ -125,9 +125,10 @@ Stop loadScene(rt::RtsimOptions& o, const rt::CommandLine& cl, rt::Scene& scene)
         rt::msg::error(rt::msg::kConfig, e.what());
         return 2;
     }
-    // A frame of a camera path: the eye moved frameIndex steps.
-    if (!o.eyeStep.empty())
-        scene.view.from = scene.view.from + rt::Vec3(o.eyeStep[0], o.eyeStep[1], o.eyeStep[2]) * double(o.frameIndex);
+    // A frame of a camera path: the eye moved frameIndex steps (the last
+    // frame's, or a reference run's of it).
+    firstEye = scene.view.from;
+    scene.view.from = rt::eyeOfFrame(o, firstEye, o.frameIndex);
     return std::nullopt;
 }
 
@@ -140,7 +141,7 @@ Stop echoConfig(const rt::RtsimOptions& o, const rt::Scene& scene, const rt::Com
         rt::msg::error(rt::msg::kScene, e.what());
         return 2;
     }
-    if (!cl.rerun || o.asBaseline || o.asComparison || o.asFrame) return std::nullopt;  // (a reference run differs by design)
+    if (!cl.rerun || o.asBaseline || o.asComparison) return std::nullopt;  // (a reference run differs by design)
     const std::string where = "--rerun " + cl.rerun->path + ": ";
     if (cl.rerun->overrides) {  // a what-if: of the report's scene, unless the command line names another
         const std::string differs = cl.givesScene() ? "" : rt::rerunSceneDifference(*cl.rerun, config);
@@ -155,20 +156,15 @@ Stop echoConfig(const rt::RtsimOptions& o, const rt::Scene& scene, const rt::Com
     return std::nullopt;
 }
 
-// A run that continues another's boundaries (--boundaries-from), or a frame
-// of a sequence with the targets its frame loop chose (--targets-from).
+// A run that continues another's boundaries (--boundaries-from): where they
+// ended, and (`resplit`, `measured`) the targets its frame chooses.
 Stop startBoundaries(rt::RtsimOptions& o) {
     try {
         if (!o.boundariesFrom.empty()) {
             const rt::FrameState prev =  // (limits as --rerun's)
                 rt::frameStateFromReport(rt::readJsonFile(o.boundariesFrom, rt::kMaxReportBytes));
             o.machine.startBoundaries = rt::lastBoundaries(prev, o.machine);
-            if (o.machine.balance.betweenFrames() && o.targetsFrom.empty())  // (a frame loop gives its own)
-                o.machine.targetBoundaries = rt::resplitTargets(prev, o.machine);
-        }
-        if (!o.targetsFrom.empty()) {
-            std::ifstream f(o.targetsFrom);
-            o.machine.targetBoundaries = nlohmann::json::parse(f).get<std::vector<std::vector<double>>>();
+            if (o.machine.balance.betweenFrames()) o.machine.targetBoundaries = rt::resplitTargets(prev, o.machine);
         }
     } catch (const rt::JsonInputError& e) {  // ("PATH: why")
         rt::msg::error(rt::msg::kConfig, std::string("--boundaries-from ") + e.what());
@@ -242,16 +238,15 @@ int finish(const rt::CommandLine& cl, const rt::RtsimOptions& o, const rt::Scene
 
 // The frames before the last, the last one, the reference runs, the outputs.
 int run(const rt::CommandLine& cl, const CLI::App& app, rt::RtsimOptions& o, const rt::Scene& scene,
-        const nlohmann::json& config, rt::RunOutputs& out) {
+        const rt::Vec3& firstEye, const nlohmann::json& config, rt::RunOutputs& out) {
     rt::WallClock wall;
     const auto framesFrom = rt::WallClock::now();
     wall.startUp = rt::secondsBetween(rt::WallClock::processStart(), framesFrom);
-    const rt::EarlierFrames earlier = rt::runEarlierFrames(cl.args, o);
+    const rt::EarlierFrames earlier = rt::runEarlierFrames(scene, firstEye, o);
     if (earlier.stopped) {
         out.report(*earlier.stopped);
         out.commit();
-        if (earlier.childSaid) return earlier.exitCode;
-        return stopped(earlier.exitCode, (*earlier.stopped)["incomplete"].get<std::string>());
+        return stopped(earlier.exitCode, earlier.why);
     }
     std::optional<rt::TraceChoice> chosen;
     if (o.traceBusiest > 0 && !o.vcd.empty()) chosen = rt::traceBusiest(cl.args, o);
@@ -294,9 +289,10 @@ int sc_main(int argc, char** argv) {
     o.addTo(app);
     rt::CommandLine cl;  // the flags of --config files or a --rerun report, then the command line's
     rt::Scene scene;
+    rt::Vec3 firstEye;  // frame 1's (--eye-step moves it each frame)
     nlohmann::json config;
     if (Stop s = readCommandLine(app, o, cl, argc, argv)) return *s;
-    if (Stop s = loadScene(o, cl, scene)) return *s;
+    if (Stop s = loadScene(o, cl, scene, firstEye)) return *s;
     if (Stop s = echoConfig(o, scene, cl, config)) return *s;
     if (Stop s = startBoundaries(o)) return *s;
     if (Stop s = checkMemory(o, scene)) return *s;
@@ -304,7 +300,7 @@ int sc_main(int argc, char** argv) {
     o.machine.showProgress = !o.quiet && isatty(2);
     rt::RunOutputs out(o);  // each to a temporary file until the end (outputs.h)
     try {
-        return run(cl, app, o, scene, config, out);
+        return run(cl, app, o, scene, firstEye, config, out);
     } catch (const std::exception& e) {
         rt::msg::error(rt::msg::kRun, e.what());
         return 1;  // (nothing committed; `out` removes its temporaries)
@@ -318,7 +314,7 @@ int main(int argc, char** argv) {
     // A child run (a reference run, an earlier frame) ends with its parent.
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
-        if (a == "--as-frame" || a == "--as-baseline" || a == "--as-comparison") {
+        if (a == "--as-baseline" || a == "--as-comparison" || a == "--as-first-pass") {
             prctl(PR_SET_PDEATHSIG, SIGTERM);
             if (getppid() == 1) return 128 + SIGTERM;  // (it died before that)
             break;

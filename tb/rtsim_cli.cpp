@@ -257,11 +257,6 @@ void RtsimOptions::addFrameFlags(CLI::App& app) {
     app.add_option("--boundaries-from", boundariesFrom,
                    "start each column's boundaries where they ended in this report's run (the same scene, mesh and axis)")
         ->check(regularFileAtMost(kMaxReportBytes))->group(gf);
-    app.add_option("--targets-from", targetsFrom, "internal: resplit's targets for this frame (JSON)")
-        ->check(CLI::ExistingFile)->group("");
-    app.add_option("--frame-index", frameIndex, "internal: this run is that frame (0-based) of a sequence")
-        ->check(CLI::Range(0, 9999))->group("");
-    app.add_flag("--as-frame", asFrame, "internal: run as an earlier frame of another run's sequence")->group("");
     app.add_flag("--as-baseline", asBaseline, "internal: run as the 1x1x1 baseline of another run")->group("");
     app.add_flag("--as-comparison", asComparison, "internal: run as the balancing comparison of another run")->group("");
     app.add_flag("--as-first-pass", asFirstPass, "internal: run as the first pass of --trace-nodes busiest")->group("");
@@ -275,9 +270,9 @@ void RtsimOptions::finish() {
             throw OptionError("--faces", "ideal-layer measures one frame from faces in line; not with --frames " +
                                              std::to_string(frames));
         machine.dims = {mesh, mesh, mesh};
-        if (frameIndex < 0) frameIndex = frames - 1;  // this process renders the last frame of its sequence
-        if (asBaseline || asFrame) frames = 1;        // the baseline is of the last frame's view; a frame is one frame
-        if (asBaseline || asComparison || asFrame || asFirstPass) actAsReference();
+        frameIndex = frames - 1;     // this process renders the last frame of its sequence last
+        if (asBaseline) frames = 1;  // the baseline is of the last frame's view
+        if (asBaseline || asComparison || asFirstPass) actAsReference();
         readSpecs();
         setQuantum();
         machine.balance.axis = scene.axis == "x" ? 0 : scene.axis == "y" ? 1 : 2;  // one progress axis for scene and balancing
@@ -313,7 +308,7 @@ void RtsimOptions::checkAlone() {
 }
 
 // A reference run of another (its 1x1x1 baseline, its balancing
-// comparison, an earlier frame of its sequence): no outputs (the caller
+// comparison, the first pass of --trace-nodes busiest): no outputs (the caller
 // reads its report), and the baseline is one node with the global costs.
 void RtsimOptions::actAsReference() {
     traceSpecs_.clear();

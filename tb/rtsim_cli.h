@@ -29,11 +29,9 @@ struct RtsimOptions {
     // Frames (--frames): rendered one after another, each starting with the
     // boundaries where the one before ended; this process runs the last.
     int frames = 1;
-    int frameIndex = -1;            // internal (--frame-index): this run is that frame (0-based) of a sequence
+    int frameIndex = 0;             // the frame (0-based) this run renders last: frames - 1
     std::vector<double> eyeStep;    // the camera path: the eye moves this much per frame; empty: still
     std::string boundariesFrom;     // a report whose last boundaries this run starts from
-    std::string targetsFrom;        // internal: resplit's targets for this frame (JSON), from the frame loop
-    bool asFrame = false;           // internal: an earlier frame of another run's sequence
     bool asFirstPass = false;       // internal: the first pass of --trace-nodes busiest (trace_busiest.h)
     int traceBusiest = 0;           // --trace-nodes busiest[:K]: K (0: not asked)
 

@@ -7,9 +7,10 @@
 //  - While the machine runs, the watchdog stops it at its next wake (every
 //    millisecond of simulated time), with the report and the VCD so far
 //    (models/process/watchdog.h).
-//  - While child runs go (the earlier frames of a sequence, the reference
-//    runs: "orderly" stops), each child is told once; rtsim then writes
-//    what it has: the frames so far, or the finished frame's outputs.
+//  - Between the frames of a sequence and while child runs go (the
+//    reference runs: "orderly" stops), the frame running is stopped by its
+//    watchdog, each child is told once; rtsim then writes what it has: the
+//    frames so far, or the finished frame's outputs.
 //  - A second signal ends rtsim at once, as in start-up.
 // The wall-clock limit counts from rtsim's start; a child run gets what is
 // left of it.

@@ -4,7 +4,8 @@
 //  - start-up: the process to its first frame (the command line, the scene,
 //    the checks) and building the machine (elaboration);
 //  - frames: the frames simulated (with --frames K, the K - 1 before the
-//    last in child processes, and --trace-nodes busiest's first pass);
+//    last too, each with its machine's elaboration, and --trace-nodes
+//    busiest's first pass, a child process);
 //  - reference runs: the 1x1x1 baseline and the balancing comparison, two
 //    child processes at once (0 with --no-baseline);
 //  - writing: assembling the report and writing the outputs (the image, the

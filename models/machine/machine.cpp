@@ -367,7 +367,23 @@ double secondsBetween(std::chrono::steady_clock::time_point a, std::chrono::stea
 
 void Machine::start_of_simulation() { started_ = std::chrono::steady_clock::now(); }
 
+namespace {
+// SystemC elaborates once per simulation context: a machine after another
+// in the same process (the frames of a sequence) gets a context of its
+// own. The one before is deleted (its modules went with its Machine), but
+// not the first, to which SystemC's own static events belong.
+void freshContextIfUsed() {
+    static sc_core::sc_simcontext* const first = sc_core::sc_get_curr_simcontext();
+    sc_core::sc_simcontext* used = sc_core::sc_get_curr_simcontext();
+    if (sc_core::sc_get_status() == sc_core::SC_ELABORATION) return;  // (nothing run in it yet)
+    sc_core::sc_curr_simcontext = new sc_core::sc_simcontext;
+    sc_core::sc_default_global_context = sc_core::sc_curr_simcontext;
+    if (used != first) delete used;
+}
+}  // namespace
+
 MachineResult runMachine(const Scene& scene, const MachineConfig& config) {
+    freshContextIfUsed();
     sc_core::sc_set_time_resolution(1, sc_core::SC_PS);
     const auto t0 = std::chrono::steady_clock::now();
     Machine machine("machine", scene, config);
@@ -378,6 +394,7 @@ MachineResult runMachine(const Scene& scene, const MachineConfig& config) {
         // several lines; its own message is the one line to show.
         throw std::runtime_error(e.get_msg());
     }
+    simulationRunning = 0;  // (a signal before the next machine runs is one in start-up)
     machine.endFrame();
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     machine.checkConservation();

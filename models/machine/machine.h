@@ -162,8 +162,9 @@ private:
 };
 
 // Elaborates the machine, runs one frame, checks conservation, writes the
-// VCD (and .gtkw) if configured. Call once per process (SystemC elaborates
-// once).
+// VCD (and .gtkw) if configured. Each call after the first runs in a fresh
+// SystemC simulation context (SystemC elaborates once per context), so a
+// process may run any number of frames, one after another.
 MachineResult runMachine(const Scene& scene, const MachineConfig& config);
 
 }  // namespace rt

@@ -415,3 +415,41 @@ TEST(BetweenFrames, TheReportHoldsTheFrameStateToTheBit) {
         expectSameState(state, frameStateFromReport(text));
     }
 }
+
+// Targets for the frame's start (a re-split frame), the same planes in
+// every column: each node generates the primary rays of the box it is to
+// have, once its faces are there, so no ray is passed on (before, the nodes
+// generated them in the boxes they started with and passed 265 on); each
+// column's two planes move once; the image is rtref's.
+namespace {
+// A 3x3x3 machine under `measured` whose frame starts by moving every
+// column's two planes to `targets`.
+MachineConfig withTargets(std::vector<double> targets) {
+    MachineConfig c;
+    c.width = c.height = 48;
+    c.dims = {3, 3, 3};
+    c.balance.policy = "measured";
+    c.targetBoundaries.assign(9, targets);
+    return c;
+}
+}  // namespace
+
+TEST(Balance, AReSplitFrameGeneratesEachPrimaryRayInTheBoxItMovesTo) {
+    const MachineResult r = runAndCompare(crowded(0.25, 300, 0.03), withTargets({0.3, 0.55}));
+    EXPECT_EQ(slidesIn(r), 18u);
+    uint64_t passed = 0;
+    for (const NodeStats& n : r.nodes) passed += n.raysPassed;
+    EXPECT_EQ(passed, 0u);
+    for (const BoundaryHistory& h : r.boundaries) EXPECT_DOUBLE_EQ(h.positions.back().second, h.index == 1 ? 0.3 : 0.55);
+}
+
+// A target box thinner than the minimum could never be reached (nor its
+// primary rays generated): refused as a start box too thin.
+TEST(Balance, ATargetThinnerThanTheMinimumIsRefused) {
+    try {
+        runMachine(crowded(0.25, 300, 0.03), withTargets({0.3, 0.3001}));
+        ADD_FAILURE() << "accepted";
+    } catch (const std::exception& e) {
+        EXPECT_NE(std::string(e.what()).find("thinner than the minimum thickness"), std::string::npos) << e.what();
+    }
+}

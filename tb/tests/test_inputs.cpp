@@ -211,8 +211,8 @@ TEST(CommandLine, EachValueOfAFileIsCheckedAloneNamingItsLine) {
 
 TEST(CommandLine, AReportsFlagsNeverNameAnOutputOrAnInternalFlag) {
     for (const char* line : {"image = \"/tmp/x.png\"", "report = \"../elsewhere.json\"", "vcd = \"w.vcd\"", "map = \"m.png\"",
-                             "quiet = true", "verbose = 2", "config = \"c.conf\"", "rerun = \"r.json\"", "as-frame = true",
-                             "as-baseline = true", "as-comparison = true", "frame-index = 3", "targets-from = \"t.json\""}) {
+                             "quiet = true", "verbose = 2", "config = \"c.conf\"", "rerun = \"r.json\"",
+                             "as-baseline = true", "as-comparison = true", "as-first-pass = true"}) {
         SCOPED_TRACE(line);
         const std::string e = thrown<ConfigError>([&] { merge({{std::string("mesh = 2\n") + line + "\n", true}}, {}); });
         EXPECT_NE(e.find("f1:2: '"), std::string::npos) << e;

@@ -431,34 +431,6 @@ TEST_F(Rtsim, WhereTheLinksAreTheFrameColumnsOwnPlanesMustBeatAlignedOnesClearly
     EXPECT_LT(r["frames"][1]["render_time_ns"].get<double>(), r["frames"][0]["render_time_ns"].get<double>());
 }
 
-TEST_F(Rtsim, AReSplitFrameGeneratesEachPrimaryRayInTheBoxItMovesTo) {
-    // Targets for the frame's start, the same planes in every column: each
-    // node generates the primary rays of the box it is to have, once its
-    // faces are there, so no ray is passed on (before, the nodes generated
-    // them in the boxes they started with and passed 265 on); the image is
-    // the unbalanced run's.
-    const std::string k = " --spheres 300 --radius 0.03 --size 48x48 --mesh 3 --no-baseline -q";
-    ASSERT_EQ(run(k + " --balance none --report " + (dir_ / "n.json").string() + " --image " + (dir_ / "n.png").string()).code, 0);
-    std::ofstream(dir_ / "t.json") << nlohmann::json(std::vector<std::vector<double>>(9, {0.3, 0.55})).dump();
-    const Outcome o = run(k + " --balance measured --boundaries-from " + (dir_ / "n.json").string() + " --targets-from " +
-                          (dir_ / "t.json").string() + " --report " + (dir_ / "m.json").string() + " --image " +
-                          (dir_ / "m.png").string());
-    ASSERT_EQ(o.code, 0) << o.err;
-    const json m = json::parse(slurp(dir_ / "m.json"));
-    EXPECT_EQ(m["balance"]["slides"].get<int>(), 18);
-    EXPECT_EQ(m["totals"]["rays_passed"].get<int>(), 0);
-    for (const json& h : m["boundaries"]) EXPECT_DOUBLE_EQ(h["history"].back()[1].get<double>(), h["index"] == 1 ? 0.3 : 0.55);
-    EXPECT_EQ(slurp(dir_ / "m.png"), slurp(dir_ / "n.png"));
-    // A target box thinner than the minimum could never be reached (nor
-    // its primary rays generated): refused, in one line.
-    std::ofstream(dir_ / "thin.json") << nlohmann::json(std::vector<std::vector<double>>(9, {0.3, 0.3001})).dump();
-    const Outcome thin = run(k + " --balance measured --boundaries-from " + (dir_ / "n.json").string() +
-                             " --targets-from " + (dir_ / "thin.json").string() + " --image ''");
-    EXPECT_EQ(thin.code, 1) << thin.err;  // (the run refuses it, as a start box too thin)
-    EXPECT_NE(thin.err.find("thinner than the minimum thickness"), std::string::npos) << thin.err;
-    EXPECT_EQ(std::count(thin.err.begin(), thin.err.end(), '\n'), 1) << thin.err;
-}
-
 // A report reruns its run (tb/rerun.h): the flags it records, from another
 // folder, give the same report (wall-clock figures and the rerun's own
 // record aside) and the same image; flags given after --rerun change what
