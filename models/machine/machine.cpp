@@ -370,15 +370,20 @@ void Machine::start_of_simulation() { started_ = std::chrono::steady_clock::now(
 namespace {
 // SystemC elaborates once per simulation context: a machine after another
 // in the same process (the frames of a sequence) gets a context of its
-// own. The one before is deleted (its modules went with its Machine), but
-// not the first, to which SystemC's own static events belong.
+// own. The one before is kept, not deleted: its modules went with its
+// Machine, but deleting it would lose the timed events still queued in it
+// (SystemC's pool of them), and SystemC's own static events belong to the
+// first. What a used context keeps is small (its kernel's tables, emptied
+// of the machine).
 void freshContextIfUsed() {
-    static sc_core::sc_simcontext* const first = sc_core::sc_get_curr_simcontext();
-    sc_core::sc_simcontext* used = sc_core::sc_get_curr_simcontext();
+    // (Never freed, the first included, and the list never destroyed: the
+    // contexts stay reachable to the end, not a leak.)
+    static auto* const kept = new std::vector<sc_core::sc_simcontext*>{sc_core::sc_get_curr_simcontext()};
     if (sc_core::sc_get_status() == sc_core::SC_ELABORATION) return;  // (nothing run in it yet)
-    sc_core::sc_curr_simcontext = new sc_core::sc_simcontext;
-    sc_core::sc_default_global_context = sc_core::sc_curr_simcontext;
-    if (used != first) delete used;
+    auto* fresh = new sc_core::sc_simcontext;
+    kept->push_back(fresh);
+    sc_core::sc_curr_simcontext = fresh;
+    sc_core::sc_default_global_context = fresh;
 }
 }  // namespace
 
