@@ -65,7 +65,8 @@ ResplitChoice resplitChoice(const FrameState& r, const MachineConfig& m) {
     // must beat the aligned planes by the margin a move needs to beat
     // holding (the case that showed it: doc/history.md, "Figures behind
     // the code's comments").
-    const std::pair<const char*, InnerPlanes> candidates[] = {{"aligned", f.aligned()}, {"per column", f.perColumn()}};
+    const FrameForecast::Splits s = f.splits();
+    const std::pair<const char*, InnerPlanes> candidates[] = {{"aligned", s.aligned}, {"per column", s.perColumn}};
     for (const auto& [name, planes] : candidates) {
         const FrameForecast::Forecast t = f.forecast(planes);
         const bool linkBound = t.passes > 0 && t.linkNs >= t.nodeNs;

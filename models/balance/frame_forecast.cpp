@@ -253,27 +253,22 @@ std::vector<double> FrameForecast::searchOn(const std::vector<int>& grid, const 
     return planesOf(e);
 }
 
-InnerPlanes FrameForecast::perColumn() const {
+FrameForecast::Splits FrameForecast::splits() const {
     const std::vector<int> grid = gridEdges();
     const int m = int(grid.size()) - 1;
-    InnerPlanes out;
-    PartCosts pc = costsOn(grid);
+    Splits out;
+    PartCosts pc = costsOn(grid), all = costsOn(grid);  // a column's; the dearest column's
     for (const Column& c : columns_) {
-        for (int i = 0; i < m; ++i)
-            for (int j = i + 1; j <= m; ++j) pc.at(i, j) = partCost(c, grid[size_t(i)], grid[size_t(j)]);
-        out.push_back(searchOn(grid, pc));
+        for (int j = 1; j <= m; ++j)
+            for (int i = 0; i < j; ++i) {
+                const double x = partCost(c, grid[size_t(i)], grid[size_t(j)]);
+                pc.at(i, j) = x;
+                all.at(i, j) = std::max(all.at(i, j), x);
+            }
+        out.perColumn.push_back(searchOn(grid, pc));
     }
+    out.aligned = InnerPlanes(columns_.size(), searchOn(grid, all));
     return out;
-}
-
-InnerPlanes FrameForecast::aligned() const {
-    const std::vector<int> grid = gridEdges();
-    const int m = int(grid.size()) - 1;
-    PartCosts pc = costsOn(grid);
-    for (const Column& c : columns_)
-        for (int i = 0; i < m; ++i)
-            for (int j = i + 1; j <= m; ++j) pc.at(i, j) = std::max(pc.at(i, j), partCost(c, grid[size_t(i)], grid[size_t(j)]));
-    return InnerPlanes(columns_.size(), searchOn(grid, pc));
 }
 
 }  // namespace rt

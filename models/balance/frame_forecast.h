@@ -69,9 +69,14 @@ public:
 
     // The planes of least forecast busy time for the busiest node, each
     // column on its own (rays crossing columns are passed on where they
-    // differ), and one set for all columns (no ray is passed on).
-    InnerPlanes perColumn() const;
-    InnerPlanes aligned() const;
+    // differ), and one set for all columns (no ray is passed on). splits():
+    // both at once, each part's cost worked out once.
+    InnerPlanes perColumn() const { return splits().perColumn; }
+    InnerPlanes aligned() const { return splits().aligned; }
+    struct Splits {
+        InnerPlanes perColumn, aligned;
+    };
+    Splits splits() const;
 
 private:
     struct Column {

@@ -9,13 +9,14 @@
 
 namespace rt {
 
-// A part's cost from grid edge i to grid edge j (i < j), row-major in a
-// (m + 1) x (m + 1) matrix; entries below the diagonal are not read.
+// A part's cost from grid edge i to grid edge j (i < j), in a (m + 1) x
+// (m + 1) matrix by its end j (the search reads the parts that end at one
+// edge, in a row); entries with i >= j are not read.
 struct PartCosts {
     int m = 0;
     std::vector<double> cost;
-    double operator()(int i, int j) const { return cost[size_t(i) * size_t(m + 1) + size_t(j)]; }
-    double& at(int i, int j) { return cost[size_t(i) * size_t(m + 1) + size_t(j)]; }
+    double operator()(int i, int j) const { return cost[size_t(j) * size_t(m + 1) + size_t(i)]; }
+    double& at(int i, int j) { return cost[size_t(j) * size_t(m + 1) + size_t(i)]; }
 };
 
 // Edges 0 = e_0 < e_1 < ... < e_count = m, each part at least `minCells`

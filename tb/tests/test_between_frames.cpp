@@ -45,7 +45,7 @@ PartCosts sumOfCells(const std::vector<double>& cells, const std::map<int, doubl
             for (int k = i; k < j; ++k) x += cells[size_t(k)];
             for (int e : {i, j})
                 if (auto it = cut.find(e); it != cut.end()) x += it->second;
-            c.cost[size_t(i) * size_t(m + 1) + size_t(j)] = x;
+            c.at(i, j) = x;
         }
     return c;
 }
