@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 
 #include "json_input.h"
@@ -79,11 +81,18 @@ void addParam(CLI::App& app, const Param<S>& p, S& s, const std::string& flag, c
             return;
         case ParamKind::Real: {
             CLI::Option* o = app.add_option(flag, fieldOf<double>(p, s), help);
-            if (p.openBelow) {
+            if (std::isinf(p.hi)) {  // at least (or, open, above) lo, and finite
                 const double lo = p.lo;
-                o->check(CLI::Validator([lo](std::string& v) { return std::stod(v) > lo ? std::string() : std::string("must be positive"); }, "", ""));
-            } else if (std::isinf(p.hi)) {
-                o->check(CLI::NonNegativeNumber);
+                const bool open = p.openBelow;
+                char least[32];
+                std::snprintf(least, sizeof least, "%g", lo);
+                const std::string want = open ? "must be positive" : std::string("must be a finite number, at least ") + least;
+                o->check(CLI::Validator([lo, open, want](std::string& v) {
+                    char* end = nullptr;
+                    const double x = std::strtod(v.c_str(), &end);
+                    if (end == v.c_str() || *end) return std::string();  // (not a number: the conversion says so)
+                    return std::isfinite(x) && (open ? x > lo : x >= lo) ? std::string() : want;
+                }, open ? "" : "NONNEGATIVE", ""));
             } else {
                 o->check(CLI::Range(p.lo, p.hi));
             }

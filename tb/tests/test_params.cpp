@@ -123,13 +123,19 @@ TEST(Parameters, EachRowMakesItsFlagItsCheckAndItsEcho) {
             const json now = machineConfigJson(parsed(context + r.flag.substr(2) + " = \"" + text + "\"\n").machine, 8, 8);
             EXPECT_EQ(now.at(json::json_pointer(r.echo)), echo) << text;
         }
-        std::string error;
-        try {
-            parsed(context, {r.flag, outOfRange(r)});
-        } catch (const CLI::ParseError& e) {
-            error = e.what();
+        // Out of its range, and (a number) not a finite one or not a number.
+        std::vector<std::string> bad{outOfRange(r)};
+        if (r.kind == ParamKind::Real) bad.insert(bad.end(), {"nan", "inf", "1e400", "abc"});
+        if (r.kind == ParamKind::Count) bad.insert(bad.end(), {"1.5", "abc", "99999999999"});
+        for (const std::string& value : bad) {
+            std::string error;
+            try {
+                parsed(context, {r.flag, value});
+            } catch (const CLI::ParseError& e) {
+                error = e.what();
+            }
+            EXPECT_NE(error.find(r.flag), std::string::npos) << value << ": " << error;
         }
-        EXPECT_NE(error.find(r.flag), std::string::npos) << outOfRange(r) << ": " << error;
     }
 }
 
