@@ -18,12 +18,6 @@ nlohmann::json frameEntry(int number, double renderTimeNs, size_t slides) {
     return {{"frame", number}, {"render_time_ns", renderTimeNs}, {"slides", slides}};
 }
 
-size_t slidesOf(const MachineResult& r) {
-    size_t slides = 0;
-    for (const BoundaryHistory& h : r.boundaries) slides += h.positions.size() - 1;
-    return slides;
-}
-
 // A sequence stopped in frame `k` (1-based) of `count`: the stopped frame's
 // report so far, if it ran, with the frames before it.
 nlohmann::json stoppedSequence(const std::optional<nlohmann::json>& partial, nlohmann::json frames, int k, int count,
@@ -55,8 +49,7 @@ MachineConfig earlierFrameConfig(const MachineConfig& m) {
 // A frame stopped by the watchdog or a signal: its report so far, as the
 // last frame's would be (its config echo that of frame `k`, 0-based).
 nlohmann::json partialReport(const MachineResult& r, const MachineConfig& m, RtsimOptions& o, const Scene& scene, int k) {
-    nlohmann::json report = machineReport(r, m, o.fullReport() ? ReportDetail::Full : ReportDetail::Summary);
-    report["report_detail"] = {{"level", o.fullReport() ? "full" : "summary"}, {"why", o.reportDetailWhy()}};
+    nlohmann::json report = frameReport(r, m, o);
     const int last = o.frameIndex;
     o.frameIndex = k;
     report["config"] = configEcho(o, scene);
@@ -65,6 +58,12 @@ nlohmann::json partialReport(const MachineResult& r, const MachineConfig& m, Rts
 }
 
 }  // namespace
+
+nlohmann::json frameReport(const MachineResult& r, const MachineConfig& m, const RtsimOptions& o) {
+    nlohmann::json report = machineReport(r, m, o.fullReport() ? ReportDetail::Full : ReportDetail::Summary);
+    report["report_detail"] = {{"level", o.fullReport() ? "full" : "summary"}, {"why", o.reportDetailWhy()}};
+    return report;
+}
 
 Vec3 eyeOfFrame(const RtsimOptions& o, const Vec3& firstEye, int index) {
     if (o.eyeStep.empty()) return firstEye;
@@ -97,7 +96,7 @@ EarlierFrames runEarlierFrames(const Scene& scene, const Vec3& firstEye, RtsimOp
             return out;
         }
         const FrameState state = frameStateOf(r, m);
-        out.frames.push_back(frameEntry(k + 1, state.renderTimeNs, slidesOf(r)));
+        out.frames.push_back(frameEntry(k + 1, state.renderTimeNs, slideCount(r.boundaries)));
         if (carry) o.machine.startBoundaries = lastBoundaries(state, o.machine);
         if (!resplit) continue;
         const auto next = sequence.next(state, k + 1);

@@ -12,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "machine/machine.h"
 #include "rtsim_cli.h"
 #include "scene.h"
 
@@ -32,6 +33,9 @@ struct EarlierFrames {
 // o.machine's start and target boundaries for frame K. Throws
 // std::runtime_error if a frame fails.
 EarlierFrames runEarlierFrames(const Scene& scene, const Vec3& firstEye, RtsimOptions& o);
+
+// A frame's report, at the detail --report-detail gives (models/analysis/report.h).
+nlohmann::json frameReport(const MachineResult& r, const MachineConfig& m, const RtsimOptions& o);
 
 // The eye of frame `index` (0-based) of a camera path from `firstEye`.
 Vec3 eyeOfFrame(const RtsimOptions& o, const Vec3& firstEye, int index);

@@ -257,9 +257,7 @@ int run(const rt::CommandLine& cl, const CLI::App& app, rt::RtsimOptions& o, con
     wall.startUp += r.wallElaborationSeconds;  // building the machine
     wall.frames = rt::secondsBetween(framesFrom, frameDone) - r.wallElaborationSeconds;
     const rt::OrderlyStops orderly;  // from here on a stop still writes the frame's outputs
-    nlohmann::json report =
-        rt::machineReport(r, o.machine, o.fullReport() ? rt::ReportDetail::Full : rt::ReportDetail::Summary);
-    report["report_detail"] = {{"level", o.fullReport() ? "full" : "summary"}, {"why", o.reportDetailWhy()}};
+    nlohmann::json report = rt::frameReport(r, o.machine, o);
     report["config"] = config;
     report["rerun"] = {{"flags", rt::flagsGiven(app)}, {"version", RTSIM_VERSION}};
     if (cl.rerun) report["rerun"]["of"] = cl.rerun->rerun;  // what it reran (its flags and version)

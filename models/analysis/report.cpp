@@ -254,8 +254,7 @@ nlohmann::json frameBufferJson(const MachineResult& r, const Bounds& bd) {
 // what the guard stopped, and how old the loads they used were (the older
 // of the two, in intervals).
 nlohmann::json balanceJson(const MachineResult& r, const MachineConfig& cfg, const nlohmann::json& nodes) {
-    size_t slides = 0;
-    for (const BoundaryHistory& h : r.boundaries) slides += h.positions.size() - 1;
+    const size_t slides = slideCount(r.boundaries);
     double maxLoad = 0, sumLoad = 0;
     for (const auto& n : nodes) {
         maxLoad = std::max(maxLoad, n["load"].get<double>());

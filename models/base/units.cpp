@@ -92,4 +92,10 @@ std::string formatRate(double bps) {
     return buf;
 }
 
+std::string formatNumber(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%g", v);
+    return buf;
+}
+
 }  // namespace rt

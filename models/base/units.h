@@ -37,5 +37,6 @@ std::optional<double> parseRate(const std::string& text);
 
 std::string formatTime(Picos t);    // "12.5 us"
 std::string formatRate(double bps); // "1 GB/s"
+std::string formatNumber(double v);  // "%g": "0.5", "1e+09"
 
 }  // namespace rt

@@ -23,12 +23,6 @@ void bound(double t, const std::string& flags, const std::string& what) {
                                 ", more than 1,000 s (the most any one step of the model may take)");
 }
 
-std::string number(double v) {
-    char b[32];
-    std::snprintf(b, sizeof b, "%g", v);
-    return b;
-}
-
 void boundWire(const LinkParams& l, const std::string& flag, uint32_t bytes, const std::string& message) {
     bound(wirePicos(l, bytes), flag, message + " (" + std::to_string(bytes) + " bytes) at " + formatRate(l.bandwidth) + " on the wire");
 }
@@ -50,14 +44,14 @@ void MachineConfig::checkDerivedTimes(size_t objects) const {
     boundWire(fbPort, "--fb-bandwidth with --fb-batch", contributions, "a full frame-buffer message");
     bound(double(hostCost) * fbBatch, "--cost-host with --fb-batch", "accumulating a full frame-buffer message");
     // Each node's costs at its speed.
-    boundCosts(costs, speed, "--speed " + number(speed));
+    boundCosts(costs, speed, "--speed " + formatNumber(speed));
     for (const auto& [cell, c] : nodeCosts) boundCosts(c, speedOf(cell), "--node-cost " + cellText(cell) + " at its speed");
-    for (const auto& [cell, f] : nodeSpeed) boundCosts(costsOf(cell), f, "--node-speed " + cellText(cell) + "=" + number(f));
+    for (const auto& [cell, f] : nodeSpeed) boundCosts(costsOf(cell), f, "--node-speed " + cellText(cell) + "=" + formatNumber(f));
     if (!balance.dynamic()) return;
     double slowest = speed;
     for (const auto& [cell, f] : nodeSpeed) slowest = std::min(slowest, f);
     bound(double(balance.rebuildCost) * double(objects) / slowest, "--cost-rebuild",
-          "a slide's grid update for all " + std::to_string(objects) + " objects at speed " + number(slowest));
+          "a slide's grid update for all " + std::to_string(objects) + " objects at speed " + formatNumber(slowest));
     // A load report on a control lane waits its time on the wire divided by
     // --report-share before the next (balance_agent.cpp).
     auto paced = [&](const LinkParams& l, const std::string& flag) {

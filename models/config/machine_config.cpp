@@ -6,7 +6,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <sstream>
 #include <stdexcept>
 
 namespace rt {
@@ -82,12 +81,6 @@ Picos MachineConfig::lookahead() const {
 
 namespace {
 
-std::string number(double v) {
-    std::ostringstream s;
-    s << v;
-    return s.str();
-}
-
 // Each row's value in its range (base/param.h), as the command line checks
 // it: a configuration built in code is checked alike. `flag`: the flags'
 // prefix ("--", "--link-", ...).
@@ -97,12 +90,12 @@ void checkRanges(const std::vector<Param<S>>& rows, const S& s, const std::strin
         const std::string name = flag + p.name;
         if (p.kind == ParamKind::Count) {
             const int v = fieldOf<int>(p, s);
-            if (v < p.lo || v > p.hi) throw std::invalid_argument(name + ": must be in " + number(p.lo) + ".." + number(p.hi));
+            if (v < p.lo || v > p.hi) throw std::invalid_argument(name + ": must be in " + formatNumber(p.lo) + ".." + formatNumber(p.hi));
         } else if (p.kind == ParamKind::Real) {
             const double v = fieldOf<double>(p, s);
             if (!std::isfinite(v) || (p.openBelow ? !(v > p.lo) : !(v >= p.lo)) || v > p.hi)
-                throw std::invalid_argument(name + (p.openBelow ? ": must be above " : ": must be at least ") + number(p.lo) +
-                                            (std::isinf(p.hi) ? "" : " and at most " + number(p.hi)));
+                throw std::invalid_argument(name + (p.openBelow ? ": must be above " : ": must be at least ") + formatNumber(p.lo) +
+                                            (std::isinf(p.hi) ? "" : " and at most " + formatNumber(p.hi)));
         } else if (p.kind == ParamKind::Rate) {
             const double v = fieldOf<double>(p, s);
             if (!(v > 0) || !std::isfinite(v)) throw std::invalid_argument(name + ": must be positive and finite");

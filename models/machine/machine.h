@@ -52,6 +52,13 @@ struct BoundaryHistory {
     std::vector<std::pair<Picos, double>> positions;  // (time, coordinate), from the start
 };
 
+// The slides a frame made: each history's moves after its first position.
+inline size_t slideCount(const std::vector<BoundaryHistory>& boundaries) {
+    size_t slides = 0;
+    for (const BoundaryHistory& h : boundaries) slides += h.positions.size() - 1;
+    return slides;
+}
+
 struct MachineResult {
     Image image;
     Picos renderTime = 0;
