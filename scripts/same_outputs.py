@@ -12,7 +12,8 @@ lookahead mode and in lockstep (--quantum 0); 10 and 100 us quanta
 (approximate, but deterministic: they must not change either; 100 us is
 the benchmark's fastest mode under 1 % error); fully traced runs with a VCD,
 with and without balancing; balancing with the control lane; finite output
-buffers (senders block); a frame sequence under resplit. Reports are compared
+buffers (senders block); frame sequences (resplit, slide's boundaries
+carried on, recommended, sample, a moving eye, the last frame traced). Reports are compared
 without the fields that measure the host, not the machine: wall_s,
 wall_clock, rerun.version and kernel.delta_cycles (how many delta cycles the SystemC
 kernel ran depends on how processes wait, not on what the machine does).
@@ -48,6 +49,18 @@ RUNS = [
                             "--fb-out-depth", "1", "--fb-depth", "1", "--quantum", "0"], []),
     ("resplit-frames", ["--spheres", "1000", "--size", "128x128", "--mesh", "4", "--balance", "resplit",
                         "--frames", "3", "--ray-batch", "4", "--fb-units", "3"], []),
+    # Frame sequences: a dynamic policy's boundaries carried on, a moving
+    # eye, the recommended policy, sample's first frame, and the last
+    # frame's waveforms.
+    ("slide-frames-traced", ["--spheres", "1000", "--size", "96x96", "--mesh", "4", "--balance", "slide",
+                             "--balance-interval", "5us", "--frames", "3", "--eye-step", "0.05,0,0",
+                             "--vcd", "{out}.vcd"], ["vcd"]),
+    ("recommended-frames", ["--spheres", "1000", "--size", "96x96", "--mesh", "4", "--balance", "recommended",
+                            "--frames", "4", "--link-control-depth", "2"], []),
+    ("sample-frames", ["--spheres", "1000", "--size", "96x96", "--mesh", "3", "--balance", "sample",
+                       "--frames", "3", "--link-out-depth", "2000", "--fb-units", "2"], []),
+    ("frames-lockstep-traced", ["--scene", "balls-4", "--size", "64x64", "--mesh", "3", "--frames", "3",
+                                "--eye-step", "0,0.1,0", "--quantum", "0", "--vcd", "{out}.vcd"], ["vcd"]),
 ]
 
 HOST_FIELDS = [("wall_s",), ("wall_elaboration_s",), ("wall_startup_s",), ("wall_clock",), ("rerun", "version"),

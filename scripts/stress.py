@@ -90,7 +90,7 @@ DECOYS = {"--link-depth": "3", "--fb-units": "2", "--balance": "none", "--quantu
 REPEATABLE = {"--node-speed", "--link-set"}
 # Flags a report may never carry (tb/command_line.h), and the hostile
 # changes a received report may carry instead.
-FORBIDDEN = ["image", "report", "vcd", "map", "quiet", "as-baseline", "as-comparison", "as-first-pass"]
+FORBIDDEN = ["image", "report", "vcd", "map", "quiet", "as-baseline", "as-comparison"]
 
 
 def flag_groups(args):
@@ -147,7 +147,7 @@ def hostile(rng, report, d):
     kind = rng.randrange(4)
     if kind == 0:
         name = rng.choice(FORBIDDEN)
-        value = json.dumps(os.path.join(d, "victim.png")) if name not in ("quiet", "as-baseline", "as-comparison", "as-first-pass") else "true"
+        value = json.dumps(os.path.join(d, "victim.png")) if name not in ("quiet", "as-baseline", "as-comparison") else "true"
         r["rerun"]["flags"] += f"{name}={value}\n"
     elif kind == 1:
         r["rerun"]["flags"] = rng.choice([5, None, ["mesh=2"]])

@@ -165,7 +165,7 @@ std::string configLine(const std::string& name, const std::vector<std::string>& 
 
 bool isOutputOrInternal(const std::string& name) {
     for (const char* o : {"image", "report", "vcd", "quiet", "verbose", "map", "config", "rerun", "as-baseline",
-                          "as-comparison", "as-first-pass", "help"})
+                          "as-comparison", "help"})
         if (name == o) return true;
     return false;
 }

@@ -14,18 +14,20 @@
 namespace rt {
 namespace {
 
-nlohmann::json frameEntry(int number, double renderTimeNs, size_t slides) {
-    return {{"frame", number}, {"render_time_ns", renderTimeNs}, {"slides", slides}};
+// A frame of the list: its number, render time and slides, and when it
+// began on the machine's clock (each frame starts where the one before ended).
+nlohmann::json frameEntry(int number, double renderTimeNs, size_t slides, Picos start) {
+    return {{"frame", number}, {"render_time_ns", renderTimeNs}, {"slides", slides}, {"starts_at_ns", double(start) / 1000.0}};
 }
 
 // A sequence stopped in frame `k` (1-based) of `count`: the stopped frame's
 // report so far, if it ran, with the frames before it.
 nlohmann::json stoppedSequence(const std::optional<nlohmann::json>& partial, nlohmann::json frames, int k, int count,
-                               const std::string& why) {
+                               const std::string& why, Picos start = 0) {
     const std::string which = "frame " + std::to_string(k) + " of " + std::to_string(count);
     nlohmann::json r = partial ? *partial : nlohmann::json::object();
     if (partial) {
-        nlohmann::json entry = frameEntry(k, r["render_time_ns"].get<double>(), r["balance"].value("slides", size_t(0)));
+        nlohmann::json entry = frameEntry(k, r["render_time_ns"].get<double>(), r["balance"].value("slides", size_t(0)), start);
         entry["incomplete"] = true;
         frames.push_back(entry);
     }
@@ -77,7 +79,9 @@ EarlierFrames runEarlierFrames(const Scene& scene, const Vec3& firstEye, RtsimOp
     const bool carry = o.machine.balance.dynamic(), resplit = o.machine.balance.betweenFrames();
     ResplitSequence sequence(o.machine);
     const MachineConfig first = o.machine;  // how frame 1 starts
-    Scene frameScene = scene;
+    out.scene = std::make_unique<Scene>(scene);  // (the machine's, with frame 1's eye)
+    out.scene->view.from = eyeOfFrame(o, firstEye, 0);
+    View view = out.scene->view;
     for (int k = 0; k + 1 < o.frames; ++k) {
         if (stopSignal || wallPassed()) {  // (between two frames)
             out.exitCode = stopSignal ? 128 + int(stopSignal) : 3;
@@ -86,17 +90,24 @@ EarlierFrames runEarlierFrames(const Scene& scene, const Vec3& firstEye, RtsimOp
             out.stopped = stoppedSequence(std::nullopt, out.frames, k + 1, o.frames, out.why);
             return out;
         }
-        frameScene.view.from = eyeOfFrame(o, firstEye, k);
+        view.from = eyeOfFrame(o, firstEye, k);
         const MachineConfig m = earlierFrameConfig(o.machine);
-        const MachineResult r = runMachine(frameScene, m);
+        const bool building = !out.machine;
+        if (building) out.machine = std::make_unique<MachineSession>(*out.scene, m);
+        else out.machine->next(view, m);
+        const MachineResult r = out.machine->run();
+        if (building) out.elaborationSeconds = r.wallElaborationSeconds;
         if (!r.incomplete.empty()) {  // the watchdog or a signal
             out.exitCode = stopSignal ? 128 + int(stopSignal) : 3;
             out.why = r.incomplete;
-            out.stopped = stoppedSequence(partialReport(r, m, o, frameScene, k), out.frames, k + 1, o.frames, r.incomplete);
+            Scene frameScene = *out.scene;
+            frameScene.view = view;
+            out.stopped = stoppedSequence(partialReport(r, m, o, frameScene, k), out.frames, k + 1, o.frames, r.incomplete,
+                                          r.frameStart);
             return out;
         }
         const FrameState state = frameStateOf(r, m);
-        out.frames.push_back(frameEntry(k + 1, state.renderTimeNs, slideCount(r.boundaries)));
+        out.frames.push_back(frameEntry(k + 1, state.renderTimeNs, slideCount(r.boundaries), r.frameStart));
         if (carry) o.machine.startBoundaries = lastBoundaries(state, o.machine);
         if (!resplit) continue;
         const auto next = sequence.next(state, k + 1);
@@ -112,8 +123,18 @@ EarlierFrames runEarlierFrames(const Scene& scene, const Vec3& firstEye, RtsimOp
     return out;
 }
 
-void listFrames(nlohmann::json& report, nlohmann::json frames, int count) {
-    frames.push_back(frameEntry(count, report["render_time_ns"].get<double>(), report["balance"].value("slides", size_t(0))));
+MachineResult runLastFrame(EarlierFrames& earlier, const Scene& scene, const MachineConfig& m, bool again) {
+    const bool first = !earlier.machine;
+    if (first) earlier.machine = std::make_unique<MachineSession>(scene, m);
+    else earlier.machine->next(scene.view, m);
+    MachineResult r = earlier.machine->run();
+    if (first) earlier.elaborationSeconds = r.wallElaborationSeconds;
+    if (!again) earlier.machine.reset();  // (its memory back before the report is made)
+    return r;
+}
+
+void listFrames(nlohmann::json& report, nlohmann::json frames, int count, Picos start) {
+    frames.push_back(frameEntry(count, report["render_time_ns"].get<double>(), report["balance"].value("slides", size_t(0)), start));
     report["frames"] = frames;
 }
 

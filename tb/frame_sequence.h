@@ -1,12 +1,13 @@
-// A --frames K sequence: the frames before the last, rendered in turn in
-// this process, each by its own machine (runMachine: a fresh SystemC
-// context each, since SystemC elaborates once per context); each starts
+// A --frames K sequence: the frames before the last, rendered in turn by
+// one machine in one elaboration (MachineSession: between two frames the
+// host phase re-boxes the nodes, in simulated time); each starts
 // where the one before left the boundaries (a dynamic policy's), and
 // `resplit` chooses each next frame's boundaries between them from what the
 // frame before left behind (balance/frame_state.h, in memory: no report
 // between frames). The caller then renders the last frame. Only one entry
 // per frame (its time and slides) is kept, so memory does not grow with K.
 #pragma once
+#include <memory>
 #include <optional>
 #include <string>
 
@@ -19,6 +20,10 @@
 namespace rt {
 
 struct EarlierFrames {
+    // The machine that rendered them, to render the last one (null: one frame).
+    std::unique_ptr<Scene> scene;  // (the machine's: it holds a reference)
+    std::unique_ptr<MachineSession> machine;
+    double elaborationSeconds = 0;  // building it (once), until its first simulated event
     nlohmann::json frames = nlohmann::json::array();  // per frame: its number, render time and slides
     // A frame stopped (the watchdog, a signal, the wall-clock limit): the
     // report so far, with the frames before it and the stopped one listed,
@@ -34,6 +39,11 @@ struct EarlierFrames {
 // std::runtime_error if a frame fails.
 EarlierFrames runEarlierFrames(const Scene& scene, const Vec3& firstEye, RtsimOptions& o);
 
+// The last frame (`scene`'s view), by the machine of the frames before it
+// (or a new one); `again`: the machine is kept in `earlier` to render it
+// once more (a first pass: trace_busiest.h).
+MachineResult runLastFrame(EarlierFrames& earlier, const Scene& scene, const MachineConfig& m, bool again = false);
+
 // A frame's report, at the detail --report-detail gives (models/analysis/report.h).
 nlohmann::json frameReport(const MachineResult& r, const MachineConfig& m, const RtsimOptions& o);
 
@@ -41,6 +51,6 @@ nlohmann::json frameReport(const MachineResult& r, const MachineConfig& m, const
 Vec3 eyeOfFrame(const RtsimOptions& o, const Vec3& firstEye, int index);
 
 // The last frame's report with the sequence's frames listed.
-void listFrames(nlohmann::json& report, nlohmann::json frames, int count);
+void listFrames(nlohmann::json& report, nlohmann::json frames, int count, Picos start);
 
 }  // namespace rt

@@ -242,26 +242,26 @@ int run(const rt::CommandLine& cl, const CLI::App& app, rt::RtsimOptions& o, con
     rt::WallClock wall;
     const auto framesFrom = rt::WallClock::now();
     wall.startUp = rt::secondsBetween(rt::WallClock::processStart(), framesFrom);
-    const rt::EarlierFrames earlier = rt::runEarlierFrames(scene, firstEye, o);
+    rt::EarlierFrames earlier = rt::runEarlierFrames(scene, firstEye, o);
     if (earlier.stopped) {
         out.report(*earlier.stopped);
         out.commit();
         return stopped(earlier.exitCode, earlier.why);
     }
     std::optional<rt::TraceChoice> chosen;
-    if (o.traceBusiest > 0 && !o.vcd.empty()) chosen = rt::traceBusiest(cl.args, o);
+    if (o.traceBusiest > 0 && !o.vcd.empty()) chosen = rt::traceBusiest(earlier, scene, o);
     o.machine.vcdPath = out.vcdStream();  // (renamed to --vcd at the end)
     o.machine.vcdName = o.vcd;
-    const rt::MachineResult r = rt::runMachine(scene, o.machine);
+    const rt::MachineResult r = rt::runLastFrame(earlier, scene, o.machine);
     const auto frameDone = rt::WallClock::now();
-    wall.startUp += r.wallElaborationSeconds;  // building the machine
-    wall.frames = rt::secondsBetween(framesFrom, frameDone) - r.wallElaborationSeconds;
+    wall.startUp += earlier.elaborationSeconds;  // building the machine (once, for every frame)
+    wall.frames = rt::secondsBetween(framesFrom, frameDone) - earlier.elaborationSeconds;
     const rt::OrderlyStops orderly;  // from here on a stop still writes the frame's outputs
     nlohmann::json report = rt::frameReport(r, o.machine, o);
     report["config"] = config;
     report["rerun"] = {{"flags", rt::flagsGiven(app)}, {"version", RTSIM_VERSION}};
     if (cl.rerun) report["rerun"]["of"] = cl.rerun->rerun;  // what it reran (its flags and version)
-    if (o.frames > 1) rt::listFrames(report, earlier.frames, o.frames);
+    if (o.frames > 1) rt::listFrames(report, earlier.frames, o.frames, r.frameStart);
     if (chosen) report["trace_busiest"] = rt::traceChoiceJson(o.traceBusiest, *chosen);
     out.gtkw(r.gtkw);
     if (!r.incomplete.empty()) {  // the watchdog or a signal: the report and VCD so far
@@ -309,10 +309,10 @@ int main(int argc, char** argv) {
     setenv("SYSTEMC_DISABLE_COPYRIGHT_MESSAGE", "1", 0);
     // Ctrl-C, SIGTERM and --watchdog-wall wherever rtsim is (stops.h).
     rt::installStopHandlers();
-    // A child run (a reference run, an earlier frame) ends with its parent.
+    // A child run (a reference run) ends with its parent.
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
-        if (a == "--as-baseline" || a == "--as-comparison" || a == "--as-first-pass") {
+        if (a == "--as-baseline" || a == "--as-comparison") {
             prctl(PR_SET_PDEATHSIG, SIGTERM);
             if (getppid() == 1) return 128 + SIGTERM;  // (it died before that)
             break;

@@ -268,7 +268,6 @@ void RtsimOptions::addFrameFlags(CLI::App& app) {
         ->check(regularFileAtMost(kMaxReportBytes))->group(gf);
     app.add_flag("--as-baseline", asBaseline, "internal: run as the 1x1x1 baseline of another run")->group("");
     app.add_flag("--as-comparison", asComparison, "internal: run as the balancing comparison of another run")->group("");
-    app.add_flag("--as-first-pass", asFirstPass, "internal: run as the first pass of --trace-nodes busiest")->group("");
 }
 
 void RtsimOptions::finish() {
@@ -281,7 +280,7 @@ void RtsimOptions::finish() {
         machine.dims = {mesh, mesh, mesh};
         frameIndex = frames - 1;     // this process renders the last frame of its sequence last
         if (asBaseline) frames = 1;  // the baseline is of the last frame's view
-        if (asBaseline || asComparison || asFirstPass) actAsReference();
+        if (asBaseline || asComparison) actAsReference();
         readSpecs();
         setQuantum();
         machine.balance.axis = scene.axis == "x" ? 0 : scene.axis == "y" ? 1 : 2;  // one progress axis for scene and balancing
@@ -317,7 +316,7 @@ void RtsimOptions::checkAlone() {
 }
 
 // A reference run of another (its 1x1x1 baseline, its balancing
-// comparison, the first pass of --trace-nodes busiest): no outputs (the caller
+// comparison): no outputs (the caller
 // reads its report), and the baseline is one node with the global costs.
 void RtsimOptions::actAsReference() {
     traceSpecs_.clear();

@@ -32,7 +32,6 @@ struct RtsimOptions {
     int frameIndex = 0;             // the frame (0-based) this run renders last: frames - 1
     std::vector<double> eyeStep;    // the camera path: the eye moves this much per frame; empty: still
     std::string boundariesFrom;     // a report whose last boundaries this run starts from
-    bool asFirstPass = false;       // internal: the first pass of --trace-nodes busiest (trace_busiest.h)
     int traceBusiest = 0;           // --trace-nodes busiest[:K]: K (0: not asked)
 
     // The report's detail as --report-detail chooses it for this mesh:

@@ -1,6 +1,6 @@
 // What rtsim starts beside itself: its own reference runs (the 1x1x1
-// baseline and the balancing comparison, two at once; the first pass of
-// --trace-nodes busiest) and scripts/mesh_map.py; and the
+// baseline and the balancing comparison, two at once) and
+// scripts/mesh_map.py; and the
 // temporary files it hands them. Started with posix_spawn: no shell, no
 // thread (a thread around system() left LeakSanitizer's tracer a stale
 // stack to read), so two can run at once by starting both, then waiting.

@@ -5,7 +5,7 @@
 
 #include "messages.h"
 #include "analysis/report.h"
-#include "subprocess.h"
+#include "frame_sequence.h"
 
 namespace rt {
 namespace {
@@ -38,15 +38,18 @@ TraceChoice busiestOf(const nlohmann::json& report, int k) {
     return c;
 }
 
-std::optional<TraceChoice> traceBusiest(const std::vector<std::string>& command, RtsimOptions& o) {
-    msg::info("--trace-nodes busiest: a first pass without waveforms, in a child process, to choose what to trace");
-    Child pass(command, {"--as-first-pass"});
-    const auto report = pass.report();
-    if (!report) {
-        msg::warning(msg::kReference, "--trace-nodes busiest: the first pass did not end normally; tracing every node");
+std::optional<TraceChoice> traceBusiest(EarlierFrames& earlier, const Scene& scene, RtsimOptions& o) {
+    msg::info("--trace-nodes busiest: a first pass of the last frame without waveforms, to choose what to trace");
+    MachineConfig pass = o.machine;
+    pass.vcdPath.clear();
+    pass.vcdName.clear();
+    pass.showProgress = false;
+    const MachineResult r = runLastFrame(earlier, scene, pass, true);
+    if (!r.incomplete.empty()) {
+        msg::warning(msg::kReference, "--trace-nodes busiest: the first pass did not end normally (" + r.incomplete + "); tracing every node");
         return std::nullopt;
     }
-    const TraceChoice c = busiestOf(*report, o.traceBusiest);
+    const TraceChoice c = busiestOf(frameReport(r, pass, o), o.traceBusiest);
     o.machine.traceNodes = c.nodes;
     o.machine.traceLinks = c.links;
     return c;

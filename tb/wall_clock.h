@@ -2,10 +2,11 @@
 // line and the report's `wall_clock` (doc/report.md). The parts follow each
 // other, so they add up to the whole:
 //  - start-up: the process to its first frame (the command line, the scene,
-//    the checks) and building the machine (elaboration);
+//    the checks) and building the machine (elaboration, once for all the
+//    frames);
 //  - frames: the frames simulated (with --frames K, the K - 1 before the
-//    last too, each with its machine's elaboration, and --trace-nodes
-//    busiest's first pass, a child process);
+//    last too, and the host phases between them; --trace-nodes busiest's
+//    first pass of the last frame);
 //  - reference runs: the 1x1x1 baseline and the balancing comparison, two
 //    child processes at once (0 with --no-baseline);
 //  - writing: assembling the report and writing the outputs (the image, the

@@ -60,6 +60,13 @@ public:
         takenArrivals_.clear();
     }
 
+    // The next frame: nothing deferred or taken (the mark is the node's figures').
+    void restart() {
+        deferred_.clear();
+        takenArrivals_.clear();
+        taken_ = takenBase_ = 0;
+    }
+
 private:
     struct Deferred {
         Picos t;

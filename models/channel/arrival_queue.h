@@ -26,6 +26,7 @@
 #include <boost/container/small_vector.hpp>
 #include <systemc>
 
+#include "base/frame_clock.h"
 #include "channel/link.h"
 
 namespace rt {
@@ -70,7 +71,7 @@ public:
         const Picos w = std::max(arrival, notBefore_) + (size_t(port) < punctualFrom_ ? late_ : 0);
         if (waiting_ && w < wakeAt_) {  // sooner than the waiting process expects
             wakeAt_ = w;
-            arrived_.notify(sc_core::sc_time::from_value(w - sc_core::sc_time_stamp().value()));
+            arrived_.notify(sc_core::sc_time::from_value(w - frameClock()));
         }
     }
 
@@ -90,7 +91,7 @@ public:
             for (size_t p = punctualFrom_; p < head_.size(); ++p) next = std::min(next, head_[p]);
         }
         next = std::max(now, std::min(next, deadline));
-        const Picos k = sc_core::sc_time_stamp().value();
+        const Picos k = frameClock();
         if (next <= k) return false;
         waiting_ = true;
         notBefore_ = now;
@@ -100,6 +101,19 @@ public:
         return true;
     }
     void woke() { waiting_ = false; }
+    // The frame is over: no wake still to come.
+    void quiet() { arrived_.cancel(); }
+    // And the next frame's process listens again.
+    void restart() {
+        arrived_.cancel();
+        links_.clear();
+        head_.clear();
+        heap_ = {};
+        waiting_ = false;
+        notBefore_ = wakeAt_ = 0;
+        late_ = 0;
+        punctualFrom_ = ~size_t(0);
+    }
 
     // The port whose oldest message has arrived by `now` and arrived first
     // (ties to the lower port), or -1; `next` gets the earliest arrival of any

@@ -35,6 +35,23 @@ Link::Link(std::string name, const LinkParams& params, uint32_t smallest)
     if (params.outDepth > 0) room_ = std::make_unique<sc_core::sc_event>();
 }
 
+void Link::restart() {
+    lastBytes_ = 0;
+    lastTransfer_ = 0;
+    owedWire_ = wireFree_ = controlFree_ = saturatedUntil_ = 0;
+    listener_ = nullptr;  // (the receiver listens again at its start)
+    listenerPort_ = 0;
+    trace_ = {};
+    stats_ = {};
+    for (Lane& l : lanes_) {
+        const uint32_t slots = l.slots;
+        l = Lane{};
+        l.slots = slots;
+    }
+    byType_ = {};
+    if (room_) room_->cancel();
+}
+
 // (Most messages on a link are of one size: rays, or full batches.)
 Picos Link::transferTime(uint32_t bytes) const {
     if (bytes != lastBytes_) {
@@ -105,7 +122,7 @@ void Link::startWaiting(int lane) {
     while (l.waiting() > 0 && l.slotFree()) {
         const Picos slot = slotTime(l);
         if (params_.outDepth > 0) {  // a sender blocked on the full buffer has room from then
-            const Picos room = std::max(l.firstWaiting().sent, slot), k = sc_core::sc_time_stamp().value();
+            const Picos room = std::max(l.firstWaiting().sent, slot), k = frameClock();
             room_->notify(sc_core::sc_time::from_value(room > k ? room - k : 0));
         }
         putOnWire(lane, slot);

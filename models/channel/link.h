@@ -51,6 +51,7 @@
 #include <systemc>
 
 #include "base/fifo.h"
+#include "base/frame_clock.h"
 #include "channel/link_if.h"
 #include "channel/link_stats.h"
 #include "channel/message.h"
@@ -116,6 +117,13 @@ public:
     // with a control lane traces a message when it is consumed; those never
     // consumed are traced now, as a link without one traced them when sent.
     void endFrame(Picos end);
+    // The next frame of a sequence (MachineSession): empty, with no
+    // figures, as built; its parameters, progress and distributions kept.
+    void restart();
+    // The frame is over: no sender waits for room (Machine::endProcesses).
+    void quiet() {
+        if (room_) room_->cancel();
+    }
     Picos occupied() const override;
     void setProgress(Progress* p) { progress_ = p; }
     // Whether it keeps its latency distributions and high-water marks

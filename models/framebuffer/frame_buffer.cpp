@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "process/spawn.h"
+
 namespace rt {
 
 FrameBufferUnit::FrameBufferUnit(sc_core::sc_module_name name, int index, int units, size_t pixels,
@@ -18,6 +20,7 @@ FrameBufferUnit::FrameBufferUnit(sc_core::sc_module_name name, int index, int un
       cost_(costPerContribution),
       progress_(progress && index == 0),
       time_(quantum),
+      maxExp_(maxExp),
       credit_(maxExp),
       expected_(size_t(index == 0 ? units : 0), 0),
       sums_(pixels > size_t(index) ? (pixels - size_t(index) + size_t(units) - 1) / size_t(units) : 0) {
@@ -33,8 +36,28 @@ void FrameBufferUnit::finish(Picos now) {
     done_ = true;
     renderTime_ = now;
     if (progress_) std::fprintf(stderr, "\r%-60s\r", "");
+    // The machine ends every other process; with nothing left to run, the
+    // simulation returns (and may go on with the next frame: machine.h).
     if (onFinish_) onFinish_();
-    sc_core::sc_stop();
+}
+
+sc_core::sc_process_handle FrameBufferUnit::restart(bool progress, int frame) {
+    progress_ = progress && index_ == 0;
+    credit_ = Credit(maxExp_);
+    std::fill(expected_.begin(), expected_.end(), 0);
+    awaiting_ = -1;
+    expect_.reset();
+    sums_ = PixelSums(sums_.size());
+    inputOrder_.restart();
+    inLinks_.clear();
+    stats_ = {};
+    done_ = false;
+    dropCredit_ = false;
+    renderTime_ = 0;
+    trace_ = {};
+    started_ = waiting_ = false;
+    now_ = 0;
+    return spawnMethod([this] { run(); }, std::string(basename()) + "_frame" + std::to_string(frame));
 }
 
 void FrameBufferUnit::accumulate(const Contribution& c) {
@@ -97,7 +120,7 @@ void FrameBufferUnit::run() {
     } else if (waiting_) {
         waiting_ = false;
         inputOrder_.woke();
-        if (late_ == 0) now_ = sc_core::sc_time_stamp().value();  // (late, it goes on from its own time)
+        if (late_ == 0) now_ = frameClock();  // (late, it goes on from its own time)
     }
     for (;;) {
         Picos next;
@@ -134,7 +157,7 @@ bool FrameBufferUnit::begin() {
     for (int i = 0; i < in.size(); ++i) inLinks_.push_back(&asLink(*in[i]));
     inputOrder_.listen(std::vector<LinkRecvIf*>(inLinks_.begin(), inLinks_.end()));
     if (late_ > 0) inputOrder_.setLate(late_, inLinks_.size() - 1);  // its last input is from unit 0
-    now_ = sc_core::sc_time_stamp().value();
+    now_ = frameClock();
     lastPrint_ = std::chrono::steady_clock::now();
     if (controller() && credit_.isOne()) {
         finish(now_);
@@ -156,7 +179,7 @@ bool FrameBufferUnit::waitFor(Picos next) {
         waiting_ = true;
         return true;
     }
-    now_ = std::max(now_, Picos(sc_core::sc_time_stamp().value()));
+    now_ = std::max(now_, frameClock());
     return false;
 }
 
@@ -187,7 +210,7 @@ bool FrameBufferUnit::endOfFrame() {
 void FrameBufferUnit::reportDone() {
     if (!expect_ || stats_.contributions < *expect_) return;
     if (stats_.contributions > *expect_) throw std::logic_error(std::string(name()) + ": more contributions than sent");
-    if (now_ < Picos(sc_core::sc_time_stamp().value()))  // (setLate: it cannot be behind here)
+    if (now_ < frameClock())  // (setLate: it cannot be behind here)
         throw std::logic_error(std::string(name()) + ": fb_done sent before the kernel's time");
     toController->send(Message::fbDone(), now_);
     expect_.reset();

@@ -104,6 +104,12 @@ public:
     // simulation stops (the machine ends its other processes).
     void onFinish(std::function<void()> f) { onFinish_ = std::move(f); }  // test only (MachineConfig::faultDropFirstCredit)
     Picos renderTime() const { return renderTime_; }
+    // The next frame of a sequence (machine.h, MachineSession): no
+    // contribution, credit or figure, as built, in a new process named after
+    // `frame`; its links, lookahead and lateness kept. The machine then
+    // hands it the frame's credit and background (keep, addOwn).
+    sc_core::sc_process_handle restart(bool progress, int frame);
+    void quiet() { inputOrder_.quiet(); }  // the frame is over: no wake still to come
 
 private:
     void run();  // the method process: one activation
@@ -124,6 +130,7 @@ private:
     Picos cost_;
     bool progress_;
     TimeKeeper time_;  // when to let the kernel catch up
+    int maxExp_;       // credit's precision
     Credit credit_;  // unit 0: the credit returned so far
     // Unit 0: contributions the nodes have reported sending to each unit
     // (with their credit); fb_done answers still to come once it is whole.

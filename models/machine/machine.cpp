@@ -34,23 +34,16 @@ Machine::Machine(sc_core::sc_module_name name, const Scene& scene, const Machine
     minThickness_ = minThicknessOf(cfg_, world_);
     // Each node's objects (and the median's columns) found by binning, not by
     // scanning the scene once per box.
-    const ObjectBins bins(scene_.objects, cuts_, roundingMargin(world_));
-    columnPlanes_ = initialPlanes(cfg_, cuts_, world_, bins, minThickness_);
-    // With targets for the frame's start (resplit), each box at least the
-    // minimum thickness, exactly: the moves at the start reach a target only
-    // then (a give leaves its giver that thick), and a node generates its
-    // primary rays only once its faces are at their targets
-    // (Node::holdsPrimaries).
-    const ColumnPlanes targets = cfg_.targetBoundaries.empty()
-                                     ? columnPlanes_
-                                     : withInnerPlanes("target boundaries", columnPlanes_, cfg_.targetBoundaries, minThickness_, 0);
+    bins_ = std::make_unique<ObjectBins>(scene_.objects, cuts_, roundingMargin(world_));
+    columnPlanes_ = initialPlanes(cfg_, cuts_, world_, *bins_, minThickness_);
+    const ColumnPlanes targets = startTargets();
     // Credit precision: the host's split, a node's split over its primary
     // rays, and one split per ray-tree level (a hit spawns at most L + 2 rays
     // and keeps a share: L + 3 parts).
     maxExp_ = ceilLog2(uint64_t(cfg_.nodeCount()) + 1) + ceilLog2(uint64_t(long(width_) * height_) + 1) +
               (cfg_.maxDepth + 1) * ceilLog2(scene.lights.size() + 3) + 2;
     buildUnits();
-    buildNodes(bins);
+    buildNodes();
     buildLinks();
     for (Node& n : nodes_) n.setProgress(&watchdog_->progress());
     if (cfg_.faultDropFirstCredit) units_[0].dropFirstCredit();
@@ -61,6 +54,16 @@ Machine::Machine(sc_core::sc_module_name name, const Scene& scene, const Machine
 
 Machine::~Machine() = default;
 
+// With targets for the frame's start (resplit), each box at least the
+// minimum thickness, exactly: the moves at the start reach a target only
+// then (a give leaves its giver that thick), and a node generates its
+// primary rays only once its faces are at their targets
+// (Node::holdsPrimaries).
+ColumnPlanes Machine::startTargets() const {
+    if (cfg_.targetBoundaries.empty()) return columnPlanes_;
+    return withInnerPlanes("target boundaries", columnPlanes_, cfg_.targetBoundaries, minThickness_, 0);
+}
+
 void Machine::buildUnits() {
     const int k = cfg_.fbUnits;
     const size_t pixels = size_t(long(width_) * height_);
@@ -69,14 +72,20 @@ void Machine::buildUnits() {
     });
 }
 
-void Machine::buildNodes(const ObjectBins& bins) {
+// --faces ideal-layer: the faces every node of a layer shares, from the
+// frame's starting planes.
+void Machine::makeLayerFaces() {
+    if (!cfg_.balance.idealLayerFaces) return;  // every column starts with the same planes (validate)
     const int ax = columns_.axis;
-    if (cfg_.balance.idealLayerFaces) {  // every column starts with the same planes (validate)
-        const std::vector<double>& b = columnPlanes_.front();
-        layerFaces_ = std::make_unique<IdealLayerFaces>(std::vector<double>(b.begin() + 1, b.end() - 1), world_.lo[ax],
-                                                        world_.hi[ax], cfg_.balance.deadband, cfg_.balance.gainOf(),
-                                                        minThickness_);
-    }
+    const std::vector<double>& b = columnPlanes_.front();
+    layerFaces_ = std::make_unique<IdealLayerFaces>(std::vector<double>(b.begin() + 1, b.end() - 1), world_.lo[ax],
+                                                    world_.hi[ax], cfg_.balance.deadband, cfg_.balance.gainOf(),
+                                                    minThickness_);
+}
+
+void Machine::buildNodes() {
+    const int ax = columns_.axis;
+    makeLayerFaces();
     nodeParams_ = std::make_unique<NodeParams>(shader_, camera_, cfg_.balance);
     NodeParams& p = *nodeParams_;
     p.world = world_;
@@ -91,10 +100,16 @@ void Machine::buildNodes(const ObjectBins& bins) {
     nodes_.init(size_t(cfg_.nodeCount()), [&](const char*, size_t i) {
         const Cell c = cellAt(i, cfg_.dims);
         const Box b = nodeBox(c, cuts_, columns_, columnPlanes_);
-        return new Node(nodeName(c).c_str(), c, b, bins.overlapping(b), *nodeParams_, cfg_.processorCostsOf(c), cfg_.speedOf(c));
+        return new Node(nodeName(c).c_str(), c, b, bins_->overlapping(b), *nodeParams_, cfg_.processorCostsOf(c), cfg_.speedOf(c));
     });
+    aimAtTargets();
+}
+
+// resplit: where each node's faces go at the frame's start.
+void Machine::aimAtTargets() {
     if (cfg_.targetBoundaries.empty()) return;
-    for (Node& node : nodes_) {  // resplit: where each node's faces go at the frame's start
+    const int ax = columns_.axis;
+    for (Node& node : nodes_) {
         const Cell& c = node.cell();
         const std::vector<double>& t = cfg_.targetBoundaries[size_t(columns_.columnOf(c))];
         const double nan = std::nan("");
@@ -271,23 +286,34 @@ void Machine::endFrame() {
     for (auto& l : links_) l->endFrame(frameEnd());
 }
 
-// Ends every process but the caller's, from within the simulation, just
-// before it stops: sc_stop finishes the current delta cycle, and a process
-// ended here does not run in it. Newest first: the kernel finds a killed
-// process in its list of processes from the newest on, so ending the
-// oldest first would take a search of every process for each: quadratic
-// in the nodes.
+// Ends every process but the caller's, from within the simulation, and
+// every wake still pending (a process's next input, a sender's room, the
+// watchdog's): nothing is left to happen, and the simulation returns at the
+// frame's end (the next frame may start there: machine_session.cpp). A
+// process ended here does not run in the current delta cycle. Newest
+// first: the kernel finds a killed process in its list of processes from
+// the newest on, so ending the oldest first would take a search of every
+// process for each: quadratic in the nodes. The first frame's processes
+// are the modules' own (SC_METHOD); a later frame's were spawned.
 void Machine::endProcesses() {
     const sc_core::sc_process_handle self = sc_core::sc_get_current_process_handle();
-    auto end = [&](const sc_core::sc_object& module) {
-        for (sc_core::sc_object* child : module.get_child_objects()) {
-            sc_core::sc_process_handle h(child);
-            if (h.valid() && h != self && !h.terminated()) h.kill();
-        }
+    auto kill = [&](sc_core::sc_process_handle h) {
+        if (h.valid() && h != self && !h.terminated()) h.kill();
     };
-    end(*watchdog_);
-    for (size_t i = nodes_.size(); i-- > 0;) end(nodes_[i]);
-    for (size_t u = units_.size(); u-- > 0;) end(units_[u]);
+    if (spawned_.empty()) {
+        auto end = [&](const sc_core::sc_object& module) {
+            for (sc_core::sc_object* child : module.get_child_objects()) kill(sc_core::sc_process_handle(child));
+        };
+        end(*watchdog_);
+        for (size_t i = nodes_.size(); i-- > 0;) end(nodes_[i]);
+        for (size_t u = units_.size(); u-- > 0;) end(units_[u]);
+    }
+    for (size_t i = spawned_.size(); i-- > 0;) kill(spawned_[i]);
+    watchdog_->quiet();
+    for (Node& n : nodes_) n.quiet();
+    for (FrameBufferUnit& u : units_) u.quiet();
+    for (auto* links : {&links_, &unitLinks_})
+        for (auto& l : *links) l->quiet();
 }
 
 // Which nodes still hold work or credit, and how much credit unit 0 lacks:
@@ -313,6 +339,7 @@ MachineResult Machine::collect(double wallSeconds) {
     r.image = assembleImage(units_, width_, height_);
     for (const FrameBufferUnit& u : units_) r.frameBuffer.push_back({u.stats()});
     r.renderTime = frameEnd();
+    r.frameStart = frameOrigin;
     r.incomplete = watchdog_->stall();
     for (const Node& n : nodes_) {
         r.nodes.push_back(n.stats());
@@ -325,12 +352,12 @@ MachineResult Machine::collect(double wallSeconds) {
         else
             r.grids.push_back(std::nullopt);
     }
-    r.links = std::move(linkInfo_);  // (collected once, at the end)
+    r.links = linkInfo_;
     for (size_t i = 0; i < links_.size(); ++i) mergeChannel(r.links[reportOf_[i]].stats, links_[i]->stats());
     r.boundaries = boundaryHistories();
     r.worldBox = world_;
     r.primaryMisses = primaryMisses_;
-    r.deltaCycles = sc_core::sc_delta_count();
+    r.deltaCycles = sc_core::sc_delta_count() - deltaAtStart_;
     r.wallSeconds = wallSeconds;
     r.gtkw = gtkw_;
     return r;
@@ -357,57 +384,6 @@ std::vector<BoundaryHistory> Machine::boundaryHistories() const {
     return out;
 }
 
-namespace {
-// The process's start, for the start-up wall time (set at static initialisation).
-const std::chrono::steady_clock::time_point kProcessStart = std::chrono::steady_clock::now();
-double secondsBetween(std::chrono::steady_clock::time_point a, std::chrono::steady_clock::time_point b) {
-    return std::chrono::duration<double>(b - a).count();
-}
-}  // namespace
-
 void Machine::start_of_simulation() { started_ = std::chrono::steady_clock::now(); }
-
-namespace {
-// SystemC elaborates once per simulation context: a machine after another
-// in the same process (the frames of a sequence) gets a context of its
-// own. The one before is kept, not deleted: its modules went with its
-// Machine, but deleting it would lose the timed events still queued in it
-// (SystemC's pool of them), and SystemC's own static events belong to the
-// first. What a used context keeps is small (its kernel's tables, emptied
-// of the machine).
-void freshContextIfUsed() {
-    // (Never freed, the first included, and the list never destroyed: the
-    // contexts stay reachable to the end, not a leak.)
-    static auto* const kept = new std::vector<sc_core::sc_simcontext*>{sc_core::sc_get_curr_simcontext()};
-    if (sc_core::sc_get_status() == sc_core::SC_ELABORATION) return;  // (nothing run in it yet)
-    auto* fresh = new sc_core::sc_simcontext;
-    kept->push_back(fresh);
-    sc_core::sc_curr_simcontext = fresh;
-    sc_core::sc_default_global_context = fresh;
-}
-}  // namespace
-
-MachineResult runMachine(const Scene& scene, const MachineConfig& config) {
-    freshContextIfUsed();
-    sc_core::sc_set_time_resolution(1, sc_core::SC_PS);
-    const auto t0 = std::chrono::steady_clock::now();
-    Machine machine("machine", scene, config);
-    try {
-        sc_core::sc_start();
-    } catch (const sc_core::sc_report& e) {
-        // An exception thrown in a process comes out wrapped in a report of
-        // several lines; its own message is the one line to show.
-        throw std::runtime_error(e.get_msg());
-    }
-    simulationRunning = 0;  // (a signal before the next machine runs is one in start-up)
-    machine.endFrame();
-    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    machine.checkConservation();
-    machine.closeTraces();
-    MachineResult r = machine.collect(wall);
-    r.wallElaborationSeconds = secondsBetween(t0, machine.started());
-    r.wallStartupSeconds = secondsBetween(kProcessStart, machine.started());
-    return r;
-}
 
 }  // namespace rt

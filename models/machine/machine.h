@@ -1,10 +1,12 @@
 // The machine: an X x Y x Z mesh of nodes (sc_vector), a link per direction
 // between face neighbours, the frame-buffer units (sc_vector) and a port from
 // every node to every unit, and its watchdog. Built from a scene and a
-// MachineConfig; runMachine() elaborates, simulates one frame and returns
-// the image and every statistic.
+// MachineConfig; a MachineSession elaborates it once and simulates its
+// frames one after another (runMachine: one frame), returning each one's
+// image and every statistic.
 //
-//   machine.cpp        building it, running it, collecting the results
+//   machine.cpp        building it, collecting a frame's results
+//   machine_session.cpp a sequence of frames: the host phase between two, running each
 //   machine_trace.cpp  its VCD: which signals, and when a change is final
 //   machine_checks.cpp the conservation laws, checked at the end of a run
 //   initial_split.h    where the frame starts (boxes, primary rays, credit)
@@ -62,6 +64,7 @@ inline size_t slideCount(const std::vector<BoundaryHistory>& boundaries) {
 struct MachineResult {
     Image image;
     Picos renderTime = 0;
+    Picos frameStart = 0;  // on the kernel's clock: 0, or (a later frame of a sequence) where the one before ended
     std::vector<NodeStats> nodes;  // x fastest, then y, then z
     std::vector<Cell> cells;
     std::vector<Box> boxes;
@@ -108,10 +111,23 @@ public:
 
     size_t nodeIndex(const Cell& c) const { return rt::nodeIndex(c, cfg_.dims); }
 
+    // The host phase between two frames of a sequence (machine_session.cpp):
+    // the eye at `view`, the nodes re-boxed at `next`'s start boundaries
+    // (and aimed at its targets), every node, link, unit and the watchdog as
+    // built, in new processes (frame `frame`, 1-based), the primary rays and
+    // credit handed out. `next` is the same machine: only its boundaries,
+    // and what it traces and shows, may differ from the first frame's.
+    void nextFrame(const View& view, const MachineConfig& next, int frame);
+    // When the frame ended (or was stopped), on its own clock.
+    Picos frameEnd() const { return stopped() ? watchdog_->stalledAt() : controller().renderTime(); }
+
 private:
     // Building (machine.cpp).
     void buildUnits();
-    void buildNodes(const ObjectBins& bins);
+    void buildNodes();
+    void makeLayerFaces();
+    void aimAtTargets();
+    ColumnPlanes startTargets() const;  // where the nodes' faces go at the frame's start
     void buildLinks();
     void linkNeighbours(Node& n, std::vector<Picos>& nodeLookahead);
     void linkToFrameBuffer(Node& n, std::vector<Picos>& unitLookahead);
@@ -128,8 +144,6 @@ private:
     // Ends every process but the caller's, from within the simulation.
     void endProcesses();
     std::string whoHolds() const;
-    // When the frame ended, or when the watchdog stopped it.
-    Picos frameEnd() const { return stopped() ? watchdog_->stalledAt() : controller().renderTime(); }
     bool stopped() const { return !watchdog_->stall().empty(); }
 
     // Tracing: the VCD, written as the run goes (vcd_stream.h), and the
@@ -166,12 +180,39 @@ private:
     std::vector<size_t> reportOf_;      // per link in links_: its entry in linkInfo_
     uint64_t primaryMisses_ = 0;
     std::unique_ptr<Watchdog> watchdog_;
+    std::unique_ptr<ObjectBins> bins_;  // the scene's objects by cell of the uniform split
+    // A later frame's: its processes (spawned, in the order the modules
+    // made theirs), and the kernel's delta count at its start.
+    std::vector<sc_core::sc_process_handle> spawned_;
+    uint64_t deltaAtStart_ = 0;
 };
 
-// Elaborates the machine, runs one frame, checks conservation, writes the
-// VCD (and .gtkw) if configured. Each call after the first runs in a fresh
-// SystemC simulation context (SystemC elaborates once per context), so a
-// process may run any number of frames, one after another.
+// A machine that renders a sequence of frames in one elaboration, as the
+// paper's machine would: frame-buffer unit 0 ends frame k, the host phase
+// (next) re-boxes the nodes, and frame k + 1 starts on the kernel's clock
+// where frame k ended (each frame's times count from its own start:
+// base/frame_clock.h). Each session elaborates in a fresh SystemC
+// simulation context (SystemC elaborates once per context), so a process
+// may run any number of sessions, one after another.
+class MachineSession {
+public:
+    MachineSession(const Scene& scene, const MachineConfig& config);
+    ~MachineSession();
+    // Simulates the frame set up (the first, or the one next() set up),
+    // checks its conservation laws, ends its VCD (and .gtkw) if it is
+    // traced; its result.
+    MachineResult run();
+    // The host phase after a frame (Machine::nextFrame), at its end.
+    void next(const View& view, const MachineConfig& config);
+    int frame() const { return frame_; }  // 1-based
+
+private:
+    std::chrono::steady_clock::time_point built_;  // the frame's set-up began (elaboration, or the host phase)
+    std::unique_ptr<Machine> machine_;
+    int frame_ = 1;
+};
+
+// One frame: a session of one.
 MachineResult runMachine(const Scene& scene, const MachineConfig& config);
 
 }  // namespace rt

@@ -103,7 +103,7 @@ void Machine::traceBoundaries(std::vector<NodeTrace>& traces) {
 // a control lane, which record a message when it is consumed, at times
 // from its sending on (Link::traceStart).
 Picos Machine::traceHorizon() const {
-    Picos h = sc_core::sc_time_stamp().value();
+    Picos h = frameClock();
     for (const Link* l : tracedLinks_)
         if (l->tracesLate()) h = std::min(h, l->oldestSent());
     return h;

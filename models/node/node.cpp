@@ -27,30 +27,6 @@ Node::Node(sc_core::sc_module_name name, const Cell& cell, const Box& box, std::
     SC_METHOD(run);
 }
 
-void Node::endFrame(Picos end, bool complete) {
-    marks_.settle(input_.arrivals());  // (the run is over: every message is in the links)
-    if (balance_) stats_.balance = balance_->finalStats();
-    ledger_.endFrame(end, complete, name());
-}
-
-std::string Node::holding() const {
-    std::string s;
-    auto add = [&](const std::string& what) { s += (s.empty() ? "" : ", ") + what; };
-    auto count = [&](uint64_t n, const char* what) {
-        if (n) add(std::to_string(n) + " " + what);
-    };
-    count(input_.inHand() + input_.primariesLeft(), "rays in hand");
-    count(input_.onTheirWay(), "ray messages on their way to it");
-    count(batcher_.held(), "rays in partial batches");
-    count(fbOut_.contributions(), "contributions");
-    if (fbOut_.holdsCredit()) add("credit");
-    if (stats_.blocking)
-        add("blocked on its full output to " + (stats_.blockedOn >= kDirs
-                                                    ? "frame-buffer unit " + std::to_string(stats_.blockedOn - kDirs)
-                                                    : std::string(dirName(stats_.blockedOn))));
-    return s;
-}
-
 void Node::traceState(bool busy, bool waiting) {
     if (trace_.busy < 0) return;
     trace_.vcd->set(now_, trace_.busy, busy);
@@ -408,7 +384,7 @@ bool Node::sendOutbox() {
                 // It records the blocked state with its queue (messages
                 // arrived by now): beyond what it may run ahead to, the
                 // kernel catches up first, so that the queue is complete.
-                if (now_ > sc_core::sc_time_stamp().value() && !time_.mayIdleUntil(now_)) {
+                if (now_ > frameClock() && !time_.mayIdleUntil(now_)) {
                     time_.syncTo(now_);
                     suspend(Resume::Room);
                     return false;

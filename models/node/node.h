@@ -32,6 +32,7 @@
 #include "node/node_input.h"
 #include "node/node_stats.h"
 #include "node/node_trace.h"
+#include "base/frame_clock.h"
 #include "base/progress.h"
 #include "base/queue_marks.h"
 #include "channel/ray_batcher.h"
@@ -100,6 +101,12 @@ public:
     // The frame ended at `end` (`complete`: it was not stopped): the node's
     // figures as of then (time_ledger.h).
     void endFrame(Picos end, bool complete = true);
+    // The next frame of a sequence (machine.h, MachineSession): the node as
+    // built, owning `box` and `objects`, with no figures, in a new process
+    // named after `frame`; its costs, lookahead, links and progress kept.
+    // Then, as before the first frame, its primary rays and the rest.
+    sc_core::sc_process_handle restart(const Box& box, std::vector<Shape> objects, int frame);
+    void quiet() { input_.arrivals().quiet(); }  // the frame is over: no wake still to come
 
     const Cell& cell() const { return cell_; }
     const Region& region() const { return *region_; }
@@ -152,7 +159,7 @@ private:
     bool flushRays();  // sends every partial ray batch; false if there was none
     void flushToFrameBuffer();
     void traceState(bool busy, bool waiting);  // at now_
-    Picos kernel() const { return sc_core::sc_time_stamp().value(); }
+    Picos kernel() const { return frameClock(); }
 
     // ---- Balancing: the node's side (node_balance.cpp) ----
     void control(Message& m, int fromDir);

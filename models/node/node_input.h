@@ -55,6 +55,16 @@ public:
         primaries_.assign(pixels, uint16_t(exp), sampleWidth);
     }
     PrimaryQueue& primaries() { return primaries_; }
+    // The next frame: nothing in hand, no primary rays; it listens again at its start.
+    void restart() {
+        arrivals_.restart();
+        links_ = {};
+        local_.clear();
+        received_.clear();
+        receivedNext_ = 0;
+        receivedFrom_ = -1;
+        primaries_ = PrimaryQueue{};
+    }
 
     // A ray spawned here.
     void spawn(const RayJob& j, uint16_t creditExp) { local_.push_back(Work{j, creditExp, false, false, -1}); }

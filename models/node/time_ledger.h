@@ -29,6 +29,14 @@ public:
         decoupled_ = decoupled;
         keeps_ = keepsTimeline;
     }
+    // The next frame (the figures are the node's: it clears them): nothing
+    // charged, no timeline.
+    void restart() {
+        last_ = {};
+        decoupled_ = keeps_ = false;
+        timeline_.clear();
+        timelineStart_ = 0;
+    }
 
     // A step took the sum of `parts` (its cost by kind of work) and ended
     // at local time `now`.

@@ -31,6 +31,7 @@
 #pragma once
 #include <systemc>
 
+#include "base/frame_clock.h"
 #include "config/machine_config.h"
 
 namespace rt {
@@ -75,7 +76,7 @@ public:
 private:
     // The kernel's time, read every step: from the simulation context itself
     // (an inline read), not through sc_time_stamp() (a call into the library).
-    Picos kernel() const { return sim_->time_stamp().value(); }
+    Picos kernel() const { return sim_->time_stamp().value() - frameOrigin; }
 
     Picos quantum_;
     const sc_core::sc_simcontext* sim_;

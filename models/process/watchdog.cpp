@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <sstream>
 
+#include "process/spawn.h"
+
 namespace rt {
 
 volatile std::sig_atomic_t stopSignal = 0;
@@ -34,7 +36,7 @@ void Watchdog::watch() {
     }
     if (machine_.frameDone()) return;
     machine_.flushTrace();
-    const Picos now = sc_core::sc_time_stamp().value();
+    const Picos now = frameClock();
     const std::string why = whyStop(now);
     if (why.empty()) {
         wake();
@@ -42,8 +44,17 @@ void Watchdog::watch() {
     }
     stalledAt_ = now;
     stall_ = why + "; " + machine_.whoHolds();
-    machine_.endProcesses();
-    sc_core::sc_stop();
+    machine_.endProcesses();  // (with nothing left to run, the simulation returns)
+}
+
+sc_core::sc_process_handle Watchdog::restart(int frame) {
+    wakeNow_.cancel();
+    started_ = false;
+    progress_ = Progress{};
+    progress_.wake = &wakeNow_;
+    stall_.clear();
+    stalledAt_ = 0;
+    return spawnMethod([this] { watch(); }, "watchdog_frame" + std::to_string(frame));
 }
 
 std::string Watchdog::whyStop(Picos now) const {

@@ -15,6 +15,7 @@
 
 #include <systemc>
 
+#include "base/frame_clock.h"
 #include "base/progress.h"
 #include "base/units.h"
 
@@ -53,6 +54,10 @@ public:
     // Why and when it stopped the run (empty: it did not).
     const std::string& stall() const { return stall_; }
     Picos stalledAt() const { return stalledAt_; }
+    // The next frame of a sequence: watching afresh, in a new process
+    // (spawn.h) named after `frame`.
+    sc_core::sc_process_handle restart(int frame);
+    void quiet() { wakeNow_.cancel(); }  // the frame is over: no wake still to come
 
 private:
     void watch();

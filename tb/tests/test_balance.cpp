@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "analysis/report.h"
+#include "balance/between_frames.h"
 #include "frame_state_json.h"
 #include "machine/frame_state_of.h"
 #include "machine/machine.h"
@@ -415,6 +416,65 @@ TEST(BetweenFrames, TheReportHoldsTheFrameStateToTheBit) {
         expectSameState(state, frameStateFromReport(text));
     }
 }
+
+// A sequence of frames in one elaboration (MachineSession): each frame is
+// the frame a machine built for it alone renders, to the bit (every figure
+// of its full report, the image), though its nodes, links and units ran
+// the frames before it; all in one simulation context, each frame starting
+// on the kernel's clock where the one before ended. Under `slide` each
+// frame starts where the one before left the boundaries, and the eye moves;
+// under `measured` each later frame moves to targets at its start.
+namespace {
+nlohmann::json withoutHost(nlohmann::json r) {
+    for (const char* k : {"wall_s", "wall_elaboration_s", "wall_startup_s"}) r.erase(k);
+    r["kernel"].erase("delta_cycles");
+    return r;
+}
+}  // namespace
+
+class FramesInOneMachine : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(FramesInOneMachine, EachFrameIsTheFrameAMachineOfItsOwnRenders) {
+    const Scene s = crowded(0.4, 300, 0.03);
+    MachineConfig c;
+    c.width = c.height = 40;
+    c.dims = {3, 2, 2};
+    c.balance.policy = GetParam();
+    c.balance.interval = 5 * 1000000;  // 5 us
+    const bool targets = c.balance.betweenFrames();
+    std::vector<std::pair<View, MachineConfig>> frames{{s.view, c}};
+    std::vector<MachineResult> results;
+    MachineSession session(s, c);
+    const sc_core::sc_simcontext* context = sc_core::sc_get_curr_simcontext();
+    results.push_back(session.run());
+    Picos clock = 0;  // the kernel's, at the next frame's start
+    for (int k = 1; k < 3; ++k) {
+        MachineConfig next = c;
+        next.startBoundaries = lastBoundaries(frameStateOf(results.back(), frames.back().second), c);
+        if (targets) next.targetBoundaries.assign(4, k == 1 ? std::vector<double>{0.3, 0.5} : std::vector<double>{0.25, 0.6});
+        View v = s.view;
+        v.from = v.from + Vec3(0.05 * k, 0.02 * k, 0);
+        clock += results.back().renderTime;  // (the host phase takes no simulated time)
+        session.next(v, next);
+        EXPECT_EQ(sc_core::sc_time_stamp().value(), clock) << "frame " << k + 1;
+        EXPECT_EQ(frameOrigin, clock);
+        EXPECT_EQ(sc_core::sc_get_curr_simcontext(), context);
+        frames.push_back({v, next});
+        results.push_back(session.run());
+    }
+    if (c.balance.dynamic()) EXPECT_GT(slidesIn(results[1]) + slidesIn(results[2]), 0u);
+    for (size_t k = 0; k < frames.size(); ++k) {
+        Scene alone = s;
+        alone.view = frames[k].first;
+        const MachineResult fresh = runMachine(alone, frames[k].second);
+        EXPECT_EQ(fresh.image.pixels, results[k].image.pixels) << "frame " << k + 1;
+        const nlohmann::json a = withoutHost(machineReport(results[k], frames[k].second, ReportDetail::Full)),
+                             b = withoutHost(machineReport(fresh, frames[k].second, ReportDetail::Full));
+        EXPECT_EQ(a.dump(), b.dump()) << "frame " << k + 1 << ": " << nlohmann::json::diff(b, a).dump().substr(0, 600);
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(Policies, FramesInOneMachine, ::testing::Values("slide", "measured", "none"));
 
 // Targets for the frame's start (a re-split frame), the same planes in
 // every column: each node generates the primary rays of the box it is to

@@ -212,7 +212,7 @@ TEST(CommandLine, EachValueOfAFileIsCheckedAloneNamingItsLine) {
 TEST(CommandLine, AReportsFlagsNeverNameAnOutputOrAnInternalFlag) {
     for (const char* line : {"image = \"/tmp/x.png\"", "report = \"../elsewhere.json\"", "vcd = \"w.vcd\"", "map = \"m.png\"",
                              "quiet = true", "verbose = 2", "config = \"c.conf\"", "rerun = \"r.json\"",
-                             "as-baseline = true", "as-comparison = true", "as-first-pass = true"}) {
+                             "as-baseline = true", "as-comparison = true"}) {
         SCOPED_TRACE(line);
         const std::string e = thrown<ConfigError>([&] { merge({{std::string("mesh = 2\n") + line + "\n", true}}, {}); });
         EXPECT_NE(e.find("f1:2: '"), std::string::npos) << e;

@@ -317,42 +317,46 @@ TEST_F(Rtsim, BusyAndWaitIntegratedFromTheVcdAreTheReports) {
 // with a backlog. Tracing changes no timing, so the traced run's own report
 // ranks them the same way; the VCD holds those nodes' scopes and no other.
 TEST_F(Rtsim, TraceBusiestTracesWhatItsOwnReportRanksFirst) {
-    const fs::path vcd = dir_ / "b.vcd";
-    const json r = report(std::string(kSmall) + " --mesh 3 --link-bandwidth 200MB/s --trace-nodes busiest:2 --vcd " +
-                          vcd.string(), "b.json");
-    const json& chosen = r["trace_busiest"];
-    ASSERT_EQ(chosen["k"], 2);
-    std::vector<std::pair<double, json>> nodes;
-    for (const json& n : r["nodes"]) nodes.push_back({n["busy_ns"].get<double>(), n["node"]});
-    std::stable_sort(nodes.begin(), nodes.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
-    EXPECT_EQ(chosen["nodes"], json::array({nodes[0].second, nodes[1].second}));
-    ASSERT_EQ(chosen["links"].size(), 2u);
-    // The links: the report's own busiest_links, which rank the same way.
-    for (size_t i = 0; i < 2; ++i) {
-        const json& l = chosen["links"][i];
-        const json& n = l["node"];
-        const std::string name = "node_" + std::to_string(n[0].get<int>()) + "_" + std::to_string(n[1].get<int>()) + "_" +
-                                 std::to_string(n[2].get<int>()) + "_" +
-                                 (l["dir"] == "fb" ? std::string("fb") : std::string(l["dir"].get<std::string>()[0] == '+' ? "p" : "m") + l["dir"].get<std::string>()[1]);
-        EXPECT_EQ(name, r["busiest_links"][i]["name"]) << i;
+    // One frame; and the last of a sequence, its first pass by the sequence's machine.
+    for (const std::string extra : {"", " --frames 3 --balance slide --balance-interval 5us"}) {
+        SCOPED_TRACE(extra);
+        const fs::path vcd = dir_ / "b.vcd";
+        const json r = report(std::string(kSmall) + " --mesh 3 --link-bandwidth 200MB/s --trace-nodes busiest:2 --vcd " +
+                              vcd.string() + extra, "b.json");
+        const json& chosen = r["trace_busiest"];
+        ASSERT_EQ(chosen["k"], 2);
+        std::vector<std::pair<double, json>> nodes;
+        for (const json& n : r["nodes"]) nodes.push_back({n["busy_ns"].get<double>(), n["node"]});
+        std::stable_sort(nodes.begin(), nodes.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+        EXPECT_EQ(chosen["nodes"], json::array({nodes[0].second, nodes[1].second}));
+        ASSERT_EQ(chosen["links"].size(), 2u);
+        // The links: the report's own busiest_links, which rank the same way.
+        for (size_t i = 0; i < 2; ++i) {
+            const json& l = chosen["links"][i];
+            const json& n = l["node"];
+            const std::string name = "node_" + std::to_string(n[0].get<int>()) + "_" + std::to_string(n[1].get<int>()) + "_" +
+                                     std::to_string(n[2].get<int>()) + "_" +
+                                     (l["dir"] == "fb" ? std::string("fb") : std::string(l["dir"].get<std::string>()[0] == '+' ? "p" : "m") + l["dir"].get<std::string>()[1]);
+            EXPECT_EQ(name, r["busiest_links"][i]["name"]) << i;
+        }
+        EXPECT_GT(r["busiest_links"][0]["saturated_ns"].get<double>(), 0.0);
+        const std::string text = slurp(vcd);
+        size_t scopes = 0;
+        for (size_t at = text.find("$scope module node_"); at != std::string::npos; at = text.find("$scope module node_", at + 1)) ++scopes;
+        EXPECT_LE(scopes, 4u);  // the two nodes, and the senders of links traced without their node
+        for (const auto& [busy, cell] : nodes)
+            if (busy < nodes[1].first && text.find("module node_" + std::to_string(cell[0].get<int>()) + "_" +
+                                                   std::to_string(cell[1].get<int>()) + "_" + std::to_string(cell[2].get<int>()) +
+                                                   " $end\n$var wire 1") != std::string::npos)
+                ADD_FAILURE() << "a node not chosen has its busy signal traced: " << cell;
+        for (const char* bad : {"busiest:0", "busiest:65", "busiest:x"}) {
+            const Outcome o = run(std::string(kSmall) + " --mesh 2 --no-baseline -q --image '' --trace-nodes " + bad);
+            EXPECT_EQ(o.code, 2) << bad;
+            EXPECT_NE(o.err.find("busiest:K with K in 1..64"), std::string::npos) << o.err;
+        }
+        const Outcome both = run(std::string(kSmall) + " --mesh 2 --no-baseline -q --image '' --trace-nodes busiest --trace-nodes 0,0,0");
+        EXPECT_EQ(both.code, 2);
     }
-    EXPECT_GT(r["busiest_links"][0]["saturated_ns"].get<double>(), 0.0);
-    const std::string text = slurp(vcd);
-    size_t scopes = 0;
-    for (size_t at = text.find("$scope module node_"); at != std::string::npos; at = text.find("$scope module node_", at + 1)) ++scopes;
-    EXPECT_LE(scopes, 4u);  // the two nodes, and the senders of links traced without their node
-    for (const auto& [busy, cell] : nodes)
-        if (busy < nodes[1].first && text.find("module node_" + std::to_string(cell[0].get<int>()) + "_" +
-                                               std::to_string(cell[1].get<int>()) + "_" + std::to_string(cell[2].get<int>()) +
-                                               " $end\n$var wire 1") != std::string::npos)
-            ADD_FAILURE() << "a node not chosen has its busy signal traced: " << cell;
-    for (const char* bad : {"busiest:0", "busiest:65", "busiest:x"}) {
-        const Outcome o = run(std::string(kSmall) + " --mesh 2 --no-baseline -q --image '' --trace-nodes " + bad);
-        EXPECT_EQ(o.code, 2) << bad;
-        EXPECT_NE(o.err.find("busiest:K with K in 1..64"), std::string::npos) << o.err;
-    }
-    const Outcome both = run(std::string(kSmall) + " --mesh 2 --no-baseline -q --image '' --trace-nodes busiest --trace-nodes 0,0,0");
-    EXPECT_EQ(both.code, 2);
 }
 
 TEST_F(Rtsim, TraceSubsetAndWindow) {

@@ -1,0 +1,115 @@
+// A sequence of frames in one elaboration (machine.h, MachineSession): the
+// host phase between two frames, and running each.
+#include <chrono>
+#include <stdexcept>
+
+#include "machine/machine.h"
+
+namespace rt {
+
+namespace {
+
+// The process's start, for the start-up wall time (set at static initialisation).
+const std::chrono::steady_clock::time_point kProcessStart = std::chrono::steady_clock::now();
+double secondsBetween(std::chrono::steady_clock::time_point a, std::chrono::steady_clock::time_point b) {
+    return std::chrono::duration<double>(b - a).count();
+}
+
+// SystemC elaborates once per simulation context: a session after another
+// in the same process (a test's machines, a reference run) gets a context
+// of its own. The one before is kept, not deleted: its modules went with
+// its Machine, but deleting it would lose the timed events still queued in
+// it (SystemC's pool of them), and SystemC's own static events belong to
+// the first. What a used context keeps is small (its kernel's tables,
+// emptied of the machine).
+void freshContextIfUsed() {
+    // (Never freed, the first included, and the list never destroyed: the
+    // contexts stay reachable to the end, not a leak.)
+    static auto* const kept = new std::vector<sc_core::sc_simcontext*>{sc_core::sc_get_curr_simcontext()};
+    if (sc_core::sc_get_status() == sc_core::SC_ELABORATION) return;  // (nothing run in it yet)
+    auto* fresh = new sc_core::sc_simcontext;
+    kept->push_back(fresh);
+    sc_core::sc_curr_simcontext = fresh;
+    sc_core::sc_default_global_context = fresh;
+}
+
+}  // namespace
+
+// The order is the constructor's: the units, the nodes, the links, the
+// watchdog, the waveforms, then the host's job description; the processes
+// are spawned in the order the modules made theirs (units, nodes,
+// watchdog). What persists: the modules, their ports and links, the
+// lookaheads, costs and parameters, the objects' binning.
+void Machine::nextFrame(const View& view, const MachineConfig& next, int frame) {
+    cfg_ = next;
+    cfg_.validate();
+    camera_ = Camera(view, width_, height_);
+    columnPlanes_ = initialPlanes(cfg_, cuts_, world_, *bins_, minThickness_);
+    const ColumnPlanes targets = startTargets();
+    spawned_.clear();
+    for (FrameBufferUnit& u : units_) spawned_.push_back(u.restart(cfg_.showProgress, frame));
+    makeLayerFaces();
+    nodeParams_->layerFaces = layerFaces_.get();
+    for (Node& n : nodes_) {
+        const Box b = nodeBox(n.cell(), cuts_, columns_, columnPlanes_);
+        spawned_.push_back(n.restart(b, bins_->overlapping(b), frame));
+    }
+    aimAtTargets();
+    for (auto* links : {&links_, &unitLinks_})
+        for (auto& l : *links) l->restart();
+    spawned_.push_back(watchdog_->restart(frame));
+    if (cfg_.faultDropFirstCredit) units_[0].dropFirstCredit();
+    vcd_.reset();
+    tracedLinks_.clear();
+    gtkw_.clear();
+    if (!cfg_.vcdPath.empty()) setupTraces();
+    giveOutPrimaryRays(targets);
+    deltaAtStart_ = sc_core::sc_delta_count();
+    started_ = std::chrono::steady_clock::now();
+}
+
+MachineSession::MachineSession(const Scene& scene, const MachineConfig& config) {
+    freshContextIfUsed();
+    sc_core::sc_set_time_resolution(1, sc_core::SC_PS);
+    frameOrigin = 0;
+    built_ = std::chrono::steady_clock::now();
+    machine_ = std::make_unique<Machine>("machine", scene, config);
+}
+
+MachineSession::~MachineSession() = default;
+
+MachineResult MachineSession::run() {
+    Machine& m = *machine_;
+    try {
+        sc_core::sc_start();
+    } catch (const sc_core::sc_report& e) {
+        // An exception thrown in a process comes out wrapped in a report of
+        // several lines; its own message is the one line to show.
+        throw std::runtime_error(e.get_msg());
+    }
+    simulationRunning = 0;  // (a signal before the next frame runs is one in start-up)
+    m.endFrame();
+    const double wall = secondsBetween(built_, std::chrono::steady_clock::now());
+    m.checkConservation();
+    m.closeTraces();
+    MachineResult r = m.collect(wall);
+    r.wallElaborationSeconds = secondsBetween(built_, m.started());
+    r.wallStartupSeconds = secondsBetween(kProcessStart, m.started());
+    return r;
+}
+
+// The next frame starts where this one ended on the kernel's clock: a unit
+// 0 running ahead of the kernel (a quantum) ended it later than the
+// kernel's last event, which the clock first moves on to. The host phase
+// takes no simulated time.
+void MachineSession::next(const View& view, const MachineConfig& config) {
+    built_ = std::chrono::steady_clock::now();
+    const Picos end = frameOrigin + machine_->frameEnd(), kernel = sc_core::sc_time_stamp().value();
+    if (end > kernel) sc_core::sc_start(sc_core::sc_time::from_value(end - kernel));
+    frameOrigin = sc_core::sc_time_stamp().value();
+    machine_->nextFrame(view, config, ++frame_);
+}
+
+MachineResult runMachine(const Scene& scene, const MachineConfig& config) { return MachineSession(scene, config).run(); }
+
+}  // namespace rt
