@@ -3,9 +3,11 @@
 against one frame's, on the paper's scene at 64x64 on 8x8x8 (f = 1/8,
 viewed along the axis), without balancing and with the recommended
 policy. A sequence of K frames can cost no less than K frames' simulation;
-what it costs beyond that is the sequence's own: today each earlier frame
-is a child process that starts, elaborates the machine, writes its report,
-and the parent reads it back. Runs alternate (one frame, then K frames),
+what it costs beyond that is the sequence's own: the host phase between
+two frames (one machine renders them all, in one elaboration: the nodes
+re-boxed, their grids rebuilt, every part restarted) and, under the
+recommended policy, the frame loop's forecast of the next frame's planes.
+Runs alternate (one frame, then K frames),
 medians of --runs; with --against BUILD, that build's rtsim is run in turn
 with this one, so both are measured in the same minutes. Prints the table;
 with --doc writes doc/benchmarks/frames.md.
