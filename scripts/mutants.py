@@ -259,4 +259,8 @@ MUTANTS = [
     ("next-frame-on-the-first-frames-clock", "models/machine/machine_session.cpp",
      "    frameOrigin = sc_core::sc_time_stamp().value();\n", "",
      "a frame of a sequence counts its times from the first frame's start, not its own"),
+    ("move-forecast-sphere-sized", "models/balance/move_forecast.cpp",
+     "node.objectBytes > 0 && node.objects > 0 ? node.objectBytes / double(node.objects) : kSlabObjectBytes;",
+     "kSlabObjectBytes + 0 * node.objectBytes;",
+     "the forecast of a move takes every object a sphere's size (gears-2's polygons are 3.7 times that)"),
 ]

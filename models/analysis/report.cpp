@@ -125,6 +125,7 @@ nlohmann::json nodeJson(const MachineResult& r, const NodeFrameState& st, size_t
     n["node"] = cellJson(r.cells[i]);
     n["box"] = {{r.boxes[i].lo.x, r.boxes[i].lo.y, r.boxes[i].lo.z}, {r.boxes[i].hi.x, r.boxes[i].hi.y, r.boxes[i].hi.z}};
     n["objects"] = r.objectsPerNode[i];
+    n["object_bytes"] = r.objectBytesPerNode[i];
     if (i < r.grids.size() && r.grids[i]) {
         const Box& b = r.grids[i]->span;
         n["grid"] = {{"cells", r.grids[i]->cells}, {"span", {{b.lo.x, b.lo.y, b.lo.z}, {b.hi.x, b.hi.y, b.hi.z}}}};

@@ -45,6 +45,7 @@ struct NodeFrameState {
     Cell cell{};
     Box box;        // as the frame ended it
     size_t objects = 0;
+    double objectBytes = 0;  // theirs on a link, summed (0: not known, a sphere's each: move_forecast.h)
     std::optional<std::array<int, 3>> gridCells;  // its grid's cells per axis, if it holds objects
     double busyNs = 0;
     std::optional<WorkAlongAxis> work;  // if it traced anything

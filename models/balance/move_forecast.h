@@ -15,15 +15,18 @@
 
 namespace rt {
 
-// A slab's object on the wire, taken as a sphere's (objectBytes: 42 bytes).
+// A slab's object on the wire where the frame state does not say its
+// boxes' objects' sizes: a sphere's (objectBytes: 42 bytes). A polygon of
+// gears-2 averages about 155.
 constexpr double kSlabObjectBytes = 42;
 
 // The longest chain of handovers that moving each column's planes from
 // `from` to `to` takes, in ns: per box a plane crosses, a slide's latency
 // and handling on both nodes, and for each object between the plane's old
 // and new place (the boxes' object counts in frame `r`, shared out by
-// length) its bytes on the link and the grid updates on both nodes, once
-// per box it is passed through (on average half the chain).
+// length, at their box's mean size) its bytes on the link and the grid
+// updates on both nodes, once per box it is passed through (on average
+// half the chain).
 double moveNs(const FrameState& r, const MachineConfig& m, const InnerPlanes& from, const InnerPlanes& to);
 
 }  // namespace rt

@@ -48,6 +48,7 @@ FrameState frameStateOf(const MachineResult& r, const MachineConfig& cfg) {
         n.cell = r.cells[i];
         n.box = r.boxes[i];
         n.objects = r.objectsPerNode[i];
+        n.objectBytes = double(r.objectBytesPerNode[i]);
         if (i < r.grids.size() && r.grids[i]) n.gridCells = r.grids[i]->cells;
         n.busyNs = ns(s.busy);
         if (!s.balance.work.bins().empty()) n.work = workAlongAxis(s.balance);

@@ -346,6 +346,9 @@ MachineResult Machine::collect(double wallSeconds) {
         r.cells.push_back(n.cell());
         r.boxes.push_back(n.region().box());
         r.objectsPerNode.push_back(n.region().objects().size());
+        uint64_t bytes = 0;
+        for (const Shape& s : n.region().objects()) bytes += objectBytes(s);
+        r.objectBytesPerNode.push_back(bytes);
         const Lattice* g = n.region().accelerator().grid();
         if (g && !n.region().objects().empty())
             r.grids.push_back(MachineResult::Grid{{g->cells(0), g->cells(1), g->cells(2)}, g->bounds()});

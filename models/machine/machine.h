@@ -69,6 +69,7 @@ struct MachineResult {
     std::vector<Cell> cells;
     std::vector<Box> boxes;
     std::vector<size_t> objectsPerNode;
+    std::vector<uint64_t> objectBytesPerNode;  // their bytes on a link (objectBytes), summed
     struct Grid {
         std::array<int, 3> cells{};
         Box span;  // the part of the box it covers

@@ -373,6 +373,7 @@ void expectSameState(const FrameState& a, const FrameState& b) {
         EXPECT_EQ(x.cell, y.cell) << at;
         EXPECT_TRUE(x.box.lo == y.box.lo && x.box.hi == y.box.hi) << at;
         EXPECT_EQ(x.objects, y.objects) << at;
+        EXPECT_EQ(x.objectBytes, y.objectBytes) << at;
         EXPECT_EQ(x.gridCells, y.gridCells) << at;
         EXPECT_EQ(x.busyNs, y.busyNs) << at;
         ASSERT_EQ(x.work.has_value(), y.work.has_value()) << at;
@@ -462,7 +463,9 @@ TEST_P(FramesInOneMachine, EachFrameIsTheFrameAMachineOfItsOwnRenders) {
         frames.push_back({v, next});
         results.push_back(session.run());
     }
-    if (c.balance.dynamic()) EXPECT_GT(slidesIn(results[1]) + slidesIn(results[2]), 0u);
+    if (c.balance.dynamic()) {
+        EXPECT_GT(slidesIn(results[1]) + slidesIn(results[2]), 0u);
+    }
     for (size_t k = 0; k < frames.size(); ++k) {
         Scene alone = s;
         alone.view = frames[k].first;

@@ -304,4 +304,11 @@ TEST(Resplit, GettingToNewPlanesCostsItsChainOfSlabs) {
     EXPECT_DOUBLE_EQ(moveNs(r, m, from, from), 0.0);
     m.hopsByLinks = true;
     EXPECT_NEAR(moveNs(r, m, from, to), 672.5, 1e-9);
+    // The third box's objects three times a sphere's size (126 bytes, 3 ns
+    // on the wire): its 15 take 11 ns each, the second box's 20 still 9.
+    m.hopsByLinks = false;
+    r.nodes[2].objectBytes = 30 * 126;
+    EXPECT_NEAR(moveNs(r, m, from, to), 360 + 1.5 * (20 * 9 + 15 * 11), 1e-9);
+    r.nodes[1].objectBytes = 20 * 42;  // (a sphere's, said: as not said)
+    EXPECT_NEAR(moveNs(r, m, from, to), 360 + 1.5 * (20 * 9 + 15 * 11), 1e-9);
 }
