@@ -28,7 +28,7 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import outputs  # noqa: E402
-from project import BUILD, run_rtsim, spd_scene  # noqa: E402
+from project import BUILD, SPD, run_rtsim, spd_scene  # noqa: E402
 
 # (name, flags, files it writes besides the report and image)
 RUNS = [
@@ -83,7 +83,14 @@ def run(build, out_dir, name, flags):
             d = d.get(k, {})
         d.pop(path[-1], None)
     with outputs.atomic(out + ".json") as f:
-        json.dump(report, f, indent=1, sort_keys=True)
+        f.write(beside_the_clone(json.dumps(report, indent=1, sort_keys=True)))
+
+
+def beside_the_clone(text):
+    """The report with the scenes' folder named as beside the clone
+    (rerun.flags and config.scene.file hold it absolute), so that a record
+    made in one clone or worktree compares with a run in another."""
+    return text.replace(json.dumps(SPD)[1:-1], "../shared/scenes/spd")
 
 
 def folder(path, flag):

@@ -39,6 +39,16 @@ class Scripts(unittest.TestCase):
                 self.assertEqual(p.returncode, 0, p.stderr)
                 self.assertIn("usage:", p.stdout)
 
+    def test_same_outputs_names_the_scenes_as_beside_the_clone(self):
+        # A record made in one clone compares with a run in another (a
+        # worktree sees ../shared through its own folder).
+        import same_outputs
+        text = json.dumps({"config": {"scene": {"file": os.path.join(project.SPD, "balls-4.nff")}},
+                           "rerun": {"flags": "scene=\"" + project.spd_scene("gears-2") + "\"\nmesh=4\n"}}, indent=1)
+        r = json.loads(same_outputs.beside_the_clone(text))
+        self.assertEqual(r["config"]["scene"]["file"], "../shared/scenes/spd/balls-4.nff")
+        self.assertEqual(r["rerun"]["flags"], 'scene="../shared/scenes/spd/gears-2.nff"\nmesh=4\n')
+
     def test_the_layer_check_finds_a_planted_include_up_and_a_loop(self):
         """check_layers.py (the test Layers): an include from a lower folder
         of models/ up to a higher one, or beside it in its own layer, and a
