@@ -194,7 +194,9 @@ private:
 // where frame k ended (each frame's times count from its own start:
 // base/frame_clock.h). Each session elaborates in a fresh SystemC
 // simulation context (SystemC elaborates once per context), so a process
-// may run any number of sessions, one after another.
+// may run any number of sessions, one after another; one at a time (a new
+// session's context becomes the current one, and frameOrigin is the
+// running session's).
 class MachineSession {
 public:
     MachineSession(const Scene& scene, const MachineConfig& config);
