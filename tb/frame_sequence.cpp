@@ -48,6 +48,18 @@ MachineConfig earlierFrameConfig(const MachineConfig& m) {
     return c;
 }
 
+// The sequence's next frame by its machine, built now if it has none yet
+// (on `scene`, whose view is then `view`; its elaboration timed); `another`:
+// a frame follows.
+MachineResult renderFrame(EarlierFrames& e, const Scene& scene, const View& view, const MachineConfig& m, bool another) {
+    const bool building = !e.machine;
+    if (building) e.machine = std::make_unique<MachineSession>(scene, m);
+    else e.machine->next(view, m);
+    MachineResult r = e.machine->run(another);
+    if (building) e.elaborationSeconds = r.wallElaborationSeconds;
+    return r;
+}
+
 // A frame stopped by the watchdog or a signal: its report so far, as the
 // last frame's would be (its config echo that of frame `k`, 0-based).
 nlohmann::json partialReport(const MachineResult& r, const MachineConfig& m, RtsimOptions& o, const Scene& scene, int k) {
@@ -92,11 +104,7 @@ EarlierFrames runEarlierFrames(const Scene& scene, const Vec3& firstEye, RtsimOp
         }
         view.from = eyeOfFrame(o, firstEye, k);
         const MachineConfig m = earlierFrameConfig(o.machine);
-        const bool building = !out.machine;
-        if (building) out.machine = std::make_unique<MachineSession>(*out.scene, m);
-        else out.machine->next(view, m);
-        const MachineResult r = out.machine->run();
-        if (building) out.elaborationSeconds = r.wallElaborationSeconds;
+        const MachineResult r = renderFrame(out, *out.scene, view, m, true);
         if (!r.incomplete.empty()) {  // the watchdog or a signal
             out.exitCode = stopSignal ? 128 + int(stopSignal) : 3;
             out.why = r.incomplete;
@@ -124,11 +132,7 @@ EarlierFrames runEarlierFrames(const Scene& scene, const Vec3& firstEye, RtsimOp
 }
 
 MachineResult runLastFrame(EarlierFrames& earlier, const Scene& scene, const MachineConfig& m, bool again) {
-    const bool first = !earlier.machine;
-    if (first) earlier.machine = std::make_unique<MachineSession>(scene, m);
-    else earlier.machine->next(scene.view, m);
-    MachineResult r = earlier.machine->run();
-    if (first) earlier.elaborationSeconds = r.wallElaborationSeconds;
+    MachineResult r = renderFrame(earlier, scene, scene.view, m, again);
     if (!again) earlier.machine.reset();  // (its memory back before the report is made)
     return r;
 }

@@ -105,7 +105,7 @@ public:
     void quiet() { arrived_.cancel(); }
     // And the next frame's process listens again.
     void restart() {
-        arrived_.cancel();
+        quiet();
         links_.clear();
         head_.clear();
         heap_ = {};

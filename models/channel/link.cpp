@@ -49,7 +49,7 @@ void Link::restart() {
         l.slots = slots;
     }
     byType_ = {};
-    if (room_) room_->cancel();
+    quiet();
 }
 
 // (Most messages on a link are of one size: rays, or full batches.)

@@ -57,7 +57,7 @@ sc_core::sc_process_handle FrameBufferUnit::restart(bool progress, int frame) {
     trace_ = {};
     started_ = waiting_ = false;
     now_ = 0;
-    return spawnMethod([this] { run(); }, std::string(basename()) + "_frame" + std::to_string(frame));
+    return spawnMethod([this] { run(); }, *this, frame);
 }
 
 void FrameBufferUnit::accumulate(const Contribution& c) {

@@ -334,7 +334,7 @@ std::string Machine::whoHolds() const {
     return s.str();
 }
 
-MachineResult Machine::collect(double wallSeconds) {
+MachineResult Machine::collect(double wallSeconds, bool last) {
     MachineResult r;
     r.image = assembleImage(units_, width_, height_);
     for (const FrameBufferUnit& u : units_) r.frameBuffer.push_back({u.stats()});
@@ -355,7 +355,7 @@ MachineResult Machine::collect(double wallSeconds) {
         else
             r.grids.push_back(std::nullopt);
     }
-    r.links = linkInfo_;
+    r.links = last ? std::move(linkInfo_) : linkInfo_;
     for (size_t i = 0; i < links_.size(); ++i) mergeChannel(r.links[reportOf_[i]].stats, links_[i]->stats());
     r.boundaries = boundaryHistories();
     r.worldBox = world_;

@@ -97,7 +97,10 @@ public:
     Machine(sc_core::sc_module_name name, const Scene& scene, const MachineConfig& config);
     ~Machine() override;
 
-    MachineResult collect(double wallSeconds);
+    // The frame's results; `last`: no frame follows, and the report's list of
+    // links is handed over rather than copied (at 32x32x32 it is about 230,000
+    // entries of 720 bytes).
+    MachineResult collect(double wallSeconds, bool last);
     // The first simulated event is next: the wall clock's start-up ends.
     void start_of_simulation() override;
     std::chrono::steady_clock::time_point started() const { return started_; }
@@ -203,8 +206,9 @@ public:
     ~MachineSession();
     // Simulates the frame set up (the first, or the one next() set up),
     // checks its conservation laws, ends its VCD (and .gtkw) if it is
-    // traced; its result.
-    MachineResult run();
+    // traced; its result. `another`: next() will follow (without it the
+    // session is over, and next() refuses).
+    MachineResult run(bool another = false);
     // The host phase after a frame (Machine::nextFrame), at its end.
     void next(const View& view, const MachineConfig& config);
     int frame() const { return frame_; }  // 1-based
@@ -213,6 +217,7 @@ private:
     std::chrono::steady_clock::time_point built_;  // the frame's set-up began (elaboration, or the host phase)
     std::unique_ptr<Machine> machine_;
     int frame_ = 1;
+    bool over_ = false;  // the last frame has run
 };
 
 // One frame: a session of one.

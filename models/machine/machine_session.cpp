@@ -78,7 +78,7 @@ MachineSession::MachineSession(const Scene& scene, const MachineConfig& config) 
 
 MachineSession::~MachineSession() = default;
 
-MachineResult MachineSession::run() {
+MachineResult MachineSession::run(bool another) {
     Machine& m = *machine_;
     try {
         sc_core::sc_start();
@@ -92,7 +92,8 @@ MachineResult MachineSession::run() {
     const double wall = secondsBetween(built_, std::chrono::steady_clock::now());
     m.checkConservation();
     m.closeTraces();
-    MachineResult r = m.collect(wall);
+    MachineResult r = m.collect(wall, !another);
+    over_ = !another;
     r.wallElaborationSeconds = secondsBetween(built_, m.started());
     r.wallStartupSeconds = secondsBetween(kProcessStart, m.started());
     return r;
@@ -103,6 +104,7 @@ MachineResult MachineSession::run() {
 // kernel's last event, which the clock first moves on to. The host phase
 // takes no simulated time.
 void MachineSession::next(const View& view, const MachineConfig& config) {
+    if (over_) throw std::logic_error("MachineSession::next: its last frame has run (run(true) keeps it going)");
     built_ = std::chrono::steady_clock::now();
     const Picos end = frameOrigin + machine_->frameEnd(), kernel = sc_core::sc_time_stamp().value();
     if (end > kernel) sc_core::sc_start(sc_core::sc_time::from_value(end - kernel));

@@ -40,7 +40,7 @@ sc_core::sc_process_handle Node::restart(const Box& box, std::vector<Shape> obje
     contributions_.clear();
     mailbox_ = Mailbox{};
     rebuild(box, std::move(objects));
-    return spawnMethod([this] { run(); }, std::string(basename()) + "_frame" + std::to_string(frame));
+    return spawnMethod([this] { run(); }, *this, frame);
 }
 
 std::string Node::holding() const {

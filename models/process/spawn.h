@@ -6,15 +6,14 @@
 // dont_initialize runs at the start.
 #pragma once
 #include <functional>
-#include <string>
 
 #include <systemc>
 
 namespace rt {
 
-// A SystemC dynamic method process running `body` at each activation,
-// named `name` (a top-level object, so unique: the module's name with the
-// frame's number).
-sc_core::sc_process_handle spawnMethod(std::function<void()> body, const std::string& name);
+// A SystemC dynamic method process running `body` at each activation, for
+// `owner`'s frame `frame`: a top-level object, so named uniquely by the
+// owner's name and the frame's number ("node_1_0_2_frame3").
+sc_core::sc_process_handle spawnMethod(std::function<void()> body, const sc_core::sc_object& owner, int frame);
 
 }  // namespace rt

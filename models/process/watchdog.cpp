@@ -48,13 +48,13 @@ void Watchdog::watch() {
 }
 
 sc_core::sc_process_handle Watchdog::restart(int frame) {
-    wakeNow_.cancel();
+    quiet();
     started_ = false;
     progress_ = Progress{};
     progress_.wake = &wakeNow_;
     stall_.clear();
     stalledAt_ = 0;
-    return spawnMethod([this] { watch(); }, "watchdog_frame" + std::to_string(frame));
+    return spawnMethod([this] { watch(); }, *this, frame);
 }
 
 std::string Watchdog::whyStop(Picos now) const {

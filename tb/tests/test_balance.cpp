@@ -447,7 +447,7 @@ TEST_P(FramesInOneMachine, EachFrameIsTheFrameAMachineOfItsOwnRenders) {
     std::vector<MachineResult> results;
     MachineSession session(s, c);
     const sc_core::sc_simcontext* context = sc_core::sc_get_curr_simcontext();
-    results.push_back(session.run());
+    results.push_back(session.run(true));
     Picos clock = 0;  // the kernel's, at the next frame's start
     for (int k = 1; k < 3; ++k) {
         MachineConfig next = c;
@@ -461,11 +461,12 @@ TEST_P(FramesInOneMachine, EachFrameIsTheFrameAMachineOfItsOwnRenders) {
         EXPECT_EQ(frameOrigin, clock);
         EXPECT_EQ(sc_core::sc_get_curr_simcontext(), context);
         frames.push_back({v, next});
-        results.push_back(session.run());
+        results.push_back(session.run(k < 2));
     }
     if (c.balance.dynamic()) {
         EXPECT_GT(slidesIn(results[1]) + slidesIn(results[2]), 0u);
     }
+    EXPECT_THROW(session.next(s.view, c), std::logic_error);  // (its last frame ran)
     for (size_t k = 0; k < frames.size(); ++k) {
         Scene alone = s;
         alone.view = frames[k].first;
