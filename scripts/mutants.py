@@ -263,4 +263,11 @@ MUTANTS = [
      "node.objectBytes > 0 && node.objects > 0 ? node.objectBytes / double(node.objects) : kSlabObjectBytes;",
      "kSlabObjectBytes + 0 * node.objectBytes;",
      "the forecast of a move takes every object a sphere's size (gears-2's polygons are 3.7 times that)"),
+    ("start-mix-without-the-length", "models/balance/initial_split.cpp",
+     "(1 - mix) * (x - lo) / (hi - lo) > share;", "(1 - mix) * 0 * (x - lo) / (hi - lo) > share;",
+     "a start mix below 1 weighs the objects alone: its share of the column's length is lost"),
+    ("start-mix-ignored", "models/balance/initial_split.cpp",
+     "atObjectMedians(planes, g, cuts, world, bins, minThickness, cfg.balance.startMix);",
+     "atObjectMedians(planes, g, cuts, world, bins, minThickness, 1.0);",
+     "--start-mix is echoed but median and sample start at the object median whatever it says"),
 ]

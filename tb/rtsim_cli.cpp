@@ -338,6 +338,7 @@ void RtsimOptions::actAsReference() {
     // The reference runs' other policy has no faces to share.
     if ((asBaseline || asComparison) && machine.balance.policy != "slide" && machine.balance.policy != "resplit")
         machine.balance.idealLayerFaces = false;
+    if ((asBaseline || asComparison) && !machine.balance.startsAtObjects()) machine.balance.startMix = 1;  // (its start is uniform)
 }
 
 // The flags whose values have a syntax of their own (option_parsers.h).

@@ -10,11 +10,30 @@
 namespace rt {
 namespace {
 
-// `median`: boundary k of each column at the k/N quantile of the centres of
-// the objects in the column, kept inside the guards (every box at least the
-// minimum thickness).
+// The least x in [lo, hi] where `mix` x (the share of `centres` at or below
+// x) + (1 - mix) x (the share of [lo, hi] below x) exceeds `share`: the
+// mixed quantile, by bisection (the mix is a step function plus a ramp).
+double mixedQuantile(const std::vector<double>& centres, double mix, double lo, double hi, double share) {
+    const auto above = [&](double x) {
+        const double objects = double(std::upper_bound(centres.begin(), centres.end(), x) - centres.begin());
+        return mix * objects / double(centres.size()) + (1 - mix) * (x - lo) / (hi - lo) > share;
+    };
+    double below = lo, at = hi;
+    for (int i = 0; i < 64; ++i) {
+        const double m = 0.5 * (below + at);
+        (above(m) ? at : below) = m;
+    }
+    return at;
+}
+
+// `median` and `sample`'s start: boundary k of each column at the k/N
+// quantile of the centres of the objects in the column (mix 1: the object
+// median), or of mix x their share and (1 - mix) x the column's length (so
+// a box holds at most 1 / (N mix) of the column's objects and 1 / (N (1 -
+// mix)) of its length; doc/balancing.md, "Where sample starts"), kept inside
+// the guards (every box at least the minimum thickness).
 void atObjectMedians(ColumnPlanes& planes, const ColumnGeometry& g, const Lattice& cuts, const Box& world,
-                     const ObjectBins& bins, double minThickness) {
+                     const ObjectBins& bins, double minThickness, double mix) {
     const int ax = g.axis, n = g.length();
     for (int j = 0; j < g.dims[g.v]; ++j)
         for (int i = 0; i < g.dims[g.u]; ++i) {
@@ -30,7 +49,8 @@ void atObjectMedians(ColumnPlanes& planes, const ColumnGeometry& g, const Lattic
             if (centres.empty()) continue;
             std::sort(centres.begin(), centres.end());
             for (int k = 1; k < n; ++k) {
-                const double q = centres[std::min(centres.size() - 1, centres.size() * size_t(k) / size_t(n))];
+                const double q = mix == 1 ? centres[std::min(centres.size() - 1, centres.size() * size_t(k) / size_t(n))]
+                                          : mixedQuantile(centres, mix, world.lo[ax], world.hi[ax], double(k) / n);
                 const double lo = b[size_t(k - 1)] + minThickness, hi = world.hi[ax] - (n - k) * minThickness;
                 b[size_t(k)] = std::clamp(q, lo, hi);
             }
@@ -69,7 +89,7 @@ ColumnPlanes initialPlanes(const MachineConfig& cfg, const Lattice& cuts, const 
     ColumnPlanes planes(size_t(g.count()), cuts.planes(g.axis));
     // (the minimum less a report's rounding of its decimals)
     if (!cfg.startBoundaries.empty()) planes = withInnerPlanes("start boundaries", planes, cfg.startBoundaries, minThickness, 1e-9);
-    else if (cfg.balance.policy == "median" || cfg.balance.policy == "sample") atObjectMedians(planes, g, cuts, world, bins, minThickness);
+    else if (cfg.balance.startsAtObjects()) atObjectMedians(planes, g, cuts, world, bins, minThickness, cfg.balance.startMix);
     return planes;
 }
 

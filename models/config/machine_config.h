@@ -65,6 +65,10 @@ struct BalanceConfig {
     double gain = 0;              // how far a decision moves (the policy's; 0: its default, gainOf())
     double deadband = 0.05;       // no slide while the difference is at most this (the policy's measure)
     double minThickness = 0.05;   // a box never gets thinner than this fraction of its initial thickness
+    // Where median and sample start: each column's boundaries at the
+    // quantiles of startMix x the objects' centres + (1 - startMix) x the
+    // column's length (1: the object median; doc/balancing.md, "Where sample starts").
+    double startMix = 1;
     int bins = 16;                // work profile: bins per initial box thickness along the axis
     Picos rebuildCost = 20000;    // updating a node's grid: per object moved in or out
     // The guard (every policy; balance_agent.h): no slide on loads older than
@@ -92,6 +96,8 @@ struct BalanceConfig {
     bool dynamic() const;         // a policy that moves boundaries during the frame
     // A policy that re-splits from the frame before's work (resplit, measured).
     bool betweenFrames() const { return policy == "resplit" || policy == "measured" || policy == "sample"; }
+    // One that starts at a split of its own, from the objects (startMix).
+    bool startsAtObjects() const { return policy == "median" || policy == "sample"; }
     // One whose first frame keeps its starting split and only measures (measured).
     bool firstFrameHolds() const { return policy == "measured"; }
     double gainOf() const;        // gain, or the policy's default
@@ -116,6 +122,9 @@ inline const std::vector<Param<BalanceConfig>>& balanceParams() {
         numberParam("deadband", &B::deadband, 0.0, 0.999, "/deadband", "no slide while the load difference is at most this"),
         numberParam("min-thickness", &B::minThickness, 1e-6, 1.0, "/min_thickness",
                     "guard: a box keeps at least this fraction of its initial thickness"),
+        numberParam("start-mix", &B::startMix, 0.0, 1.0, "/start_mix",
+                    "median and sample start with each column's boundaries at the quantiles of this share of its "
+                    "objects' centres plus the rest of its length (1: the object median; 0: the uniform split)"),
         specialParam<B>("no-guard", "no guard: slide on loads however old, and whatever the slide costs against the work it moves"),
         numberParam("max-age", &B::maxAge, 0.0, 1e9, "/max_age_intervals", "guard: no slide on loads older than this many intervals"),
         numberParam("guard-hop", &B::hopRatio, 0.0, 1e9, "/guard_hop_steps",

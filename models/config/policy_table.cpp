@@ -30,11 +30,12 @@ const std::vector<PolicyInfo>& policies() {
          "within a frame: the first frame is never slower than without balancing)",
          PolicyKind::Dynamic, 0.25, makeSlidePolicy},
         {"sample",
-         "the first frame starts at the object-median split, gathers where a sample of its rays (one pixel in 16, "
-         "generated first) did their work up each column, and moves every plane once to where that work splits "
-         "evenly; later frames re-split as resplit",
+         "the first frame starts at the object-median split (or --start-mix's mix of objects and length), gathers "
+         "where a sample of its rays (one pixel in 16, generated first) did their work up each column, and moves "
+         "every plane once to where that work splits evenly; later frames re-split as resplit",
          PolicyKind::Dynamic, 0.25, makeSlidePolicy},
-        {"median", "a static split at the object-median, no messages", PolicyKind::Static, 0.0, nullptr},
+        {"median", "a static split at the object-median (or --start-mix's mix of objects and length), no messages",
+         PolicyKind::Static, 0.0, nullptr},
     };
     return all;
 }

@@ -109,12 +109,12 @@ TEST(Parameters, EachRowMakesItsFlagItsCheckAndItsEcho) {
     CLI::App app;
     o.addTo(app);
     const std::string help = app.help();
-    // (A balancing policy, so that every balancing setting has a meaning:
-    // --faces ideal-layer needs slide.)
-    const std::string context = "balance = \"slide\"\n";
-    const json defaults = machineConfigJson(parsed(context).machine, 8, 8);
     for (const Row& r : rows) {
         SCOPED_TRACE(r.flag);
+        // (A balancing policy, so that every balancing setting has a meaning:
+        // --faces ideal-layer needs slide, --start-mix a policy that starts at the objects.)
+        const std::string context = std::string("balance = \"") + (r.flag == "--start-mix" ? "sample" : "slide") + "\"\n";
+        const json defaults = machineConfigJson(parsed(context).machine, 8, 8);
         EXPECT_NE(help.find(r.flag), std::string::npos);
         EXPECT_NE(help.find(r.help.substr(0, 30)), std::string::npos);
         if (!r.echo.empty()) {

@@ -147,6 +147,32 @@ TEST_F(Rtsim, IdealLayerFacesStayInLineAndKeepTheImage) {
         expectBad(procedural + bad, "--faces");
 }
 
+// --start-mix moves where median and sample start, and only theirs: the
+// report echoes it and the planes differ, the image does not, the
+// reference runs (which balance otherwise) still run, and with a policy
+// that starts uniform it is one line and exit 2.
+TEST_F(Rtsim, StartMixMovesOnlyAnObjectStartsPlanes) {
+    const std::string procedural = " --size 24x24 --mesh 3 --spheres 60 --concentration 0.3 -q";
+    auto start = [&](const std::string& flags, const std::string& image) {
+        const Outcome o = run(procedural + flags + " --image " + (dir_ / image).string() + " --report " +
+                              (dir_ / "r.json").string());
+        EXPECT_EQ(o.code, 0) << o.err;
+        EXPECT_EQ(o.err, "");  // the baseline and the balancing comparison ran
+        const json r = json::parse(slurp(dir_ / "r.json"));
+        EXPECT_TRUE(r.contains("baseline") && r.contains("comparison"));
+        return std::make_pair(r["config"]["balance"]["start_mix"].get<double>(),
+                              r["boundaries"][0]["history"][0][1].get<double>());
+    };
+    const auto objects = start(" --balance median", "median.png");
+    const auto mixed = start(" --balance median --start-mix 0.4", "mixed.png");
+    EXPECT_EQ(objects.first, 1.0);
+    EXPECT_EQ(mixed.first, 0.4);
+    EXPECT_GT(std::abs(mixed.second - objects.second), 0.01) << "the first plane did not move";
+    EXPECT_EQ(slurp(dir_ / "mixed.png"), slurp(dir_ / "median.png"));
+    expectBad(procedural + " --balance slide --start-mix 0.4", "--start-mix");
+    expectBad(procedural + " --balance median --start-mix 1.5", "--start-mix");
+}
+
 // Issue 11's age target at the ends of the link sweep, with the control
 // lane: the 95th percentile age of the loads slide's decisions
 // used is at most 2 intervals plus a report's own crossing of one link

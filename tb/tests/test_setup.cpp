@@ -53,6 +53,18 @@ TEST(InitialSplit, UniformUnlessStartedElsewhereOrAtTheMedians) {
     EXPECT_EQ(median[0].back(), 1.0);
     EXPECT_EQ(median[1], cuts.planes(0));                         // no objects: uniform
 
+    // Mixed with the column's length (--start-mix): the plane where
+    // mix x (objects at or below it) / 4 + (1 - mix) x its share of [0, 1] passes 1/2.
+    for (const auto& [mix, plane] : {std::pair{0.5, 0.2},  // 0.5 x 3/4 + 0.5 x 0.2 < 1/2 just below 0.2; 0.6 at it
+                                     std::pair{0.2, 0.375},  // past every centre: 0.2 + 0.8 x = 1/2
+                                     std::pair{0.0, 0.5}}) {  // the length alone: uniform
+        m.balance.startMix = mix;
+        const ColumnPlanes mixed = initialPlanes(m, cuts, world, bins, 0.025);
+        EXPECT_NEAR(mixed[0][1], plane, 1e-12) << "start mix " << mix;
+        EXPECT_EQ(mixed[1], cuts.planes(0)) << "start mix " << mix;  // no objects: uniform at any mix
+    }
+    m.balance.startMix = 1;
+
     m.startBoundaries = {{0.3}, {0.8}};
     const ColumnPlanes started = initialPlanes(m, cuts, world, bins, 0.025);
     EXPECT_EQ(started[0], (std::vector<double>{0.0, 0.3, 1.0}));

@@ -1,0 +1,141 @@
+#!/usr/bin/python3
+"""Where sample starts: the first frame of Fig. 4's experiment (f = 1/N,
+256x256, both views, N where the best static split is known) under
+`sample`, started with each column's boundaries at the quantiles of a mix
+of its objects and its length (--start-mix A: A of the objects, 1 - A of
+the length; 1 is the object median), on each machine: modern, 1987, the
+paper's, and modern with sphere tests x100. For each machine and mix: how
+many points meet the issue's target (the first frame at most 1.2 (paper) or
+1.3 times max(1/N, the best static split)), the worst and the median of
+that ratio, and how the start split alone (`median` at the same mix, no
+messages) does against the unbalanced frame. A second table: the built-in
+scene at 64x64 on meshes of odd shapes, where the object median loses on
+its own, at the object median and at half of it. Every point is one rtsim
+run through the sweep driver, so it runs locally or on a Dask cluster and a
+stopped run resumes.
+
+With --doc, writes doc/results/start_mix.{csv,md} and
+doc/results/start_mix-shapes.{csv,md}, and the tables into doc/balancing.md. Standard library only; run with /usr/bin/python3."""
+import argparse
+import os
+import statistics
+import sys
+import types
+
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # scripts/: project, sweep
+import outputs  # noqa: E402
+import project  # noqa: E402
+import sweep_driver as driver  # noqa: E402
+from project import PAPER_SCENE, ROOT, VIEWS, preset_flags, publish_table  # noqa: E402
+
+# The machines of first_frame.py's four tables: (preset, tag, extra flags).
+MACHINES = [("modern", "", ""), ("transputer-1987", "", ""), ("paper", "", ""),
+            ("modern", "sphere-x100", "--cost-sphere 1us")]
+# The odd shapes (issue 61's), the built-in scene at 64x64, rtsim's own machine.
+SHAPES = ["64x1x1", "33x1x1", "64x2x1", "16x16x4", "2x2x32", "8x8x8"]
+SHAPE_MIXES = [1.0, 0.5]
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--mixes", default="0.4,0.5,0.6,0.7,0.8,0.9,1", help="the start mixes, each in [0, 1]")
+    ap.add_argument("--n", default="4,5,6,7,8", help="mesh sizes (a point counts where the best static split is known: N = 4 to 8 on the paper's machine, 4, 5 and 8 on the others)")
+    driver.add_output_arguments(ap, os.path.join(ROOT, "doc", "balancing.md"))
+    driver.add_arguments(ap)
+    a = driver.parse_outputs(ap)
+    ns = outputs.numbers(a.n, "--n", least=2, most=64)
+    mixes = outputs.numbers(a.mixes, "--mixes", kind=float, least=0, most=1)
+    csv_path = os.path.join(a.out, "start_mix.csv")
+    rows = driver.swept_rows(a, csv_path, lambda: sweep(a, ns, mixes))
+    table(a, rows, os.path.join(a.out, "start_mix.md"))
+    shapes_csv = os.path.join(a.out, "start_mix-shapes.csv")
+    shapes_table(a, driver.swept_rows(a, shapes_csv, lambda: sweep_shapes(a)), os.path.join(a.out, "start_mix-shapes.md"))
+
+
+def name(preset, tag):
+    return preset + (f" {tag}" if tag else "")
+
+
+def sweep(a, ns, mixes):
+    points = []
+    for preset, tag, extra in MACHINES:
+        for view, cam in VIEWS.items():
+            for n in ns:
+                base = preset_flags(preset) + PAPER_SCENE + cam + ["--mesh", n, "--concentration", f"{1 / n:.6f}"]
+                params = {"machine": name(preset, tag), "view": view, "N": n}
+                points.append({"params": dict(params, policy="none", mix=1.0),
+                               "args": base + ["--balance", "none"] + extra.split()})
+                for policy in ("sample", "median"):
+                    for mix in mixes:
+                        points.append({"params": dict(params, policy=policy, mix=mix),
+                                       "args": base + ["--balance", policy, "--start-mix", f"{mix:g}"] + extra.split()})
+    runs = driver.run("start_mix", points, lambda r: {"render_time_ns": r["render_time_ns"]}, None, a)
+    none = {(r["machine"], r["view"], r["N"]): r["render_time_ns"] for r in runs if r["policy"] == "none"}
+    out = []
+    for r in runs:
+        if r["policy"] == "none":
+            continue
+        key = (r["machine"], r["view"], r["N"])
+        out.append({"machine": r["machine"], "view": r["view"], "N": r["N"], "policy": r["policy"], "mix": r["mix"],
+                    "time_none_ns": none[key], "time_ns": r["render_time_ns"],
+                    "ratio": r["render_time_ns"] / none[key], "version": r["version"], "command": r["command"]})
+    return out
+
+
+def table(a, rows, md_path):
+    for r in rows:
+        r["N"], r["mix"], r["ratio"] = int(r["N"]), float(r["mix"]), float(r["ratio"])
+    lines = ["<!-- written by scripts/experiments/start_mix.py; do not edit -->",
+             "| machine | start mix | sample: points within the target | sample / max(1/N, best): worst | median of "
+             "it | the start alone (median): worst of the unbalanced frame |",
+             "|---|---:|---:|---:|---:|---:|"]
+    for preset, tag, _ in MACHINES:
+        m = name(preset, tag)
+        best = {k: v[0] for k, v in project.best_static(types.SimpleNamespace(preset=preset, tag=tag, out=a.out)).items()}
+        factor = 1.2 if preset == "paper" and not tag else 1.3
+        for mix in sorted({r["mix"] for r in rows if r["machine"] == m}):
+            sample = [r for r in rows if r["machine"] == m and r["mix"] == mix and r["policy"] == "sample"
+                      and (r["view"], r["N"]) in best]
+            start = [r["ratio"] for r in rows if r["machine"] == m and r["mix"] == mix and r["policy"] == "median"]
+            ratios = [r["ratio"] / max(1 / r["N"], best[(r["view"], r["N"])]) for r in sample]
+            if not ratios or not start:
+                continue
+            within = sum(x <= factor for x in ratios)
+            lines.append(f"| {m} | {mix:g} | {within} of {len(ratios)} (target {factor} x) | {max(ratios):.2f} | "
+                         f"{statistics.median(ratios):.2f} | {max(start):.3f} |")
+    publish_table(lines, md_path, a.doc, "start mix")
+
+
+def sweep_shapes(a):
+    points = []
+    for shape in SHAPES:
+        base = ["--size", "64x64", "--mesh-dims", shape]
+        points.append({"params": {"shape": shape, "policy": "none", "mix": 1.0}, "args": base + ["--balance", "none"]})
+        for policy in ("median", "sample"):
+            for mix in SHAPE_MIXES:
+                points.append({"params": {"shape": shape, "policy": policy, "mix": mix},
+                               "args": base + ["--balance", policy, "--start-mix", f"{mix:g}"]})
+    runs = driver.run("start_mix-shapes", points, lambda r: {"render_time_ns": r["render_time_ns"]}, None, a)
+    none = {r["shape"]: r["render_time_ns"] for r in runs if r["policy"] == "none"}
+    return [{"shape": r["shape"], "policy": r["policy"], "mix": r["mix"], "time_none_ns": none[r["shape"]],
+             "time_ns": r["render_time_ns"], "ratio": r["render_time_ns"] / none[r["shape"]], "version": r["version"],
+             "command": r["command"]} for r in runs if r["policy"] != "none"]
+
+
+def shapes_table(a, rows, md_path):
+    cols = [(p, m) for p in ("median", "sample") for m in SHAPE_MIXES]
+    lines = ["<!-- written by scripts/experiments/start_mix.py; do not edit -->",
+             "| mesh | unbalanced frame | " + " | ".join(f"{p}, start mix {m:g}" for p, m in cols) + " |",
+             "|---|---:|" + "---:|" * len(cols)]
+    for shape in SHAPES:
+        by = {(r["policy"], float(r["mix"])): r for r in rows if r["shape"] == shape}
+        if len(by) < len(cols):
+            continue
+        none_us = float(by[cols[0]]["time_none_ns"]) / 1000
+        lines.append(f"| {shape} | {none_us:.1f} us | " +
+                     " | ".join(f"{float(by[c]['ratio']):.3f}" for c in cols) + " |")
+    publish_table(lines, md_path, a.doc, "start mix shapes")
+
+
+if __name__ == "__main__":
+    sys.exit(outputs.guard("start_mix.py", main))
