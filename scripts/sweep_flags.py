@@ -112,6 +112,9 @@ def parse_outputs(ap):
     into, or None. A user's run writes under out/ and leaves doc/ as
     committed. Bad flags: one line (ap.error), exit 2."""
     a = ap.parse_args()
+    for flag in ("out", "journal_dir"):  # (an empty one is no folder: not "the default")
+        if getattr(a, flag, None) == "":
+            ap.error(f"--{flag.replace('_', '-')} '': an empty folder name")
     publish = bool(getattr(a, "doc", False))
     a.out = a.out or (project.RESULTS if publish else os.path.join(ROOT, "out", "results"))
     a.doc = a.doc_page if publish else None

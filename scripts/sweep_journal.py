@@ -26,7 +26,10 @@ def journal_path(name, opts=None, make=True):
     rule --out follows too. Nothing is made unless `make` (a check before
     any work writes nothing)."""
     outputs.check_name(name, "NAME")
-    folder = getattr(opts, "journal_dir", None) or JOURNALS
+    folder = getattr(opts, "journal_dir", None)
+    if folder == "":
+        raise ToolError("--journal-dir '': an empty folder name")
+    folder = folder or JOURNALS
     if os.path.lexists(folder) and not os.path.isdir(folder):
         raise ToolError(f"--journal-dir {folder}: not a folder")
     if outputs.under(folder, outputs.DOC):

@@ -277,6 +277,9 @@ void RtsimOptions::finish() {
         if (machine.balance.idealLayerFaces && frames > 1)
             throw OptionError("--faces", "ideal-layer measures one frame from faces in line; not with --frames " +
                                              std::to_string(frames));
+        if (machine.balance.startMix != 1 && !boundariesFrom.empty())
+            throw OptionError("--start-mix", "the frame starts where --boundaries-from's run left its boundaries, not at a "
+                                             "split of its own");
         machine.dims = {mesh, mesh, mesh};
         frameIndex = frames - 1;     // this process renders the last frame of its sequence last
         if (asBaseline) frames = 1;  // the baseline is of the last frame's view

@@ -188,13 +188,13 @@ void BalanceConfig::validate(Picos reportFloor, bool carriedBoundaries) const {
     if (idealLayerFaces && policy != "slide" && policy != "resplit")
         throw std::invalid_argument("--faces ideal-layer: applies slide's rule to the layers; needs --balance slide (or resplit, one frame), not '" +
                                     policy + "'");
-    if (startMix != 1 && findPolicy(policy) && !startsAtObjects())
-        throw std::invalid_argument("--start-mix: only median and sample start at a split of their own; '" + policy +
-                                    "' starts at the uniform split");
     if (idealLayerFaces && carriedBoundaries)
         throw std::invalid_argument("--faces ideal-layer: needs every column's faces in line at the start (one frame, "
                                     "no --boundaries-from)");
     checkRanges(balanceParams(), *this, "--");
+    if (startMix != 1 && !startsAtObjects())  // (after the ranges: a nan is named as a bad value)
+        throw std::invalid_argument("--start-mix: only median and sample start at a split of their own; '" + policy +
+                                    "' starts at the uniform split");
 }
 
 }  // namespace rt

@@ -45,11 +45,18 @@ def main():
     a = driver.parse_outputs(ap)
     ns = outputs.numbers(a.n, "--n", least=2, most=64)
     mixes = outputs.numbers(a.mixes, "--mixes", kind=float, least=0, most=1)
+    if len(set(mixes)) < len(mixes):
+        raise outputs.ToolError(f"--mixes {a.mixes!r}: a mix given twice")
     csv_path = os.path.join(a.out, "start_mix.csv")
     rows = driver.swept_rows(a, csv_path, lambda: sweep(a, ns, mixes))
     table(a, rows, os.path.join(a.out, "start_mix.md"))
     shapes_csv = os.path.join(a.out, "start_mix-shapes.csv")
     shapes_table(a, driver.swept_rows(a, shapes_csv, lambda: sweep_shapes(a)), os.path.join(a.out, "start_mix-shapes.md"))
+
+
+def mix_flag(mix):
+    """A mix as rtsim's flag: short where that is the same number (0.5, 1), else in full."""
+    return f"{mix:g}" if float(f"{mix:g}") == mix else repr(mix)
 
 
 def name(preset, tag):
@@ -68,7 +75,7 @@ def sweep(a, ns, mixes):
                 for policy in ("sample", "median"):
                     for mix in mixes:
                         points.append({"params": dict(params, policy=policy, mix=mix),
-                                       "args": base + ["--balance", policy, "--start-mix", f"{mix:g}"] + extra.split()})
+                                       "args": base + ["--balance", policy, "--start-mix", mix_flag(mix)] + extra.split()})
     runs = driver.run("start_mix", points, lambda r: {"render_time_ns": r["render_time_ns"]}, None, a)
     none = {(r["machine"], r["view"], r["N"]): r["render_time_ns"] for r in runs if r["policy"] == "none"}
     out = []
@@ -114,7 +121,7 @@ def sweep_shapes(a):
         for policy in ("median", "sample"):
             for mix in SHAPE_MIXES:
                 points.append({"params": {"shape": shape, "policy": policy, "mix": mix},
-                               "args": base + ["--balance", policy, "--start-mix", f"{mix:g}"]})
+                               "args": base + ["--balance", policy, "--start-mix", mix_flag(mix)]})
     runs = driver.run("start_mix-shapes", points, lambda r: {"render_time_ns": r["render_time_ns"]}, None, a)
     none = {r["shape"]: r["render_time_ns"] for r in runs if r["policy"] == "none"}
     return [{"shape": r["shape"], "policy": r["policy"], "mix": r["mix"], "time_none_ns": none[r["shape"]],

@@ -171,6 +171,9 @@ TEST_F(Rtsim, StartMixMovesOnlyAnObjectStartsPlanes) {
     EXPECT_EQ(slurp(dir_ / "mixed.png"), slurp(dir_ / "median.png"));
     expectBad(procedural + " --balance slide --start-mix 0.4", "--start-mix");
     expectBad(procedural + " --balance median --start-mix 1.5", "--start-mix");
+    expectBad(procedural + " --balance slide --start-mix nan", "at least 0");  // the value first
+    expectBad(procedural + " --balance median --start-mix 0.4 --boundaries-from " + (dir_ / "r.json").string(),
+              "--start-mix");  // (it would start elsewhere)
 }
 
 // Issue 11's age target at the ends of the link sweep, with the control

@@ -267,6 +267,7 @@ class SweepEdges(unittest.TestCase):
             (["--set", "config=dims.conf,frames.conf", "--csv", "dims.conf"], "the same file"),
             (["--set", "a=1,2", "--csv", os.path.join(sweep.ROOT, "doc", "x.csv")], "in doc/"),
             (["--set", "a=1,2", "--journal-dir", "/dev/null"], "--journal-dir /dev/null: not a folder"),
+            (["--set", "a=1,2", "--journal-dir", ""], "--journal-dir '': an empty folder name"),
             (["--set", "a=1,2", "--jobs", "-1"], "--jobs: '-1'"),
             (["--set", "a=1,2", "--dask", "tcp://127.0.0.1:1", "--dask-timeout", "nan"], "--dask-timeout: 'nan'"),
             (["--set", "a=1,2", "--repeat", "0"], "--repeat 0: at least 1"),
@@ -488,6 +489,8 @@ class SweepEdges(unittest.TestCase):
         script = os.path.join(SCRIPTS, "experiments", "speed_accuracy.py")
         for args, says in ((["--balance", "none"], "--balance none: the policy to compare with none"),
                            (["--out", "/dev/null"], "--out /dev/null: not a folder"),
+                           (["--out", ""], "--out '': an empty folder name"),  # (not the default folder)
+                           (["--journal-dir", ""], "--journal-dir '': an empty folder name"),
                            (["--out", os.path.join(sweep.ROOT, "doc", "results")], "in doc/, which changes only with --doc"),
                            (["--jobs", "-1"], "--jobs: '-1'")):
             with self.subTest(args=args):
