@@ -267,7 +267,7 @@ MUTANTS = [
      "(1 - mix) * (x - lo) / (hi - lo) > share;", "(1 - mix) * 0 * (x - lo) / (hi - lo) > share;",
      "a start mix below 1 weighs the objects alone: its share of the column's length is lost"),
     ("start-mix-ignored", "models/balance/initial_split.cpp",
-     "atObjectMedians(planes, g, cuts, world, bins, minThickness, cfg.balance.startMix);",
-     "atObjectMedians(planes, g, cuts, world, bins, minThickness, 1.0);",
+     "atObjectQuantiles(planes, g, cuts, world, bins, minThickness, cfg.balance.startMix);",
+     "atObjectQuantiles(planes, g, cuts, world, bins, minThickness, 1.0);",
      "--start-mix is echoed but median and sample start at the object median whatever it says"),
 ]

@@ -32,7 +32,7 @@ double mixedQuantile(const std::vector<double>& centres, double mix, double lo, 
 // a box holds at most 1 / (N mix) of the column's objects and 1 / (N (1 -
 // mix)) of its length; doc/balancing.md, "Where sample starts"), kept inside
 // the guards (every box at least the minimum thickness).
-void atObjectMedians(ColumnPlanes& planes, const ColumnGeometry& g, const Lattice& cuts, const Box& world,
+void atObjectQuantiles(ColumnPlanes& planes, const ColumnGeometry& g, const Lattice& cuts, const Box& world,
                      const ObjectBins& bins, double minThickness, double mix) {
     const int ax = g.axis, n = g.length();
     for (int j = 0; j < g.dims[g.v]; ++j)
@@ -49,6 +49,7 @@ void atObjectMedians(ColumnPlanes& planes, const ColumnGeometry& g, const Lattic
             if (centres.empty()) continue;
             std::sort(centres.begin(), centres.end());
             for (int k = 1; k < n; ++k) {
+                // (At 1 the centre itself, as before the mix: the bisection lands a hair past it.)
                 const double q = mix == 1 ? centres[std::min(centres.size() - 1, centres.size() * size_t(k) / size_t(n))]
                                           : mixedQuantile(centres, mix, world.lo[ax], world.hi[ax], double(k) / n);
                 const double lo = b[size_t(k - 1)] + minThickness, hi = world.hi[ax] - (n - k) * minThickness;
@@ -89,7 +90,7 @@ ColumnPlanes initialPlanes(const MachineConfig& cfg, const Lattice& cuts, const 
     ColumnPlanes planes(size_t(g.count()), cuts.planes(g.axis));
     // (the minimum less a report's rounding of its decimals)
     if (!cfg.startBoundaries.empty()) planes = withInnerPlanes("start boundaries", planes, cfg.startBoundaries, minThickness, 1e-9);
-    else if (cfg.balance.startsAtObjects()) atObjectMedians(planes, g, cuts, world, bins, minThickness, cfg.balance.startMix);
+    else if (cfg.balance.startsAtObjects()) atObjectQuantiles(planes, g, cuts, world, bins, minThickness, cfg.balance.startMix);
     return planes;
 }
 
