@@ -336,6 +336,7 @@ void RtsimOptions::actAsReference() {
         linkSpecs_.clear();
         machine.nodeSpeed.clear();
         machine.balance.policy = "none";  // one node has no boundary to slide
+        boundariesFrom.clear();           // nor one to start at (a mesh's report does not fit it)
     }
     // (asComparison: the same machine and frame; the caller sets --balance.)
     // The reference runs' other policy has no faces to share.

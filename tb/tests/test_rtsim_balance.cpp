@@ -585,3 +585,16 @@ TEST_F(Rtsim, TheRecommendedPolicyNeverLosesOnALongColumn) {
         for (const json& f : r["frames"]) EXPECT_LE(f["render_time_ns"].get<double>(), 1.02 * none) << f.dump();
     }
 }
+
+// A frame that starts where another run left its boundaries still has its
+// 1x1x1 baseline: the baseline, one node, starts at no boundaries (it was
+// given the mesh's report, refused it, and the summary had no speed-up).
+TEST_F(Rtsim, ABaselineIgnoresTheBoundariesItHasNone) {
+    const std::string small = " --size 16x16 --mesh 3 --spheres 40 --concentration 0.3 -q --image ''";
+    const fs::path from = dir_ / "from.json", r = dir_ / "r.json";
+    ASSERT_EQ(run(small + " --balance median --no-baseline --report " + from.string()).code, 0);
+    const Outcome o = run(small + " --balance none --boundaries-from " + from.string() + " --report " + r.string());
+    EXPECT_EQ(o.code, 0) << o.err;
+    EXPECT_EQ(o.err, "");
+    EXPECT_TRUE(json::parse(slurp(r)).contains("baseline"));
+}
