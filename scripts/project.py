@@ -84,6 +84,12 @@ def machine(a):
     return a.preset + (f" {a.tag}" if a.tag else "")
 
 
+def target_factor(a):
+    """Issue 61's first-frame target over max(1/N, the best static split):
+    1.2 on the paper's machine, 1.3 on the others (and any variant of it)."""
+    return 1.2 if a.preset == "paper" and not a.tag else 1.3
+
+
 def invocation(a):
     """The flags that name the machine, for a table's "written by" line."""
     return f"--preset {a.preset}" + (f" --tag {a.tag} --extra={a.extra!r}" if a.tag else "")

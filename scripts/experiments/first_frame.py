@@ -72,13 +72,8 @@ def extract(r):
     return {"render_time_ns": r["render_time_ns"], "slides": r["balance"]["slides"]}
 
 
-def factor(a):
-    """The target's factor over max(1/N, the best static split): 1.2 on the paper's machine, 1.3 on the others."""
-    return 1.2 if a.preset == "paper" and not a.tag else 1.3
-
-
 def table(a, rows, ns, policies, best, md_path):
-    k = factor(a)
+    k = project.target_factor(a)
     inv = project.invocation(a)
     main = policies[-1]
     lines = [f"<!-- written by scripts/experiments/first_frame.py {inv}; do not edit -->",
@@ -108,8 +103,8 @@ def plot(a, rows, ns, policies, best, path):
         known = [(n, best[(view, n)]) for n in ns if (view, n) in best]  # where the search has run
         if known:
             ax.plot([n for n, _ in known], [b for _, b in known], "k--", linewidth=1, label="best static split")
-            ax.plot([n for n, _ in known], [factor(a) * max(1 / n, b) for n, b in known], "r:", linewidth=1,
-                    label=f"target: {factor(a)} x max(1/N, best)")
+            ax.plot([n for n, _ in known], [project.target_factor(a) * max(1 / n, b) for n, b in known], "r:", linewidth=1,
+                    label=f"target: {project.target_factor(a)} x max(1/N, best)")
         ax.plot(ns, [1 / n for n in ns], color="green", linestyle=":", linewidth=1, label="1/N")
         ax.axhline(PAPER, color="grey", linestyle="-.", linewidth=1, label="paper: about 0.2")
         ax.set_ylim(0, 1)

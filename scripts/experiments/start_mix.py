@@ -59,8 +59,21 @@ def mix_flag(mix):
     return f"{mix:g}" if float(f"{mix:g}") == mix else repr(mix)
 
 
-def name(preset, tag):
-    return preset + (f" {tag}" if tag else "")
+def machine_of(preset, tag, a):
+    """A machine of MACHINES as project's helpers take one (--preset, --tag, and the results folder)."""
+    return types.SimpleNamespace(preset=preset, tag=tag, out=a.out)
+
+
+def against_none(runs, fields):
+    """The CSV rows: each run's `fields` (its point's, the policy and the mix
+    among them) and its frame beside the unbalanced run's of the same point
+    (the same fields but the policy and the mix), the unbalanced runs aside."""
+    def point(r):
+        return tuple(r[f] for f in fields if f not in ("policy", "mix"))
+    none = {point(r): r["render_time_ns"] for r in runs if r["policy"] == "none"}
+    return [{**{f: r[f] for f in fields}, "time_none_ns": none[point(r)], "time_ns": r["render_time_ns"],
+             "ratio": r["render_time_ns"] / none[point(r)], "version": r["version"], "command": r["command"]}
+            for r in runs if r["policy"] != "none"]
 
 
 def sweep(a, ns, mixes):
@@ -69,7 +82,7 @@ def sweep(a, ns, mixes):
         for view, cam in VIEWS.items():
             for n in ns:
                 base = preset_flags(preset) + PAPER_SCENE + cam + ["--mesh", n, "--concentration", f"{1 / n:.6f}"]
-                params = {"machine": name(preset, tag), "view": view, "N": n}
+                params = {"machine": project.machine(machine_of(preset, tag, a)), "view": view, "N": n}
                 points.append({"params": dict(params, policy="none", mix=1.0),
                                "args": base + ["--balance", "none"] + extra.split()})
                 for policy in ("sample", "median"):
@@ -77,16 +90,7 @@ def sweep(a, ns, mixes):
                         points.append({"params": dict(params, policy=policy, mix=mix),
                                        "args": base + ["--balance", policy, "--start-mix", mix_flag(mix)] + extra.split()})
     runs = driver.run("start_mix", points, lambda r: {"render_time_ns": r["render_time_ns"]}, None, a)
-    none = {(r["machine"], r["view"], r["N"]): r["render_time_ns"] for r in runs if r["policy"] == "none"}
-    out = []
-    for r in runs:
-        if r["policy"] == "none":
-            continue
-        key = (r["machine"], r["view"], r["N"])
-        out.append({"machine": r["machine"], "view": r["view"], "N": r["N"], "policy": r["policy"], "mix": r["mix"],
-                    "time_none_ns": none[key], "time_ns": r["render_time_ns"],
-                    "ratio": r["render_time_ns"] / none[key], "version": r["version"], "command": r["command"]})
-    return out
+    return against_none(runs, ["machine", "view", "N", "policy", "mix"])
 
 
 def table(a, rows, md_path):
@@ -97,9 +101,10 @@ def table(a, rows, md_path):
              "it | the start alone (median): worst of the unbalanced frame |",
              "|---|---:|---:|---:|---:|---:|"]
     for preset, tag, _ in MACHINES:
-        m = name(preset, tag)
-        best = {k: v[0] for k, v in project.best_static(types.SimpleNamespace(preset=preset, tag=tag, out=a.out)).items()}
-        factor = 1.2 if preset == "paper" and not tag else 1.3
+        machine = machine_of(preset, tag, a)
+        m = project.machine(machine)
+        best = {k: v[0] for k, v in project.best_static(machine).items()}
+        factor = project.target_factor(machine)
         for mix in sorted({r["mix"] for r in rows if r["machine"] == m}):
             sample = [r for r in rows if r["machine"] == m and r["mix"] == mix and r["policy"] == "sample"
                       and (r["view"], r["N"]) in best]
@@ -123,10 +128,7 @@ def sweep_shapes(a):
                 points.append({"params": {"shape": shape, "policy": policy, "mix": mix},
                                "args": base + ["--balance", policy, "--start-mix", mix_flag(mix)]})
     runs = driver.run("start_mix-shapes", points, lambda r: {"render_time_ns": r["render_time_ns"]}, None, a)
-    none = {r["shape"]: r["render_time_ns"] for r in runs if r["policy"] == "none"}
-    return [{"shape": r["shape"], "policy": r["policy"], "mix": r["mix"], "time_none_ns": none[r["shape"]],
-             "time_ns": r["render_time_ns"], "ratio": r["render_time_ns"] / none[r["shape"]], "version": r["version"],
-             "command": r["command"]} for r in runs if r["policy"] != "none"]
+    return against_none(runs, ["shape", "policy", "mix"])
 
 
 def shapes_table(a, rows, md_path):
