@@ -270,4 +270,11 @@ MUTANTS = [
      "atObjectQuantiles(planes, g, cuts, world, bins, minThickness, cfg.balance.startMix);",
      "atObjectQuantiles(planes, g, cuts, world, bins, minThickness, 1.0);",
      "--start-mix is echoed but median and sample start at the object median whatever it says"),
+    ("sample-pays-ignores-the-descent", "models/balance/sample_split.cpp",
+     "const double inPlace = elapsed + std::max(0.0, elapsed - column.startedAt);",
+     "const double inPlace = elapsed + 0 * std::max(0.0, elapsed - column.startedAt);",
+     "sample's top counts its planes in place when it decides, not once they have come down the column"),
+    ("sample-sum-in-128-cells", "models/balance/sample_split.h",
+     "constexpr int kSampleCells = 64;", "constexpr int kSampleCells = 128;",
+     "sample's sum goes up in 128 cells (2 KB a hop): on a long column the rays sent up after it wait behind it"),
 ]

@@ -58,6 +58,7 @@ void BalanceAgent::passSum(Picos now) {
     Gather& g = gather_;
     if (!g.ready || !g.below || g.passed) return;
     g.passed = true;  // (recording stops: the sum holds what was traced by now)
+    if (!sides_[0].present) g.sum.startedAt = double(now);  // (the lowest node: the climb starts)
     g.sum.add(g.lo, g.hi, g.own);
     g.sum.compress(kSampleCells);
     if (sides_[1].present) {

@@ -42,7 +42,7 @@ void ColumnSample::compress(int cells) {
 }
 
 std::vector<double> ColumnSample::values() const {
-    std::vector<double> v{busiestBox};
+    std::vector<double> v{busiestBox, startedAt};
     v.insert(v.end(), edges.begin(), edges.end());
     v.insert(v.end(), mass.begin(), mass.end());
     return v;
@@ -50,11 +50,12 @@ std::vector<double> ColumnSample::values() const {
 
 ColumnSample ColumnSample::of(const std::vector<double>& v) {
     ColumnSample c;
-    if (v.size() < 4 || v.size() % 2) return c;
-    const size_t k = (v.size() - 2) / 2;
+    if (v.size() < 5 || v.size() % 2 == 0) return c;
+    const size_t k = (v.size() - 3) / 2;
     c.busiestBox = v[0];
-    c.edges.assign(v.begin() + 1, v.begin() + 2 + long(k));
-    c.mass.assign(v.begin() + 2 + long(k), v.end());
+    c.startedAt = v[1];
+    c.edges.assign(v.begin() + 2, v.begin() + 3 + long(k));
+    c.mass.assign(v.begin() + 3 + long(k), v.end());
     return c;
 }
 
@@ -62,7 +63,7 @@ bool ColumnSample::wellFormed() const {
     if (mass.empty() || edges.size() != mass.size() + 1) return false;
     for (size_t k = 0; k < mass.size(); ++k)
         if (!(edges[k] < edges[k + 1]) || !(mass[k] >= 0)) return false;
-    return busiestBox >= 0;
+    return busiestBox >= 0 && startedAt >= 0;
 }
 
 double ColumnSample::total() const { return std::accumulate(mass.begin(), mass.end(), 0.0); }
@@ -151,7 +152,8 @@ bool samplePays(const ColumnSample& column, double dearest, double elapsed) {
     const double share = double(kSampleSide * kSampleSide);  // the frame's work over the sample's
     const double hold = share * column.busiestBox;
     if (!(hold > 0)) return false;
-    const double left = std::max(0.0, 1 - elapsed / hold);
+    const double inPlace = elapsed + std::max(0.0, elapsed - column.startedAt);  // (the planes come down as the sum went up)
+    const double left = std::max(0.0, 1 - inPlace / hold);
     return left * (hold - share * dearest) > kSampleMinGain * hold;
 }
 

@@ -28,24 +28,32 @@ bool inSample(uint32_t pixel, uint32_t width);
 constexpr int kSampleBins = 64;
 // The gather's messages carry the column's sample in at most this many
 // cells (8 bytes an edge and a mass each): past it, the cells are merged
-// to equal shares of the work, so a message stays about 2 KB however long
-// the column. (Grown with the column, they would make a long column's
-// gather long, with the rays queued behind it.)
-constexpr int kSampleCells = 128;
+// to equal shares of the work, so a message stays about 1 KB however long
+// the column. The sum travels up behind the sample's rays, and every ray
+// sent up after it waits behind it on each link: a sum slower a hop than
+// a ray holds them all to its pace. On the built-in scene at 64x64 with
+// 1 GB/s links, a gather that never moved a plane made the frame 1.237 of
+// the unbalanced one on 64x1x1 at 128 cells (2 KB), 1.052 at 96, 0.980 at
+// 80 and 0.977 at 64, where the start held is 0.976 (64x2x1: 1.378,
+// 1.104, 0.968, 0.954; held 0.957). Fig. 4's first frames at N = 4 to 8
+// are the same at 32, 64 and 128 cells (doc/balancing.md, "Long columns").
+constexpr int kSampleCells = 64;
 
 // A column's sample as the gather carries it up: the work (ps) in cells
-// along the axis, each spread evenly over its cell, and the most work any
-// one node's box of the column held (what the frame would take, times the
-// sample's share, with the boxes as they stand).
+// along the axis, each spread evenly over its cell, the most work any one
+// node's box of the column held (what the frame would take, times the
+// sample's share, with the boxes as they stand), and when the column's
+// lowest node sent it up (how long it took to climb the column).
 struct ColumnSample {
     std::vector<double> edges;  // K + 1, increasing
     std::vector<double> mass;   // K
     double busiestBox = 0;
+    double startedAt = 0;  // ps into the frame
     // A node's bins over its box [lo, hi], above the cells so far (lo the last edge).
     void add(double lo, double hi, const std::vector<double>& bins);
     // At most `cells` cells: each then an equal share of the work.
     void compress(int cells);
-    std::vector<double> values() const;  // for a message: busiestBox, then the edges, then the masses
+    std::vector<double> values() const;  // for a message: busiestBox, startedAt, then the edges, then the masses
     static ColumnSample of(const std::vector<double>& values);  // (empty if they are not a sample)
     double within(double a, double b) const;
     // The coordinate c >= from where [from, c] holds `work`; `limit` if [from, limit] holds less.
@@ -68,12 +76,17 @@ std::vector<double> splitBySample(const ColumnSample& column, int count, double 
 double dearestPart(const ColumnSample& column, const std::vector<double>& planes);
 
 // Whether moving to planes whose dearest part holds `dearest` of the sample
-// pays, `elapsed` into the frame: the frame at the boxes as they stand
-// takes about the sample's share times the busiest box's sample
-// (ColumnSample::busiestBox), and what is left of it then shrinks by
-// dearest / busiestBox; the move must save kSampleMinGain of that frame.
-// (A 64-long column of 1 GB/s links gathers for about as long as the whole
-// frame takes: moving then only costs.)
+// pays, decided `elapsed` into the frame: the frame at the boxes as they
+// stand takes about the sample's share times the busiest box's sample
+// (ColumnSample::busiestBox), and what is left of it once the faces have
+// moved shrinks by dearest / busiestBox; the move must save kSampleMinGain
+// of that frame. The planes are counted in place as long after the
+// decision as the sum took to climb the column (they go down the same
+// links): on 33x1x1 a move decided with 28 % of the frame left by the
+// decision's time alone (the built-in scene, start mix 0.5) took the frame
+// from 0.847 held to 1.196 of the unbalanced one. (A 64-long column of
+// 1 GB/s links gathers for about as long as the whole frame takes: moving
+// then only costs.)
 constexpr double kSampleMinGain = 0.04;
 bool samplePays(const ColumnSample& column, double dearest, double elapsed);
 

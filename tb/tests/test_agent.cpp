@@ -465,18 +465,20 @@ TEST(Agent, SampleGathersUpTheColumnSplitsAtTheTopAndMovesEachFaceOnce) {
     a[1]->sampleReady(0);  // nothing goes up before the lowest node's sum
     a[2]->sampleReady(0);
     EXPECT_FALSE(a[1]->pending());
-    a[0]->sampleReady(0);
+    a[0]->sampleReady(7);  // (the climb starts at 7 ps)
     settle(*a[0]);
     ASSERT_EQ(h[0].reports.size(), 1u);
     EXPECT_EQ(h[0].reports[0].first, +1);
     EXPECT_EQ(h[0].reports[0].second.type, MsgType::Sample);
-    EXPECT_EQ(h[0].reports[0].second.body().values.size(), size_t(2 * kSampleBins + 2));  // busiest box, edges, masses
+    EXPECT_EQ(h[0].reports[0].second.body().values.size(), size_t(2 * kSampleBins + 3));  // busiest box, start, edges, masses
+    EXPECT_EQ(h[0].reports[0].second.body().values[1], 7);
     EXPECT_FALSE(a[0]->sampling());
-    a[1]->onSample(h[0].reports[0].second, 0);
+    a[1]->onSample(h[0].reports[0].second, 9);
     settle(*a[1]);
     ASSERT_EQ(h[1].reports.size(), 1u);
-    EXPECT_EQ(h[1].reports[0].second.body().values.size(), size_t(4 * kSampleBins + 2));
-    a[2]->onSample(h[1].reports[0].second, 0);
+    EXPECT_EQ(h[1].reports[0].second.body().values.size(), size_t(2 * kSampleCells + 3));  // 128 bins in 64 cells
+    EXPECT_EQ(h[1].reports[0].second.body().values[1], 7);  // when the lowest node sent it, carried up
+    a[2]->onSample(h[1].reports[0].second, 11);
     settle(*a[2]);
     ASSERT_EQ(h[2].reports.size(), 1u);
     const Message& planes = h[2].reports[0].second;
