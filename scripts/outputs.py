@@ -15,7 +15,8 @@ invariant 7), for Python.
   and renamed over its path when complete (atomic, savefig): a kill while
   writing never leaves half a file that looks like a result.
 - A stop (Ctrl-C, SIGTERM, SIGHUP) ends the tool at once: its children
-  (run_child) are killed, its temporaries removed, exit 130 (stop_handlers).
+  (run_child) are killed, its temporaries removed, exit 128 + the signal's
+  number, as rtsim's: 130 for Ctrl-C, 143 for SIGTERM (stop_handlers).
 - Bad input ends the tool with one line naming the tool, the file and the
   line, and exit 2; never a traceback (guard).
 
@@ -37,7 +38,7 @@ DOC = os.path.join(ROOT, "doc")
 NAME_RE = re.compile(r"[A-Za-z0-9_-][A-Za-z0-9_.-]*")
 NAME_MAX = 100
 
-BAD_INPUT, FAILED, STOPPED = 2, 1, 130
+BAD_INPUT, FAILED, STOPPED = 2, 1, 130  # (STOPPED: Ctrl-C's; a stop exits 128 + its signal)
 
 
 class ToolError(Exception):
@@ -298,7 +299,7 @@ def _on_signal(signum, frame):
 def stop_handlers():
     """SIGINT, SIGTERM and SIGHUP raise Stopped in the main thread after
     killing the children and removing the temporaries (guard turns it into
-    one line and exit 130)."""
+    one line and exit 128 + the signal: 130, 143, 129)."""
     for s in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP):
         signal.signal(s, _on_signal)
 
@@ -336,7 +337,7 @@ stdout_closed = False
 
 def guard(tool, main, argv=None):
     """Runs main(argv) as a tool's command line: ToolError -> 'tool: message'
-    and its code; a stop -> 'tool: stopped (SIGINT)', exit 130; a closed
+    and its code; a stop -> 'tool: stopped (SIGINT)', exit 128 + the signal (130); a closed
     stdout (| head) -> a quiet exit; any other error -> one line naming it,
     exit 1 (RTSIM_TRACEBACK=1 shows the traceback); a failed write to
     stdout (> /dev/full) -> one line, exit 1; no stdout at all (>&-) -> what
@@ -358,7 +359,7 @@ def guard(tool, main, argv=None):
         clean_up()
         name = e.args[0] if isinstance(e, Stopped) else "SIGINT"
         print(("\n" if line_open else "") + f"{tool}: stopped ({name})", file=sys.stderr)
-        return STOPPED
+        return 128 + e.signum if isinstance(e, Stopped) else STOPPED
     except BrokenPipeError:
         clean_up()
         # The reader went away (| head): no more output, and no complaint

@@ -300,7 +300,7 @@ def parser():
                     "sweep reruns nothing; each row records the exact command and the tree's version. Bad input "
                     "(a NAME that is not a name, an output flag, flags that contradict each other) gets one line "
                     "and exit 2, before any run; a point rtsim refuses, exit 1; Ctrl-C or SIGTERM stops at once "
-                    "(exit 130), every finished point journalled.", 79))
+                    "(exit 130; 143 for SIGTERM), every finished point journalled.", 79))
     ap.add_argument("name", help="the sweep's name (letters, digits, '-', '_', '.'; not a path): out/sweeps/NAME.csv "
                                  "and its journal out/sweeps/NAME.jsonl")
     ap.add_argument("--set", dest="sets", action="append", default=[], metavar="FLAG=V1,V2,...",
