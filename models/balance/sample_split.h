@@ -36,7 +36,8 @@ constexpr int kSampleBins = 64;
 // the unbalanced one on 64x1x1 at 128 cells (2 KB), 1.052 at 96, 0.980 at
 // 80 and 0.977 at 64, where the start held is 0.976 (64x2x1: 1.378,
 // 1.104, 0.968, 0.954; held 0.957). Fig. 4's first frames at N = 4 to 8
-// are the same at 32, 64 and 128 cells (doc/balancing.md, "Long columns").
+// met the target at the same points at 32, 64 and 128 cells
+// (doc/balancing.md, "Long columns").
 constexpr int kSampleCells = 64;
 
 // A column's sample as the gather carries it up: the work (ps) in cells
