@@ -31,13 +31,8 @@ constexpr int kSampleBins = 64;
 // to equal shares of the work, so a message stays about 1 KB however long
 // the column. The sum travels up behind the sample's rays, and every ray
 // sent up after it waits behind it on each link: a sum slower a hop than
-// a ray holds them all to its pace. On the built-in scene at 64x64 with
-// 1 GB/s links, a gather that never moved a plane made the frame 1.237 of
-// the unbalanced one on 64x1x1 at 128 cells (2 KB), 1.052 at 96, 0.980 at
-// 80 and 0.977 at 64, where the start held is 0.976 (64x2x1: 1.378,
-// 1.104, 0.968, 0.954; held 0.957). Fig. 4's first frames at N = 4 to 8
-// met the target at the same points at 32, 64 and 128 cells
-// (doc/balancing.md, "Long columns").
+// a ray holds them all to its pace (doc/balancing.md, "Long columns"; the
+// figures for 64: doc/history.md).
 constexpr int kSampleCells = 64;
 
 // A column's sample as the gather carries it up: the work (ps) in cells
@@ -83,11 +78,9 @@ double dearestPart(const ColumnSample& column, const std::vector<double>& planes
 // moved shrinks by dearest / busiestBox; the move must save kSampleMinGain
 // of that frame. The planes are counted in place as long after the
 // decision as the sum took to climb the column (they go down the same
-// links): on 33x1x1 a move decided with 28 % of the frame left by the
-// decision's time alone (the built-in scene, start mix 0.5) took the frame
-// from 0.847 held to 1.196 of the unbalanced one. (A 64-long column of
-// 1 GB/s links gathers for about as long as the whole frame takes: moving
-// then only costs.)
+// links; counted at the decision alone, moves came down too late on long
+// columns: doc/history.md). (A 64-long column of 1 GB/s links gathers for
+// about as long as the whole frame takes: moving then only costs.)
 constexpr double kSampleMinGain = 0.04;
 bool samplePays(const ColumnSample& column, double dearest, double elapsed);
 
