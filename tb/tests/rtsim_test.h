@@ -39,6 +39,13 @@ protected:
         EXPECT_EQ(o.code, 0) << o.err;
         return nlohmann::json::parse(slurp(dir_ / name));
     }
+    // With the 1x1x1 baseline and the comparison run, and the image into `image`: nothing on stderr.
+    nlohmann::json reportWithImage(const std::string& args, const std::string& image) {
+        const Outcome o = run(args + " --image " + (dir_ / image).string() + " --report " + (dir_ / "r.json").string());
+        EXPECT_EQ(o.code, 0) << o.err;
+        EXPECT_EQ(o.err, "");
+        return nlohmann::json::parse(slurp(dir_ / "r.json"));
+    }
     // A procedural scene and mesh (`scene`: by default 300 spheres spread evenly, 3x3x3).
     ResplitAgainstNone resplitAgainstNone(const std::string& bandwidth,
                                           const std::string& scene = " --spheres 300 --radius 0.03 --concentration 1 --mesh 3") {

@@ -123,11 +123,8 @@ INSTANTIATE_TEST_SUITE_P(FailureCases, NeverHurts,
 TEST_F(Rtsim, IdealLayerFacesStayInLineAndKeepTheImage) {
     const std::string procedural = " --spheres 1000 --radius 0.02 --seed 5 --concentration 1 --size 96x96 -q";
     auto between = [&](const std::string& flags, const std::string& image) {
-        const Outcome o = run(procedural + flags + " --image " + (dir_ / image).string() + " --report " +
-                              (dir_ / "r.json").string());
-        EXPECT_EQ(o.code, 0) << o.err;
-        EXPECT_EQ(o.err, "");  // the baseline and the balancing comparison ran (their policies share no faces)
-        const json r = json::parse(slurp(dir_ / "r.json"));
+        // (no error: the baseline and the balancing comparison ran; their policies share no faces)
+        const json r = reportWithImage(procedural + flags, image);
         EXPECT_TRUE(r.contains("baseline"));
         return std::make_pair(r["totals"]["rays_passed_between_columns"].get<uint64_t>(),
                               r["balance"].value("slides", 0));
@@ -154,11 +151,7 @@ TEST_F(Rtsim, IdealLayerFacesStayInLineAndKeepTheImage) {
 TEST_F(Rtsim, StartMixMovesOnlyAnObjectStartsPlanes) {
     const std::string procedural = " --size 24x24 --mesh 3 --spheres 60 --concentration 0.3 -q";
     auto start = [&](const std::string& flags, const std::string& image) {
-        const Outcome o = run(procedural + flags + " --image " + (dir_ / image).string() + " --report " +
-                              (dir_ / "r.json").string());
-        EXPECT_EQ(o.code, 0) << o.err;
-        EXPECT_EQ(o.err, "");  // the baseline and the balancing comparison ran
-        const json r = json::parse(slurp(dir_ / "r.json"));
+        const json r = reportWithImage(procedural + flags, image);  // (no error: the reference runs ran)
         EXPECT_TRUE(r.contains("baseline") && r.contains("comparison"));
         return std::make_pair(r["config"]["balance"]["start_mix"].get<double>(),
                               r["boundaries"][0]["history"][0][1].get<double>());

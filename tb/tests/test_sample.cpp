@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "command_test.h"
+#include "rtsim_test.h"
 #include "node/primary_queue.h"
 #include "balance/sample_split.h"
 
@@ -225,9 +226,8 @@ TEST(PrimaryQueue, HandedOverRaysKeepTheirCreditAndTheSampleGoesFirst) {
 
 // ---- Whole runs on the paper's machine (configs/paper.conf) ----
 
-class Sample : public test::CommandTest {
+class Sample : public test::Rtsim {
 protected:
-    Sample() : CommandTest(RTSIM_EXE) {}
     // The paper's scene at 128x128, spheres in the first quarter of x, on 4x4x4.
     json paper(const std::string& view, const std::string& policy, const std::string& more = "") {
         const std::string cam = view == "along" ? "--eye=-1.3,0.5,0.5 --look-at=0.5,0.5,0.5 --fov 50"
@@ -302,12 +302,9 @@ TEST_F(Sample, OnALongColumnTheGatherHoldsNoRayAndNoLateMoveIsMade) {
     for (const char* dims : {"64x1x1", "33x1x1", "64x2x1"}) {
         SCOPED_TRACE(dims);
         std::map<std::string, double> ns;
-        for (const char* policy : {"median", "sample"}) {
-            const test::Outcome o = run(std::string("--size 64x64 --start-mix 0.5 --no-baseline -q --image '' --mesh-dims ") +
-                                        dims + " --balance " + policy + " --report " + (dir_ / "r.json").string());
-            ASSERT_EQ(o.code, 0) << o.err;
-            ns[policy] = json::parse(test::slurp(dir_ / "r.json"))["render_time_ns"].get<double>();
-        }
+        for (const char* policy : {"median", "sample"})
+            ns[policy] = report(std::string("--size 64x64 --start-mix 0.5 --mesh-dims ") + dims + " --balance " + policy)
+                             ["render_time_ns"].get<double>();
         EXPECT_LE(ns["sample"], 1.02 * ns["median"]) << ns["sample"] << " against " << ns["median"];
     }
 }
