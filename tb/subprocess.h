@@ -38,8 +38,10 @@ private:
 
 // Starts args[0] (a path) with the rest; stdin from /dev/null, stdout too
 // unless `keepStdout`, stderr to `stderrPath` if given (else rtsim's). -1 if
-// it could not start.
-pid_t spawn(std::vector<std::string> args, bool keepStdout, const std::string& stderrPath = "");
+// it could not start. A stop (SIGINT, SIGTERM) that comes while it runs is
+// passed on to it; one rtsim already had is passed on at its start if
+// `stopsIfStopped` (a reference run; not the map a stopped run still draws).
+pid_t spawn(std::vector<std::string> args, bool keepStdout, const std::string& stderrPath = "", bool stopsIfStopped = false);
 // Waits for it: its exit code, 128 + N if signal N ended it, -1 if unknown.
 int waitExit(pid_t pid);
 
@@ -48,7 +50,8 @@ void signalChildrenNow(int sig);
 
 // rtsim's own command (`command`, argv[0] first: the flags of the files
 // and the command line, tb/command_line.h) with `extra` flags after them and a
-// report to a temporary file: how it exited, and the report it wrote.
+// report to a temporary file: how it exited, and the report it wrote. Started
+// after a stop, it is stopped at once.
 class Child {
 public:
     Child(const std::vector<std::string>& command, const std::vector<std::string>& extra);

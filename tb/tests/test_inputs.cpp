@@ -5,6 +5,8 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <chrono>
+#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -24,7 +26,9 @@
 #include "scene_error.h"
 #include "rtsim_cli.h"
 #include "sphere.h"
+#include "subprocess.h"
 #include "base/units.h"
+#include "process/watchdog.h"
 #include "trace/vcd_stream.h"
 
 using namespace rt;
@@ -425,4 +429,30 @@ TEST(JobMemory, AJobIsCheckedAgainstEveryLimitAndCountsItsReferenceRuns) {
     MemoryLimits small = roomy;
     small.physical = frame / 2;
     EXPECT_NE(thrown<SceneError>([&] { checkJobMemory(o, scene, small); }).find("this machine has"), std::string::npos);
+}
+
+TEST(Subprocess, AStopReachesAReferenceRunHoweverCloseToItsStartItComes) {
+    // CI saw a SIGTERM land between "reference runs:" and the child's slot:
+    // the 1x1x1 baseline then ran to its end (3.9 s under AddressSanitizer).
+    using Clock = std::chrono::steady_clock;
+    auto seconds = [](Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); };
+    stopSignal = SIGTERM;  // rtsim had a stop before the child started
+    auto t0 = Clock::now();
+    EXPECT_EQ(waitExit(spawn({"/bin/sleep", "20"}, false, "", true)), 128 + SIGTERM);
+    EXPECT_LT(seconds(t0), 10);
+    // A map drawn after a stopped run is not stopped;
+    EXPECT_EQ(waitExit(spawn({"/bin/sh", "-c", "sleep 0.2; exit 7"}, false, "", false)), 7);
+    stopSignal = 0;
+    // a stop while it runs still reaches it (and it does not start with SIGTERM held).
+    const pid_t map = spawn({"/bin/sleep", "20"}, false, "", false);
+    ASSERT_GT(map, 0);
+    t0 = Clock::now();
+    signalChildrenNow(SIGTERM);
+    EXPECT_EQ(waitExit(map), 128 + SIGTERM);
+    EXPECT_LT(seconds(t0), 10);
+    // rtsim's own mask is as it was: a SIGTERM is not left held.
+    sigset_t now;
+    sigprocmask(SIG_SETMASK, nullptr, &now);
+    EXPECT_FALSE(sigismember(&now, SIGTERM));
+    EXPECT_FALSE(sigismember(&now, SIGINT));
 }
