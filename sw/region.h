@@ -36,6 +36,7 @@ public:
     // objectsOverlapping(all, box, margin): the same objects in the same
     // (the scene's) order, for a box within the lattice.
     std::vector<Shape> overlapping(const Box& box) const;
+    const std::vector<Shape>& all() const { return all_; }
 
 private:
     size_t binOf(int x, int y, int z) const { return (size_t(z) * cells_.cells(1) + y) * cells_.cells(0) + x; }

@@ -26,6 +26,7 @@
 #include <systemc>
 
 #include "balance/between_frames.h"
+#include "balance/initial_split.h"
 #include "command_line.h"
 #include "config_echo.h"
 #include "frame_sequence.h"
@@ -108,6 +109,7 @@ Stop loadScene(rt::RtsimOptions& o, const rt::CommandLine& cl, rt::Scene& scene,
         if (cl.rerun && !cl.givesScene()) rt::checkRerunSceneFile(*cl.rerun, o.scene);  // (before the file is parsed)
         scene = o.scene.load();
         o.scene.imageSize(scene, o.machine.width, o.machine.height);
+        rt::chooseStartMix(o.machine, scene.objects);  // (--start-mix auto: by the machine's costs and the objects)
         o.machine.checkDerivedTimes(scene.objects.size());  // (std::invalid_argument: exit 2 naming the flags)
         try {
             rt::refuseIfTooBig("--size " + std::to_string(o.machine.width) + "x" + std::to_string(o.machine.height),

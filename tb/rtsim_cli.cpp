@@ -64,6 +64,27 @@ std::string rateText(double bps) {
     return s;
 }
 
+// A number in [p.lo, p.hi] or p.word (held as p.wordValue).
+template <class S>
+void addRealOrWord(CLI::App& app, const Param<S>& p, double& target, const std::string& flag, const char* help,
+                   const std::string& group) {
+    const std::string word = p.word, range = formatNumber(p.lo) + ".." + formatNumber(p.hi);
+    const double lo = p.lo, hi = p.hi, wordValue = p.wordValue;
+    app.add_option_function<std::string>(flag, [=, &target](const std::string& v) {
+           if (v == word) {
+               target = wordValue;
+               return;
+           }
+           char* end = nullptr;
+           const double x = std::strtod(v.c_str(), &end);
+           if (v.empty() || *end || !(x >= lo && x <= hi))
+               throw CLI::ValidationError(flag, "expected " + word + " or a number in " + range + ", got '" + v + "'");
+           target = x == 0 ? 0 : x;  // (-0 is 0)
+       }, help)
+        ->default_str(target == wordValue ? word : formatNumber(target))
+        ->group(group);
+}
+
 // The flag `flag` for row `p` of a parameter table (base/param.h), setting
 // its field in `s`: its value read by kind, checked against its range.
 template <class S>
@@ -80,6 +101,10 @@ void addParam(CLI::App& app, const Param<S>& p, S& s, const std::string& flag, c
             app.add_option(flag, fieldOf<int>(p, s), help)->check(CLI::Range(int(p.lo), int(p.hi)))->capture_default_str()->group(group);
             return;
         case ParamKind::Real: {
+            if (p.word) {
+                addRealOrWord(app, p, fieldOf<double>(p, s), flag, help, group);
+                return;
+            }
             CLI::Option* o = app.add_option(flag, fieldOf<double>(p, s), help);
             if (std::isinf(p.hi)) {  // at least (or, open, above) lo, and finite
                 const double lo = p.lo;
@@ -277,7 +302,7 @@ void RtsimOptions::finish() {
         if (machine.balance.idealLayerFaces && frames > 1)
             throw OptionError("--faces", "ideal-layer measures one frame from faces in line; not with --frames " +
                                              std::to_string(frames));
-        if (machine.balance.startMix != 1 && !boundariesFrom.empty())
+        if (machine.balance.startMix != kStartMixAuto && !boundariesFrom.empty())
             throw OptionError("--start-mix", "the frame starts where --boundaries-from's run left its boundaries, not at a "
                                              "split of its own");
         machine.dims = {mesh, mesh, mesh};
@@ -342,7 +367,7 @@ void RtsimOptions::actAsReference() {
     // The reference runs' other policy has no faces to share.
     if ((asBaseline || asComparison) && machine.balance.policy != "slide" && machine.balance.policy != "resplit")
         machine.balance.idealLayerFaces = false;
-    if ((asBaseline || asComparison) && !machine.balance.startsAtObjects()) machine.balance.startMix = 1;  // (its start is uniform)
+    if ((asBaseline || asComparison) && !machine.balance.startsAtObjects()) machine.balance.startMix = kStartMixAuto;  // (its start is uniform)
 }
 
 // The flags whose values have a syntax of their own (option_parsers.h).

@@ -24,8 +24,11 @@ void echoParams(nlohmann::json& j, const std::vector<Param<S>>& rows, const S& s
         nlohmann::json& at = j[nlohmann::json::json_pointer(p.echo)];
         switch (p.kind) {
             case ParamKind::Time: at = ns(fieldOf<Picos>(p, s)); break;
-            case ParamKind::Rate:
-            case ParamKind::Real: at = fieldOf<double>(p, s); break;
+            case ParamKind::Rate: at = fieldOf<double>(p, s); break;
+            case ParamKind::Real:
+                if (p.word && fieldOf<double>(p, s) == p.wordValue) at = p.word;  // (not chosen: unused)
+                else at = fieldOf<double>(p, s);
+                break;
             case ParamKind::Count: at = fieldOf<int>(p, s); break;
             case ParamKind::Choice: at = fieldOf<bool>(p, s) ? p.on : p.off; break;
             default: break;
@@ -71,6 +74,7 @@ nlohmann::json machineConfigJson(const MachineConfig& cfg, int width, int height
     c["balance"]["axis"] = std::string(1, "xyz"[bc.axis]);
     c["balance"]["gain"] = bc.gainOf();
     c["balance"]["guard"] = bc.guard;
+    if (!bc.startMixWhy.empty()) c["balance"]["start_mix_auto"] = bc.startMixWhy;  // how --start-mix auto chose
     for (const auto& [cell, s] : cfg.nodeSpeed) c["node_speed"].push_back({{"node", cellJson(cell)}, {"speed", s}});
     for (const auto& [cell, k] : cfg.nodeCosts) c["node_costs"].push_back({{"node", cellJson(cell)}, {"costs", costsJson(k)}});
     for (const auto& [key, l] : cfg.linkOverride)

@@ -1,11 +1,13 @@
 #include "balance/initial_split.h"
 
 #include <algorithm>
+#include <cmath>
 #include <optional>
 #include <stdexcept>
 #include <string>
 
 #include "shading.h"
+#include "channel/message.h"
 
 namespace rt {
 namespace {
@@ -84,13 +86,44 @@ double minThicknessOf(const MachineConfig& cfg, const Box& world) {
     return cfg.balance.minThickness * world.extent()[ax] / cfg.dims[ax];
 }
 
+StartMix startMixFor(const MachineConfig& cfg, const std::vector<Shape>& objects) {
+    if (cfg.balance.policy != "sample") return {1, "auto: " + cfg.balance.policy + " is the object median"};
+    double test = 0;
+    for (const Shape& s : objects) test += double(cfg.costs.test[size_t(s.kind())]);
+    test = objects.empty() ? 0 : test / double(objects.size()) / cfg.speed;
+    // A ray's share of a ray message on the wire, and its handling: on the
+    // processors at both ends, or the sender's on the link's engine.
+    const double bytes = kRayBytes + double(kHeaderBytes) / cfg.rayBatch;
+    const double handling = cfg.hopsByLinks ? double(cfg.costs.send) : double(cfg.costs.send + cfg.costs.recv) / cfg.speed;
+    const double hop = handling + bytes * 1e12 / cfg.link.bandwidth;
+    // Measured on Fig. 4's scene (first frames at f = 1/N, N = 2 to 8, both
+    // views): 0.5 the better start at a test of 0.05 and 0.13 of a hop (the
+    // modern and 1987 machines), the two even at 0.24, 1 the better at 0.94
+    // and above (doc/balancing.md, "Where sample starts").
+    constexpr double kObjectsAreTheWork = 0.5;  // a test at least this share of a hop
+    const bool testsAreTheWork = test >= kObjectsAreTheWork * hop;
+    const std::string costs = "a test (" + formatTime(Picos(std::llround(test))) + ") costs " +
+                              (testsAreTheWork ? "at least" : "less than") + " half a ray's hop (" + formatTime(Picos(std::llround(hop))) + ")";
+    if (testsAreTheWork) return {1, "auto: " + costs + ": the object median"};
+    return {0.5, "auto: " + costs + ": half by the objects, half by the length"};
+}
+
+void chooseStartMix(MachineConfig& cfg, const std::vector<Shape>& objects) {
+    if (cfg.balance.startMix != kStartMixAuto || !cfg.balance.startsAtObjects()) return;
+    StartMix m = startMixFor(cfg, objects);
+    cfg.balance.startMix = m.mix;
+    cfg.balance.startMixWhy = std::move(m.why);
+}
+
 ColumnPlanes initialPlanes(const MachineConfig& cfg, const Lattice& cuts, const Box& world, const ObjectBins& bins,
                            double minThickness) {
     const ColumnGeometry g(cfg.balance.axis, cfg.dims);
     ColumnPlanes planes(size_t(g.count()), cuts.planes(g.axis));
     // (the minimum less a report's rounding of its decimals)
     if (!cfg.startBoundaries.empty()) planes = withInnerPlanes("start boundaries", planes, cfg.startBoundaries, minThickness, 1e-9);
-    else if (cfg.balance.startsAtObjects()) atObjectQuantiles(planes, g, cuts, world, bins, minThickness, cfg.balance.startMix);
+    else if (cfg.balance.startsAtObjects())
+        atObjectQuantiles(planes, g, cuts, world, bins, minThickness,
+                          cfg.balance.startMix == kStartMixAuto ? startMixFor(cfg, bins.all()).mix : cfg.balance.startMix);
     return planes;
 }
 

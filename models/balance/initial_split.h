@@ -5,6 +5,7 @@
 // configuration and the scene, run before the simulation.
 #pragma once
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "camera.h"
@@ -32,10 +33,28 @@ double minThicknessOf(const MachineConfig& cfg, const Box& world);
 ColumnPlanes withInnerPlanes(const char* what, ColumnPlanes planes, const std::vector<std::vector<double>>& inner,
                              double minThickness, double slack);
 
+// --start-mix auto: the mix `median` and `sample` start at, and why (for
+// the report). `median` is the object median (1). `sample` spends its
+// sample at the start's pace, so the start should follow the work: where
+// one of the scene's intersection tests (their mean) costs at least half of
+// what a ray's hop keeps a processor or a link busy (--cost-send and
+// --cost-recv, the ray's bytes on the wire), the objects are the work: 1;
+// else the hops are, and half by the length keeps the boxes the rays cross
+// short: 0.5 (doc/balancing.md, "Where sample starts").
+struct StartMix {
+    double mix;
+    std::string why;  // "auto: a test (10 ns) costs less than half a ray's hop (212 ns): ..."
+};
+StartMix startMixFor(const MachineConfig& cfg, const std::vector<Shape>& objects);
+// cfg.balance.startMix and startMixWhy set from startMixFor, if auto and
+// the policy starts at the objects (so the report echoes the mix used).
+void chooseStartMix(MachineConfig& cfg, const std::vector<Shape>& objects);
+
 // The planes each column starts with: where a frame before left them
 // (cfg.startBoundaries, each box at least `minThickness`), or the policy's
-// own start: uniform (`cuts`, the paper), or for `median` at the quantiles
-// of the object centres in the column. Throws std::invalid_argument for
+// own start: uniform (`cuts`, the paper), or for `median` and `sample` at
+// the quantiles of the object centres in the column (mixed with its length:
+// cfg.balance.startMix, or startMixFor's if auto). Throws std::invalid_argument for
 // start boundaries that do not fit the mesh.
 ColumnPlanes initialPlanes(const MachineConfig& cfg, const Lattice& cuts, const Box& world, const ObjectBins& bins,
                            double minThickness);

@@ -49,6 +49,8 @@ struct Param {
     const char* group = nullptr;  // --help's group (a part's rows take their Part row's)
     const char* portHelp = nullptr;  // link settings: the frame-buffer ports' --fb-NAME, if they have it
     const char* part = nullptr;   // Part: "costs", "link", "fb-port" or "balance"
+    const char* word = nullptr;   // Real: a word it also takes, for the value wordValue (outside [lo, hi])
+    double wordValue = 0;
 };
 
 // The rows, by kind. `group` is --help's group (nullptr in a part's table:
@@ -79,6 +81,14 @@ Param<S> alsoForPorts(Param<S> p, const char* help) {
 template <class S>
 Param<S> shownAs(Param<S> p, const char* shown) {
     p.shown = shown;
+    return p;
+}
+// The same Real row taking `word` too, held as `value` (outside its range:
+// "auto", chosen where the row's field is used).
+template <class S>
+Param<S> orWord(Param<S> p, const char* word, double value) {
+    p.word = word;
+    p.wordValue = value;
     return p;
 }
 // The same Real row refusing its lower bound itself.

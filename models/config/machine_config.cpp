@@ -93,6 +93,7 @@ void checkRanges(const std::vector<Param<S>>& rows, const S& s, const std::strin
             if (v < p.lo || v > p.hi) throw std::invalid_argument(name + ": must be in " + formatNumber(p.lo) + ".." + formatNumber(p.hi));
         } else if (p.kind == ParamKind::Real) {
             const double v = fieldOf<double>(p, s);
+            if (p.word && v == p.wordValue) continue;  // ("auto": chosen where it is used)
             if (!std::isfinite(v) || (p.openBelow ? !(v > p.lo) : !(v >= p.lo)) || v > p.hi)
                 throw std::invalid_argument(name + (p.openBelow ? ": must be above " : ": must be at least ") + formatNumber(p.lo) +
                                             (std::isinf(p.hi) ? "" : " and at most " + formatNumber(p.hi)));
@@ -192,7 +193,7 @@ void BalanceConfig::validate(Picos reportFloor, bool carriedBoundaries) const {
         throw std::invalid_argument("--faces ideal-layer: needs every column's faces in line at the start (one frame, "
                                     "no --boundaries-from)");
     checkRanges(balanceParams(), *this, "--");
-    if (startMix != 1 && !startsAtObjects())  // (after the ranges: a nan is named as a bad value)
+    if (startMix != kStartMixAuto && !startsAtObjects())  // (after the ranges: a nan is named as a bad value)
         throw std::invalid_argument("--start-mix: only median and sample start at a split of their own; '" + policy +
                                     "' starts at the uniform split");
 }

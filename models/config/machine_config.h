@@ -58,6 +58,9 @@ inline const std::vector<Param<Costs>>& costParams() {
 // steady state is `resplit`'s.
 constexpr const char* kRecommendedPolicy = "measured";
 
+// --start-mix auto, the default: a value outside the mixes' range [0, 1].
+constexpr double kStartMixAuto = -1;
+
 struct BalanceConfig {
     std::string policy = "none";
     int axis = 0;                 // progress axis: 0 x, 1 y, 2 z
@@ -67,8 +70,11 @@ struct BalanceConfig {
     double minThickness = 0.05;   // a box never gets thinner than this fraction of its initial thickness
     // Where median and sample start: each column's boundaries at the
     // quantiles of startMix x the objects' centres + (1 - startMix) x the
-    // column's length (1: the object median; doc/balancing.md, "Where sample starts").
-    double startMix = 1;
+    // column's length (1: the object median; doc/balancing.md, "Where sample
+    // starts"). kStartMixAuto: chosen from the machine's costs
+    // (startMixFor, balance/initial_split.h), startMixWhy says how.
+    double startMix = kStartMixAuto;
+    std::string startMixWhy;
     int bins = 16;                // work profile: bins per initial box thickness along the axis
     Picos rebuildCost = 20000;    // updating a node's grid: per object moved in or out
     // The guard (every policy; balance_agent.h): no slide on loads older than
@@ -122,9 +128,11 @@ inline const std::vector<Param<BalanceConfig>>& balanceParams() {
         numberParam("deadband", &B::deadband, 0.0, 0.999, "/deadband", "no slide while the load difference is at most this"),
         numberParam("min-thickness", &B::minThickness, 1e-6, 1.0, "/min_thickness",
                     "guard: a box keeps at least this fraction of its initial thickness"),
-        numberParam("start-mix", &B::startMix, 0.0, 1.0, "/start_mix",
-                    "median and sample start with each column's boundaries at the quantiles of this share of its "
-                    "objects' centres plus the rest of its length (1: the object median; 0: the uniform split)"),
+        orWord(numberParam("start-mix", &B::startMix, 0.0, 1.0, "/start_mix",
+                           "median and sample start with each column's boundaries at the quantiles of this share of its "
+                           "objects' centres plus the rest of its length (1: the object median; 0: the uniform split); "
+                           "auto: median 1; sample 1 where an intersection test costs at least half a ray's hop, else 0.5"),
+               "auto", kStartMixAuto),
         specialParam<B>("no-guard", "no guard: slide on loads however old, and whatever the slide costs against the work it moves"),
         numberParam("max-age", &B::maxAge, 0.0, 1e9, "/max_age_intervals", "guard: no slide on loads older than this many intervals"),
         numberParam("guard-hop", &B::hopRatio, 0.0, 1e9, "/guard_hop_steps",

@@ -160,11 +160,19 @@ TEST_F(Rtsim, StartMixMovesOnlyAnObjectStartsPlanes) {
     const auto mixed = start(" --balance median --start-mix 0.4", "mixed.png");
     EXPECT_EQ(objects.first, 1.0);
     EXPECT_EQ(mixed.first, 0.4);
+    // auto, for sample: on the default machine a test costs less than half a
+    // hop (10 against 212 ns), so half by the length; with tests of 1 us, the objects.
+    for (const auto& [costs, mix] : {std::pair{"", 0.5}, std::pair{" --cost-sphere 1us", 1.0}}) {
+        const json r = report(procedural + " --balance sample --no-baseline" + costs);
+        EXPECT_EQ(r["config"]["balance"]["start_mix"].get<double>(), mix) << costs;
+        EXPECT_NE(r["config"]["balance"].value("start_mix_auto", "").find("half a ray's hop"), std::string::npos) << costs;
+    }
     EXPECT_GT(std::abs(mixed.second - objects.second), 0.01) << "the first plane did not move";
     EXPECT_EQ(slurp(dir_ / "mixed.png"), slurp(dir_ / "median.png"));
     expectBad(procedural + " --balance slide --start-mix 0.4", "--start-mix");
     expectBad(procedural + " --balance median --start-mix 1.5", "--start-mix");
-    expectBad(procedural + " --balance slide --start-mix nan", "at least 0");  // the value first
+    expectBad(procedural + " --balance sample --start-mix nan", "got 'nan'");
+    expectBad(procedural + " --balance slide --start-mix 1", "--start-mix");  // (given, even at median's mix)
     expectBad(procedural + " --balance median --start-mix 0.4 --boundaries-from " + (dir_ / "r.json").string(),
               "--start-mix");  // (it would start elsewhere)
 }
@@ -547,12 +555,13 @@ TEST_F(Rtsim, MessagesCarryTheirSystemCReportIds) {
 
 // The summary never calls boundaries converged over a frame that lost: the
 // built-in scene at 64x64 on 33x1x1, where sample's frame takes 1.71 times
-// the unbalanced one (from its object-median start, 1.08, it moves its
-// planes along chains of up to 9 boxes), says which
+// the unbalanced one (from the object-median start, 1.08, it moves its
+// planes along chains of up to 9 boxes; from its own start, half by the
+// length, it does not lose), says which
 // frame and how much; on 4x4x4 under measured, where no frame lost, it
 // says converged and no more.
 TEST_F(Rtsim, TheSummaryNamesAFrameThatLostBesideConvergedBoundaries) {
-    const Outcome lost = run("--size 64x64 --mesh-dims 33x1x1 --balance sample --image ''");
+    const Outcome lost = run("--size 64x64 --mesh-dims 33x1x1 --balance sample --start-mix 1 --image ''");
     ASSERT_EQ(lost.code, 0) << lost.err;
     EXPECT_NE(lost.out.find("boundaries converged, but frame 1 took 1.7"), std::string::npos) << lost.out;
     const Outcome fine = run("--size 64x64 --balance measured --frames 3 --image ''");

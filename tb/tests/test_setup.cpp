@@ -76,6 +76,50 @@ TEST(InitialSplit, UniformUnlessStartedElsewhereOrAtTheMedians) {
     EXPECT_THROW(initialPlanes(m, cuts, world, bins, 0.025), std::invalid_argument);
 }
 
+TEST(InitialSplit, AutoStartMixWeighsATestAgainstARaysHop) {
+    // A ray's hop on the default machine, by hand: 40 + 40 ns of handling and
+    // a 132-byte message (8 of header, 124 of ray) at 1 GB/s, 132 ns: 212 ns.
+    MachineConfig m = mesh({4, 1, 1});
+    m.balance.policy = "sample";
+    const std::vector<Shape> spheres{sphere(Vec3(0.5), 0.1, 0), sphere(Vec3(0.2), 0.1, 1)};
+    auto mixAt = [&](Picos test) {
+        MachineConfig c = m;
+        c.costs.test[0] = test;
+        return startMixFor(c, spheres).mix;
+    };
+    EXPECT_EQ(mixAt(10000), 0.5);   // the default's 10 ns: the hops are the work
+    EXPECT_EQ(mixAt(105999), 0.5);  // just under half the hop
+    EXPECT_EQ(mixAt(106000), 1.0);  // half of it: the objects are the work
+    EXPECT_NE(startMixFor(m, spheres).why.find("less than half a ray's hop (212 ns)"), std::string::npos)
+        << startMixFor(m, spheres).why;
+    m.rayBatch = 4;  // a ray's share of the header: 124 + 2 bytes, a hop of 206 ns
+    EXPECT_EQ(mixAt(102999), 0.5);
+    EXPECT_EQ(mixAt(103000), 1.0);
+    m.rayBatch = 1;
+    m.speed = 2;  // the processor's costs halve, the wire's do not: 40 + 132 = 172 ns, a test 86 at 172
+    EXPECT_EQ(mixAt(171999), 0.5);
+    EXPECT_EQ(mixAt(172000), 1.0);
+    m.speed = 1;
+    m.hopsByLinks = true;  // the sender's engine holds the wire, the receiver's adds latency: 40 + 132 ns
+    EXPECT_EQ(mixAt(85999), 0.5);
+    EXPECT_EQ(mixAt(86000), 1.0);
+    m.hopsByLinks = false;
+    m.balance.policy = "median";  // by its name, at the object median whatever the costs
+    EXPECT_EQ(mixAt(10000), 1.0);
+    // chosen once: a mix given stays, and a policy that starts uniform keeps auto (unused)
+    m.balance.policy = "sample";
+    chooseStartMix(m, spheres);
+    EXPECT_EQ(m.balance.startMix, 0.5);
+    EXPECT_FALSE(m.balance.startMixWhy.empty());
+    m.balance.startMix = 0.25;
+    chooseStartMix(m, spheres);
+    EXPECT_EQ(m.balance.startMix, 0.25);
+    m.balance.policy = "slide";
+    m.balance.startMix = kStartMixAuto;
+    chooseStartMix(m, spheres);
+    EXPECT_EQ(m.balance.startMix, kStartMixAuto);
+}
+
 TEST(InitialSplit, EveryPrimaryRayGoesToTheNodeThatOwnsItsStart) {
     ProceduralParams p;
     p.spheres = 10;
