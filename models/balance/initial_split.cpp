@@ -96,14 +96,14 @@ StartMix startMixFor(const MachineConfig& cfg, const std::vector<Shape>& objects
     const double bytes = kRayBytes + double(kHeaderBytes) / cfg.rayBatch;
     const double handling = cfg.hopsByLinks ? double(cfg.costs.send) : double(cfg.costs.send + cfg.costs.recv) / cfg.speed;
     const double hop = handling + bytes * 1e12 / cfg.link.bandwidth;
-    // Measured on Fig. 4's scene (first frames at f = 1/N, N = 2 to 8, both
-    // views): 0.5 the better start at a test of 0.05 and 0.13 of a hop (the
-    // modern and 1987 machines), the two even at 0.24, 1 the better at 0.94
-    // and above (doc/balancing.md, "Where sample starts").
-    constexpr double kObjectsAreTheWork = 0.5;  // a test at least this share of a hop
-    const bool testsAreTheWork = test >= kObjectsAreTheWork * hop;
+    // Measured on Fig. 4's scene (sample's first frames at f = 1/N, N = 2 to
+    // 8, both views; doc/balancing.md, "Where sample starts"): 0.5 the better
+    // start up to a test of 0.24 of a hop, 1 from 0.47 on.
+    constexpr double kHopsPerTest = 3;  // the objects are the work from a test of a third of a hop
+    const bool testsAreTheWork = kHopsPerTest * test >= hop;
     const std::string costs = "a test (" + formatTime(Picos(std::llround(test))) + ") costs " +
-                              (testsAreTheWork ? "at least" : "less than") + " half a ray's hop (" + formatTime(Picos(std::llround(hop))) + ")";
+                              (testsAreTheWork ? "at least" : "less than") + " a third of a ray's hop (" +
+                              formatTime(Picos(std::llround(hop))) + ")";
     if (testsAreTheWork) return {1, "auto: " + costs + ": the object median"};
     return {0.5, "auto: " + costs + ": half by the objects, half by the length"};
 }

@@ -36,14 +36,14 @@ ColumnPlanes withInnerPlanes(const char* what, ColumnPlanes planes, const std::v
 // --start-mix auto: the mix `median` and `sample` start at, and why (for
 // the report). `median` is the object median (1). `sample` spends its
 // sample at the start's pace, so the start should follow the work: where
-// one of the scene's intersection tests (their mean) costs at least half of
-// what a ray's hop keeps a processor or a link busy (--cost-send and
+// one of the scene's intersection tests (their mean) costs at least a third
+// of what a ray's hop keeps a processor or a link busy (--cost-send and
 // --cost-recv, the ray's bytes on the wire), the objects are the work: 1;
 // else the hops are, and half by the length keeps the boxes the rays cross
 // short: 0.5 (doc/balancing.md, "Where sample starts").
 struct StartMix {
     double mix;
-    std::string why;  // "auto: a test (10 ns) costs less than half a ray's hop (212 ns): ..."
+    std::string why;  // "auto: a test (10 ns) costs less than a third of a ray's hop (212 ns): ..."
 };
 StartMix startMixFor(const MachineConfig& cfg, const std::vector<Shape>& objects);
 // cfg.balance.startMix and startMixWhy set from startMixFor, if auto and

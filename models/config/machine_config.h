@@ -131,7 +131,7 @@ inline const std::vector<Param<BalanceConfig>>& balanceParams() {
         orWord(numberParam("start-mix", &B::startMix, 0.0, 1.0, "/start_mix",
                            "median and sample start with each column's boundaries at the quantiles of this share of its "
                            "objects' centres plus the rest of its length (1: the object median; 0: the uniform split); "
-                           "auto: median 1; sample 1 where an intersection test costs at least half a ray's hop, else 0.5"),
+                           "auto: median 1; sample 1 where an intersection test costs at least a third of a ray's hop, else 0.5"),
                "auto", kStartMixAuto),
         specialParam<B>("no-guard", "no guard: slide on loads however old, and whatever the slide costs against the work it moves"),
         numberParam("max-age", &B::maxAge, 0.0, 1e9, "/max_age_intervals", "guard: no slide on loads older than this many intervals"),

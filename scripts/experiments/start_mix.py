@@ -10,12 +10,16 @@ many points meet the issue's target (the first frame at most 1.2 (paper) or
 that ratio, and how the start split alone (`median` at the same mix, no
 messages) does against the unbalanced frame. A second table: the built-in
 scene at 64x64 on meshes of odd shapes, where the object median loses on
-its own, at the object median and at half of it. Every point is one rtsim
+its own, at the object median and at half of it. A third, the threshold of
+--start-mix auto: the modern machine with sphere tests from 10 ns to 1 us,
+sample's first frames at f = 1/N (N = 2 to 8, both views) from half the
+length and from the object median, beside the mix auto chose. Every point is one rtsim
 run through the sweep driver, so it runs locally or on a Dask cluster and a
 stopped run resumes.
 
-With --doc, writes doc/results/start_mix.{csv,md} and
-doc/results/start_mix-shapes.{csv,md}, and the tables into doc/balancing.md. Standard library only; run with /usr/bin/python3."""
+With --doc, writes doc/results/start_mix.{csv,md},
+doc/results/start_mix-shapes.{csv,md} and doc/results/start_mix-auto.{csv,md},
+and the tables into doc/balancing.md. Standard library only; run with /usr/bin/python3."""
 import argparse
 import os
 import statistics
@@ -34,6 +38,11 @@ MACHINES = [("modern", "", ""), ("transputer-1987", "", ""), ("paper", "", ""),
 # The odd shapes (issue 61's), the built-in scene at 64x64, rtsim's own machine.
 SHAPES = ["64x1x1", "33x1x1", "64x2x1", "16x16x4", "2x2x32", "8x8x8"]
 SHAPE_MIXES = [1.0, 0.5]
+# --start-mix auto's threshold: the modern machine's sphere test at these
+# costs (a ray's hop there: 212 ns), sample from each start and from auto's.
+AUTO_SPHERE_COSTS = ["10ns", "50ns", "100ns", "200ns", "600ns", "1us"]
+AUTO_MIXES = ["0.5", "1", "auto"]
+AUTO_NS = [2, 3, 4, 5, 6, 7, 8]
 
 
 def main():
@@ -52,6 +61,8 @@ def main():
     table(a, rows, os.path.join(a.out, "start_mix.md"))
     shapes_csv = os.path.join(a.out, "start_mix-shapes.csv")
     shapes_table(a, driver.swept_rows(a, shapes_csv, lambda: sweep_shapes(a)), os.path.join(a.out, "start_mix-shapes.md"))
+    auto_csv = os.path.join(a.out, "start_mix-auto.csv")
+    auto_table(a, driver.swept_rows(a, auto_csv, lambda: sweep_auto(a)), os.path.join(a.out, "start_mix-auto.md"))
 
 
 def mix_flag(mix):
@@ -144,6 +155,45 @@ def shapes_table(a, rows, md_path):
         lines.append(f"| {shape} | {none_us:.1f} us | " +
                      " | ".join(f"{float(by[c]['ratio']):.3f}" for c in cols) + " |")
     publish_table(lines, md_path, a.doc, "start mix shapes")
+
+
+def sweep_auto(a):
+    points = []
+    for cost in AUTO_SPHERE_COSTS:
+        for view, cam in VIEWS.items():
+            for n in AUTO_NS:
+                base = preset_flags("modern") + PAPER_SCENE + cam + ["--mesh", n, "--concentration", f"{1 / n:.6f}",
+                                                                     "--cost-sphere", cost]
+                params = {"sphere": cost, "view": view, "N": n}
+                points.append({"params": dict(params, policy="none", mix="-"), "args": base + ["--balance", "none"]})
+                for mix in AUTO_MIXES:
+                    points.append({"params": dict(params, policy="sample", mix=mix),
+                                   "args": base + ["--balance", "sample", "--start-mix", mix]})
+    runs = driver.run("start_mix-auto", points, lambda r: {"render_time_ns": r["render_time_ns"],
+                                                           "chosen": r["config"]["balance"]["start_mix"]}, None, a)
+    rows = against_none(runs, ["sphere", "view", "N", "policy", "mix"])
+    chosen = {(r["sphere"], r["view"], r["N"], r["mix"]): r["chosen"] for r in runs if r["policy"] != "none"}
+    return [dict(r, chosen=chosen[(r["sphere"], r["view"], r["N"], r["mix"])]) for r in rows]
+
+
+def auto_table(a, rows, md_path):
+    lines = ["<!-- written by scripts/experiments/start_mix.py; do not edit -->",
+             "| sphere test (a hop: 212 ns) | sample from 0.5: median, worst | from 1: median, worst | "
+             "auto: its mix | auto: median, worst |",
+             "|---|---:|---:|---:|---:|"]
+    for cost in AUTO_SPHERE_COSTS:
+        def of(mix):
+            return [r for r in rows if r["sphere"] == cost and r["mix"] == mix]
+        if not all(of(m) for m in AUTO_MIXES):
+            continue
+        cells = []
+        for mix in AUTO_MIXES:
+            ratios = [float(r["ratio"]) for r in of(mix)]
+            cells.append(f"{statistics.median(ratios):.3f}, {max(ratios):.3f}")
+        picked = sorted({f"{float(r['chosen']):g}" for r in of("auto")})
+        lines.append(f"| {cost.replace('ns', ' ns').replace('us', ' us')} | {cells[0]} | {cells[1]} | "
+                     f"{', '.join(picked)} | {cells[2]} |")
+    publish_table(lines, md_path, a.doc, "start mix auto")
 
 
 if __name__ == "__main__":

@@ -88,21 +88,21 @@ TEST(InitialSplit, AutoStartMixWeighsATestAgainstARaysHop) {
         return startMixFor(c, spheres).mix;
     };
     EXPECT_EQ(mixAt(10000), 0.5);   // the default's 10 ns: the hops are the work
-    EXPECT_EQ(mixAt(105999), 0.5);  // just under half the hop
-    EXPECT_EQ(mixAt(106000), 1.0);  // half of it: the objects are the work
-    EXPECT_NE(startMixFor(m, spheres).why.find("less than half a ray's hop (212 ns)"), std::string::npos)
+    EXPECT_EQ(mixAt(70666), 0.5);   // just under a third of the hop (70.67 ns)
+    EXPECT_EQ(mixAt(70667), 1.0);   // a third of it: the objects are the work
+    EXPECT_NE(startMixFor(m, spheres).why.find("less than a third of a ray's hop (212 ns)"), std::string::npos)
         << startMixFor(m, spheres).why;
     m.rayBatch = 4;  // a ray's share of the header: 124 + 2 bytes, a hop of 206 ns
-    EXPECT_EQ(mixAt(102999), 0.5);
-    EXPECT_EQ(mixAt(103000), 1.0);
+    EXPECT_EQ(mixAt(68666), 0.5);
+    EXPECT_EQ(mixAt(68667), 1.0);
     m.rayBatch = 1;
-    m.speed = 2;  // the processor's costs halve, the wire's do not: 40 + 132 = 172 ns, a test 86 at 172
-    EXPECT_EQ(mixAt(171999), 0.5);
-    EXPECT_EQ(mixAt(172000), 1.0);
+    m.speed = 2;  // the processor's costs halve, the wire's do not: 40 + 132 = 172 ns; a test of 114.667 ns takes 57.333
+    EXPECT_EQ(mixAt(114666), 0.5);
+    EXPECT_EQ(mixAt(114667), 1.0);
     m.speed = 1;
     m.hopsByLinks = true;  // the sender's engine holds the wire, the receiver's adds latency: 40 + 132 ns
-    EXPECT_EQ(mixAt(85999), 0.5);
-    EXPECT_EQ(mixAt(86000), 1.0);
+    EXPECT_EQ(mixAt(57333), 0.5);
+    EXPECT_EQ(mixAt(57334), 1.0);
     m.hopsByLinks = false;
     m.balance.policy = "median";  // by its name, at the object median whatever the costs
     EXPECT_EQ(mixAt(10000), 1.0);
