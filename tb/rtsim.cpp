@@ -202,6 +202,9 @@ void sayWhatRuns(const rt::RtsimOptions& o, const std::optional<rt::Rerun>& reru
                                             rt::formatTime(m.lookahead()) + ")") +
                   "; watchdog after " + rt::formatTime(m.watchdogSpanOrDefault(scene.objects.size())) +
                   " of simulated time without progress");
+    if (!m.balance.startMixWhy.empty())
+        rt::msg::info(m.balance.policy + " starts at start mix " + rt::formatNumber(m.balance.startMix) + " (" +
+                      m.balance.startMixWhy + ")");
 }
 
 // How a stopped run ends (its report so far written): 3 for the watchdog,
