@@ -1,6 +1,8 @@
 #include "messages.h"
 
+#include <cstdio>
 #include <iostream>
+#include <string>
 
 #include <systemc>
 
@@ -8,6 +10,25 @@ namespace rt::msg {
 namespace {
 
 int verbosity = 0;
+
+// A message is one line: a control character in it (a value given with a
+// newline, say) is written escaped.
+std::string oneLine(const char* text) {
+    std::string out;
+    for (const char* c = text; *c; ++c) {
+        const unsigned char u = static_cast<unsigned char>(*c);
+        if (u >= 0x20 && u != 0x7f) out += *c;
+        else if (u == '\n') out += "\\n";
+        else if (u == '\t') out += "\\t";
+        else if (u == '\r') out += "\\r";
+        else {
+            char hex[8];
+            std::snprintf(hex, sizeof hex, "\\x%02x", u);
+            out += hex;
+        }
+    }
+    return out;
+}
 
 void handler(const sc_core::sc_report& r, const sc_core::sc_actions& actions) {
     const std::string id = r.get_msg_type();
@@ -19,7 +40,7 @@ void handler(const sc_core::sc_report& r, const sc_core::sc_actions& actions) {
         const char* what = r.get_severity() == sc_core::SC_ERROR     ? "error: "
                            : r.get_severity() == sc_core::SC_WARNING ? "warning: "
                                                                      : "";
-        std::cerr << "rtsim: " << what << r.get_msg() << (verbosity > 0 ? " [" + id + "]" : std::string()) << "\n";
+        std::cerr << "rtsim: " << what << oneLine(r.get_msg()) << (verbosity > 0 ? " [" + id + "]" : std::string()) << "\n";
     }
 }
 

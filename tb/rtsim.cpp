@@ -109,7 +109,7 @@ Stop loadScene(rt::RtsimOptions& o, const rt::CommandLine& cl, rt::Scene& scene,
         if (cl.rerun && !cl.givesScene()) rt::checkRerunSceneFile(*cl.rerun, o.scene);  // (before the file is parsed)
         scene = o.scene.load();
         o.scene.imageSize(scene, o.machine.width, o.machine.height);
-        rt::chooseStartMix(o.machine, scene.objects);  // (--start-mix auto: by the machine's costs and the objects)
+        if (o.boundariesFrom.empty()) rt::chooseStartMix(o.machine, scene.objects);  // (--start-mix auto: by the costs and objects)
         o.machine.checkDerivedTimes(scene.objects.size());  // (std::invalid_argument: exit 2 naming the flags)
         try {
             rt::refuseIfTooBig("--size " + std::to_string(o.machine.width) + "x" + std::to_string(o.machine.height),

@@ -75,9 +75,8 @@ void addRealOrWord(CLI::App& app, const Param<S>& p, double& target, const std::
                target = wordValue;
                return;
            }
-           char* end = nullptr;
-           const double x = std::strtod(v.c_str(), &end);
-           if (v.empty() || *end || !(x >= lo && x <= hi))
+           double x = 0;  // (read as CLI11 reads the other numbers)
+           if (!CLI::detail::lexical_cast(v, x) || !(x >= lo && x <= hi))
                throw CLI::ValidationError(flag, "expected " + word + " or a number in " + range + ", got '" + v + "'");
            target = x == 0 ? 0 : x;  // (-0 is 0)
        }, help)

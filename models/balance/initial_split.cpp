@@ -109,7 +109,7 @@ StartMix startMixFor(const MachineConfig& cfg, const std::vector<Shape>& objects
 }
 
 void chooseStartMix(MachineConfig& cfg, const std::vector<Shape>& objects) {
-    if (cfg.balance.startMix != kStartMixAuto || !cfg.balance.startsAtObjects()) return;
+    if (cfg.balance.startMix != kStartMixAuto || !cfg.balance.startsAtObjects() || !cfg.startBoundaries.empty()) return;
     StartMix m = startMixFor(cfg, objects);
     cfg.balance.startMix = m.mix;
     cfg.balance.startMixWhy = std::move(m.why);

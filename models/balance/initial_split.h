@@ -47,7 +47,8 @@ struct StartMix {
 };
 StartMix startMixFor(const MachineConfig& cfg, const std::vector<Shape>& objects);
 // cfg.balance.startMix and startMixWhy set from startMixFor, if auto and
-// the policy starts at the objects (so the report echoes the mix used).
+// the policy starts at the objects, not where a frame before left them (so
+// the report echoes the mix used, and only if it is used).
 void chooseStartMix(MachineConfig& cfg, const std::vector<Shape>& objects);
 
 // The planes each column starts with: where a frame before left them

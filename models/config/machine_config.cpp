@@ -194,7 +194,7 @@ void BalanceConfig::validate(Picos reportFloor, bool carriedBoundaries) const {
                                     "no --boundaries-from)");
     checkRanges(balanceParams(), *this, "--");
     if (startMix != kStartMixAuto && !startsAtObjects())  // (after the ranges: a nan is named as a bad value)
-        throw std::invalid_argument("--start-mix: only median and sample start at a split of their own; '" + policy +
+        throw std::invalid_argument("--start-mix " + formatNumber(startMix) + ": only median and sample start at a split of their own; '" + policy +
                                     "' starts at the uniform split");
 }
 

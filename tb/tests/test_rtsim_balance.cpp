@@ -172,9 +172,14 @@ TEST_F(Rtsim, StartMixMovesOnlyAnObjectStartsPlanes) {
     expectBad(procedural + " --balance slide --start-mix 0.4", "--start-mix");
     expectBad(procedural + " --balance median --start-mix 1.5", "--start-mix");
     expectBad(procedural + " --balance sample --start-mix nan", "got 'nan'");
+    expectBad(procedural + " --balance sample --start-mix '0.5\n'", "got '0.5\\n'");  // (one line, the newline escaped)
     expectBad(procedural + " --balance slide --start-mix 1", "--start-mix");  // (given, even at median's mix)
     expectBad(procedural + " --balance median --start-mix 0.4 --boundaries-from " + (dir_ / "r.json").string(),
               "--start-mix");  // (it would start elsewhere)
+    // and auto, where the frame starts elsewhere, chooses nothing and says nothing of a mix
+    const json carried = report(procedural + " --balance sample --no-baseline --boundaries-from " + (dir_ / "r.json").string(), "c.json");
+    EXPECT_EQ(carried["config"]["balance"]["start_mix"], "auto");
+    EXPECT_FALSE(carried["config"]["balance"].contains("start_mix_auto"));
 }
 
 // Issue 11's age target at the ends of the link sweep, with the control
