@@ -91,11 +91,14 @@ StartMix startMixFor(const MachineConfig& cfg, const std::vector<Shape>& objects
     double test = 0;
     for (const Shape& s : objects) test += double(cfg.costs.test[size_t(s.kind())]);
     test = objects.empty() ? 0 : test / double(objects.size()) / cfg.speed;
-    // A ray's share of a ray message on the wire, and its handling: on the
-    // processors at both ends, or the sender's on the link's engine.
-    const double bytes = kRayBytes + double(kHeaderBytes) / cfg.rayBatch;
-    const double handling = cfg.hopsByLinks ? double(cfg.costs.send) : double(cfg.costs.send + cfg.costs.recv) / cfg.speed;
-    const double hop = handling + bytes * 1e12 / cfg.link.bandwidth;
+    // A ray's share of a ray message (--ray-batch rays): its handling on the
+    // processors at both ends, or the sender's on the link's engine (as
+    // meshLinkOf and processorCostsOf charge them, without per-node
+    // overrides), and its time on the wire.
+    LinkParams link = cfg.link;
+    if (cfg.hopsByLinks) link.engine = cfg.costs.send;
+    const double handling = cfg.hopsByLinks ? 0 : double(cfg.costs.send + cfg.costs.recv) / cfg.speed;
+    const double hop = (handling + wirePicos(link, kHeaderBytes + uint32_t(cfg.rayBatch) * kRayBytes)) / cfg.rayBatch;
     // Measured on Fig. 4's scene (sample's first frames at f = 1/N, N = 2 to
     // 8, both views; doc/balancing.md, "Where sample starts"): 0.5 the better
     // start up to a test of 0.24 of a hop, 1 from 0.47 on.

@@ -92,9 +92,9 @@ TEST(InitialSplit, AutoStartMixWeighsATestAgainstARaysHop) {
     EXPECT_EQ(mixAt(70667), 1.0);   // a third of it: the objects are the work
     EXPECT_NE(startMixFor(m, spheres).why.find("less than a third of a ray's hop (212 ns)"), std::string::npos)
         << startMixFor(m, spheres).why;
-    m.rayBatch = 4;  // a ray's share of the header: 124 + 2 bytes, a hop of 206 ns
-    EXPECT_EQ(mixAt(68666), 0.5);
-    EXPECT_EQ(mixAt(68667), 1.0);
+    m.rayBatch = 4;  // a message of 8 + 4 x 124 bytes (504 ns) and its 80 ns of handling, shared by 4 rays: 146 ns
+    EXPECT_EQ(mixAt(48666), 0.5);
+    EXPECT_EQ(mixAt(48667), 1.0);
     m.rayBatch = 1;
     m.speed = 2;  // the processor's costs halve, the wire's do not: 40 + 132 = 172 ns; a test of 114.667 ns takes 57.333
     EXPECT_EQ(mixAt(114666), 0.5);
