@@ -37,8 +37,8 @@ ColumnPlanes withInnerPlanes(const char* what, ColumnPlanes planes, const std::v
 // the report). `median` is the object median (1). `sample` spends its
 // sample at the start's pace, so the start should follow the work: where
 // one of the scene's intersection tests (their mean) costs at least a third
-// of what a ray's hop keeps a processor or a link busy (--cost-send and
-// --cost-recv, the ray's bytes on the wire), the objects are the work: 1;
+// of what a ray's hop keeps a processor or a link busy (its share of a ray
+// message's --cost-send, --cost-recv and wire), the objects are the work: 1;
 // else the hops are, and half by the length keeps the boxes the rays cross
 // short: 0.5 (doc/balancing.md, "Where sample starts").
 struct StartMix {
