@@ -188,13 +188,17 @@ public:
     // the top node splits the column's sum (splitBySample) and sends the
     // planes down (onPlanes), none where the move would not pay by then
     // (samplePays: every face holds); every node passes them on and moves its faces
-    // to them as startAt does, once, and then holds. A column none of whose
-    // nodes generates primary rays takes the planes of one neighbouring
-    // column (`feeder`: its direction; -1: the column gathers its own; -2:
-    // none, the faces hold); `floodTo`: the columns this one feeds.
-    void startSample(int feeder, const std::array<bool, 6>& floodTo);
+    // to them as startAt does, once, and then holds. Without `gathers` (a
+    // column none of whose nodes generates primary rays) the faces hold.
+    // `besideLo`: the lower face of the node of its index in the column
+    // beside that holds (its own if none), for the passes' forecast;
+    // `sides`: some node of the column is beside a column that holds.
+    void startSample(bool gathers, double besideLo, bool sides);
     bool sampling() const { return gather_.on && !gather_.passed; }
     void recordSample(double where, Picos work);
+    // A sample ray across the column's side, to or from a column that
+    // holds, at `where` along the axis: `passCost` if it were passed on.
+    void recordSide(double where, double passCost);
     void sampleReady(Picos now);
     void onSample(const Message& m, Picos now);
     void onPlanes(int fromDir, const Message& m);
@@ -258,19 +262,18 @@ private:
         bool on = false;  // the column gathers its own planes
         bool ready = false, below = false, passed = false, adopted = false;
         double lo = 0, hi = 1;      // the box along the axis while it samples
+        double besideLo = 0;        // the lower face beside it (startSample)
         std::vector<double> own;    // the sample's work here, in kSampleBins bins over [lo, hi]
+        std::vector<double> side;   // its rays across the sides (recordSide), likewise
         ColumnSample sum;           // the column's, from its lowest node through this one
         std::vector<double> planes;
         bool up = false, down = false, adopt = false;  // due: the sum up, the planes down, the faces to them
-        std::array<bool, 6> flood{};  // due: the planes to these neighbouring columns
-        bool due() const { return up || down || adopt || flood[0] || flood[1] || flood[2] || flood[3] || flood[4] || flood[5]; }
+        bool due() const { return up || down || adopt; }
     };
     void gatherStep();      // one action of the gather (act)
     void passSum(Picos now);  // ready and the sum from below in: up, or (the top) split
-    void takePlanes(std::vector<double> planes, int fromDir);
+    void takePlanes(std::vector<double> planes);
     Gather gather_;
-    std::array<bool, 6> floodTo_{};
-    int feeder_ = -1;
     BalanceStats stats_;
     IntervalRecord pending_{0, 0, 0};  // intervals closed since the last record
     uint64_t pendingCount_ = 0;

@@ -33,23 +33,29 @@ double mixedQuantile(const std::vector<double>& centres, double mix, double lo, 
 // median), or of mix x their share and (1 - mix) x the column's length (so
 // a box holds at most 1 / (N mix) of the column's objects and 1 / (N (1 -
 // mix)) of its length; doc/balancing.md, "Where sample starts"), kept inside
-// the guards (every box at least the minimum thickness).
+// the guards (every box at least the minimum thickness). `aligned`: the
+// quantiles of all the objects, the same planes in every column.
 void atObjectQuantiles(ColumnPlanes& planes, const ColumnGeometry& g, const Lattice& cuts, const Box& world,
-                     const ObjectBins& bins, double minThickness, double mix) {
+                     const ObjectBins& bins, double minThickness, double mix, bool aligned) {
     const int ax = g.axis, n = g.length();
+    const auto centresOf = [&](const std::vector<Shape>& shapes) {
+        std::vector<double> c;
+        for (const Shape& s : shapes) {
+            const Box ob = s.bounds();
+            c.push_back(0.5 * (ob.lo[ax] + ob.hi[ax]));
+        }
+        std::sort(c.begin(), c.end());
+        return c;
+    };
+    const std::vector<double> everyObject = aligned ? centresOf(bins.all()) : std::vector<double>{};
     for (int j = 0; j < g.dims[g.v]; ++j)
         for (int i = 0; i < g.dims[g.u]; ++i) {
             Box column = cuts.cellBox(g.cell(i, j, 0));
             column.lo[ax] = world.lo[ax];
             column.hi[ax] = world.hi[ax];
-            std::vector<double> centres;
-            for (const Shape& s : bins.overlapping(column)) {
-                const Box ob = s.bounds();
-                centres.push_back(0.5 * (ob.lo[ax] + ob.hi[ax]));
-            }
+            const std::vector<double> centres = aligned ? everyObject : centresOf(bins.overlapping(column));
             std::vector<double>& b = planes[size_t(g.indexOf(i, j))];
             if (centres.empty()) continue;
-            std::sort(centres.begin(), centres.end());
             for (int k = 1; k < n; ++k) {
                 // (At 1 the centre itself, as before the mix: the bisection lands a hair past it.)
                 const double q = mix == 1 ? centres[std::min(centres.size() - 1, centres.size() * size_t(k) / size_t(n))]
@@ -87,7 +93,7 @@ double minThicknessOf(const MachineConfig& cfg, const Box& world) {
 }
 
 StartMix startMixFor(const MachineConfig& cfg, const std::vector<Shape>& objects) {
-    if (cfg.balance.policy != "sample") return {1, "auto: " + cfg.balance.policy + " is the object median"};
+    if (cfg.balance.policy != "sample") return {1, false, "auto: " + cfg.balance.policy + " is the object median"};
     double test = 0;
     for (const Shape& s : objects) test += double(cfg.costs.test[size_t(s.kind())]);
     test = objects.empty() ? 0 : test / double(objects.size()) / cfg.speed;
@@ -104,17 +110,25 @@ StartMix startMixFor(const MachineConfig& cfg, const std::vector<Shape>& objects
     // start up to a test of 0.24 of a hop, 1 from 0.47 on.
     constexpr double kHopsPerTest = 3;  // the objects are the work from a test of a third of a hop
     const bool testsAreTheWork = kHopsPerTest * test >= hop;
+    // In line below a tenth of a hop: measured on the modern machine (0.05
+    // of a hop) and the 1987 one (0.13), where an aligned start made sample's
+    // first frames at f = 1/N slower (across the axis, N = 4: 0.558 of the
+    // unbalanced frame against 0.530).
+    constexpr double kHopsPerTestAligned = 10;
+    const bool aligned = !testsAreTheWork && kHopsPerTestAligned * test < hop;
     const std::string costs = "a test (" + formatTime(Picos(std::llround(test))) + ") costs " +
-                              (testsAreTheWork ? "at least" : "less than") + " a third of a ray's hop (" +
-                              formatTime(Picos(std::llround(hop))) + ")";
-    if (testsAreTheWork) return {1, "auto: " + costs + ": the object median"};
-    return {0.5, "auto: " + costs + ": half by the objects, half by the length"};
+                              (testsAreTheWork ? "at least" : aligned ? "less than a tenth of" : "less than a third of") +
+                              " a ray's hop (" + formatTime(Picos(std::llround(hop))) + ")";
+    if (testsAreTheWork) return {1, false, "auto: " + costs + ": the object median"};
+    return {0.5, aligned, "auto: " + costs + ": half by the objects, half by the length" +
+                              (aligned ? ", the same planes in every column" : "")};
 }
 
 void chooseStartMix(MachineConfig& cfg, const std::vector<Shape>& objects) {
     if (cfg.balance.startMix != kStartMixAuto || !cfg.balance.startsAtObjects() || !cfg.startBoundaries.empty()) return;
     StartMix m = startMixFor(cfg, objects);
     cfg.balance.startMix = m.mix;
+    cfg.balance.startAligned = m.aligned;
     cfg.balance.startMixWhy = std::move(m.why);
 }
 
@@ -124,9 +138,11 @@ ColumnPlanes initialPlanes(const MachineConfig& cfg, const Lattice& cuts, const 
     ColumnPlanes planes(size_t(g.count()), cuts.planes(g.axis));
     // (the minimum less a report's rounding of its decimals)
     if (!cfg.startBoundaries.empty()) planes = withInnerPlanes("start boundaries", planes, cfg.startBoundaries, minThickness, 1e-9);
-    else if (cfg.balance.startsAtObjects())
-        atObjectQuantiles(planes, g, cuts, world, bins, minThickness,
-                          cfg.balance.startMix == kStartMixAuto ? startMixFor(cfg, bins.all()).mix : cfg.balance.startMix);
+    else if (cfg.balance.startsAtObjects()) {
+        const StartMix m = cfg.balance.startMix == kStartMixAuto ? startMixFor(cfg, bins.all())
+                                                                  : StartMix{cfg.balance.startMix, cfg.balance.startAligned, ""};
+        atObjectQuantiles(planes, g, cuts, world, bins, minThickness, m.mix, m.aligned);
+    }
     return planes;
 }
 

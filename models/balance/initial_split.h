@@ -40,13 +40,17 @@ ColumnPlanes withInnerPlanes(const char* what, ColumnPlanes planes, const std::v
 // of what a ray's hop keeps a processor or a link busy (its share of a ray
 // message's --cost-send, --cost-recv and wire), the objects are the work: 1;
 // else the hops are, and half by the length keeps the boxes the rays cross
-// short: 0.5 (doc/balancing.md, "Where sample starts").
+// short: 0.5. Where a test costs less than a tenth of a hop, the rays
+// passed on between columns whose faces differ cost more than fitting each
+// column's objects gains: every column starts at the same planes, the
+// quantiles of all the objects (doc/balancing.md, "Where sample starts").
 struct StartMix {
     double mix;
+    bool aligned;     // one set of planes for every column, from all the objects
     std::string why;  // "auto: a test (10 ns) costs less than a third of a ray's hop (212 ns): ..."
 };
 StartMix startMixFor(const MachineConfig& cfg, const std::vector<Shape>& objects);
-// cfg.balance.startMix and startMixWhy set from startMixFor, if auto and
+// cfg.balance.startMix, startAligned and startMixWhy set from startMixFor, if auto and
 // the policy starts at the objects, not where a frame before left them (so
 // the report echoes the mix used, and only if it is used).
 void chooseStartMix(MachineConfig& cfg, const std::vector<Shape>& objects);
@@ -54,8 +58,9 @@ void chooseStartMix(MachineConfig& cfg, const std::vector<Shape>& objects);
 // The planes each column starts with: where a frame before left them
 // (cfg.startBoundaries, each box at least `minThickness`), or the policy's
 // own start: uniform (`cuts`, the paper), or for `median` and `sample` at
-// the quantiles of the object centres in the column (mixed with its length:
-// cfg.balance.startMix, or startMixFor's if auto). Throws std::invalid_argument for
+// the quantiles of the object centres in the column, or in the world where
+// the start is aligned (mixed with its length: cfg.balance.startMix, or
+// startMixFor's if auto). Throws std::invalid_argument for
 // start boundaries that do not fit the mesh.
 ColumnPlanes initialPlanes(const MachineConfig& cfg, const Lattice& cuts, const Box& world, const ObjectBins& bins,
                            double minThickness);

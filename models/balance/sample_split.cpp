@@ -1,6 +1,7 @@
 #include "balance/sample_split.h"
 
 #include <algorithm>
+#include <cmath>
 #include <numeric>
 
 namespace rt {
@@ -9,13 +10,19 @@ bool inSample(uint32_t pixel, uint32_t width) {
     return (pixel % width) % kSampleSide == 0 && (pixel / width) % kSampleSide == 0;
 }
 
-void ColumnSample::add(double lo, double hi, const std::vector<double>& bins) {
+void ColumnSample::add(double lo, double hi, const std::vector<double>& bins, const std::vector<double>& sideBins,
+                       double besideLo) {
     if (edges.empty()) edges.push_back(lo);
+    else {
+        faces.push_back(lo);
+        besideFaces.push_back(std::isfinite(besideLo) ? besideLo : lo);
+    }
     const double w = (hi - lo) / double(bins.size());
     double box = 0;
     for (size_t k = 0; k < bins.size(); ++k) {
         edges.push_back(k + 1 == bins.size() ? hi : lo + double(k + 1) * w);
         mass.push_back(bins[k]);
+        side.push_back(k < sideBins.size() ? sideBins[k] : 0.0);
         box += bins[k];
     }
     busiestBox = std::max(busiestBox, box);
@@ -24,60 +31,100 @@ void ColumnSample::add(double lo, double hi, const std::vector<double>& bins) {
 void ColumnSample::compress(int cells) {
     if (int(mass.size()) <= cells) return;
     const double all = total();
-    std::vector<double> e{lo()}, m;
+    const double allSide = std::accumulate(side.begin(), side.end(), 0.0);
+    std::vector<double> e{lo()}, m, s;
     if (all > 0) {
         double done = 0;  // the work below edge e.back()
         for (int j = 1; j < cells; ++j) {
             const double x = cut(e.back(), hi(), all * j / cells - done);
             if (!(x > e.back()) || !(x < hi())) continue;
             m.push_back(within(e.back(), x));
+            s.push_back(sideWithin(e.back(), x));
             done += m.back();
             e.push_back(x);
         }
     }
     m.push_back(all - std::accumulate(m.begin(), m.end(), 0.0));
+    s.push_back(std::max(0.0, allSide - std::accumulate(s.begin(), s.end(), 0.0)));
     e.push_back(hi());
     edges = std::move(e);
     mass = std::move(m);
+    side = std::move(s);
+}
+
+bool sidesFit(int columnLength) {
+    return (kSampleValues - 4 - 2 * (columnLength - 1)) / 3 >= kSampleMinCells;
+}
+
+int ColumnSample::cellsWithin(int values) const {
+    // (3 values ahead, one edge more than the cells, and per cell an edge
+    // and a mass, and with the sides the faces and a side per cell)
+    return std::max(1, (values - 4 - (sides ? 2 * int(faces.size()) : 0)) / (sides ? 3 : 2));
 }
 
 std::vector<double> ColumnSample::values() const {
-    std::vector<double> v{busiestBox, startedAt};
-    v.insert(v.end(), edges.begin(), edges.end());
-    v.insert(v.end(), mass.begin(), mass.end());
+    // Beside no column that holds (along the axis every column moves),
+    // neither the faces nor the sides: -1 for their count, and a message no
+    // longer than before they were gathered (on a long column a longer sum
+    // holds every ray behind it to its pace).
+    std::vector<double> v{busiestBox, startedAt, sides ? double(faces.size()) : -1.0};
+    for (const std::vector<double>* part : {&faces, &besideFaces, &edges, &mass, &side})
+        if (sides || part == &edges || part == &mass) v.insert(v.end(), part->begin(), part->end());
     return v;
 }
 
 ColumnSample ColumnSample::of(const std::vector<double>& v) {
     ColumnSample c;
-    if (v.size() < 5 || v.size() % 2 == 0) return c;
-    const size_t k = (v.size() - 3) / 2;
+    if (v.size() < 3 || !(v[2] >= -1) || !(v[2] <= double(v.size())) || v[2] != std::floor(v[2])) return c;
+    const bool sides = v[2] >= 0;
+    const size_t f = sides ? size_t(v[2]) : 0, per = sides ? 3 : 2;  // (values per cell)
+    if (v.size() < 3 + 2 * f + 1 + per || (v.size() - 3 - 2 * f - 1) % per != 0) return c;
+    const size_t k = (v.size() - 3 - 2 * f - 1) / per;
     c.busiestBox = v[0];
     c.startedAt = v[1];
-    c.edges.assign(v.begin() + 2, v.begin() + 3 + long(k));
-    c.mass.assign(v.begin() + 3 + long(k), v.end());
+    auto at = v.begin() + 3;
+    for (auto [part, n] :
+         {std::pair{&c.faces, f}, {&c.besideFaces, f}, {&c.edges, k + 1}, {&c.mass, k}, {&c.side, sides ? k : 0}}) {
+        part->assign(at, at + long(n));
+        at += long(n);
+    }
+    if (!sides) c.side.assign(k, 0.0);
+    c.sides = sides;
     return c;
 }
 
 bool ColumnSample::wellFormed() const {
-    if (mass.empty() || edges.size() != mass.size() + 1) return false;
+    if (mass.empty() || edges.size() != mass.size() + 1 || side.size() != mass.size()) return false;
     for (size_t k = 0; k < mass.size(); ++k)
-        if (!(edges[k] < edges[k + 1]) || !(mass[k] >= 0)) return false;
+        if (!(edges[k] < edges[k + 1]) || !(mass[k] >= 0) || !(side[k] >= 0)) return false;
+    // (the faces beside may lie above the cells so far: the column beside started elsewhere)
+    if (besideFaces.size() != faces.size()) return false;
+    for (size_t k = 0; k < faces.size(); ++k) {
+        if (!(faces[k] > lo() && faces[k] < hi()) || (k > 0 && !(faces[k] > faces[k - 1]))) return false;
+        if (!(besideFaces[k] > lo() && std::isfinite(besideFaces[k])) || (k > 0 && !(besideFaces[k] > besideFaces[k - 1])))
+            return false;
+    }
     return busiestBox >= 0 && startedAt >= 0;
 }
 
 double ColumnSample::total() const { return std::accumulate(mass.begin(), mass.end(), 0.0); }
 
-double ColumnSample::below(double x) const {
+double ColumnSample::below(const std::vector<double>& e, const std::vector<double>& m, double x) {
     double sum = 0;
-    for (size_t k = 0; k < mass.size(); ++k) {
-        if (x <= edges[k]) return sum;
-        sum += mass[k] * std::min(1.0, (x - edges[k]) / (edges[k + 1] - edges[k]));
+    for (size_t k = 0; k < m.size(); ++k) {
+        if (x <= e[k]) return sum;
+        sum += m[k] * std::min(1.0, (x - e[k]) / (e[k + 1] - e[k]));
     }
     return sum;
 }
 
-double ColumnSample::within(double a, double b) const { return b > a ? below(b) - below(a) : 0.0; }
+double ColumnSample::within(double a, double b) const {
+    return b > a ? below(edges, mass, b) - below(edges, mass, a) : 0.0;
+}
+
+double ColumnSample::sideWithin(double a, double b) const {
+    return b > a ? below(edges, side, b) - below(edges, side, a) : 0.0;
+}
 
 double ColumnSample::cut(double from, double limit, double work) const {
     double left = work;
@@ -148,9 +195,31 @@ double dearestPart(const ColumnSample& column, const std::vector<double>& planes
     return std::max(most, column.within(from, column.hi()));
 }
 
+double dearestPartWithPasses(const ColumnSample& column, const std::vector<double>& planes) {
+    if (!column.sides) return dearestPart(column, planes);
+    const size_t n = planes.size() + 1;
+    const auto lower = [&](const std::vector<double>& p, size_t k) { return k == 0 ? column.lo() : p[k - 1]; };
+    const auto upper = [&](const std::vector<double>& p, size_t k) { return k + 1 == n ? column.hi() : p[k]; };
+    const std::vector<double>& beside = column.besideFaces;
+    const bool facesKnown = beside.size() == planes.size();  // (else every crossing is counted a pass)
+    double most = 0;
+    for (size_t k = 0; k < n; ++k) {
+        const double a = lower(planes, k), b = upper(planes, k);
+        double passes = column.sideWithin(a, b);
+        if (facesKnown) passes -= column.sideWithin(std::max(a, lower(beside, k)), std::min(b, upper(beside, k)));
+        most = std::max(most, column.within(a, b) + std::max(0.0, passes));
+    }
+    return most;
+}
+
+double holdingPart(const ColumnSample& column) {
+    if (!column.sides) return column.busiestBox;
+    return std::max(column.busiestBox, dearestPartWithPasses(column, column.faces));
+}
+
 bool samplePays(const ColumnSample& column, double dearest, double elapsed) {
     const double share = double(kSampleSide * kSampleSide);  // the frame's work over the sample's
-    const double hold = share * column.busiestBox;
+    const double hold = share * holdingPart(column);
     if (!(hold > 0)) return false;
     const double inPlace = elapsed + std::max(0.0, elapsed - column.startedAt);  // (the planes come down as the sum went up)
     const double left = std::max(0.0, 1 - inPlace / hold);

@@ -11,6 +11,7 @@
 // first, shows where the whole frame's work is early on; every plane of the
 // column then moves once, to where that work splits evenly.
 #pragma once
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -32,35 +33,58 @@ constexpr int kSampleBins = 64;
 // the column. The sum travels up behind the sample's rays, and every ray
 // sent up after it waits behind it on each link: a sum slower a hop than
 // a ray holds them all to its pace (doc/balancing.md, "Long columns"; the
-// figures for 64: doc/history.md).
+// figures for 64: doc/history.md). Where the sum carries the sides' passes
+// too (a column beside one that holds), the faces and the sides take their
+// room from the cells: the message stays at kSampleValues values.
 constexpr int kSampleCells = 64;
+constexpr int kSampleValues = 2 * kSampleCells + 4;
+// The fewest cells a sum keeps to carry the sides: on a longer column
+// (more than 41 boxes) the faces would leave it fewer, and it goes without
+// the sides (on 64x2x1 a sum of one cell gave planes that made the frame
+// 6.4 times the unbalanced one).
+constexpr int kSampleMinCells = 16;
+bool sidesFit(int columnLength);
 
 // A column's sample as the gather carries it up: the work (ps) in cells
-// along the axis, each spread evenly over its cell, the most work any one
-// node's box of the column held (what the frame would take, times the
-// sample's share, with the boxes as they stand), and when the column's
-// lowest node sent it up (how long it took to climb the column).
+// along the axis, each spread evenly over its cell; in the same cells, what
+// its rays across the column's sides to or from a column that holds would
+// cost in passes if the node there were another (`side`); the column's inner
+// faces as they stand; the most work any one node's box of the column held
+// (what the frame would take, times the sample's share, with the boxes as
+// they stand); and when the column's lowest node sent it up (how long it
+// took to climb the column).
 struct ColumnSample {
     std::vector<double> edges;  // K + 1, increasing
     std::vector<double> mass;   // K
+    std::vector<double> side;   // K
+    std::vector<double> faces;  // the inner faces below the last node added
+    std::vector<double> besideFaces;  // the same of the column beside that holds (where the sides' rays go)
+    bool sides = false;  // the column is beside one that holds: the sum carries the faces and the sides
     double busiestBox = 0;
     double startedAt = 0;  // ps into the frame
     // A node's bins over its box [lo, hi], above the cells so far (lo the last edge).
-    void add(double lo, double hi, const std::vector<double>& bins);
+    // besideLo: the lower face beside it (as lo where no column beside holds).
+    void add(double lo, double hi, const std::vector<double>& bins, const std::vector<double>& sideBins = {},
+             double besideLo = std::nan(""));
     // At most `cells` cells: each then an equal share of the work.
     void compress(int cells);
-    std::vector<double> values() const;  // for a message: busiestBox, startedAt, then the edges, then the masses
+    // The most cells whose values() are at most `values` long (at least 1).
+    int cellsWithin(int values) const;
+    // For a message: busiestBox, startedAt, the number of faces, the faces,
+    // the faces beside, the edges, the masses, the side's.
+    std::vector<double> values() const;
     static ColumnSample of(const std::vector<double>& values);  // (empty if they are not a sample)
     double within(double a, double b) const;
+    double sideWithin(double a, double b) const;
     // The coordinate c >= from where [from, c] holds `work`; `limit` if [from, limit] holds less.
     double cut(double from, double limit, double work) const;
     double total() const;
     double lo() const { return edges.empty() ? 0 : edges.front(); }
     double hi() const { return edges.empty() ? 0 : edges.back(); }
-    bool wellFormed() const;  // edges increasing, one more than the masses, no mass negative
+    bool wellFormed() const;  // edges increasing, one more than the masses, as many sides, none negative
 
 private:
-    double below(double x) const;  // the work below x
+    static double below(const std::vector<double>& e, const std::vector<double>& m, double x);  // of m in cells e, below x
 };
 
 // The column's count - 1 inner planes that split the work of `column` so
@@ -70,8 +94,19 @@ private:
 std::vector<double> splitBySample(const ColumnSample& column, int count, double minThickness);
 // The work of the dearest part between `planes` (the column's ends outside them).
 double dearestPart(const ColumnSample& column, const std::vector<double>& planes);
+// The same, each part with the passes its planes would cause: a ray that
+// crosses the column's side to or from a column that holds its faces goes
+// to the node of the sender's index there, which passes it on along the
+// axis where that is not the owner: the side's work in the part, less what
+// lies where the node of its index beside holds (besideFaces; where they
+// are not known, every crossing counts).
+double dearestPartWithPasses(const ColumnSample& column, const std::vector<double>& planes);
+// What holding costs by the sample: the busiest box's work, or the dearest
+// part of the faces as they stand with the passes they cause now, if dearer.
+double holdingPart(const ColumnSample& column);
 
 // Whether moving to planes whose dearest part holds `dearest` of the sample
+// (passes included: dearestPartWithPasses)
 // pays, decided `elapsed` into the frame: the frame at the boxes as they
 // stand takes about the sample's share times the busiest box's sample
 // (ColumnSample::busiestBox), and what is left of it once the faces have

@@ -74,6 +74,7 @@ struct BalanceConfig {
     // starts"). kStartMixAuto: chosen from the machine's costs
     // (startMixFor, balance/initial_split.h), startMixWhy says how.
     double startMix = kStartMixAuto;
+    bool startAligned = false;  // (set with startMix by auto: every column at the world's quantiles)
     std::string startMixWhy;
     int bins = 16;                // work profile: bins per initial box thickness along the axis
     Picos rebuildCost = 20000;    // updating a node's grid: per object moved in or out
@@ -131,7 +132,8 @@ inline const std::vector<Param<BalanceConfig>>& balanceParams() {
         orWord(numberParam("start-mix", &B::startMix, 0.0, 1.0, "/start_mix",
                            "median and sample start with each column's boundaries at the quantiles of this share of its "
                            "objects' centres plus the rest of its length (1: the object median; 0: the uniform split); "
-                           "auto: median 1; sample 1 where an intersection test costs at least a third of a ray's hop, else 0.5"),
+                           "auto: median 1; sample 1 where an intersection test costs at least a third of a ray's hop, else 0.5 "
+                           "(below a tenth of a hop, of all the objects: the same planes in every column)"),
                "auto", kStartMixAuto),
         specialParam<B>("no-guard", "no guard: slide on loads however old, and whatever the slide costs against the work it moves"),
         numberParam("max-age", &B::maxAge, 0.0, 1e9, "/max_age_intervals", "guard: no slide on loads older than this many intervals"),

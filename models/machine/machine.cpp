@@ -5,6 +5,7 @@
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
 
 #include "balance/sample_split.h"
 
@@ -236,48 +237,43 @@ void Machine::giveOutPrimaryRays(const ColumnPlanes& planes) {
     for (const RayJob& j : primaries.misses)
         units_[j.pixel % uint32_t(cfg_.fbUnits)].addOwn(shader_.miss(j, hostCounters));
     primaryMisses_ = primaries.misses.size();
-    if (cfg_.balance.policy == "sample" && cfg_.targetBoundaries.empty()) prepareSample(primaries.perNode);
+    if (cfg_.balance.policy == "sample" && cfg_.targetBoundaries.empty()) prepareSample(primaries.perNode, planes);
     CreditShares credit = shareCredit(primaries.perNode, maxExp_);
     for (size_t i = 0; i < nodes_.size(); ++i)
         nodes_[i].assignPrimaries(std::move(primaries.perNode[i]), credit.exp[i], credit.remainder[i]);
     units_[0].keep(credit.host);
 }
 
-// `sample`'s first frame (sample_split.h): where each node's planes come
-// from. A column none of
-// whose nodes generates primary rays takes its planes from one neighbouring
-// column, its feeder, the same for all its nodes (so its faces' targets
-// agree): the nearest that generates, by a breadth-first search over the
-// columns from those that do, in link order.
-void Machine::prepareSample(const std::vector<std::vector<uint32_t>>& perNode) {
+// `sample`'s first frame (sample_split.h): which columns gather their
+// sample. A column none of whose nodes generates primary rays (across the
+// axis, all but the front row) holds its faces: the planes of the column in
+// front of it, which it used to take, did not fit its work, and the rays
+// they passed on against the columns beside it cost more than the move
+// gained (doc/balancing.md, "Columns that generate no primary rays").
+void Machine::prepareSample(const std::vector<std::vector<uint32_t>>& perNode, const ColumnPlanes& planes) {
     const ColumnGeometry& g = columns_;
-    std::vector<int> feeder(size_t(g.count()), -2);  // per column: the direction of its feeder; -1: it generates; -2: none
-    std::vector<int> queue;
-    for (size_t i = 0; i < nodes_.size(); ++i) {
-        const int col = g.columnOf(nodes_[i].cell());
-        if (!perNode[i].empty() && feeder[size_t(col)] == -2) {
-            feeder[size_t(col)] = -1;
-            queue.push_back(col);
-        }
-    }
-    std::sort(queue.begin(), queue.end());
-    for (size_t q = 0; q < queue.size(); ++q) {
-        const Cell c = g.cell(queue[q] % g.dims[g.u], queue[q] / g.dims[g.u], 0);
+    std::vector<bool> generates(size_t(g.count()), false);
+    for (size_t i = 0; i < nodes_.size(); ++i)
+        if (!perNode[i].empty()) generates[size_t(g.columnOf(nodes_[i].cell()))] = true;
+    std::vector<bool> beside(size_t(g.count()), false);  // per column: some node beside a column that holds
+    for (const Node& n : nodes_)
         for (int d = 0; d < kDirs; ++d) {
-            const Cell n = neighbour(c, d);
-            if (dirAxis(d) == g.axis || !inMesh(n, cfg_.dims) || feeder[size_t(g.columnOf(n))] != -2) continue;
-            feeder[size_t(g.columnOf(n))] = opposite(d);  // (back to this column)
-            queue.push_back(g.columnOf(n));
+            const Cell c = neighbour(n.cell(), d);
+            if (dirAxis(d) != g.axis && inMesh(c, cfg_.dims) && !generates[size_t(g.columnOf(c))])
+                beside[size_t(g.columnOf(n.cell()))] = sidesFit(g.length());
         }
-    }
-    for (size_t i = 0; i < nodes_.size(); ++i) {
-        const Cell& c = nodes_[i].cell();
-        std::array<bool, 6> flood{};  // the neighbouring columns this one feeds
+    for (Node& n : nodes_) {
+        std::array<bool, 6> holds{};  // the neighbouring columns that hold, by link direction
+        const size_t k = size_t(n.cell()[g.axis]);
+        std::array<double, 2> besideBox{planes[size_t(g.columnOf(n.cell()))][k], planes[size_t(g.columnOf(n.cell()))][k + 1]};
+        bool first = true;
         for (int d = 0; d < kDirs; ++d) {
-            const Cell n = neighbour(c, d);
-            flood[size_t(d)] = dirAxis(d) != g.axis && inMesh(n, cfg_.dims) && feeder[size_t(g.columnOf(n))] == opposite(d);
+            const Cell c = neighbour(n.cell(), d);
+            holds[size_t(d)] = dirAxis(d) != g.axis && inMesh(c, cfg_.dims) && !generates[size_t(g.columnOf(c))];
+            if (holds[size_t(d)] && std::exchange(first, false))  // (the first such, in link order: its box beside this one)
+                besideBox = {planes[size_t(g.columnOf(c))][k], planes[size_t(g.columnOf(c))][k + 1]};
         }
-        nodes_[i].setSample(feeder[size_t(g.columnOf(c))], flood);
+        n.setSample(generates[size_t(g.columnOf(n.cell()))], holds, besideBox, beside[size_t(g.columnOf(n.cell()))]);
     }
 }
 

@@ -137,7 +137,7 @@ private:
     void linkToFrameBuffer(Node& n, std::vector<Picos>& unitLookahead);
     void linkUnits(std::vector<Picos>& unitLookahead);
     void startWatchdog();
-    void prepareSample(const std::vector<std::vector<uint32_t>>& perNode);
+    void prepareSample(const std::vector<std::vector<uint32_t>>& perNode, const ColumnPlanes& planes);
     void giveOutPrimaryRays(const ColumnPlanes& planes);  // the planes the nodes are to have (the targets, if any)
     // --quantum lookahead: each process runs ahead by its own, the smallest
     // of its input links' (Link::lookahead; kNoInput: it has none).

@@ -81,7 +81,7 @@ void Node::start() {
         } else if (bal.firstFrameHolds()) {
             balance_->startAt(std::nan(""), std::nan(""));  // hold, and measure
         } else if (sample_) {
-            balance_->startSample(sample_->feeder, sample_->floodTo);
+            balance_->startSample(sample_->gathers, sample_->besideBox[0], sample_->columnBeside);
         }
     }
     runAhead_ = runAhead_ && !balance_ && trace_.busy < 0;
@@ -252,7 +252,7 @@ void Node::step(Work& w) {
     const Picos cost = sumOf(parts);
     if (balance_ && std::isfinite(span.where)) {  // (the faces only for `resplit`'s forecast: not on slide's path)
         balance_->recordStep(span.where, cost, params_.balance.betweenFrames() ? axialFaces(w, parts, span) : FaceCrossings{});
-        if (sample_ && balance_->sampling() && inSample(w.job.pixel, uint32_t(params_.camera.width()))) recordSample(parts, span);
+        if (sample_ && balance_->sampling() && inSample(w.job.pixel, uint32_t(params_.camera.width()))) recordSample(parts, span, w.from);
     }
     markQueueDepth();
     chargeAndSend(parts, true);

@@ -92,7 +92,10 @@ public:
     // `sample`'s first frame (balance_sample.cpp), before its primary rays:
     // the direction its column takes its planes from (-1: its own gather;
     // -2: none, it holds); the neighbouring columns it passes them to.
-    void setSample(int feeder, const std::array<bool, 6>& floodTo);
+    // `sample`'s setup: whether the column gathers; which neighbouring columns
+    // hold; the box along the axis of the node of its index in the first of them (its own if none).
+    void setSample(bool gathers, const std::array<bool, 6>& holdsBeside, const std::array<double, 2>& besideBox,
+                   bool columnBeside);
 
     // What the node still holds (rays in hand or in its input links, rays
     // in partial batches, contributions, credit), for the watchdog's
@@ -139,7 +142,7 @@ private:
     void forward(const Work& w, int dir, bool passing);
     void terminate(const Work& w, std::vector<RayJob>& spawned);
     void markQueueDepth();
-    void recordSample(const BusyParts& parts, const TracedSpan& span);
+    void recordSample(const BusyParts& parts, const TracedSpan& span, int from);  // (from: the link it came in by)
     void noteOccupied();  // occupied_, from the box and its objects
     // Advances the node's time by a step's cost, sends what the step made,
     // and lets the kernel catch up as the quantum asks (with a ray step that
@@ -198,8 +201,10 @@ private:
     std::unique_ptr<BalanceAgent> balance_;  // dynamic policies; made at the start
     std::optional<std::array<double, 2>> startTargets_;
     struct SampleSetup {
-        int feeder = -1;
-        std::array<bool, 6> floodTo{};
+        bool gathers = true;  // its column generates primary rays (else its faces hold)
+        std::array<bool, 6> holdsBeside{};  // the neighbouring columns that hold, by link direction
+        std::array<double, 2> besideBox{};  // along the axis: the box of its index in the first of them
+        bool columnBeside = false;          // some node of its column is beside a column that holds (and the sum has room: sidesFit)
         uint64_t trigger = 0;  // the gather starts once the node has generated this many primary rays
         bool armed = false;
     };

@@ -26,8 +26,9 @@ void Node::rebuild(const Box& box, std::vector<Shape> objects) {
     if (sample_) noteOccupied();
 }
 
-void Node::setSample(int feeder, const std::array<bool, 6>& floodTo) {
-    sample_ = SampleSetup{feeder, floodTo};
+void Node::setSample(bool gathers, const std::array<bool, 6>& holdsBeside, const std::array<double, 2>& besideBox,
+                     bool columnBeside) {
+    sample_ = SampleSetup{gathers, holdsBeside, besideBox, columnBeside};
     noteOccupied();
 }
 
@@ -98,7 +99,7 @@ FaceCrossings Node::axialFaces(const Work& w, const BusyParts& parts, const Trac
 // it), its shading at its hit, its tests and voxel steps in the middle of the
 // part of its segment where the box's objects are (the grid spans only
 // that: UniformGrid::occupiedPart), the rest in the middle of its segment.
-void Node::recordSample(const BusyParts& parts, const TracedSpan& span) {
+void Node::recordSample(const BusyParts& parts, const TracedSpan& span, int from) {
     Picos tests = parts[kVoxelSteps], rest = sumOf(parts) - parts[kRayGeneration] - parts[kShading];
     for (int k = 0; k < kPrimitiveKinds; ++k) tests += parts[size_t(k)];
     rest -= tests;
@@ -108,6 +109,16 @@ void Node::recordSample(const BusyParts& parts, const TracedSpan& span) {
     if (parts[kShading]) balance_->recordSample(span.to, parts[kShading]);
     if (tests) balance_->recordSample(a <= b ? 0.5 * (a + b) : span.where, tests);
     if (rest) balance_->recordSample(span.where, rest);
+    // Its crossings of the column's sides to and from columns that hold,
+    // where they happened, each at what a pass costs a node there (a
+    // message's handling, its share of a batch).
+    const int ax = params_.balance.axis;
+    const double pass = costs_.slabHandling(0) / double(std::max(1, params_.rayBatch));
+    if (!sample_->columnBeside) return;
+    if (from >= 0 && dirAxis(from) != ax && sample_->holdsBeside[size_t(from)]) balance_->recordSide(span.from, pass);
+    const int out = span.exit;
+    if (out >= 0 && dirAxis(out) != ax && outLinks_[size_t(out)] && sample_->holdsBeside[size_t(out)])
+        balance_->recordSide(span.to, pass);
 }
 
 // At the end of each interval: the agent records the node's load over it,

@@ -454,9 +454,8 @@ TEST(Agent, SampleGathersUpTheColumnSplitsAtTheTopAndMovesEachFaceOnce) {
     SampleColumn c(3);
     std::vector<FakeHost>& h = c.h;
     std::vector<std::unique_ptr<BalanceAgent>>& a = c.a;
-    const std::array<bool, 6> none{};
     for (int k = 0; k < 3; ++k) {
-        a[size_t(k)]->startSample(-1, none);
+        a[size_t(k)]->startSample(true, std::nan(""), false);
         EXPECT_EQ(h[k].begun, 1);
         EXPECT_TRUE(a[size_t(k)]->sampling());
     }
@@ -470,13 +469,14 @@ TEST(Agent, SampleGathersUpTheColumnSplitsAtTheTopAndMovesEachFaceOnce) {
     ASSERT_EQ(h[0].reports.size(), 1u);
     EXPECT_EQ(h[0].reports[0].first, +1);
     EXPECT_EQ(h[0].reports[0].second.type, MsgType::Sample);
-    EXPECT_EQ(h[0].reports[0].second.body().values.size(), size_t(2 * kSampleBins + 3));  // busiest box, start, edges, masses
+    // busiest box, start, -1 (no sides: no column beside it holds), edges, masses
+    EXPECT_EQ(h[0].reports[0].second.body().values.size(), size_t(2 * kSampleBins + 4));
     EXPECT_EQ(h[0].reports[0].second.body().values[1], 7);
     EXPECT_FALSE(a[0]->sampling());
     a[1]->onSample(h[0].reports[0].second, 9);
     settle(*a[1]);
     ASSERT_EQ(h[1].reports.size(), 1u);
-    EXPECT_EQ(h[1].reports[0].second.body().values.size(), size_t(2 * kSampleCells + 3));  // 128 bins in 64 cells
+    EXPECT_EQ(h[1].reports[0].second.body().values.size(), size_t(kSampleValues));  // 128 bins in 64 cells
     EXPECT_EQ(h[1].reports[0].second.body().values[1], 7);  // when the lowest node sent it, carried up
     a[2]->onSample(h[1].reports[0].second, 11);
     settle(*a[2]);
@@ -518,9 +518,8 @@ TEST(Agent, SampleHoldsWhereTheMoveComesTooLateToPay) {
     SampleColumn c(2);
     std::vector<FakeHost>& h = c.h;
     BalanceAgent &a = *c.a[0], &b = *c.a[1];
-    const std::array<bool, 6> none{};
-    a.startSample(-1, none);
-    b.startSample(-1, none);
+    a.startSample(true, std::nan(""), false);
+    b.startSample(true, std::nan(""), false);
     for (int k = 0; k < 64; ++k) a.recordSample((k + 0.5) / 64, 10);
     a.sampleReady(0);
     settle(a);

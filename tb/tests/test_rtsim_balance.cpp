@@ -3,9 +3,11 @@
 // boundaries in the waveform, and frame sequences carrying the boundaries.
 #include <algorithm>
 #include <cmath>
-#include <map>
 #include <fstream>
+#include <map>
+#include <set>
 #include <sstream>
+#include <tuple>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -160,12 +162,18 @@ TEST_F(Rtsim, StartMixMovesOnlyAnObjectStartsPlanes) {
     const auto mixed = start(" --balance median --start-mix 0.4", "mixed.png");
     EXPECT_EQ(objects.first, 1.0);
     EXPECT_EQ(mixed.first, 0.4);
-    // auto, for sample: on the default machine a test costs less than a third
-    // of a hop (10 against 212 ns), so half by the length; with tests of 1 us, the objects.
-    for (const auto& [costs, mix] : {std::pair{"", 0.5}, std::pair{" --cost-sphere 1us", 1.0}}) {
+    // auto, for sample: on the default machine a test costs less than a tenth
+    // of a hop (10 against 212 ns), so half by the length, every column at
+    // the same planes; with tests of 1 us, the objects, each column its own.
+    for (const auto& [costs, mix, why] : {std::tuple{"", 0.5, "a tenth of a ray's hop"},
+                                          std::tuple{" --cost-sphere 1us", 1.0, "a ray's hop"}}) {
         const json r = report(procedural + " --balance sample --no-baseline" + costs);
         EXPECT_EQ(r["config"]["balance"]["start_mix"].get<double>(), mix) << costs;
-        EXPECT_NE(r["config"]["balance"].value("start_mix_auto", "").find("a third of a ray's hop"), std::string::npos) << costs;
+        const std::string said = r["config"]["balance"].value("start_mix_auto", "");
+        EXPECT_NE(said.find(why), std::string::npos) << said;
+        std::map<int, std::set<double>> starts;  // boundary index: where the columns start it
+        for (const json& b : r["boundaries"]) starts[b["index"]].insert(b["history"][0][1].get<double>());
+        for (const auto& [k, at] : starts) EXPECT_EQ(at.size() == 1, mix == 0.5) << k << costs;
     }
     EXPECT_GT(std::abs(mixed.second - objects.second), 0.01) << "the first plane did not move";
     EXPECT_EQ(slurp(dir_ / "mixed.png"), slurp(dir_ / "median.png"));

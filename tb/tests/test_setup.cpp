@@ -90,8 +90,19 @@ TEST(InitialSplit, AutoStartMixWeighsATestAgainstARaysHop) {
     EXPECT_EQ(mixAt(10000), 0.5);   // the default's 10 ns: the hops are the work
     EXPECT_EQ(mixAt(70666), 0.5);   // just under a third of the hop (70.67 ns)
     EXPECT_EQ(mixAt(70667), 1.0);   // a third of it: the objects are the work
-    EXPECT_NE(startMixFor(m, spheres).why.find("less than a third of a ray's hop (212 ns)"), std::string::npos)
+    EXPECT_NE(startMixFor(m, spheres).why.find("less than a tenth of a ray's hop (212 ns)"), std::string::npos)
         << startMixFor(m, spheres).why;
+    // Below a tenth of the hop (21.2 ns) every column starts at the same planes.
+    auto alignedAt = [&](Picos test) {
+        MachineConfig c = m;
+        c.costs.test[0] = test;
+        return startMixFor(c, spheres).aligned;
+    };
+    EXPECT_TRUE(alignedAt(10000));
+    EXPECT_TRUE(alignedAt(21199));
+    EXPECT_FALSE(alignedAt(21200));
+    EXPECT_FALSE(alignedAt(70667));
+    EXPECT_NE(startMixFor(m, spheres).why.find("the same planes in every column"), std::string::npos);
     m.rayBatch = 4;  // a message of 8 + 4 x 124 bytes (504 ns) and its 80 ns of handling, shared by 4 rays: 146 ns
     EXPECT_EQ(mixAt(48666), 0.5);
     EXPECT_EQ(mixAt(48667), 1.0);
@@ -110,6 +121,7 @@ TEST(InitialSplit, AutoStartMixWeighsATestAgainstARaysHop) {
     m.balance.policy = "sample";
     chooseStartMix(m, spheres);
     EXPECT_EQ(m.balance.startMix, 0.5);
+    EXPECT_TRUE(m.balance.startAligned);
     EXPECT_FALSE(m.balance.startMixWhy.empty());
     m.balance.startMix = 0.25;
     chooseStartMix(m, spheres);
