@@ -109,7 +109,7 @@ MUTANTS = [
      "const bool aligned = !testsAreTheWork && kHopsPerTestAligned * test < hop;", "const bool aligned = false;",
      "where the hops are the work, each column still starts at its own objects' quantiles"),
     ("sample-every-column-gathers", "models/machine/machine.cpp",
-     "n.setSample(generates[size_t(g.columnOf(n.cell()))], holds,", "n.setSample(true, holds,",
+     "n.setSample(generates[col], holds,", "n.setSample(true, holds,",
      "a column that generates no primary rays gathers a sample of its own and moves, instead of holding"),
     ("start-moves-stop-at-the-box", "models/balance/balance_agent.cpp",
      "    if (!hold_) return;\n    const Box& b = host_.box();", "    return;\n    const Box& b = host_.box();",

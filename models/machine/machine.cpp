@@ -255,25 +255,22 @@ void Machine::prepareSample(const std::vector<std::vector<uint32_t>>& perNode, c
     std::vector<bool> generates(size_t(g.count()), false);
     for (size_t i = 0; i < nodes_.size(); ++i)
         if (!perNode[i].empty()) generates[size_t(g.columnOf(nodes_[i].cell()))] = true;
-    std::vector<bool> beside(size_t(g.count()), false);  // per column: some node beside a column that holds
-    for (const Node& n : nodes_)
-        for (int d = 0; d < kDirs; ++d) {
-            const Cell c = neighbour(n.cell(), d);
-            if (dirAxis(d) != g.axis && inMesh(c, cfg_.dims) && !generates[size_t(g.columnOf(c))])
-                beside[size_t(g.columnOf(n.cell()))] = sidesFit(g.length());
-        }
+    // The columns beside are the same for every node of a column, so its
+    // nodes agree whether the sum carries the sides; a column too long for
+    // them in the sum counts none (sidesFit).
+    const bool sidesRoom = sidesFit(g.length());
     for (Node& n : nodes_) {
+        const size_t col = size_t(g.columnOf(n.cell())), k = size_t(n.cell()[g.axis]);
         std::array<bool, 6> holds{};  // the neighbouring columns that hold, by link direction
-        const size_t k = size_t(n.cell()[g.axis]);
-        std::array<double, 2> besideBox{planes[size_t(g.columnOf(n.cell()))][k], planes[size_t(g.columnOf(n.cell()))][k + 1]};
+        double besideLo = planes[col][k];  // (its own lower face where none holds)
         bool first = true;
         for (int d = 0; d < kDirs; ++d) {
             const Cell c = neighbour(n.cell(), d);
-            holds[size_t(d)] = dirAxis(d) != g.axis && inMesh(c, cfg_.dims) && !generates[size_t(g.columnOf(c))];
-            if (holds[size_t(d)] && std::exchange(first, false))  // (the first such, in link order: its box beside this one)
-                besideBox = {planes[size_t(g.columnOf(c))][k], planes[size_t(g.columnOf(c))][k + 1]};
+            holds[size_t(d)] = sidesRoom && dirAxis(d) != g.axis && inMesh(c, cfg_.dims) && !generates[size_t(g.columnOf(c))];
+            if (holds[size_t(d)] && std::exchange(first, false))  // (the first such, in link order: the face beside)
+                besideLo = planes[size_t(g.columnOf(c))][k];
         }
-        n.setSample(generates[size_t(g.columnOf(n.cell()))], holds, besideBox, beside[size_t(g.columnOf(n.cell()))]);
+        n.setSample(generates[col], holds, besideLo);
     }
 }
 

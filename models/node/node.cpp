@@ -81,7 +81,8 @@ void Node::start() {
         } else if (bal.firstFrameHolds()) {
             balance_->startAt(std::nan(""), std::nan(""));  // hold, and measure
         } else if (sample_) {
-            balance_->startSample(sample_->gathers, sample_->besideBox[0], sample_->columnBeside);
+            const std::array<bool, 6>& beside = sample_->holdsBeside;
+            balance_->startSample(sample_->gathers, sample_->besideLo, std::find(beside.begin(), beside.end(), true) != beside.end());
         }
     }
     runAhead_ = runAhead_ && !balance_ && trace_.busy < 0;

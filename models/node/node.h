@@ -92,10 +92,10 @@ public:
     // `sample`'s first frame (balance_sample.cpp), before its primary rays:
     // the direction its column takes its planes from (-1: its own gather;
     // -2: none, it holds); the neighbouring columns it passes them to.
-    // `sample`'s setup: whether the column gathers; which neighbouring columns
-    // hold; the box along the axis of the node of its index in the first of them (its own if none).
-    void setSample(bool gathers, const std::array<bool, 6>& holdsBeside, const std::array<double, 2>& besideBox,
-                   bool columnBeside);
+    // `sample`'s setup: whether the column gathers; which neighbouring
+    // columns hold (none where the sum has no room for the sides); the lower
+    // face of the node of its index in the first of them (its own if none).
+    void setSample(bool gathers, const std::array<bool, 6>& holdsBeside, double besideLo);
 
     // What the node still holds (rays in hand or in its input links, rays
     // in partial batches, contributions, credit), for the watchdog's
@@ -203,8 +203,7 @@ private:
     struct SampleSetup {
         bool gathers = true;  // its column generates primary rays (else its faces hold)
         std::array<bool, 6> holdsBeside{};  // the neighbouring columns that hold, by link direction
-        std::array<double, 2> besideBox{};  // along the axis: the box of its index in the first of them
-        bool columnBeside = false;          // some node of its column is beside a column that holds (and the sum has room: sidesFit)
+        double besideLo = 0;                // along the axis: the lower face of its index in the first of them
         uint64_t trigger = 0;  // the gather starts once the node has generated this many primary rays
         bool armed = false;
     };

@@ -26,9 +26,8 @@ void Node::rebuild(const Box& box, std::vector<Shape> objects) {
     if (sample_) noteOccupied();
 }
 
-void Node::setSample(bool gathers, const std::array<bool, 6>& holdsBeside, const std::array<double, 2>& besideBox,
-                     bool columnBeside) {
-    sample_ = SampleSetup{gathers, holdsBeside, besideBox, columnBeside};
+void Node::setSample(bool gathers, const std::array<bool, 6>& holdsBeside, double besideLo) {
+    sample_ = SampleSetup{gathers, holdsBeside, besideLo};
     noteOccupied();
 }
 
@@ -114,7 +113,6 @@ void Node::recordSample(const BusyParts& parts, const TracedSpan& span, int from
     // message's handling, its share of a batch).
     const int ax = params_.balance.axis;
     const double pass = costs_.slabHandling(0) / double(std::max(1, params_.rayBatch));
-    if (!sample_->columnBeside) return;
     if (from >= 0 && dirAxis(from) != ax && sample_->holdsBeside[size_t(from)]) balance_->recordSide(span.from, pass);
     const int out = span.exit;
     if (out >= 0 && dirAxis(out) != ax && outLinks_[size_t(out)] && sample_->holdsBeside[size_t(out)])
