@@ -185,23 +185,26 @@ public:
     // holds its faces and records the work of the sample's rays by where it
     // happened; once its own part of the sample is in (sampleReady) and the
     // column's sum from below has come (onSample), it passes the sum on up;
-    // the top node splits the column's sum (splitBySample) and sends the
-    // planes down (onPlanes), none where the move would not pay by then
-    // (samplePays: every face holds); every node passes them on and moves its faces
-    // to them as startAt does, once, and then holds. Without `gathers` (a
-    // column none of whose nodes generates primary rays) the faces hold.
-    // `besideLo`: the lower face of the node of its index in the column
-    // beside that holds (its own if none), for the passes' forecast;
-    // `sides`: some node of the column is beside a column that holds.
-    void startSample(bool gathers, double besideLo, bool sides);
+    // the top node splits the column's sum (splitBySample), tells the top
+    // nodes of the columns beside (`besideDirs`, the link directions to
+    // them) the planes it proposes, and once it has theirs sends its planes
+    // down (onPlanes), none where the move would not pay by then against
+    // the planes beside (samplePays: every face holds); every node passes
+    // them on and moves its faces to them as startAt does, once, and then
+    // holds. Without `gathers` (a column none of whose nodes generates
+    // primary rays) the faces hold, and its top node proposes them as they
+    // stand (`faces`, the column's inner faces).
+    void startSample(bool gathers, const std::vector<int>& besideDirs, std::vector<double> faces);
     bool sampling() const { return gather_.on && !gather_.passed; }
     void recordSample(double where, Picos work);
-    // A sample ray across the column's side, to or from a column that
-    // holds, at `where` along the axis: `passCost` if it were passed on.
+    // A sample ray across the column's side, to or from a column beside, at
+    // `where` along the axis: `passCost` if it were passed on.
     void recordSide(double where, double passCost);
     void sampleReady(Picos now);
     void onSample(const Message& m, Picos now);
-    void onPlanes(int fromDir, const Message& m);
+    // Planes: from above, the column's; from a column beside (to a top
+    // node), its proposal, then whether it moves (decideSample).
+    void onPlanes(int fromDir, const Message& m, Picos now);
 
     // --faces ideal-layer: the layer's faces, summed and decided without
     // messages (ideal_layer_faces.h); this node adds its loads to them and
@@ -262,16 +265,30 @@ private:
         bool on = false;  // the column gathers its own planes
         bool ready = false, below = false, passed = false, adopted = false;
         double lo = 0, hi = 1;      // the box along the axis while it samples
-        double besideLo = 0;        // the lower face beside it (startSample)
         std::vector<double> own;    // the sample's work here, in kSampleBins bins over [lo, hi]
         std::vector<double> side;   // its rays across the sides (recordSide), likewise
         ColumnSample sum;           // the column's, from its lowest node through this one
         std::vector<double> planes;
+        // The top node: the columns beside (link directions), what it
+        // proposes to them and whether it says it moves, and theirs as they
+        // come (decideSample).
+        struct Beside {
+            std::vector<double> proposal, faces;
+            bool verdict = false;
+            int heard = 0;  // 1: its proposal, 2: and its verdict
+        };
+        std::vector<int> besideDirs;
+        std::vector<Beside> beside;
+        std::vector<double> proposal, faces;  // (its faces as they stand, sent with the proposal)
+        bool paysAlone = false, verdict = false;
+        int round = 0;  // 1: proposed, 2: said whether it moves
         bool up = false, down = false, adopt = false;  // due: the sum up, the planes down, the faces to them
-        bool due() const { return up || down || adopt; }
+        size_t propose = 0, tell = 0;  // due: the proposal, the verdict to this many more columns beside
+        bool due() const { return up || down || adopt || propose > 0 || tell > 0; }
     };
     void gatherStep();      // one action of the gather (act)
     void passSum(Picos now);  // ready and the sum from below in: up, or (the top) split
+    void decideSample(Picos now);  // (the top) its proposal made and those beside in: the planes down
     void takePlanes(std::vector<double> planes);
     Gather gather_;
     BalanceStats stats_;

@@ -14,16 +14,22 @@
 
 namespace rt {
 
-void BalanceAgent::startSample(bool gathers, double besideLo, bool sides) {
+void BalanceAgent::startSample(bool gathers, const std::vector<int>& besideDirs, std::vector<double> faces) {
     hold_ = true;  // no load reports: the faces stay until the planes come
     Gather& g = gather_;
     g.on = gathers;  // (else the faces hold all frame)
-    if (!g.on) return;
+    if (!sides_[1].present) g.besideDirs = besideDirs;  // (the top node tells the columns beside)
+    g.beside.assign(g.besideDirs.size(), {});
+    if (!g.on) {  // (a column that holds proposes its faces at once, and says it holds)
+        g.faces = std::move(faces);
+        g.proposal = g.faces;
+        g.propose = g.tell = g.besideDirs.size();
+        return;
+    }
     g.below = !sides_[0].present;
     g.lo = host_.box().lo[cfg_.axis];
     g.hi = host_.box().hi[cfg_.axis];
-    g.besideLo = besideLo;
-    g.sum.sides = sides;
+    g.sum.sides = !besideDirs.empty();
     g.own.assign(kSampleBins, 0.0);
     g.side.assign(kSampleBins, 0.0);
     host_.sampleBegins();
@@ -55,29 +61,89 @@ void BalanceAgent::onSample(const Message& m, Picos now) {
     passSum(now);
 }
 
-// The top node moves the column only where the forecast from the sample,
-// the passes against the columns that hold included, says it pays by now
-// (samplePays); else the planes it sends are none, and every face holds.
+// The top node decides with the top nodes of the columns beside, in two
+// rounds (doc/balancing.md, "Columns side by side"):
+//  1. each proposes its planes where they pay by its column's work alone,
+//     else its faces as they stand (a column that holds: its faces);
+//  2. each says whether it would move: whether all of them moving as
+//     proposed, with the passes between their planes, beats all of them
+//     holding (where a scene's rays cross columns more than they work in
+//     them, as tetra-3's, every column moving made the frame three times
+//     the unbalanced one, though each move paid against its neighbours'
+//     moving);
+// and then moves where that pays against the planes beside as they will
+// be (the proposals of those that said they would move, the faces of the
+// rest). Deciding on the second round alone, some columns held beside
+// neighbours that moved, and became the frame's busiest (Fig. 4's scene
+// along the axis at N = 8, f = 7/8: 1.07 of the unbalanced frame). Where
+// it does not pay the planes it sends are none, and every face holds.
 void BalanceAgent::passSum(Picos now) {
     Gather& g = gather_;
     if (!g.ready || !g.below || g.passed) return;
     g.passed = true;  // (recording stops: the sum holds what was traced by now)
     if (!sides_[0].present) g.sum.startedAt = double(now);  // (the lowest node: the climb starts)
-    g.sum.add(g.lo, g.hi, g.own, g.side, g.besideLo);
+    g.sum.add(g.lo, g.hi, g.own, g.side);
     g.sum.compress(g.sum.cellsWithin(kSampleValues));
     if (sides_[1].present) {
         g.up = true;
         return;
     }
-    std::vector<double> planes = splitBySample(g.sum, count_, minThickness_);
-    if (!planes.empty() && !samplePays(g.sum, dearestPartWithPasses(g.sum, planes), double(now))) planes.clear();
+    g.planes = splitBySample(g.sum, count_, minThickness_);
+    g.paysAlone = !g.planes.empty() && samplePays(g.sum, g.sum.busiestBox, dearestPart(g.sum, g.planes), double(now));
+    g.faces = g.sum.faces;
+    g.proposal = g.paysAlone ? g.planes : g.faces;
+    g.round = 1;
+    g.propose = g.besideDirs.size();
+    decideSample(now);
+}
+
+void BalanceAgent::decideSample(Picos now) {
+    Gather& g = gather_;
+    const auto heard = [&](int n) {
+        return std::all_of(g.beside.begin(), g.beside.end(), [n](const Gather::Beside& b) { return b.heard >= n; });
+    };
+    const auto planesBeside = [&](bool asProposed) {
+        std::vector<std::vector<double>> p;
+        for (const Gather::Beside& b : g.beside) p.push_back(asProposed || b.verdict ? b.proposal : b.faces);
+        return p;
+    };
+    const double t = double(now);
+    if (g.round == 1 && heard(1)) {
+        std::vector<std::vector<double>> faces;
+        for (const Gather::Beside& b : g.beside) faces.push_back(b.faces);
+        g.verdict = g.paysAlone &&
+                    samplePays(g.sum, holdingPart(g.sum, faces), dearestPartWithPasses(g.sum, g.planes, planesBeside(true)), t);
+        g.round = 2;
+        g.tell = g.besideDirs.size();
+    }
+    if (g.round != 2 || !heard(2) || g.adopted) return;
+    const std::vector<std::vector<double>> beside = planesBeside(false);
+    std::vector<double> planes = g.planes;
+    if (!planes.empty() && !samplePays(g.sum, holdingPart(g.sum, beside), dearestPartWithPasses(g.sum, planes, beside), t))
+        planes.clear();
     takePlanes(std::move(planes));
 }
 
-void BalanceAgent::onPlanes(int fromDir, const Message& m) {
-    const bool fromAbove = gather_.on && dirAxis(fromDir) == cfg_.axis && dirStep(fromDir) > 0;
-    if (gather_.adopted || !fromAbove) throw std::logic_error("balance agent: planes twice, or not from above");
+void BalanceAgent::onPlanes(int fromDir, const Message& m, Picos now) {
     const std::vector<double>& p = m.body().values;
+    Gather& g = gather_;
+    if (dirAxis(fromDir) != cfg_.axis) {  // from a column beside: its proposal, then whether it moves
+        const auto at = std::find(g.besideDirs.begin(), g.besideDirs.end(), fromDir);
+        if (at == g.besideDirs.end() || g.beside[size_t(at - g.besideDirs.begin())].heard >= 2)
+            throw std::logic_error("balance agent: a proposal to a node that is not a top node, or one too many");
+        Gather::Beside& b = g.beside[size_t(at - g.besideDirs.begin())];
+        if (b.heard++ == 0) {
+            if (p.size() % 2) throw std::logic_error("balance agent: a proposal without as many faces as planes");
+            const size_t half = p.size() / 2;  // (its proposal, then its faces as they stand)
+            b.proposal.assign(p.begin(), p.begin() + long(half));
+            b.faces.assign(p.begin() + long(half), p.end());
+        } else
+            b.verdict = p.size() == 1 && p[0] != 0;
+        if (g.on) decideSample(now);
+        return;
+    }
+    const bool fromAbove = g.on && dirStep(fromDir) > 0;
+    if (g.adopted || !fromAbove) throw std::logic_error("balance agent: planes twice, or not from above");
     if (!p.empty() && p.size() != size_t(count_ - 1)) throw std::logic_error("balance agent: planes of another column");
     takePlanes(p);
 }
@@ -94,6 +160,18 @@ void BalanceAgent::takePlanes(std::vector<double> planes) {
 
 void BalanceAgent::gatherStep() {
     Gather& g = gather_;
+    if (g.propose > 0) {  // (each column beside hears the proposal before the verdict: one link, in order)
+        const int dir = g.besideDirs[g.besideDirs.size() - g.propose--];
+        std::vector<double> both = g.proposal;
+        both.insert(both.end(), g.faces.begin(), g.faces.end());
+        host_.sendOn(dir, Message::planes(std::move(both)));
+        return;
+    }
+    if (g.tell > 0) {
+        const int dir = g.besideDirs[g.besideDirs.size() - g.tell--];
+        host_.sendOn(dir, Message::planes({g.verdict ? 1.0 : 0.0}));
+        return;
+    }
     if (g.up) {
         g.up = false;
         host_.sendReport(+1, Message::sample(g.sum.values()));

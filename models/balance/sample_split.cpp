@@ -10,13 +10,9 @@ bool inSample(uint32_t pixel, uint32_t width) {
     return (pixel % width) % kSampleSide == 0 && (pixel / width) % kSampleSide == 0;
 }
 
-void ColumnSample::add(double lo, double hi, const std::vector<double>& bins, const std::vector<double>& sideBins,
-                       double besideLo) {
+void ColumnSample::add(double lo, double hi, const std::vector<double>& bins, const std::vector<double>& sideBins) {
     if (edges.empty()) edges.push_back(lo);
-    else {
-        faces.push_back(lo);
-        besideFaces.push_back(std::isfinite(besideLo) ? besideLo : lo);
-    }
+    else faces.push_back(lo);
     const double w = (hi - lo) / double(bins.size());
     double box = 0;
     for (size_t k = 0; k < bins.size(); ++k) {
@@ -53,22 +49,22 @@ void ColumnSample::compress(int cells) {
 }
 
 bool sidesFit(int columnLength) {
-    return (kSampleValues - 4 - 2 * (columnLength - 1)) / 3 >= kSampleMinCells;
+    return (kSampleValues - 4 - (columnLength - 1)) / 3 >= kSampleMinCells;
 }
 
 int ColumnSample::cellsWithin(int values) const {
     // (3 values ahead, one edge more than the cells, and per cell an edge
     // and a mass, and with the sides the faces and a side per cell)
-    return std::max(1, (values - 4 - (sides ? 2 * int(faces.size()) : 0)) / (sides ? 3 : 2));
+    return std::max(1, (values - 4 - (sides ? int(faces.size()) : 0)) / (sides ? 3 : 2));
 }
 
 std::vector<double> ColumnSample::values() const {
-    // Beside no column that holds (along the axis every column moves),
-    // neither the faces nor the sides: -1 for their count, and a message no
-    // longer than before they were gathered (on a long column a longer sum
-    // holds every ray behind it to its pace).
+    // Beside no column (a mesh one box across), neither the faces nor the
+    // sides: -1 for their count, and a message no longer than before they
+    // were gathered (on a long column a longer sum holds every ray behind
+    // it to its pace).
     std::vector<double> v{busiestBox, startedAt, sides ? double(faces.size()) : -1.0};
-    for (const std::vector<double>* part : {&faces, &besideFaces, &edges, &mass, &side})
+    for (const std::vector<double>* part : {&faces, &edges, &mass, &side})
         if (sides || part == &edges || part == &mass) v.insert(v.end(), part->begin(), part->end());
     return v;
 }
@@ -78,13 +74,13 @@ ColumnSample ColumnSample::of(const std::vector<double>& v) {
     if (v.size() < 3 || !(v[2] >= -1) || !(v[2] <= double(v.size())) || v[2] != std::floor(v[2])) return c;
     const bool sides = v[2] >= 0;
     const size_t f = sides ? size_t(v[2]) : 0, per = sides ? 3 : 2;  // (values per cell)
-    if (v.size() < 3 + 2 * f + 1 + per || (v.size() - 3 - 2 * f - 1) % per != 0) return c;
-    const size_t k = (v.size() - 3 - 2 * f - 1) / per;
+    if (v.size() < 3 + f + 1 + per || (v.size() - 3 - f - 1) % per != 0) return c;
+    const size_t k = (v.size() - 3 - f - 1) / per;
     c.busiestBox = v[0];
     c.startedAt = v[1];
     auto at = v.begin() + 3;
     for (auto [part, n] :
-         {std::pair{&c.faces, f}, {&c.besideFaces, f}, {&c.edges, k + 1}, {&c.mass, k}, {&c.side, sides ? k : 0}}) {
+         {std::pair{&c.faces, f}, {&c.edges, k + 1}, {&c.mass, k}, {&c.side, sides ? k : 0}}) {
         part->assign(at, at + long(n));
         at += long(n);
     }
@@ -97,13 +93,8 @@ bool ColumnSample::wellFormed() const {
     if (mass.empty() || edges.size() != mass.size() + 1 || side.size() != mass.size()) return false;
     for (size_t k = 0; k < mass.size(); ++k)
         if (!(edges[k] < edges[k + 1]) || !(mass[k] >= 0) || !(side[k] >= 0)) return false;
-    // (the faces beside may lie above the cells so far: the column beside started elsewhere)
-    if (besideFaces.size() != faces.size()) return false;
-    for (size_t k = 0; k < faces.size(); ++k) {
+    for (size_t k = 0; k < faces.size(); ++k)
         if (!(faces[k] > lo() && faces[k] < hi()) || (k > 0 && !(faces[k] > faces[k - 1]))) return false;
-        if (!(besideFaces[k] > lo() && std::isfinite(besideFaces[k])) || (k > 0 && !(besideFaces[k] > besideFaces[k - 1])))
-            return false;
-    }
     return busiestBox >= 0 && startedAt >= 0;
 }
 
@@ -195,31 +186,54 @@ double dearestPart(const ColumnSample& column, const std::vector<double>& planes
     return std::max(most, column.within(from, column.hi()));
 }
 
-double dearestPartWithPasses(const ColumnSample& column, const std::vector<double>& planes) {
-    if (!column.sides) return dearestPart(column, planes);
-    const size_t n = planes.size() + 1;
-    const auto lower = [&](const std::vector<double>& p, size_t k) { return k == 0 ? column.lo() : p[k - 1]; };
-    const auto upper = [&](const std::vector<double>& p, size_t k) { return k + 1 == n ? column.hi() : p[k]; };
-    const std::vector<double>& beside = column.besideFaces;
-    const bool facesKnown = beside.size() == planes.size();  // (else every crossing is counted a pass)
-    double most = 0;
-    for (size_t k = 0; k < n; ++k) {
-        const double a = lower(planes, k), b = upper(planes, k);
-        double passes = column.sideWithin(a, b);
-        if (facesKnown) passes -= column.sideWithin(std::max(a, lower(beside, k)), std::min(b, upper(beside, k)));
-        most = std::max(most, column.within(a, b) + std::max(0.0, passes));
+double dearestPartWithPasses(const ColumnSample& column, const std::vector<double>& planes,
+                             const std::vector<std::vector<double>>& beside) {
+    if (!column.sides || beside.empty()) return dearestPart(column, planes);
+    std::vector<double> parts;
+    double from = column.lo();
+    for (double x : planes) {
+        parts.push_back(column.within(from, x));
+        from = x;
     }
-    return most;
+    parts.push_back(column.within(from, column.hi()));
+    const auto partOf = [](const std::vector<double>& faces, double x) {
+        return size_t(std::upper_bound(faces.begin(), faces.end(), x) - faces.begin());
+    };
+    const double share = 1.0 / double(beside.size());
+    for (const std::vector<double>& there : beside) {
+        const bool known = there.size() == planes.size();
+        // Between consecutive planes and faces beside, a crossing's own
+        // part i and the part j of the node of its index beside are the
+        // same throughout: it is passed from j to i, through every node
+        // between (unknown faces beside: once, in its own part).
+        std::vector<double> cuts = planes;
+        if (known) cuts.insert(cuts.end(), there.begin(), there.end());
+        cuts.push_back(column.hi());
+        std::sort(cuts.begin(), cuts.end());
+        double a = column.lo();
+        for (double b : cuts) {
+            b = std::min(b, column.hi());
+            if (!(b > a)) continue;
+            const double passes = share * column.sideWithin(a, b), mid = 0.5 * (a + b);
+            const size_t i = partOf(planes, mid), j = known ? partOf(there, mid) : i;
+            if (!known) parts[i] += passes;
+            else if (i != j)
+                for (size_t k = std::min(i, j); k <= std::max(i, j); ++k)
+                    parts[k] += (k == i || k == j ? 0.5 : 1.0) * passes;
+            a = b;
+        }
+    }
+    return *std::max_element(parts.begin(), parts.end());
 }
 
-double holdingPart(const ColumnSample& column) {
-    if (!column.sides) return column.busiestBox;
-    return std::max(column.busiestBox, dearestPartWithPasses(column, column.faces));
+double holdingPart(const ColumnSample& column, const std::vector<std::vector<double>>& beside) {
+    if (!column.sides || beside.empty()) return column.busiestBox;
+    return std::max(column.busiestBox, dearestPartWithPasses(column, column.faces, beside));
 }
 
-bool samplePays(const ColumnSample& column, double dearest, double elapsed) {
+bool samplePays(const ColumnSample& column, double hold, double dearest, double elapsed) {
     const double share = double(kSampleSide * kSampleSide);  // the frame's work over the sample's
-    const double hold = share * holdingPart(column);
+    hold *= share;
     if (!(hold > 0)) return false;
     const double inPlace = elapsed + std::max(0.0, elapsed - column.startedAt);  // (the planes come down as the sum went up)
     const double left = std::max(0.0, 1 - inPlace / hold);

@@ -34,21 +34,23 @@ constexpr int kSampleBins = 64;
 // sent up after it waits behind it on each link: a sum slower a hop than
 // a ray holds them all to its pace (doc/balancing.md, "Long columns"; the
 // figures for 64: doc/history.md). Where the sum carries the sides' passes
-// too (a column beside one that holds), the faces and the sides take their
+// too (a column with columns beside it), the faces and the sides take their
 // room from the cells: the message stays at kSampleValues values.
 constexpr int kSampleCells = 64;
 constexpr int kSampleValues = 2 * kSampleCells + 4;
 // The fewest cells a sum keeps to carry the sides: on a longer column
-// (more than 41 boxes) the faces would leave it fewer, and it goes without
-// the sides (on 64x2x1 a sum of one cell gave planes that made the frame
-// 6.4 times the unbalanced one).
-constexpr int kSampleMinCells = 16;
+// (more than 42 boxes) the faces would leave it fewer, and it goes without
+// the sides. On 64x2x1 from the object median, a sum of 21 cells with the
+// sides moved one of the two columns, in chains of slabs, and made the
+// frame 2.57 times the unbalanced one (1.79 without the sides; with one
+// cell, when the faces beside took a second value a box, 6.4).
+constexpr int kSampleMinCells = 29;
 bool sidesFit(int columnLength);
 
 // A column's sample as the gather carries it up: the work (ps) in cells
 // along the axis, each spread evenly over its cell; in the same cells, what
-// its rays across the column's sides to or from a column that holds would
-// cost in passes if the node there were another (`side`); the column's inner
+// its rays across the column's sides, to or from the columns beside, would
+// cost a node to pass on along the axis, once (`side`); the column's inner
 // faces as they stand; the most work any one node's box of the column held
 // (what the frame would take, times the sample's share, with the boxes as
 // they stand); and when the column's lowest node sent it up (how long it
@@ -58,20 +60,17 @@ struct ColumnSample {
     std::vector<double> mass;   // K
     std::vector<double> side;   // K
     std::vector<double> faces;  // the inner faces below the last node added
-    std::vector<double> besideFaces;  // the same of the column beside that holds (where the sides' rays go)
-    bool sides = false;  // the column is beside one that holds: the sum carries the faces and the sides
+    bool sides = false;  // the column has columns beside it: the sum carries the faces and the sides
     double busiestBox = 0;
     double startedAt = 0;  // ps into the frame
     // A node's bins over its box [lo, hi], above the cells so far (lo the last edge).
-    // besideLo: the lower face beside it (as lo where no column beside holds).
-    void add(double lo, double hi, const std::vector<double>& bins, const std::vector<double>& sideBins = {},
-             double besideLo = std::nan(""));
+    void add(double lo, double hi, const std::vector<double>& bins, const std::vector<double>& sideBins = {});
     // At most `cells` cells: each then an equal share of the work.
     void compress(int cells);
     // The most cells whose values() are at most `values` long (at least 1).
     int cellsWithin(int values) const;
     // For a message: busiestBox, startedAt, the number of faces, the faces,
-    // the faces beside, the edges, the masses, the side's.
+    // the edges, the masses, the side's.
     std::vector<double> values() const;
     static ColumnSample of(const std::vector<double>& values);  // (empty if they are not a sample)
     double within(double a, double b) const;
@@ -94,29 +93,33 @@ private:
 std::vector<double> splitBySample(const ColumnSample& column, int count, double minThickness);
 // The work of the dearest part between `planes` (the column's ends outside them).
 double dearestPart(const ColumnSample& column, const std::vector<double>& planes);
-// The same, each part with the passes its planes would cause: a ray that
-// crosses the column's side to or from a column that holds its faces goes
-// to the node of the sender's index there, which passes it on along the
-// axis where that is not the owner: the side's work in the part, less what
-// lies where the node of its index beside holds (besideFaces; where they
-// are not known, every crossing counts).
-double dearestPartWithPasses(const ColumnSample& column, const std::vector<double>& planes);
+// The same, each part with the passes its planes would cause against the
+// planes of the columns beside (`beside`: each column's, as it proposes to
+// move or holds). A ray that crosses the column's side arrives at the node
+// of the sender's index, which passes it on along the axis to the owner,
+// through every node between: each of them handles it once. The sum does
+// not say which side a crossing was on: each column beside counts for an
+// even share of them. (Without columns beside, or where their planes are
+// not known, every crossing counts one pass in its own part.)
+double dearestPartWithPasses(const ColumnSample& column, const std::vector<double>& planes,
+                             const std::vector<std::vector<double>>& beside);
 // What holding costs by the sample: the busiest box's work, or the dearest
-// part of the faces as they stand with the passes they cause now, if dearer.
-double holdingPart(const ColumnSample& column);
+// part of the faces as they stand with the passes they cause against the
+// planes beside, if dearer.
+double holdingPart(const ColumnSample& column, const std::vector<std::vector<double>>& beside);
 
 // Whether moving to planes whose dearest part holds `dearest` of the sample
-// (passes included: dearestPartWithPasses)
-// pays, decided `elapsed` into the frame: the frame at the boxes as they
-// stand takes about the sample's share times the busiest box's sample
-// (ColumnSample::busiestBox), and what is left of it once the faces have
-// moved shrinks by dearest / busiestBox; the move must save kSampleMinGain
-// of that frame. The planes are counted in place as long after the
-// decision as the sum took to climb the column (they go down the same
-// links; counted at the decision alone, moves came down too late on long
-// columns: doc/history.md). (A 64-long column of 1 GB/s links gathers for
-// about as long as the whole frame takes: moving then only costs.)
+// (passes included: dearestPartWithPasses) pays against holding, whose
+// dearest part holds `hold` (holdingPart), decided `elapsed` into the
+// frame: the frame at the boxes as they stand takes about the sample's
+// share times `hold`, and what is left of it once the faces have moved
+// shrinks by dearest / hold; the move must save kSampleMinGain of that
+// frame. The planes are counted in place as long after the decision as
+// the sum took to climb the column (they go down the same links; counted
+// at the decision alone, moves came down too late on long columns:
+// doc/history.md). (A 64-long column of 1 GB/s links gathers for about as
+// long as the whole frame takes: moving then only costs.)
 constexpr double kSampleMinGain = 0.04;
-bool samplePays(const ColumnSample& column, double dearest, double elapsed);
+bool samplePays(const ColumnSample& column, double hold, double dearest, double elapsed);
 
 }  // namespace rt

@@ -245,11 +245,14 @@ void Machine::giveOutPrimaryRays(const ColumnPlanes& planes) {
 }
 
 // `sample`'s first frame (sample_split.h): which columns gather their
-// sample. A column none of whose nodes generates primary rays (across the
-// axis, all but the front row) holds its faces: the planes of the column in
-// front of it, which it used to take, did not fit its work, and the rays
-// they passed on against the columns beside it cost more than the move
-// gained (doc/balancing.md, "Columns that generate no primary rays").
+// sample, and the columns beside each. A column none of whose nodes
+// generates primary rays (across the axis, all but the front row) holds its
+// faces: the planes of the column in front of it, which it used to take,
+// did not fit its work, and the rays they passed on against the columns
+// beside it cost more than the move gained (doc/balancing.md, "Columns
+// that generate no primary rays"). Every column counts the passes its
+// planes would cause against those beside it, the ones that hold and the
+// ones that move (their top nodes tell each other their planes).
 void Machine::prepareSample(const std::vector<std::vector<uint32_t>>& perNode, const ColumnPlanes& planes) {
     const ColumnGeometry& g = columns_;
     std::vector<bool> generates(size_t(g.count()), false);
@@ -260,17 +263,13 @@ void Machine::prepareSample(const std::vector<std::vector<uint32_t>>& perNode, c
     // them in the sum counts none (sidesFit).
     const bool sidesRoom = sidesFit(g.length());
     for (Node& n : nodes_) {
-        const size_t col = size_t(g.columnOf(n.cell())), k = size_t(n.cell()[g.axis]);
-        std::array<bool, 6> holds{};  // the neighbouring columns that hold, by link direction
-        double besideLo = planes[col][k];  // (its own lower face where none holds)
-        bool first = true;
-        for (int d = 0; d < kDirs; ++d) {
-            const Cell c = neighbour(n.cell(), d);
-            holds[size_t(d)] = sidesRoom && dirAxis(d) != g.axis && inMesh(c, cfg_.dims) && !generates[size_t(g.columnOf(c))];
-            if (holds[size_t(d)] && std::exchange(first, false))  // (the first such, in link order: the face beside)
-                besideLo = planes[size_t(g.columnOf(c))][k];
-        }
-        n.setSample(generates[col], holds, besideLo);
+        const size_t col = size_t(g.columnOf(n.cell()));
+        std::vector<int> beside;
+        for (int d = 0; d < kDirs; ++d)
+            if (sidesRoom && dirAxis(d) != g.axis && inMesh(neighbour(n.cell(), d), cfg_.dims)) beside.push_back(d);
+        std::vector<double> faces;  // (the top node's: what it proposes if the column holds)
+        if (n.cell()[g.axis] == g.length() - 1) faces.assign(planes[col].begin() + 1, planes[col].end() - 1);
+        n.setSample(generates[col], std::move(beside), std::move(faces));
     }
 }
 

@@ -81,8 +81,7 @@ void Node::start() {
         } else if (bal.firstFrameHolds()) {
             balance_->startAt(std::nan(""), std::nan(""));  // hold, and measure
         } else if (sample_) {
-            const std::array<bool, 6>& beside = sample_->holdsBeside;
-            balance_->startSample(sample_->gathers, sample_->besideLo, std::find(beside.begin(), beside.end(), true) != beside.end());
+            balance_->startSample(sample_->gathers, sample_->beside, sample_->faces);
         }
     }
     runAhead_ = runAhead_ && !balance_ && trace_.busy < 0;

@@ -92,10 +92,10 @@ public:
     // `sample`'s first frame (balance_sample.cpp), before its primary rays:
     // the direction its column takes its planes from (-1: its own gather;
     // -2: none, it holds); the neighbouring columns it passes them to.
-    // `sample`'s setup: whether the column gathers; which neighbouring
-    // columns hold (none where the sum has no room for the sides); the lower
-    // face of the node of its index in the first of them (its own if none).
-    void setSample(bool gathers, const std::array<bool, 6>& holdsBeside, double besideLo);
+    // `sample`'s setup: whether the column gathers; the link directions to
+    // the columns beside (none where the sum has no room for the sides);
+    // for the top node, the column's inner faces as they start.
+    void setSample(bool gathers, std::vector<int> beside, std::vector<double> faces);
 
     // What the node still holds (rays in hand or in its input links, rays
     // in partial batches, contributions, credit), for the watchdog's
@@ -143,6 +143,7 @@ private:
     void terminate(const Work& w, std::vector<RayJob>& spawned);
     void markQueueDepth();
     void recordSample(const BusyParts& parts, const TracedSpan& span, int from);  // (from: the link it came in by)
+    double passCost() const;
     void noteOccupied();  // occupied_, from the box and its objects
     // Advances the node's time by a step's cost, sends what the step made,
     // and lets the kernel catch up as the quantum asks (with a ray step that
@@ -202,8 +203,8 @@ private:
     std::optional<std::array<double, 2>> startTargets_;
     struct SampleSetup {
         bool gathers = true;  // its column generates primary rays (else its faces hold)
-        std::array<bool, 6> holdsBeside{};  // the neighbouring columns that hold, by link direction
-        double besideLo = 0;                // along the axis: the lower face of its index in the first of them
+        std::vector<int> beside;    // the link directions to the columns beside (none: the sum carries no sides)
+        std::vector<double> faces;  // its column's inner faces as they start (what a top node proposes if it holds)
         uint64_t trigger = 0;  // the gather starts once the node has generated this many primary rays
         bool armed = false;
     };

@@ -26,8 +26,8 @@ void Node::rebuild(const Box& box, std::vector<Shape> objects) {
     if (sample_) noteOccupied();
 }
 
-void Node::setSample(bool gathers, const std::array<bool, 6>& holdsBeside, double besideLo) {
-    sample_ = SampleSetup{gathers, holdsBeside, besideLo};
+void Node::setSample(bool gathers, std::vector<int> beside, std::vector<double> faces) {
+    sample_ = SampleSetup{gathers, std::move(beside), std::move(faces)};
     noteOccupied();
 }
 
@@ -108,15 +108,14 @@ void Node::recordSample(const BusyParts& parts, const TracedSpan& span, int from
     if (parts[kShading]) balance_->recordSample(span.to, parts[kShading]);
     if (tests) balance_->recordSample(a <= b ? 0.5 * (a + b) : span.where, tests);
     if (rest) balance_->recordSample(span.where, rest);
-    // Its crossings of the column's sides to and from columns that hold,
-    // where they happened, each at what a pass costs a node there (a
-    // message's handling, its share of a batch).
+    // Its crossings of the column's sides to and from the columns beside,
+    // where they happened, each at what a pass costs (passCost).
+    if (sample_->beside.empty()) return;
     const int ax = params_.balance.axis;
-    const double pass = costs_.slabHandling(0) / double(std::max(1, params_.rayBatch));
-    if (from >= 0 && dirAxis(from) != ax && sample_->holdsBeside[size_t(from)]) balance_->recordSide(span.from, pass);
+    const double pass = passCost();
+    if (from >= 0 && dirAxis(from) != ax) balance_->recordSide(span.from, pass);
     const int out = span.exit;
-    if (out >= 0 && dirAxis(out) != ax && outLinks_[size_t(out)] && sample_->holdsBeside[size_t(out)])
-        balance_->recordSide(span.to, pass);
+    if (out >= 0 && dirAxis(out) != ax && outLinks_[size_t(out)]) balance_->recordSide(span.to, pass);
 }
 
 // At the end of each interval: the agent records the node's load over it,
@@ -138,7 +137,7 @@ void Node::control(Message& m, int fromDir) {
     traceState(true, false);
     if (m.type == MsgType::Planes) {  // (from above, or from a neighbouring column)
         finishControlStep(1, 0);
-        balance_->onPlanes(fromDir, m);
+        balance_->onPlanes(fromDir, m, now_);
         return;
     }
     if (dirAxis(fromDir) != params_.balance.axis)
@@ -194,6 +193,30 @@ void Node::takeSlab(int side, double boundary, std::vector<Shape> objects) {
     rebuild(own, uniteObjects(region_->objects(), std::move(objects)));
     finishControlStep(1, moved);
     balance_->tookSlab();
+}
+
+// What a sample ray passed on along the axis in a column beside costs the
+// frame: a message's handling on both nodes, or, where the links are busy,
+// its time on the axis link, as much of it as the node's busiest link is
+// busy so far (the passes of a column go down the same few links one after
+// another: on a full link the wire, not the processors, sets their pace;
+// on an idle one they cost the processors alone). Its share of a batch.
+// (The node's own links stand for the column beside's.) Measured: tetra-3
+// on 8x8x8 at 100 MB/s, a move that passed rays down a full link made the
+// frame 1.9 times the unbalanced one with the handling alone counted;
+// Fig. 4's scene at 1 GB/s, along the axis at N = 5, f = 1, 1.07 with the
+// whole wire counted, 0.89 with the handling alone (doc/balancing.md).
+double Node::passCost() const {
+    const int batch = std::max(1, params_.rayBatch);
+    double busy = 0, wire = 0;
+    for (int d = 0; d < kDirs; ++d)
+        if (outLinks_[size_t(d)] && now_ > 0) busy = std::max(busy, double(out[d]->occupied()) / double(now_));
+    for (int side : {-1, +1})
+        if (outLinks_[size_t(sideDir(side))]) {
+            const LinkParams& l = linkTo(side);
+            wire = std::max(wire, occupancy(l, wirePicos(l, kHeaderBytes + uint32_t(batch) * kRayBytes)));
+        }
+    return std::max(costs_.slabHandling(0), std::min(1.0, busy) * wire) / double(batch);
 }
 
 // ---- The guard's view of the links to the column neighbours ----

@@ -455,7 +455,7 @@ TEST(Agent, SampleGathersUpTheColumnSplitsAtTheTopAndMovesEachFaceOnce) {
     std::vector<FakeHost>& h = c.h;
     std::vector<std::unique_ptr<BalanceAgent>>& a = c.a;
     for (int k = 0; k < 3; ++k) {
-        a[size_t(k)]->startSample(true, std::nan(""), false);
+        a[size_t(k)]->startSample(true, {}, {});
         EXPECT_EQ(h[k].begun, 1);
         EXPECT_TRUE(a[size_t(k)]->sampling());
     }
@@ -469,7 +469,7 @@ TEST(Agent, SampleGathersUpTheColumnSplitsAtTheTopAndMovesEachFaceOnce) {
     ASSERT_EQ(h[0].reports.size(), 1u);
     EXPECT_EQ(h[0].reports[0].first, +1);
     EXPECT_EQ(h[0].reports[0].second.type, MsgType::Sample);
-    // busiest box, start, -1 (no sides: no column beside it holds), edges, masses
+    // busiest box, start, -1 (no sides: no column beside it), edges, masses
     EXPECT_EQ(h[0].reports[0].second.body().values.size(), size_t(2 * kSampleBins + 4));
     EXPECT_EQ(h[0].reports[0].second.body().values[1], 7);
     EXPECT_FALSE(a[0]->sampling());
@@ -488,13 +488,13 @@ TEST(Agent, SampleGathersUpTheColumnSplitsAtTheTopAndMovesEachFaceOnce) {
     EXPECT_NEAR(planes.body().values[0], 0.34375, 1e-6);
     EXPECT_NEAR(planes.body().values[1], 0.6875, 1e-6);
     EXPECT_TRUE(h[2].slabs.empty());
-    a[1]->onPlanes(dirOf(0, +1), planes);
+    a[1]->onPlanes(dirOf(0, +1), planes, 0);
     settle(*a[1]);
     ASSERT_EQ(h[1].reports.size(), 2u);  // the planes, passed down
     EXPECT_EQ(h[1].reports[1].first, -1);
     ASSERT_EQ(h[1].slabs.size(), 1u);
     EXPECT_EQ(h[1].slabs[0], std::make_pair(+1, 1.05));
-    a[0]->onPlanes(dirOf(0, +1), h[1].reports[1].second);
+    a[0]->onPlanes(dirOf(0, +1), h[1].reports[1].second, 0);
     settle(*a[0]);
     ASSERT_EQ(h[0].slabs.size(), 1u);
     EXPECT_EQ(h[0].slabs[0], std::make_pair(+1, planes.body().values[0]));
@@ -506,8 +506,149 @@ TEST(Agent, SampleGathersUpTheColumnSplitsAtTheTopAndMovesEachFaceOnce) {
     ASSERT_EQ(h[1].slabs.size(), 2u);
     EXPECT_EQ(h[1].slabs[1], std::make_pair(+1, planes.body().values[1]));
     // Then it holds: planes twice, a sum it did not wait for, are errors.
-    EXPECT_THROW(a[1]->onPlanes(dirOf(0, +1), planes), std::logic_error);
+    EXPECT_THROW(a[1]->onPlanes(dirOf(0, +1), planes, 0), std::logic_error);
     EXPECT_THROW(a[1]->onSample(h[0].reports[0].second, 0), std::logic_error);
+}
+
+// Whether two lists of planes agree to 1e-9 (the split's bisection).
+bool samePlanes(const std::vector<double>& a, const std::vector<double>& b) {
+    if (a.size() != b.size()) return false;
+    for (size_t k = 0; k < a.size(); ++k)
+        if (std::abs(a[k] - b[k]) > 1e-9) return false;
+    return true;
+}
+
+// Two columns of two boxes side by side along y, A below B: each gathers,
+// or (B, without `bGathers`) holds with its faces at 1.
+struct SideBySide {
+    SampleColumn A{2}, B{2};
+    const int toB = dirOf(1, +1), toA = dirOf(1, -1);
+    explicit SideBySide(bool bGathers = true) {
+        for (int k = 0; k < 2; ++k) {
+            A.a[size_t(k)]->startSample(true, {toB}, {});
+            B.a[size_t(k)]->startSample(bGathers, {toA}, k == 1 ? std::vector<double>{1} : std::vector<double>{});
+        }
+    }
+    // The sample is in: each gathering column's sum climbs to its top node.
+    void gather() {
+        for (SampleColumn* c : {&A, &B}) {
+            if (c->h[0].begun == 0) continue;  // (a column that holds)
+            c->a[0]->sampleReady(0);
+            settle(*c->a[0]);
+            c->a[1]->sampleReady(0);
+            c->a[1]->onSample(c->h[0].reports[0].second, 0);
+            settle(*c->a[1]);
+        }
+    }
+    // The top nodes hear each other's message of a round (0: the proposal, 1: the verdict).
+    void exchange(int round) {
+        A.a[1]->onPlanes(toB, B.h[1].sent[size_t(round)].second, 0);
+        B.a[1]->onPlanes(toA, A.h[1].sent[size_t(round)].second, 0);
+        settle(*A.a[1]);
+        settle(*B.a[1]);
+    }
+};
+
+// Two columns side by side (A below B along y), each of two boxes [0, 1]
+// and [1, 2] along x. A's sample did all its work in its lower box (640 ps),
+// B's in its upper one: alone, A would move its plane to 0.5 and B to 1.5
+// (each part 320, against 640). The rays across their common side, in A's
+// lower box: `side` per bin. The top nodes tell each other their
+// proposals, then whether they would move, and only then decide.
+//  - Heavy crossings (100 per bin, 6,400): with A at 0.5 and B at 1.5,
+//    those in [0.5, 1] (3,200) would be A's upper node's and B's lower
+//    node's, passed between them at half each: 320 + 1,600 = 1,920 in
+//    either part of A, against 640 holding (and B likewise, its crossings
+//    in [1, 1.5]). Neither says it moves, and against the faces as they
+//    stand moving costs each the same: both hold.
+//  - Light (1 per bin): 320 + 16 against 640: both move.
+TEST(Agent, ColumnsSideBySideMoveOnlyWhereMovingTogetherPays) {
+    for (const double side : {100.0, 1.0}) {
+        SideBySide t;
+        SampleColumn &A = t.A, &B = t.B;
+        for (int b = 0; b < 64; ++b) {
+            A.a[0]->recordSample((b + 0.5) / 64, 10);
+            A.a[0]->recordSide((b + 0.5) / 64, side);
+            B.a[1]->recordSample(1 + (b + 0.5) / 64, 10);
+            B.a[1]->recordSide(1 + (b + 0.5) / 64, side);
+        }
+        t.gather();
+        // Each top node has proposed (its planes, then its faces as they stand), and waits.
+        ASSERT_EQ(A.h[1].sent.size(), 1u);
+        EXPECT_EQ(A.h[1].sent[0].first, t.toB);
+        EXPECT_TRUE(samePlanes(A.h[1].sent[0].second.body().values, {0.5, 1}));
+        ASSERT_EQ(B.h[1].sent.size(), 1u);
+        EXPECT_TRUE(samePlanes(B.h[1].sent[0].second.body().values, {1.5, 1}));
+        EXPECT_TRUE(A.h[1].reports.empty());  // (no planes down yet)
+        t.exchange(0);
+        // Then whether each would move; then each decides.
+        ASSERT_EQ(A.h[1].sent.size(), 2u);
+        ASSERT_EQ(B.h[1].sent.size(), 2u);
+        const bool together = side < 10;
+        EXPECT_EQ(A.h[1].sent[1].second.body().values, std::vector<double>{together ? 1.0 : 0.0});
+        EXPECT_EQ(B.h[1].sent[1].second.body().values, std::vector<double>{together ? 1.0 : 0.0});
+        EXPECT_TRUE(A.h[1].reports.empty());
+        t.exchange(1);
+        ASSERT_EQ(A.h[1].reports.size(), 1u);
+        ASSERT_EQ(B.h[1].reports.size(), 1u);
+        EXPECT_TRUE(samePlanes(A.h[1].reports[0].second.body().values, together ? std::vector<double>{0.5} : std::vector<double>{}))
+            << side;
+        EXPECT_TRUE(samePlanes(B.h[1].reports[0].second.body().values, together ? std::vector<double>{1.5} : std::vector<double>{}))
+            << side;
+        // A third message from beside is an error.
+        EXPECT_THROW(A.a[1]->onPlanes(t.toB, B.h[1].sent[1].second, 0), std::logic_error);
+    }
+}
+
+// The planes beside as they will be: a column counts the proposal of a
+// column beside only where that column said it would move. A's work is in
+// its lower box (it proposes 0.5), B's in [0, 0.5] (it proposes 0.25);
+// their crossings are heavy (100 per bin): A's in [0.5, 1], B's in
+// [0.25, 0.5]. If both moved, A's would pass nothing (A's [0.5, 1] is its
+// upper node's, as B's at 0.25) and A says it would move; B's [0.25, 0.5]
+// would be its upper node's and A's lower one's: 1,600 passes each side,
+// and B says it would not. So A counts B's faces as they stand (1): its
+// [0.5, 1] would then pass 1,600 each way, and A holds too. (Counting B's
+// proposal, A would move, and pass every such ray.)
+TEST(Agent, AColumnCountsOnlyTheMovesItsNeighboursSayTheyMake) {
+    SideBySide t;
+    SampleColumn &A = t.A, &B = t.B;
+    for (int b = 0; b < 64; ++b) {
+        A.a[0]->recordSample((b + 0.5) / 64, 10);
+        if (b >= 32) A.a[0]->recordSide((b + 0.5) / 64, 100);
+        B.a[0]->recordSample((b + 0.5) / 128, 10);
+        if (b >= 32) B.a[0]->recordSide((b + 0.5) / 128, 100);
+    }
+    t.gather();
+    EXPECT_TRUE(samePlanes(B.h[1].sent[0].second.body().values, {0.25, 1}));
+    t.exchange(0);
+    t.exchange(1);
+    EXPECT_EQ(A.h[1].sent[1].second.body().values, std::vector<double>{1.0});
+    EXPECT_EQ(B.h[1].sent[1].second.body().values, std::vector<double>{0.0});
+    ASSERT_EQ(A.h[1].reports.size(), 1u);
+    EXPECT_TRUE(A.h[1].reports[0].second.body().values.empty());
+    EXPECT_TRUE(B.h[1].reports[0].second.body().values.empty());
+}
+
+// A column beside one that holds (its faces at 1): the holding column's top
+// node proposes its faces at once and says it holds; the gathering one moves
+// where that pays against them (light crossings: 0.5).
+TEST(Agent, AColumnThatHoldsProposesItsFacesAtOnce) {
+    SideBySide t(false);
+    SampleColumn &A = t.A, &B = t.B;
+    settle(*B.a[1]);
+    ASSERT_EQ(B.h[1].sent.size(), 2u);
+    EXPECT_EQ(B.h[1].sent[0].second.body().values, (std::vector<double>{1, 1}));
+    EXPECT_EQ(B.h[1].sent[1].second.body().values, std::vector<double>{0.0});
+    EXPECT_EQ(B.h[1].begun, 0);  // (it gathers nothing)
+    for (int b = 0; b < 64; ++b) {
+        A.a[0]->recordSample((b + 0.5) / 64, 10);
+        A.a[0]->recordSide((b + 0.5) / 64, 1);
+    }
+    for (int k = 0; k < 2; ++k) A.a[1]->onPlanes(t.toB, B.h[1].sent[size_t(k)].second, 0);
+    t.gather();
+    ASSERT_EQ(A.h[1].reports.size(), 1u);
+    EXPECT_TRUE(samePlanes(A.h[1].reports[0].second.body().values, {0.5}));
 }
 
 // The same gather on two boxes, the sum reaching the top late in the frame:
@@ -518,8 +659,8 @@ TEST(Agent, SampleHoldsWhereTheMoveComesTooLateToPay) {
     SampleColumn c(2);
     std::vector<FakeHost>& h = c.h;
     BalanceAgent &a = *c.a[0], &b = *c.a[1];
-    a.startSample(true, std::nan(""), false);
-    b.startSample(true, std::nan(""), false);
+    a.startSample(true, {}, {});
+    b.startSample(true, {}, {});
     for (int k = 0; k < 64; ++k) a.recordSample((k + 0.5) / 64, 10);
     a.sampleReady(0);
     settle(a);
@@ -529,7 +670,7 @@ TEST(Agent, SampleHoldsWhereTheMoveComesTooLateToPay) {
     ASSERT_EQ(h[1].reports.size(), 1u);
     EXPECT_EQ(h[1].reports[0].second.type, MsgType::Planes);
     EXPECT_TRUE(h[1].reports[0].second.body().values.empty());
-    a.onPlanes(dirOf(0, +1), h[1].reports[0].second);
+    a.onPlanes(dirOf(0, +1), h[1].reports[0].second, 0);
     settle(a);
     EXPECT_TRUE(h[0].slabs.empty());
     EXPECT_TRUE(h[1].slabs.empty());
