@@ -361,8 +361,14 @@ TEST_F(Edges, AJobPastTheProcesssAddressSpaceLimitIsRefusedBeforeItStarts) {
 TEST_F(Edges, TheWallClockIsTheWholeRunItsPartsAddUpAndTheReferenceRunsAreOne) {
     // The whole: within this of the time measured outside rtsim (which adds
     // the exec, the dynamic loader, the summary and the exit), and each
-    // printed part rounded to 1 ms.
+    // printed part rounded to 1 ms. Under AddressSanitizer a process's start
+    // and exit take longer: `rtsim --help` took 0.20 s there on the 2-core
+    // machine, and this run 0.18 s outside its own wall clock.
+#if defined(__SANITIZE_ADDRESS__)
+    constexpr double kOutside = 0.5, kRounding = 0.0025;
+#else
     constexpr double kOutside = 0.15, kRounding = 0.0025;
+#endif
     for (const bool baseline : {true, false}) {
         SCOPED_TRACE(baseline ? "with its reference runs" : "--no-baseline");
         const auto t0 = std::chrono::steady_clock::now();
