@@ -110,12 +110,14 @@ void Node::recordSample(const BusyParts& parts, const TracedSpan& span, int from
     if (rest) balance_->recordSample(span.where, rest);
     // Its crossings of the column's sides to and from the columns beside,
     // where they happened, each at what a pass costs (passCost).
+    // (passCost reads every link: only for a step that crosses a side.)
     if (sample_->beside.empty()) return;
-    const int ax = params_.balance.axis;
+    const int ax = params_.balance.axis, out = span.exit;
+    const bool in = from >= 0 && dirAxis(from) != ax, leaves = out >= 0 && dirAxis(out) != ax && outLinks_[size_t(out)];
+    if (!in && !leaves) return;
     const double pass = passCost();
-    if (from >= 0 && dirAxis(from) != ax) balance_->recordSide(span.from, pass);
-    const int out = span.exit;
-    if (out >= 0 && dirAxis(out) != ax && outLinks_[size_t(out)]) balance_->recordSide(span.to, pass);
+    if (in) balance_->recordSide(span.from, pass);
+    if (leaves) balance_->recordSide(span.to, pass);
 }
 
 // At the end of each interval: the agent records the node's load over it,
