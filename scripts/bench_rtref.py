@@ -91,6 +91,7 @@ def main():
     if a.runs < 1:
         raise outputs.ToolError(f"--runs {a.runs}: at least 1")
     outputs.check_input(a.scene, "--scene")
+    outputs.image_size(a.size)
     if a.rtref:
         outputs.check_input(a.rtref, "--rtref")
     page = outputs.check_output(os.path.join(ROOT, "doc", "benchmarks", "rtref.md"), "--doc", doc=True) if a.doc else None

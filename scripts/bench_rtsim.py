@@ -100,6 +100,7 @@ def main():
 
 def check_arguments(a):
     """The inputs and the doc pages written with --doc, before any work."""
+    outputs.image_size(a.size)
     for flag in ("runs", "growth_runs", "big_runs", "tracing_runs", "against_runs"):
         if getattr(a, flag) < (1 if flag in ("runs", "against_runs") else 0):
             raise outputs.ToolError(f"--{flag.replace('_', '-')} {getattr(a, flag)}: too few")

@@ -119,6 +119,7 @@ def checked(cmd):
 
 def check_arguments(a):
     """The mesh sizes, the scenes and the doc pages, before any work; the N."""
+    outputs.image_size(a.size)
     try:
         ns = [int(x) for x in a.n.split(",")]
     except ValueError:

@@ -403,6 +403,27 @@ def numbers(text, flag, kind=int, least=None, most=None):
     return values
 
 
+def image_size(text, flag="--size"):
+    """An image size WxH as rtsim takes it (W and H in 1..65536), or
+    ToolError naming the flag: checked before a sweep starts, not in every
+    run it makes ("--size 128" failed 40 runs, one after another)."""
+    m = re.fullmatch(r"([0-9]+)x([0-9]+)", text or "")
+    if not m or not all(1 <= int(v) <= 65536 for v in m.groups()):
+        raise ToolError(f"{flag} {text!r}: WxH, with W and H in 1..65536 (such as 256x256)")
+    return text
+
+
+def mesh_shapes(text, flag="--shapes"):
+    """A comma-separated list of mesh shapes WxHxD (each at least 1), or
+    ToolError naming the flag."""
+    shapes = (text or "").split(",")
+    for d in shapes:
+        m = re.fullmatch(r"([0-9]+)x([0-9]+)x([0-9]+)", d)
+        if not m or not all(int(v) >= 1 for v in m.groups()):
+            raise ToolError(f"{flag} {text!r}: {d!r} is not a mesh shape WxHxD, each at least 1 (such as 64x1x1)")
+    return shapes
+
+
 def read_csv(path):
     """A CSV's rows as dicts (its header the keys)."""
     with open(path, newline="") as f:

@@ -7,6 +7,7 @@
 #include <tuple>
 
 #include "balance/minimax_split.h"
+#include "balance/plane_spacing.h"
 #include "balance/work_by_position.h"
 
 namespace rt {
@@ -233,7 +234,7 @@ int FrameForecast::minCells(int cells) const {
 
 std::vector<double> FrameForecast::planesOf(const std::vector<int>& edges) const {
     // Inner edges as positions, every box at least the minimum thickness.
-    const double minT = minBins_ * (hi_ - lo_) / bins_ * (1 + 1e-9);  // (the machine's check is exact)
+    const double minT = planeSpacing(minBins_ * (hi_ - lo_) / bins_);
     std::vector<double> x(size_t(n_ + 1));
     x.front() = lo_;
     x.back() = hi_;

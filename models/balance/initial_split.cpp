@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "balance/plane_spacing.h"
 #include "shading.h"
 #include "channel/message.h"
 
@@ -48,6 +49,7 @@ void atObjectQuantiles(ColumnPlanes& planes, const ColumnGeometry& g, const Latt
         return c;
     };
     const std::vector<double> everyObject = aligned ? centresOf(bins.all()) : std::vector<double>{};
+    const double m = planeSpacing(minThickness);
     for (int j = 0; j < g.dims[g.v]; ++j)
         for (int i = 0; i < g.dims[g.u]; ++i) {
             Box column = cuts.cellBox(g.cell(i, j, 0));
@@ -60,7 +62,7 @@ void atObjectQuantiles(ColumnPlanes& planes, const ColumnGeometry& g, const Latt
                 // (At 1 the centre itself, as before the mix: the bisection lands a hair past it.)
                 const double q = mix == 1 ? centres[std::min(centres.size() - 1, centres.size() * size_t(k) / size_t(n))]
                                           : mixedQuantile(centres, mix, world.lo[ax], world.hi[ax], double(k) / n);
-                const double lo = b[size_t(k - 1)] + minThickness, hi = world.hi[ax] - (n - k) * minThickness;
+                const double lo = b[size_t(k - 1)] + m, hi = world.hi[ax] - (n - k) * m;
                 b[size_t(k)] = std::clamp(q, lo, hi);
             }
         }

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <numeric>
 
+#include "balance/plane_spacing.h"
+
 namespace rt {
 
 bool inSample(uint32_t pixel, uint32_t width) {
@@ -151,6 +153,7 @@ bool fillTo(const ColumnSample& p, int count, double minThickness, double most, 
 }  // namespace
 
 std::vector<double> splitBySample(const ColumnSample& column, int count, double minThickness) {
+    minThickness = planeSpacing(minThickness);
     const double total = column.total();
     if (!(total > 0) || count < 2) return {};
     // The least `most` that fits, by bisection between an even share and all of it.

@@ -41,8 +41,10 @@ def main():
     a = driver.parse_outputs(ap)
     stem = "spd_never_hurts" + ("-" + outputs.check_name(a.tag, "--tag") if a.tag else "")
     csv_path = os.path.join(a.out, stem + ".csv")
-    outputs.numbers(a.n, "--n")
-    meshes = [["--mesh-dims", d] for d in a.shapes.split(",")] if a.shapes else [["--mesh", n] for n in a.n.split(",")]
+    outputs.numbers(a.n, "--n", least=1)
+    outputs.numbers(str(a.frames), "--frames", least=1)
+    outputs.image_size(a.size)
+    meshes = [["--mesh-dims", d] for d in outputs.mesh_shapes(a.shapes)] if a.shapes else [["--mesh", n] for n in a.n.split(",")]
     for scene in a.scenes.split(","):
         outputs.check_input(os.path.join(SPD, outputs.check_name(scene, "--scenes") + ".nff"), "--scenes")
     if a.plot_only:  # (the CSV of an earlier run)
