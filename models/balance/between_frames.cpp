@@ -55,28 +55,6 @@ InnerPlanes averagedBoundaries(const FrameState& r, const MachineConfig& m) {
     return planes;
 }
 
-InnerPlanes unbalancedPlanes(const FrameState& r, const MachineConfig& m) {
-    const ColumnGeometry g(m.balance.axis, m.dims);
-    checkSameMachine(r, m);
-    if (r.nodes.empty()) throw std::runtime_error("a frame with no nodes");
-    const int ax = m.balance.axis, n = g.length();
-    double lo = r.nodes.front().box.lo[ax], hi = r.nodes.front().box.hi[ax];
-    for (const NodeFrameState& s : r.nodes) {
-        lo = std::min(lo, s.box.lo[ax]);
-        hi = std::max(hi, s.box.hi[ax]);
-    }
-    std::vector<double> column;
-    for (int k = 1; k < n; ++k) column.push_back(lo + (hi - lo) * (double(k) / n));  // (Lattice::uniform's)
-    return InnerPlanes(size_t(g.count()), column);
-}
-
-namespace {
-// No face of `r` moved during it.
-bool heldThroughout(const FrameState& r) {
-    return std::all_of(r.boundaries.begin(), r.boundaries.end(), [](const BoundaryState& b) { return b.history.size() == 1; });
-}
-}  // namespace
-
 ResplitChoice resplitChoice(const FrameState& r, const MachineConfig& m) {
     const InnerPlanes now = lastBoundaries(r, m);
     const FrameForecast f(r, m, averagedBoundaries(r, m));
@@ -104,17 +82,7 @@ InnerPlanes resplitTargets(const FrameState& r, const MachineConfig& m) { return
 std::optional<InnerPlanes> ResplitSequence::forecast(const FrameState& r) {
     const ResplitChoice c = resplitChoice(r, m_);
     said_ = {{"next", c.what}, {"forecast_ns", c.forecastNs}, {"held_forecast_ns", c.heldNs}};
-    const double t = r.renderTimeNs;
-    if (startUnbalanced_ || triedUnbalanced_ || std::string(c.what) != "held" || !heldThroughout(r) ||
-        !(std::abs(c.heldNs - t) > kHeldMiss * t))
-        return c.planes;
-    InnerPlanes flat = unbalancedPlanes(r, m_);
-    if (flat == c.planes) return c.planes;
-    triedUnbalanced_ = tryingUnbalanced_ = true;
-    beforeTrial_ = c.planes;
-    beforeTrialNs_ = t;
-    said_["next"] = "the unbalanced split";
-    return flat;
+    return c.planes;
 }
 
 std::optional<InnerPlanes> ResplitSequence::next(const FrameState& r, int frame) {
@@ -124,22 +92,9 @@ std::optional<InnerPlanes> ResplitSequence::next(const FrameState& r, int frame)
     said_ = {{"next", "held"}};
     if (held_) return held_;
     const double t = r.renderTimeNs;
-    if (tryingUnbalanced_ && !movedToUnbalanced_) {  // the frame just run moved to the unbalanced split: hold it one more
-        movedToUnbalanced_ = true;
-        said_ = {{"next", "the unbalanced split, once more"}};
-        return unbalancedPlanes(r, m_);
-    }
-    if (tryingUnbalanced_) {  // the frame just run held the unbalanced split
-        tryingUnbalanced_ = false;
-        const bool faster = t < beforeTrialNs_;
-        said_ = {{"next", faster ? "the unbalanced split, held" : "the planes before the trial"}};
-        held_ = faster ? unbalancedPlanes(r, m_) : beforeTrial_;
-        return held_;
-    }
     if (frame == 1) {
         firstNs_ = t;
         start_ = lastBoundaries(r, m_, true);
-        startUnbalanced_ = start_ == unbalancedPlanes(r, m_);
         return forecast(r);
     }
     if (tryingStart_) {  // the frame just run held the starting split

@@ -28,10 +28,6 @@ double timeAveraged(const std::vector<std::pair<double, double>>& history, doubl
 // Each column's planes as they stood on average over frame `r`.
 InnerPlanes averagedBoundaries(const FrameState& r, const MachineConfig& m);
 
-// The unbalanced split of `r`'s world: each column's planes uniform along
-// the axis, as Lattice::uniform puts them (bit for bit).
-InnerPlanes unbalancedPlanes(const FrameState& r, const MachineConfig& m);
-
 // `resplit`'s planes for the frame after frame `r` (frame_forecast.h):
 // of the planes where `r`'s frame ended, the best per column and the best
 // for all columns, the ones of the shortest forecast frame, getting there
@@ -82,22 +78,10 @@ public:
     bool startsAfresh() const { return afresh_; }
     // What next() chose and why, for the report's frames: {"next": "per
     // column" | "aligned" | "held" | "the fastest frame's planes" | "the
-    // starting split" | "frame 1 again" | "the unbalanced split" | "the
-    // unbalanced split, once more" | "the unbalanced split, held" | "the
-    // planes before the trial"}, with the forecasts when it forecast.
+    // starting split" | "frame 1 again"}, with the forecasts when it re-split.
     const nlohmann::json& said() const { return said_; }
 
 private:
-    // Where frame 1 did not start at the unbalanced split (`sample`'s
-    // start), and the forecast would hold planes that a frame held
-    // throughout, but put that frame more than this far from what it
-    // measured: the next two frames try the unbalanced split (the first
-    // moves the faces there, charged; the second holds it), and the faster
-    // of the second and the frame before the trial is held
-    // (doc/balancing.md, "At 16 and 32 boxes a column":
-    // on gears-2 at N = 32 the forecast put the held frame at 0.72 of what
-    // it measured, 1.44 times the unbalanced frame, and held it).
-    static constexpr double kHeldMiss = 0.05;
     static constexpr int kTries = 2;
     static constexpr int kPatience = 1;  // such frames in a row before the fastest one's planes are held
     const MachineConfig& m_;
@@ -109,10 +93,6 @@ private:
     InnerPlanes start_;  // where frame 1's boundaries started
     std::optional<InnerPlanes> held_;
     bool tryingStart_ = false, again_ = false, afresh_ = false;
-    bool startUnbalanced_ = true;  // frame 1 started at the unbalanced split
-    bool triedUnbalanced_ = false, tryingUnbalanced_ = false, movedToUnbalanced_ = false;
-    double beforeTrialNs_ = 0;  // the frame before the unbalanced split's trial
-    InnerPlanes beforeTrial_;   // and its planes
     nlohmann::json said_;
     std::optional<InnerPlanes> forecast(const FrameState& r);  // resplitChoice, said
 };

@@ -338,57 +338,6 @@ TEST(BetweenFrames, MeasuredHoldsItsStartingSplitWhenReSplittingDoesNotPay) {
     EXPECT_EQ(*s.next(report(100, 0.30, 0.30, {5, 1, 1}), 4), *held);
 }
 
-// A frame 1 that did not start at the unbalanced split (sample's start),
-// held its planes throughout (no face moved), and that the forecast would
-// hold, though it puts that frame more than kHeldMiss from what it
-// measured: two frames try the unbalanced split (1/3, 2/3: the first moves
-// there, the second holds it), and the faster of the second and frame 1 is
-// held. Here the forecast holds (busy 1, 1, 1 ns: nothing to even) and
-// puts the frame at 1 ns against the 10 measured.
-TEST(BetweenFrames, AForecastThatMissesAHeldStartTriesTheUnbalancedSplit) {
-    const auto held = [](double renderNs, double b1, std::array<double, 3> busy = {1, 1, 1}) {  // b1 all frame
-        nlohmann::json j = reportJson(renderNs, b1, b1, busy);
-        j["boundaries"][0]["history"] = {{0, b1}};
-        return frameStateFromReport(j);
-    };
-    const MachineConfig m = freeMoves({3, 1, 1});
-    const InnerPlanes flat{{1.0 / 3, 2.0 / 3}}, start{{0.30, 2.0 / 3}};
-    EXPECT_EQ(unbalancedPlanes(held(10, 0.30), m), flat);
-    EXPECT_EQ(flat[0][0], 0 + (1.0 - 0) * (1.0 / 3));  // (Lattice::uniform's, bit for bit)
-    for (const double trial : {8.0, 12.0}) {
-        ResplitSequence s(m);
-        const auto second = s.next(held(10, 0.30), 1);
-        ASSERT_TRUE(second);
-        EXPECT_EQ(*second, flat);
-        EXPECT_EQ(s.said().at("next"), "the unbalanced split");
-        EXPECT_EQ(*s.next(report(15, 0.30, 1.0 / 3, {1, 1, 1}), 2), flat);  // the move's frame: held once more
-        EXPECT_EQ(s.said().at("next"), "the unbalanced split, once more");
-        const auto after = s.next(held(trial, 1.0 / 3), 3);
-        ASSERT_TRUE(after);
-        EXPECT_EQ(*after, trial < 10 ? flat : start) << "the unbalanced split took " << trial << " ns";
-        EXPECT_EQ(*s.next(held(trial, (*after)[0][0]), 4), *after);  // held from then on
-        EXPECT_EQ(s.said().at("next"), "held");
-    }
-    // Not where the forecast is near the frame (10 ns measured, 1 forecast:
-    // here measured at 1.02), nor where a face moved in it, nor where frame
-    // 1 started at the unbalanced split: as before.
-    ResplitSequence near(m), moved(m), unbalanced(m);
-    near.next(held(1.02, 0.30), 1);
-    EXPECT_EQ(near.said().at("next"), "held");
-    moved.next(report(10, 0.29, 0.30, {1, 1, 1}), 1);
-    EXPECT_EQ(moved.said().at("next"), "held");
-    unbalanced.next(held(10, 1.0 / 3), 1);
-    EXPECT_EQ(unbalanced.said().at("next"), "held");
-    // Nor later, once frame 1 started there (measured): re-split, then held
-    // where the forecast misses.
-    ResplitSequence later(m);
-    ASSERT_TRUE(later.next(held(10, 1.0 / 3, {2, 1, 1}), 1));
-    EXPECT_NE(later.said().at("next"), "held");
-    later.next(report(8, 1.0 / 3, 0.25, {1, 1, 1}), 2);
-    later.next(held(8, 0.25), 3);
-    EXPECT_EQ(later.said().at("next"), "held");
-}
-
 TEST(BetweenFrames, ResplitThatDoesNotPayTriesTheStartingSplit) {
     const MachineConfig m = freeMoves({3, 1, 1});
     for (const double trial : {95.0, 105.0}) {
