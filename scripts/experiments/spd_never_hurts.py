@@ -36,6 +36,8 @@ def main():
     ap.add_argument("--policy", default="measured", help="the policy compared with none (default: measured, the recommended one)")
     ap.add_argument("--frames", type=int, default=6)
     ap.add_argument("--extra", default="", help="more rtsim flags for every run")
+    ap.add_argument("--policy-extra", default="",
+                    help="more rtsim flags for the compared policy's runs only (e.g. --start-mix 0, which none refuses)")
     driver.add_output_arguments(ap, os.path.join(ROOT, "doc", "balancing.md"))
     driver.add_arguments(ap)
     a = driver.parse_outputs(ap)
@@ -59,8 +61,9 @@ def main():
                     for policy in ("none", a.policy):
                         frames = ["--frames", a.frames] if policy != "none" else []
                         n = mesh[1] if a.shapes else int(mesh[1])
+                        own = a.policy_extra.split() if policy != "none" else []
                         points.append({"params": {"scene": scene, "N": n, "bandwidth": bw, "policy": policy},
-                                       "args": base + ["--balance", policy] + frames})
+                                       "args": base + own + ["--balance", policy] + frames})
         driver.run("spd-never-hurts" + ("-" + a.tag if a.tag else ""), points, extract, csv_path, a)
     rows = read_csv(csv_path)
     for r in rows:
@@ -90,7 +93,7 @@ def table(a, rows, md_path):
     lines = [f"<!-- written by scripts/experiments/spd_never_hurts.py{' ' + how if how else ''}; do not edit -->",
              f"{len(points)} points ({a.scenes.replace(',', ', ')}; "
              f"{'meshes ' + a.shapes.replace(',', ', ') if a.shapes else 'N = ' + a.n.replace(',', ', ')}; links "
-             f"{a.bandwidths.replace(',', ', ')}; {a.size}); `--balance {a.policy}` over {a.frames} frames, each "
+             f"{a.bandwidths.replace(',', ', ')}; {a.size}); `--balance {a.policy}{' ' + a.policy_extra if a.policy_extra else ''}` over {a.frames} frames, each "
              f"frame's time / the unbalanced frame's. First frame: worst {max(p['ratios'][0] for p in points):.3f}; "
              f"any frame: worst {max(max(p['ratios']) for p in points):.3f}, points with a frame above 1.02: "
              f"{sum(1 for p in points if max(p['ratios']) > 1.02)}; last frame: median "
