@@ -7,6 +7,7 @@ defaults give. Each tool refuses bad input in one line and exit 2 before
 any work (BadInput), and a stop ends a long run at once, its children and
 temporaries with it (Stops). Run by ctest as: /usr/bin/python3
 test_scripts.py <rtsim>."""
+import csv
 import glob
 import json
 import os
@@ -192,6 +193,26 @@ class Scripts(unittest.TestCase):
         # tests and 40 M messages with the same costs, (2 + 8) s over 80 M
         # events: 125 ns, 1.5625 x.
         self.assertAlmostEqual(bench_scaling.mix_ratio(costs, (10e6, 30e6, 10e6), (20e6, 20e6, 40e6)), 1.5625)
+
+    def test_policy_extra_reaches_only_the_compared_policys_runs(self):
+        """spd_never_hurts.py: --policy-extra's flags (--start-mix, which
+        none refuses) go to the compared policy's runs alone, --extra's to
+        every run."""
+        with tempfile.TemporaryDirectory() as d:
+            run = lambda *more: subprocess.run(
+                ["/usr/bin/python3", os.path.join(SCRIPTS, "experiments", "spd_never_hurts.py"), "--scenes", "tetra-3",
+                 "--n", "2", "--bandwidths", "1GB/s", "--size", "8x8", "--frames", "1", "--policy", "sample",
+                 "--out", d, "--journal-dir", d, "--fresh", *more], capture_output=True, text=True, timeout=120)
+            p = run("--policy-extra", "--start-mix 0")
+            self.assertEqual(p.returncode, 0, p.stderr)
+            with open(os.path.join(d, "spd_never_hurts.csv")) as f:
+                commands = {r["policy"]: r["command"] for r in csv.DictReader(f)}
+            self.assertIn("--start-mix 0 --balance sample", commands["sample"])
+            self.assertNotIn("--start-mix", commands["none"])
+            self.assertIn("`--balance sample --start-mix 0`", p.stdout)
+            p = run("--extra", "--start-mix 0")
+            self.assertNotEqual(p.returncode, 0)
+            self.assertIn("'none' starts at the uniform split", p.stderr)
 
     def test_the_paper_scene_is_the_one_rtsims_defaults_give(self):
         with tempfile.TemporaryDirectory() as d:
