@@ -304,6 +304,9 @@ void RtsimOptions::finish() {
         if (machine.balance.startMix != kStartMixAuto && !boundariesFrom.empty())
             throw OptionError("--start-mix", "the frame starts where --boundaries-from's run left its boundaries, not at a "
                                              "split of its own");
+        if (machine.balance.sampleCredit && !boundariesFrom.empty())
+            throw OptionError("--sample-end", "the frame starts where --boundaries-from's run left its boundaries: "
+                                              "sample gathers no sample to end");
         machine.dims = {mesh, mesh, mesh};
         frameIndex = frames - 1;     // this process renders the last frame of its sequence last
         if (asBaseline) frames = 1;  // the baseline is of the last frame's view
@@ -367,6 +370,7 @@ void RtsimOptions::actAsReference() {
     if ((asBaseline || asComparison) && machine.balance.policy != "slide" && machine.balance.policy != "resplit")
         machine.balance.idealLayerFaces = false;
     if ((asBaseline || asComparison) && !machine.balance.startsAtObjects()) machine.balance.startMix = kStartMixAuto;  // (its start is uniform)
+    if ((asBaseline || asComparison) && machine.balance.policy != "sample") machine.balance.sampleCredit = false;  // (no sample)
 }
 
 // The flags whose values have a syntax of their own (option_parsers.h).

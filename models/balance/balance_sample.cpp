@@ -26,7 +26,9 @@ void BalanceAgent::startSample(bool gathers, const std::vector<int>& besideDirs,
         g.propose = g.tell = g.besideDirs.size();
         return;
     }
-    g.below = !sides_[0].present;
+    // The lowest node starts the climb once its sample is generated, or
+    // (--sample-end credit) once the frame buffer says the sample is done.
+    g.below = !sides_[0].present && !cfg_.sampleCredit;
     g.lo = host_.box().lo[cfg_.axis];
     g.hi = host_.box().hi[cfg_.axis];
     g.sum.sides = !besideDirs.empty();
@@ -54,6 +56,12 @@ void BalanceAgent::sampleReady(Picos now) {
 
 void BalanceAgent::onSample(const Message& m, Picos now) {
     if (!gather_.on || gather_.below) throw std::logic_error("balance agent: a column's sample it did not wait for");
+    if (m.body().values.empty()) {  // the frame buffer's word to the lowest node: the sample is done (--sample-end credit)
+        if (!cfg_.sampleCredit || sides_[0].present) throw std::logic_error("balance agent: a sample's end it did not wait for");
+        gather_.below = true;
+        passSum(now);
+        return;
+    }
     gather_.sum = ColumnSample::of(m.body().values);
     if (!gather_.sum.wellFormed() || gather_.sum.hi() != gather_.lo)
         throw std::logic_error("balance agent: a column's sample that does not end where the box begins");

@@ -28,6 +28,7 @@ public:
     void add(const Credit& o);
     bool isZero() const;
     bool isOne() const;
+    bool operator==(const Credit& o) const { return words_ == o.words_; }
     void clear() { std::fill(words_.begin(), words_.end(), 0); }
     // Bytes a message carrying it needs: the words up to the last nonzero one.
     uint32_t bytes() const;

@@ -94,7 +94,7 @@ void Link::send(Message&& m, Picos t) {
     ++counts.messages;
     counts.bytes += bytes;
     ++counts.inFlight;
-    const int lane = laneOf(m.type);
+    const int lane = laneOf(m);
     Lane& l = lanes_[lane];
     {  // what the link owes for it (occupied())
         const Picos transfer = transferTime(bytes);
@@ -129,9 +129,9 @@ void Link::startWaiting(int lane) {
     }
 }
 
-Picos Link::roomAt(MsgType type, Picos t) {
+Picos Link::roomAt(const Message& m, Picos t) {
     if (params_.outDepth <= 0) return t;
-    Lane& l = lanes_[laneOf(type)];
+    Lane& l = lanes_[laneOf(m)];
     while (!l.leaving.empty() && l.leaving.front() <= t) l.leaving.pop_front();
     // Held at `t`: the backlog, and those that leave it later than `t`
     // (in the order they leave: slots come back in order).

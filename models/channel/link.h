@@ -84,7 +84,7 @@ public:
     Picos lookahead() const { return linkLookahead(params_, smallest_); }
 
     void send(Message&& m, Picos t) override;
-    Picos roomAt(MsgType type, Picos t) override;
+    Picos roomAt(const Message& m, Picos t) override;
     const sc_core::sc_event& roomEvent() const override { return *room_; }
     bool peekArrival(Picos& arrival) const override;
     Message consume(Picos t) override;
@@ -237,7 +237,8 @@ private:
         Picos takenAt(uint64_t j) const { return takenAt_[j]; }
     };
     static constexpr int kData = 0, kControl = 1;
-    int laneOf(MsgType t) const { return params_.controlDepth > 0 && isControl(t) ? kControl : kData; }
+    // Control messages, and the sample's rays under --sample-end credit (Message::priority).
+    int laneOf(const Message& m) const { return params_.controlDepth > 0 && (isControl(m.type) || m.priority) ? kControl : kData; }
     void startWaiting(int lane);  // puts backlog messages on the wire while slots allow
     Picos slotTime(const Lane& l) const;  // when the slot of the lane's next message on the wire became free (one must be)
     // Messages on a lane at once (each holding a slot) are at most its

@@ -17,13 +17,13 @@ public:
     // Sends at the sender's time `t` (its local time, >= the kernel's).
     virtual void send(Message&& m, Picos t) = 0;
     virtual const LinkParams& params() const = 0;
-    // When a message of type `type` sent at `t` or later finds room in the
+    // When message `m` (its lane's buffer) sent at `t` or later finds room in the
     // output buffer: `t` if it has room then; a later time if that is known
     // already (a message leaves for a slot then); kRoomUnknown if it waits
     // for the receiver to consume (roomEvent() tells when that happened).
     // The sender's times must not decrease from one call to the next.
     static constexpr Picos kRoomUnknown = ~Picos(0);
-    virtual Picos roomAt(MsgType type, Picos t) = 0;
+    virtual Picos roomAt(const Message& m, Picos t) = 0;
     virtual const sc_core::sc_event& roomEvent() const = 0;
     // How long the link is kept busy by every message sent so far (those
     // waiting for a slot too), by the narrower of its two limits: its wire

@@ -111,6 +111,7 @@ struct MessageBody {
     RayList batch;                             // Ray: a batch of rays (--ray-batch)
     std::vector<Contribution> contributions;   // Contributions
     Credit credit;                             // Credit
+    Credit sampleCredit;                       // Credit (--sample-end credit): the part of it the sample's rays gave back
     // Credit, with more than one frame-buffer unit: contributions sent to
     // each unit but 0 since the node last returned credit (unit, count).
     std::vector<std::pair<uint16_t, uint32_t>> unitCounts;
@@ -140,6 +141,9 @@ struct Message {
     // `batch` (then `ray` is not used).
     RayItem ray;
     MsgType type = MsgType::Ray;
+    // A ray of `sample`'s sample under --sample-end credit: it goes on the
+    // link's control lane, ahead of the other rays (link.h).
+    bool priority = false;
 
     Message() = default;
     // A message of one ray, the job's with its credit, written in place.
@@ -158,9 +162,10 @@ struct Message {
     }
     // Credit back to unit 0, with the contributions sent to each other unit
     // since the last (frame_buffer.h).
-    static Message credit(const Credit& c, std::vector<std::pair<uint16_t, uint32_t>> unitCounts) {
+    static Message credit(const Credit& c, std::vector<std::pair<uint16_t, uint32_t>> unitCounts, const Credit& sample = {}) {
         Message m(MsgType::Credit);
         m.body().credit = c;
+        if (!sample.isZero()) m.body().sampleCredit = sample;
         m.body().unitCounts = std::move(unitCounts);
         return m;
     }
@@ -215,7 +220,9 @@ struct Message {
         switch (type) {
             case MsgType::Ray: return kHeaderBytes + uint32_t(rayCount()) * kRayBytes;
             case MsgType::Contributions: return kHeaderBytes + uint32_t(body().contributions.size()) * kContributionBytes;
-            case MsgType::Credit: return kHeaderBytes + body().credit.bytes() + uint32_t(body().unitCounts.size()) * kUnitCountBytes;
+            case MsgType::Credit:
+                return kHeaderBytes + body().credit.bytes() + (body().sampleCredit.isZero() ? 0 : body().sampleCredit.bytes()) +
+                       uint32_t(body().unitCounts.size()) * kUnitCountBytes;
             case MsgType::LoadReport: return kHeaderBytes + kLoadReportBytes;
             case MsgType::Slide: {
                 uint32_t b = kHeaderBytes + kSlideBytes;

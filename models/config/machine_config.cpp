@@ -193,6 +193,8 @@ void BalanceConfig::validate(Picos reportFloor, bool carriedBoundaries) const {
         throw std::invalid_argument("--faces ideal-layer: needs every column's faces in line at the start (one frame, "
                                     "no --boundaries-from)");
     checkRanges(balanceParams(), *this, "--");
+    if (sampleCredit && policy != "sample")
+        throw std::invalid_argument("--sample-end credit: only sample gathers a sample, not '" + policy + "'");
     if (startMix != kStartMixAuto && !startsAtObjects())  // (after the ranges: a nan is named as a bad value)
         throw std::invalid_argument("--start-mix " + formatNumber(startMix) + ": only median and sample start at a split of their own; '" + policy +
                                     "' starts at the uniform split");

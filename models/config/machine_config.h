@@ -76,6 +76,12 @@ struct BalanceConfig {
     double startMix = kStartMixAuto;
     bool startAligned = false;  // (set with startMix by auto: every column at the world's quantiles)
     std::string startMixWhy;
+    // When `sample`'s gather starts up a column (doc/balancing.md, "When the
+    // sample is done"): false (generated), once its lowest node has generated
+    // its sample's primary rays; true (credit), once the frame buffer has
+    // every sample ray's credit back and tells the column's lowest node, the
+    // sample's rays going ahead of the rest on the control lane.
+    bool sampleCredit = false;
     int bins = 16;                // work profile: bins per initial box thickness along the axis
     Picos rebuildCost = 20000;    // updating a node's grid: per object moved in or out
     // The guard (every policy; balance_agent.h): no slide on loads older than
@@ -135,6 +141,11 @@ inline const std::vector<Param<BalanceConfig>>& balanceParams() {
                            "auto: median 1; sample 1 where an intersection test costs at least a third of a ray's hop, else 0.5 "
                            "(below a tenth of a hop, of all the objects: the same planes in every column)"),
                "auto", kStartMixAuto),
+        choiceParam("sample-end", &B::sampleCredit, "credit", "generated", "/sample_end",
+                    "sample: when a column's gather starts: generated, once its lowest node has generated its sample's "
+                    "primary rays; credit, once the frame buffer has every sample ray's credit back and says so (the "
+                    "sample's rays go first, on the links' control lane: a mesh link without one gets one as deep as "
+                    "the link)"),
         specialParam<B>("no-guard", "no guard: slide on loads however old, and whatever the slide costs against the work it moves"),
         numberParam("max-age", &B::maxAge, 0.0, 1e9, "/max_age_intervals", "guard: no slide on loads older than this many intervals"),
         numberParam("guard-hop", &B::hopRatio, 0.0, 1e9, "/guard_hop_steps",

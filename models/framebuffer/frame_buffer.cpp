@@ -46,6 +46,7 @@ sc_core::sc_process_handle FrameBufferUnit::restart(bool progress, int frame) {
     credit_ = Credit(maxExp_);
     std::fill(expected_.begin(), expected_.end(), 0);
     awaiting_ = -1;
+    sampleDue_ = false;
     expect_.reset();
     sums_ = PixelSums(sums_.size());
     inputOrder_.restart();
@@ -90,6 +91,7 @@ Picos FrameBufferUnit::take(Message& m) {
             }
             ++stats_.creditMessages;
             credit_.add(m.body().credit);
+            if (sampleDue_ && !m.body().sampleCredit.isZero()) sampleBack_.add(m.body().sampleCredit);
             for (const auto& [u, n] : m.body().unitCounts) expected_.at(u) += n;
             return 0;
         case MsgType::FbExpect:
@@ -137,6 +139,7 @@ void FrameBufferUnit::run() {
         stats_.busy += cost;
         if (cost) stats_.lastActive = now_;
         if (controller()) {
+            tellSampleDone();
             if (endOfFrame()) return;
         } else {
             reportDone();
@@ -159,11 +162,23 @@ bool FrameBufferUnit::begin() {
     if (late_ > 0) inputOrder_.setLate(late_, inLinks_.size() - 1);  // its last input is from unit 0
     now_ = frameClock();
     lastPrint_ = std::chrono::steady_clock::now();
+    if (controller()) tellSampleDone();  // (a sample of no rays is done at once)
     if (controller() && credit_.isOne()) {
         finish(now_);
         return false;
     }
     return true;
+}
+
+// Unit 0, --sample-end credit: once the sample's credit is all back, its
+// columns' lowest nodes are told, once.
+void FrameBufferUnit::tellSampleDone() {
+    if (!sampleDue_ || !(sampleBack_ == sampleTotal_)) return;
+    sampleDue_ = false;
+    if (tellColumns_.size() != toColumns_.size())
+        throw std::logic_error(std::string(name()) + ": a sample's columns without a link to each");
+    for (size_t c = 0; c < toColumns_.size(); ++c)
+        if (tellColumns_[c]) toColumns_[c]->send(Message::sample({}), now_);
 }
 
 // No message has arrived by now_; the next arrives at `next` (~0: none

@@ -59,6 +59,23 @@ public:
     // Unit 0: bound to units 1..K-1, in order.
     sc_core::sc_port<LinkSendIf, 0, sc_core::SC_ZERO_OR_MORE_BOUND> toUnits;
 
+    // Unit 0, `sample` under --sample-end credit: a link to the lowest node
+    // of each column, in column order, given before the start (bound to the
+    // node's port below it, which has no neighbour).
+    void addColumnLink(Link& l) { toColumns_.push_back(&l); }
+    // Unit 0, before the first frame's start: the credit the sample's primary
+    // rays carry, and which columns gather a sample. Once that much of the
+    // sample's credit is back (the credit messages carry it apart), every
+    // ray of the sample has ended: it tells those columns' lowest nodes, in
+    // a Sample message with no values (doc/balancing.md, "When the sample
+    // is done").
+    void expectSample(const Credit& total, std::vector<bool> columns) {
+        sampleTotal_ = total;
+        sampleBack_ = total;
+        sampleBack_.clear();
+        tellColumns_ = std::move(columns);
+        sampleDue_ = true;
+    }
     // Before the start: how far it may run ahead of the kernel (its lookahead).
     void setQuantum(Picos q) { time_.setQuantum(q); }
     // Before the start, a unit other than 0, exact (lookahead) mode: it may
@@ -123,6 +140,7 @@ private:
     bool waitFor(Picos next);
     void traceTake(Picos cost);
     bool endOfFrame();
+    void tellSampleDone();
     void reportDone();
     void showProgress();
 
@@ -143,6 +161,12 @@ private:
     PixelSums sums_;
     ArrivalQueue inputOrder_;
     std::vector<Link*> fromNodes_;
+    // Unit 0, --sample-end credit: the sample's credit, what is back of it,
+    // the links to the columns' lowest nodes and which of them to tell.
+    Credit sampleTotal_, sampleBack_;
+    std::vector<Link*> toColumns_;
+    std::vector<bool> tellColumns_;
+    bool sampleDue_ = false;
     std::vector<Link*> inLinks_;  // the nodes' links, then in's, in binding order (set at the start)
     FrameBufferStats stats_;
     bool done_ = false;

@@ -132,6 +132,7 @@ void Machine::buildLinks() {
         linkToFrameBuffer(n, unitLookahead);
     }
     linkUnits(unitLookahead);
+    if (cfg_.balance.sampleCredit) linkColumnsToFrameBuffer(nodeLookahead);
     if (cfg_.lookaheadQuantum) setLookaheads(nodeLookahead, unitLookahead);
     if (cfg_.lookaheadQuantum && cfg_.fbLate > 0 && cfg_.vcdPath.empty() && cfg_.fbPort.outDepth == 0)
         for (int u = 1; u < cfg_.fbUnits; ++u) units_[size_t(u)].setLate(cfg_.fbLate);
@@ -153,6 +154,8 @@ void Machine::linkNeighbours(Node& n, std::vector<Picos>& nodeLookahead) {
         // lane stays empty: one FIFO is the same link, cheaper to simulate.
         LinkParams p = cfg_.meshLinkOf(c, d);
         if (!cfg_.balance.dynamic()) p.controlDepth = 0;
+        // --sample-end credit: the sample's rays go on the control lane, which every link then has.
+        if (cfg_.balance.sampleCredit && p.controlDepth == 0) p.controlDepth = p.depth;
         links_.push_back(std::make_unique<Link>(lname, p, smallestMeshMessage(cfg_.balance.dynamic())));
         n.out[d].bind(*links_.back());
         meshLinks_[{nodeIndex(c), d}] = links_.back().get();
@@ -202,6 +205,26 @@ void Machine::linkUnits(std::vector<Picos>& unitLookahead) {
     }
 }
 
+// `sample` under --sample-end credit: unit 0's port to the lowest node of
+// each column, bound to the node's port below it (it has no neighbour
+// there), for the word that the sample is done; with a control lane, which
+// the node takes ahead of rays.
+void Machine::linkColumnsToFrameBuffer(std::vector<Picos>& nodeLookahead) {
+    const int ax = columns_.axis;
+    std::vector<Link*> byColumn(size_t(columns_.count()), nullptr);
+    for (size_t i = 0; i < nodes_.size(); ++i) {
+        Node& n = nodes_[i];
+        if (n.cell()[ax] != 0) continue;
+        LinkParams p = cfg_.fbPortOf(n.cell());
+        p.controlDepth = std::max(p.controlDepth, 1);
+        unitLinks_.push_back(std::make_unique<Link>("fb0_to_" + nodeName(n.cell()), p));
+        n.in[dirOf(ax, -1)].bind(*unitLinks_.back());
+        byColumn[size_t(columns_.columnOf(n.cell()))] = unitLinks_.back().get();
+        nodeLookahead[i] = std::min(nodeLookahead[i], unitLinks_.back()->lookahead());
+    }
+    for (Link* l : byColumn) units_[0].addColumnLink(*l);
+}
+
 // --quantum lookahead: each process runs ahead of the kernel by its own
 // lookahead, the soonest a message not yet sent can reach it (every sender's
 // time is at least the kernel's): the smallest over its input links of
@@ -237,8 +260,10 @@ void Machine::giveOutPrimaryRays(const ColumnPlanes& planes) {
     for (const RayJob& j : primaries.misses)
         units_[j.pixel % uint32_t(cfg_.fbUnits)].addOwn(shader_.miss(j, hostCounters));
     primaryMisses_ = primaries.misses.size();
-    if (cfg_.balance.policy == "sample" && cfg_.targetBoundaries.empty()) prepareSample(primaries.perNode, planes);
+    const bool sample = cfg_.balance.policy == "sample" && cfg_.targetBoundaries.empty();
+    const std::vector<bool> gathers = sample ? prepareSample(primaries.perNode, planes) : std::vector<bool>{};
     CreditShares credit = shareCredit(primaries.perNode, maxExp_);
+    if (sample && cfg_.balance.sampleCredit) expectSampleCredit(primaries.perNode, credit, gathers);
     for (size_t i = 0; i < nodes_.size(); ++i)
         nodes_[i].assignPrimaries(std::move(primaries.perNode[i]), credit.exp[i], credit.remainder[i]);
     units_[0].keep(credit.host);
@@ -253,7 +278,7 @@ void Machine::giveOutPrimaryRays(const ColumnPlanes& planes) {
 // that generate no primary rays"). Every column counts the passes its
 // planes would cause against those beside it, the ones that hold and the
 // ones that move (their top nodes tell each other their planes).
-void Machine::prepareSample(const std::vector<std::vector<uint32_t>>& perNode, const ColumnPlanes& planes) {
+std::vector<bool> Machine::prepareSample(const std::vector<std::vector<uint32_t>>& perNode, const ColumnPlanes& planes) {
     const ColumnGeometry& g = columns_;
     std::vector<bool> generates(size_t(g.count()), false);
     for (size_t i = 0; i < nodes_.size(); ++i)
@@ -271,6 +296,22 @@ void Machine::prepareSample(const std::vector<std::vector<uint32_t>>& perNode, c
         if (n.cell()[g.axis] == g.length() - 1) faces.assign(planes[col].begin() + 1, planes[col].end() - 1);
         n.setSample(generates[col], std::move(beside), std::move(faces));
     }
+    return generates;
+}
+
+// --sample-end credit: unit 0 learns the credit the sample's primary rays
+// carry (each node's sample pixels at its exponent) and which columns to
+// tell when it is back.
+void Machine::expectSampleCredit(const std::vector<std::vector<uint32_t>>& perNode, const CreditShares& credit,
+                                 const std::vector<bool>& gathers) {
+    Credit total(maxExp_);
+    const uint32_t width = uint32_t(camera_.width());
+    for (size_t i = 0; i < perNode.size(); ++i) {
+        uint64_t n = 0;
+        for (uint32_t p : perNode[i]) n += inSample(p, width) ? 1 : 0;
+        total.add(credit.exp[i], n);
+    }
+    units_[0].expectSample(total, gathers);
 }
 
 void Machine::endFrame() {

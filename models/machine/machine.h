@@ -136,8 +136,11 @@ private:
     void linkNeighbours(Node& n, std::vector<Picos>& nodeLookahead);
     void linkToFrameBuffer(Node& n, std::vector<Picos>& unitLookahead);
     void linkUnits(std::vector<Picos>& unitLookahead);
+    void linkColumnsToFrameBuffer(std::vector<Picos>& nodeLookahead);
     void startWatchdog();
-    void prepareSample(const std::vector<std::vector<uint32_t>>& perNode, const ColumnPlanes& planes);
+    std::vector<bool> prepareSample(const std::vector<std::vector<uint32_t>>& perNode, const ColumnPlanes& planes);  // which columns gather
+    void expectSampleCredit(const std::vector<std::vector<uint32_t>>& perNode, const CreditShares& credit,
+                            const std::vector<bool>& gathers);
     void giveOutPrimaryRays(const ColumnPlanes& planes);  // the planes the nodes are to have (the targets, if any)
     // --quantum lookahead: each process runs ahead by its own, the smallest
     // of its input links' (Link::lookahead; kNoInput: it has none).
@@ -178,7 +181,8 @@ private:
     sc_core::sc_vector<FrameBufferUnit> units_;
     sc_core::sc_vector<Node> nodes_;
     std::vector<std::unique_ptr<Link>> links_;
-    std::vector<std::unique_ptr<Link>> unitLinks_;  // units 1..K-1: [2(u-1)] u -> 0, [2(u-1) + 1] 0 -> u
+    // Units 1..K-1: [2(u-1)] u -> 0, [2(u-1) + 1] 0 -> u; then (--sample-end credit) 0 -> each column's lowest node.
+    std::vector<std::unique_ptr<Link>> unitLinks_;
     std::map<std::pair<size_t, int>, Link*> meshLinks_;  // (node, direction) -> its outgoing link
     std::vector<LinkReport> linkInfo_;  // the report's links
     std::vector<size_t> reportOf_;      // per link in links_: its entry in linkInfo_

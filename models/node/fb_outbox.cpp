@@ -24,13 +24,15 @@ void FrameBufferOutbox::send(int unit, Outbox& out) {
 void FrameBufferOutbox::flush(Outbox& out, const std::string& who) {
     for (size_t u = 0; u < pending_.size(); ++u)
         if (!pending_[u].empty()) send(int(u), out);
-    if (!credit_.isZero()) {
+    if (holdsCredit()) {
         std::vector<std::pair<uint16_t, uint32_t>> counts;
         for (size_t u = 1; u < sentSince_.size(); ++u)
             if (sentSince_[u]) counts.push_back({uint16_t(u), sentSince_[u]});
         std::fill(sentSince_.begin(), sentSince_.end(), 0);
-        out.push_back({target(0), Message::credit(credit_, std::move(counts))});
+        credit_.add(sampleCredit_);  // (the message carries the whole, and the sample's part again)
+        out.push_back({target(0), Message::credit(credit_, std::move(counts), sampleCredit_)});
         credit_.clear();
+        sampleCredit_.clear();
     } else if (std::any_of(sentSince_.begin(), sentSince_.end(), [](uint32_t n) { return n != 0; })) {
         // A contribution is made with credit kept for it (Node::terminate), so this cannot happen.
         throw std::logic_error(who + ": contributions sent without credit to cover them");

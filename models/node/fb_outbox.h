@@ -20,8 +20,15 @@ public:
     static int target(int unit) { return kDirs + unit; }
 
     // Credit: the node's share before the start, and what rays ending here give back.
-    void setCredit(const Credit& c) { credit_ = c; }
+    void setCredit(const Credit& c) {
+        credit_ = c;
+        sampleCredit_ = c;
+        sampleCredit_.clear();
+    }
     void addCredit(int e, uint64_t k = 1) { credit_.add(e, k); }
+    // --sample-end credit: what a ray of the sample gives back, returned
+    // within the same credit messages and counted apart by unit 0.
+    void addSampleCredit(int e, uint64_t k = 1) { sampleCredit_.add(e, k); }
 
     // A step's contributions into their units' batches; the batches they
     // fill go into the outbox.
@@ -43,9 +50,10 @@ public:
     // std::logic_error (naming `who`) if contributions went without credit.
     void flush(Outbox& out, const std::string& who);
 
-    bool owes() const { return count_ || !credit_.isZero(); }  // contributions or credit not yet sent
+    bool owes() const { return count_ || holdsCredit(); }  // contributions or credit not yet sent
     size_t contributions() const { return count_; }
-    bool holdsCredit() const { return !credit_.isZero(); }
+    bool holdsCredit() const { return !credit_.isZero() || !sampleCredit_.isZero(); }
+    bool holdsSampleCredit() const { return !sampleCredit_.isZero(); }
 
 private:
     int unitOf(const Contribution& c) const { return int(c.pixel % uint32_t(pending_.size())); }
@@ -56,6 +64,7 @@ private:
     std::vector<uint32_t> sentSince_;  // per unit: contributions sent since the last credit return
     int batch_;
     Credit credit_;  // returned credit not yet sent
+    Credit sampleCredit_;  // of it apart, the sample's (--sample-end credit)
 };
 
 }  // namespace rt

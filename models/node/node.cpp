@@ -106,6 +106,13 @@ void Node::proceed() {
         }
     }
     intervalClosed_ = false;
+    // --sample-end credit: the sample's credit goes back once no ray spawned
+    // here waits (its rays go first: its trees here are done), not when the
+    // node idles (doc/balancing.md, "When the sample is done").
+    if (fbOut_.holdsSampleCredit() && !input_.spawnedInHand()) {
+        flushToFrameBuffer();
+        return;
+    }
     int fromDir = -1;
     if (takeWork(work_, control_, fromDir)) {
         if (control_) {
@@ -191,8 +198,16 @@ bool Node::takeControl(std::optional<Message>& control, int& controlDir) {
 }
 
 bool Node::takeWork(Work& w, std::optional<Message>& control, int& controlDir) {
-    if (balance_ && takeControl(control, controlDir)) return true;
+    if (balance_ && takeControl(control, controlDir)) {
+        if (control->type == MsgType::Ray) {  // a ray of the sample, on the control lane (--sample-end credit)
+            input_.takePriorityRay(*control, controlDir, w);
+            control.reset();
+        }
+        return true;
+    }
     if (input_.takeInHand(w)) return true;
+    // --sample-end credit: the sample's primary rays before any that arrive.
+    if (sampleCredit() && input_.primaries().sampleLeft() > 0 && generatePrimary(w)) return true;
     Picos next;
     const int best = input_.oldest(now_, next);  // ties go to the lower direction
     // Running ahead, the node takes the oldest message it has only if none
@@ -208,14 +223,17 @@ bool Node::takeWork(Work& w, std::optional<Message>& control, int& controlDir) {
         takeMessage(best, next, w, control, controlDir);
         return true;
     }
-    if (!holdsPrimaries() && input_.nextPrimary(w, params_.camera, params_.world)) {
-        ++stats_.raysGenerated;
-        ++stats_.raysCreated;
-        ++stats_.counters.primaryRays;
-        if (sample_) sampleGenerated();
-        return true;
-    }
-    return false;
+    return generatePrimary(w);
+}
+
+// The next primary ray of the node's pixels, if any is left and its box is there.
+bool Node::generatePrimary(Work& w) {
+    if (holdsPrimaries() || !input_.nextPrimary(w, params_.camera, params_.world)) return false;
+    ++stats_.raysGenerated;
+    ++stats_.raysCreated;
+    ++stats_.counters.primaryRays;
+    if (sample_) sampleGenerated();
+    return true;
 }
 
 // The oldest message, from `dir`, which arrived at `arrival`: a ray message's
@@ -289,7 +307,7 @@ void Node::forward(const Work& w, int dir, bool passing) {
     if (!outLinks_[size_t(dir)]) {
         contributions_.push_back(params_.shader.miss(w.job, stats_.counters));
         ++stats_.raysTerminated;
-        fbOut_.addCredit(w.creditExp);
+        giveBack(w, w.creditExp);
         return;
     }
     if (passing) {
@@ -297,6 +315,12 @@ void Node::forward(const Work& w, int dir, bool passing) {
         if (w.from >= 0 && dirAxis(w.from) != params_.balance.axis) ++stats_.raysPassedBetweenColumns;
     }
     ++stats_.raysForwarded;
+    if (sampleCredit() && inSample(w.job.pixel, uint32_t(params_.camera.width()))) {
+        // A ray of the sample: alone, on the control lane, ahead of the rest (--sample-end credit).
+        outbox_.emplace_back(std::piecewise_construct, std::forward_as_tuple(dir), std::forward_as_tuple(w.job, w.creditExp));
+        outbox_.back().second.priority = true;
+        return;
+    }
     batcher_.add(dir, w.job, w.creditExp, outbox_);
 }
 
@@ -310,11 +334,11 @@ void Node::terminate(const Work& w, std::vector<RayJob>& spawned) {
     // here, for instance while this node is busy with balancing messages.
     const uint64_t m = spawned.size();
     if (m == 0) {
-        fbOut_.addCredit(w.creditExp);
+        giveBack(w, w.creditExp);
         return;
     }
     const int c = ceilLog2(m + 1);
-    fbOut_.addCredit(w.creditExp + c, (uint64_t(1) << c) - m);
+    giveBack(w, w.creditExp + c, (uint64_t(1) << c) - m);
     for (RayJob& j : spawned) {
         input_.spawn(j, uint16_t(w.creditExp + c));
         ++stats_.raysCreated;
@@ -379,7 +403,7 @@ bool Node::sendOutbox() {
     for (; outboxNext_ < outbox_.size(); ++outboxNext_) {
         auto& [d, m] = outbox_[outboxNext_];
         Link& link = d >= kDirs ? *fbLinks_[size_t(d - kDirs)] : *outLinks_[size_t(d)];
-        for (Picos room; (room = link.roomAt(m.type, now_)) != now_;) {
+        for (Picos room; (room = link.roomAt(m, now_)) != now_;) {
             if (!ledger_.blocking()) {
                 // It records the blocked state with its queue (messages
                 // arrived by now): beyond what it may run ahead to, the

@@ -127,6 +127,7 @@ private:
     void suspend(Resume r);  // the process returns; its next activation is armed
     // Takes the next ray (or control message, into `control`); false if none.
     bool takeWork(Work& w, std::optional<Message>& control, int& controlDir);
+    bool generatePrimary(Work& w);
     bool takeControl(std::optional<Message>& control, int& controlDir);  // control messages first
     void takeMessage(int dir, Picos arrival, Work& w, std::optional<Message>& control, int& controlDir);
     void step(Work& w);
@@ -141,6 +142,9 @@ private:
     FaceCrossings axialFaces(const Work& w, const BusyParts& parts, const TracedSpan& span) const;
     void forward(const Work& w, int dir, bool passing);
     void terminate(const Work& w, std::vector<RayJob>& spawned);
+    void giveBack(const Work& w, int e, uint64_t k = 1);
+    // `sample`'s first frame under --sample-end credit (its rays first, their credit apart).
+    bool sampleCredit() const { return sample_ && params_.balance.sampleCredit; }
     void markQueueDepth();
     void recordSample(const BusyParts& parts, const TracedSpan& span, int from);  // (from: the link it came in by)
     double passCost() const;

@@ -47,6 +47,14 @@ void Node::sampleGenerated() {
     balance_->sampleReady(now_);
 }
 
+// An ended ray's credit (k shares of 2^-e), kept to go back to the frame
+// buffer; under --sample-end credit a ray of the sample's apart
+// (doc/balancing.md, "When the sample is done").
+void Node::giveBack(const Work& w, int e, uint64_t k) {
+    if (sampleCredit() && inSample(w.job.pixel, uint32_t(params_.camera.width()))) fbOut_.addSampleCredit(e, k);
+    else fbOut_.addCredit(e, k);
+}
+
 void Node::noteOccupied() {
     const Box part = UniformGrid::occupiedPart(region_->objects(), region_->box());
     occupied_ = {part.lo[params_.balance.axis], part.hi[params_.balance.axis]};

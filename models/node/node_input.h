@@ -11,6 +11,7 @@
 #pragma once
 #include <array>
 #include <cstdint>
+#include <stdexcept>
 #include <vector>
 
 #include "channel/arrival_queue.h"
@@ -68,6 +69,14 @@ public:
 
     // A ray spawned here.
     void spawn(const RayJob& j, uint16_t creditExp) { local_.push_back(Work{j, creditExp, false, false, -1}); }
+    // A ray of the sample taken from a link's control lane (--sample-end
+    // credit): one ray a message; the rest of a batch in hand stays.
+    void takePriorityRay(const Message& m, int dir, Work& w) {
+        if (m.rayCount() != 1) throw std::logic_error("a ray message on a control lane with more than one ray");
+        w.take(m.rayAt(0), true, int8_t(dir));
+    }
+    // Rays spawned here not yet stepped.
+    bool spawnedInHand() const { return !local_.empty(); }
     // The next ray in hand, if any.
     bool takeInHand(Work& w) {
         if (!local_.empty()) {

@@ -21,15 +21,42 @@ import outputs  # noqa: E402
 import sweep_driver as driver  # noqa: E402
 from project import PAPER_SCENE, ROOT, VIEWS, preset_flags, publish_table, variant  # noqa: E402
 
-POLICIES = "median,slide,relay,sample"
+POLICIES = "median,slide,relay,sample+sample-end=credit,sample"
 PAPER = 0.2
+
+
+def policy_args(policy):
+    """A policy of --policies as rtsim's flags: NAME[+FLAG=VALUE...][@K]
+    (sample+sample-end=credit@4: --balance sample --sample-end credit
+    --frames 4)."""
+    spec, _, frames = policy.partition("@")
+    name, *flags = spec.split("+")
+    args = ["--balance", name]
+    for f in flags:
+        flag, eq, value = f.partition("=")
+        if not flag or not eq:
+            raise outputs.ToolError(f"--policies: '{policy}': each +FLAG needs =VALUE (sample+sample-end=credit)")
+        args += ["--" + flag, value]
+    return args + (["--frames", frames] if frames else [])
+
+
+def label(policy):
+    """A policy's column heading: sample+sample-end=credit is 'sample (sample-end credit)'."""
+    spec, at, frames = policy.partition("@")
+    name, *flags = spec.split("+")
+    more = ", ".join(f.replace("=", " ") for f in flags)
+    return name + (f" ({more})" if more else "") + at + frames
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--n", default="2,3,4,5,6,7,8")
     ap.add_argument("--policies", default=POLICIES,
-                    help="policies compared with none (POLICY@K: its frame K of a sequence, the last one's time)")
+                    help="policies compared with none (POLICY@K: its frame K of a sequence, the last one's time; "
+                         "POLICY+FLAG=VALUE: with --FLAG VALUE)")
+    ap.add_argument("--judged", default="",
+                    help="how many of the policies, from the last, the table holds against the target (default: the "
+                         "last two, or one if there is one: sample with --sample-end credit and without)")
     project.add_machine_arguments(ap, "paper", "first_frame")
     driver.add_output_arguments(ap, os.path.join(ROOT, "doc", "balancing.md"))
     driver.add_arguments(ap)
@@ -37,6 +64,9 @@ def main():
     ns = outputs.numbers(a.n, "--n", least=2, most=64)  # (nodes per axis: a column has a plane)
     project.check_variant(a)
     policies = a.policies.split(",")
+    for p in policies:
+        policy_args(p)  # (a malformed one is named before any run)
+    a.judged = outputs.numbers(a.judged, "--judged", least=1, most=len(policies))[0] if a.judged else min(2, len(policies))
     stem = "first_frame" + variant(a.preset, a.tag)
     csv_path = os.path.join(a.out, stem + ".csv")
     rows = driver.swept_rows(a, csv_path, lambda: sweep(a, ns, policies))
@@ -53,11 +83,9 @@ def sweep(a, ns, policies):
     for view, cam in VIEWS.items():
         for n in ns:
             for policy in ["none"] + policies:
-                name, _, frames = policy.partition("@")  # "measured@6": measured's sixth frame
                 points.append({"params": {"view": view, "N": n, "policy": policy},
                                "args": preset_flags(a.preset) + PAPER_SCENE + cam +
-                               ["--mesh", n, "--concentration", f"{1 / n:.6f}", "--balance", name] +
-                               (["--frames", frames] if frames else []) + a.extra.split()})
+                               ["--mesh", n, "--concentration", f"{1 / n:.6f}"] + policy_args(policy) + a.extra.split()})
     runs = driver.run("first_frame" + (variant(a.preset, a.tag) or "-modern"), points, extract, None, a)
     by = {(r["view"], r["N"], r["policy"]): r for r in runs}
     return [{"preset": a.preset, "view": view, "N": n, "policy": p,
@@ -75,11 +103,11 @@ def extract(r):
 def table(a, rows, ns, policies, best, md_path):
     k = project.target_factor(a)
     inv = project.invocation(a)
-    main = policies[-1]
+    judged = policies[-a.judged:]
     lines = [f"<!-- written by scripts/experiments/first_frame.py {inv}; do not edit -->",
-             f"| view | N | {' | '.join(policies)} | best static split | 1/N | paper | target ({k} x) | "
-             f"{main} / max(1/N, best) |",
-             "|---|---:|" + "---:|" * (len(policies) + 5)]
+             f"| view | N | {' | '.join(label(p) for p in policies)} | best static split | 1/N | paper | target ({k} x) | "
+             + " | ".join(f"{label(p)} / max(1/N, best)" for p in judged) + " |",
+             "|---|---:|" + "---:|" * (len(policies) + 4 + len(judged))]
     for view in VIEWS:
         for n in ns:
             ratio = {r["policy"]: r["ratio"] for r in rows if r["view"] == view and r["N"] == n}
@@ -87,7 +115,7 @@ def table(a, rows, ns, policies, best, md_path):
             floor = max(1 / n, b) if b else None
             cells = [view, str(n)] + [f"{ratio[p]:.3f}" for p in policies] + [f"{b:.3f}" if b else "-", f"{1 / n:.3f}",
                                                                              str(PAPER)]
-            cells += [f"{k * floor:.3f}", f"{ratio[main] / floor:.2f}"] if floor else ["-", "-"]
+            cells += [f"{k * floor:.3f}"] + [f"{ratio[p] / floor:.2f}" for p in judged] if floor else ["-"] * (1 + len(judged))
             lines.append("| " + " | ".join(cells) + " |")
     publish_table(lines, md_path, a.doc, "first frame " + project.machine(a))
 
@@ -99,7 +127,7 @@ def plot(a, rows, ns, policies, best, path):
         ax = axes[0][col]
         for p in policies:
             ys = [next(r["ratio"] for r in rows if r["view"] == view and r["N"] == n and r["policy"] == p) for n in ns]
-            ax.plot(ns, ys, marker="o", label=p)
+            ax.plot(ns, ys, marker="o", label=label(p))
         known = [(n, best[(view, n)]) for n in ns if (view, n) in best]  # where the search has run
         if known:
             ax.plot([n for n, _ in known], [b for _, b in known], "k--", linewidth=1, label="best static split")

@@ -510,6 +510,42 @@ TEST(Agent, SampleGathersUpTheColumnSplitsAtTheTopAndMovesEachFaceOnce) {
     EXPECT_THROW(a[1]->onSample(h[0].reports[0].second, 0), std::logic_error);
 }
 
+// --sample-end credit: the lowest node's sum waits for the frame buffer's
+// word that the sample is done (a Sample message with no values, from
+// below), not for its own sample's generation; the nodes above wait for
+// the sum as before. A second word, a word to a node that is not the
+// lowest, or a word without --sample-end credit are errors.
+TEST(Agent, UnderSampleEndCreditTheClimbStartsAtTheFrameBuffersWord) {
+    SampleColumn c(2);
+    c.cfg.sampleCredit = true;
+    for (int k = 0; k < 2; ++k) c.a[size_t(k)]->startSample(true, {}, {});
+    c.a[0]->recordSample(0.5, 10);
+    c.a[0]->sampleReady(5);  // generated: not yet
+    c.a[1]->sampleReady(5);
+    settle(*c.a[0]);
+    EXPECT_TRUE(c.h[0].reports.empty());
+    EXPECT_TRUE(c.a[0]->sampling());
+    c.a[0]->recordSample(0.5, 30);  // (still recorded: the sample's rays are not all done)
+    EXPECT_THROW(c.a[1]->onSample(Message::sample({}), 6), std::logic_error);  // not the lowest node
+    c.a[0]->onSample(Message::sample({}), 20);
+    settle(*c.a[0]);
+    ASSERT_EQ(c.h[0].reports.size(), 1u);
+    const Message& sum = c.h[0].reports[0].second;
+    ASSERT_EQ(sum.type, MsgType::Sample);
+    EXPECT_EQ(sum.body().values[1], 20);  // the climb starts at the word
+    EXPECT_EQ(ColumnSample::of(sum.body().values).total(), 40);
+    EXPECT_FALSE(c.a[0]->sampling());
+    EXPECT_THROW(c.a[0]->onSample(Message::sample({}), 21), std::logic_error);  // twice
+    c.a[1]->onSample(sum, 25);
+    settle(*c.a[1]);
+    ASSERT_EQ(c.h[1].reports.size(), 1u);
+    EXPECT_EQ(c.h[1].reports[0].second.type, MsgType::Planes);
+    // Without it the lowest node starts at its generation, and a word is an error.
+    SampleColumn g(2);
+    for (int k = 0; k < 2; ++k) g.a[size_t(k)]->startSample(true, {}, {});
+    EXPECT_THROW(g.a[0]->onSample(Message::sample({}), 1), std::logic_error);
+}
+
 // Whether two lists of planes agree to 1e-9 (the split's bisection).
 bool samePlanes(const std::vector<double>& a, const std::vector<double>& b) {
     if (a.size() != b.size()) return false;

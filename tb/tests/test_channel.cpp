@@ -260,6 +260,35 @@ TEST(ControlLane, GoesAheadOfWaitingRaysByHand) {
     EXPECT_EQ(l.consume(4152 * ns).type, MsgType::Ray);
 }
 
+// A ray of `sample`'s sample under --sample-end credit (Message::priority)
+// takes the control lane as a load report does. 1 byte/ns, 100 ns latency:
+// two ray messages of 1,000 bytes at t = 0 take the wire at 0 and 1000 ns;
+// the sample's ray (132 bytes) sent at 500 ns goes on when the first
+// leaves (1000), ahead of the second, which moves back by 132 ns. The same
+// ray without the mark waits behind both.
+TEST(ControlLane, ASampleRayGoesAheadOfWaitingRaysByHand) {
+    for (bool priority : {true, false}) {
+        Link l("l", oneBytePerNs(2));
+        for (int i = 0; i < 2; ++i) l.send(rays(8), 0);
+        Message s = rays(1);
+        s.priority = priority;
+        l.send(std::move(s), 500 * ns);
+        EXPECT_EQ(l.consume(1100 * ns).type, MsgType::Ray);  // the first ray message: 1000 + 100
+        if (priority) {
+            EXPECT_FALSE(l.controlArrivedBy(1231 * ns));
+            ASSERT_TRUE(l.controlArrivedBy(1232 * ns));  // 1000 + 132 + 100
+            EXPECT_EQ(l.consumeControl(1232 * ns).rayCount(), 1u);
+            EXPECT_THROW(l.consume(2231 * ns), std::logic_error);  // the second: 1132 + 1000 + 100
+            EXPECT_EQ(l.consume(2232 * ns).rayCount(), 8u);
+        } else {
+            EXPECT_FALSE(l.controlArrivedBy(1000000 * ns));
+            EXPECT_EQ(l.consume(2100 * ns).rayCount(), 8u);
+            EXPECT_THROW(l.consume(2231 * ns), std::logic_error);  // 2000 + 132 + 100
+            EXPECT_EQ(l.consume(2232 * ns).rayCount(), 1u);
+        }
+    }
+}
+
 TEST(ControlLane, WithoutALaneTheReportWaitsBehindTheRays) {
     Link l("l", oneBytePerNs(0));
     for (int i = 0; i < 3; ++i) l.send(rays(8), 0);

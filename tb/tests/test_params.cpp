@@ -112,8 +112,9 @@ TEST(Parameters, EachRowMakesItsFlagItsCheckAndItsEcho) {
     for (const Row& r : rows) {
         SCOPED_TRACE(r.flag);
         // (A balancing policy, so that every balancing setting has a meaning:
-        // --faces ideal-layer needs slide, --start-mix a policy that starts at the objects.)
-        const std::string context = std::string("balance = \"") + (r.flag == "--start-mix" ? "sample" : "slide") + "\"\n";
+        // --faces ideal-layer needs slide, --start-mix a policy that starts at the objects,
+        // --sample-end sample.)
+        const std::string context = std::string("balance = \"") + (r.flag == "--start-mix" || r.flag == "--sample-end" ? "sample" : "slide") + "\"\n";
         const json defaults = machineConfigJson(parsed(context).machine, 8, 8);
         EXPECT_NE(help.find(r.flag), std::string::npos);
         EXPECT_NE(help.find(r.help.substr(0, 30)), std::string::npos);

@@ -184,6 +184,10 @@ TEST_F(Rtsim, StartMixMovesOnlyAnObjectStartsPlanes) {
     expectBad(procedural + " --balance slide --start-mix 1", "--start-mix");  // (given, even at median's mix)
     expectBad(procedural + " --balance median --start-mix 0.4 --boundaries-from " + (dir_ / "r.json").string(),
               "--start-mix");  // (it would start elsewhere)
+    expectBad(procedural + " --balance sample --sample-end credit --boundaries-from " + (dir_ / "r.json").string(),
+              "--sample-end");  // (no sample to end)
+    expectBad(procedural + " --balance slide --sample-end credit", "--sample-end");
+    expectBad(procedural + " --balance sample --sample-end soon", "--sample-end");
     // and auto, where the frame starts elsewhere, chooses nothing and says nothing of a mix
     const json carried = report(procedural + " --balance sample --no-baseline --boundaries-from " + (dir_ / "r.json").string(), "c.json");
     EXPECT_EQ(carried["config"]["balance"]["start_mix"], "auto");

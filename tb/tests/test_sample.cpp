@@ -391,6 +391,38 @@ TEST_F(Sample, AcrossTheAxisOnlyTheColumnsThatGenerateMove) {
     EXPECT_TRUE(sameImage("across", "sample"));
 }
 
+// --sample-end credit (doc/balancing.md, "When the sample is done"): each
+// front column's gather starts only once the frame buffer has every
+// sample ray's credit back and has said so to the column's lowest node.
+// Both take a frame-buffer port's latency, so no face can move before
+// twice --fb-latency (10 ms here: 20 ms); the sample's rays, the sums and
+// the planes are the same in number, and the image is the unbalanced
+// run's. Without it (generated) the first faces move at 12.8 ms, before
+// that bound: the bound tells the two apart.
+TEST_F(Sample, UnderSampleEndCreditNoFaceMovesBeforeTheFrameBufferCouldSayTheSampleIsDone) {
+    const auto firstMove = [](const json& r) {
+        double first = 1e300;
+        int moved = 0;
+        for (const json& b : r["boundaries"])
+            if (b["history"].size() > 1) {
+                first = std::min(first, b["history"][1][0].get<double>());
+                ++moved;
+            }
+        EXPECT_GT(moved, 0) << "no face moved: the bound says nothing";
+        return first;
+    };
+    const double latencyNs = 10e6;
+    const json credit = paper("across", "sample", "--sample-end credit --fb-latency 10ms");
+    EXPECT_EQ(credit["config"]["balance"]["sample_end"], "credit");
+    EXPECT_GE(firstMove(credit), 2 * latencyNs);
+    EXPECT_EQ(credit["totals"]["messages"]["sample"], 4 * 3);
+    EXPECT_TRUE(sameImage("across", "sample"));
+    const json generated = paper("across", "sample", "--fb-latency 10ms");
+    EXPECT_EQ(generated["config"]["balance"]["sample_end"], "generated");
+    EXPECT_LT(firstMove(generated), 2 * latencyNs);
+    EXPECT_EQ(generated["totals"]["messages"]["sample"], 4 * 3);
+}
+
 // Fig. 4 on the modern machine across the axis at N = 8 (256x256), where a
 // test costs a twentieth of a ray's hop and nearly every ray crosses
 // columns. With the objects spread over all of x (f = 1) the first frame

@@ -283,6 +283,7 @@ class BadInput(unittest.TestCase):
                 (py("experiments/fb_scaling.py", "--n", "x"), "--n"),
                 (py("experiments/first_frame.py", "--n", "4,1"), "where each must be at least 2"),
                 (py("experiments/first_frame.py", "--tag", "a/b"), "a name, not a path"),
+                (py("experiments/first_frame.py", "--policies", "sample+sample-end"), "each +FLAG needs =VALUE"),
                 (py("experiments/slide_account.py", "--n", "0"), "where each must be at least 2"),
                 (py("experiments/spd_never_hurts.py", "--tag", "../x"), "a name, not a path"),
                 (py("experiments/links_at_scale.py", "--scene", "../x"), "--scene"),
