@@ -307,7 +307,7 @@ MUTANTS = [
      "if (!sampleDue_ || !(sampleBack_ == sampleTotal_)) return;", "if (!sampleDue_) return;",
      "under --sample-end credit unit 0 says the sample is done at the frame's start, not once its credit is back"),
     ("sample-credit-with-the-frames", "models/node/node_balance.cpp",
-     "if (sampleCredit() && inSample(w.job.pixel, uint32_t(params_.camera.width()))) fbOut_.addSampleCredit(e, k);",
+     "if (sampleCredit() && sampleRay(w.job)) fbOut_.addSampleCredit(e, k);",
      "if (false) fbOut_.addSampleCredit(e, k);",
      "under --sample-end credit a sample ray's credit goes back with the frame's, so unit 0 never hears the sample end"),
     ("sample-rays-not-ahead", "models/channel/link.h",

@@ -109,7 +109,7 @@ void Node::proceed() {
     // --sample-end credit: the sample's credit goes back once no ray spawned
     // here waits (its rays go first: its trees here are done), not when the
     // node idles (doc/balancing.md, "When the sample is done").
-    if (fbOut_.holdsSampleCredit() && !input_.spawnedInHand()) {
+    if (sampleCredit() && fbOut_.holdsSampleCredit() && !input_.spawnedInHand()) {
         flushToFrameBuffer();
         return;
     }
@@ -270,7 +270,7 @@ void Node::step(Work& w) {
     const Picos cost = sumOf(parts);
     if (balance_ && std::isfinite(span.where)) {  // (the faces only for `resplit`'s forecast: not on slide's path)
         balance_->recordStep(span.where, cost, params_.balance.betweenFrames() ? axialFaces(w, parts, span) : FaceCrossings{});
-        if (sample_ && balance_->sampling() && inSample(w.job.pixel, uint32_t(params_.camera.width()))) recordSample(parts, span, w.from);
+        if (sample_ && balance_->sampling() && sampleRay(w.job)) recordSample(parts, span, w.from);
     }
     markQueueDepth();
     chargeAndSend(parts, true);
@@ -315,7 +315,7 @@ void Node::forward(const Work& w, int dir, bool passing) {
         if (w.from >= 0 && dirAxis(w.from) != params_.balance.axis) ++stats_.raysPassedBetweenColumns;
     }
     ++stats_.raysForwarded;
-    if (sampleCredit() && inSample(w.job.pixel, uint32_t(params_.camera.width()))) {
+    if (sampleCredit() && sampleRay(w.job)) {
         // A ray of the sample: alone, on the control lane, ahead of the rest (--sample-end credit).
         outbox_.emplace_back(std::piecewise_construct, std::forward_as_tuple(dir), std::forward_as_tuple(w.job, w.creditExp));
         outbox_.back().second.priority = true;

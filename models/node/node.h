@@ -145,6 +145,8 @@ private:
     void giveBack(const Work& w, int e, uint64_t k = 1);
     // `sample`'s first frame under --sample-end credit (its rays first, their credit apart).
     bool sampleCredit() const { return sample_ && params_.balance.sampleCredit; }
+    // A ray of a sample pixel, or spawned by one (sample_split.h, inSample).
+    bool sampleRay(const RayJob& j) const { return inSample(j.pixel, uint32_t(params_.camera.width())); }
     void markQueueDepth();
     void recordSample(const BusyParts& parts, const TracedSpan& span, int from);  // (from: the link it came in by)
     double passCost() const;

@@ -51,7 +51,7 @@ void Node::sampleGenerated() {
 // buffer; under --sample-end credit a ray of the sample's apart
 // (doc/balancing.md, "When the sample is done").
 void Node::giveBack(const Work& w, int e, uint64_t k) {
-    if (sampleCredit() && inSample(w.job.pixel, uint32_t(params_.camera.width()))) fbOut_.addSampleCredit(e, k);
+    if (sampleCredit() && sampleRay(w.job)) fbOut_.addSampleCredit(e, k);
     else fbOut_.addCredit(e, k);
 }
 

@@ -25,27 +25,32 @@ POLICIES = "median,slide,relay,sample+sample-end=credit,sample"
 PAPER = 0.2
 
 
-def policy_args(policy):
-    """A policy of --policies as rtsim's flags: NAME[+FLAG=VALUE...][@K]
-    (sample+sample-end=credit@4: --balance sample --sample-end credit
-    --frames 4)."""
+def parse_policy(policy):
+    """A policy of --policies, NAME[+FLAG=VALUE...][@K]: (NAME, [(FLAG,
+    VALUE)...], K or "") (sample+sample-end=credit@4: sample,
+    [(sample-end, credit)], 4)."""
     spec, _, frames = policy.partition("@")
-    name, *flags = spec.split("+")
-    args = ["--balance", name]
-    for f in flags:
+    name, *more = spec.split("+")
+    flags = []
+    for f in more:
         flag, eq, value = f.partition("=")
         if not flag or not eq:
             raise outputs.ToolError(f"--policies: '{policy}': each +FLAG needs =VALUE (sample+sample-end=credit)")
-        args += ["--" + flag, value]
-    return args + (["--frames", frames] if frames else [])
+        flags.append((flag, value))
+    return name, flags, frames
+
+
+def policy_args(policy):
+    """Its rtsim flags: --balance NAME --FLAG VALUE ... [--frames K]."""
+    name, flags, frames = parse_policy(policy)
+    return ["--balance", name] + [x for f, v in flags for x in ("--" + f, v)] + (["--frames", frames] if frames else [])
 
 
 def label(policy):
-    """A policy's column heading: sample+sample-end=credit is 'sample (sample-end credit)'."""
-    spec, at, frames = policy.partition("@")
-    name, *flags = spec.split("+")
-    more = ", ".join(f.replace("=", " ") for f in flags)
-    return name + (f" ({more})" if more else "") + at + frames
+    """Its column heading: sample+sample-end=credit is 'sample (sample-end credit)'."""
+    name, flags, frames = parse_policy(policy)
+    more = ", ".join(f"{f} {v}" for f, v in flags)
+    return name + (f" ({more})" if more else "") + (f"@{frames}" if frames else "")
 
 
 def main():
