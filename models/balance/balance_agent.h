@@ -269,6 +269,7 @@ private:
         std::vector<double> side;   // its rays across the sides (recordSide), likewise
         ColumnSample sum;           // the column's, from its lowest node through this one
         std::vector<double> planes;
+        double movePs = 0;  // (the top node) how long moving the faces to `planes` takes (sampleMovePs)
         // The top node: the columns beside (link directions), what it
         // proposes to them and whether it says it moves, and theirs as they
         // come (decideSample).

@@ -90,14 +90,25 @@ void BalanceAgent::passSum(Picos now) {
     if (!g.ready || !g.below || g.passed) return;
     g.passed = true;  // (recording stops: the sum holds what was traced by now)
     if (!sides_[0].present) g.sum.startedAt = double(now);  // (the lowest node: the climb starts)
-    g.sum.add(g.lo, g.hi, g.own, g.side);
+    // What passing this box's objects on to a neighbour costs: giving the
+    // whole box as a slab, less giving an empty one (sampleMovePs).
+    const int s = sides_[1].present ? +1 : -1;
+    const Box& box = host_.box();
+    const double passPs = count_ < 2 ? 0.0
+                                     : double(host_.slabCost(s, s > 0 ? box.lo[cfg_.axis] : box.hi[cfg_.axis])) -
+                                           double(host_.slabCost(s, s > 0 ? box.hi[cfg_.axis] : box.lo[cfg_.axis]));
+    g.sum.add(g.lo, g.hi, g.own, g.side, std::max(0.0, passPs));
+    if (!g.sum.sides) g.sum.groupBoxes(kSampleGroups);
     g.sum.compress(g.sum.cellsWithin(kSampleValues));
     if (sides_[1].present) {
         g.up = true;
         return;
     }
     g.planes = splitBySample(g.sum, count_, minThickness_);
-    g.paysAlone = !g.planes.empty() && samplePays(g.sum, g.sum.busiestBox, dearestPart(g.sum, g.planes), double(now));
+    // (a handover's latency and handling: an empty slab's to the node below)
+    g.movePs = sampleMovePs(g.sum, g.planes, count_ < 2 ? 0.0 : double(host_.slabCost(-1, host_.box().lo[cfg_.axis])));
+    g.paysAlone = !g.planes.empty() &&
+                  samplePays(g.sum, g.sum.busiestBox, dearestPart(g.sum, g.planes), double(now), g.movePs);
     g.faces = g.sum.faces;
     g.proposal = g.paysAlone ? g.planes : g.faces;
     g.round = 1;
@@ -120,14 +131,16 @@ void BalanceAgent::decideSample(Picos now) {
         std::vector<std::vector<double>> faces;
         for (const Gather::Beside& b : g.beside) faces.push_back(b.faces);
         g.verdict = g.paysAlone &&
-                    samplePays(g.sum, holdingPart(g.sum, faces), dearestPartWithPasses(g.sum, g.planes, planesBeside(true)), t);
+                    samplePays(g.sum, holdingPart(g.sum, faces), dearestPartWithPasses(g.sum, g.planes, planesBeside(true)), t,
+                               g.movePs);
         g.round = 2;
         g.tell = g.besideDirs.size();
     }
     if (g.round != 2 || !heard(2) || g.adopted) return;
     const std::vector<std::vector<double>> beside = planesBeside(false);
     std::vector<double> planes = g.planes;
-    if (!planes.empty() && !samplePays(g.sum, holdingPart(g.sum, beside), dearestPartWithPasses(g.sum, planes, beside), t))
+    if (!planes.empty() &&
+        !samplePays(g.sum, holdingPart(g.sum, beside), dearestPartWithPasses(g.sum, planes, beside), t, g.movePs))
         planes.clear();
     takePlanes(std::move(planes));
 }

@@ -20,6 +20,18 @@ namespace rt {
 // gears-2 averages about 155.
 constexpr double kSlabObjectBytes = 42;
 
+// One plane's chain of handovers from `a` to `b` along a column whose
+// boxes are {lo, hi, passPs, boxes}: per box the move crosses, `hopPs` (a
+// slide's latency and handling on both nodes), and each object between a
+// and b (the box's passPs, what passing all its objects on one box costs,
+// shared out by length) passed on through on average half the chain. In
+// ps. `sample`'s top node prices its move with it too (sample_split.h),
+// where an entry may stand for a group of `boxes` boxes of even length.
+struct BoxPass {
+    double lo, hi, passPs, boxes = 1;
+};
+double chainPs(const std::vector<BoxPass>& boxes, double a, double b, double hopPs);
+
 // The longest chain of handovers that moving each column's planes from
 // `from` to `to` takes, in ns: per box a plane crosses, a slide's latency
 // and handling on both nodes, and for each object between the plane's old

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numeric>
 
+#include "balance/move_forecast.h"
 #include "balance/plane_spacing.h"
 
 namespace rt {
@@ -12,9 +13,12 @@ bool inSample(uint32_t pixel, uint32_t width) {
     return (pixel % width) % kSampleSide == 0 && (pixel / width) % kSampleSide == 0;
 }
 
-void ColumnSample::add(double lo, double hi, const std::vector<double>& bins, const std::vector<double>& sideBins) {
+void ColumnSample::add(double lo, double hi, const std::vector<double>& bins, const std::vector<double>& sideBins,
+                       double passPs) {
     if (edges.empty()) edges.push_back(lo);
     else faces.push_back(lo);
+    moves.push_back(passPs);
+    if (!sides) boxes.push_back(1);
     const double w = (hi - lo) / double(bins.size());
     double box = 0;
     for (size_t k = 0; k < bins.size(); ++k) {
@@ -50,39 +54,79 @@ void ColumnSample::compress(int cells) {
     side = std::move(s);
 }
 
+void ColumnSample::groupBoxes(int most) {
+    while (int(moves.size()) > std::max(1, most)) {
+        size_t j = 0;  // the neighbouring pair of fewest boxes (the lowest of equals) is merged
+        for (size_t k = 1; k + 1 < moves.size(); ++k)
+            if (boxes[k] + boxes[k + 1] < boxes[j] + boxes[j + 1]) j = k;
+        moves[j] += moves[j + 1];
+        boxes[j] += boxes[j + 1];
+        moves.erase(moves.begin() + long(j) + 1);
+        boxes.erase(boxes.begin() + long(j) + 1);
+        faces.erase(faces.begin() + long(j));
+    }
+}
+
+std::vector<BoxPass> ColumnSample::passes() const {
+    std::vector<BoxPass> p;
+    double from = lo();
+    for (size_t i = 0; i < moves.size() && i <= faces.size(); ++i) {
+        const double to = i < faces.size() ? faces[i] : hi();
+        p.push_back({from, to, moves[i], boxes.empty() ? 1.0 : boxes[i]});
+        from = to;
+    }
+    return p;
+}
+
+double ColumnSample::faceAt(int i) const {
+    double below = 0;  // boxes below the entry
+    for (const BoxPass& e : passes()) {
+        if (double(i) + 1 < below + e.boxes) return e.lo + (e.hi - e.lo) * (double(i) + 1 - below) / e.boxes;
+        below += e.boxes;
+    }
+    return hi();
+}
+
 bool sidesFit(int columnLength) {
-    return (kSampleValues - 4 - (columnLength - 1)) / 3 >= kSampleMinCells;
+    return (kSampleValues - 5 - (columnLength - 1)) / 3 >= kSampleMinCells;
 }
 
 int ColumnSample::cellsWithin(int values) const {
-    // (3 values ahead, one edge more than the cells, and per cell an edge
-    // and a mass, and with the sides the faces and a side per cell)
-    return std::max(1, (values - 4 - (sides ? int(faces.size()) : 0)) / (sides ? 3 : 2));
+    // (4 values ahead, the faces, one edge more than the cells, and per
+    // cell an edge and a mass, and with the sides a side; with the sides,
+    // the boxes' passes, one a box, come on top; without, the passes and
+    // the boxes of each group, at most kSampleGroups of them, take their
+    // room too)
+    const int ahead = 5 + int(faces.size()) + (sides ? 0 : int(moves.size() + boxes.size()));
+    return std::max(1, (values - ahead) / (sides ? 3 : 2));
 }
 
 std::vector<double> ColumnSample::values() const {
-    // Beside no column (a mesh one box across), neither the faces nor the
-    // sides: -1 for their count, and a message no longer than before they
-    // were gathered (on a long column a longer sum holds every ray behind
-    // it to its pace).
-    std::vector<double> v{busiestBox, startedAt, sides ? double(faces.size()) : -1.0};
-    for (const std::vector<double>* part : {&faces, &edges, &mass, &side})
-        if (sides || part == &edges || part == &mass) v.insert(v.end(), part->begin(), part->end());
+    // Beside no column (a mesh one box across), no sides: a message no
+    // longer than it must be (on a long column a longer sum holds every ray
+    // behind it to its pace).
+    std::vector<double> v{busiestBox, startedAt, sides ? 1.0 : 0.0, double(faces.size())};
+    for (const std::vector<double>* part : {&faces, &moves, &boxes, &edges, &mass, &side})
+        if (sides ? part != &boxes : part != &side) v.insert(v.end(), part->begin(), part->end());
     return v;
 }
 
 ColumnSample ColumnSample::of(const std::vector<double>& v) {
     ColumnSample c;
-    if (v.size() < 3 || !(v[2] >= -1) || !(v[2] <= double(v.size())) || v[2] != std::floor(v[2])) return c;
-    const bool sides = v[2] >= 0;
-    const size_t f = sides ? size_t(v[2]) : 0, per = sides ? 3 : 2;  // (values per cell)
-    if (v.size() < 3 + f + 1 + per || (v.size() - 3 - f - 1) % per != 0) return c;
-    const size_t k = (v.size() - 3 - f - 1) / per;
+    if (v.size() < 4 || !(v[2] == 0 || v[2] == 1) || !(v[3] >= 0) || !(v[3] <= double(v.size())) ||
+        v[3] != std::floor(v[3]))
+        return c;
+    const bool sides = v[2] == 1;
+    const size_t f = size_t(v[3]), per = sides ? 3 : 2;  // (values per cell)
+    const size_t b = sides ? 0 : f + 1;  // (the boxes a group, without sides)
+    const size_t ahead = 4 + f + (f + 1) + b + 1;  // (the faces, the passes, the boxes, the first edge)
+    if (v.size() < ahead + per || (v.size() - ahead) % per != 0) return c;
+    const size_t k = (v.size() - ahead) / per;
     c.busiestBox = v[0];
     c.startedAt = v[1];
-    auto at = v.begin() + 3;
-    for (auto [part, n] :
-         {std::pair{&c.faces, f}, {&c.edges, k + 1}, {&c.mass, k}, {&c.side, sides ? k : 0}}) {
+    auto at = v.begin() + 4;
+    for (auto [part, n] : {std::pair{&c.faces, f}, {&c.moves, f + 1}, {&c.boxes, b}, {&c.edges, k + 1}, {&c.mass, k},
+                           {&c.side, sides ? k : 0}}) {
         part->assign(at, at + long(n));
         at += long(n);
     }
@@ -93,6 +137,11 @@ ColumnSample ColumnSample::of(const std::vector<double>& v) {
 
 bool ColumnSample::wellFormed() const {
     if (mass.empty() || edges.size() != mass.size() + 1 || side.size() != mass.size()) return false;
+    if (moves.size() != faces.size() + 1 || boxes.size() != (sides ? 0 : moves.size())) return false;
+    for (double m : moves)
+        if (!(m >= 0)) return false;
+    for (double n : boxes)
+        if (!(n >= 1) || n != std::floor(n)) return false;
     for (size_t k = 0; k < mass.size(); ++k)
         if (!(edges[k] < edges[k + 1]) || !(mass[k] >= 0) || !(side[k] >= 0)) return false;
     for (size_t k = 0; k < faces.size(); ++k)
@@ -234,13 +283,21 @@ double holdingPart(const ColumnSample& column, const std::vector<std::vector<dou
     return std::max(column.busiestBox, dearestPartWithPasses(column, column.faces, beside));
 }
 
-bool samplePays(const ColumnSample& column, double hold, double dearest, double elapsed) {
+double sampleMovePs(const ColumnSample& column, const std::vector<double>& planes, double hopPs) {
+    const std::vector<BoxPass> boxes = column.passes();
+    double longest = 0;
+    for (size_t i = 0; i < planes.size(); ++i)
+        longest = std::max(longest, chainPs(boxes, column.faceAt(int(i)), planes[i], hopPs));
+    return longest;
+}
+
+bool samplePays(const ColumnSample& column, double hold, double dearest, double elapsed, double movePs) {
     const double share = double(kSampleSide * kSampleSide);  // the frame's work over the sample's
     hold *= share;
     if (!(hold > 0)) return false;
     const double inPlace = elapsed + std::max(0.0, elapsed - column.startedAt);  // (the planes come down as the sum went up)
     const double left = std::max(0.0, 1 - inPlace / hold);
-    return left * (hold - share * dearest) > kSampleMinGain * hold;
+    return left * (hold - share * dearest) - movePs > kSampleMinGain * hold;
 }
 
 }  // namespace rt

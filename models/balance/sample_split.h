@@ -15,6 +15,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "balance/move_forecast.h"
+
 namespace rt {
 
 // The sample: the pixels on every kSampleSide-th row and column, one in 16.
@@ -34,10 +36,12 @@ constexpr int kSampleBins = 64;
 // sent up after it waits behind it on each link: a sum slower a hop than
 // a ray holds them all to its pace (doc/balancing.md, "Long columns"; the
 // figures for 64: doc/history.md). Where the sum carries the sides' passes
-// too (a column with columns beside it), the faces and the sides take their
-// room from the cells: the message stays at kSampleValues values.
+// too (a column with columns beside it), the sides take their room from the
+// cells, and so do the faces (which every sum carries, for the price of a
+// move: sampleMovePs): the message stays at kSampleValues values, and one
+// more a box (what passing its objects on costs).
 constexpr int kSampleCells = 64;
-constexpr int kSampleValues = 2 * kSampleCells + 4;
+constexpr int kSampleValues = 2 * kSampleCells + 5;
 // The fewest cells a sum keeps to carry the sides: on a longer column
 // (more than 42 boxes) the faces would leave it fewer, and it goes without
 // the sides. On 64x2x1 from the object median, a sum of 21 cells with the
@@ -45,6 +49,11 @@ constexpr int kSampleValues = 2 * kSampleCells + 4;
 // frame 2.57 times the unbalanced one (1.79 without the sides; with one
 // cell, when the faces beside took a second value a box, 6.4).
 constexpr int kSampleMinCells = 29;
+// Without sides, the boxes' passes go up in at most this many groups of
+// neighbouring boxes (ColumnSample::groupBoxes), in the message's room: on
+// 64x1x1 a pass a box (1.5 KB a hop) held the rays behind the sum, and the
+// built-in scene's frame lost 3 to 5 % against its start held.
+constexpr int kSampleGroups = 8;
 bool sidesFit(int columnLength);
 
 // A column's sample as the gather carries it up: the work (ps) in cells
@@ -54,23 +63,40 @@ bool sidesFit(int columnLength);
 // faces as they stand; the most work any one node's box of the column held
 // (what the frame would take, times the sample's share, with the boxes as
 // they stand); and when the column's lowest node sent it up (how long it
-// took to climb the column).
+// took to climb the column); and, per box, what passing all its objects on
+// to a neighbour would cost (ps: the slab handover's handling and grid
+// updates and the objects' time on the wire; for the price of a move).
 struct ColumnSample {
     std::vector<double> edges;  // K + 1, increasing
     std::vector<double> mass;   // K
     std::vector<double> side;   // K
     std::vector<double> faces;  // the inner faces below the last node added
+    std::vector<double> moves;  // per box added: what passing its objects on costs (ps)
+    // Without sides, the boxes in each entry of `moves`, whose edges are
+    // then `faces` (groupBoxes); with sides, empty: an entry a box.
+    std::vector<double> boxes;
     bool sides = false;  // the column has columns beside it: the sum carries the faces and the sides
     double busiestBox = 0;
     double startedAt = 0;  // ps into the frame
-    // A node's bins over its box [lo, hi], above the cells so far (lo the last edge).
-    void add(double lo, double hi, const std::vector<double>& bins, const std::vector<double>& sideBins = {});
+    // A node's bins over its box [lo, hi], above the cells so far (lo the
+    // last edge), and what passing its objects on would cost.
+    void add(double lo, double hi, const std::vector<double>& bins, const std::vector<double>& sideBins = {},
+             double passPs = 0);
     // At most `cells` cells: each then an equal share of the work.
     void compress(int cells);
+    // Without sides, at most `most` entries of `moves`: neighbouring ones
+    // merged, the pair of fewest boxes first, their face between dropped.
+    void groupBoxes(int most);
+    // The entries of `moves`, each over its boxes along the axis.
+    std::vector<BoxPass> passes() const;
+    // Where the column's inner face i stands (between its boxes i and
+    // i + 1): within a group, as if its boxes were of even length.
+    double faceAt(int i) const;
     // The most cells whose values() are at most `values` long (at least 1).
     int cellsWithin(int values) const;
-    // For a message: busiestBox, startedAt, the number of faces, the faces,
-    // the edges, the masses, the side's.
+    // For a message: busiestBox, startedAt, whether it has sides, the
+    // number of faces, the faces, the boxes' moves, the edges, the masses,
+    // the sides' (only with sides).
     std::vector<double> values() const;
     static ColumnSample of(const std::vector<double>& values);  // (empty if they are not a sample)
     double within(double a, double b) const;
@@ -108,18 +134,27 @@ double dearestPartWithPasses(const ColumnSample& column, const std::vector<doubl
 // planes beside, if dearer.
 double holdingPart(const ColumnSample& column, const std::vector<std::vector<double>>& beside);
 
+// How long moving the column's faces to `planes` takes (ps): the longest
+// chain of slab handovers, each face's (move_forecast.h, chainPs), with
+// `hopPs` a handover's latency and handling, and the objects each box
+// passes on (`moves`). The nodes on a chain wait for their faces. On a
+// long column from the uniform split the whole sample moved every face
+// (balls-5 on 64x2x1: 1,886 slides in chains along 64 boxes), and the
+// frame took 6.5 times the unbalanced one, nearly all of it the chains.
+double sampleMovePs(const ColumnSample& column, const std::vector<double>& planes, double hopPs);
+
 // Whether moving to planes whose dearest part holds `dearest` of the sample
 // (passes included: dearestPartWithPasses) pays against holding, whose
 // dearest part holds `hold` (holdingPart), decided `elapsed` into the
 // frame: the frame at the boxes as they stand takes about the sample's
 // share times `hold`, and what is left of it once the faces have moved
-// shrinks by dearest / hold; the move must save kSampleMinGain of that
-// frame. The planes are counted in place as long after the decision as
+// shrinks by dearest / hold, less the move's own time (`movePs`:
+// sampleMovePs); the move must save kSampleMinGain of that frame. The planes are counted in place as long after the decision as
 // the sum took to climb the column (they go down the same links; counted
 // at the decision alone, moves came down too late on long columns:
 // doc/history.md). (A 64-long column of 1 GB/s links gathers for about as
 // long as the whole frame takes: moving then only costs.)
 constexpr double kSampleMinGain = 0.04;
-bool samplePays(const ColumnSample& column, double hold, double dearest, double elapsed);
+bool samplePays(const ColumnSample& column, double hold, double dearest, double elapsed, double movePs = 0);
 
 }  // namespace rt

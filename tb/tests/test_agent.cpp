@@ -469,14 +469,17 @@ TEST(Agent, SampleGathersUpTheColumnSplitsAtTheTopAndMovesEachFaceOnce) {
     ASSERT_EQ(h[0].reports.size(), 1u);
     EXPECT_EQ(h[0].reports[0].first, +1);
     EXPECT_EQ(h[0].reports[0].second.type, MsgType::Sample);
-    // busiest box, start, -1 (no sides: no column beside it), edges, masses
-    EXPECT_EQ(h[0].reports[0].second.body().values.size(), size_t(2 * kSampleBins + 4));
+    // busiest box, start, 0 (no sides: no column beside it), 0 faces, the
+    // box's pass and its one box, then the edges and masses: 64 bins in 63
+    // cells, in kSampleValues
+    EXPECT_EQ(h[0].reports[0].second.body().values.size(), size_t(kSampleValues));
     EXPECT_EQ(h[0].reports[0].second.body().values[1], 7);
     EXPECT_FALSE(a[0]->sampling());
     a[1]->onSample(h[0].reports[0].second, 9);
     settle(*a[1]);
     ASSERT_EQ(h[1].reports.size(), 1u);
-    EXPECT_EQ(h[1].reports[0].second.body().values.size(), size_t(kSampleValues));  // 128 bins in 64 cells
+    // 128 bins in 61 cells, beside a face, 2 passes and 2 boxes
+    EXPECT_EQ(h[1].reports[0].second.body().values.size(), size_t(4 + 1 + 2 + 2 + 62 + 61));
     EXPECT_EQ(h[1].reports[0].second.body().values[1], 7);  // when the lowest node sent it, carried up
     a[2]->onSample(h[1].reports[0].second, 11);
     settle(*a[2]);
