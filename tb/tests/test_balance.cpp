@@ -90,7 +90,9 @@ static size_t slidesIn(const MachineResult& r) {
 // depth 1..3. The bandwidths: 100 MB/s .. 2 GB/s; for `sample`, ten times
 // that: on the slower links the rays its moves would pass on between
 // columns cost more than the moves gain, and its columns hold (no slab
-// would move in these runs).
+// would move in these runs); and its latencies a tenth: its move is priced
+// by its chains of handovers, each a link's latency, and decoupled by 5 us
+// the columns decided too late for them.
 static void randomLinks(MachineConfig& c, uint64_t seed) {
     const double scale = c.balance.policy == "sample" ? 10 : 1;
     std::mt19937_64 rng(seed);
@@ -101,7 +103,7 @@ static void randomLinks(MachineConfig& c, uint64_t seed) {
                     Cell m{x, y, z};
                     m[dirAxis(d)] += dirStep(d);
                     if (m[dirAxis(d)] < 0 || m[dirAxis(d)] > 2) continue;
-                    { LinkParams lp{Picos(1000 + rng() % 3000000), scale * 1e8 * double(1 + rng() % 20), int(1 + rng() % 3)}; c.linkOverride[{{x, y, z}, d}] = lp; }
+                    { LinkParams lp{Picos(double(1000 + rng() % 3000000) / scale), scale * 1e8 * double(1 + rng() % 20), int(1 + rng() % 3)}; c.linkOverride[{{x, y, z}, d}] = lp; }
                 }
 }
 
