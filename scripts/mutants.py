@@ -121,7 +121,7 @@ MUTANTS = [
      "return minThickness * (1 + 1e-9);", "return minThickness;",
      "planes are spaced at the bare minimum thickness, and a box one rounding thinner fails a later frame's exact check"),
     ("start-never-aligned", "models/balance/initial_split.cpp",
-     "const bool aligned = !testsAreTheWork && kHopsPerTestAligned * test < hop;", "const bool aligned = false;",
+     "    const bool aligned = t.cheap;", "    const bool aligned = false;",
      "where the hops are the work, each column still starts at its own objects' quantiles"),
     ("sample-every-column-gathers", "models/machine/machine.cpp",
      "n.setSample(generates[col], std::move(beside),", "n.setSample(true, std::move(beside),",

@@ -109,7 +109,10 @@ Stop loadScene(rt::RtsimOptions& o, const rt::CommandLine& cl, rt::Scene& scene,
         if (cl.rerun && !cl.givesScene()) rt::checkRerunSceneFile(*cl.rerun, o.scene);  // (before the file is parsed)
         scene = o.scene.load();
         o.scene.imageSize(scene, o.machine.width, o.machine.height);
-        if (o.boundariesFrom.empty()) rt::chooseStartMix(o.machine, scene.objects);  // (--start-mix auto: by the costs and objects)
+        if (o.boundariesFrom.empty()) {  // (--start-mix auto, --sample-end auto: by the costs and objects)
+            rt::chooseStartMix(o.machine, scene.objects);
+            rt::chooseSampleEnd(o.machine, scene.objects);
+        }
         o.machine.checkDerivedTimes(scene.objects.size());  // (std::invalid_argument: exit 2 naming the flags)
         try {
             rt::refuseIfTooBig("--size " + std::to_string(o.machine.width) + "x" + std::to_string(o.machine.height),
@@ -205,6 +208,10 @@ void sayWhatRuns(const rt::RtsimOptions& o, const std::optional<rt::Rerun>& reru
     if (!m.balance.startMixWhy.empty())
         rt::msg::info(m.balance.policy + " starts at start mix " + rt::formatNumber(m.balance.startMix) + " (" +
                       m.balance.startMixWhy + ")");
+    if (!m.balance.sampleEndWhy.empty())
+        rt::msg::info(std::string("sample's gather starts ") +
+                      (m.balance.sampleCredit ? "once the frame buffer has its credit back" : "once its rays are generated") +
+                      " (" + m.balance.sampleEndWhy + ")");
 }
 
 // How a stopped run ends (its report so far written): 3 for the watchdog,

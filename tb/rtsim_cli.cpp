@@ -46,12 +46,20 @@ void addTime(CLI::App& app, const std::string& flag, Picos& target, const std::s
 
 // A setting with two named values, kept as whether it is `on`; the value it
 // holds now is the default, named first in the error for any other value.
+// A choice of two names, or three where the row has a word ("auto": sets
+// `chosenLater`, and the other two clear it).
 void addChoice(CLI::App& app, const std::string& flag, bool& target, const std::string& on, const std::string& off,
-               const std::string& what, const std::string& group) {
-    const std::string given = target ? on : off, other = target ? off : on;
-    app.add_option_function<std::string>(flag, [flag, &target, on, off, given, other](const std::string& s) {
-           if (s != on && s != off) throw CLI::ValidationError(flag, "expected " + given + " or " + other + ", got '" + s + "'");
+               bool* chosenLater, const std::string& word, const std::string& what, const std::string& group) {
+    const std::string given = chosenLater && *chosenLater ? word : target ? on : off;
+    const std::string names = chosenLater ? word + ", " + off + " or " + on : given + " or " + (target ? off : on);
+    app.add_option_function<std::string>(flag, [flag, &target, on, off, chosenLater, word, names](const std::string& s) {
+           if (chosenLater && s == word) {
+               *chosenLater = true;
+               return;
+           }
+           if (s != on && s != off) throw CLI::ValidationError(flag, "expected " + names + ", got '" + s + "'");
            target = s == on;
+           if (chosenLater) *chosenLater = false;
        }, what)
         ->default_str(given)
         ->group(group);
@@ -125,7 +133,10 @@ void addParam(CLI::App& app, const Param<S>& p, S& s, const std::string& flag, c
             o->group(group);
             return;
         }
-        case ParamKind::Choice: addChoice(app, flag, fieldOf<bool>(p, s), p.on, p.off, help, group); return;
+        case ParamKind::Choice:
+            addChoice(app, flag, fieldOf<bool>(p, s), p.on, p.off, p.wordField ? &(s.*p.wordField) : nullptr,
+                      p.word ? p.word : "", help, group);
+            return;
         default: throw std::logic_error("parameter " + flag + ": not a value");
     }
 }

@@ -75,6 +75,7 @@ nlohmann::json machineConfigJson(const MachineConfig& cfg, int width, int height
     c["balance"]["gain"] = bc.gainOf();
     c["balance"]["guard"] = bc.guard;
     if (!bc.startMixWhy.empty()) c["balance"]["start_mix_auto"] = bc.startMixWhy;  // how --start-mix auto chose
+    if (!bc.sampleEndWhy.empty()) c["balance"]["sample_end_auto"] = bc.sampleEndWhy;  // how --sample-end auto chose
     for (const auto& [cell, s] : cfg.nodeSpeed) c["node_speed"].push_back({{"node", cellJson(cell)}, {"speed", s}});
     for (const auto& [cell, k] : cfg.nodeCosts) c["node_costs"].push_back({{"node", cellJson(cell)}, {"costs", costsJson(k)}});
     for (const auto& [key, l] : cfg.linkOverride)

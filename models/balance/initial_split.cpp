@@ -94,8 +94,7 @@ double minThicknessOf(const MachineConfig& cfg, const Box& world) {
     return cfg.balance.minThickness * world.extent()[ax] / cfg.dims[ax];
 }
 
-StartMix startMixFor(const MachineConfig& cfg, const std::vector<Shape>& objects) {
-    if (cfg.balance.policy != "sample") return {1, false, "auto: " + cfg.balance.policy + " is the object median"};
+TestAgainstHop testAgainstHop(const MachineConfig& cfg, const std::vector<Shape>& objects) {
     double test = 0;
     for (const Shape& s : objects) test += double(cfg.costs.test[size_t(s.kind())]);
     test = objects.empty() ? 0 : test / double(objects.size()) / cfg.speed;
@@ -111,17 +110,25 @@ StartMix startMixFor(const MachineConfig& cfg, const std::vector<Shape>& objects
     // 8, both views; doc/balancing.md, "Where sample starts"): 0.5 the better
     // start up to a test of 0.24 of a hop, 1 from 0.47 on.
     constexpr double kHopsPerTest = 3;  // the objects are the work from a test of a third of a hop
-    const bool testsAreTheWork = kHopsPerTest * test >= hop;
+    TestAgainstHop t{test, hop, kHopsPerTest * test >= hop, false, ""};
     // In line below a tenth of a hop: measured on the modern machine (0.05
     // of a hop) and the 1987 one (0.13), where an aligned start made sample's
     // first frames at f = 1/N slower (across the axis, N = 4: 0.558 of the
     // unbalanced frame against 0.530).
     constexpr double kHopsPerTestAligned = 10;
-    const bool aligned = !testsAreTheWork && kHopsPerTestAligned * test < hop;
-    const std::string costs = "a test (" + formatTime(Picos(std::llround(test))) + ") costs " +
-                              (testsAreTheWork ? "at least" : aligned ? "less than a tenth of" : "less than a third of") +
-                              " a ray's hop (" + formatTime(Picos(std::llround(hop))) + ")";
-    if (testsAreTheWork) return {1, false, "auto: " + costs + ": the object median"};
+    t.cheap = !t.testsAreTheWork && kHopsPerTestAligned * test < hop;
+    t.costs = "a test (" + formatTime(Picos(std::llround(test))) + ") costs " +
+              (t.testsAreTheWork ? "at least" : t.cheap ? "less than a tenth of" : "less than a third of") +
+              " a ray's hop (" + formatTime(Picos(std::llround(hop))) + ")";
+    return t;
+}
+
+StartMix startMixFor(const MachineConfig& cfg, const std::vector<Shape>& objects) {
+    if (cfg.balance.policy != "sample") return {1, false, "auto: " + cfg.balance.policy + " is the object median"};
+    const TestAgainstHop t = testAgainstHop(cfg, objects);
+    const bool aligned = t.cheap;
+    const std::string& costs = t.costs;
+    if (t.testsAreTheWork) return {1, false, "auto: " + costs + ": the object median"};
     return {0.5, aligned, "auto: " + costs + ": half by the objects, half by the length" +
                               (aligned ? ", the same planes in every column" : "")};
 }
@@ -132,6 +139,14 @@ void chooseStartMix(MachineConfig& cfg, const std::vector<Shape>& objects) {
     cfg.balance.startMix = m.mix;
     cfg.balance.startAligned = m.aligned;
     cfg.balance.startMixWhy = std::move(m.why);
+}
+
+void chooseSampleEnd(MachineConfig& cfg, const std::vector<Shape>& objects) {
+    BalanceConfig& b = cfg.balance;
+    if (!b.sampleEndAuto || b.policy != "sample" || !cfg.startBoundaries.empty()) return;
+    const TestAgainstHop t = testAgainstHop(cfg, objects);
+    b.sampleCredit = t.testsAreTheWork;
+    b.sampleEndWhy = "auto: " + t.costs + (t.testsAreTheWork ? ": credit" : ": generated");
 }
 
 ColumnPlanes initialPlanes(const MachineConfig& cfg, const Lattice& cuts, const Box& world, const ObjectBins& bins,

@@ -44,6 +44,19 @@ ColumnPlanes withInnerPlanes(const char* what, ColumnPlanes planes, const std::v
 // passed on between columns whose faces differ cost more than fitting each
 // column's objects gains: every column starts at the same planes, the
 // quantiles of all the objects (doc/balancing.md, "Where sample starts").
+// A scene's intersection test (the mean over its objects, at the nodes'
+// speed) against what a ray's hop keeps a processor or a link busy (its
+// share of a ray message: --cost-send and --cost-recv, or the sender's alone
+// on the link's engine with --hop-handling link, and the message's bytes on
+// the wire), in ps; whether the tests are the work (a test costs at least a
+// third of a hop), or cheap (less than a tenth); said in words.
+struct TestAgainstHop {
+    double test, hop;
+    bool testsAreTheWork, cheap;
+    std::string costs;  // "a test (10 ns) costs less than a third of a ray's hop (212 ns)"
+};
+TestAgainstHop testAgainstHop(const MachineConfig& cfg, const std::vector<Shape>& objects);
+
 struct StartMix {
     double mix;
     bool aligned;     // one set of planes for every column, from all the objects
@@ -54,6 +67,14 @@ StartMix startMixFor(const MachineConfig& cfg, const std::vector<Shape>& objects
 // the policy starts at the objects, not where a frame before left them (so
 // the report echoes the mix used, and only if it is used).
 void chooseStartMix(MachineConfig& cfg, const std::vector<Shape>& objects);
+// --sample-end auto (the default): `sample`'s gather waits for the frame
+// buffer's word (credit) where the tests are the work, as the start is the
+// object median there: the sample then sets the split, and the split sets
+// the frame; where the hops and the links are the work, waiting for the
+// whole sample costs more than the better planes gain (doc/balancing.md,
+// "When the sample is done"), and the gather starts once the sample's
+// rays are generated. Not with a frame carried (no sample).
+void chooseSampleEnd(MachineConfig& cfg, const std::vector<Shape>& objects);
 
 // The planes each column starts with: where a frame before left them
 // (cfg.startBoundaries, each box at least `minThickness`), or the policy's

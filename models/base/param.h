@@ -28,7 +28,7 @@ enum class ParamKind {
     Rate,     // bytes per second with a unit ("1GB/s")
     Count,    // a whole number in [lo, hi]
     Real,     // a number in [lo, hi] (hi infinite: at least lo; lo > 0 with open: above lo)
-    Choice,   // one of two names: `on` sets the field true
+    Choice,   // one of two names: `on` sets the field true (or a third, `word`: sets wordField, chosen later)
     Special,  // read by the command line itself (tb/rtsim_cli.cpp)
     Part,     // another table's rows here (`part` names it)
 };
@@ -49,8 +49,9 @@ struct Param {
     const char* group = nullptr;  // --help's group (a part's rows take their Part row's)
     const char* portHelp = nullptr;  // link settings: the frame-buffer ports' --fb-NAME, if they have it
     const char* part = nullptr;   // Part: "costs", "link", "fb-port" or "balance"
-    const char* word = nullptr;   // Real: a word it also takes, for the value wordValue (outside [lo, hi])
+    const char* word = nullptr;   // Real: a word it also takes, for the value wordValue (outside [lo, hi]); Choice: a third name
     double wordValue = 0;
+    bool S::*wordField = nullptr;  // Choice: set by `word` (and cleared by the other two)
 };
 
 // The rows, by kind. `group` is --help's group (nullptr in a part's table:
@@ -89,6 +90,15 @@ template <class S>
 Param<S> orWord(Param<S> p, const char* word, double value) {
     p.word = word;
     p.wordValue = value;
+    return p;
+}
+// The same Choice row taking a third name, `word` ("auto"), which sets
+// `field` instead (the choice made where it is used, as the row's own
+// field then holds it).
+template <class S>
+Param<S> orWord(Param<S> p, const char* word, bool S::*field) {
+    p.word = word;
+    p.wordField = field;
     return p;
 }
 // The same Real row refusing its lower bound itself.

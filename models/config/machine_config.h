@@ -80,8 +80,13 @@ struct BalanceConfig {
     // sample is done"): false (generated), once its lowest node has generated
     // its sample's primary rays; true (credit), once the frame buffer has
     // every sample ray's credit back and tells the column's lowest node, the
-    // sample's rays going ahead of the rest on the control lane.
+    // sample's rays going ahead of the rest on the control lane. With
+    // sampleEndAuto (--sample-end auto, the default) chosen from the
+    // machine's costs as the start mix is (chooseSampleEnd,
+    // balance/initial_split.h), sampleEndWhy says how.
     bool sampleCredit = false;
+    bool sampleEndAuto = true;
+    std::string sampleEndWhy;
     int bins = 16;                // work profile: bins per initial box thickness along the axis
     Picos rebuildCost = 20000;    // updating a node's grid: per object moved in or out
     // The guard (every policy; balance_agent.h): no slide on loads older than
@@ -141,11 +146,13 @@ inline const std::vector<Param<BalanceConfig>>& balanceParams() {
                            "auto: median 1; sample 1 where an intersection test costs at least a third of a ray's hop, else 0.5 "
                            "(below a tenth of a hop, of all the objects: the same planes in every column)"),
                "auto", kStartMixAuto),
-        choiceParam("sample-end", &B::sampleCredit, "credit", "generated", "/sample_end",
-                    "sample: when a column's gather starts: generated, once its lowest node has generated its sample's "
-                    "primary rays; credit, once the frame buffer has every sample ray's credit back and says so (the "
-                    "sample's rays go first, on the links' control lane: a mesh link without one gets one as deep as "
-                    "the link)"),
+        orWord(choiceParam("sample-end", &B::sampleCredit, "credit", "generated", "/sample_end",
+                           "sample: when a column's gather starts: generated, once its lowest node has generated its "
+                           "sample's primary rays; credit, once the frame buffer has every sample ray's credit back and "
+                           "says so (the sample's rays go first, on the links' control lane: a mesh link without one gets "
+                           "one as deep as the link); auto: credit where an intersection test costs at least a third of a "
+                           "ray's hop (as --start-mix auto's object median), else generated"),
+               "auto", &B::sampleEndAuto),
         specialParam<B>("no-guard", "no guard: slide on loads however old, and whatever the slide costs against the work it moves"),
         numberParam("max-age", &B::maxAge, 0.0, 1e9, "/max_age_intervals", "guard: no slide on loads older than this many intervals"),
         numberParam("guard-hop", &B::hopRatio, 0.0, 1e9, "/guard_hop_steps",

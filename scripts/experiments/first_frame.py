@@ -21,7 +21,7 @@ import outputs  # noqa: E402
 import sweep_driver as driver  # noqa: E402
 from project import PAPER_SCENE, ROOT, VIEWS, preset_flags, publish_table, variant  # noqa: E402
 
-POLICIES = "median,slide,relay,sample+sample-end=credit,sample"
+POLICIES = "median,slide,relay,sample+sample-end=generated,sample+sample-end=credit,sample"
 PAPER = 0.2
 
 
@@ -61,7 +61,7 @@ def main():
                          "POLICY+FLAG=VALUE: with --FLAG VALUE)")
     ap.add_argument("--judged", default="",
                     help="how many of the policies, from the last, the table holds against the target (default: the "
-                         "last two, or one if there is one: sample with --sample-end credit and without)")
+                         "last three, or as many as there are: sample with --sample-end generated, credit and auto)")
     project.add_machine_arguments(ap, "paper", "first_frame")
     driver.add_output_arguments(ap, os.path.join(ROOT, "doc", "balancing.md"))
     driver.add_arguments(ap)
@@ -71,7 +71,7 @@ def main():
     policies = a.policies.split(",")
     for p in policies:
         policy_args(p)  # (a malformed one is named before any run)
-    a.judged = outputs.numbers(a.judged, "--judged", least=1, most=len(policies))[0] if a.judged else min(2, len(policies))
+    a.judged = outputs.numbers(a.judged, "--judged", least=1, most=len(policies))[0] if a.judged else min(3, len(policies))
     stem = "first_frame" + variant(a.preset, a.tag)
     csv_path = os.path.join(a.out, stem + ".csv")
     rows = driver.swept_rows(a, csv_path, lambda: sweep(a, ns, policies))

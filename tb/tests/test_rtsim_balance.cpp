@@ -171,6 +171,9 @@ TEST_F(Rtsim, StartMixMovesOnlyAnObjectStartsPlanes) {
         EXPECT_EQ(r["config"]["balance"]["start_mix"].get<double>(), mix) << costs;
         const std::string said = r["config"]["balance"].value("start_mix_auto", "");
         EXPECT_NE(said.find(why), std::string::npos) << said;
+        // and --sample-end auto by the same costs: credit where the objects are the work
+        EXPECT_EQ(r["config"]["balance"]["sample_end"], mix == 1.0 ? "credit" : "generated") << costs;
+        EXPECT_NE(r["config"]["balance"].value("sample_end_auto", "").find(why), std::string::npos) << costs;
         std::map<int, std::set<double>> starts;  // boundary index: where the columns start it
         for (const json& b : r["boundaries"]) starts[b["index"]].insert(b["history"][0][1].get<double>());
         for (const auto& [k, at] : starts) EXPECT_EQ(at.size() == 1, mix == 0.5) << k << costs;
@@ -192,6 +195,14 @@ TEST_F(Rtsim, StartMixMovesOnlyAnObjectStartsPlanes) {
     const json carried = report(procedural + " --balance sample --no-baseline --boundaries-from " + (dir_ / "r.json").string(), "c.json");
     EXPECT_EQ(carried["config"]["balance"]["start_mix"], "auto");
     EXPECT_FALSE(carried["config"]["balance"].contains("start_mix_auto"));
+    EXPECT_EQ(carried["config"]["balance"]["sample_end"], "generated");  // (nor of an end: no sample)
+    EXPECT_FALSE(carried["config"]["balance"].contains("sample_end_auto"));
+    // auto is taken by every policy (chosen only for sample), and the two values given stay given
+    EXPECT_EQ(report(procedural + " --balance slide --sample-end auto --no-baseline", "s.json")["config"]["balance"]["sample_end"],
+              "generated");
+    EXPECT_EQ(report(procedural + " --balance sample --sample-end generated --no-baseline --cost-sphere 1us", "g.json")
+                  ["config"]["balance"]["sample_end"],
+              "generated");
 }
 
 // Issue 11's age target at the ends of the link sweep, with the control

@@ -472,8 +472,9 @@ TEST_F(Sample, UnderSampleEndCreditNoFaceMovesBeforeTheFrameBufferCouldSayTheSam
     EXPECT_GE(firstMove(credit), 2 * latencyNs);
     EXPECT_EQ(credit["totals"]["messages"]["sample"], 4 * 3);
     EXPECT_TRUE(sameImage("across", "sample"));
-    const json generated = paper("across", "sample", "--fb-latency 10ms");
+    const json generated = paper("across", "sample", "--sample-end generated --fb-latency 10ms");
     EXPECT_EQ(generated["config"]["balance"]["sample_end"], "generated");
+    EXPECT_FALSE(generated["config"]["balance"].contains("sample_end_auto"));  // (given, not chosen)
     EXPECT_LT(firstMove(generated), 2 * latencyNs);
     EXPECT_EQ(generated["totals"]["messages"]["sample"], 4 * 3);
 }

@@ -162,6 +162,50 @@ TEST(InitialSplit, AutoStartMixWeighsATestAgainstARaysHop) {
     EXPECT_EQ(m.balance.startMix, kStartMixAuto);
 }
 
+// --sample-end auto (the default) by the same costs as the start mix: on
+// the default machine a ray's hop is 212 ns (above); a test of a third of
+// it (70.667 ns) or more makes the tests the work, and sample's gather
+// waits for the frame buffer's word (credit); below, it starts once the
+// sample's rays are generated. Chosen only for sample, only where it
+// gathers (no frame carried), and never over a value given.
+TEST(InitialSplit, SampleEndAutoWaitsForTheCreditWhereTheTestsAreTheWork) {
+    MachineConfig m = mesh({4, 1, 1});
+    m.balance.policy = "sample";
+    const std::vector<Shape> spheres{sphere(Vec3(0.5), 0.1, 0), sphere(Vec3(0.2), 0.1, 1)};
+    auto endAt = [&](Picos test) {
+        MachineConfig c = m;
+        c.costs.test[0] = test;
+        chooseSampleEnd(c, spheres);
+        EXPECT_FALSE(c.balance.sampleEndWhy.empty());
+        return c.balance.sampleCredit;
+    };
+    ASSERT_TRUE(m.balance.sampleEndAuto);  // (the default)
+    EXPECT_FALSE(endAt(10000));
+    EXPECT_FALSE(endAt(70666));
+    EXPECT_TRUE(endAt(70667));
+    chooseSampleEnd(m, spheres);
+    EXPECT_EQ(m.balance.sampleEndWhy, "auto: a test (10 ns) costs less than a tenth of a ray's hop (212 ns): generated");
+    MachineConfig given = m;  // a value given stays
+    given.costs.test[0] = 70667;
+    given.balance.sampleEndAuto = false;
+    given.balance.sampleCredit = false;
+    given.balance.sampleEndWhy.clear();
+    chooseSampleEnd(given, spheres);
+    EXPECT_FALSE(given.balance.sampleCredit);
+    EXPECT_TRUE(given.balance.sampleEndWhy.empty());
+    MachineConfig slide = given;  // another policy gathers no sample: auto stays unchosen
+    slide.balance.policy = "slide";
+    slide.balance.sampleEndAuto = true;
+    chooseSampleEnd(slide, spheres);
+    EXPECT_FALSE(slide.balance.sampleCredit);
+    EXPECT_TRUE(slide.balance.sampleEndWhy.empty());
+    MachineConfig carried = slide;  // a frame carried gathers no sample either
+    carried.balance.policy = "sample";
+    carried.startBoundaries = {{0.25, 0.5, 0.75}};
+    chooseSampleEnd(carried, spheres);
+    EXPECT_FALSE(carried.balance.sampleCredit);
+}
+
 TEST(InitialSplit, EveryPrimaryRayGoesToTheNodeThatOwnsItsStart) {
     ProceduralParams p;
     p.spheres = 10;
