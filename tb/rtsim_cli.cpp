@@ -53,8 +53,9 @@ void addChoice(CLI::App& app, const std::string& flag, bool& target, const std::
     const std::string given = chosenLater && *chosenLater ? word : target ? on : off;
     const std::string names = chosenLater ? word + ", " + off + " or " + on : given + " or " + (target ? off : on);
     app.add_option_function<std::string>(flag, [flag, &target, on, off, chosenLater, word, names](const std::string& s) {
-           if (chosenLater && s == word) {
+           if (chosenLater && s == word) {  // (and not a value given before it: the last one given counts)
                *chosenLater = true;
+               target = false;
                return;
            }
            if (s != on && s != off) throw CLI::ValidationError(flag, "expected " + names + ", got '" + s + "'");

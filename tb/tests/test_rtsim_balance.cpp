@@ -198,8 +198,9 @@ TEST_F(Rtsim, StartMixMovesOnlyAnObjectStartsPlanes) {
     EXPECT_EQ(carried["config"]["balance"]["sample_end"], "generated");  // (nor of an end: no sample)
     EXPECT_FALSE(carried["config"]["balance"].contains("sample_end_auto"));
     // auto is taken by every policy (chosen only for sample), and the two values given stay given
-    EXPECT_EQ(report(procedural + " --balance slide --sample-end auto --no-baseline", "s.json")["config"]["balance"]["sample_end"],
-              "generated");
+    EXPECT_EQ(report(procedural + " --balance slide --sample-end credit --sample-end auto --no-baseline", "s.json")
+                  ["config"]["balance"]["sample_end"],
+              "generated");  // (the last one given counts: no credit left behind for slide to refuse)
     EXPECT_EQ(report(procedural + " --balance sample --sample-end generated --no-baseline --cost-sphere 1us", "g.json")
                   ["config"]["balance"]["sample_end"],
               "generated");
