@@ -78,13 +78,15 @@ std::vector<BoxPass> ColumnSample::passes() const {
     return p;
 }
 
-double ColumnSample::faceAt(int i) const {
+double ColumnSample::faceAt(int i) const { return moves.empty() ? hi() : faceAmong(passes(), i); }
+
+double faceAmong(const std::vector<BoxPass>& passes, int i) {
     double below = 0;  // boxes below the entry
-    for (const BoxPass& e : passes()) {
+    for (const BoxPass& e : passes) {
         if (double(i) + 1 < below + e.boxes) return e.lo + (e.hi - e.lo) * (double(i) + 1 - below) / e.boxes;
         below += e.boxes;
     }
-    return hi();
+    return passes.empty() ? 0.0 : passes.back().hi;
 }
 
 bool sidesFit(int columnLength) {
@@ -287,7 +289,7 @@ double sampleMovePs(const ColumnSample& column, const std::vector<double>& plane
     const std::vector<BoxPass> boxes = column.passes();
     double longest = 0;
     for (size_t i = 0; i < planes.size(); ++i)
-        longest = std::max(longest, chainPs(boxes, column.faceAt(int(i)), planes[i], hopPs));
+        longest = std::max(longest, chainPs(boxes, faceAmong(boxes, int(i)), planes[i], hopPs));
     return longest;
 }
 

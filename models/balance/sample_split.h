@@ -56,6 +56,10 @@ constexpr int kSampleMinCells = 29;
 constexpr int kSampleGroups = 8;
 bool sidesFit(int columnLength);
 
+// Where inner face i stands among `passes` (ColumnSample::passes): within a
+// group, as if its boxes were of even length; past the last, the top.
+double faceAmong(const std::vector<BoxPass>& passes, int i);
+
 // A column's sample as the gather carries it up: the work (ps) in cells
 // along the axis, each spread evenly over its cell; in the same cells, what
 // its rays across the column's sides, to or from the columns beside, would
@@ -91,7 +95,7 @@ struct ColumnSample {
     std::vector<BoxPass> passes() const;
     // Where the column's inner face i stands (between its boxes i and
     // i + 1): within a group, as if its boxes were of even length.
-    double faceAt(int i) const;
+    double faceAt(int i) const;  // (faceAmong of passes())
     // The most cells whose values() are at most `values` long (at least 1).
     int cellsWithin(int values) const;
     // For a message: busiestBox, startedAt, whether it has sides, the
