@@ -129,6 +129,18 @@ StartMix startMixFor(const MachineConfig& cfg, const std::vector<Shape>& objects
     const bool aligned = t.cheap;
     const std::string& costs = t.costs;
     if (t.testsAreTheWork) return {1, false, "auto: " + costs + ": the object median"};
+    // A ray's tests do not grow with the boxes it crosses; its hops do. Up to
+    // 8 boxes a column (Fig. 4's N = 2 to 8, the SPD scenes at N = 4 to 8)
+    // the half start paid; at 16 and 32, and on columns of 33 and 64 boxes,
+    // it made the scenes with few objects a box (gears-2, rings-2, tetra-3)
+    // slower than the uniform split by up to 79 %, in boxes it made long
+    // whose sides the rays crossed, and the sample's move did not take it
+    // back (doc/balancing.md, "At 16 and 32 boxes a column").
+    constexpr int kLongestHalfStartedColumn = 8;
+    const int length = cfg.dims[size_t(cfg.balance.axis)];
+    if (length > kLongestHalfStartedColumn)
+        return {0, false, "auto: " + costs + ", and a column has " + std::to_string(length) +
+                              " boxes (more than " + std::to_string(kLongestHalfStartedColumn) + "): the uniform split"};
     return {0.5, aligned, "auto: " + costs + ": half by the objects, half by the length" +
                               (aligned ? ", the same planes in every column" : "")};
 }

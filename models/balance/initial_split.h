@@ -44,6 +44,9 @@ ColumnPlanes withInnerPlanes(const char* what, ColumnPlanes planes, const std::v
 // passed on between columns whose faces differ cost more than fitting each
 // column's objects gains: every column starts at the same planes, the
 // quantiles of all the objects (doc/balancing.md, "Where sample starts").
+// On columns of more than 8 boxes, where the tests are not the work, the
+// uniform split (0): a ray's hops grow with the boxes it crosses, and a box
+// the half start made long carries the rays across its sides.
 // A scene's intersection test (the mean over its objects, at the nodes'
 // speed) against what a ray's hop keeps a processor or a link busy (its
 // share of a ray message: --cost-send and --cost-recv, or the sender's alone

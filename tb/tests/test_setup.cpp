@@ -145,8 +145,26 @@ TEST(InitialSplit, AutoStartMixWeighsATestAgainstARaysHop) {
     EXPECT_EQ(mixAt(57333), 0.5);
     EXPECT_EQ(mixAt(57334), 1.0);
     m.hopsByLinks = false;
+    // A column of more than 8 boxes starts uniform where the hops are the
+    // work, and at the object median where the tests are.
+    m.dims = {9, 1, 1};
+    EXPECT_EQ(mixAt(10000), 0.0);
+    EXPECT_EQ(mixAt(70666), 0.0);
+    EXPECT_EQ(mixAt(70667), 1.0);
+    EXPECT_NE(startMixFor(m, spheres).why.find("a column has 9 boxes (more than 8): the uniform split"),
+              std::string::npos)
+        << startMixFor(m, spheres).why;
+    m.dims = {8, 16, 16};  // the column's own length counts, along the axis (x)
+    EXPECT_EQ(mixAt(10000), 0.5);
+    m.balance.axis = 1;
+    EXPECT_EQ(mixAt(10000), 0.0);
+    m.balance.axis = 0;
+    m.dims = {4, 1, 1};
     m.balance.policy = "median";  // by its name, at the object median whatever the costs
     EXPECT_EQ(mixAt(10000), 1.0);
+    m.dims = {64, 1, 1};
+    EXPECT_EQ(mixAt(10000), 1.0);
+    m.dims = {4, 1, 1};
     // chosen once: a mix given stays, and a policy that starts uniform keeps auto (unused)
     m.balance.policy = "sample";
     chooseStartMix(m, spheres);
