@@ -552,6 +552,25 @@ TEST_F(Sample, ALongColumnsMoveIsPricedByItsChainsOfSlabs) {
     }
 }
 
+// On columns of more than 8 boxes the hops are the work where the tests
+// are cheap, and --start-mix auto starts `sample` at the uniform split.
+// From the half start (half by the objects, half by the length, the same
+// planes in every column) tetra-3 at 64x64 and 1 GB/s took 1.352 of the
+// unbalanced frame on 16x16x4 and 1.227 on 33x1x1: boxes the start made
+// long carried the rays across their sides, and no move took it back.
+TEST_F(Sample, OnColumnsOfMoreThanEightBoxesNoStartLoses) {
+    for (const char* dims : {"16x16x4", "33x1x1"}) {
+        SCOPED_TRACE(dims);
+        const std::string point =
+            std::string("--scene " RT_SCENE_DIR "/tetra-3.nff --size 64x64 --link-bandwidth 1GB/s --mesh-dims ") + dims;
+        const double none = report(point + " --balance none")["render_time_ns"].get<double>();
+        const nlohmann::json r = report(point + " --balance sample");
+        EXPECT_EQ(r["config"]["balance"]["start_mix"], 0.0);
+        const double sample = r["render_time_ns"].get<double>();
+        EXPECT_LE(sample, 1.02 * none) << sample << " against " << none;
+    }
+}
+
 // On a long column the sample comes late and its sum climbs behind the
 // sample's rays. On the built-in scene at 64x64, from a start mix of 0.5,
 // the frame with `sample` was 1.237, 1.293 and 1.379 of the unbalanced one

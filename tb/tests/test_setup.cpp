@@ -29,6 +29,20 @@ MachineConfig mesh(std::array<int, 3> dims, int axis = 0) {
     return m;
 }
 
+// `--start-mix auto` and `--sample-end auto` weigh the scene's test against
+// a ray's hop: `sample` on a column of four of the default machine, two
+// spheres, and the machine with a sphere test of `test`.
+MachineConfig sampleColumn() {
+    MachineConfig m = mesh({4, 1, 1});
+    m.balance.policy = "sample";
+    return m;
+}
+const std::vector<Shape> kTwoSpheres{sphere(Vec3(0.5), 0.1, 0), sphere(Vec3(0.2), 0.1, 1)};
+MachineConfig withSphereTest(MachineConfig c, Picos test) {
+    c.costs.test[0] = test;
+    return c;
+}
+
 }  // namespace
 
 // ---- The initial split (initial_split.h) ----
@@ -109,25 +123,16 @@ TEST(InitialSplit, BoxesPackedAtTheMinimumPassTheExactCheck) {
 TEST(InitialSplit, AutoStartMixWeighsATestAgainstARaysHop) {
     // A ray's hop on the default machine, by hand: 40 + 40 ns of handling and
     // a 132-byte message (8 of header, 124 of ray) at 1 GB/s, 132 ns: 212 ns.
-    MachineConfig m = mesh({4, 1, 1});
-    m.balance.policy = "sample";
-    const std::vector<Shape> spheres{sphere(Vec3(0.5), 0.1, 0), sphere(Vec3(0.2), 0.1, 1)};
-    auto mixAt = [&](Picos test) {
-        MachineConfig c = m;
-        c.costs.test[0] = test;
-        return startMixFor(c, spheres).mix;
-    };
+    MachineConfig m = sampleColumn();
+    const std::vector<Shape>& spheres = kTwoSpheres;
+    auto mixAt = [&](Picos test) { return startMixFor(withSphereTest(m, test), spheres).mix; };
     EXPECT_EQ(mixAt(10000), 0.5);   // the default's 10 ns: the hops are the work
     EXPECT_EQ(mixAt(70666), 0.5);   // just under a third of the hop (70.67 ns)
     EXPECT_EQ(mixAt(70667), 1.0);   // a third of it: the objects are the work
     EXPECT_NE(startMixFor(m, spheres).why.find("less than a tenth of a ray's hop (212 ns)"), std::string::npos)
         << startMixFor(m, spheres).why;
     // Below a tenth of the hop (21.2 ns) every column starts at the same planes.
-    auto alignedAt = [&](Picos test) {
-        MachineConfig c = m;
-        c.costs.test[0] = test;
-        return startMixFor(c, spheres).aligned;
-    };
+    auto alignedAt = [&](Picos test) { return startMixFor(withSphereTest(m, test), spheres).aligned; };
     EXPECT_TRUE(alignedAt(10000));
     EXPECT_TRUE(alignedAt(21199));
     EXPECT_FALSE(alignedAt(21200));
@@ -187,12 +192,10 @@ TEST(InitialSplit, AutoStartMixWeighsATestAgainstARaysHop) {
 // sample's rays are generated. Chosen only for sample, only where it
 // gathers (no frame carried), and never over a value given.
 TEST(InitialSplit, SampleEndAutoWaitsForTheCreditWhereTheTestsAreTheWork) {
-    MachineConfig m = mesh({4, 1, 1});
-    m.balance.policy = "sample";
-    const std::vector<Shape> spheres{sphere(Vec3(0.5), 0.1, 0), sphere(Vec3(0.2), 0.1, 1)};
+    MachineConfig m = sampleColumn();
+    const std::vector<Shape>& spheres = kTwoSpheres;
     auto endAt = [&](Picos test) {
-        MachineConfig c = m;
-        c.costs.test[0] = test;
+        MachineConfig c = withSphereTest(m, test);
         chooseSampleEnd(c, spheres);
         EXPECT_FALSE(c.balance.sampleEndWhy.empty());
         return c.balance.sampleCredit;
