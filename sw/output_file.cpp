@@ -1,6 +1,7 @@
 #include "output_file.h"
 
 #include <fcntl.h>
+#include <pthread.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -96,9 +97,13 @@ void checkWritable(const std::string& flag, const std::string& path) {
     std::error_code ec;
     if (!fs::is_directory(folder, ec)) bad("no such folder: " + folder);
     int err = 0;
-    const std::string t = makeTemp(path, err);
+    std::string t;
+    {
+        const StopsHeld held;  // (made and removed: never left by a stop)
+        t = makeTemp(path, err);
+        if (!t.empty()) std::remove(t.c_str());
+    }
     if (t.empty()) bad(std::string("cannot create a file there (") + std::strerror(err) + ")");
-    std::remove(t.c_str());
 }
 
 const std::string& checkExtension(const std::string& flag, const std::string& path,
@@ -133,10 +138,22 @@ void checkDistinct(const std::vector<NamedFile>& files) {
 
 AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
     int err = 0;
-    temp_ = makeTemp(path_, err);
+    {
+        const StopsHeld held;  // (made and registered: a stop removes it)
+        temp_ = makeTemp(path_, err);
+        if (!temp_.empty()) registerTempFile(temp_);
+    }
     if (temp_.empty()) throw std::runtime_error(path_ + ": cannot create a file beside it (" + std::strerror(err) + ")");
-    registerTempFile(temp_);
 }
+
+StopsHeld::StopsHeld() {
+    sigset_t stops;
+    sigemptyset(&stops);
+    for (int s : {SIGINT, SIGTERM, SIGALRM}) sigaddset(&stops, s);
+    pthread_sigmask(SIG_BLOCK, &stops, &before_);
+}
+
+StopsHeld::~StopsHeld() { pthread_sigmask(SIG_SETMASK, &before_, nullptr); }
 
 void AtomicFile::write(const std::string& text) const {
     write([&](std::ostream& o) { o << text; });
@@ -151,8 +168,8 @@ void AtomicFile::write(const std::function<void(std::ostream&)>& fill) const {
 
 AtomicFile::~AtomicFile() {
     if (committed_) return;
+    std::remove(temp_.c_str());  // (then forgotten: a stop between finds nothing to remove)
     forgetTempFile(temp_);
-    std::remove(temp_.c_str());
 }
 
 void AtomicFile::commit() {

@@ -47,22 +47,26 @@ constexpr uintmax_t kMaxChildReportBytes = uintmax_t(1) << 30;
 TempFile::TempFile(const std::string& prefix, const std::string& suffix, const std::string& text) {
     const char* dir = std::getenv("TMPDIR");  // (as mkstemp's callers do; the tests give their own)
     std::string path = std::string(dir && *dir ? dir : "/tmp") + "/" + prefix + "-XXXXXX" + suffix;
-    const int fd = mkstemps(path.data(), int(suffix.size()));
+    int fd = -1;
+    {
+        const StopsHeld held;  // (made and registered: a stop removes it)
+        fd = mkstemps(path.data(), int(suffix.size()));
+        if (fd >= 0) registerTempFile(path);
+    }
     if (fd < 0) throw std::runtime_error("cannot create a temporary file " + path);
-    registerTempFile(path);
     path_ = path;
     const bool ok = text.empty() || ::write(fd, text.data(), text.size()) == ssize_t(text.size());
     ::close(fd);
     if (!ok) {
-        forgetTempFile(path_);
         std::remove(path_.c_str());
+        forgetTempFile(path_);
         throw std::runtime_error("cannot write the temporary file " + path_);
     }
 }
 
 TempFile::~TempFile() {
+    std::remove(path_.c_str());  // (then forgotten: a stop between finds nothing to remove)
     forgetTempFile(path_);
-    std::remove(path_.c_str());
 }
 
 pid_t spawn(std::vector<std::string> args, bool keepStdout, const std::string& stderrPath, bool stopsIfStopped) {
