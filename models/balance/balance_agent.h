@@ -192,8 +192,9 @@ public:
     // the planes beside (samplePays: every face holds); every node passes
     // them on and moves its faces to them as startAt does, once, and then
     // holds. Without `gathers` (a column none of whose nodes generates
-    // primary rays) the faces hold, and its top node proposes them as they
-    // stand (`faces`, the column's inner faces).
+    // primary rays, under --sample-end generated) the faces hold, and its
+    // top node proposes them as they stand (`faces`, the column's inner
+    // faces).
     void startSample(bool gathers, const std::vector<int>& besideDirs, std::vector<double> faces);
     bool sampling() const { return gather_.on && !gather_.passed; }
     void recordSample(double where, Picos work);

@@ -270,19 +270,23 @@ void Machine::giveOutPrimaryRays(const ColumnPlanes& planes) {
 }
 
 // `sample`'s first frame (sample_split.h): which columns gather their
-// sample, and the columns beside each. A column none of whose nodes
-// generates primary rays (across the axis, all but the front row) holds its
-// faces: the planes of the column in front of it, which it used to take,
-// did not fit its work, and the rays they passed on against the columns
-// beside it cost more than the move gained (doc/balancing.md, "Columns
-// that generate no primary rays"). Every column counts the passes its
+// sample, and the columns beside each. Under --sample-end credit every
+// column gathers: the frame buffer's word comes once all the sample's rays
+// have ended, so each column's own sample is whole, whether or not it
+// generates primary rays. Once generated, a column none of whose nodes
+// generates primary rays (across the axis, all but the front row) has seen
+// none of its sample yet, and holds its faces: the planes of the column in
+// front of it, which it used to take, did not fit its work, and the rays
+// they passed on against the columns beside it cost more than the move
+// gained (doc/balancing.md, "Columns that generate no primary rays").
+// Every column counts the passes its
 // planes would cause against those beside it, the ones that hold and the
 // ones that move (their top nodes tell each other their planes).
 std::vector<bool> Machine::prepareSample(const std::vector<std::vector<uint32_t>>& perNode, const ColumnPlanes& planes) {
     const ColumnGeometry& g = columns_;
-    std::vector<bool> generates(size_t(g.count()), false);
+    std::vector<bool> gathers(size_t(g.count()), cfg_.balance.sampleCredit);
     for (size_t i = 0; i < nodes_.size(); ++i)
-        if (!perNode[i].empty()) generates[size_t(g.columnOf(nodes_[i].cell()))] = true;
+        if (!perNode[i].empty()) gathers[size_t(g.columnOf(nodes_[i].cell()))] = true;
     // The columns beside are the same for every node of a column, so its
     // nodes agree whether the sum carries the sides; a column too long for
     // them in the sum counts none (sidesFit).
@@ -294,9 +298,9 @@ std::vector<bool> Machine::prepareSample(const std::vector<std::vector<uint32_t>
             if (sidesRoom && dirAxis(d) != g.axis && inMesh(neighbour(n.cell(), d), cfg_.dims)) beside.push_back(d);
         std::vector<double> faces;  // (the top node's: what it proposes if the column holds)
         if (n.cell()[g.axis] == g.length() - 1) faces.assign(planes[col].begin() + 1, planes[col].end() - 1);
-        n.setSample(generates[col], std::move(beside), std::move(faces));
+        n.setSample(gathers[col], std::move(beside), std::move(faces));
     }
-    return generates;
+    return gathers;
 }
 
 // --sample-end credit: unit 0 learns the credit the sample's primary rays

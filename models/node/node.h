@@ -208,7 +208,7 @@ private:
     std::unique_ptr<BalanceAgent> balance_;  // dynamic policies; made at the start
     std::optional<std::array<double, 2>> startTargets_;
     struct SampleSetup {
-        bool gathers = true;  // its column generates primary rays (else its faces hold)
+        bool gathers = true;  // its column gathers its sample (Machine::prepareSample; else its faces hold)
         std::vector<int> beside;    // the link directions to the columns beside (none: the sum carries no sides)
         std::vector<double> faces;  // its column's inner faces as they start (what a top node proposes if it holds)
         uint64_t trigger = 0;  // the gather starts once the node has generated this many primary rays
