@@ -88,6 +88,7 @@ public:
     ~StopsHeld();
     StopsHeld(const StopsHeld&) = delete;
     StopsHeld& operator=(const StopsHeld&) = delete;
+    const sigset_t& before() const { return before_; }  // the mask it restores
 
 private:
     sigset_t before_;

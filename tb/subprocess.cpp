@@ -90,11 +90,8 @@ pid_t spawn(std::vector<std::string> args, bool keepStdout, const std::string& s
     // by the handler; one that came before is passed on here if asked.
     // (Without this, a stop between "reference runs:" and the slot let a
     // 1x1x1 baseline run to its end: 3.9 s under AddressSanitizer in CI.)
-    sigset_t held, before;
-    sigemptyset(&held);
-    for (int s : {SIGINT, SIGTERM}) sigaddset(&held, s);
-    sigprocmask(SIG_BLOCK, &held, &before);
-    posix_spawnattr_setsigmask(&attr, &before);  // the child starts with the mask rtsim had
+    const StopsHeld held;
+    posix_spawnattr_setsigmask(&attr, &held.before());  // the child starts with the mask rtsim had
     posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETPGROUP | POSIX_SPAWN_SETSIGDEF | POSIX_SPAWN_SETSIGMASK);
     pid_t pid = -1;
     if (posix_spawn(&pid, av[0], &io, &attr, av.data(), environ) != 0) pid = -1;
@@ -104,8 +101,7 @@ pid_t spawn(std::vector<std::string> args, bool keepStdout, const std::string& s
         registerChild(pid);
         if (const int sig = stopSignal; sig && stopsIfStopped) ::kill(pid, sig);
     }
-    sigprocmask(SIG_SETMASK, &before, nullptr);
-    return pid;
+    return pid;  // (the stops held come once it returns)
 }
 
 int waitExit(pid_t pid) {
