@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "analysis/report.h"
+#include "fidelity_choice.h"
 
 namespace rt {
 
@@ -42,6 +43,8 @@ std::string absolutePath(const std::string& p) { return std::filesystem::absolut
 
 nlohmann::json configEcho(const RtsimOptions& o, const Scene& scene) {
     nlohmann::json c = machineConfigJson(o.machine, o.machine.width, o.machine.height);
+    c["fidelity"]["rung"] = rungOf(o.machine);  // (with --quantum too: fidelity_choice.h)
+    if (o.maxError > 0) c["fidelity"]["max_error"] = o.maxError;
     auto& s = c["scene"];
     s["objects"] = scene.objects.size();
     if (!o.scene.file.empty()) {

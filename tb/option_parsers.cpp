@@ -1,6 +1,7 @@
 #include "option_parsers.h"
 
 #include <algorithm>
+#include <cstdlib>
 #include <sstream>
 
 namespace rt {
@@ -62,6 +63,18 @@ int parseBusiest(const std::string& text) {
     if (text.rfind("busiest:", 0) != 0 || !readInt(text.substr(8), k, 1) || k > 64)
         throw OptionError("--trace-nodes", "expected x,y,z, busiest or busiest:K with K in 1..64, got '" + text + "'");
     return k;
+}
+
+double parseErrorShare(const std::string& text) {
+    std::string t = text;
+    const bool percent = !t.empty() && t.back() == '%';
+    if (percent) t.pop_back();
+    char* end = nullptr;
+    const double v = std::strtod(t.c_str(), &end);
+    const double e = percent ? v / 100 : v;
+    if (t.empty() || end != t.c_str() + t.size() || !(e > 0 && e < 1))
+        throw OptionError("--max-error", "expected a share above 0 and below 1 (0.02) or a percentage (2%), got '" + text + "'");
+    return e;
 }
 
 Picos parseTimeOf(const std::string& flag, const std::string& text) {

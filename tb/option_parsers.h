@@ -28,6 +28,8 @@ Cell parseCell(const std::string& flag, const std::string& text);
 std::string linkSetKey(const std::string& name);
 // --trace-nodes busiest[:K]: K, 1..64 (4 without it).
 int parseBusiest(const std::string& text);
+// --max-error: a share ("0.02") or a percentage ("2%"), above 0 and below 1.
+double parseErrorShare(const std::string& text);
 // A non-negative time with a unit ("20ns"), at most 1,000 s.
 Picos parseTimeOf(const std::string& flag, const std::string& text);
 // A positive rate with a unit ("1GB/s", "10Gb/s").

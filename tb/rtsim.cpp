@@ -39,6 +39,7 @@
 #include "output_file.h"
 #include "outputs.h"
 #include "reference_runs.h"
+#include "fidelity_choice.h"
 #include "analysis/report.h"
 #include "rerun.h"
 #include "rtsim_cli.h"
@@ -222,6 +223,21 @@ int stopped(int code, const std::string& why) {
     return code;
 }
 
+// --max-error: the rung for this scene, mesh and machine, chosen by a
+// calibration frame before the echo, which then records it
+// (fidelity_choice.h); `fidelity` gets what the report says of it.
+Stop chooseRung(rt::RtsimOptions& o, const rt::Scene& scene, nlohmann::json& fidelity) {
+    if (o.maxError <= 0) return std::nullopt;
+    try {
+        fidelity = rt::chooseFidelity(scene, o);
+    } catch (const std::exception& e) {
+        rt::msg::error(rt::msg::kRun, std::string("--max-error: the calibration failed: ") + e.what());
+        return 1;
+    }
+    if (rt::stopSignal) return 128 + int(rt::stopSignal);  // (stopped while calibrating: nothing written)
+    return std::nullopt;
+}
+
 // The reference runs, the outputs and the summary of a finished frame; the
 // wall clock's last two parts (the frame was done at `frameDone`).
 int finish(const rt::CommandLine& cl, const rt::RtsimOptions& o, const rt::Scene& scene, const rt::MachineResult& r,
@@ -250,10 +266,11 @@ int finish(const rt::CommandLine& cl, const rt::RtsimOptions& o, const rt::Scene
 
 // The frames before the last, the last one, the reference runs, the outputs.
 int run(const rt::CommandLine& cl, const CLI::App& app, rt::RtsimOptions& o, const rt::Scene& scene,
-        const rt::Vec3& firstEye, const nlohmann::json& config, rt::RunOutputs& out) {
+        const rt::Vec3& firstEye, const nlohmann::json& config, const nlohmann::json& fidelity, rt::RunOutputs& out) {
     rt::WallClock wall;
     const auto framesFrom = rt::WallClock::now();
-    wall.startUp = rt::secondsBetween(rt::WallClock::processStart(), framesFrom);
+    wall.calibration = fidelity.contains("calibration") ? fidelity["calibration"]["wall_s"].get<double>() : 0.0;
+    wall.startUp = rt::secondsBetween(rt::WallClock::processStart(), framesFrom) - wall.calibration;
     rt::EarlierFrames earlier = rt::runEarlierFrames(scene, firstEye, o);
     if (earlier.stopped) {
         out.report(*earlier.stopped);
@@ -275,6 +292,7 @@ int run(const rt::CommandLine& cl, const CLI::App& app, rt::RtsimOptions& o, con
     if (cl.rerun) report["rerun"]["of"] = cl.rerun->rerun;  // what it reran (its flags and version)
     if (o.frames > 1) rt::listFrames(report, earlier.frames, o.frames, r.frameStart);
     if (chosen) report["trace_busiest"] = rt::traceChoiceJson(o.traceBusiest, *chosen);
+    if (!fidelity.is_null()) report["fidelity"] = fidelity;
     out.gtkw(r.gtkw);
     if (!r.incomplete.empty()) {  // the watchdog or a signal: the report and VCD so far
         out.report(report);
@@ -301,16 +319,18 @@ int sc_main(int argc, char** argv) {
     rt::Scene scene;
     rt::Vec3 firstEye;  // frame 1's (--eye-step moves it each frame)
     nlohmann::json config;
+    nlohmann::json fidelity;  // --max-error: the rung chosen, and how
     if (Stop s = readCommandLine(app, o, cl, argc, argv)) return *s;
     if (Stop s = loadScene(o, cl, scene, firstEye)) return *s;
-    if (Stop s = echoConfig(o, scene, cl, config)) return *s;
     if (Stop s = startBoundaries(o)) return *s;
     if (Stop s = checkMemory(o, scene)) return *s;
+    if (Stop s = chooseRung(o, scene, fidelity)) return *s;
+    if (Stop s = echoConfig(o, scene, cl, config)) return *s;
     sayWhatRuns(o, cl.rerun, scene);
     o.machine.showProgress = !o.quiet && isatty(2);
     rt::RunOutputs out(o);  // each to a temporary file until the end (outputs.h)
     try {
-        return run(cl, app, o, scene, firstEye, config, out);
+        return run(cl, app, o, scene, firstEye, config, fidelity, out);
     } catch (const std::exception& e) {
         rt::msg::error(rt::msg::kRun, e.what());
         return 1;  // (nothing committed; `out` removes its temporaries)

@@ -211,6 +211,8 @@ void RtsimOptions::addSpecial(CLI::App& app, const std::string& name, const char
         app.add_option(flag, nodeCostSpecs_, "a cost of one node: x,y,z:NAME=TIME, NAME one of " + names + " (repeatable)")->group(group);
     } else if (name == "quantum") {
         app.add_option(flag, quantum_, help)->capture_default_str()->group(group);
+    } else if (name == "max-error") {
+        app.add_option(flag, maxError_, help)->group(group);
     } else if (name == "link-set") {
         std::string keys;
         for (const Param<LinkParams>& l : linkParams())
@@ -325,6 +327,7 @@ void RtsimOptions::finish() {
         if (asBaseline || asComparison) actAsReference();
         readSpecs();
         setQuantum();
+        setMaxError();
         machine.balance.axis = scene.axis == "x" ? 0 : scene.axis == "y" ? 1 : 2;  // one progress axis for scene and balancing
     } catch (const OptionError& e) {
         throw CLI::ValidationError(e.flag, e.what());
@@ -352,6 +355,7 @@ void RtsimOptions::checkAlone() {
     try {
         readSpecs();
         setQuantum();
+        setMaxError();
     } catch (const OptionError& e) {
         throw CLI::ValidationError(e.flag, e.what());
     }
@@ -383,6 +387,9 @@ void RtsimOptions::actAsReference() {
         machine.balance.idealLayerFaces = false;
     if ((asBaseline || asComparison) && !machine.balance.startsAtObjects()) machine.balance.startMix = kStartMixAuto;  // (its start is uniform)
     if ((asBaseline || asComparison) && machine.balance.policy != "sample") machine.balance.sampleCredit = false;  // (no sample)
+    // A reference run is timed as its run asks, without a calibration of its own; express only where it applies.
+    maxError_.clear();
+    if (machine.balance.policy != "none" && machine.balance.policy != "median") machine.express = false;
 }
 
 // The flags whose values have a syntax of their own (option_parsers.h).
@@ -421,6 +428,14 @@ void RtsimOptions::setQuantum() {
         throw OptionError("--quantum", "expected 'lookahead' or a non-negative time with a unit (ps ns us ms s), got '" +
                                            quantum_ + "'");
     m.quantum = *q;
+}
+
+// --max-error: rtsim picks the rung (fidelity_choice.h), so not with a rung given.
+void RtsimOptions::setMaxError() {
+    maxError = maxError_.empty() ? 0 : parseErrorShare(maxError_);
+    if (maxError > 0 && (quantum_ != "lookahead" || machine.express))
+        throw OptionError("--max-error", "it picks --fidelity and --quantum itself: not with --fidelity express or --quantum " +
+                                             quantum_);
 }
 
 }  // namespace rt

@@ -33,6 +33,9 @@ struct RtsimOptions {
     std::vector<double> eyeStep;    // the camera path: the eye moves this much per frame; empty: still
     std::string boundariesFrom;     // a report whose last boundaries this run starts from
     int traceBusiest = 0;           // --trace-nodes busiest[:K]: K (0: not asked)
+    // --max-error: the render-time error the user accepts, a fraction (0:
+    // not asked; the fidelity is --fidelity's and --quantum's).
+    double maxError = 0;
 
     // The report's detail as --report-detail chooses it for this mesh:
     // whether full, and why ("--report-detail auto: 32768 nodes, more than 4096").
@@ -64,6 +67,8 @@ private:
     std::string rerun_;                 // --rerun: handled before parsing (command_line.h)
     std::vector<std::string> configs_;  // --config: likewise
     std::string quantum_ = "lookahead";  // --quantum: a time, or the lookahead
+    std::string maxError_;               // --max-error: "2%" or 0.02
+    void setMaxError();
 };
 
 }  // namespace rt

@@ -149,9 +149,29 @@ void printBalancing(const RtsimOptions& o, const nlohmann::json& report) {
 // The whole run's wall-clock time and its parts (wall_clock.h), which add up to it.
 void printWallClock(const RtsimOptions& o, const WallClock& w) {
     const std::string frames = o.frames > 1 ? "frames (" + std::to_string(o.frames) + ")" : "frame";
-    std::printf("  wall clock       %.3f s in all: start-up %.3f s, %s %.3f s, reference runs %.3f s%s, writing %.3f s\n",
-                w.total(), w.startUp, frames.c_str(), w.frames, w.referenceRuns, o.baseline ? "" : " (--no-baseline)",
+    char calibration[64] = "";
+    if (w.calibration > 0) std::snprintf(calibration, sizeof calibration, ", calibration %.3f s", w.calibration);
+    std::printf("  wall clock       %.3f s in all: start-up %.3f s%s, %s %.3f s, reference runs %.3f s%s, writing %.3f s\n",
+                w.total(), w.startUp, calibration, frames.c_str(), w.frames, w.referenceRuns, o.baseline ? "" : " (--no-baseline)",
                 w.writing);
+}
+
+// The fidelity rung when it is not the exact model's, and how --max-error chose it.
+void printFidelity(const nlohmann::json& report) {
+    const auto& f = report["config"]["fidelity"];
+    const std::string rung = f["rung"].get<std::string>();
+    if (!report.contains("fidelity")) {
+        if (rung != "exact") std::printf("  fidelity         %s (doc/fidelity.md)\n", rung.c_str());
+        return;
+    }
+    const auto& c = report["fidelity"];
+    std::printf("  fidelity         %s, chosen for --max-error %g %%", rung.c_str(), c["max_error"].get<double>() * 100);
+    if (c.contains("calibration"))
+        std::printf(": on a %s calibration frame its render time was %.3g %% off the exact model's",
+                    c["calibration"]["size"].get<std::string>().c_str(), c["calibration_error"].get<double>() * 100);
+    else
+        std::printf(" (%s)", c["why"].get<std::string>().c_str());
+    std::printf("\n");
 }
 
 }  // namespace
@@ -175,6 +195,7 @@ void printSummary(const Scene& scene, const RtsimOptions& o, const MachineResult
     printBusiestNode(nodes);
     printTraffic(report);
     printBalancing(o, report);
+    printFidelity(report);
     printWallClock(o, wall);
     std::string files;
     auto add = [&](const std::string& path, const char* what) {

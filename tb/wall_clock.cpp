@@ -12,8 +12,10 @@ double secondsBetween(WallClock::Clock::time_point from, WallClock::Clock::time_
 }
 
 nlohmann::json WallClock::json() const {
-    return {{"total_s", total()}, {"start_up_s", startUp}, {"frames_s", frames}, {"reference_runs_s", referenceRuns},
-            {"writing_s", writing}};
+    nlohmann::json j = {{"total_s", total()}, {"start_up_s", startUp}, {"frames_s", frames}, {"reference_runs_s", referenceRuns},
+                        {"writing_s", writing}};
+    if (calibration > 0) j["calibration_s"] = calibration;  // (--max-error)
+    return j;
 }
 
 }  // namespace rt

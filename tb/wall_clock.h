@@ -4,6 +4,7 @@
 //  - start-up: the process to its first frame (the command line, the scene,
 //    the checks) and building the machine (elaboration, once for all the
 //    frames);
+//  - calibration: --max-error's calibration frames (0 without);
 //  - frames: the frames simulated (with --frames K, the K - 1 before the
 //    last too, and the host phases between them; --trace-nodes busiest's
 //    first pass of the last frame);
@@ -26,8 +27,8 @@ public:
     // The process's start (at static initialisation, before sc_main).
     static Clock::time_point processStart();
 
-    double startUp = 0, frames = 0, referenceRuns = 0, writing = 0;  // seconds
-    double total() const { return startUp + frames + referenceRuns + writing; }
+    double startUp = 0, calibration = 0, frames = 0, referenceRuns = 0, writing = 0;  // seconds
+    double total() const { return startUp + calibration + frames + referenceRuns + writing; }
     nlohmann::json json() const;
 };
 

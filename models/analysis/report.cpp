@@ -145,6 +145,10 @@ nlohmann::json nodeJson(const MachineResult& r, const NodeFrameState& st, size_t
     n["rays_forwarded"] = s.raysForwarded;
     n["rays_passed"] = s.raysPassed;  // of those, sent on without tracing (a face elsewhere)
     n["rays_passed_between_columns"] = s.raysPassedBetweenColumns;  // of those, from another column
+    if (r.express) {  // --fidelity express: of rays_forwarded, sent past empty boxes in one event
+        n["rays_expressed"] = s.raysExpressed;
+        n["boxes_skipped"] = s.boxesSkipped;
+    }
     n["rays_created"] = s.raysCreated;
     n["rays_terminated"] = s.raysTerminated;
     n["messages_sent"] = s.messagesSent;
@@ -337,6 +341,8 @@ nlohmann::json machineReport(const MachineResult& r, const MachineConfig& cfg, R
         total.raysForwarded += s.raysForwarded;
         total.raysPassed += s.raysPassed;
         total.raysPassedBetweenColumns += s.raysPassedBetweenColumns;
+        total.raysExpressed += s.raysExpressed;
+        total.boxesSkipped += s.boxesSkipped;
         j["nodes"].push_back(nodeJson(r, st.nodes[i], i, full));
     }
     addLinks(j, r, cfg, st, full);
@@ -346,6 +352,10 @@ nlohmann::json machineReport(const MachineResult& r, const MachineConfig& cfg, R
     j["totals"]["rays_forwarded"] = total.raysForwarded;
     j["totals"]["rays_passed"] = total.raysPassed;
     j["totals"]["rays_passed_between_columns"] = total.raysPassedBetweenColumns;
+    if (r.express) {
+        j["totals"]["rays_expressed"] = total.raysExpressed;
+        j["totals"]["boxes_skipped"] = total.boxesSkipped;
+    }
     j["totals"]["primary_misses"] = r.primaryMisses;
     const Bounds bd = renderTimeBounds(r, cfg);  // bounds.h
     j["frame_buffer"] = frameBufferJson(r, bd);

@@ -112,6 +112,23 @@ void Link::send(Message&& m, Picos t) {
     startWaiting(lane);
 }
 
+void Link::countExpress(uint32_t bytes, uint64_t count) {
+    const Picos transfer = transferTime(bytes);
+    TypeCounts& counts = byType_[size_t(MsgType::Ray)];
+    counts.messages += count;
+    counts.bytes += count * bytes;
+    counts.wire += count * transfer;
+    owedWire_ += count * transfer;
+}
+
+Picos Link::expressStart(uint32_t bytes, Picos t) {
+    countExpress(bytes);
+    const Picos start = std::max(t, wireFree_);
+    wireFree_ = start + transferTime(bytes);
+    if (progress_) progress_->mark(t);
+    return start;
+}
+
 Picos Link::slotTime(const Lane& l) const {
     if (l.wired < l.slots) return 0;  // a slot not used yet
     return l.takenAt(l.wired - l.slots) + params_.latency;  // the credit travelled back

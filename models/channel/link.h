@@ -86,6 +86,14 @@ public:
     void send(Message&& m, Picos t) override;
     Picos roomAt(const Message& m, Picos t) override;
     const sc_core::sc_event& roomEvent() const override { return *room_; }
+    // An express ray (express.h) of `bytes` sent at `t`: when it goes on
+    // the wire (at `t`, or once the wire is free). It is counted among the
+    // link's messages, bytes and wire time, but holds no slot and goes to
+    // its receiver's inbox, not to this link's.
+    Picos expressStart(uint32_t bytes, Picos t);
+    // `count` express rays of `bytes` that went past this link's sender:
+    // counted as above, timed by the express relay (express.h).
+    void countExpress(uint32_t bytes, uint64_t count = 1);
     bool peekArrival(Picos& arrival) const override;
     Message consume(Picos t) override;
     bool controlArrivedBy(Picos t) const override;

@@ -170,6 +170,11 @@ void MachineConfig::validate() const {
     for (const auto& [c, d] : traceLinks) checkNode(c, dims, "--trace-links", d);
     if (traceFrom > traceTo) throw std::invalid_argument("--trace-window: start after end");
     balance.validate(std::max<Picos>(1000, costs.send + costs.recv), !startBoundaries.empty() || !targetBoundaries.empty());
+    if (express && balance.policy != "none" && balance.policy != "median")
+        throw std::invalid_argument("--fidelity: express needs boxes that stay put within and between frames (--balance none "
+                                    "or median), not --balance " + balance.policy);
+    if (express && rayBatch > 1)
+        throw std::invalid_argument("--fidelity: express sends a ray per message, not with --ray-batch " + std::to_string(rayBatch));
 }
 
 void BalanceConfig::validate(Picos reportFloor, bool carriedBoundaries) const {

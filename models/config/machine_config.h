@@ -207,6 +207,11 @@ struct MachineConfig {
     // link's latency, and the processors pay nothing for a hop.
     bool hopsByLinks = false;  // --hop-handling link
 
+    // The fidelity rung (doc/fidelity.md): false, the exact model; true,
+    // express: rays cross boxes that hold no objects in one event, timed as
+    // through idle nodes and links (channel/express.h).
+    bool express = false;  // --fidelity express
+
     // The frame buffer (doc/machine.md, "The frame buffer"): fbUnits units,
     // pixel-interleaved (pixel p in unit p mod fbUnits); 1 is a single host.
     // Each node has a port to each unit (and each unit but 0 one to unit 0).
@@ -344,6 +349,11 @@ inline const std::vector<Param<MachineConfig>>& machineParams() {
                         "on their wire); 0: synchronise after every step (also exact, slower); a time: every process by "
                         "that much, exact up to the smallest lookahead, beyond it faster and timing approximate",
                         gm),
+        choiceParam("fidelity", &M::express, "express", "exact", "/fidelity/rung",
+                    "exact (every hop an event) or express (rays cross boxes with no objects in one relay, timed as the "
+                    "exact model but for their nodes' slots and own work; --balance none or median; doc/fidelity.md)", gm),
+        specialParam<M>("max-error", "the render-time error you accept (2% or 0.02): rtsim picks --fidelity and --quantum, "
+                                     "the fastest rung within it on a calibration frame (doc/fidelity.md)", gm),
         partParam<M>("link", gl),
         choiceParam("link-stats", &M::linkDistributions, "full", "counts", "/link_stats",
                     "what the links keep beyond message counts, bytes, wire, wait and backlog times: full (also latency "

@@ -134,6 +134,7 @@ void Machine::buildLinks() {
     linkUnits(unitLookahead);
     if (cfg_.balance.sampleCredit) linkColumnsToFrameBuffer(nodeLookahead);
     if (cfg_.lookaheadQuantum) setLookaheads(nodeLookahead, unitLookahead);
+    buildExpress();
     if (cfg_.lookaheadQuantum && cfg_.fbLate > 0 && cfg_.vcdPath.empty() && cfg_.fbPort.outDepth == 0)
         for (int u = 1; u < cfg_.fbUnits; ++u) units_[size_t(u)].setLate(cfg_.fbLate);
     startWatchdog();
@@ -264,6 +265,9 @@ void Machine::giveOutPrimaryRays(const ColumnPlanes& planes) {
     const std::vector<bool> gathers = sample ? prepareSample(primaries.perNode, planes) : std::vector<bool>{};
     CreditShares credit = shareCredit(primaries.perNode, maxExp_);
     if (sample && cfg_.balance.sampleCredit) expectSampleCredit(primaries.perNode, credit, gathers);
+    if (express_)  // a node that generates primary rays is not skipped: it has work of its own
+        for (size_t i = 0; i < nodes_.size(); ++i)
+            express_->node(i).empty = nodes_[i].region().objects().empty() && primaries.perNode[i].empty();
     for (size_t i = 0; i < nodes_.size(); ++i)
         nodes_[i].assignPrimaries(std::move(primaries.perNode[i]), credit.exp[i], credit.remainder[i]);
     units_[0].keep(credit.host);
@@ -319,6 +323,7 @@ void Machine::expectSampleCredit(const std::vector<std::vector<uint32_t>>& perNo
 }
 
 void Machine::endFrame() {
+    if (express_) express_->countOnLinks();
     for (Node& n : nodes_) n.endFrame(frameEnd(), !stopped());
     for (auto& l : links_) l->endFrame(frameEnd());
 }
@@ -342,11 +347,13 @@ void Machine::endProcesses() {
             for (sc_core::sc_object* child : module.get_child_objects()) kill(sc_core::sc_process_handle(child));
         };
         end(*watchdog_);
+        if (relay_) end(*relay_);
         for (size_t i = nodes_.size(); i-- > 0;) end(nodes_[i]);
         for (size_t u = units_.size(); u-- > 0;) end(units_[u]);
     }
     for (size_t i = spawned_.size(); i-- > 0;) kill(spawned_[i]);
     watchdog_->quiet();
+    if (relay_) relay_->quiet();
     for (Node& n : nodes_) n.quiet();
     for (FrameBufferUnit& u : units_) u.quiet();
     for (auto* links : {&links_, &unitLinks_})
@@ -397,6 +404,7 @@ MachineResult Machine::collect(double wallSeconds, bool last) {
     r.boundaries = boundaryHistories();
     r.worldBox = world_;
     r.primaryMisses = primaryMisses_;
+    r.express = cfg_.express;
     r.deltaCycles = sc_core::sc_delta_count() - deltaAtStart_;
     r.wallSeconds = wallSeconds;
     r.gtkw = gtkw_;

@@ -78,6 +78,7 @@ struct MachineResult {
     std::vector<LinkReport> links;
     std::vector<FrameBufferUnitReport> frameBuffer;  // per unit
     uint64_t primaryMisses = 0;   // primary rays that miss the world box (the host fills them in)
+    bool express = false;         // --fidelity express: the nodes' express figures are in the report
     std::vector<BoundaryHistory> boundaries;
     Box worldBox;
     uint64_t deltaCycles = 0;
@@ -138,6 +139,7 @@ private:
     void linkUnits(std::vector<Picos>& unitLookahead);
     void linkColumnsToFrameBuffer(std::vector<Picos>& nodeLookahead);
     void startWatchdog();
+    void buildExpress();  // --fidelity express: the routes past empty boxes (machine_express.cpp)
     std::vector<bool> prepareSample(const std::vector<std::vector<uint32_t>>& perNode, const ColumnPlanes& planes);  // which columns gather
     void expectSampleCredit(const std::vector<std::vector<uint32_t>>& perNode, const CreditShares& credit,
                             const std::vector<bool>& gathers);
@@ -178,6 +180,8 @@ private:
     Shader shader_;
     int maxExp_;
     std::unique_ptr<NodeParams> nodeParams_;  // what the nodes share (they hold a reference)
+    std::unique_ptr<ExpressRoutes> express_;   // --fidelity express (channel/express.h)
+    std::unique_ptr<ExpressRelay> relay_;      // and its relay (process/express_relay.h)
     sc_core::sc_vector<FrameBufferUnit> units_;
     sc_core::sc_vector<Node> nodes_;
     std::vector<std::unique_ptr<Link>> links_;

@@ -49,6 +49,8 @@ void Machine::checkConservation() const {
                 if (l->inFlight(t))
                     throw std::runtime_error(std::string("conservation: ") + msgTypeName(t) + " messages left on " +
                                              l->name());
+    if (relay_ && relay_->inFlight())
+        throw std::runtime_error("conservation: " + std::to_string(relay_->inFlight()) + " express rays still in the relay");
     // Ownership: along the axis, neighbours' faces meet, except where a slab is
     // being handed over (a slide still on the link between them).
     const int ax = columns_.axis;

@@ -57,6 +57,10 @@ void Machine::nextFrame(const View& view, const MachineConfig& next, int frame) 
     aimAtTargets();
     for (auto* links : {&links_, &unitLinks_})
         for (auto& l : *links) l->restart();
+    if (relay_) {  // (the same machine: its boxes are where they were)
+        express_->restart();
+        spawned_.push_back(relay_->restart(frame));
+    }
     spawned_.push_back(watchdog_->restart(frame));
     if (cfg_.faultDropFirstCredit) units_[0].dropFirstCredit();
     vcd_.reset();

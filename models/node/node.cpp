@@ -66,6 +66,10 @@ void Node::suspend(Resume r) {
 
 void Node::start() {
     input_.listen(in);
+    if (params_.express) {
+        ExpressNode& self = params_.express->node(params_.express->indexOf(cell_));
+        expressSelf_ = self.empty ? &self : nullptr;
+    }
     for (int d = 0; d < kDirs; ++d) outLinks_[size_t(d)] = out[d].size() ? &asLink(*out[d].operator->()) : nullptr;
     for (int u = 0; u < fb.size(); ++u) fbLinks_.push_back(&asLink(*fb[u]));
     now_ = kernel();
@@ -251,6 +255,7 @@ void Node::takeMessage(int dir, Picos arrival, Work& w, std::optional<Message>& 
 }
 
 void Node::step(Work& w) {
+    if (expressSelf_) awaitExpressPasses();
     if (progress_) progress_->mark(now_);
     const Counters before = stats_.counters;
     traceState(true, false);
@@ -266,7 +271,8 @@ void Node::step(Work& w) {
     if (dir >= 0) forward(w, dir, passing);
     fbOut_.add(contributions_, outbox_);
     stats_.contributionsSent += contributions_.size();
-    const BusyParts parts = costs_.stepParts(before, stats_.counters, outbox_.size(), w.fromLink ? 1 : 0, w.generated ? 1 : 0);
+    const size_t sends = outbox_.size() + expressOut_.size();
+    const BusyParts parts = costs_.stepParts(before, stats_.counters, sends, w.fromLink ? 1 : 0, w.generated ? 1 : 0);
     const Picos cost = sumOf(parts);
     if (balance_ && std::isfinite(span.where)) {  // (the faces only for `resplit`'s forecast: not on slide's path)
         balance_->recordStep(span.where, cost, params_.balance.betweenFrames() ? axialFaces(w, parts, span) : FaceCrossings{});
@@ -321,6 +327,7 @@ void Node::forward(const Work& w, int dir, bool passing) {
         outbox_.back().second.priority = true;
         return;
     }
+    if (params_.express && sendExpress(w, dir)) return;
     batcher_.add(dir, w.job, w.creditExp, outbox_);
 }
 
@@ -358,6 +365,7 @@ void Node::chargeAndSend(const BusyParts& parts, bool mayWaitForWork) {
     const Picos cost = sumOf(parts);
     now_ += cost;
     checkSimTime(now_, name());
+    if (expressSelf_) expressSelf_->processorFree = std::max(expressSelf_->processorFree, now_);  // (express.h)
     ledger_.charge(parts, now_, [this] { return kernel(); });
     sendCost_ = cost;
     sendMayWait_ = mayWaitForWork;
@@ -376,8 +384,10 @@ void Node::finishControlStep(uint64_t recvs, size_t movedObjects, bool balancing
 // for input, which includes the catching up: one kernel wait instead of
 // two. The node takes its input at the same times either way.
 void Node::endSend() {
-    stats_.messagesSent += outbox_.size();
+    stats_.messagesSent += outbox_.size() + expressOut_.size();
     outbox_.clear();
+    expressOut_.clear();
+    expressHops_.clear();
     outboxNext_ = 0;
     Picos cost = sendCost_;
     if (sendBlocked_) {
@@ -429,22 +439,8 @@ bool Node::sendOutbox() {
         }
         link.send(std::move(m), now_);
     }
+    postExpress();
     return true;
-}
-
-bool Node::flushRays() {
-    batcher_.flush(outbox_);
-    if (outbox_.empty()) return false;
-    traceState(true, false);
-    finishControlStep(0, 0, false);
-    return true;
-}
-
-// The node hands the frame buffer what it owes (fb_outbox.h).
-void Node::flushToFrameBuffer() {
-    traceState(true, false);
-    fbOut_.flush(outbox_, name());
-    finishControlStep(0, 0, false);
 }
 
 }  // namespace rt

@@ -39,6 +39,7 @@
 #include "region.h"
 #include "balance/sample_split.h"
 #include "shading.h"
+#include "process/express_relay.h"
 #include "process/time_keeper.h"
 #include "node/time_ledger.h"
 
@@ -57,6 +58,8 @@ struct NodeParams {
     double minThickness = 0;  // absolute, along the balancing axis
     Picos quantum = 0;
     IdealLayerFaces* layerFaces = nullptr;  // --faces ideal-layer (the machine's)
+    ExpressRoutes* express = nullptr;  // --fidelity express (the machine's; channel/express.h)
+    ExpressRelay* relay = nullptr;           // and its relay (process/express_relay.h)
     // The quantum is the node's lookahead and no dynamic policy runs: the
     // node synchronises only when it must read its input beyond what it
     // sees (Node::takeWork), not after every step that takes it a lookahead
@@ -141,6 +144,9 @@ private:
     int traceInBox(Work& w, const BoxSlabs& box, TracedSpan& span);  // -2: ended here; else the exit's direction
     FaceCrossings axialFaces(const Work& w, const BusyParts& parts, const TracedSpan& span) const;
     void forward(const Work& w, int dir, bool passing);
+    bool sendExpress(const Work& w, int dir);  // --fidelity express: false if the neighbour takes it
+    void postExpress();                        // (node_express.cpp)
+    void awaitExpressPasses();                 // a node rays may skip: its step waits for the relay's passes
     void terminate(const Work& w, std::vector<RayJob>& spawned);
     void giveBack(const Work& w, int e, uint64_t k = 1);
     // `sample`'s first frame under --sample-end credit (its rays first, their credit apart).
@@ -203,6 +209,17 @@ private:
     RayBatcher batcher_;
     FrameBufferOutbox fbOut_;
     Outbox outbox_;    // this step's sends
+    // This step's express rays (--fidelity express): sent with the outbox,
+    // each to the inbox of the node its route reaches.
+    struct ExpressSend {
+        int dir;  // the link it leaves by
+        ExpressRoutes::Route route;
+        Message m;
+    };
+    std::vector<ExpressSend> expressOut_;
+    std::vector<ExpressHop> expressHops_;  // the boxes they skip (ExpressSend::route.first on)
+    uint64_t expressSent_ = 0;  // express rays sent so far (their order among this node's)
+    ExpressNode* expressSelf_ = nullptr;  // its own entry, if rays may skip it (its steps keep the relay's rays waiting)
     std::array<Link*, kDirs> outLinks_{};  // out[d]'s link (null: none), set at the start
     std::vector<Link*> fbLinks_;           // fb's, by unit
     std::unique_ptr<BalanceAgent> balance_;  // dynamic policies; made at the start

@@ -1,5 +1,6 @@
-// The node at a frame's end (its figures, what it still holds), and at the
-// next frame's start in a sequence (machine.h, MachineSession).
+// The node at a frame's end (its figures, what it still holds), its flushes
+// (partial ray batches, what it owes the frame buffer), and at the next
+// frame's start in a sequence (machine.h, MachineSession).
 #include "node/node.h"
 #include "process/spawn.h"
 
@@ -59,6 +60,21 @@ std::string Node::holding() const {
                                                     ? "frame-buffer unit " + std::to_string(stats_.blockedOn - kDirs)
                                                     : std::string(dirName(stats_.blockedOn))));
     return s;
+}
+
+bool Node::flushRays() {
+    batcher_.flush(outbox_);
+    if (outbox_.empty()) return false;
+    traceState(true, false);
+    finishControlStep(0, 0, false);
+    return true;
+}
+
+// The node hands the frame buffer what it owes (fb_outbox.h).
+void Node::flushToFrameBuffer() {
+    traceState(true, false);
+    fbOut_.flush(outbox_, name());
+    finishControlStep(0, 0, false);
 }
 
 }  // namespace rt

@@ -51,6 +51,10 @@ struct NodeStats : NodeTimes {
     // the axis) to a box whose faces along the axis are not where that
     // column's are.
     uint64_t raysPassedBetweenColumns = 0;
+    // --fidelity express (channel/express.h): rays sent past empty boxes in
+    // one event, and the boxes they skipped (those boxes' nodes count none
+    // of the skipped rays' steps or messages).
+    uint64_t raysExpressed = 0, boxesSkipped = 0;
     uint64_t messagesSent = 0, messagesReceived = 0;
     uint64_t contributionsSent = 0;
     size_t queueHighWater = 0;     // local work + input messages arrived and not yet taken

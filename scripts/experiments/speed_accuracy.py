@@ -1,16 +1,22 @@
 #!/usr/bin/python3
-"""Speed against accuracy: sweeps the fidelity knobs (the quantum of temporal
-decoupling, rays per link message) on balls-4 and on the concentrated
-procedural scene, N = 4 and 8, with and without balancing; charts wall-clock
-time against the render-time error relative to the exact mode (quantum 0,
-one ray per message) and against the balancing outcome, with the Pareto
-front marked. With --doc, writes doc/results/speed_accuracy.{csv,png,md}.
+"""Speed against accuracy, rung by rung: every fidelity rung of rtsim
+(doc/fidelity.md: express, a 10 us quantum, both) and what --max-error
+chooses, against the exact model in rtsim's default mode, on any scenes,
+meshes and machine flags. Charts each point's |render-time error| against
+its wall-time speed-up over the default mode (the process's wall time, a
+--max-error run's calibration included), with each case's Pareto front.
+With --doc, writes doc/results/speed_accuracy.{csv,png,md}.
 
-Timing: the points run one at a time (--jobs 1 unless told otherwise), each
---repeats times, wall = the median. Needs python3-matplotlib
-(bash scripts/setup.sh plots); run with /usr/bin/python3."""
+  /usr/bin/python3 scripts/experiments/speed_accuracy.py --scenes balls-4 --n 4,8 --size 64x64
+  /usr/bin/python3 scripts/experiments/speed_accuracy.py --doc        # the SPD scenes at N = 4, 8, 16, 32
+
+The points run through the sweep driver (scripts/sweep_driver.py: locally,
+or on a Dask cluster with --dask), one at a time unless --jobs says
+otherwise, each --repeats times; wall = the median. Needs
+python3-matplotlib (bash scripts/setup.sh plots); run with /usr/bin/python3."""
 import argparse
 import os
+import shlex
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # scripts/: project, sweep
@@ -21,91 +27,95 @@ from project import PAPER_SCENE, ROOT, publish_table, spd_scene  # noqa: E402
 from outputs import read_csv  # noqa: E402
 from sweep_driver import write_csv  # noqa: E402
 
-SCENES = {
-    "balls-4": ["--scene", spd_scene("balls-4"), "--size", "256x256"],
-    # rtsim's default experiment: the paper's scene crowded into the first quarter of x.
-    "procedural": PAPER_SCENE + ["--concentration", "0.25"],
+SPD = ["balls-1", "balls-2", "balls-3", "balls-4", "balls-5", "gears-2", "rings-2", "tetra-3"]
+# The rungs (tb/fidelity_choice.cpp's, by the flags that set them); "exact" is rtsim's default mode.
+RUNGS = {
+    "exact": [],
+    "express": ["--fidelity", "express"],
+    "quantum 10 us": ["--quantum", "10us"],
+    "express, quantum 10 us": ["--fidelity", "express", "--quantum", "10us"],
 }
-EXACT = ("0", 1)
+COLOURS = {"exact": "black", "express": "#2a6fdb", "quantum 10 us": "#e9a23b", "express, quantum 10 us": "#7b4fb0"}
+
+
+def scene_flags(name):
+    """The flags of a scene by name: an SPD scene, or "procedural" (rtsim's paper scene)."""
+    if name == "procedural":
+        flags = list(PAPER_SCENE)
+        del flags[flags.index("--size"):flags.index("--size") + 2]  # (--size is the sweep's)
+        return flags
+    return ["--scene", spd_scene(name)]
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--n", default="4,8")
-    ap.add_argument("--quanta", default="0,100ns,1us,10us,100us", help="--quantum values (0 is exact)")
-    ap.add_argument("--batches", default="1,4,16,64", help="--ray-batch values")
-    ap.add_argument("--balance", default="slide", help="the balancing policy compared with none (not none itself)")
+    ap.add_argument("--scenes", default=",".join(SPD), help="SPD scene names or 'procedural', comma-separated")
+    ap.add_argument("--n", default="4,8,16,32", help="mesh sizes N (N x N x N)")
+    ap.add_argument("--size", default="128x128", help="image size WxH")
+    ap.add_argument("--max-errors", default="1%,2%", help="--max-error values to run (empty: none)")
+    ap.add_argument("--flags", default="", help="more rtsim flags for every point (the machine), e.g. '--link-bandwidth 200MB/s'")
     ap.add_argument("--repeats", type=int, default=3, help="runs per point; wall = their median (default 3)")
     driver.add_output_arguments(ap, os.path.join(ROOT, "doc", "exploration.md"))
     driver.add_arguments(ap)
     a = driver.parse_outputs(ap)
-    if a.balance == "none":
-        # Every point runs with none already: a policy against itself is no comparison.
-        ap.error("--balance none: the policy to compare with none (slide, measured, ...), not none itself")
     if a.repeats < 1:
         ap.error(f"--repeats {a.repeats}: at least 1")
+    try:
+        a.ns = [int(n) for n in a.n.split(",")]
+    except ValueError:
+        ap.error(f"--n {a.n!r}: comma-separated whole numbers")
+    if not all(1 <= n <= 32 for n in a.ns):
+        ap.error(f"--n {a.n}: each N in 1..32")
+    for name in a.scenes.split(","):
+        if name not in SPD + ["procedural"]:
+            ap.error(f"--scenes: {name!r} is not one of {', '.join(SPD + ['procedural'])}")
     a.jobs = a.jobs or 1  # timing: one run at a time unless asked
     csv_path = os.path.join(a.out, "speed_accuracy.csv")
     if a.plot_only:  # (the CSV of an earlier run)
         outputs.check_input(csv_path, "--plot-only: the CSV")
     else:
-        rows = sweep(a)
-        write_csv(csv_path, rows)
+        write_csv(csv_path, sweep(a))
     rows = read_csv(csv_path)
     for r in rows:
-        for k in ("N", "ray_batch"):
-            r[k] = int(r[k])
-        for k in ("wall_s", "render_time_ns", "error", "exact_render_time_ns", "balance_gain", "exact_balance_gain"):
-            r[k] = float(r[k]) if r[k] != "" else None
+        r["N"] = int(r["N"])
+        for k in ("wall_s", "render_time_ns", "error", "speedup"):
+            r[k] = float(r[k])
     plot(a, rows)
     table(a, rows)
 
 
 def sweep(a):
-    ns = [int(n) for n in a.n.split(",")]
-    quanta, batches = a.quanta.split(","), [int(k) for k in a.batches.split(",")]
+    extra = shlex.split(a.flags)
+    errors = [e for e in a.max_errors.split(",") if e]
     points = []
-    for scene, flags in SCENES.items():
-        for n in ns:
-            for bal in ("none", a.balance):
-                for q in quanta:
-                    for k in batches:
-                        points.append({"params": {"scene": scene, "N": n, "balance": bal, "quantum": q, "ray_batch": k},
-                                       "args": flags + ["--mesh", n, "--balance", bal, "--quantum", q,
-                                                        "--ray-batch", k]})
+    for scene in a.scenes.split(","):
+        flags = scene_flags(scene) + ["--size", a.size] + extra
+        for n in a.ns:
+            modes = dict(RUNGS, **{f"--max-error {e}": ["--max-error", e] for e in errors})
+            for mode, more in modes.items():
+                points.append({"params": {"scene": scene, "N": n, "mode": mode},
+                               "args": flags + ["--mesh", n] + more})
     runs = driver.run("speed_accuracy", points, extract, None, a, repeats=a.repeats)
-    by = {(r["scene"], r["N"], r["balance"], r["quantum"], r["ray_batch"]): r for r in runs}
+    exact = {(r["scene"], r["N"]): r for r in runs if r["mode"] == "exact"}
     rows = []
     for r in runs:
-        key = (r["scene"], r["N"])
-        exact = by[key + (r["balance"],) + EXACT]
-        row = {k: r[k] for k in ("scene", "N", "balance", "quantum", "ray_batch", "wall_s", "wall_s_min", "wall_s_max",
-                                 "render_time_ns") if k in r}  # (the spread with --repeats > 1)
-        row["exact_render_time_ns"] = exact["render_time_ns"]
-        row["error"] = r["render_time_ns"] / exact["render_time_ns"] - 1
-        # The balancing outcome: how much it shortened the frame in this mode,
-        # against the same in exact mode.
-        if r["balance"] != "none":
-            unbalanced = by[key + ("none", r["quantum"], r["ray_batch"])]
-            row["balance_gain"] = unbalanced["render_time_ns"] / r["render_time_ns"]
-            ex_none = by[key + ("none",) + EXACT]
-            row["exact_balance_gain"] = ex_none["render_time_ns"] / exact["render_time_ns"]
-        else:
-            row["balance_gain"] = row["exact_balance_gain"] = ""
-        row["slides"] = r["slides"]
-        row["version"], row["command"] = r["version"], r["command"]
-        rows.append(row)
+        e = exact[(r["scene"], r["N"])]
+        rows.append({"scene": r["scene"], "N": r["N"], "mode": r["mode"], "rung": r["rung"],
+                     "render_time_ns": r["render_time_ns"], "error": r["render_time_ns"] / e["render_time_ns"] - 1,
+                     "wall_s": r["wall_s"], "speedup": e["wall_s"] / r["wall_s"],
+                     "calibration_s": r["calibration_s"], "version": r["version"], "command": r["command"]})
     return rows
 
 
 def extract(r):
-    return {"render_time_ns": r["render_time_ns"], "slides": r["balance"]["slides"]}
+    return {"render_time_ns": r["render_time_ns"], "rung": r["config"]["fidelity"]["rung"],
+            "calibration_s": r["wall_clock"].get("calibration_s", 0.0)}
 
 
 def pareto(points):
-    """The points no other point beats in both wall time and |error|."""
+    """The points no other point beats in both speed-up and |error|."""
     front, best = [], float("inf")
-    for p in sorted(points, key=lambda p: (p["wall_s"], abs(p["error"]))):
+    for p in sorted(points, key=lambda p: (-p["speedup"], abs(p["error"]))):
         if abs(p["error"]) < best:
             front.append(p)
             best = abs(p["error"])
@@ -117,79 +127,59 @@ def pct(x):
 
 
 def plot(a, rows):
-    import matplotlib.ticker
     plt = project.pyplot()
-    cases = sorted({(r["scene"], r["N"]) for r in rows})
-    fig, axes = plt.subplots(2, len(cases), figsize=(4.6 * len(cases), 8.2), squeeze=False)
-    quanta = list(dict.fromkeys(r["quantum"] for r in rows))
-    colours = dict(zip(quanta, ["black", "#2a6fdb", "#2a9d55", "#e9a23b", "#d1495b", "#7b4fb0"]))
-    markers = dict(zip(sorted({r["ray_batch"] for r in rows}), ["o", "s", "^", "D", "v", "P"]))
-    for col, (scene, n) in enumerate(cases):
-        ax, bx = axes[0][col], axes[1][col]
-        for bal, fill in (("none", True), (a.balance, False)):
-            pts = [r for r in rows if r["scene"] == scene and r["N"] == n and r["balance"] == bal]
+    ns = sorted({r["N"] for r in rows})
+    scenes = list(dict.fromkeys(r["scene"] for r in rows))
+    markers = dict(zip(scenes, ["o", "s", "^", "D", "v", "P", "X", "*", "h"]))
+    fig, axes = plt.subplots(1, len(ns), figsize=(max(10.0, 4.6 * len(ns)), 4.8), squeeze=False)
+    for ax, n in zip(axes[0], ns):
+        for scene in scenes:
+            pts = [r for r in rows if r["N"] == n and r["scene"] == scene]
             for r in pts:
-                style = dict(marker=markers[r["ray_batch"]], s=36, linewidths=1.2)
-                if fill:
-                    ax.scatter([abs(r["error"]) * 100], [r["wall_s"]], color=colours[r["quantum"]], **style)
-                else:
-                    ax.scatter([abs(r["error"]) * 100], [r["wall_s"]], facecolors="none",
-                               edgecolors=colours[r["quantum"]], **style)
-                    bx.scatter([r["balance_gain"]], [r["wall_s"]], color=colours[r["quantum"]], **style)
-            front = sorted(pareto(pts), key=lambda p: abs(p["error"]))
-            ax.step([abs(p["error"]) * 100 for p in front], [p["wall_s"] for p in front], where="post",
-                    color="grey", linestyle="-" if fill else "--", linewidth=1,
-                    label=f"Pareto front, balance {bal}")
-            if not fill and pts:
-                bx.axvline(pts[0]["exact_balance_gain"], color="black", linestyle=":", linewidth=1,
-                           label="exact mode's gain")
+                chosen = r["mode"].startswith("--max-error")
+                ax.scatter([abs(r["error"]) * 100], [r["speedup"]], marker=markers[scene], s=40 if chosen else 30,
+                           facecolors="none" if chosen else COLOURS.get(r["rung"], "grey"),
+                           edgecolors=COLOURS.get(r["rung"], "grey"), linewidths=1.2)
+            front = sorted(pareto([p for p in pts if not p["mode"].startswith("--max-error")]), key=lambda p: abs(p["error"]))
+            ax.step([abs(p["error"]) * 100 for p in front], [p["speedup"] for p in front], where="post", color="grey",
+                    linewidth=0.8, alpha=0.6)
         ax.axvline(1.0, color="#d1495b", linewidth=0.8, alpha=0.5)
-        ax.set_xscale("symlog", linthresh=1e-3)
+        ax.axhline(1.0, color="black", linewidth=0.6, alpha=0.4)
+        ax.set_xscale("symlog", linthresh=1e-2)
         ax.set_xlim(left=0)
-        ax.set_yscale("log")
-        ax.set_title(f"{scene}, {n}x{n}x{n}", fontsize=10)
-        ax.set_xlabel("|render-time error| vs exact mode (%)")
-        bx.set_xlabel(f"balancing gain: time(none) / time({a.balance})")
-        bx.set_yscale("log")
-        for x in (ax, bx):
-            x.grid(alpha=0.3, which="both")
-            x.yaxis.set_major_formatter(matplotlib.ticker.FormatStrFormatter("%g"))
-            x.yaxis.set_minor_formatter(matplotlib.ticker.FormatStrFormatter("%g"))
-        if col == 0:
-            ax.set_ylabel("wall-clock time (s)")
-            bx.set_ylabel("wall-clock time (s)")
-            ax.legend(fontsize=7, loc="upper right")
-            bx.legend(fontsize=7, loc="upper right")
-    handles = [plt.Line2D([], [], color=c, marker="o", linestyle="", label=f"quantum {q}") for q, c in colours.items()
-               if q in quanta]
-    handles += [plt.Line2D([], [], color="grey", marker=m, linestyle="", label=f"{k} rays/message")
-                for k, m in markers.items()]
-    handles += [plt.Line2D([], [], color="grey", marker="o", linestyle="", label="filled: no balancing"),
-                plt.Line2D([], [], color="grey", marker="o", markerfacecolor="none", linestyle="",
-                           label=f"hollow: {a.balance}")]
-    fig.legend(handles=handles, loc="lower center", ncol=6, fontsize=8)
-    fig.suptitle("Speed against accuracy (red line: 1 % error). Top: wall time against render-time error; "
-                 "bottom: against the balancing outcome", fontsize=10)
-    fig.tight_layout(rect=(0, 0.07, 1, 0.97))
+        ax.set_title(f"{n}x{n}x{n}", fontsize=10)
+        ax.set_xlabel("|render-time error| vs exact (%)")
+        ax.grid(alpha=0.3, which="both")
+    axes[0][0].set_ylabel("wall-time speed-up over the default mode")
+    handles = [plt.Line2D([], [], color=c, marker="o", linestyle="", label=k) for k, c in COLOURS.items()]
+    handles += [plt.Line2D([], [], color="grey", marker=m, linestyle="", label=s) for s, m in markers.items()]
+    handles += [plt.Line2D([], [], color="grey", marker="o", markerfacecolor="none", linestyle="",
+                           label="hollow: --max-error's choice (calibration included)")]
+    fig.legend(handles=handles, loc="lower center", ncol=7, fontsize=8)
+    fig.suptitle(f"Speed against accuracy by rung (image {a.size}{', ' + a.flags if a.flags else ''}); grey steps: "
+                 "each scene's Pareto front; red line: 1 % error", fontsize=10)
+    fig.tight_layout(rect=(0, 0.1, 1, 0.95))
     outputs.savefig(fig, os.path.join(a.out, "speed_accuracy.png"), dpi=100)
 
 
 def table(a, rows):
-    """The Pareto fronts as a markdown table (doc/results/speed_accuracy.md)."""
+    """Each case's rungs and --max-error's choices (doc/results/speed_accuracy.md)."""
+    modes = list(dict.fromkeys(r["mode"] for r in rows))
     lines = ["<!-- written by scripts/experiments/speed_accuracy.py; do not edit -->",
-             "| scene | N | balance | mode (quantum, rays/message) | wall (s) | speed-up vs exact | render-time error |"
-             " balancing gain (exact mode's) |",
-             "|---|---|---|---|---|---|---|---|"]
-    for scene, n in sorted({(r["scene"], r["N"]) for r in rows}):
-        for bal in ("none", a.balance):
-            pts = [r for r in rows if r["scene"] == scene and r["N"] == n and r["balance"] == bal]
-            if not pts:
-                continue
-            exact = next(r for r in pts if (r["quantum"], r["ray_batch"]) == EXACT)
-            for p in pareto(pts):
-                gain = "" if p["balance_gain"] is None else f"{p['balance_gain']:.3f} ({p['exact_balance_gain']:.3f})"
-                lines.append(f"| {scene} | {n} | {bal} | {p['quantum']}, {p['ray_batch']} | {p['wall_s']:.2f} | "
-                             f"{exact['wall_s'] / p['wall_s']:.2f} | {pct(p['error'])} | {gain} |")
+             "| scene | N | exact wall (s) | " + " | ".join(m.replace("--max-error ", "max-error ") for m in modes[1:]) + " |",
+             "|---|---|---|" + "---|" * (len(modes) - 1)]
+    for scene in dict.fromkeys(r["scene"] for r in rows):
+        for n in sorted({r["N"] for r in rows if r["scene"] == scene}):
+            by = {r["mode"]: r for r in rows if r["scene"] == scene and r["N"] == n}
+            cells = []
+            for m in modes[1:]:
+                r = by.get(m)
+                if r is None:
+                    cells.append("")
+                    continue
+                chose = f"{r['rung']}: " if m.startswith("--max-error") else ""
+                cells.append(f"{chose}{r['speedup']:.2f}x, {pct(r['error'])}")
+            lines.append(f"| {scene} | {n} | {by['exact']['wall_s']:.2f} | " + " | ".join(cells) + " |")
     publish_table(lines, os.path.join(a.out, "speed_accuracy.md"), a.doc, "speed_accuracy table")
 
 

@@ -113,8 +113,9 @@ TEST(Parameters, EachRowMakesItsFlagItsCheckAndItsEcho) {
         SCOPED_TRACE(r.flag);
         // (A balancing policy, so that every balancing setting has a meaning:
         // --faces ideal-layer needs slide, --start-mix a policy that starts at the objects,
-        // --sample-end sample.)
-        const std::string context = std::string("balance = \"") + (r.flag == "--start-mix" || r.flag == "--sample-end" ? "sample" : "slide") + "\"\n";
+        // --sample-end sample; --fidelity express boxes that stay put, as median's.)
+        const char* policy = r.flag == "--start-mix" || r.flag == "--sample-end" ? "sample" : r.flag == "--fidelity" ? "median" : "slide";
+        const std::string context = std::string("balance = \"") + policy + "\"\n";
         const json defaults = machineConfigJson(parsed(context).machine, 8, 8);
         EXPECT_NE(help.find(r.flag), std::string::npos);
         EXPECT_NE(help.find(r.help.substr(0, 30)), std::string::npos);

@@ -487,7 +487,8 @@ class SweepEdges(unittest.TestCase):
 
     def test_experiment_flags_get_one_line(self):
         script = os.path.join(SCRIPTS, "experiments", "speed_accuracy.py")
-        for args, says in ((["--balance", "none"], "--balance none: the policy to compare with none"),
+        for args, says in ((["--n", "4,64"], "--n 4,64: each N in 1..32"),
+                           (["--scenes", "balls-9"], "--scenes: 'balls-9' is not one of"),
                            (["--out", "/dev/null"], "--out /dev/null: not a folder"),
                            (["--out", ""], "--out '': an empty folder name"),  # (not the default folder)
                            (["--journal-dir", ""], "--journal-dir '': an empty folder name"),

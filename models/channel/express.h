@@ -1,0 +1,127 @@
+// The express rung (--fidelity express; doc/fidelity.md): a ray that would
+// cross boxes holding no objects is sent past them: its sender's link
+// carries it as in the exact model, then the express relay (one process
+// for the machine) moves it through the empty boxes, and it arrives in the
+// inbox of the first box on its way that holds objects (or of the box it
+// ends in, or of the last before it leaves the world). The relay times
+// each skipped box as the exact model would: its processor's step for a
+// ray it passes on, then its link's wire and latency; it takes the rays in
+// the order they reach each box (it runs in simulated time, no further
+// ahead than the soonest a ray still to be sent could reach a box), so
+// each skipped processor and link serves them first come, first served.
+// What it leaves out is the skipped nodes' own work (rays that end there,
+// primary rays they generate) and real messages on the skipped links: they
+// do not delay the express rays, nor these them. That is the rung's
+// error, measured in doc/fidelity.md; through nodes and links with no work
+// of their own it is exact (tb/tests/test_timing.cpp).
+//
+// The path is the exact model's to the bit: each skipped box routes and
+// "traces" the ray as its node would (route.h, Region::trace with no
+// object: the ray ends there only if it reaches its light there), so the
+// ray reaches the same box at the same parameter and the image is the
+// same. A box holds no object for the whole frame only if no boundary
+// moves: the rung runs with --balance none or median.
+//
+// This is the simulator's shortcut, not the machine's: the sender reads the
+// boxes beyond its neighbour from here (architecture.md, invariant 4, holds
+// for the machine it models: every ray still takes the links it would).
+#pragma once
+#include <array>
+#include <stdexcept>
+#include <vector>
+
+#include "base/mesh_geometry.h"
+#include "base/numbered_ring.h"
+#include "channel/link.h"
+#include "channel/route.h"
+
+namespace rt {
+
+// What the express path needs of each node: its box, whether rays may skip
+// it, and what a ray adds passing through it; the relay's state of its
+// processor and links. (What one hop touches is near the top: at
+// 32x32x32 each node's entry is out of cache when a ray reaches it.)
+struct ExpressLink {
+    Picos wire = 0;       // a one-ray message's time on its wire
+    Picos hop = 0;        // that plus its latency
+    Picos latency = 0;
+    Picos free = 0;       // its wire is free of the express rays the relay sent on it so far
+    uint64_t rays = 0;    // the rays the relay sent on it (the link's figures count them at the frame's end)
+    Link* link = nullptr;
+    uint32_t depth = 0;   // its slots
+    // Its slots, as the exact model's link (link.h): ray k goes on the wire
+    // once ray k - depth was taken at the far end and the slot's credit is
+    // back, one latency later. The take times of the last `depth` rays
+    // (kUnknown: not yet taken), and the rays that wait for a slot.
+    uint64_t wired = 0;
+    NumberedRing<Picos> taken;  // by the ray's number on the link (grown as needed: most links carry few)
+    std::vector<std::pair<uint32_t, Picos>> waiting;  // (the relay's slot, when it was ready), from waitingHead on
+    size_t waitingHead = 0;
+    static constexpr Picos kUnknown = ~Picos(0);
+    // When ray number `wired` may go on the wire (kUnknown: not yet known).
+    Picos slotFree() const {
+        if (wired < depth) return 0;
+        const Picos t = taken[wired - depth];
+        return t == kUnknown ? kUnknown : t + latency;
+    }
+    // Ray number `wired` goes on the wire: its take time unknown yet.
+    void putOnWire() {
+        taken.fit(wired >= depth ? wired - depth : 0, wired);
+        taken[wired++] = kUnknown;
+    }
+};
+struct ExpressNode {
+    Picos processorFree = 0;  // its processor is free of the express rays' passes so far (and of its own steps)
+    Picos pass = 0;           // its processor's step for a ray it passes on (a receive and a send, at its speed)
+    bool empty = false;       // holds no object and generates no primary ray: a ray passes it without work of its own
+    std::array<ExpressLink, kDirs> out;  // (no link: none)
+    Box box;
+};
+// One box a ray skips: its node and the link it would leave by.
+struct ExpressHop {
+    uint32_t node;
+    int8_t dir;
+};
+
+class ExpressRoutes {
+public:
+    ExpressRoutes(std::array<int, 3> dims, std::vector<ExpressNode> nodes);
+
+    // Whether a ray that node `from` sends towards `dir` at job.t0
+    // crosses at least one box it may skip: then the boxes it skips (their
+    // nodes and the links they would send it on, the last one's into the
+    // box that takes it) are appended to `hops`, from r.first on, and
+    // job.t0 moves to where it enters that box. False (and job unchanged):
+    // the neighbour takes it as in the exact model (it holds objects or
+    // generates primary rays, or the ray ends or leaves the world there).
+    struct Route {
+        uint32_t first = 0, skipped = 0;
+    };
+    bool route(const Cell& from, int dir, RayJob& job, Route& r, std::vector<ExpressHop>& hops) const;
+    size_t indexOf(const Cell& c) const { return nodeIndex(c, dims_); }
+    const ExpressNode& node(size_t i) const { return nodes_[i]; }
+    ExpressNode& node(size_t i) { return nodes_[i]; }
+    // The soonest a ray sent on any link reaches the next box (its wire and latency).
+    Picos soonestHop() const { return soonestHop_; }
+    // The frame's end: the rays the relay sent on each link, into the link's figures.
+    void countOnLinks();
+    // A new frame: no express ray has used a processor or a wire yet.
+    void restart() {
+        for (ExpressNode& n : nodes_) {
+            n.processorFree = 0;
+            for (ExpressLink& l : n.out) {
+                l.free = l.rays = l.wired = 0;
+                l.taken = {};
+                l.waiting.clear();
+                l.waitingHead = 0;
+            }
+        }
+    }
+
+private:
+    std::array<int, 3> dims_;
+    std::vector<ExpressNode> nodes_;
+    Picos soonestHop_ = 0;
+};
+
+}  // namespace rt

@@ -1,0 +1,38 @@
+// The express rung (--fidelity express; channel/express.h): what each
+// node's box and links add to a ray that crosses it, and the relay that
+// moves such rays, built with the machine (its boxes hold still:
+// MachineConfig::validate allows the rung only with --balance none or median).
+#include "machine/machine.h"
+
+namespace rt {
+
+void Machine::buildExpress() {
+    if (!cfg_.express) return;
+    const uint32_t oneRay = kHeaderBytes + kRayBytes;
+    std::vector<ExpressNode> info(nodes_.size());
+    for (size_t i = 0; i < nodes_.size(); ++i) {
+        Node& n = nodes_[i];
+        ExpressNode& e = info[i];
+        e.box = n.region().box();
+        e.empty = n.region().objects().empty();
+        // A ray it passes on: a step of one receive and one send (Node::step).
+        const CostModel costs(cfg_.processorCostsOf(n.cell()), cfg_.speedOf(n.cell()), 0);
+        e.pass = costs.step(Counters{}, Counters{}, 1, 1, 0);
+        for (int d = 0; d < kDirs; ++d) {
+            auto out = meshLinks_.find({i, d});
+            if (out == meshLinks_.end()) continue;
+            ExpressLink& l = e.out[size_t(d)];
+            l.link = out->second;
+            l.wire = wireTime(out->second->params(), oneRay);
+            l.latency = out->second->params().latency;
+            l.hop = l.wire + l.latency;
+            l.depth = uint32_t(out->second->params().depth);
+        }
+    }
+    express_ = std::make_unique<ExpressRoutes>(cfg_.dims, std::move(info));
+    relay_ = std::make_unique<ExpressRelay>("express_relay", *express_);
+    nodeParams_->express = express_.get();
+    nodeParams_->relay = relay_.get();
+}
+
+}  // namespace rt

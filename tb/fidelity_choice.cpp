@@ -1,0 +1,152 @@
+#include "fidelity_choice.h"
+
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+#include "machine/machine.h"
+#include "messages.h"
+
+namespace rt {
+namespace {
+
+constexpr Picos kCoarseQuantum = 10000000;  // 10 us: the quantum rungs'
+constexpr double kMargin = 0.5;             // a rung's calibration error must be within this share of E
+constexpr int kLeastPixels = 1024;          // a calibration frame has at least this many pixels (32 x 32)
+
+// What a run cost the simulator, in simulated figures (the same on every
+// run): the kernel's delta cycles and every message taken.
+uint64_t eventsOf(const MachineResult& r) {
+    uint64_t n = r.deltaCycles;
+    for (const NodeStats& s : r.nodes) n += s.messagesReceived;
+    for (const auto& u : r.frameBuffer) n += u.stats.contributionMessages + u.stats.creditMessages;
+    return n;
+}
+
+// The calibration frame's divisor per axis: the largest power of two that
+// leaves at least max(kLeastPixels, a 64th of the pixels); 1: too small to calibrate on less.
+int calibrationDivisor(int w, int h) {
+    const double least = std::max(double(kLeastPixels), double(w) * h / 64);
+    int k = 1;
+    while (std::ceil(double(w) / (2 * k)) * std::ceil(double(h) / (2 * k)) >= least) k *= 2;
+    return k;
+}
+
+MachineConfig withRung(MachineConfig m, const FidelityRung& r) {
+    m.express = r.express;
+    m.lookaheadQuantum = r.quantum == 0;
+    m.quantum = r.quantum == 0 ? m.lookahead() : r.quantum;
+    return m;
+}
+
+// Whether the rung applies to this machine: express where boxes stay put
+// and rays go one per message; a coarser quantum only without balancing
+// (there the timing steers the boundaries) and where it is coarser.
+bool applies(const FidelityRung& r, const MachineConfig& m) {
+    const bool still = m.balance.policy == "none" || m.balance.policy == "median";
+    if (r.express && (!still || m.rayBatch > 1)) return false;
+    if (r.quantum > 0 && (!still || r.quantum <= m.lookahead())) return false;
+    return true;
+}
+
+double secondsSince(std::chrono::steady_clock::time_point t) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+}  // namespace
+
+const std::vector<FidelityRung>& fidelityRungs() {
+    static const std::vector<FidelityRung> rungs = {
+        {"exact", false, 0},
+        {"express", true, 0},
+        {"quantum 10 us", false, kCoarseQuantum},
+        {"express, quantum 10 us", true, kCoarseQuantum},
+    };
+    return rungs;
+}
+
+std::string rungOf(const MachineConfig& m) {
+    for (const FidelityRung& r : fidelityRungs())
+        if (r.express == m.express && (r.quantum == 0 ? m.lookaheadQuantum : !m.lookaheadQuantum && m.quantum == r.quantum)) return r.name;
+    std::ostringstream s;
+    s << (m.express ? "express, " : "") << "quantum " << formatTime(m.quantum);
+    return m.lookaheadQuantum ? (m.express ? "express" : "exact") : s.str();
+}
+
+namespace {
+
+// The calibration: the frame `c` run exact, then at each candidate, the
+// coarsest first, until one is within kMargin of `maxError` with fewer
+// events than the exact run: it (or the exact rung) into `best`, with its
+// error.
+nlohmann::json calibrate(const Scene& scene, const MachineConfig& c, const std::vector<const FidelityRung*>& candidates,
+                         double maxError, const FidelityRung*& best, double& bestError) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const MachineResult ex = runMachine(scene, withRung(c, fidelityRungs()[0]));
+    nlohmann::json cal = {{"size", std::to_string(c.width) + "x" + std::to_string(c.height)},
+                          {"exact", {{"render_time_ns", double(ex.renderTime) / 1000}, {"events", eventsOf(ex)}, {"wall_s", ex.wallSeconds}}},
+                          {"rungs", nlohmann::json::array()}};
+    const uint64_t bestEvents = eventsOf(ex);
+    for (const FidelityRung* r : candidates) {
+        if (!ex.incomplete.empty()) break;
+        const MachineResult got = runMachine(scene, withRung(c, *r));
+        if (!got.incomplete.empty()) break;
+        const double error = std::fabs(double(got.renderTime) - double(ex.renderTime)) / double(ex.renderTime);
+        const uint64_t events = eventsOf(got);
+        const bool within = error <= kMargin * maxError;
+        cal["rungs"].push_back({{"rung", r->name}, {"render_time_ns", double(got.renderTime) / 1000}, {"error", error},
+                                {"events", events}, {"wall_s", got.wallSeconds}, {"within", within}});
+        if (within && events < bestEvents) {
+            best = r;
+            bestError = error;
+            break;
+        }
+    }
+    cal["wall_s"] = secondsSince(t0);
+    if (!ex.incomplete.empty()) cal["stopped"] = ex.incomplete;
+    return cal;
+}
+
+}  // namespace
+
+nlohmann::json chooseFidelity(const Scene& scene, RtsimOptions& o) {
+    const MachineConfig& m = o.machine;
+    nlohmann::json j = {{"max_error", o.maxError}};
+    const FidelityRung& exact = fidelityRungs()[0];
+    std::vector<const FidelityRung*> candidates;
+    for (const FidelityRung& r : fidelityRungs())
+        if (&r != &exact && applies(r, m)) candidates.insert(candidates.begin(), &r);  // (the coarsest first)
+    const int k = calibrationDivisor(m.width, m.height);
+    auto settle = [&](const FidelityRung& r, const std::string& why) {
+        o.machine = withRung(o.machine, r);
+        j["rung"] = r.name;
+        j["why"] = why;
+        msg::info("--max-error: " + r.name + " (" + why + ")");
+        return j;
+    };
+    if (candidates.empty())
+        return settle(exact, "no coarser rung applies: a policy that moves boundaries is timed exactly, since the timing steers them");
+    if (k == 1) return settle(exact, "the image is too small to calibrate on a part of it");
+
+    // The calibration frame: the same machine and camera at 1/k of the pixels per axis, traced nowhere.
+    MachineConfig c = m;
+    c.width = int(std::ceil(double(m.width) / k));
+    c.height = int(std::ceil(double(m.height) / k));
+    c.vcdPath.clear();
+    c.vcdName.clear();
+    c.traceNodes.clear();
+    c.traceLinks.clear();
+    c.showProgress = false;
+    msg::info("--max-error: calibrating at " + std::to_string(c.width) + "x" + std::to_string(c.height));
+    const FidelityRung* best = &exact;
+    double bestError = 0;
+    j["calibration"] = calibrate(scene, c, candidates, o.maxError, best, bestError);
+    j["calibration_error"] = bestError;
+    if (j["calibration"].contains("stopped")) return settle(exact, "the calibration was stopped");
+    std::ostringstream why;
+    why << "the coarsest rung within " << kMargin << " of the error asked for on a calibration frame of 1/" << k * k
+        << " of the pixels, with fewer simulated events than the exact model";
+    return settle(*best, why.str());
+}
+
+}  // namespace rt

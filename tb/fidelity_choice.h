@@ -1,0 +1,37 @@
+// --max-error E: rtsim picks the fidelity rung (doc/fidelity.md) for this
+// scene, mesh and machine: the fastest whose render time is within E of
+// the exact model's, judged on a calibration frame it runs itself (the
+// same machine and camera at fewer pixels, run exact and then at each rung
+// in turn, the coarsest first, until one is within). The choice rests on simulated figures only, so the
+// same inputs choose the same rung; the calibration's wall time is
+// reported beside it.
+#pragma once
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "rtsim_cli.h"
+#include "scene.h"
+
+namespace rt {
+
+// A rung: what it sets in the machine.
+struct FidelityRung {
+    std::string name;
+    bool express = false;
+    Picos quantum = 0;  // 0: each process's lookahead (exact); else a fixed quantum
+};
+
+// The rungs from the exact model down, each coarser than the one before.
+const std::vector<FidelityRung>& fidelityRungs();
+
+// Chooses the rung for `o` (maxError set) and sets it in o.machine; returns
+// what the report records as config.fidelity: the rung, the error asked
+// for, the calibration (its size, each rung's error and events, its wall
+// time) and why.
+nlohmann::json chooseFidelity(const Scene& scene, RtsimOptions& o);
+
+// The rung `m` runs (config.fidelity.rung of a run without --max-error).
+std::string rungOf(const MachineConfig& m);
+
+}  // namespace rt

@@ -1,0 +1,87 @@
+// rtsim end to end at the fidelity rungs (doc/fidelity.md): --fidelity
+// express renders the same image, and --max-error picks a rung within the
+// error asked for, says how, and keeps to the exact model where it must.
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "rtsim_test.h"
+
+using nlohmann::json;
+using namespace rt::test;
+
+namespace {
+const std::string kBalls4 = " --scene " + std::string(RT_SCENE_DIR) + "/balls-4.nff --size 128x128 --mesh 8";
+}  // namespace
+
+// balls-4 at 128x128 on 8x8x8: a calibration frame of 32x32 (at least
+// 1,024 pixels and a 64th), exact and then at the coarser rungs, the
+// coarsest first, until one is within half the error; the rung chosen is
+// within the error on the frame itself, the image is the exact run's, the
+// report and the summary say how it chose, and the same inputs choose the
+// same rung.
+TEST_F(Rtsim, MaxErrorPicksARungWithinItAndSaysHow) {
+    const json exact = report(kBalls4, "exact.json");
+    ASSERT_EQ(run(kBalls4 + " --no-baseline -q --image " + (dir_ / "e.png").string()).code, 0);
+    const std::string args = kBalls4 + " --max-error 1%";
+    const Outcome o = run(args + " --no-baseline --image " + (dir_ / "m.png").string() + " --report " + (dir_ / "m.json").string());
+    ASSERT_EQ(o.code, 0) << o.err;
+    const json m = json::parse(slurp(dir_ / "m.json"));
+    EXPECT_EQ(slurp(dir_ / "m.png"), slurp(dir_ / "e.png"));
+    const json& f = m["fidelity"];
+    EXPECT_EQ(f["rung"], m["config"]["fidelity"]["rung"]);
+    EXPECT_EQ(m["config"]["fidelity"]["max_error"], 0.01);
+    EXPECT_EQ(f["calibration"]["size"], "32x32");
+    const json& tried = f["calibration"]["rungs"];
+    ASSERT_GE(tried.size(), 1u);
+    EXPECT_EQ(tried[0]["rung"], "express, quantum 10 us");
+    for (size_t i = 0; i + 1 < tried.size(); ++i) EXPECT_FALSE(tried[i]["within"].get<bool>()) << "tried on past " << tried[i]["rung"];
+    EXPECT_EQ(tried.back()["rung"], f["rung"]);
+    for (const json& r : tried) {
+        const double err = std::fabs(r["render_time_ns"].get<double>() / f["calibration"]["exact"]["render_time_ns"].get<double>() - 1);
+        EXPECT_NEAR(r["error"].get<double>(), err, 1e-12);
+        EXPECT_EQ(r["within"].get<bool>(), err <= 0.005) << r["rung"];
+        if (r["rung"] == f["rung"]) {
+            EXPECT_TRUE(r["within"].get<bool>());
+            EXPECT_LT(r["events"].get<double>(), f["calibration"]["exact"]["events"].get<double>());
+        }
+    }
+    EXPECT_NE(f["rung"], "exact");  // (express is within it here: its calibration error is about 0.01 %)
+    EXPECT_LE(std::fabs(m["render_time_ns"].get<double>() / exact["render_time_ns"].get<double>() - 1), 0.01);
+    EXPECT_GT(m["wall_clock"]["calibration_s"].get<double>(), 0.0);
+    EXPECT_NE(o.out.find("fidelity         " + f["rung"].get<std::string>() + ", chosen for --max-error 1 %"), std::string::npos) << o.out;
+    json again = report(args, "again.json"), first = m;
+    dropWall(again);
+    dropWall(first);
+    EXPECT_EQ(again["fidelity"], first["fidelity"]);
+    EXPECT_EQ(again["render_time_ns"], first["render_time_ns"]);
+}
+
+// Where the timing steers the boundaries, and where the image is too small
+// to calibrate on less of it, the exact model, without a calibration.
+TEST_F(Rtsim, MaxErrorKeepsToExactWhereItMust) {
+    const json slide = report(kBalls4 + " --balance slide --max-error 2%");
+    EXPECT_EQ(slide["config"]["fidelity"]["rung"], "exact");
+    EXPECT_FALSE(slide["fidelity"].contains("calibration"));
+    EXPECT_NE(slide["fidelity"]["why"].get<std::string>().find("timing steers"), std::string::npos);
+    const json small = report(" --scene " + std::string(RT_SCENE_DIR) + "/balls-4.nff --size 32x32 --mesh 8 --max-error 2%");
+    EXPECT_EQ(small["config"]["fidelity"]["rung"], "exact");
+    EXPECT_NE(small["fidelity"]["why"].get<std::string>().find("too small"), std::string::npos);
+    EXPECT_FALSE(small["wall_clock"].contains("calibration_s"));
+}
+
+// Nonsense values and rungs that do not apply: one line naming the flag, exit 2.
+TEST_F(Rtsim, BadFidelityFlagsAreOneLineErrors) {
+    for (const std::string bad : {" --max-error 0", " --max-error 100%", " --max-error 1.5", " --max-error abc", " --max-error 2%%",
+                                   " --max-error 1% --fidelity express", " --max-error 1% --quantum 10us",
+                                   " --fidelity express --balance slide", " --fidelity express --ray-batch 4", " --fidelity fast"}) {
+        const Outcome o = run(kBalls4 + bad + " --no-baseline -q --image ''");
+        EXPECT_EQ(o.code, 2) << bad;
+        const std::string flag = bad.find("--max-error") != std::string::npos ? "--max-error" : "--fidelity";
+        EXPECT_NE(o.err.find(flag), std::string::npos) << bad << ": " << o.err;
+        EXPECT_EQ(std::count(o.err.begin(), o.err.end(), '\n'), 1) << bad << ": " << o.err;
+    }
+}
