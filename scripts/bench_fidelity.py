@@ -13,7 +13,8 @@ identical. Cases (--case NAME, repeatable; default all):
           never slower)
 
 Prints the table; with --doc writes doc/benchmarks/fidelity.md (without it,
-nothing is written). Run with /usr/bin/python3."""
+nothing is written), keeping the rows of the cases not run this time from
+the page as it was. Run with /usr/bin/python3."""
 import argparse
 import filecmp
 import json
@@ -89,8 +90,21 @@ def main():
             print(lines[-1], flush=True)
     print("\n".join(lines[1:]))
     if a.doc:
-        outputs.write_text(os.path.join(ROOT, "doc", "benchmarks", "fidelity.md"),
-                           "# Fidelity benchmark (`scripts/bench_fidelity.py --doc`)\n\n" + "\n".join(lines) + "\n")
+        page = os.path.join(ROOT, "doc", "benchmarks", "fidelity.md")
+        lines += kept_rows(page, [lines[k].split(" | ")[0] for k in range(5, len(lines))])
+        outputs.write_text(page, "# Fidelity benchmark (`scripts/bench_fidelity.py --doc`)\n\n" + "\n".join(lines) + "\n")
+
+
+def kept_rows(page, run):
+    """The table rows of `page` for the cases not in `run` (their first cells), each with its own run's line."""
+    try:
+        with open(page) as f:
+            old = f.read().splitlines()
+    except FileNotFoundError:
+        return []
+    marked = " (an earlier run) |"
+    return [line if line.endswith(marked) else line[:-2] + marked for line in old
+            if line.startswith("| ") and not line.startswith("| case") and line.split(" | ")[0] not in run]
 
 
 if __name__ == "__main__":

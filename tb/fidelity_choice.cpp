@@ -12,7 +12,20 @@ namespace {
 
 constexpr Picos kCoarseQuantum = 10000000;  // 10 us: the quantum rungs'
 constexpr double kMargin = 0.5;             // a rung's calibration error must be within this share of E
-constexpr int kLeastPixels = 1024;          // a calibration frame has at least this many pixels (32 x 32)
+// A calibration frame has at least this many pixels (16 x 16) and this
+// share of the frame's: the calibration is then at most a few per cent of
+// the frame's work (with the exact run and two rungs, 3/256), which a rung
+// that gains 10 % pays for (balls-4 at 256x256 on 8x8x8: calibrating on a
+// 16th of the pixels, a 32x32 frame, made --max-error 1% 0.85x the exact
+// run's speed, express having gained 1.2x).
+constexpr int kLeastPixels = 256;
+constexpr int kShare = 256;
+// Below this many nodes the rungs gain less than the calibration costs:
+// on balls-4 at 256x256 on 8x8x8, pinned, express made the frame about
+// 10 % faster and --max-error 1% took 0.94 of the exact run's time (the
+// quantum rungs fail a calibration frame this short: a 10 us quantum is a
+// seventh of its 66 us).
+constexpr int kLeastNodes = 4096;
 
 // What a run cost the simulator, in simulated figures (the same on every
 // run): the kernel's delta cycles and every message taken.
@@ -24,9 +37,9 @@ uint64_t eventsOf(const MachineResult& r) {
 }
 
 // The calibration frame's divisor per axis: the largest power of two that
-// leaves at least max(kLeastPixels, a 64th of the pixels); 1: too small to calibrate on less.
+// leaves at least max(kLeastPixels, a kShare-th of the pixels); 1: too small to calibrate on less.
 int calibrationDivisor(int w, int h) {
-    const double least = std::max(double(kLeastPixels), double(w) * h / 64);
+    const double least = std::max(double(kLeastPixels), double(w) * h / kShare);
     int k = 1;
     while (std::ceil(double(w) / (2 * k)) * std::ceil(double(h) / (2 * k)) >= least) k *= 2;
     return k;
@@ -127,6 +140,8 @@ nlohmann::json chooseFidelity(const Scene& scene, RtsimOptions& o) {
     if (candidates.empty())
         return settle(exact, "no coarser rung applies: a policy that moves boundaries is timed exactly, since the timing steers them");
     if (k == 1) return settle(exact, "the image is too small to calibrate on a part of it");
+    if (m.nodeCount() < kLeastNodes)
+        return settle(exact, "a mesh of fewer than 4096 nodes: its coarser rungs gain less than a calibration costs");
 
     // The calibration frame: the same machine and camera at 1/k of the pixels per axis, traced nowhere.
     MachineConfig c = m;
