@@ -2,7 +2,8 @@
 // scene, mesh and machine: the fastest whose render time is within E of
 // the exact model's, judged on a calibration frame it runs itself (the
 // same machine and camera at fewer pixels, run exact and then at each rung
-// in turn, the coarsest first, until one is within). The choice rests on simulated figures only, so the
+// it tries in turn, the coarsest first, until one is within: today express,
+// as the quantum rungs' calibration errors did not foretell the frame's). The choice rests on simulated figures only, so the
 // same inputs choose the same rung; the calibration's wall time is
 // reported beside it.
 #pragma once
