@@ -60,8 +60,7 @@ MachineConfig withRung(MachineConfig m, const FidelityRung& r) {
 // at 128x128 on 16x16x16 (-1.49 % on the frame) and on rings-2 on
 // 32x32x32 (+13.8 %) (doc/results/speed_accuracy.md).
 bool applies(const FidelityRung& r, const MachineConfig& m) {
-    const bool still = m.balance.policy == "none" || m.balance.policy == "median";
-    return r.express && r.quantum == 0 && still && m.rayBatch <= 1;
+    return r.express && r.quantum == 0 && m.balance.boxesStayPut() && m.rayBatch <= 1;
 }
 
 double secondsSince(std::chrono::steady_clock::time_point t) {

@@ -389,7 +389,7 @@ void RtsimOptions::actAsReference() {
     if ((asBaseline || asComparison) && machine.balance.policy != "sample") machine.balance.sampleCredit = false;  // (no sample)
     // A reference run is timed as its run asks, without a calibration of its own; express only where it applies.
     maxError_.clear();
-    if (machine.balance.policy != "none" && machine.balance.policy != "median") machine.express = false;
+    if (!machine.balance.boxesStayPut()) machine.express = false;
 }
 
 // The flags whose values have a syntax of their own (option_parsers.h).

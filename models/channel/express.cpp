@@ -8,7 +8,7 @@ ExpressRoutes::ExpressRoutes(std::array<int, 3> dims, std::vector<ExpressNode> n
     soonestHop_ = ~Picos(0);
     for (const ExpressNode& n : nodes_)
         for (const ExpressLink& l : n.out)
-            if (l.link) soonestHop_ = std::min(soonestHop_, l.hop);
+            if (l.link) soonestHop_ = std::min(soonestHop_, l.hop());
 }
 
 void ExpressRoutes::countOnLinks() {

@@ -1,19 +1,20 @@
 // The express rung (--fidelity express; doc/fidelity.md): a ray that would
-// cross boxes holding no objects is sent past them: its sender's link
-// carries it as in the exact model, then the express relay (one process
-// for the machine) moves it through the empty boxes, and it arrives in the
-// inbox of the first box on its way that holds objects (or of the box it
-// ends in, or of the last before it leaves the world). The relay times
-// each skipped box as the exact model would: its processor's step for a
-// ray it passes on, then its link's wire and latency; it takes the rays in
-// the order they reach each box (it runs in simulated time, no further
-// ahead than the soonest a ray still to be sent could reach a box), so
-// each skipped processor and link serves them first come, first served.
-// What it leaves out is the skipped nodes' own work (rays that end there,
-// primary rays they generate) and real messages on the skipped links: they
-// do not delay the express rays, nor these them. That is the rung's
-// error, measured in doc/fidelity.md; through nodes and links with no work
-// of their own it is exact (tb/tests/test_timing.cpp).
+// cross boxes whose nodes have no work of their own is sent past them: its
+// sender's link carries it as in the exact model, then the express relay
+// (one process for the machine, process/express_relay.h) moves it through
+// those boxes, and the last one's link, the machine's own, delivers it to
+// the first box on its way that has work (or the box it ends in, or the
+// last before it leaves the world). The relay times each skipped box as the
+// exact model would: its processor's step for a ray it passes on, then its
+// link's slot, wire and latency; it takes the rays in the order they reach
+// each box (it runs in simulated time, no further ahead than the soonest a
+// ray still to be sent could reach a box), so each skipped processor and
+// link serves them first come, first served. A skipped node's own steps
+// and the relay's passes wait for each other, but in the order they are
+// booked, which is not always the order of their times, and real messages
+// on the skipped links do not share their slots with the express rays:
+// that is the rung's error, measured in doc/fidelity.md; through nodes
+// and links with no work of their own it is exact (tb/tests/test_timing.cpp).
 //
 // The path is the exact model's to the bit: each skipped box routes and
 // "traces" the ray as its node would (route.h, Region::trace with no
@@ -43,7 +44,6 @@ namespace rt {
 // 32x32x32 each node's entry is out of cache when a ray reaches it.)
 struct ExpressLink {
     Picos wire = 0;       // a one-ray message's time on its wire
-    Picos hop = 0;        // that plus its latency
     Picos latency = 0;
     Picos free = 0;       // its wire is free of the express rays the relay sent on it so far
     uint64_t rays = 0;    // the rays the relay sent on it (the link's figures count them at the frame's end)
@@ -64,6 +64,8 @@ struct ExpressLink {
         const Picos t = taken[wired - depth];
         return t == kUnknown ? kUnknown : t + latency;
     }
+    // A ray's time from the start of its wire to the far end.
+    Picos hop() const { return wire + latency; }
     // Ray number `wired` goes on the wire: its take time unknown yet.
     void putOnWire() {
         taken.fit(wired >= depth ? wired - depth : 0, wired);

@@ -88,8 +88,8 @@ public:
     const sc_core::sc_event& roomEvent() const override { return *room_; }
     // An express ray (express.h) of `bytes` sent at `t`: when it goes on
     // the wire (at `t`, or once the wire is free). It is counted among the
-    // link's messages, bytes and wire time, but holds no slot and goes to
-    // its receiver's inbox, not to this link's.
+    // link's messages, bytes and wire time, but its slot is the express
+    // relay's to keep, and the relay, not this link, takes it to the far end.
     Picos expressStart(uint32_t bytes, Picos t);
     // `count` express rays of `bytes` that went past this link's sender:
     // counted as above, timed by the express relay (express.h).

@@ -118,6 +118,8 @@ struct BalanceConfig {
     bool startsAtObjects() const { return policy == "median" || policy == "sample"; }
     // One whose first frame keeps its starting split and only measures (measured).
     bool firstFrameHolds() const { return policy == "measured"; }
+    // One whose boxes never move, within a frame or between frames (none, median): --fidelity express's.
+    bool boxesStayPut() const { return policy == "none" || policy == "median"; }
     double gainOf() const;        // gain, or the policy's default
     // Throws std::invalid_argument("--flag: what") for the first bad value.
     // `reportFloor`: the shortest interval a node can report in;
@@ -208,8 +210,8 @@ struct MachineConfig {
     bool hopsByLinks = false;  // --hop-handling link
 
     // The fidelity rung (doc/fidelity.md): false, the exact model; true,
-    // express: rays cross boxes that hold no objects in one event, timed as
-    // through idle nodes and links (channel/express.h).
+    // express: rays cross the boxes whose nodes have no work of their own
+    // through one relay process, not the nodes' (channel/express.h).
     bool express = false;  // --fidelity express
 
     // The frame buffer (doc/machine.md, "The frame buffer"): fbUnits units,

@@ -13,8 +13,7 @@ void Machine::buildExpress() {
     for (size_t i = 0; i < nodes_.size(); ++i) {
         Node& n = nodes_[i];
         ExpressNode& e = info[i];
-        e.box = n.region().box();
-        e.empty = n.region().objects().empty();
+        e.box = n.region().box();  // (whether rays may skip it: giveOutPrimaryRays, which knows its primary rays)
         // A ray it passes on: a step of one receive and one send (Node::step).
         const CostModel costs(cfg_.processorCostsOf(n.cell()), cfg_.speedOf(n.cell()), 0);
         e.pass = costs.step(Counters{}, Counters{}, 1, 1, 0);
@@ -25,7 +24,6 @@ void Machine::buildExpress() {
             l.link = out->second;
             l.wire = wireTime(out->second->params(), oneRay);
             l.latency = out->second->params().latency;
-            l.hop = l.wire + l.latency;
             l.depth = uint32_t(out->second->params().depth);
         }
     }

@@ -210,7 +210,7 @@ private:
     FrameBufferOutbox fbOut_;
     Outbox outbox_;    // this step's sends
     // This step's express rays (--fidelity express): sent with the outbox,
-    // each to the inbox of the node its route reaches.
+    // each to the express relay, which takes it past the boxes it skips.
     struct ExpressSend {
         int dir;  // the link it leaves by
         ExpressRoutes::Route route;

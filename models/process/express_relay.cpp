@@ -61,7 +61,7 @@ void ExpressRelay::launch(uint32_t slot, ExpressLink& l, Picos ready, bool first
     ray.on = &l;
     ray.number = l.wired;
     l.putOnWire();
-    const Picos at = start + l.hop;
+    const Picos at = start + l.hop();
     checkSimTime(at, name());
     events_.push(at, slot);
     if (at < wakeAt_) {  // sooner than the relay expects to run

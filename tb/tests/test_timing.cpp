@@ -71,6 +71,17 @@ Scene sceneFrom(const std::string& name, const std::string& nff) {
     return s;
 }
 
+// The eye at -x looking along +x at sphere B (x 9 .. 11), sphere A off the
+// line stretching the world to -0.1: on a line of up to 5 nodes along x,
+// only the last holds B and the ones between hold nothing. The camera's
+// field of view (degrees) and square image (pixels a side), and the light.
+Scene lineScene(int angle, int pixels, const std::string& light) {
+    const std::string res = std::to_string(pixels);
+    return sceneFrom("line", "b 0 0 0\nv\nfrom -5 0 0\nat 10 0 0\nup 0 0 1\nangle " + std::to_string(angle) +
+                                 "\nhither 0.01\nresolution " + res + " " + res + "\nl " + light +
+                                 "\nf 1 1 1 1 0 0 0 1\ns 0 4 0 0.1\ns 10 0 0 1\n");
+}
+
 // Two nodes, 8 pixels each, whose rays miss everything (16 contributions),
 // into one host at 10 us per contribution over `port`: 100 ns per ray
 // generated, 50 ns per message sent, batches of 4, nothing else costs.
@@ -448,19 +459,7 @@ TEST_P(RayAcrossEmptyNodes, EveryHopCostsWhatItShould) {
     // Sphere A (off the ray's line) and sphere B stretch the world along x
     // from -0.1 to 11; B (x 9 .. 11) lies in the last node for N <= 5. The
     // light is off to -y: the shadow ray leaves the world in B's node.
-    const Scene scene = sceneFrom("line", R"(b 0 0 0
-v
-from -5 0 0
-at 10 0 0
-up 0 0 1
-angle 10
-hither 0.01
-resolution 1 1
-l 5 -30 0
-f 1 1 1 1 0 0 0 1
-s 0 4 0 0.1
-s 10 0 0 1
-)");
+    const Scene scene = lineScene(10, 1, "5 -30 0");
     MachineConfig c;
     c.dims = {n, 1, 1};
     c.width = c.height = 1;
@@ -594,19 +593,7 @@ INSTANTIATE_TEST_SUITE_P(Nodes, RayAcrossEmptyNodes,
 namespace {
 MachineResult sixteenRaysPastAnEmptyNode(bool express, const std::string& light, double speed, int nodes = 3,
                                          std::optional<LinkParams> oneToTwo = std::nullopt) {
-    const Scene scene = sceneFrom("line16", R"(b 0 0 0
-v
-from -5 0 0
-at 10 0 0
-up 0 0 1
-angle 4
-hither 0.01
-resolution 4 4
-l )" + light + R"(
-f 1 1 1 1 0 0 0 1
-s 0 4 0 0.1
-s 10 0 0 1
-)");
+    const Scene scene = lineScene(4, 4, light);
     MachineConfig c;
     c.dims = {nodes, 1, 1};
     c.width = c.height = 4;
