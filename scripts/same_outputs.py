@@ -13,7 +13,8 @@ lookahead mode and in lockstep (--quantum 0); 10 and 100 us quanta
 the benchmark's fastest mode under 1 % error); fully traced runs with a VCD,
 with and without balancing; balancing with the control lane; finite output
 buffers (senders block); frame sequences (resplit, slide's boundaries
-carried on, recommended, sample, a moving eye, the last frame traced). Reports are compared
+carried on, recommended, sample, a moving eye, the last frame traced); the
+express rung on 16x16x16. Reports are compared
 without the fields that measure the host, not the machine: wall_s,
 wall_clock, rerun.version and kernel.delta_cycles (how many delta cycles the SystemC
 kernel ran depends on how processes wait, not on what the machine does).
@@ -59,6 +60,10 @@ RUNS = [
                             "--frames", "4", "--link-control-depth", "2"], []),
     ("sample-frames", ["--spheres", "1000", "--size", "96x96", "--mesh", "3", "--balance", "sample",
                        "--frames", "3", "--link-out-depth", "2000", "--fb-units", "2"], []),
+    # The express rung (rays across empty boxes in one relay) on a mesh
+    # large enough to have empty boxes, and the links it leaves unused.
+    ("express", ["--scene", "balls-5", "--size", "64x64", "--mesh", "16", "--balance", "none",
+                 "--fidelity", "express"], []),
     ("frames-lockstep-traced", ["--scene", "balls-4", "--size", "64x64", "--mesh", "3", "--frames", "3",
                                 "--eye-step", "0,0.1,0", "--quantum", "0", "--vcd", "{out}.vcd"], ["vcd"]),
 ]

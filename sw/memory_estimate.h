@@ -18,10 +18,11 @@ namespace rt {
 constexpr double kRtrefBytesPerPixel = 27;
 constexpr double kRtsimBytesPerPixel = 103;
 // Bytes per node of rtsim's mesh, measured the same way (--spheres 1 at 8x8
-// on 16x16x16 and 24x24x24: 52.7 and 52.3 KB): its module and process
-// stacks, its six links, its ports to every frame-buffer unit. A 32x32x32
-// mesh needs about 1.7 GiB before its scene and image.
-constexpr double kRtsimBytesPerNode = 53 * 1024;
+// on 24x24x24 and 32x32x32: 30.9 and 28.9 KB): its module, its six links,
+// its ports to every frame-buffer unit (a link that carries no message
+// holds no lanes: channel/link.h). A 32x32x32 mesh needs about 1 GiB
+// before its scene and image.
+constexpr double kRtsimBytesPerNode = 31 * 1024;
 
 // The limits a job's memory runs into, in bytes (0: none, or unknown).
 struct MemoryLimits {

@@ -30,9 +30,16 @@ uint32_t objectBytes(const Shape& s) {
 
 Link::Link(std::string name, const LinkParams& params, uint32_t smallest)
     : params_(params), smallest_(smallest), name_(std::move(name)) {
-    lanes_[kData].slots = uint32_t(params.depth);
-    lanes_[kControl].slots = uint32_t(params.controlDepth);
     if (params.outDepth > 0) room_ = std::make_unique<sc_core::sc_event>();
+}
+
+const Link::Carried Link::kNothingCarried{};
+
+Link::Carried& Link::startCarrying() {
+    carried_ = std::make_unique<Carried>();
+    carried_->lanes[kData].slots = uint32_t(params_.depth);
+    carried_->lanes[kControl].slots = uint32_t(params_.controlDepth);
+    return *carried_;
 }
 
 void Link::restart() {
@@ -42,13 +49,7 @@ void Link::restart() {
     listener_ = nullptr;  // (the receiver listens again at its start)
     listenerPort_ = 0;
     trace_ = {};
-    stats_ = {};
-    for (Lane& l : lanes_) {
-        const uint32_t slots = l.slots;
-        l = Lane{};
-        l.slots = slots;
-    }
-    byType_ = {};
+    carried_.reset();
     quiet();
 }
 
@@ -90,12 +91,13 @@ void Link::send(Message&& m, Picos t) {
         throw std::logic_error(name_ + ": a " + msgTypeName(m.type) + " message of " + std::to_string(bytes) +
                                " bytes, smaller than the " + std::to_string(smallest_) + " its receiver's lookahead counts on");
     if (trace_.vcd && params_.controlDepth == 0) trace_.vcd->step(t, trace_.backlog, 1);
-    TypeCounts& counts = byType_[size_t(type)];
+    Carried& c = carry();
+    TypeCounts& counts = c.byType[size_t(type)];
     ++counts.messages;
     counts.bytes += bytes;
     ++counts.inFlight;
     const int lane = laneOf(m);
-    Lane& l = lanes_[lane];
+    Lane& l = c.lanes[lane];
     {  // what the link owes for it (occupied())
         const Picos transfer = transferTime(bytes);
         owedWire_ += transfer;
@@ -114,7 +116,7 @@ void Link::send(Message&& m, Picos t) {
 
 void Link::countExpress(uint32_t bytes, uint64_t count) {
     const Picos transfer = transferTime(bytes);
-    TypeCounts& counts = byType_[size_t(MsgType::Ray)];
+    TypeCounts& counts = carry().byType[size_t(MsgType::Ray)];
     counts.messages += count;
     counts.bytes += count * bytes;
     counts.wire += count * transfer;
@@ -135,7 +137,7 @@ Picos Link::slotTime(const Lane& l) const {
 }
 
 void Link::startWaiting(int lane) {
-    Lane& l = lanes_[lane];
+    Lane& l = carried_->lanes[lane];
     while (l.waiting() > 0 && l.slotFree()) {
         const Picos slot = slotTime(l);
         if (params_.outDepth > 0) {  // a sender blocked on the full buffer has room from then
@@ -147,8 +149,8 @@ void Link::startWaiting(int lane) {
 }
 
 Picos Link::roomAt(const Message& m, Picos t) {
-    if (params_.outDepth <= 0) return t;
-    Lane& l = lanes_[laneOf(m)];
+    if (params_.outDepth <= 0 || !carried_) return t;
+    Lane& l = carried_->lanes[laneOf(m)];
     while (!l.leaving.empty() && l.leaving.front() <= t) l.leaving.pop_front();
     // Held at `t`: the backlog, and those that leave it later than `t`
     // (in the order they leave: slots come back in order).
@@ -159,7 +161,8 @@ Picos Link::roomAt(const Message& m, Picos t) {
 }
 
 void Link::putOnWire(int lane, Picos slot) {
-    Lane& l = lanes_[lane];
+    Carried& c = *carried_;
+    Lane& l = c.lanes[lane];
     const Waiting& w = l.firstWaiting();
     const Picos sent = w.sent;
     const Picos transfer = transferTime(w.bytes);
@@ -181,9 +184,9 @@ void Link::putOnWire(int lane, Picos slot) {
     if (distributions_) {
         while (!l.waitedUntil.empty() && l.waitedUntil.front() <= sent) l.waitedUntil.pop_front();
         if (start > sent) l.waitedUntil.push_back(start);
-        stats_.backlogHighWater = std::max(stats_.backlogHighWater, l.waitedUntil.size());
+        c.stats.backlogHighWater = std::max(c.stats.backlogHighWater, l.waitedUntil.size());
     }
-    byType_[size_t(w.type)].wire += transfer;
+    c.byType[size_t(w.type)].wire += transfer;
     if (trace_.vcd && params_.controlDepth == 0) traceStart(start, transfer);
     l.onWire_.fit(l.taken, l.wired);
     l.onWire_[l.wired] = Timed(w, arrival, start, ready, transfer);
@@ -194,18 +197,21 @@ void Link::putOnWire(int lane, Picos slot) {
 }
 
 Picos Link::occupied() const {
-    Picos slots = lanes_[kData].held / Picos(params_.depth);
-    if (params_.controlDepth > 0) slots = std::max(slots, lanes_[kControl].held / Picos(params_.controlDepth));
+    const Carried& c = carried();
+    Picos slots = c.lanes[kData].held / Picos(params_.depth);
+    if (params_.controlDepth > 0) slots = std::max(slots, c.lanes[kControl].held / Picos(params_.controlDepth));
     return std::max(owedWire_, slots);
 }
 
 void Link::endFrame(Picos end) {
+    if (!carried_) return;
+    Carried& c = *carried_;
     const bool late = tracesLate();  // a lane's messages are traced when consumed: these never were
-    for (const Lane& l : lanes_) {
+    for (const Lane& l : c.lanes) {
         for (size_t i = 0; i < l.buffered(); ++i) {
             const Timed& m = l.onWire(i);
             const Picos done = m.start + m.transfer;
-            if (done > end) byType_[size_t(m.type)].wire -= done - std::max(m.start, end);
+            if (done > end) c.byType[size_t(m.type)].wire -= done - std::max(m.start, end);
             if (m.ready < end) countSaturation(m.ready, std::min(m.start, end), std::min(done, end));
             if (m.sent < end) countWaits(m, end);  // up to the end, as its backlog signal shows them
             if (late) {
@@ -214,15 +220,16 @@ void Link::endFrame(Picos end) {
             }
         }
         for (size_t i = 0; i < l.waiting(); ++i) {
-            if (l.backlog[i].sent < end) stats_.slotWait += end - l.backlog[i].sent;  // still waiting for a slot
+            if (l.backlog[i].sent < end) c.stats.slotWait += end - l.backlog[i].sent;  // still waiting for a slot
             if (late) trace_.vcd->step(l.backlog[i].sent, trace_.backlog, 1);
         }
     }
 }
 
 void Link::countWaits(const Timed& m, Picos upTo) {
-    stats_.slotWait += std::min(m.ready, upTo) - m.sent;
-    stats_.wireWait += std::min(m.start, upTo) - std::min(m.ready, upTo);
+    LinkFlow& f = carried_->stats;
+    f.slotWait += std::min(m.ready, upTo) - m.sent;
+    f.wireWait += std::min(m.start, upTo) - std::min(m.ready, upTo);
 }
 
 // (Messages are counted in the order they are consumed, in which their wire
@@ -230,14 +237,15 @@ void Link::countWaits(const Timed& m, Picos upTo) {
 // control message overtaking data ones may end its wait before the last
 // counted: its overlap is not counted twice.)
 void Link::countSaturation(Picos ready, Picos start, Picos end) {
-    if (distributions_) stats_.windows.add(start, end);  // (--link-stats full)
+    LinkFlow& f = carried_->stats;
+    if (distributions_) f.windows.add(start, end);  // (--link-stats full)
     const Picos from = std::max(ready, saturatedUntil_);
-    if (start > from) stats_.saturated += start - from;
+    if (start > from) f.saturated += start - from;
     saturatedUntil_ = std::max(saturatedUntil_, start);
 }
 
 Picos Link::scheduleControl(Picos ready, Picos transfer) {
-    Lane& data = lanes_[kData];  // on the wire in the order they went on it
+    Lane& data = carried_->lanes[kData];  // on the wire in the order they went on it
     const size_t onWire = data.buffered();
     size_t first = 0;  // the first data message not started by `ready`
     while (first < onWire && data.onWire(first).start < ready) ++first;
@@ -265,26 +273,28 @@ bool Link::peekArrival(Picos& arrival) const {
 
 size_t Link::arrivedBy(Picos t) const {
     size_t n = 0;
-    for (const Lane& l : lanes_)
+    for (const Lane& l : carried().lanes)
         for (size_t i = 0; i < l.buffered() && l.onWire(i).t <= t; ++i) ++n;  // buffers are in arrival order
     return n;
 }
 
 bool Link::controlArrivedBy(Picos t) const {
-    const Lane& c = lanes_[kControl];
+    const Lane& c = carried().lanes[kControl];
     return c.buffered() && c.head().t <= t;
 }
 
 Message Link::consumeControl(Picos t) { return take(kControl, t); }
 
 Message Link::consume(Picos t) {
-    const Lane &d = lanes_[kData], &c = lanes_[kControl];
+    const Lane &d = carried().lanes[kData], &c = carried().lanes[kControl];
     const bool control = c.buffered() && (!d.buffered() || c.head().t <= d.head().t);  // ties to control
     return take(control ? kControl : kData, t);
 }
 
 Message Link::take(int lane, Picos t) {
-    Lane& l = lanes_[lane];
+    if (!carried_) throw std::logic_error(name_ + ": consumed before arrival");
+    Carried& c = *carried_;
+    Lane& l = c.lanes[lane];
     if (!l.buffered() || l.head().t > t) throw std::logic_error(name_ + ": consumed before arrival");
     const uint64_t j = l.taken;  // its number
     const Timed& head = l.head();
@@ -295,7 +305,7 @@ Message Link::take(int lane, Picos t) {
     if (keepsBufferMark(l)) {
         if (j + 1 > l.slots) l.markFrom = std::max(l.markFrom, j + 1 - l.slots);
         while (l.markFrom < j && l.takenAt(l.markFrom) <= head.start) ++l.markFrom;
-        stats_.bufferHighWater = std::max(stats_.bufferHighWater, size_t(j - l.markFrom + 1));
+        c.stats.bufferHighWater = std::max(c.stats.bufferHighWater, size_t(j - l.markFrom + 1));
     }
     // Its take time, beside those the next slots need (message n's slot is
     // message n - slots's) and those the mark may still read (from markFrom,
@@ -306,8 +316,8 @@ Message Link::take(int lane, Picos t) {
     l.takenAt_[j] = t;
     countWaits(head, t);  // (taken after its arrival: its whole waits)
     countSaturation(head.ready, head.start, head.start + head.transfer);
-    ++stats_.consumed;
-    if (distributions_) (isControl(head.type) ? stats_.controlLatency : stats_.latency).add(t - head.sent);
+    ++c.stats.consumed;
+    if (distributions_) (isControl(head.type) ? c.stats.controlLatency : c.stats.latency).add(t - head.sent);
     if (trace_.vcd) {
         VcdStream& v = *trace_.vcd;
         if (params_.controlDepth > 0) {  // (its start may have moved: recorded now, when final)
@@ -324,7 +334,7 @@ Message Link::take(int lane, Picos t) {
         for (size_t b = 0; b < sizeof(Message); b += 64) __builtin_prefetch(next + b);
     }
     if (listener_) --listener_->buffered;
-    --byType_[size_t(m.type)].inFlight;
+    --c.byType[size_t(m.type)].inFlight;
     headChanged();
     startWaiting(lane);
     return m;

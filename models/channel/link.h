@@ -108,12 +108,13 @@ public:
 
     const LinkParams& params() const override { return params_; }
     LinkStats stats() const {
+        const Carried& c = carried();
         LinkStats s;
-        static_cast<LinkFlow&>(s) = stats_;
+        static_cast<LinkFlow&>(s) = c.stats;
         for (size_t t = 0; t < size_t(kMsgTypes); ++t) {
-            s.messages[t] = byType_[t].messages;
-            s.bytes[t] = byType_[t].bytes;
-            s.wire[t] = byType_[t].wire;
+            s.messages[t] = c.byType[t].messages;
+            s.bytes[t] = c.byType[t].bytes;
+            s.wire[t] = c.byType[t].wire;
         }
         return s;
     }
@@ -148,23 +149,23 @@ public:
     // change this link records later is earlier (VcdStream's horizon).
     Picos oldestSent() const {
         Picos t = ~Picos(0);
-        for (const Lane& l : lanes_) {  // (a lane's buffer is older than its backlog, each in the order sent)
+        for (const Lane& l : carried().lanes) {  // (a lane's buffer is older than its backlog, each in the order sent)
             if (l.buffered()) t = std::min(t, l.head().sent);
             else if (l.waiting()) t = std::min(t, l.firstWaiting().sent);
         }
         return t;
     }
-    size_t backlog() const { return lanes_[0].waiting() + lanes_[1].waiting(); }
+    size_t backlog() const { return carried().lanes[0].waiting() + carried().lanes[1].waiting(); }
     // Messages of this type sent and not yet consumed.
-    uint64_t inFlight(MsgType t) const { return byType_[size_t(t)].inFlight; }
+    uint64_t inFlight(MsgType t) const { return carried().byType[size_t(t)].inFlight; }
     uint64_t workInFlight() const override {
         uint64_t n = 0;
         for (int t = 0; t < kMsgTypes; ++t)
-            if (!isControl(MsgType(t))) n += byType_[size_t(t)].inFlight;
+            if (!isControl(MsgType(t))) n += carried().byType[size_t(t)].inFlight;
         return n;
     }
     size_t arrivedBy(Picos t) const override;
-    size_t unconsumed() const override { return lanes_[0].buffered() + lanes_[1].buffered(); }
+    size_t unconsumed() const override { return carried().lanes[0].buffered() + carried().lanes[1].buffered(); }
     const std::string& name() const { return name_; }
 
 private:
@@ -253,7 +254,7 @@ private:
     // slots: once the buffer's high-water mark has reached that, no message
     // can raise it, and the lane stops keeping what it needs for it (most
     // messages on the 16x16x16 mesh go on links that fill their 16 slots).
-    bool keepsBufferMark(const Lane& l) const { return distributions_ && stats_.bufferHighWater < l.slots; }
+    bool keepsBufferMark(const Lane& l) const { return distributions_ && carried_->stats.bufferHighWater < l.slots; }
     void putOnWire(int lane, Picos slot);  // the lane's first waiting message
     // A message's slot and wire waits (LinkFlow::slotWait, wireWait) up to
     // `upTo`: at its take, all of them; at the frame's end, those so far.
@@ -266,7 +267,7 @@ private:
     Picos transferTime(uint32_t bytes) const;
     // The oldest unconsumed message's arrival (~0 if none), and telling the listener.
     Picos headArrival() const {
-        const Lane &d = lanes_[kData], &c = lanes_[kControl];
+        const Lane &d = carried().lanes[kData], &c = carried().lanes[kControl];
         return std::min(d.buffered() ? d.head().t : ~Picos(0), c.buffered() ? c.head().t : ~Picos(0));
     }
     void headChanged() {
@@ -274,10 +275,35 @@ private:
     }
     void traceStart(Picos start, Picos transfer);  // (trace_ set)
 
+    // By type, counted as messages are sent, go on the wire and are taken:
+    // a type's four figures in one half cache line (stats() adds the first
+    // three to the rest).
+    struct alignas(32) TypeCounts {
+        uint64_t messages = 0, bytes = 0;
+        Picos wire = 0;
+        uint64_t inFlight = 0;  // sent, not yet consumed
+    };
+    // What a link keeps once it has carried a message: its lanes and its
+    // figures (about 1 KB). Most links of a large mesh carry none in a
+    // frame (every node has a port to every frame-buffer unit: 524,288 on
+    // 32x32x32 with 16 units; and the express rung leaves the empty boxes'
+    // links idle), so a link allocates them at its first message, and one
+    // that has carried none reads as empty (kNothingCarried).
+    struct Carried {
+        LinkFlow stats;
+        std::array<Lane, 2> lanes;
+        std::array<TypeCounts, kMsgTypes> byType{};
+    };
+    static const Carried kNothingCarried;
+    const Carried& carried() const { return carried_ ? *carried_ : kNothingCarried; }
+    Carried& carry() { return carried_ ? *carried_ : startCarrying(); }
+    Carried& startCarrying();
+
     // What a message sent or taken touches comes first, so that it shares
     // a few cache lines: on a large mesh a link is out of cache whenever it
     // is used (the 16x16x16 mesh has about 90,000 links).
     LinkParams params_;
+    std::unique_ptr<Carried> carried_;
     uint32_t smallest_;
     bool distributions_ = true;  // keepDistributions
     mutable uint32_t lastBytes_ = 0;   // transferTime's last message size
@@ -290,17 +316,6 @@ private:
     Progress* progress_ = nullptr;  // the watchdog's (machine.h)
     int listenerPort_ = 0;
     LinkTrace trace_;
-    LinkFlow stats_;
-    std::array<Lane, 2> lanes_;
-    // By type, counted as messages are sent, go on the wire and are taken:
-    // a type's four figures in one half cache line (stats() adds the first
-    // three to the rest).
-    struct alignas(32) TypeCounts {
-        uint64_t messages = 0, bytes = 0;
-        Picos wire = 0;
-        uint64_t inFlight = 0;  // sent, not yet consumed
-    };
-    std::array<TypeCounts, kMsgTypes> byType_{};
     std::string name_;
     // A message left a full output buffer's backlog: only with an output
     // depth (168 bytes, on each of the 16x16x16 mesh's 90,000 links).
