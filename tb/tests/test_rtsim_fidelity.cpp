@@ -14,10 +14,10 @@ using nlohmann::json;
 using namespace rt::test;
 
 namespace {
-const std::string kBalls4 = " --scene " + std::string(RT_SCENE_DIR) + "/balls-4.nff --size 64x64 --mesh 16";
+const std::string kBalls4 = " --scene " + std::string(RT_SCENE_DIR) + "/balls-4.nff --size 128x128 --mesh 16";
 }  // namespace
 
-// balls-4 at 64x64 on 16x16x16: a calibration frame of 16x16 (at least
+// balls-4 at 128x128 on 16x16x16: a calibration frame of 16x16 (at least
 // 256 pixels and a 256th), exact and then at the coarser rungs, the
 // coarsest first, until one is within half the error; the rung chosen is
 // within the error on the frame itself, the image is the exact run's, the
@@ -61,10 +61,11 @@ TEST_F(Rtsim, MaxErrorPicksARungWithinItAndSaysHow) {
 }
 
 // Where the timing steers the boundaries, where the image is too small to
-// calibrate on less of it, and on a mesh too small for a rung to pay for
-// its calibration, the exact model, without a calibration.
+// calibrate on less of it, on a mesh too small for a rung to pay for its
+// calibration, and where the frame is too short for it (fewer than 2
+// pixels a node), the exact model, without a calibration.
 TEST_F(Rtsim, MaxErrorKeepsToExactWhereItMust) {
-    const json slide = report(kBalls4 + " --balance slide --max-error 2%");
+    const json slide = report(" --scene " + std::string(RT_SCENE_DIR) + "/balls-4.nff --size 64x64 --mesh 16 --balance slide --max-error 2%");
     EXPECT_EQ(slide["config"]["fidelity"]["rung"], "exact");
     EXPECT_FALSE(slide["fidelity"].contains("calibration"));
     EXPECT_NE(slide["fidelity"]["why"].get<std::string>().find("timing steers"), std::string::npos);
@@ -75,6 +76,10 @@ TEST_F(Rtsim, MaxErrorKeepsToExactWhereItMust) {
     const json few = report(" --scene " + std::string(RT_SCENE_DIR) + "/balls-4.nff --size 64x64 --mesh 8 --max-error 2%");
     EXPECT_EQ(few["config"]["fidelity"]["rung"], "exact");
     EXPECT_NE(few["fidelity"]["why"].get<std::string>().find("4096 nodes"), std::string::npos);
+    const json shortFrame = report(" --scene " + std::string(RT_SCENE_DIR) + "/balls-4.nff --size 90x90 --mesh 16 --max-error 2%");
+    EXPECT_EQ(shortFrame["config"]["fidelity"]["rung"], "exact");
+    EXPECT_NE(shortFrame["fidelity"]["why"].get<std::string>().find("2 pixels per node"), std::string::npos);
+    EXPECT_FALSE(shortFrame["wall_clock"].contains("calibration_s"));
 }
 
 // Nonsense values and rungs that do not apply: one line naming the flag, exit 2.
