@@ -9,7 +9,10 @@ event, the report's wall_startup_s) and the wall time per modelled event.
 The modelled events are the nodes' ray steps (a ray traced through a box,
 or passed on through it untraced), their intersection tests and every
 message (rays, contributions, credit). At the largest N the image is
-compared with rtref's.
+compared with rtref's. Memory per node: the run's peak over its nodes,
+and an idle mesh's (one sphere at 8x8, one run per N: what a node costs
+for existing, its module, links and ports), each less the peak of the
+idle 1x1x1 mesh (the process itself).
 
 Where the time per event goes: at N = 4 and at the largest N, one more
 run of each scene under `perf record` (sampled, not timed; in the plain
@@ -21,7 +24,9 @@ links, the nodes' loops, the SystemC kernel), each over its own events:
 tracing per ray step or test, the rest per message. From them, the wall
 time per event that the largest mesh would have if every kind of event
 cost what it does at N = 4: the ratio the mix of events alone sets,
-against which issue 45's 1.3 is to be read. Prints tables; with --doc writes
+against which issue 45's 1.3 is to be read; and issue 64's targets (per
+message and per step or test at most 1.5 x N = 4's; balls-5 at N = 32 in
+at most 60 s and 1.5 GiB). Prints tables; with --doc writes
 doc/benchmarks/scaling.md and scaling.png (without it, nothing is written).
 Run with /usr/bin/python3."""
 import argparse
@@ -42,6 +47,9 @@ from project import FAST_BUILD, PAPER_SCENE, ROOT, RTSIM, spd_scene, version  # 
 # Issue 45's targets, checked in the table's last lines.
 TARGET_WALL_S, TARGET_MEM_MIB = 150.0, 3 * 1024
 TARGET_PER_EVENT, TARGET_STARTUP = 1.3, 0.10
+# Issue 64's, after the split table: each kind of event at N = 32 against
+# N = 4, and balls-5's wall and peak memory at N = 32.
+TARGET_PER_KIND, TARGET64_WALL_S, TARGET64_MEM_MIB = 1.5, 60.0, 1.5 * 1024
 
 # The tracing's functions in a profile (perf's symbols): the per-sample work
 # that rtref does too. Everything else in the process is the machine's.
@@ -187,6 +195,11 @@ def measure(a, ns, pin, ver, tmp):
                 row["report"] = {"events": events(r), "render_ns": r["render_time_ns"]}
                 print(f"{scene}, N = {n}, run {run + 1}: {wall:.2f} s, {mem:.0f} MiB, start-up "
                       f"{r['wall_startup_s']:.2f} s", file=sys.stderr)
+    idle = {}  # n -> peak MiB of an idle mesh (a node's cost for existing; 1: the process itself)
+    for n in [1] + ns:
+        _, idle[n] = timed([rtsim, "--spheres", "1", "--size", "8x8", "--mesh", str(n), "--no-baseline", "-q",
+                            "--image", ""])
+        print(f"idle mesh, N = {n}: {idle[n]:.0f} MiB", file=sys.stderr)
     split = {}  # (scene, n) -> (tracing s, rest s, start-up s, events), from one run under perf
     for scene in a.scenes.split(","):
         for n in sorted({4, ns[-1]}) if 4 in ns else []:
@@ -203,14 +216,14 @@ def measure(a, ns, pin, ver, tmp):
         checked([os.path.join(FAST_BUILD, "rtref")] + flags + ["-o", ref])
         with open(ours, "rb") as f, open(ref, "rb") as g:
             same[scene] = f.read() == g.read()
-    text = table(a, ns, rows, same, pin, ver) + split_table(a, ns, split)
+    text = table(a, ns, rows, idle, same, pin, ver) + split_table(a, ns, rows, split)
     print(text)
     if a.doc:
         out = os.path.join(ROOT, "doc", "benchmarks")
         outputs.write_text(os.path.join(out, "scaling.md"),
                            "# How rtsim scales with the mesh\n\nWritten by `scripts/bench_scaling.py --doc`; do not "
                            "edit by hand.\n\n" + image_link("scaling.png") + "\n\n" + text)
-        chart(a, ns, rows, os.path.join(out, "scaling.png"))
+        chart(a, ns, rows, idle, os.path.join(out, "scaling.png"))
 
 
 def image_link(name):
@@ -222,10 +235,16 @@ def per_event(row):
     return statistics.median(row["wall"]) / sum(row["report"]["events"]) * 1e9
 
 
-def table(a, ns, rows, same, pin, ver):
+def kib_per_node(mib, n, idle):
+    """Peak memory per node, the process's own (the idle 1x1x1 mesh's) taken out."""
+    return (mib - idle[1]) * 1024 / n ** 3
+
+
+def table(a, ns, rows, idle, same, pin, ver):
     lines = ["| scene | N | nodes | wall (median) | start-up (median) | start-up share | peak memory (max) | "
-             "ray steps | intersection tests | messages | wall per event | per event / N = 4's |",
-             "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+             "per node: this run / idle mesh (less the process's own) | ray steps | intersection tests | messages | wall per event | "
+             "per event / N = 4's |",
+             "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
     for scene in a.scenes.split(","):
         base = rows.get((scene, 4))
         for n in ns:
@@ -234,7 +253,8 @@ def table(a, ns, rows, same, pin, ver):
             steps, tests, msgs = row["report"]["events"]
             rel = f"{per_event(row) / per_event(base):.2f}" if base else "-"
             lines.append(f"| {scene} | {n} | {n ** 3:,} | {w:.2f} s | {s:.2f} s | {s / w * 100:.1f} % | "
-                         f"{max(row['mem']):.0f} MiB | {steps:,} | {tests:,} | {msgs:,} | {per_event(row):.0f} ns | "
+                         f"{max(row['mem']):.0f} MiB | {kib_per_node(max(row['mem']), n, idle):.1f} / "
+                         f"{kib_per_node(idle[n], n, idle):.1f} KiB | {steps:,} | {tests:,} | {msgs:,} | {per_event(row):.0f} ns | "
                          f"{rel} |")
     top = ns[-1]
     lines += ["", f"Against issue 45's targets (N = {top}):", "",
@@ -260,7 +280,7 @@ def table(a, ns, rows, same, pin, ver):
     return "\n".join(lines) + "\n"
 
 
-def split_table(a, ns, split):
+def split_table(a, ns, rows, split):
     """Where the time per event goes, at N = 4 and the largest N, and the
     ratio the mix of events alone sets (mix_ratio)."""
     top = ns[-1]
@@ -289,14 +309,27 @@ def split_table(a, ns, split):
                   f"would be, against N = 4's: " + "; ".join(f"{s} {m:.2f} x" for s, m in mixes)
                   + f" (the target: {TARGET_PER_EVENT} x). Messages cost more than steps and tests, and their share "
                   "of the events grows with N, so this much of the ratio comes from the mix of events alone."]
+    lines += ["", f"Against issue 64's targets (N = {top}; per kind from the split above):", "",
+              "| target | measured | met |", "|---|---|---|"]
+    for scene in a.scenes.split(","):
+        if (scene, 4) in split and (scene, top) in split:
+            base, got = kind_costs(*split[(scene, 4)]), kind_costs(*split[(scene, top)])
+            for k, kind in ((1, "per message"), (0, "per ray step or test")):
+                r = got[k] / base[k]
+                lines.append(f"| {scene}: {kind} at most {TARGET_PER_KIND} x N = 4's | {r:.2f} x | "
+                             f"{'yes' if r <= TARGET_PER_KIND else 'NO'} |")
+        if scene == "balls-5":
+            w, m = statistics.median(rows[(scene, top)]["wall"]), max(rows[(scene, top)]["mem"])
+            lines.append(f"| {scene}: wall at most {TARGET64_WALL_S:.0f} s | {w:.1f} s | {'yes' if w <= TARGET64_WALL_S else 'NO'} |")
+            lines.append(f"| {scene}: peak memory at most 1.5 GiB | {m:.0f} MiB | {'yes' if m <= TARGET64_MEM_MIB else 'NO'} |")
     return "\n".join(lines) + "\n"
 
 
-def chart(a, ns, rows, path):
+def chart(a, ns, rows, idle, path):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    fig, (ax, bx) = plt.subplots(1, 2, figsize=(11, 4.2))
+    fig, (ax, bx, cx) = plt.subplots(1, 3, figsize=(15, 4.2))
     for scene in a.scenes.split(","):
         ax.plot(ns, [per_event(rows[(scene, n)]) for n in ns], marker="o", label=scene)
         bx.plot(ns, [max(rows[(scene, n)]["mem"]) for n in ns], marker="o", label=f"{scene}: peak memory")
@@ -315,7 +348,15 @@ def chart(a, ns, rows, path):
     bx.set_ylabel("MiB / ms")
     bx.set_title("peak memory and start-up")
     bx.legend(fontsize=8)
-    for x in (ax, bx):
+    for scene in a.scenes.split(","):
+        cx.plot(ns, [kib_per_node(max(rows[(scene, n)]["mem"]), n, idle) for n in ns], marker="o", label=f"{scene}: this run")
+    cx.plot(ns, [kib_per_node(idle[n], n, idle) for n in ns], marker="x", linestyle="--", color="black", label="idle mesh")
+    cx.set_xlabel("N (N x N x N nodes)")
+    cx.set_yscale("log")
+    cx.set_ylabel("KiB per node (peak less the process's, / nodes)")
+    cx.set_title("memory per node")
+    cx.legend(fontsize=8)
+    for x in (ax, bx, cx):
         x.set_xticks(ns)
         x.grid(True, alpha=0.3)
     fig.tight_layout()

@@ -353,9 +353,11 @@ inline const std::vector<Param<MachineConfig>>& machineParams() {
                         gm),
         choiceParam("fidelity", &M::express, "express", "exact", "/fidelity/rung",
                     "exact (every hop an event) or express (rays cross boxes with no objects in one relay, timed as the "
-                    "exact model but for their nodes' slots and own work; --balance none or median; doc/fidelity.md)", gm),
-        specialParam<M>("max-error", "the render-time error you accept (2% or 0.02): rtsim picks --fidelity and --quantum, "
-                                     "the fastest rung within it on a calibration frame (doc/fidelity.md)", gm),
+                    "exact model but for the order of those nodes' own work against the rays; --balance none or median; "
+                    "doc/fidelity.md)", gm),
+        specialParam<M>("max-error", "the render-time error you accept (2% or 0.02): rtsim picks --fidelity, the fastest "
+                                     "rung within it on a calibration frame, or exact where a calibration would not pay "
+                                     "(doc/fidelity.md)", gm),
         partParam<M>("link", gl),
         choiceParam("link-stats", &M::linkDistributions, "full", "counts", "/link_stats",
                     "what the links keep beyond message counts, bytes, wire, wait and backlog times: full (also latency "

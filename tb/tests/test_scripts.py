@@ -193,6 +193,19 @@ class Scripts(unittest.TestCase):
         # tests and 40 M messages with the same costs, (2 + 8) s over 80 M
         # events: 125 ns, 1.5625 x.
         self.assertAlmostEqual(bench_scaling.mix_ratio(costs, (10e6, 30e6, 10e6), (20e6, 20e6, 40e6)), 1.5625)
+        # Issue 64's targets from the same split: at N = 32, 4 s of tracing
+        # over 40 M steps and tests (100 ns, 2 x N = 4's) and 7 s of the rest,
+        # 1 s of it start-up, over 20 M messages (300 ns, 1.5 x: met); 55 s
+        # and 1,600 MiB for balls-5.
+        import types
+        a = types.SimpleNamespace(scenes="balls-5")
+        split = {("balls-5", 4): (2.0, 3.0, 1.0, (10e6, 30e6, 10e6)), ("balls-5", 32): (4.0, 7.0, 1.0, (20e6, 20e6, 20e6))}
+        rows = {("balls-5", 32): {"wall": [50.0, 55.0, 70.0], "mem": [1500.0, 1600.0]}}
+        text = bench_scaling.split_table(a, [4, 32], rows, split)
+        self.assertIn("| balls-5: per message at most 1.5 x N = 4's | 1.50 x | yes |", text)
+        self.assertIn("| balls-5: per ray step or test at most 1.5 x N = 4's | 2.00 x | NO |", text)
+        self.assertIn("| balls-5: wall at most 60 s | 55.0 s | yes |", text)
+        self.assertIn("| balls-5: peak memory at most 1.5 GiB | 1600 MiB | NO |", text)
 
     def test_policy_extra_reaches_only_the_compared_policys_runs(self):
         """spd_never_hurts.py: --policy-extra's flags (--start-mix, which
