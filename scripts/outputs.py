@@ -237,6 +237,9 @@ def run_child(cmd, timeout=None, **kw):
                          text=True, **kw)
     with _lock:
         _children.add(p)
+        late = _stopping
+    if late:  # started by a thread that had not heard of the stop: the stop's clean_up missed it
+        _kill(p)
     try:
         try:
             out, err = p.communicate(timeout=timeout)
@@ -291,7 +294,16 @@ class Stopped(BaseException):
         self.signum = signum
 
 
+# Set by a stop signal before it kills the children: a child that a worker
+# thread starts after that, not yet knowing of the stop (stress.py's pool:
+# its run just killed, it goes on to the next), is killed as soon as it is
+# registered, rather than run to its end while the stop waits for the thread.
+_stopping = False
+
+
 def _on_signal(signum, frame):
+    global _stopping
+    _stopping = True
     clean_up()
     raise Stopped(signum)
 

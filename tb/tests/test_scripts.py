@@ -406,6 +406,22 @@ class Stops(unittest.TestCase):
             self.assertEqual(left, [], "children left running")
             self.assertEqual(os.listdir(d), [], "temporaries left")
 
+    def test_a_child_started_after_a_stop_is_killed_at_once(self):
+        """A worker thread that has not heard of a stop yet may start a child
+        after the stop killed the others (stress.py's pool, whose run was just
+        killed, goes on to its next): run_child kills it as soon as it is
+        registered, not after its whole run (the test above once waited 10 s)."""
+        import time
+        import outputs
+        outputs._stopping = True
+        try:
+            t = time.monotonic()
+            p = outputs.run_child(["sleep", "5"])
+            self.assertLess(time.monotonic() - t, 2.0)
+            self.assertEqual(p.returncode, -9)
+        finally:
+            outputs._stopping = False
+
 
 if __name__ == "__main__":
     unittest.main()
