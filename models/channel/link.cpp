@@ -34,11 +34,15 @@ Link::Link(std::string name, const LinkParams& params, uint32_t smallest)
 }
 
 const Link::Carried Link::kNothingCarried{};
+const Link::Lane Link::kNoLane{};
 
 Link::Carried& Link::startCarrying() {
     carried_ = std::make_unique<Carried>();
-    carried_->lanes[kData].slots = uint32_t(params_.depth);
-    carried_->lanes[kControl].slots = uint32_t(params_.controlDepth);
+    carried_->data.slots = uint32_t(params_.depth);
+    if (params_.controlDepth > 0) {
+        carried_->control = std::make_unique<Lane>();
+        carried_->control->slots = uint32_t(params_.controlDepth);
+    }
     return *carried_;
 }
 
@@ -97,7 +101,7 @@ void Link::send(Message&& m, Picos t) {
     counts.bytes += bytes;
     ++counts.inFlight;
     const int lane = laneOf(m);
-    Lane& l = c.lanes[lane];
+    Lane& l = c.lane(lane);
     {  // what the link owes for it (occupied())
         const Picos transfer = transferTime(bytes);
         owedWire_ += transfer;
@@ -137,7 +141,7 @@ Picos Link::slotTime(const Lane& l) const {
 }
 
 void Link::startWaiting(int lane) {
-    Lane& l = carried_->lanes[lane];
+    Lane& l = carried_->lane(lane);
     while (l.waiting() > 0 && l.slotFree()) {
         const Picos slot = slotTime(l);
         if (params_.outDepth > 0) {  // a sender blocked on the full buffer has room from then
@@ -150,7 +154,7 @@ void Link::startWaiting(int lane) {
 
 Picos Link::roomAt(const Message& m, Picos t) {
     if (params_.outDepth <= 0 || !carried_) return t;
-    Lane& l = carried_->lanes[laneOf(m)];
+    Lane& l = carried_->lane(laneOf(m));
     while (!l.leaving.empty() && l.leaving.front() <= t) l.leaving.pop_front();
     // Held at `t`: the backlog, and those that leave it later than `t`
     // (in the order they leave: slots come back in order).
@@ -162,7 +166,7 @@ Picos Link::roomAt(const Message& m, Picos t) {
 
 void Link::putOnWire(int lane, Picos slot) {
     Carried& c = *carried_;
-    Lane& l = c.lanes[lane];
+    Lane& l = c.lane(lane);
     const Waiting& w = l.firstWaiting();
     const Picos sent = w.sent;
     const Picos transfer = transferTime(w.bytes);
@@ -184,7 +188,7 @@ void Link::putOnWire(int lane, Picos slot) {
     if (distributions_) {
         while (!l.waitedUntil.empty() && l.waitedUntil.front() <= sent) l.waitedUntil.pop_front();
         if (start > sent) l.waitedUntil.push_back(start);
-        c.stats.backlogHighWater = std::max(c.stats.backlogHighWater, l.waitedUntil.size());
+        flow().backlogHighWater = std::max(flow().backlogHighWater, l.waitedUntil.size());
     }
     c.byType[size_t(w.type)].wire += transfer;
     if (trace_.vcd && params_.controlDepth == 0) traceStart(start, transfer);
@@ -198,8 +202,8 @@ void Link::putOnWire(int lane, Picos slot) {
 
 Picos Link::occupied() const {
     const Carried& c = carried();
-    Picos slots = c.lanes[kData].held / Picos(params_.depth);
-    if (params_.controlDepth > 0) slots = std::max(slots, c.lanes[kControl].held / Picos(params_.controlDepth));
+    Picos slots = c.lane(kData).held / Picos(params_.depth);
+    if (params_.controlDepth > 0) slots = std::max(slots, c.lane(kControl).held / Picos(params_.controlDepth));
     return std::max(owedWire_, slots);
 }
 
@@ -207,7 +211,8 @@ void Link::endFrame(Picos end) {
     if (!carried_) return;
     Carried& c = *carried_;
     const bool late = tracesLate();  // a lane's messages are traced when consumed: these never were
-    for (const Lane& l : c.lanes) {
+    for (int k = 0; k < c.lanes(); ++k) {
+        const Lane& l = c.lane(k);
         for (size_t i = 0; i < l.buffered(); ++i) {
             const Timed& m = l.onWire(i);
             const Picos done = m.start + m.transfer;
@@ -220,14 +225,14 @@ void Link::endFrame(Picos end) {
             }
         }
         for (size_t i = 0; i < l.waiting(); ++i) {
-            if (l.backlog[i].sent < end) c.stats.slotWait += end - l.backlog[i].sent;  // still waiting for a slot
+            if (l.backlog[i].sent < end) flow().slotWait += end - l.backlog[i].sent;  // still waiting for a slot
             if (late) trace_.vcd->step(l.backlog[i].sent, trace_.backlog, 1);
         }
     }
 }
 
 void Link::countWaits(const Timed& m, Picos upTo) {
-    LinkFlow& f = carried_->stats;
+    LinkFlow& f = flow();
     f.slotWait += std::min(m.ready, upTo) - m.sent;
     f.wireWait += std::min(m.start, upTo) - std::min(m.ready, upTo);
 }
@@ -237,7 +242,7 @@ void Link::countWaits(const Timed& m, Picos upTo) {
 // control message overtaking data ones may end its wait before the last
 // counted: its overlap is not counted twice.)
 void Link::countSaturation(Picos ready, Picos start, Picos end) {
-    LinkFlow& f = carried_->stats;
+    LinkFlow& f = flow();
     if (distributions_) f.windows.add(start, end);  // (--link-stats full)
     const Picos from = std::max(ready, saturatedUntil_);
     if (start > from) f.saturated += start - from;
@@ -245,7 +250,7 @@ void Link::countSaturation(Picos ready, Picos start, Picos end) {
 }
 
 Picos Link::scheduleControl(Picos ready, Picos transfer) {
-    Lane& data = carried_->lanes[kData];  // on the wire in the order they went on it
+    Lane& data = carried_->data;  // on the wire in the order they went on it
     const size_t onWire = data.buffered();
     size_t first = 0;  // the first data message not started by `ready`
     while (first < onWire && data.onWire(first).start < ready) ++first;
@@ -273,20 +278,22 @@ bool Link::peekArrival(Picos& arrival) const {
 
 size_t Link::arrivedBy(Picos t) const {
     size_t n = 0;
-    for (const Lane& l : carried().lanes)
+    for (int k = 0; k < carried().lanes(); ++k) {
+        const Lane& l = carried().lane(k);
         for (size_t i = 0; i < l.buffered() && l.onWire(i).t <= t; ++i) ++n;  // buffers are in arrival order
+    }
     return n;
 }
 
 bool Link::controlArrivedBy(Picos t) const {
-    const Lane& c = carried().lanes[kControl];
+    const Lane& c = carried().lane(kControl);
     return c.buffered() && c.head().t <= t;
 }
 
 Message Link::consumeControl(Picos t) { return take(kControl, t); }
 
 Message Link::consume(Picos t) {
-    const Lane &d = carried().lanes[kData], &c = carried().lanes[kControl];
+    const Lane &d = carried().lane(kData), &c = carried().lane(kControl);
     const bool control = c.buffered() && (!d.buffered() || c.head().t <= d.head().t);  // ties to control
     return take(control ? kControl : kData, t);
 }
@@ -294,7 +301,7 @@ Message Link::consume(Picos t) {
 Message Link::take(int lane, Picos t) {
     if (!carried_) throw std::logic_error(name_ + ": consumed before arrival");
     Carried& c = *carried_;
-    Lane& l = c.lanes[lane];
+    Lane& l = c.lane(lane);
     if (!l.buffered() || l.head().t > t) throw std::logic_error(name_ + ": consumed before arrival");
     const uint64_t j = l.taken;  // its number
     const Timed& head = l.head();
@@ -305,7 +312,7 @@ Message Link::take(int lane, Picos t) {
     if (keepsBufferMark(l)) {
         if (j + 1 > l.slots) l.markFrom = std::max(l.markFrom, j + 1 - l.slots);
         while (l.markFrom < j && l.takenAt(l.markFrom) <= head.start) ++l.markFrom;
-        c.stats.bufferHighWater = std::max(c.stats.bufferHighWater, size_t(j - l.markFrom + 1));
+        flow().bufferHighWater = std::max(flow().bufferHighWater, size_t(j - l.markFrom + 1));
     }
     // Its take time, beside those the next slots need (message n's slot is
     // message n - slots's) and those the mark may still read (from markFrom,
@@ -316,8 +323,9 @@ Message Link::take(int lane, Picos t) {
     l.takenAt_[j] = t;
     countWaits(head, t);  // (taken after its arrival: its whole waits)
     countSaturation(head.ready, head.start, head.start + head.transfer);
-    ++c.stats.consumed;
-    if (distributions_) (isControl(head.type) ? c.stats.controlLatency : c.stats.latency).add(t - head.sent);
+    LinkFlow& f = flow();
+    ++f.consumed;
+    if (distributions_) (isControl(head.type) ? f.controlLatency : f.latency).add(t - head.sent);
     if (trace_.vcd) {
         VcdStream& v = *trace_.vcd;
         if (params_.controlDepth > 0) {  // (its start may have moved: recorded now, when final)

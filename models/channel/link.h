@@ -108,14 +108,16 @@ public:
 
     const LinkParams& params() const override { return params_; }
     LinkStats stats() const {
-        const Carried& c = carried();
-        LinkStats s;
-        static_cast<LinkFlow&>(s) = c.stats;
-        for (size_t t = 0; t < size_t(kMsgTypes); ++t) {
-            s.messages[t] = c.byType[t].messages;
-            s.bytes[t] = c.byType[t].bytes;
-            s.wire[t] = c.byType[t].wire;
-        }
+        LinkStats s = countsByType();
+        static_cast<LinkFlow&>(s) = carried().stats;
+        return s;
+    }
+    // The same, its distributions and windows moved out, not copied: the
+    // frame's last reading of them (Machine::collect, before restart or the
+    // end). On 32x32x32 the copies were about 150 MB at the run's peak.
+    LinkStats takeStats() {
+        LinkStats s = countsByType();
+        if (carried_) static_cast<LinkFlow&>(s) = std::move(carried_->stats);
         return s;
     }
     // The frame ended at `end`: the wire time after it is taken out of the
@@ -141,6 +143,14 @@ public:
     // A message's time on the wire [start, end) and its wait for it from
     // `ready`, in the saturation figures (LinkFlow::windows, saturated).
     void countSaturation(Picos ready, Picos start, Picos end);
+    // Its waits, latencies, high-water marks and busy windows (LinkFlow) go
+    // into `port`'s instead of its own: one of the channels side by side of
+    // a port whose report merges them (a node's frame-buffer port has one
+    // per unit), so the port's figures are the same. A large mesh's channels
+    // to the frame buffer outnumber its mesh links (524,288 against 196,608
+    // on 32x32x32) and each kept its own busy windows and latency bins, up
+    // to about 2 KB a channel. stats() then gives only its counts by type.
+    void shareFlow(LinkFlow* port) { shared_ = port; }
     void setTrace(const LinkTrace& t) { trace_ = t; }
     // Whether changes it records later may be earlier than the kernel's time
     // (with a control lane: Link::traceStart).
@@ -149,13 +159,14 @@ public:
     // change this link records later is earlier (VcdStream's horizon).
     Picos oldestSent() const {
         Picos t = ~Picos(0);
-        for (const Lane& l : carried().lanes) {  // (a lane's buffer is older than its backlog, each in the order sent)
+        for (int i = 0; i < carried().lanes(); ++i) {  // (a lane's buffer is older than its backlog, each in the order sent)
+            const Lane& l = carried().lane(i);
             if (l.buffered()) t = std::min(t, l.head().sent);
             else if (l.waiting()) t = std::min(t, l.firstWaiting().sent);
         }
         return t;
     }
-    size_t backlog() const { return carried().lanes[0].waiting() + carried().lanes[1].waiting(); }
+    size_t backlog() const { return carried().lane(kData).waiting() + carried().lane(kControl).waiting(); }
     // Messages of this type sent and not yet consumed.
     uint64_t inFlight(MsgType t) const { return carried().byType[size_t(t)].inFlight; }
     uint64_t workInFlight() const override {
@@ -165,7 +176,7 @@ public:
         return n;
     }
     size_t arrivedBy(Picos t) const override;
-    size_t unconsumed() const override { return carried().lanes[0].buffered() + carried().lanes[1].buffered(); }
+    size_t unconsumed() const override { return carried().lane(kData).buffered() + carried().lane(kControl).buffered(); }
     const std::string& name() const { return name_; }
 
 private:
@@ -254,7 +265,9 @@ private:
     // slots: once the buffer's high-water mark has reached that, no message
     // can raise it, and the lane stops keeping what it needs for it (most
     // messages on the 16x16x16 mesh go on links that fill their 16 slots).
-    bool keepsBufferMark(const Lane& l) const { return distributions_ && carried_->stats.bufferHighWater < l.slots; }
+    // (A port's channels have the same slots, so its mark, the largest
+    // channel's, is reached for all of them at once: shareFlow.)
+    bool keepsBufferMark(const Lane& l) const { return distributions_ && flow().bufferHighWater < l.slots; }
     void putOnWire(int lane, Picos slot);  // the lane's first waiting message
     // A message's slot and wire waits (LinkFlow::slotWait, wireWait) up to
     // `upTo`: at its take, all of them; at the frame's end, those so far.
@@ -267,7 +280,7 @@ private:
     Picos transferTime(uint32_t bytes) const;
     // The oldest unconsumed message's arrival (~0 if none), and telling the listener.
     Picos headArrival() const {
-        const Lane &d = carried().lanes[kData], &c = carried().lanes[kControl];
+        const Lane &d = carried().lane(kData), &c = carried().lane(kControl);
         return std::min(d.buffered() ? d.head().t : ~Picos(0), c.buffered() ? c.head().t : ~Picos(0));
     }
     void headChanged() {
@@ -291,19 +304,41 @@ private:
     // that has carried none reads as empty (kNothingCarried).
     struct Carried {
         LinkFlow stats;
-        std::array<Lane, 2> lanes;
+        Lane data;
+        // The control lane's, with one (LinkParams::controlDepth > 0): most
+        // links have none, and it was a fifth of what every link that
+        // carried kept (about 200 bytes).
+        std::unique_ptr<Lane> control;
         std::array<TypeCounts, kMsgTypes> byType{};
+        int lanes() const { return control ? 2 : 1; }
+        Lane& lane(int i) { return i == kData ? data : *control; }  // (kControl: one it has)
+        const Lane& lane(int i) const { return i == kData ? data : control ? *control : kNoLane; }
     };
+    static const Lane kNoLane;
+    LinkStats countsByType() const {
+        const Carried& c = carried();
+        LinkStats s;
+        for (size_t t = 0; t < size_t(kMsgTypes); ++t) {
+            s.messages[t] = c.byType[t].messages;
+            s.bytes[t] = c.byType[t].bytes;
+            s.wire[t] = c.byType[t].wire;
+        }
+        return s;
+    }
     static const Carried kNothingCarried;
     const Carried& carried() const { return carried_ ? *carried_ : kNothingCarried; }
     Carried& carry() { return carried_ ? *carried_ : startCarrying(); }
     Carried& startCarrying();
+    // Where its LinkFlow goes (once it carries): its own, or its port's.
+    LinkFlow& flow() { return shared_ ? *shared_ : carried_->stats; }
+    const LinkFlow& flow() const { return shared_ ? *shared_ : carried_->stats; }
 
     // What a message sent or taken touches comes first, so that it shares
     // a few cache lines: on a large mesh a link is out of cache whenever it
     // is used (the 16x16x16 mesh has about 90,000 links).
     LinkParams params_;
     std::unique_ptr<Carried> carried_;
+    LinkFlow* shared_ = nullptr;  // shareFlow
     uint32_t smallest_;
     bool distributions_ = true;  // keepDistributions
     mutable uint32_t lastBytes_ = 0;   // transferTime's last message size

@@ -45,15 +45,9 @@ struct LinkStats : LinkFlow {
     }
 };
 
-// Adds one channel's figures to a port's: counts, times and distributions
-// summed, high-water marks the larger of the two (each channel has its own
-// slots).
-inline void mergeChannel(LinkStats& into, const LinkStats& s) {
-    for (size_t t = 0; t < s.messages.size(); ++t) {
-        into.messages[t] += s.messages[t];
-        into.bytes[t] += s.bytes[t];
-        into.wire[t] += s.wire[t];
-    }
+// Adds one channel's flow to a port's: times and distributions summed,
+// high-water marks the larger of the two (each channel has its own slots).
+inline void mergeFlow(LinkFlow& into, const LinkFlow& s) {
     into.slotWait += s.slotWait;
     into.windows.merge(s.windows);
     into.saturated += s.saturated;
@@ -63,6 +57,16 @@ inline void mergeChannel(LinkStats& into, const LinkStats& s) {
     into.controlLatency.merge(s.controlLatency);
     into.backlogHighWater = std::max(into.backlogHighWater, s.backlogHighWater);
     into.bufferHighWater = std::max(into.bufferHighWater, s.bufferHighWater);
+}
+
+// Adds one channel's figures to a port's: counts by type summed, and its flow.
+inline void mergeChannel(LinkStats& into, const LinkStats& s) {
+    for (size_t t = 0; t < s.messages.size(); ++t) {
+        into.messages[t] += s.messages[t];
+        into.bytes[t] += s.bytes[t];
+        into.wire[t] += s.wire[t];
+    }
+    mergeFlow(into, s);
 }
 
 }  // namespace rt

@@ -57,6 +57,7 @@ void Machine::nextFrame(const View& view, const MachineConfig& next, int frame) 
     aimAtTargets();
     for (auto* links : {&links_, &unitLinks_})
         for (auto& l : *links) l->restart();
+    for (PortFlow& p : portFlows_) p.flow = {};
     if (relay_) {  // (the same machine: its boxes are where they were)
         express_->restart();
         spawned_.push_back(relay_->restart(frame));
