@@ -1,6 +1,8 @@
 #include "channel/link.h"
 
 #include <cmath>
+#include <mutex>
+#include <set>
 #include <stdexcept>
 
 namespace rt {
@@ -28,9 +30,17 @@ uint32_t objectBytes(const Shape& s) {
     return head + 8 * 8 + 1;  // cone: two centres, two radii, inside flag
 }
 
-Link::Link(std::string name, const LinkParams& params, uint32_t smallest)
-    : params_(params), smallest_(smallest), name_(std::move(name)) {
+Link::Link(const std::string& name, const LinkParams& params, uint32_t smallest)
+    : params_(&sharedParams(params)), smallest_(smallest), name_(new char[name.size() + 1]) {
+    std::copy(name.c_str(), name.c_str() + name.size() + 1, name_.get());
     if (params.outDepth > 0) room_ = std::make_unique<sc_core::sc_event>();
+}
+
+const LinkParams& sharedParams(const LinkParams& p) {
+    static std::mutex lock;
+    static std::set<LinkParams> all;  // (a set's elements stay where they are)
+    const std::lock_guard<std::mutex> hold(lock);
+    return *all.insert(p).first;
 }
 
 const Link::Carried Link::kNothingCarried{};
@@ -38,10 +48,14 @@ const Link::Lane Link::kNoLane{};
 
 Link::Carried& Link::startCarrying() {
     carried_ = std::make_unique<Carried>();
-    carried_->data.slots = uint32_t(params_.depth);
-    if (params_.controlDepth > 0) {
+    if (!flow_) {  // no entry (flowInto): its own
+        carried_->own = std::make_unique<LinkFlow>();
+        flow_ = carried_->own.get();
+    }
+    carried_->data.slots = uint32_t(params_->depth);
+    if (params_->controlDepth > 0) {
         carried_->control = std::make_unique<Lane>();
-        carried_->control->slots = uint32_t(params_.controlDepth);
+        carried_->control->slots = uint32_t(params_->controlDepth);
     }
     return *carried_;
 }
@@ -53,6 +67,7 @@ void Link::restart() {
     listener_ = nullptr;  // (the receiver listens again at its start)
     listenerPort_ = 0;
     trace_ = {};
+    if (carried_ && carried_->own) flow_ = nullptr;  // (an entry stays: its owner empties it, Machine::nextFrame)
     carried_.reset();
     quiet();
 }
@@ -62,11 +77,11 @@ Picos Link::transferTime(uint32_t bytes) const {
     if (bytes != lastBytes_) {
         // (A message of a size the configuration did not bound: a slab of
         // many objects at a low bandwidth; machine_config.h checks the rest.)
-        if (!(wirePicos(params_, bytes) <= double(kMaxTimeValue)))
-            throw std::runtime_error(name_ + ": a message of " + std::to_string(bytes) + " bytes would take more than 1,000 s on the wire at " +
-                                     formatRate(params_.bandwidth) + " (--link-bandwidth, --link-set)");
+        if (!(wirePicos(*params_, bytes) <= double(kMaxTimeValue)))
+            throw std::runtime_error(name() + ": a message of " + std::to_string(bytes) + " bytes would take more than 1,000 s on the wire at " +
+                                     formatRate(params_->bandwidth) + " (--link-bandwidth, --link-set)");
         lastBytes_ = bytes;
-        lastTransfer_ = wireTime(params_, bytes);
+        lastTransfer_ = wireTime(*params_, bytes);
     }
     return lastTransfer_;
 }
@@ -92,9 +107,9 @@ void Link::send(Message&& m, Picos t) {
     // The receiver runs ahead by its lookahead, which counts on no message
     // arriving sooner than the smallest one would.
     if (bytes < smallest_)
-        throw std::logic_error(name_ + ": a " + msgTypeName(m.type) + " message of " + std::to_string(bytes) +
+        throw std::logic_error(name() + ": a " + msgTypeName(m.type) + " message of " + std::to_string(bytes) +
                                " bytes, smaller than the " + std::to_string(smallest_) + " its receiver's lookahead counts on");
-    if (trace_.vcd && params_.controlDepth == 0) trace_.vcd->step(t, trace_.backlog, 1);
+    if (trace_.vcd && params_->controlDepth == 0) trace_.vcd->step(t, trace_.backlog, 1);
     Carried& c = carry();
     TypeCounts& counts = c.byType[size_t(type)];
     ++counts.messages;
@@ -105,7 +120,7 @@ void Link::send(Message&& m, Picos t) {
     {  // what the link owes for it (occupied())
         const Picos transfer = transferTime(bytes);
         owedWire_ += transfer;
-        l.held += transfer + 2 * params_.latency;
+        l.held += transfer + 2 * params_->latency;
     }
     if (progress_ && !isControl(m.type)) progress_->mark(t);  // work moves; load reports alone are no progress
     const bool nothingWaits = l.waiting() == 0;
@@ -137,14 +152,14 @@ Picos Link::expressStart(uint32_t bytes, Picos t) {
 
 Picos Link::slotTime(const Lane& l) const {
     if (l.wired < l.slots) return 0;  // a slot not used yet
-    return l.takenAt(l.wired - l.slots) + params_.latency;  // the credit travelled back
+    return l.takenAt(l.wired - l.slots) + params_->latency;  // the credit travelled back
 }
 
 void Link::startWaiting(int lane) {
     Lane& l = carried_->lane(lane);
     while (l.waiting() > 0 && l.slotFree()) {
         const Picos slot = slotTime(l);
-        if (params_.outDepth > 0) {  // a sender blocked on the full buffer has room from then
+        if (params_->outDepth > 0) {  // a sender blocked on the full buffer has room from then
             const Picos room = std::max(l.firstWaiting().sent, slot), k = frameClock();
             room_->notify(sc_core::sc_time::from_value(room > k ? room - k : 0));
         }
@@ -153,12 +168,12 @@ void Link::startWaiting(int lane) {
 }
 
 Picos Link::roomAt(const Message& m, Picos t) {
-    if (params_.outDepth <= 0 || !carried_) return t;
+    if (params_->outDepth <= 0 || !carried_) return t;
     Lane& l = carried_->lane(laneOf(m));
     while (!l.leaving.empty() && l.leaving.front() <= t) l.leaving.pop_front();
     // Held at `t`: the backlog, and those that leave it later than `t`
     // (in the order they leave: slots come back in order).
-    const size_t held = l.waiting() + l.leaving.size(), cap = size_t(params_.outDepth);
+    const size_t held = l.waiting() + l.leaving.size(), cap = size_t(params_->outDepth);
     if (held < cap) return t;
     const size_t mustLeave = held - cap + 1;
     return l.leaving.size() >= mustLeave ? l.leaving[mustLeave - 1] : kRoomUnknown;
@@ -174,7 +189,7 @@ void Link::putOnWire(int lane, Picos slot) {
     // Until its slot is free it is in the sender's output buffer. (With a
     // quantum the slot may be known before the message is sent, when the
     // receiver runs ahead: it waits all the same, without a backlog.)
-    if (params_.outDepth > 0 && ready > sent) l.leaving.push_back(ready);
+    if (params_->outDepth > 0 && ready > sent) l.leaving.push_back(ready);
     Picos start;
     if (lane == kData) {
         start = std::max(ready, wireFree_);
@@ -182,8 +197,8 @@ void Link::putOnWire(int lane, Picos slot) {
     } else {
         start = scheduleControl(ready, transfer);
     }
-    const Picos arrival = start + transfer + params_.latency;
-    checkSimTime(arrival, name_.c_str());  // (a backlog of long messages can pass the counter)
+    const Picos arrival = start + transfer + params_->latency;
+    checkSimTime(arrival, name_.get());  // (a backlog of long messages can pass the counter)
     // Messages sent before this one and still off the wire when it was sent.
     if (distributions_) {
         while (!l.waitedUntil.empty() && l.waitedUntil.front() <= sent) l.waitedUntil.pop_front();
@@ -191,7 +206,7 @@ void Link::putOnWire(int lane, Picos slot) {
         flow().backlogHighWater = std::max(flow().backlogHighWater, l.waitedUntil.size());
     }
     c.byType[size_t(w.type)].wire += transfer;
-    if (trace_.vcd && params_.controlDepth == 0) traceStart(start, transfer);
+    if (trace_.vcd && params_->controlDepth == 0) traceStart(start, transfer);
     l.onWire_.fit(l.taken, l.wired);
     l.onWire_[l.wired] = Timed(w, arrival, start, ready, transfer);
     l.backlog.pop_front();
@@ -202,8 +217,8 @@ void Link::putOnWire(int lane, Picos slot) {
 
 Picos Link::occupied() const {
     const Carried& c = carried();
-    Picos slots = c.lane(kData).held / Picos(params_.depth);
-    if (params_.controlDepth > 0) slots = std::max(slots, c.lane(kControl).held / Picos(params_.controlDepth));
+    Picos slots = c.lane(kData).held / Picos(params_->depth);
+    if (params_->controlDepth > 0) slots = std::max(slots, c.lane(kControl).held / Picos(params_->controlDepth));
     return std::max(owedWire_, slots);
 }
 
@@ -264,7 +279,7 @@ Picos Link::scheduleControl(Picos ready, Picos transfer) {
         Timed& d = data.onWire(i);
         d.start = std::max(d.ready, end);
         end = d.start + d.transfer;
-        d.t = end + params_.latency;
+        d.t = end + params_->latency;
     }
     wireFree_ = std::max(wireFree_, end);
     if (first == 0 && onWire > 0) headChanged();  // the data head moved
@@ -299,10 +314,10 @@ Message Link::consume(Picos t) {
 }
 
 Message Link::take(int lane, Picos t) {
-    if (!carried_) throw std::logic_error(name_ + ": consumed before arrival");
+    if (!carried_) throw std::logic_error(name() + ": consumed before arrival");
     Carried& c = *carried_;
     Lane& l = c.lane(lane);
-    if (!l.buffered() || l.head().t > t) throw std::logic_error(name_ + ": consumed before arrival");
+    if (!l.buffered() || l.head().t > t) throw std::logic_error(name() + ": consumed before arrival");
     const uint64_t j = l.taken;  // its number
     const Timed& head = l.head();
     // Messages on the lane when it went on the wire: those before it taken
@@ -328,7 +343,7 @@ Message Link::take(int lane, Picos t) {
     if (distributions_) (isControl(head.type) ? f.controlLatency : f.latency).add(t - head.sent);
     if (trace_.vcd) {
         VcdStream& v = *trace_.vcd;
-        if (params_.controlDepth > 0) {  // (its start may have moved: recorded now, when final)
+        if (params_->controlDepth > 0) {  // (its start may have moved: recorded now, when final)
             v.step(head.sent, trace_.backlog, 1);
             traceStart(head.start, head.transfer);
         }

@@ -79,9 +79,9 @@ public:
     // `smallest`: the fewest bytes a message on it may have (message.h,
     // smallestMeshMessage); its receiver's lookahead counts on it, and send
     // refuses a smaller message.
-    Link(std::string name, const LinkParams& params, uint32_t smallest = kHeaderBytes);
+    Link(const std::string& name, const LinkParams& params, uint32_t smallest = kHeaderBytes);
     // The soonest after its sender's time that a message sent on it arrives.
-    Picos lookahead() const { return linkLookahead(params_, smallest_); }
+    Picos lookahead() const { return linkLookahead(*params_, smallest_); }
 
     void send(Message&& m, Picos t) override;
     Picos roomAt(const Message& m, Picos t) override;
@@ -106,18 +106,23 @@ public:
         headChanged();
     }
 
-    const LinkParams& params() const override { return params_; }
+    const LinkParams& params() const override { return *params_; }
+    // Its figures; with an entry (flowInto), the entry's flow (a port's:
+    // every channel's).
     LinkStats stats() const {
         LinkStats s = countsByType();
-        static_cast<LinkFlow&>(s) = carried().stats;
+        if (flow_) static_cast<LinkFlow&>(s) = *flow_;
         return s;
     }
-    // The same, its distributions and windows moved out, not copied: the
-    // frame's last reading of them (Machine::collect, before restart or the
-    // end). On 32x32x32 the copies were about 150 MB at the run's peak.
-    LinkStats takeStats() {
-        LinkStats s = countsByType();
-        if (carried_) static_cast<LinkFlow&>(s) = std::move(carried_->stats);
+    // Its messages, bytes and wire time by type (the rest of LinkStats empty).
+    LinkStats countsByType() const {
+        const Carried& c = carried();
+        LinkStats s;
+        for (size_t t = 0; t < size_t(kMsgTypes); ++t) {
+            s.messages[t] = c.byType[t].messages;
+            s.bytes[t] = c.byType[t].bytes;
+            s.wire[t] = c.byType[t].wire;
+        }
         return s;
     }
     // The frame ended at `end`: the wire time after it is taken out of the
@@ -143,18 +148,18 @@ public:
     // A message's time on the wire [start, end) and its wait for it from
     // `ready`, in the saturation figures (LinkFlow::windows, saturated).
     void countSaturation(Picos ready, Picos start, Picos end);
-    // Its waits, latencies, high-water marks and busy windows (LinkFlow) go
-    // into `port`'s instead of its own: one of the channels side by side of
-    // a port whose report merges them (a node's frame-buffer port has one
-    // per unit), so the port's figures are the same. A large mesh's channels
-    // to the frame buffer outnumber its mesh links (524,288 against 196,608
-    // on 32x32x32) and each kept its own busy windows and latency bins, up
-    // to about 2 KB a channel. stats() then gives only its counts by type.
-    void shareFlow(LinkFlow* port) { shared_ = port; }
+    // Where its waits, latencies, high-water marks and busy windows
+    // (LinkFlow) go: into `entry`, its entry in the run's report (Machine),
+    // which the channels side by side of a port share (a node's frame-buffer
+    // port has one per unit): the same figures as each channel's merged, as
+    // the report did. Without one, a link makes its own at its first message.
+    // So a link that carries keeps only its lanes and its counts by type
+    // (about 500 bytes, where it kept 1,056 and the report a copy).
+    void flowInto(LinkFlow* entry) { flow_ = entry; }
     void setTrace(const LinkTrace& t) { trace_ = t; }
     // Whether changes it records later may be earlier than the kernel's time
     // (with a control lane: Link::traceStart).
-    bool tracesLate() const { return trace_.vcd && params_.controlDepth > 0; }
+    bool tracesLate() const { return trace_.vcd && params_->controlDepth > 0; }
     // When the oldest message not yet consumed was sent (~0 if none): no
     // change this link records later is earlier (VcdStream's horizon).
     Picos oldestSent() const {
@@ -177,7 +182,7 @@ public:
     }
     size_t arrivedBy(Picos t) const override;
     size_t unconsumed() const override { return carried().lane(kData).buffered() + carried().lane(kControl).buffered(); }
-    const std::string& name() const { return name_; }
+    std::string name() const { return name_.get(); }
 
 private:
     // A message's times on the link, kept apart from the message itself:
@@ -258,7 +263,7 @@ private:
     };
     static constexpr int kData = 0, kControl = 1;
     // Control messages, and the sample's rays under --sample-end credit (Message::priority).
-    int laneOf(const Message& m) const { return params_.controlDepth > 0 && (isControl(m.type) || m.priority) ? kControl : kData; }
+    int laneOf(const Message& m) const { return params_->controlDepth > 0 && (isControl(m.type) || m.priority) ? kControl : kData; }
     void startWaiting(int lane);  // puts backlog messages on the wire while slots allow
     Picos slotTime(const Lane& l) const;  // when the slot of the lane's next message on the wire became free (one must be)
     // Messages on a lane at once (each holding a slot) are at most its
@@ -266,7 +271,7 @@ private:
     // can raise it, and the lane stops keeping what it needs for it (most
     // messages on the 16x16x16 mesh go on links that fill their 16 slots).
     // (A port's channels have the same slots, so its mark, the largest
-    // channel's, is reached for all of them at once: shareFlow.)
+    // channel's, is reached for all of them at once: flowInto.)
     bool keepsBufferMark(const Lane& l) const { return distributions_ && flow().bufferHighWater < l.slots; }
     void putOnWire(int lane, Picos slot);  // the lane's first waiting message
     // A message's slot and wire waits (LinkFlow::slotWait, wireWait) up to
@@ -297,13 +302,14 @@ private:
         uint64_t inFlight = 0;  // sent, not yet consumed
     };
     // What a link keeps once it has carried a message: its lanes and its
-    // figures (about 1 KB). Most links of a large mesh carry none in a
+    // counts by type (about 550 bytes; its other figures are its entry's:
+    // flowInto). Most links of a large mesh carry none in a
     // frame (every node has a port to every frame-buffer unit: 524,288 on
     // 32x32x32 with 16 units; and the express rung leaves the empty boxes'
     // links idle), so a link allocates them at its first message, and one
     // that has carried none reads as empty (kNothingCarried).
     struct Carried {
-        LinkFlow stats;
+        std::unique_ptr<LinkFlow> own;  // without an entry (flowInto)
         Lane data;
         // The control lane's, with one (LinkParams::controlDepth > 0): most
         // links have none, and it was a fifth of what every link that
@@ -315,43 +321,35 @@ private:
         const Lane& lane(int i) const { return i == kData ? data : control ? *control : kNoLane; }
     };
     static const Lane kNoLane;
-    LinkStats countsByType() const {
-        const Carried& c = carried();
-        LinkStats s;
-        for (size_t t = 0; t < size_t(kMsgTypes); ++t) {
-            s.messages[t] = c.byType[t].messages;
-            s.bytes[t] = c.byType[t].bytes;
-            s.wire[t] = c.byType[t].wire;
-        }
-        return s;
-    }
     static const Carried kNothingCarried;
     const Carried& carried() const { return carried_ ? *carried_ : kNothingCarried; }
     Carried& carry() { return carried_ ? *carried_ : startCarrying(); }
     Carried& startCarrying();
-    // Where its LinkFlow goes (once it carries): its own, or its port's.
-    LinkFlow& flow() { return shared_ ? *shared_ : carried_->stats; }
-    const LinkFlow& flow() const { return shared_ ? *shared_ : carried_->stats; }
+    // Where its LinkFlow goes (once it carries): its entry's, or its own.
+    LinkFlow& flow() { return *flow_; }
+    const LinkFlow& flow() const { return *flow_; }
 
     // What a message sent or taken touches comes first, so that it shares
     // a few cache lines: on a large mesh a link is out of cache whenever it
     // is used (the 16x16x16 mesh has about 90,000 links).
-    LinkParams params_;
+    // (A large mesh has about 900,000 links: its fields are packed, and its
+    // parameters are shared with the links that have the same, sharedParams.)
+    const LinkParams* params_;
     std::unique_ptr<Carried> carried_;
-    LinkFlow* shared_ = nullptr;  // shareFlow
-    uint32_t smallest_;
-    bool distributions_ = true;  // keepDistributions
-    mutable uint32_t lastBytes_ = 0;   // transferTime's last message size
-    mutable Picos lastTransfer_ = 0;   // and its time on the wire
+    LinkFlow* flow_ = nullptr;  // its entry's (flowInto), or once it carries without one, its own
+    mutable Picos lastTransfer_ = 0;   // transferTime's last message's time on the wire
     Picos owedWire_ = 0;     // every message sent: its time on the wire (occupied())
     Picos wireFree_ = 0;     // the end of the last transmission scheduled
     Picos controlFree_ = 0;  // the end of the last control transmission
     Picos saturatedUntil_ = 0;  // LinkFlow::saturated counted up to here
     ArrivalListener* listener_ = nullptr;
     Progress* progress_ = nullptr;  // the watchdog's (machine.h)
+    mutable uint32_t lastBytes_ = 0;   // and its size
+    uint32_t smallest_;
     int listenerPort_ = 0;
+    bool distributions_ = true;  // keepDistributions
     LinkTrace trace_;
-    std::string name_;
+    std::unique_ptr<char[]> name_;  // (8 bytes where a string took 32 and its heap copy as many)
     // A message left a full output buffer's backlog: only with an output
     // depth (168 bytes, on each of the 16x16x16 mesh's 90,000 links).
     std::unique_ptr<sc_core::sc_event> room_;

@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
+#include <tuple>
 
 #include <vector>
 
@@ -42,6 +44,20 @@ struct LinkParams {
 // keys, NAME with '_' for '-'), --fb-NAME for the frame-buffer ports where
 // they have it; echoed in the report's config.link, link_overrides and
 // fb_port (base/param.h).
+// (The bandwidth by its bits: a NaN, which checks refuse, is not equal to every value.)
+inline bool operator<(const LinkParams& a, const LinkParams& b) {
+    const auto key = [](const LinkParams& p) {
+        uint64_t bits;
+        std::memcpy(&bits, &p.bandwidth, sizeof bits);
+        return std::make_tuple(p.latency, bits, p.depth, p.controlDepth, p.outDepth, p.engine);
+    };
+    return key(a) < key(b);
+}
+
+// One copy of each set of parameters, for the process's lifetime: links
+// with the same (most of a mesh's) share it (link.cpp).
+const LinkParams& sharedParams(const LinkParams& p);
+
 inline const std::vector<Param<LinkParams>>& linkParams() {
     static const std::vector<Param<LinkParams>> rows = {
         alsoForPorts(timeParam("latency", &LinkParams::latency, "/latency_ns", "link latency"), "frame-buffer port latency"),

@@ -45,28 +45,13 @@ struct LinkStats : LinkFlow {
     }
 };
 
-// Adds one channel's flow to a port's: times and distributions summed,
-// high-water marks the larger of the two (each channel has its own slots).
-inline void mergeFlow(LinkFlow& into, const LinkFlow& s) {
-    into.slotWait += s.slotWait;
-    into.windows.merge(s.windows);
-    into.saturated += s.saturated;
-    into.wireWait += s.wireWait;
-    into.consumed += s.consumed;
-    into.latency.merge(s.latency);
-    into.controlLatency.merge(s.controlLatency);
-    into.backlogHighWater = std::max(into.backlogHighWater, s.backlogHighWater);
-    into.bufferHighWater = std::max(into.bufferHighWater, s.bufferHighWater);
-}
-
-// Adds one channel's figures to a port's: counts by type summed, and its flow.
-inline void mergeChannel(LinkStats& into, const LinkStats& s) {
+// Adds one channel's counts by type to a port's.
+inline void addCounts(LinkStats& into, const LinkStats& s) {
     for (size_t t = 0; t < s.messages.size(); ++t) {
         into.messages[t] += s.messages[t];
         into.bytes[t] += s.bytes[t];
         into.wire[t] += s.wire[t];
     }
-    mergeFlow(into, s);
 }
 
 }  // namespace rt

@@ -127,7 +127,6 @@ void Machine::buildLinks() {
     links_.reserve(most);
     reportOf_.reserve(most);
     linkInfo_.reserve(nodes_.size() * size_t(kDirs + 1));
-    if (cfg_.fbUnits > 1) portFlows_.reserve(nodes_.size());  // (the links point into it)
     for (Node& n : nodes_) {
         linkNeighbours(n, nodeLookahead);
         linkToFrameBuffer(n, unitLookahead);
@@ -138,6 +137,7 @@ void Machine::buildLinks() {
     buildExpress();
     if (cfg_.lookaheadQuantum && cfg_.fbLate > 0 && cfg_.vcdPath.empty() && cfg_.fbPort.outDepth == 0)
         for (int u = 1; u < cfg_.fbUnits; ++u) units_[size_t(u)].setLate(cfg_.fbLate);
+    for (size_t i = 0; i < links_.size(); ++i) links_[i]->flowInto(&linkInfo_[reportOf_[i]].stats);  // (linkInfo_ grows no more)
     startWatchdog();
     for (auto* links : {&links_, &unitLinks_})
         for (auto& l : *links) {
@@ -182,10 +182,8 @@ void Machine::linkToFrameBuffer(Node& n, std::vector<Picos>& unitLookahead) {
     const int k = cfg_.fbUnits;
     const std::string fname = nodeName(n.cell()) + "_fb";
     const LinkParams port = cfg_.fbPortOf(n.cell());
-    if (k > 1) portFlows_.push_back({linkInfo_.size(), {}});
     for (int u = 0; u < k; ++u) {
         links_.push_back(std::make_unique<Link>(k > 1 ? fname + std::to_string(u) : fname, port));
-        if (k > 1) links_.back()->shareFlow(&portFlows_.back().flow);
         n.fb.bind(*links_.back());                   // the node's u-th binding
         units_[size_t(u)].addNodeLink(*links_.back());  // the unit's input from this node (nodes in order)
         unitLookahead[size_t(u)] = std::min(unitLookahead[size_t(u)], links_.back()->lookahead());
@@ -384,14 +382,11 @@ std::string Machine::whoHolds() const {
 MachineResult Machine::collect(double wallSeconds, bool last) {
     MachineResult r;
     r.links = last ? std::move(linkInfo_) : linkInfo_;
-    // Each link's figures moved, not copied, into its entry (a port's flow is
-    // shared: Link::shareFlow); the last frame's links emptied as they are
-    // read, their lanes and rings (2 KB a link) make room for the rest.
-    for (PortFlow& p : portFlows_) static_cast<LinkFlow&>(r.links[p.report].stats) = std::move(p.flow);
+    // The links' flows are in their entries already (Link::flowInto); their
+    // counts by type are added. The last frame's links are emptied as they
+    // are read: their lanes and rings make room for the rest of the report.
     for (size_t i = 0; i < links_.size(); ++i) {
-        LinkReport& e = r.links[reportOf_[i]];
-        if (e.channels == 1) e.stats = links_[i]->takeStats();
-        else mergeChannel(e.stats, links_[i]->takeStats());
+        addCounts(r.links[reportOf_[i]].stats, links_[i]->countsByType());
         if (last) links_[i]->restart();
     }
     r.image = assembleImage(units_, width_, height_);

@@ -188,15 +188,8 @@ private:
     // Units 1..K-1: [2(u-1)] u -> 0, [2(u-1) + 1] 0 -> u; then (--sample-end credit) 0 -> each column's lowest node.
     std::vector<std::unique_ptr<Link>> unitLinks_;
     std::map<std::pair<size_t, int>, Link*> meshLinks_;  // (node, direction) -> its outgoing link
-    std::vector<LinkReport> linkInfo_;  // the report's links
+    std::vector<LinkReport> linkInfo_;  // the report's links (their figures but counts by type: Link::flowInto)
     std::vector<size_t> reportOf_;      // per link in links_: its entry in linkInfo_
-    // A frame-buffer port's channels' flow, shared (Link::shareFlow): with
-    // more than one unit, per node, with its entry in linkInfo_.
-    struct PortFlow {
-        size_t report;
-        LinkFlow flow;
-    };
-    std::vector<PortFlow> portFlows_;
     uint64_t primaryMisses_ = 0;
     std::unique_ptr<Watchdog> watchdog_;
     std::unique_ptr<ObjectBins> bins_;  // the scene's objects by cell of the uniform split
