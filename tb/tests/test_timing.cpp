@@ -17,6 +17,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <numeric>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -221,6 +222,32 @@ TEST(BusyWindowsBy, WidenAndMergeByHand) {
     BusyWindows c;
     c.add(0, 600);
     EXPECT_DOUBLE_EQ(c.peak(800), 600.0 / 800.0);  // a frame shorter than a window: that window up to the end
+}
+
+// A window's busy time is kept in 32 bits until one does not fit (4.29 ms):
+// then every window in 64, the same figures.
+TEST(BusyWindowsBy, WindowsPast32BitsKeepTheirTime) {
+    const Picos w = 4194304000;  // 1 ns doubled 22 times: the widest window whose full busy time fits in 32 bits
+    BusyWindows c;
+    c.add(0, 128 * w);  // 128 full windows
+    ASSERT_EQ(c.width(), w);
+    EXPECT_EQ(c.busy(), std::vector<Picos>(128, w));
+    c.add(128 * w, 128 * w + 1);  // past the last window: pairs added, each 2w, past 32 bits
+    ASSERT_EQ(c.width(), 2 * w);
+    std::vector<Picos> byHand(64, 2 * w);
+    byHand.push_back(1);
+    EXPECT_EQ(c.busy(), byHand);
+    EXPECT_DOUBLE_EQ(c.peak(129 * w), 1.0);
+    BusyWindows a;
+    a.add(0, 1000);
+    a.add((Picos(1) << 40) - 3000, Picos(1) << 40);  // 1.1 s: a window 8.8 ms wide
+    EXPECT_EQ(a.busy().front(), 1000u);
+    EXPECT_EQ(a.busy().back(), 3000u);
+    BusyWindows b;
+    b.add(0, Picos(1) << 40);  // every window full (the last in part), each past 32 bits at once
+    const std::vector<Picos> all = b.busy();
+    EXPECT_EQ(all.front(), b.width());
+    EXPECT_EQ(std::accumulate(all.begin(), all.end(), Picos(0)), Picos(1) << 40);
 }
 
 // The high-water marks, from the same closed form. Buffer: message k and
