@@ -154,7 +154,7 @@ public:
     // port has one per unit): the same figures as each channel's merged, as
     // the report did. Without one, a link makes its own at its first message.
     // So a link that carries keeps only its lanes and its counts by type
-    // (about 500 bytes, where it kept 1,056 and the report a copy).
+    // (512 bytes, where it kept 1,056 and the report a copy).
     void flowInto(LinkFlow* entry) { flow_ = entry; }
     void setTrace(const LinkTrace& t) { trace_ = t; }
     // Whether changes it records later may be earlier than the kernel's time
@@ -302,7 +302,7 @@ private:
         uint64_t inFlight = 0;  // sent, not yet consumed
     };
     // What a link keeps once it has carried a message: its lanes and its
-    // counts by type (about 550 bytes; its other figures are its entry's:
+    // counts by type (512 bytes; its other figures are its entry's:
     // flowInto). Most links of a large mesh carry none in a
     // frame (every node has a port to every frame-buffer unit: 524,288 on
     // 32x32x32 with 16 units; and the express rung leaves the empty boxes'
