@@ -110,20 +110,20 @@ public:
     // Its figures; with an entry (flowInto), the entry's flow (a port's:
     // every channel's).
     LinkStats stats() const {
-        LinkStats s = countsByType();
+        LinkStats s;
+        addCountsTo(s);
         if (flow_) static_cast<LinkFlow&>(s) = *flow_;
         return s;
     }
-    // Its messages, bytes and wire time by type (the rest of LinkStats empty).
-    LinkStats countsByType() const {
+    // Adds its messages, bytes and wire time by type to `into` (its entry
+    // holds the rest: flowInto).
+    void addCountsTo(LinkStats& into) const {
         const Carried& c = carried();
-        LinkStats s;
         for (size_t t = 0; t < size_t(kMsgTypes); ++t) {
-            s.messages[t] = c.byType[t].messages;
-            s.bytes[t] = c.byType[t].bytes;
-            s.wire[t] = c.byType[t].wire;
+            into.messages[t] += c.byType[t].messages;
+            into.bytes[t] += c.byType[t].bytes;
+            into.wire[t] += c.byType[t].wire;
         }
-        return s;
     }
     // The frame ended at `end`: the wire time after it is taken out of the
     // figures (a node running ahead of the kernel may have sent a load

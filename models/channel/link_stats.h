@@ -45,13 +45,4 @@ struct LinkStats : LinkFlow {
     }
 };
 
-// Adds one channel's counts by type to a port's.
-inline void addCounts(LinkStats& into, const LinkStats& s) {
-    for (size_t t = 0; t < s.messages.size(); ++t) {
-        into.messages[t] += s.messages[t];
-        into.bytes[t] += s.bytes[t];
-        into.wire[t] += s.wire[t];
-    }
-}
-
 }  // namespace rt

@@ -386,7 +386,7 @@ MachineResult Machine::collect(double wallSeconds, bool last) {
     // counts by type are added. The last frame's links are emptied as they
     // are read: their lanes and rings make room for the rest of the report.
     for (size_t i = 0; i < links_.size(); ++i) {
-        addCounts(r.links[reportOf_[i]].stats, links_[i]->countsByType());
+        links_[i]->addCountsTo(r.links[reportOf_[i]].stats);
         if (last) links_[i]->restart();
     }
     r.image = assembleImage(units_, width_, height_);
