@@ -346,4 +346,7 @@ MUTANTS = [
      "    if (!queued && (free == ExpressLink::kUnknown || l.waitingHead < l.waiting.size())) {",
      "    if (false) {",
      "express rays go on a skipped link without waiting for a slot"),
+    ("max-error-calibrates-short-frames", "tb/fidelity_choice.cpp",
+     "constexpr int kLeastPixelsPerNode = 32;", "constexpr int kLeastPixelsPerNode = 2;",
+     "--max-error calibrates frames of fewer than 32 pixels a node, whose express gain does not pay for the calibration's start-ups"),
 ]

@@ -28,12 +28,11 @@ constexpr int kShare = 256;
 constexpr int kLeastNodes = 4096;
 // A calibration starts the machine twice more (exact and express), which
 // costs about as much whatever the image: below this many pixels per node
-// the frame is too short for the rung to win it back (pinned, one run
-// each: balls-5 at 128x128 on 32x32x32, 0.5 pixels a node, --max-error
-// took 1.35x the exact run's time; at 64x64 on 16x16x16, 1 a node, 1.65x;
-// from 2 a node on, balls-5 and gears-2 at N = 16 and 32 gained 1.05 to
-// 2.5x: doc/fidelity.md).
-constexpr int kLeastPixelsPerNode = 2;
+// the frame is too short for the rung to win it back: a scene whose rays
+// make few hops (tetra-3) needs the most pixels. Measured on the SPD
+// scenes (doc/fidelity.md, "--max-error E"): at 4 and 16 pixels a node
+// some lost, at 32 none of those measured.
+constexpr int kLeastPixelsPerNode = 32;
 
 // What a run cost the simulator, in simulated figures (the same on every
 // run): the kernel's delta cycles and every message taken.
@@ -152,7 +151,8 @@ nlohmann::json chooseFidelity(const Scene& scene, RtsimOptions& o) {
     if (m.nodeCount() < kLeastNodes)
         return settle(exact, "a mesh of fewer than 4096 nodes: its coarser rungs gain less than a calibration costs");
     if (double(m.width) * m.height < double(kLeastPixelsPerNode) * m.nodeCount())
-        return settle(exact, "fewer than 2 pixels per node: the frame is too short for a coarser rung to win back a calibration");
+        return settle(exact, "fewer than " + std::to_string(kLeastPixelsPerNode) +
+                                  " pixels per node: the frame is too short for a coarser rung to win back a calibration");
 
     // The calibration frame: the same machine and camera at 1/k of the pixels per axis, traced nowhere.
     MachineConfig c = m;

@@ -14,18 +14,19 @@ using nlohmann::json;
 using namespace rt::test;
 
 namespace {
-const std::string kBalls4 = " --scene " + std::string(RT_SCENE_DIR) + "/balls-4.nff --size 128x128 --mesh 16";
+const std::string kBalls4 = " --scene " + std::string(RT_SCENE_DIR) + "/balls-4.nff --size 363x363 --mesh 16";
 }  // namespace
 
-// balls-4 at 128x128 on 16x16x16: a calibration frame of 16x16 (at least
-// 256 pixels and a 256th), exact and then at the coarser rungs, the
+// balls-4 at 363x363 on 16x16x16 (32 pixels a node, the fewest it
+// calibrates at): a calibration frame of 23x23 (at least 256 pixels and a
+// 256th), exact and then at the coarser rungs, the
 // coarsest first, until one is within half the error; the rung chosen is
 // within the error on the frame itself, the image is the exact run's, the
 // report and the summary say how it chose, and the same inputs choose the
 // same rung.
 TEST_F(Rtsim, MaxErrorPicksARungWithinItAndSaysHow) {
-    const json exact = report(kBalls4, "exact.json");
-    ASSERT_EQ(run(kBalls4 + " --no-baseline -q --image " + (dir_ / "e.png").string()).code, 0);
+    ASSERT_EQ(run(kBalls4 + " --no-baseline -q --image " + (dir_ / "e.png").string() + " --report " + (dir_ / "exact.json").string()).code, 0);
+    const json exact = json::parse(slurp(dir_ / "exact.json"));
     const std::string args = kBalls4 + " --max-error 1%";
     const Outcome o = run(args + " --no-baseline --image " + (dir_ / "m.png").string() + " --report " + (dir_ / "m.json").string());
     ASSERT_EQ(o.code, 0) << o.err;
@@ -34,7 +35,7 @@ TEST_F(Rtsim, MaxErrorPicksARungWithinItAndSaysHow) {
     const json& f = m["fidelity"];
     EXPECT_EQ(f["rung"], m["config"]["fidelity"]["rung"]);
     EXPECT_EQ(m["config"]["fidelity"]["max_error"], 0.01);
-    EXPECT_EQ(f["calibration"]["size"], "16x16");
+    EXPECT_EQ(f["calibration"]["size"], "23x23");
     const json& tried = f["calibration"]["rungs"];
     ASSERT_GE(tried.size(), 1u);
     EXPECT_EQ(tried[0]["rung"], "express");  // (the one rung it tries: doc/fidelity.md)
@@ -62,8 +63,9 @@ TEST_F(Rtsim, MaxErrorPicksARungWithinItAndSaysHow) {
 
 // Where the timing steers the boundaries, where the image is too small to
 // calibrate on less of it, on a mesh too small for a rung to pay for its
-// calibration, and where the frame is too short for it (fewer than 2
-// pixels a node), the exact model, without a calibration.
+// calibration, and where the frame is too short for it (fewer than 32
+// pixels a node: 362x362 on 16x16x16 is one short), the exact model,
+// without a calibration.
 TEST_F(Rtsim, MaxErrorKeepsToExactWhereItMust) {
     const json slide = report(" --scene " + std::string(RT_SCENE_DIR) + "/balls-4.nff --size 64x64 --mesh 16 --balance slide --max-error 2%");
     EXPECT_EQ(slide["config"]["fidelity"]["rung"], "exact");
@@ -76,9 +78,9 @@ TEST_F(Rtsim, MaxErrorKeepsToExactWhereItMust) {
     const json few = report(" --scene " + std::string(RT_SCENE_DIR) + "/balls-4.nff --size 64x64 --mesh 8 --max-error 2%");
     EXPECT_EQ(few["config"]["fidelity"]["rung"], "exact");
     EXPECT_NE(few["fidelity"]["why"].get<std::string>().find("4096 nodes"), std::string::npos);
-    const json shortFrame = report(" --scene " + std::string(RT_SCENE_DIR) + "/balls-4.nff --size 90x90 --mesh 16 --max-error 2%");
+    const json shortFrame = report(" --scene " + std::string(RT_SCENE_DIR) + "/balls-4.nff --size 362x362 --mesh 16 --max-error 2%");
     EXPECT_EQ(shortFrame["config"]["fidelity"]["rung"], "exact");
-    EXPECT_NE(shortFrame["fidelity"]["why"].get<std::string>().find("2 pixels per node"), std::string::npos);
+    EXPECT_NE(shortFrame["fidelity"]["why"].get<std::string>().find("32 pixels per node"), std::string::npos);
     EXPECT_FALSE(shortFrame["wall_clock"].contains("calibration_s"));
 }
 
