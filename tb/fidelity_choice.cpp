@@ -26,13 +26,13 @@ constexpr int kShare = 256;
 // quantum rungs fail a calibration frame this short: a 10 us quantum is a
 // seventh of its 66 us).
 constexpr int kLeastNodes = 4096;
-// A calibration starts the machine twice more (exact and express), which
-// costs about as much whatever the image: below this many pixels per node
-// the frame is too short for the rung to win it back: a scene whose rays
-// make few hops (tetra-3) needs the most pixels. Measured on the SPD
-// scenes (doc/fidelity.md, "--max-error E"): at 4 and 16 pixels a node
-// some lost, at 32 none of those measured.
-constexpr int kLeastPixelsPerNode = 32;
+// Below this many pixels per node the frame is too short for a rung to win
+// back its calibration (two frames of a 256th of the pixels and the host
+// phases before them, in the machine that then renders the frame): a scene
+// whose rays make few hops (tetra-3) gains least. Measured on the SPD
+// scenes (doc/fidelity.md, "--max-error E"): at 4 pixels a node three of
+// eight lost, at 16 none that chose express.
+constexpr int kLeastPixelsPerNode = 16;
 
 // What a run cost the simulator, in simulated figures (the same on every
 // run): the kernel's delta cycles and every message taken.
@@ -96,43 +96,54 @@ std::string rungOf(const MachineConfig& m) {
 
 namespace {
 
-// The calibration: the frame `c` run exact, then at each candidate, the
-// coarsest first, until one is within kMargin of `maxError` with fewer
+// What a frame of the session took, without building the machine (the
+// first frame's elaboration serves the frame asked for as well).
+double ownWall(const MachineResult& r) { return r.wallSeconds - r.wallElaborationSeconds; }
+
+// The calibration: the frame `c` (every k-th pixel) run exact in a session
+// built with the express routes, then at each candidate, the coarsest first,
+// in the same session, until one is within kMargin of `maxError` with fewer
 // events than the exact run: it (or the exact rung) into `best`, with its
-// error.
-nlohmann::json calibrate(const Scene& scene, const MachineConfig& c, const std::vector<const FidelityRung*>& candidates,
-                         double maxError, const FidelityRung*& best, double& bestError) {
+// error. The session is left ready for its next frame (the one asked for).
+nlohmann::json calibrate(MachineSession& session, const Scene& scene, const MachineConfig& c,
+                         const std::vector<const FidelityRung*>& candidates, double maxError, const FidelityRung*& best,
+                         double& bestError) {
     const auto t0 = std::chrono::steady_clock::now();
-    const MachineResult ex = runMachine(scene, withRung(c, fidelityRungs()[0]));
-    nlohmann::json cal = {{"size", std::to_string(c.width) + "x" + std::to_string(c.height)},
-                          {"exact", {{"render_time_ns", double(ex.renderTime) / 1000}, {"events", eventsOf(ex)}, {"wall_s", ex.wallSeconds}}},
+    const MachineResult ex = session.run(true);
+    const int k = c.pixelStride;
+    nlohmann::json cal = {{"size", std::to_string((c.width - k / 2 + k - 1) / k) + "x" + std::to_string((c.height - k / 2 + k - 1) / k)},
+                          {"pixel_stride", k},
+                          {"exact", {{"render_time_ns", double(ex.renderTime) / 1000}, {"events", eventsOf(ex)}, {"wall_s", ownWall(ex)}}},
                           {"rungs", nlohmann::json::array()}};
     const uint64_t bestEvents = eventsOf(ex);
     for (const FidelityRung* r : candidates) {
         if (!ex.incomplete.empty()) break;
-        const MachineResult got = runMachine(scene, withRung(c, *r));
+        session.next(scene.view, withRung(c, *r));
+        const MachineResult got = session.run(true);
         if (!got.incomplete.empty()) break;
         const double error = std::fabs(double(got.renderTime) - double(ex.renderTime)) / double(ex.renderTime);
         const uint64_t events = eventsOf(got);
         const bool within = error <= kMargin * maxError;
         cal["rungs"].push_back({{"rung", r->name}, {"render_time_ns", double(got.renderTime) / 1000}, {"error", error},
-                                {"events", events}, {"wall_s", got.wallSeconds}, {"within", within}});
+                                {"events", events}, {"wall_s", ownWall(got)}, {"within", within}});
         if (within && events < bestEvents) {
             best = r;
             bestError = error;
             break;
         }
     }
-    cal["wall_s"] = secondsSince(t0);
+    cal["wall_s"] = secondsSince(t0);  // (the machine was built before: start-up, as any run's)
     if (!ex.incomplete.empty()) cal["stopped"] = ex.incomplete;
     return cal;
 }
 
 }  // namespace
 
-nlohmann::json chooseFidelity(const Scene& scene, RtsimOptions& o) {
+FidelityChoice chooseFidelity(const Scene& scene, RtsimOptions& o) {
     const MachineConfig& m = o.machine;
-    nlohmann::json j = {{"max_error", o.maxError}};
+    FidelityChoice out;
+    nlohmann::json& j = out.json;
+    j = {{"max_error", o.maxError}};
     const FidelityRung& exact = fidelityRungs()[0];
     std::vector<const FidelityRung*> candidates;
     for (const FidelityRung& r : fidelityRungs())
@@ -140,37 +151,45 @@ nlohmann::json chooseFidelity(const Scene& scene, RtsimOptions& o) {
     const int k = calibrationDivisor(m.width, m.height);
     auto settle = [&](const FidelityRung& r, const std::string& why) {
         o.machine = withRung(o.machine, r);
+        if (out.session) o.machine.expressRoutes = true;  // (the session's machine has them)
         j["rung"] = r.name;
         j["why"] = why;
         msg::info("--max-error: " + r.name + " (" + why + ")");
-        return j;
+        return std::move(out);
     };
     if (candidates.empty())
         return settle(exact, "no coarser rung applies: a policy that moves boundaries is timed exactly, since the timing steers them");
     if (k == 1) return settle(exact, "the image is too small to calibrate on a part of it");
     if (m.nodeCount() < kLeastNodes)
-        return settle(exact, "a mesh of fewer than 4096 nodes: its coarser rungs gain less than a calibration costs");
+        return settle(exact, "a mesh of fewer than " + std::to_string(kLeastNodes) +
+                                  " nodes: its coarser rungs gain less than a calibration costs");
     if (double(m.width) * m.height < double(kLeastPixelsPerNode) * m.nodeCount())
         return settle(exact, "fewer than " + std::to_string(kLeastPixelsPerNode) +
                                   " pixels per node: the frame is too short for a coarser rung to win back a calibration");
 
-    // The calibration frame: the same machine and camera at 1/k of the pixels per axis, traced nowhere.
+    // The calibration frames: the same machine and camera, every k-th pixel
+    // of every k-th row, traced nowhere; in the machine that then renders
+    // the frame asked for (built once, with the express routes).
     MachineConfig c = m;
-    c.width = int(std::ceil(double(m.width) / k));
-    c.height = int(std::ceil(double(m.height) / k));
+    c.pixelStride = k;
+    c.expressRoutes = true;
     c.vcdPath.clear();
     c.vcdName.clear();
     c.traceNodes.clear();
     c.traceLinks.clear();
     c.showProgress = false;
-    msg::info("--max-error: calibrating at " + std::to_string(c.width) + "x" + std::to_string(c.height));
+    msg::info("--max-error: calibrating on every " + std::to_string(k) + "th pixel of every " + std::to_string(k) + "th row");
+    out.session = std::make_unique<MachineSession>(scene, withRung(c, exact));
     const FidelityRung* best = &exact;
     double bestError = 0;
-    j["calibration"] = calibrate(scene, c, candidates, o.maxError, best, bestError);
+    j["calibration"] = calibrate(*out.session, scene, c, candidates, o.maxError, best, bestError);
     j["calibration_error"] = bestError;
-    if (j["calibration"].contains("stopped")) return settle(exact, "the calibration was stopped");
+    if (j["calibration"].contains("stopped")) {
+        out.session.reset();
+        return settle(exact, "the calibration was stopped");
+    }
     std::ostringstream why;
-    why << "the coarsest rung within " << kMargin << " of the error asked for on a calibration frame of 1/" << k * k
+    why << "the coarsest rung within " << kMargin << " of the error asked for on calibration frames of 1/" << k * k
         << " of the pixels, with fewer simulated events than the exact model";
     return settle(*best, why.str());
 }

@@ -84,8 +84,10 @@ Vec3 eyeOfFrame(const RtsimOptions& o, const Vec3& firstEye, int index) {
     return firstEye + Vec3(o.eyeStep[0], o.eyeStep[1], o.eyeStep[2]) * double(index);
 }
 
-EarlierFrames runEarlierFrames(const Scene& scene, const Vec3& firstEye, RtsimOptions& o) {
+EarlierFrames runEarlierFrames(const Scene& scene, const Vec3& firstEye, RtsimOptions& o,
+                               std::unique_ptr<MachineSession> machine) {
     EarlierFrames out;
+    out.machine = std::move(machine);
     if (o.frames < 2) return out;
     const OrderlyStops orderly;  // a stop ends the frame running, and the sequence so far is written
     const bool carry = o.machine.balance.dynamic(), resplit = o.machine.balance.betweenFrames();

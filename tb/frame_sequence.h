@@ -36,8 +36,11 @@ struct EarlierFrames {
 // Renders frames 1 .. K-1 of `o`'s sequence of `scene` (its eye at frame
 // 1's place, `firstEye`; --eye-step moves it each frame), and sets
 // o.machine's start and target boundaries for frame K. Throws
-// std::runtime_error if a frame fails.
-EarlierFrames runEarlierFrames(const Scene& scene, const Vec3& firstEye, RtsimOptions& o);
+// std::runtime_error if a frame fails. `machine`: one already built (on
+// `scene`) that renders them, and the last (--max-error's calibration,
+// fidelity_choice.h); null: the first frame builds one.
+EarlierFrames runEarlierFrames(const Scene& scene, const Vec3& firstEye, RtsimOptions& o,
+                               std::unique_ptr<MachineSession> machine = nullptr);
 
 // The last frame (`scene`'s view), by the machine of the frames before it
 // (or a new one); `again`: the machine is kept in `earlier` to render it

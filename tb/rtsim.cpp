@@ -226,7 +226,7 @@ int stopped(int code, const std::string& why) {
 // --max-error: the rung for this scene, mesh and machine, chosen by a
 // calibration frame before the echo, which then records it
 // (fidelity_choice.h); `fidelity` gets what the report says of it.
-Stop chooseRung(rt::RtsimOptions& o, const rt::Scene& scene, nlohmann::json& fidelity) {
+Stop chooseRung(rt::RtsimOptions& o, const rt::Scene& scene, rt::FidelityChoice& fidelity) {
     if (o.maxError <= 0) return std::nullopt;
     try {
         fidelity = rt::chooseFidelity(scene, o);
@@ -266,12 +266,14 @@ int finish(const rt::CommandLine& cl, const rt::RtsimOptions& o, const rt::Scene
 
 // The frames before the last, the last one, the reference runs, the outputs.
 int run(const rt::CommandLine& cl, const CLI::App& app, rt::RtsimOptions& o, const rt::Scene& scene,
-        const rt::Vec3& firstEye, const nlohmann::json& config, const nlohmann::json& fidelity, rt::RunOutputs& out) {
+        const rt::Vec3& firstEye, const nlohmann::json& config, rt::FidelityChoice& chosenRung, rt::RunOutputs& out) {
+    const nlohmann::json& fidelity = chosenRung.json;
     rt::WallClock wall;
     const auto framesFrom = rt::WallClock::now();
+    // (The calibration's machine renders the frames: its elaboration is start-up.)
     wall.calibration = fidelity.contains("calibration") ? fidelity["calibration"]["wall_s"].get<double>() : 0.0;
     wall.startUp = rt::secondsBetween(rt::WallClock::processStart(), framesFrom) - wall.calibration;
-    rt::EarlierFrames earlier = rt::runEarlierFrames(scene, firstEye, o);
+    rt::EarlierFrames earlier = rt::runEarlierFrames(scene, firstEye, o, std::move(chosenRung.session));
     if (earlier.stopped) {
         out.report(*earlier.stopped);
         out.commit();
@@ -319,7 +321,7 @@ int sc_main(int argc, char** argv) {
     rt::Scene scene;
     rt::Vec3 firstEye;  // frame 1's (--eye-step moves it each frame)
     nlohmann::json config;
-    nlohmann::json fidelity;  // --max-error: the rung chosen, and how
+    rt::FidelityChoice fidelity;  // --max-error: the rung chosen, how, and the machine that calibrated it
     if (Stop s = readCommandLine(app, o, cl, argc, argv)) return *s;
     if (Stop s = loadScene(o, cl, scene, firstEye)) return *s;
     if (Stop s = startBoundaries(o)) return *s;

@@ -184,12 +184,12 @@ Box nodeBox(const Cell& c, const Lattice& cuts, const ColumnGeometry& g, const C
 }
 
 PrimaryRays assignPrimaryRays(const Camera& camera, const Box& world, const Lattice& cuts, const ColumnGeometry& g,
-                              const ColumnPlanes& planes) {
+                              const ColumnPlanes& planes, int stride) {
     PrimaryRays r;
     r.perNode.resize(size_t(g.dims[0] * g.dims[1] * g.dims[2]));
     const int ax = g.axis;
-    for (int y = 0; y < camera.height(); ++y)
-        for (int x = 0; x < camera.width(); ++x) {
+    for (int y = stride / 2; y < camera.height(); y += stride)
+        for (int x = stride / 2; x < camera.width(); x += stride) {
             const RayJob j = primaryJob(camera, x, y, world);
             std::optional<Cell> c = cuts.locate(j.ray, j.t0);
             if (!c) {

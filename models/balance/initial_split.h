@@ -95,13 +95,14 @@ Box nodeBox(const Cell& c, const Lattice& cuts, const ColumnGeometry& g, const C
 // The host's job description: each primary ray goes to the node that owns
 // the point where it starts inside the world box (by `planes` along the
 // axis); rays that miss the world are the background, which the host fills
-// in itself.
+// in itself. `stride` > 1: only the pixels (stride/2 + i stride, stride/2 +
+// j stride), a calibration frame's (MachineConfig::pixelStride).
 struct PrimaryRays {
     std::vector<std::vector<uint32_t>> perNode;  // pixels, by node index
     std::vector<RayJob> misses;                  // primary rays that miss the world box
 };
 PrimaryRays assignPrimaryRays(const Camera& camera, const Box& world, const Lattice& cuts, const ColumnGeometry& g,
-                              const ColumnPlanes& planes);
+                              const ColumnPlanes& planes, int stride = 1);
 
 // Credit (weight throwing): the host keeps what it does not hand out; each
 // node with P > 0 primary rays gets 2^-hostExp (hostExp = ceil(log2 of the

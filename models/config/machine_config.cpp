@@ -173,6 +173,10 @@ void MachineConfig::validate() const {
     if (express && !balance.boxesStayPut())
         throw std::invalid_argument("--fidelity: express needs boxes that stay put within and between frames (--balance none "
                                     "or median), not --balance " + balance.policy);
+    if (expressRoutes && !balance.boxesStayPut())
+        throw std::invalid_argument("--max-error: a calibration that may switch express on needs boxes that stay put, not --balance " +
+                                    balance.policy);
+    if (pixelStride < 1) throw std::invalid_argument("pixel stride: must be at least 1, not " + std::to_string(pixelStride));
     if (express && rayBatch > 1)
         throw std::invalid_argument("--fidelity: express sends a ray per message, not with --ray-batch " + std::to_string(rayBatch));
 }

@@ -213,6 +213,15 @@ struct MachineConfig {
     // express: rays cross the boxes whose nodes have no work of their own
     // through one relay process, not the nodes' (channel/express.h).
     bool express = false;  // --fidelity express
+    // A session whose later frames may turn express on (--max-error's
+    // calibration frames, tb/fidelity_choice.h) builds the express routes
+    // and relay even where express is off: a frame without express then
+    // runs as the exact model, its relay idle.
+    bool expressRoutes = false;
+    // A calibration frame's (tb/fidelity_choice.h): only the pixels
+    // (stride/2 + i stride, stride/2 + j stride) get primary rays, the
+    // others stay black; 1: every pixel.
+    int pixelStride = 1;
 
     // The frame buffer (doc/machine.md, "The frame buffer"): fbUnits units,
     // pixel-interleaved (pixel p in unit p mod fbUnits); 1 is a single host.

@@ -257,7 +257,7 @@ void Machine::startWatchdog() {
 void Machine::giveOutPrimaryRays(const ColumnPlanes& planes) {
     // With targets for the frame's start (resplit), each node generates the
     // primary rays of the box it is to have, once it has it (Node::takeWork).
-    PrimaryRays primaries = assignPrimaryRays(camera_, world_, cuts_, columns_, planes);
+    PrimaryRays primaries = assignPrimaryRays(camera_, world_, cuts_, columns_, planes, cfg_.pixelStride);
     Counters hostCounters;
     for (const RayJob& j : primaries.misses)
         units_[j.pixel % uint32_t(cfg_.fbUnits)].addOwn(shader_.miss(j, hostCounters));
@@ -269,6 +269,7 @@ void Machine::giveOutPrimaryRays(const ColumnPlanes& planes) {
     if (express_)  // a node that generates primary rays is not skipped: it has work of its own
         for (size_t i = 0; i < nodes_.size(); ++i)
             express_->node(i).empty = nodes_[i].region().objects().empty() && primaries.perNode[i].empty();
+    useExpress();
     for (size_t i = 0; i < nodes_.size(); ++i)
         nodes_[i].assignPrimaries(std::move(primaries.perNode[i]), credit.exp[i], credit.remainder[i]);
     units_[0].keep(credit.host);

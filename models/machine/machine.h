@@ -121,7 +121,9 @@ public:
     // (and aimed at its targets), every node, link, unit and the watchdog as
     // built, in new processes (frame `frame`, 1-based), the primary rays and
     // credit handed out. `next` is the same machine: only its boundaries,
-    // and what it traces and shows, may differ from the first frame's.
+    // and what it traces and shows, may differ from the first frame's; and,
+    // for a calibration (tb/fidelity_choice.h), the pixels traced and
+    // express, if it was built with its routes (MachineConfig::expressRoutes).
     void nextFrame(const View& view, const MachineConfig& next, int frame);
     // When the frame ended (or was stopped), on its own clock.
     Picos frameEnd() const { return stopped() ? watchdog_->stalledAt() : controller().renderTime(); }
@@ -140,6 +142,7 @@ private:
     void linkColumnsToFrameBuffer(std::vector<Picos>& nodeLookahead);
     void startWatchdog();
     void buildExpress();  // --fidelity express: the routes past empty boxes (machine_express.cpp)
+    void useExpress();    // and whether this frame's rays take them
     std::vector<bool> prepareSample(const std::vector<std::vector<uint32_t>>& perNode, const ColumnPlanes& planes);  // which columns gather
     void expectSampleCredit(const std::vector<std::vector<uint32_t>>& perNode, const CreditShares& credit,
                             const std::vector<bool>& gathers);

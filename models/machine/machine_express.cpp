@@ -7,7 +7,7 @@
 namespace rt {
 
 void Machine::buildExpress() {
-    if (!cfg_.express) return;
+    if (!cfg_.express && !cfg_.expressRoutes) return;
     const uint32_t oneRay = kHeaderBytes + kRayBytes;
     std::vector<ExpressNode> info(nodes_.size());
     for (size_t i = 0; i < nodes_.size(); ++i) {
@@ -29,8 +29,14 @@ void Machine::buildExpress() {
     }
     express_ = std::make_unique<ExpressRoutes>(cfg_.dims, std::move(info));
     relay_ = std::make_unique<ExpressRelay>("express_relay", *express_);
-    nodeParams_->express = express_.get();
-    nodeParams_->relay = relay_.get();
+}
+
+// Whether this frame's rays take the express routes: the nodes see them
+// only if so (a frame without express, in a session built with them, is
+// the exact model's: no ray goes to the relay, whose process only waits).
+void Machine::useExpress() {
+    nodeParams_->express = cfg_.express ? express_.get() : nullptr;
+    nodeParams_->relay = cfg_.express ? relay_.get() : nullptr;
 }
 
 }  // namespace rt

@@ -41,6 +41,8 @@ void freshContextIfUsed() {
 // watchdog). What persists: the modules, their ports and links, the
 // lookaheads, costs and parameters, the objects' binning.
 void Machine::nextFrame(const View& view, const MachineConfig& next, int frame) {
+    if (next.express && !express_)
+        throw std::logic_error("MachineSession::next: express in a machine built without its routes (MachineConfig::expressRoutes)");
     cfg_ = next;
     cfg_.validate();
     camera_ = Camera(view, width_, height_);

@@ -66,6 +66,7 @@ void Node::suspend(Resume r) {
 
 void Node::start() {
     input_.listen(in);
+    expressSelf_ = nullptr;  // (a frame without express, after one with it)
     if (params_.express) {
         ExpressNode& self = params_.express->node(params_.express->indexOf(cell_));
         expressSelf_ = self.empty ? &self : nullptr;

@@ -40,6 +40,7 @@ sc_core::sc_process_handle Node::restart(const Box& box, std::vector<Shape> obje
     spawned_.clear();
     contributions_.clear();
     mailbox_ = Mailbox{};
+    expressSent_ = 0;
     rebuild(box, std::move(objects));
     return spawnMethod([this] { run(); }, *this, frame);
 }

@@ -491,6 +491,78 @@ TEST_P(FramesInOneMachine, EachFrameIsTheFrameAMachineOfItsOwnRenders) {
 
 INSTANTIATE_TEST_SUITE_P(Policies, FramesInOneMachine, ::testing::Values("slide", "measured", "none"));
 
+// --max-error's calibration frames (tb/fidelity_choice.h) run in the
+// machine that then renders the frame asked for: a session built with the
+// express routes (MachineConfig::expressRoutes), its frames tracing every
+// k-th pixel of every k-th row or all of them, with express or without.
+// Each frame is the one a machine built for it alone renders, to the bit:
+// without express, the exact model's as if no route had been built (no
+// ray goes to the relay); with it, the express rung's. A strided frame
+// traces its pixels only, each as the whole frame colours it.
+TEST(FramesInOneMachine, CalibrationFramesSwitchPixelsAndExpressAndLeaveTheFrameAsItIs) {
+    const Scene s = test::spd("balls-1");
+    MachineConfig c;
+    c.width = c.height = 36;
+    c.dims = {6, 6, 6};
+    auto frame = [&](int stride, bool express) {
+        MachineConfig f = c;
+        f.pixelStride = stride;
+        f.express = express;
+        return f;
+    };
+    const std::vector<MachineConfig> frames{frame(4, false), frame(4, true), frame(1, true), frame(1, false)};
+    MachineConfig built = frames[0];
+    built.expressRoutes = true;
+    MachineSession session(s, built);
+    std::vector<MachineResult> results;
+    for (size_t k = 0; k < frames.size(); ++k) {
+        if (k) {
+            MachineConfig next = frames[k];
+            next.expressRoutes = true;
+            session.next(s.view, next);
+        }
+        results.push_back(session.run(k + 1 < frames.size()));
+    }
+    uint64_t expressed = 0;
+    for (const NodeStats& n : results[2].nodes) expressed += n.raysExpressed;
+    EXPECT_GT(expressed, 0u);  // (express did skip boxes in the frame that has it)
+    for (size_t k = 0; k < frames.size(); ++k) {
+        const MachineResult fresh = runMachine(s, frames[k]);
+        EXPECT_EQ(fresh.image.pixels, results[k].image.pixels) << "frame " << k + 1;
+        const nlohmann::json a = withoutHost(machineReport(results[k], frames[k], ReportDetail::Full)),
+                             b = withoutHost(machineReport(fresh, frames[k], ReportDetail::Full));
+        EXPECT_EQ(a.dump(), b.dump()) << "frame " << k + 1 << ": " << nlohmann::json::diff(b, a).dump().substr(0, 600);
+    }
+    // Every 4th pixel of every 4th row, from (2, 2): 9 x 9 of them, as the whole frame colours them; the rest black.
+    const Image& part = results[0].image;
+    const Image& whole = results[3].image;
+    size_t traced = 0;
+    for (int y = 0; y < c.height; ++y)
+        for (int x = 0; x < c.width; ++x) {
+            const size_t p = size_t(y * c.width + x);
+            if (x % 4 == 2 && y % 4 == 2) {
+                ++traced;
+                EXPECT_EQ(part.pixels[p], whole.pixels[p]) << x << "," << y;
+            } else {
+                EXPECT_EQ(part.pixels[p], Vec3(0.0)) << x << "," << y;
+            }
+        }
+    EXPECT_EQ(traced, 81u);
+    EXPECT_LT(results[0].renderTime, results[3].renderTime / 4);
+}
+
+// A frame with express in a machine built without its routes is refused.
+TEST(FramesInOneMachine, ExpressNeedsTheRoutesBuilt) {
+    const Scene s = test::spd("balls-1");
+    MachineConfig c;
+    c.width = c.height = 8;
+    c.dims = {2, 2, 2};
+    MachineSession session(s, c);
+    session.run(true);
+    c.express = true;
+    EXPECT_THROW(session.next(s.view, c), std::logic_error);
+}
+
 // Targets for the frame's start (a re-split frame), the same planes in
 // every column: each node generates the primary rays of the box it is to
 // have, once its faces are there, so no ray is passed on (before, the nodes

@@ -14,12 +14,13 @@ using nlohmann::json;
 using namespace rt::test;
 
 namespace {
-const std::string kBalls4 = " --scene " + std::string(RT_SCENE_DIR) + "/balls-4.nff --size 363x363 --mesh 16";
+const std::string kBalls4 = " --scene " + std::string(RT_SCENE_DIR) + "/balls-4.nff --size 256x256 --mesh 16";
 }  // namespace
 
-// balls-4 at 363x363 on 16x16x16 (32 pixels a node, the fewest it
-// calibrates at): a calibration frame of 23x23 (at least 256 pixels and a
-// 256th), exact and then at the coarser rungs, the
+// balls-4 at 256x256 on 16x16x16 (16 pixels a node, the fewest it
+// calibrates at): calibration frames of 16x16 pixels (every 16th of every
+// 16th row: at least 256 pixels and a 256th), in the machine that then
+// renders the frame, exact and then at the coarser rungs, the
 // coarsest first, until one is within half the error; the rung chosen is
 // within the error on the frame itself, the image is the exact run's, the
 // report and the summary say how it chose, and the same inputs choose the
@@ -35,7 +36,8 @@ TEST_F(Rtsim, MaxErrorPicksARungWithinItAndSaysHow) {
     const json& f = m["fidelity"];
     EXPECT_EQ(f["rung"], m["config"]["fidelity"]["rung"]);
     EXPECT_EQ(m["config"]["fidelity"]["max_error"], 0.01);
-    EXPECT_EQ(f["calibration"]["size"], "23x23");
+    EXPECT_EQ(f["calibration"]["size"], "16x16");
+    EXPECT_EQ(f["calibration"]["pixel_stride"], 16);
     const json& tried = f["calibration"]["rungs"];
     ASSERT_GE(tried.size(), 1u);
     EXPECT_EQ(tried[0]["rung"], "express");  // (the one rung it tries: doc/fidelity.md)
@@ -52,6 +54,10 @@ TEST_F(Rtsim, MaxErrorPicksARungWithinItAndSaysHow) {
     }
     EXPECT_NE(f["rung"], "exact");  // (a coarser rung is within it here)
     EXPECT_LE(std::fabs(m["render_time_ns"].get<double>() / exact["render_time_ns"].get<double>() - 1), 0.01);
+    // The frame, rendered by the machine that ran the calibration frames, is the rung's own to the ps.
+    const json alone = report(kBalls4 + " --fidelity " + f["rung"].get<std::string>(), "alone.json");
+    EXPECT_EQ(m["render_time_ns"], alone["render_time_ns"]);
+    EXPECT_EQ(m["totals"], alone["totals"]);
     EXPECT_GT(m["wall_clock"]["calibration_s"].get<double>(), 0.0);
     EXPECT_NE(o.out.find("fidelity         " + f["rung"].get<std::string>() + ", chosen for --max-error 1 %"), std::string::npos) << o.out;
     json again = report(args, "again.json"), first = m;
@@ -63,8 +69,8 @@ TEST_F(Rtsim, MaxErrorPicksARungWithinItAndSaysHow) {
 
 // Where the timing steers the boundaries, where the image is too small to
 // calibrate on less of it, on a mesh too small for a rung to pay for its
-// calibration, and where the frame is too short for it (fewer than 32
-// pixels a node: 362x362 on 16x16x16 is one short), the exact model,
+// calibration, and where the frame is too short for it (fewer than 16
+// pixels a node: 255x256 on 16x16x16 is one column short), the exact model,
 // without a calibration.
 TEST_F(Rtsim, MaxErrorKeepsToExactWhereItMust) {
     const json slide = report(" --scene " + std::string(RT_SCENE_DIR) + "/balls-4.nff --size 64x64 --mesh 16 --balance slide --max-error 2%");
@@ -78,9 +84,9 @@ TEST_F(Rtsim, MaxErrorKeepsToExactWhereItMust) {
     const json few = report(" --scene " + std::string(RT_SCENE_DIR) + "/balls-4.nff --size 64x64 --mesh 8 --max-error 2%");
     EXPECT_EQ(few["config"]["fidelity"]["rung"], "exact");
     EXPECT_NE(few["fidelity"]["why"].get<std::string>().find("4096 nodes"), std::string::npos);
-    const json shortFrame = report(" --scene " + std::string(RT_SCENE_DIR) + "/balls-4.nff --size 362x362 --mesh 16 --max-error 2%");
+    const json shortFrame = report(" --scene " + std::string(RT_SCENE_DIR) + "/balls-4.nff --size 255x256 --mesh 16 --max-error 2%");
     EXPECT_EQ(shortFrame["config"]["fidelity"]["rung"], "exact");
-    EXPECT_NE(shortFrame["fidelity"]["why"].get<std::string>().find("32 pixels per node"), std::string::npos);
+    EXPECT_NE(shortFrame["fidelity"]["why"].get<std::string>().find("16 pixels per node"), std::string::npos);
     EXPECT_FALSE(shortFrame["wall_clock"].contains("calibration_s"));
 }
 
