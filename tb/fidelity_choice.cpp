@@ -20,11 +20,10 @@ constexpr double kMargin = 0.5;             // a rung's calibration error must b
 // run's speed, express having gained 1.2x).
 constexpr int kLeastPixels = 256;
 constexpr int kShare = 256;
-// Below this many nodes the rungs gain less than the calibration costs:
-// on balls-4 at 256x256 on 8x8x8, pinned, express made the frame about
-// 10 % faster and --max-error 1% took 0.94 of the exact run's time (the
-// quantum rungs fail a calibration frame this short: a 10 us quantum is a
-// seventh of its 66 us).
+// Below this many nodes a calibration does not tell where express gains
+// too little to pay for it: on 8x8x8 at 256x256 --max-error 1% took
+// balls-4 1.12x faster than the exact run, but balls-5 0.96x, its
+// calibration frames' events cut as much as balls-4's (doc/fidelity.md).
 constexpr int kLeastNodes = 4096;
 // Below this many pixels per node the frame is too short for a rung to win
 // back its calibration (two frames of a 256th of the pixels and the host

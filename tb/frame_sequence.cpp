@@ -107,17 +107,18 @@ EarlierFrames runEarlierFrames(const Scene& scene, const Vec3& firstEye, RtsimOp
         view.from = eyeOfFrame(o, firstEye, k);
         const MachineConfig m = earlierFrameConfig(o.machine);
         const MachineResult r = renderFrame(out, *out.scene, view, m, true);
+        if (k == 0) out.origin = r.frameStart;
         if (!r.incomplete.empty()) {  // the watchdog or a signal
             out.exitCode = stopSignal ? 128 + int(stopSignal) : 3;
             out.why = r.incomplete;
             Scene frameScene = *out.scene;
             frameScene.view = view;
             out.stopped = stoppedSequence(partialReport(r, m, o, frameScene, k), out.frames, k + 1, o.frames, r.incomplete,
-                                          r.frameStart);
+                                          r.frameStart - out.origin);
             return out;
         }
         const FrameState state = frameStateOf(r, m);
-        out.frames.push_back(frameEntry(k + 1, state.renderTimeNs, slideCount(r.boundaries), r.frameStart));
+        out.frames.push_back(frameEntry(k + 1, state.renderTimeNs, slideCount(r.boundaries), r.frameStart - out.origin));
         if (carry) o.machine.startBoundaries = lastBoundaries(state, o.machine);
         if (!resplit) continue;
         const auto next = sequence.next(state, k + 1);

@@ -24,6 +24,9 @@ struct EarlierFrames {
     std::unique_ptr<Scene> scene;  // (the machine's: it holds a reference)
     std::unique_ptr<MachineSession> machine;
     double elaborationSeconds = 0;  // building it (once), until its first simulated event
+    // Where frame 1 began on the machine's clock: after --max-error's
+    // calibration frames, if they ran in it; the frames' starts count from it.
+    Picos origin = 0;
     nlohmann::json frames = nlohmann::json::array();  // per frame: its number, render time and slides
     // A frame stopped (the watchdog, a signal, the wall-clock limit): the
     // report so far, with the frames before it and the stopped one listed,

@@ -292,7 +292,7 @@ int run(const rt::CommandLine& cl, const CLI::App& app, rt::RtsimOptions& o, con
     report["config"] = config;
     report["rerun"] = {{"flags", rt::flagsGiven(app)}, {"version", RTSIM_VERSION}};
     if (cl.rerun) report["rerun"]["of"] = cl.rerun->rerun;  // what it reran (its flags and version)
-    if (o.frames > 1) rt::listFrames(report, earlier.frames, o.frames, r.frameStart);
+    if (o.frames > 1) rt::listFrames(report, earlier.frames, o.frames, r.frameStart - earlier.origin);
     if (chosen) report["trace_busiest"] = rt::traceChoiceJson(o.traceBusiest, *chosen);
     if (!fidelity.is_null()) report["fidelity"] = fidelity;
     out.gtkw(r.gtkw);

@@ -67,6 +67,20 @@ TEST_F(Rtsim, MaxErrorPicksARungWithinItAndSaysHow) {
     EXPECT_EQ(again["render_time_ns"], first["render_time_ns"]);
 }
 
+// A sequence after the calibration: its frames are those the chosen rung
+// renders without one, and frame 1 starts at 0 on the frames' clock,
+// though the calibration frames ran before it in the same machine.
+TEST_F(Rtsim, MaxErrorFramesAreTheRungsOwnFromZero) {
+    const std::string seq = " --frames 2 --eye-step 0.01,0,0";
+    const json m = report(kBalls4 + seq + " --max-error 1%", "m.json");
+    ASSERT_TRUE(m["fidelity"].contains("calibration"));
+    const json alone = report(kBalls4 + seq + " --fidelity " + m["fidelity"]["rung"].get<std::string>(), "alone.json");
+    ASSERT_EQ(m["frames"].size(), 2u);
+    EXPECT_EQ(m["frames"][0]["starts_at_ns"], 0.0);
+    EXPECT_EQ(m["frames"], alone["frames"]);
+    EXPECT_EQ(m["totals"], alone["totals"]);
+}
+
 // Where the timing steers the boundaries, where the image is too small to
 // calibrate on less of it, on a mesh too small for a rung to pay for its
 // calibration, and where the frame is too short for it (fewer than 16
