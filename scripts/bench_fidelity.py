@@ -85,7 +85,7 @@ def main():
         ap.error(f"--runs {a.runs}: at least 1")
     cpu = pin_to_cpu(a.cpu, "bench_fidelity.py")
     lines = ["<!-- written by scripts/bench_fidelity.py; do not edit -->",
-             f"{machine()}, {'pinned to CPU ' + str(cpu) if cpu is not None else 'not pinned'}; rtsim {version()}; "
+             f"{machine(os.path.dirname(RTSIM))}, {'pinned to CPU ' + str(cpu) if cpu is not None else 'not pinned'}; rtsim {version()}; "
              f"medians of {a.runs} alternated runs each, process wall time.", "",
              "| case | --max-error | rung chosen | exact wall (s) | --max-error wall (s) | speed-up |"
              " rays between nodes, exact / chosen | render-time error | image identical | target |",

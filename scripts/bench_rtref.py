@@ -38,7 +38,8 @@ def build_kind(build=FAST_BUILD):
     return "Release build (-O3, profile-guided and link-time optimised)" if pgo else "Release build (-O3)"
 
 
-def machine():
+def machine(build=FAST_BUILD):
+    """The host, the compiler and how `build` (the build whose programs the benchmark runs) was made."""
     cpu = "unknown CPU"
     try:
         with open("/proc/cpuinfo") as f:
@@ -56,7 +57,7 @@ def machine():
     except (OSError, ValueError, IndexError):
         pass
     gxx = subprocess.run(["g++", "--version"], capture_output=True, text=True).stdout.splitlines()[0]
-    return f"{cpu}, {os.cpu_count()} cores{mem}; {platform.system()} {platform.release()}; {gxx}; {build_kind()}"
+    return f"{cpu}, {os.cpu_count()} cores{mem}; {platform.system()} {platform.release()}; {gxx}; {build_kind(build)}"
 
 
 def add_cpu_option(ap):
