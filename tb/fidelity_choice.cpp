@@ -4,6 +4,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "balance/initial_split.h"
 #include "machine/machine.h"
 #include "messages.h"
 
@@ -42,12 +43,13 @@ uint64_t eventsOf(const MachineResult& r) {
     return n;
 }
 
-// The calibration frame's divisor per axis: the largest power of two that
-// leaves at least max(kLeastPixels, a kShare-th of the pixels); 1: too small to calibrate on less.
+// The calibration frames' pixel stride: the largest power of two whose
+// frames trace at least max(kLeastPixels, a kShare-th of the pixels); 1:
+// too small to calibrate on less.
 int calibrationDivisor(int w, int h) {
     const double least = std::max(double(kLeastPixels), double(w) * h / kShare);
     int k = 1;
-    while (std::ceil(double(w) / (2 * k)) * std::ceil(double(h) / (2 * k)) >= least) k *= 2;
+    while (double(stridedCount(w, 2 * k)) * stridedCount(h, 2 * k) >= least) k *= 2;
     return k;
 }
 
@@ -110,7 +112,7 @@ nlohmann::json calibrate(MachineSession& session, const Scene& scene, const Mach
     const auto t0 = std::chrono::steady_clock::now();
     const MachineResult ex = session.run(true);
     const int k = c.pixelStride;
-    nlohmann::json cal = {{"size", std::to_string((c.width - k / 2 + k - 1) / k) + "x" + std::to_string((c.height - k / 2 + k - 1) / k)},
+    nlohmann::json cal = {{"size", std::to_string(stridedCount(c.width, k)) + "x" + std::to_string(stridedCount(c.height, k))},
                           {"pixel_stride", k},
                           {"exact", {{"render_time_ns", double(ex.renderTime) / 1000}, {"events", eventsOf(ex)}, {"wall_s", ownWall(ex)}}},
                           {"rungs", nlohmann::json::array()}};
@@ -150,7 +152,6 @@ FidelityChoice chooseFidelity(const Scene& scene, RtsimOptions& o) {
     const int k = calibrationDivisor(m.width, m.height);
     auto settle = [&](const FidelityRung& r, const std::string& why) {
         o.machine = withRung(o.machine, r);
-        if (out.session) o.machine.expressRoutes = true;  // (the session's machine has them)
         j["rung"] = r.name;
         j["why"] = why;
         msg::info("--max-error: " + r.name + " (" + why + ")");

@@ -103,6 +103,8 @@ struct PrimaryRays {
 };
 PrimaryRays assignPrimaryRays(const Camera& camera, const Box& world, const Lattice& cuts, const ColumnGeometry& g,
                               const ColumnPlanes& planes, int stride = 1);
+// How many of a row's (or a column's) n pixels that stride traces.
+inline int stridedCount(int n, int stride) { return (n - stride / 2 + stride - 1) / stride; }
 
 // Credit (weight throwing): the host keeps what it does not hand out; each
 // node with P > 0 primary rays gets 2^-hostExp (hostExp = ceil(log2 of the
