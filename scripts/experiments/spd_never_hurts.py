@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Does the default balancing ever hurt on real scenes? Eric Haines' SPD
 scenes (balls-4, balls-5, tetra-3, gears-2, rings-2) on N x N x N meshes
-(N = 4, 6, 8), or meshes of other shapes (--shapes 64x1x1,...), over a
+(N = 4 to 8), or meshes of other shapes (--shapes 64x1x1,...), over a
 sweep of link bandwidths, each rendered without
 balancing and with the default policy over --frames frames of the same
 view: every frame's time against the unbalanced frame's, the first frame
@@ -28,7 +28,7 @@ WORST = 10  # rows of the worst points in the table
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--scenes", default=SCENES)
-    ap.add_argument("--n", default="4,6,8")
+    ap.add_argument("--n", default="4,5,6,7,8")
     ap.add_argument("--shapes", default="", help="mesh shapes WxHxD instead of --n's cubes (e.g. 64x1x1,33x1x1)")
     ap.add_argument("--tag", default="", help="names the files (spd_never_hurts-TAG.*) and the doc section")
     ap.add_argument("--bandwidths", default="100MB/s,200MB/s,400MB/s,1GB/s")
