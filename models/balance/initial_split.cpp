@@ -29,6 +29,19 @@ double mixedQuantile(const std::vector<double>& centres, double mix, double lo, 
     return at;
 }
 
+// The most object centres any box between `planes` holds (a centre on a
+// plane counts in the box above it).
+size_t heaviestBox(const std::vector<double>& sortedCentres, const std::vector<double>& planes) {
+    size_t most = 0;
+    for (size_t k = 0; k + 1 < planes.size(); ++k) {
+        const auto from = std::lower_bound(sortedCentres.begin(), sortedCentres.end(), planes[k]);
+        const auto to = k + 2 == planes.size() ? sortedCentres.end()
+                                               : std::lower_bound(sortedCentres.begin(), sortedCentres.end(), planes[k + 1]);
+        most = std::max(most, size_t(to - from));
+    }
+    return most;
+}
+
 // `median` and `sample`'s start: boundary k of each column at the k/N
 // quantile of the centres of the objects in the column (mix 1: the object
 // median), or of mix x their share and (1 - mix) x the column's length (so
@@ -36,8 +49,14 @@ double mixedQuantile(const std::vector<double>& centres, double mix, double lo, 
 // mix)) of its length; doc/balancing.md, "Where sample starts"), kept inside
 // the guards (every box at least the minimum thickness). `aligned`: the
 // quantiles of all the objects, the same planes in every column.
+// `lighterOnly` (auto's): a column whose heaviest box by objects that start
+// leaves as heavy as the uniform split's keeps the uniform split: the start
+// would lengthen boxes and gain nothing (tetra-3 at N = 5 to 7,
+// doc/balancing.md, "Where sample starts").
 void atObjectQuantiles(ColumnPlanes& planes, const ColumnGeometry& g, const Lattice& cuts, const Box& world,
-                     const ObjectBins& bins, double minThickness, double mix, bool aligned) {
+                     const ObjectBins& bins, double minThickness, const StartMix& start) {
+    const double mix = start.mix;
+    const bool aligned = start.aligned;
     const int ax = g.axis, n = g.length();
     const auto centresOf = [&](const std::vector<Shape>& shapes) {
         std::vector<double> c;
@@ -58,6 +77,7 @@ void atObjectQuantiles(ColumnPlanes& planes, const ColumnGeometry& g, const Latt
             const std::vector<double> centres = aligned ? everyObject : centresOf(bins.overlapping(column));
             std::vector<double>& b = planes[size_t(g.indexOf(i, j))];
             if (centres.empty()) continue;
+            const std::vector<double> uniform = b;
             for (int k = 1; k < n; ++k) {
                 // (At 1 the centre itself, as before the mix: the bisection lands a hair past it.)
                 const double q = mix == 1 ? centres[std::min(centres.size() - 1, centres.size() * size_t(k) / size_t(n))]
@@ -65,6 +85,7 @@ void atObjectQuantiles(ColumnPlanes& planes, const ColumnGeometry& g, const Latt
                 const double lo = b[size_t(k - 1)] + m, hi = world.hi[ax] - (n - k) * m;
                 b[size_t(k)] = std::clamp(q, lo, hi);
             }
+            if (start.lighterOnly && heaviestBox(centres, b) >= heaviestBox(centres, uniform)) b = uniform;
         }
 }
 
@@ -141,8 +162,17 @@ StartMix startMixFor(const MachineConfig& cfg, const std::vector<Shape>& objects
     if (length > kLongestHalfStartedColumn)
         return {0, false, "auto: " + costs + ", and a column has " + std::to_string(length) +
                               " boxes (more than " + std::to_string(kLongestHalfStartedColumn) + "): the uniform split"};
-    return {0.5, aligned, "auto: " + costs + ": half by the objects, half by the length" +
-                              (aligned ? ", the same planes in every column" : "")};
+    // Where that start takes no object off a column's heaviest box it only
+    // lengthens boxes, whose sides the rays cross: tetra-3's 64 triangles
+    // fill each slab alike, and from the half start sample lost at N = 5 to 7
+    // (up to 1.528 of the unbalanced frame at N = 7, 100 MB/s; 1.096 at 1
+    // GB/s), where every other SPD scene's heaviest box is 1.11 to 3.7 times
+    // lighter (doc/balancing.md, "Where sample starts").
+    return {0.5, aligned,
+            "auto: " + costs + ": half by the objects, half by the length" +
+                (aligned ? ", the same planes in every column" : "") +
+                " (the uniform split in a column where that leaves the heaviest box as heavy)",
+            true};
 }
 
 void chooseStartMix(MachineConfig& cfg, const std::vector<Shape>& objects) {
@@ -150,6 +180,7 @@ void chooseStartMix(MachineConfig& cfg, const std::vector<Shape>& objects) {
     StartMix m = startMixFor(cfg, objects);
     cfg.balance.startMix = m.mix;
     cfg.balance.startAligned = m.aligned;
+    cfg.balance.startLighterOnly = m.lighterOnly;
     cfg.balance.startMixWhy = std::move(m.why);
 }
 
@@ -168,9 +199,10 @@ ColumnPlanes initialPlanes(const MachineConfig& cfg, const Lattice& cuts, const 
     // (the minimum less a report's rounding of its decimals)
     if (!cfg.startBoundaries.empty()) planes = withInnerPlanes("start boundaries", planes, cfg.startBoundaries, minThickness, 1e-9);
     else if (cfg.balance.startsAtObjects()) {
-        const StartMix m = cfg.balance.startMix == kStartMixAuto ? startMixFor(cfg, bins.all())
-                                                                  : StartMix{cfg.balance.startMix, cfg.balance.startAligned, ""};
-        atObjectQuantiles(planes, g, cuts, world, bins, minThickness, m.mix, m.aligned);
+        const StartMix m = cfg.balance.startMix == kStartMixAuto
+                               ? startMixFor(cfg, bins.all())
+                               : StartMix{cfg.balance.startMix, cfg.balance.startAligned, "", cfg.balance.startLighterOnly};
+        atObjectQuantiles(planes, g, cuts, world, bins, minThickness, m);
     }
     return planes;
 }

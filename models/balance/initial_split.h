@@ -64,6 +64,9 @@ struct StartMix {
     double mix;
     bool aligned;     // one set of planes for every column, from all the objects
     std::string why;  // "auto: a test (10 ns) costs less than a third of a ray's hop (212 ns): ..."
+    // A column whose heaviest box (by object centres) the start leaves as
+    // heavy as the uniform split's starts uniform instead (auto's half start).
+    bool lighterOnly = false;
 };
 StartMix startMixFor(const MachineConfig& cfg, const std::vector<Shape>& objects);
 // cfg.balance.startMix, startAligned and startMixWhy set from startMixFor, if auto and

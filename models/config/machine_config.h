@@ -75,6 +75,7 @@ struct BalanceConfig {
     // (startMixFor, balance/initial_split.h), startMixWhy says how.
     double startMix = kStartMixAuto;
     bool startAligned = false;  // (set with startMix by auto: every column at the world's quantiles)
+    bool startLighterOnly = false;  // (set with startMix by auto: a column whose heaviest box the start does not lighten starts uniform)
     std::string startMixWhy;
     // When `sample`'s gather starts up a column (doc/balancing.md, "When the
     // sample is done"): false (generated), once its lowest node has generated
