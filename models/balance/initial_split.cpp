@@ -30,15 +30,15 @@ double mixedQuantile(const std::vector<double>& centres, double mix, double lo, 
 }
 
 // The most object centres any box between `planes` holds (a centre on a
-// plane counts in the box above it).
+// plane counts in the box below it, as mixedQuantile counts it).
 size_t heaviestBox(const std::vector<double>& sortedCentres, const std::vector<double>& planes) {
+    const auto upTo = [&](size_t k) {
+        return k + 1 == planes.size() ? sortedCentres.end()
+                                      : std::upper_bound(sortedCentres.begin(), sortedCentres.end(), planes[k]);
+    };
     size_t most = 0;
-    for (size_t k = 0; k + 1 < planes.size(); ++k) {
-        const auto from = std::lower_bound(sortedCentres.begin(), sortedCentres.end(), planes[k]);
-        const auto to = k + 2 == planes.size() ? sortedCentres.end()
-                                               : std::lower_bound(sortedCentres.begin(), sortedCentres.end(), planes[k + 1]);
-        most = std::max(most, size_t(to - from));
-    }
+    for (size_t k = 0; k + 1 < planes.size(); ++k)
+        most = std::max(most, size_t(upTo(k + 1) - (k == 0 ? sortedCentres.begin() : upTo(k))));
     return most;
 }
 

@@ -90,6 +90,32 @@ TEST(InitialSplit, UniformUnlessStartedElsewhereOrAtTheMedians) {
     EXPECT_THROW(initialPlanes(m, cuts, world, bins, 0.025), std::invalid_argument);
 }
 
+// Auto's half start keeps a column's planes uniform where it leaves the
+// column's heaviest box (by object centres) as heavy as the uniform split's:
+// it would only lengthen boxes (tetra-3 at N = 5 to 7 lost up to 53 % so).
+// By hand, a column of two over [0, 1] at start mix 0.5: centres .05 to .2
+// put the plane just past .2 (as above), and box 0 still holds all four;
+// centres .05 to .4 put it just past .3 (0.5 x 6/8 + 0.5 x 0.3 passes
+// 1/2), and box 0 holds 6 of 8 where the uniform split's held 8.
+TEST(InitialSplit, TheHalfStartOnlyWhereItLightensTheHeaviestBox) {
+    const Box world{Vec3(0.0), Vec3(1.0)};
+    MachineConfig m = mesh({2, 1, 1});
+    m.balance.policy = "sample";
+    m.balance.startMix = 0.5;
+    const Lattice cuts = Lattice::uniform(world, m.dims);
+    const auto planeWith = [&](int objects, bool lighterOnly) {
+        std::vector<Shape> s;
+        for (int i = 0; i < objects; ++i) s.push_back(sphere(Vec3(0.05 * (i + 1), 0.5, 0.5), 0.01, uint32_t(i)));
+        const ObjectBins bins(s, cuts, 1e-9);
+        m.balance.startLighterOnly = lighterOnly;
+        return initialPlanes(m, cuts, world, bins, 0.025)[0][1];
+    };
+    EXPECT_NEAR(planeWith(4, false), 0.2, 1e-12);
+    EXPECT_EQ(planeWith(4, true), 0.5);  // as heavy: uniform
+    EXPECT_NEAR(planeWith(8, false), 0.3, 1e-12);
+    EXPECT_NEAR(planeWith(8, true), 0.3, 1e-12);  // lighter: kept
+}
+
 // Where the objects crowd, the start packs boxes at the minimum thickness;
 // those planes may be a later frame's targets, whose boxes the machine
 // checks exactly (withInnerPlanes, no slack). b + m - b may round below m:
@@ -138,6 +164,11 @@ TEST(InitialSplit, AutoStartMixWeighsATestAgainstARaysHop) {
     EXPECT_FALSE(alignedAt(21200));
     EXPECT_FALSE(alignedAt(70667));
     EXPECT_NE(startMixFor(m, spheres).why.find("the same planes in every column"), std::string::npos);
+    // The half start gives way to the uniform split where it lightens no heaviest box; the median does not.
+    auto lighterOnlyAt = [&](Picos test) { return startMixFor(withSphereTest(m, test), spheres).lighterOnly; };
+    EXPECT_TRUE(lighterOnlyAt(10000));
+    EXPECT_TRUE(lighterOnlyAt(70666));
+    EXPECT_FALSE(lighterOnlyAt(70667));
     m.rayBatch = 4;  // a message of 8 + 4 x 124 bytes (504 ns) and its 80 ns of handling, shared by 4 rays: 146 ns
     EXPECT_EQ(mixAt(48666), 0.5);
     EXPECT_EQ(mixAt(48667), 1.0);
@@ -175,6 +206,7 @@ TEST(InitialSplit, AutoStartMixWeighsATestAgainstARaysHop) {
     chooseStartMix(m, spheres);
     EXPECT_EQ(m.balance.startMix, 0.5);
     EXPECT_TRUE(m.balance.startAligned);
+    EXPECT_TRUE(m.balance.startLighterOnly);  // (the half start alone)
     EXPECT_FALSE(m.balance.startMixWhy.empty());
     m.balance.startMix = 0.25;
     chooseStartMix(m, spheres);
