@@ -46,7 +46,10 @@ ColumnPlanes withInnerPlanes(const char* what, ColumnPlanes planes, const std::v
 // quantiles of all the objects (doc/balancing.md, "Where sample starts").
 // On columns of more than 8 boxes, where the tests are not the work, the
 // uniform split (0): a ray's hops grow with the boxes it crosses, and a box
-// the half start made long carries the rays across its sides.
+// the half start made long carries the rays across its sides. For the same
+// reason a column whose heaviest box (by object centres) the half start
+// leaves as heavy as the uniform split's keeps the uniform split
+// (StartMix::lighterOnly): tetra-3's triangles fill every slab alike.
 // A scene's intersection test (the mean over its objects, at the nodes'
 // speed) against what a ray's hop keeps a processor or a link busy (its
 // share of a ray message: --cost-send and --cost-recv, or the sender's alone

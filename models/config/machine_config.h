@@ -147,8 +147,8 @@ inline const std::vector<Param<BalanceConfig>>& balanceParams() {
                            "median and sample start with each column's boundaries at the quantiles of this share of its "
                            "objects' centres plus the rest of its length (1: the object median; 0: the uniform split); "
                            "auto: median 1; sample 1 where an intersection test costs at least a third of a ray's hop, else 0.5 "
-                           "(below a tenth of a hop, of all the objects: the same planes in every column), and 0 on "
-                           "columns of more than 8 boxes"),
+                           "(below a tenth of a hop, of all the objects: the same planes in every column; 0 in a column "
+                           "whose heaviest box by objects 0.5 leaves as heavy), and 0 on columns of more than 8 boxes"),
                "auto", kStartMixAuto),
         orWord(choiceParam("sample-end", &B::sampleCredit, "credit", "generated", "/sample_end",
                            "sample: when a column's gather starts: generated, once its lowest node has generated its "
