@@ -304,6 +304,8 @@ class BadInput(unittest.TestCase):
                 (py("experiments/spd_never_hurts.py", "--size", "128"), "--size '128': WxH"),
                 (py("experiments/spd_never_hurts.py", "--shapes", "64x1"), "'64x1' is not a mesh shape"),
                 (py("experiments/spd_never_hurts.py", "--frames", "0"), "--frames '0'"),
+                (py("experiments/spd_never_hurts.py", "--policy", "sample", "--doc"), "--tag: --doc with --policy sample"),
+                (py("experiments/spd_never_hurts.py", "--policy-extra", "--start-mix 0", "--doc"), "and --policy-extra"),
                 (py("bench_rtref.py", "--size", "0x8"), "--size '0x8'"),
                 (py("bench_rtsim.py", "--size", "x"), "--size 'x'"),
                 (py("bench_scaling.py", "--size", "8x8x8"), "--size '8x8x8'"),
