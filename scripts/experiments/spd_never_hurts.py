@@ -42,7 +42,6 @@ def main():
     driver.add_arguments(ap)
     a = driver.parse_outputs(ap)
     if a.doc and not a.tag and (project.policy_named(a.policy) not in ("measured", "recommended") or a.policy_extra):
-        # (untagged, its CSV and its section would be the recommended policy's)
         ap.error(f"--tag: --doc with --policy {a.policy}" + (" and --policy-extra" if a.policy_extra else "") +
                  " needs one: untagged, its table would replace measured's (the recommended policy's) in doc/")
     stem = "spd_never_hurts" + ("-" + outputs.check_name(a.tag, "--tag") if a.tag else "")
