@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -16,10 +17,17 @@ namespace {
 // The least x in [lo, hi] where `mix` x (the share of `centres` at or below
 // x) + (1 - mix) x (the share of [lo, hi] below x) exceeds `share`: the
 // mixed quantile, by bisection (the mix is a step function plus a ramp).
-double mixedQuantile(const std::vector<double>& centres, double mix, double lo, double hi, double share) {
+// With `entries` (sorted) and a weight `generation`: generation x their
+// share below x, and the rest (1 - generation) as above.
+double mixedQuantile(const std::vector<double>& centres, double mix, double lo, double hi, double share,
+                     const std::vector<double>& entries = {}, double generation = 0) {
+    const double g = entries.empty() ? 0.0 : generation;
+    const auto shareBelow = [](const std::vector<double>& sorted, double x) {
+        return double(std::upper_bound(sorted.begin(), sorted.end(), x) - sorted.begin()) / double(sorted.size());
+    };
     const auto above = [&](double x) {
-        const double objects = double(std::upper_bound(centres.begin(), centres.end(), x) - centres.begin());
-        return mix * objects / double(centres.size()) + (1 - mix) * (x - lo) / (hi - lo) > share;
+        return (1 - g) * (mix * shareBelow(centres, x) + (1 - mix) * (x - lo) / (hi - lo)) +
+                   (g > 0 ? g * shareBelow(entries, x) : 0.0) > share;
     };
     double below = lo, at = hi;
     for (int i = 0; i < 64; ++i) {
@@ -54,7 +62,8 @@ size_t heaviestBox(const std::vector<double>& sortedCentres, const std::vector<d
 // would lengthen boxes and gain nothing (tetra-3 at N = 5 to 7,
 // doc/balancing.md, "Where sample starts").
 void atObjectQuantiles(ColumnPlanes& planes, const ColumnGeometry& g, const Lattice& cuts, const Box& world,
-                     const ObjectBins& bins, double minThickness, const StartMix& start) {
+                     const ObjectBins& bins, double minThickness, const StartMix& start,
+                     const std::vector<std::vector<double>>& entries) {
     const double mix = start.mix;
     const bool aligned = start.aligned;
     const int ax = g.axis, n = g.length();
@@ -80,12 +89,27 @@ void atObjectQuantiles(ColumnPlanes& planes, const ColumnGeometry& g, const Latt
             const std::vector<double> uniform = b;
             for (int k = 1; k < n; ++k) {
                 // (At 1 the centre itself, as before the mix: the bisection lands a hair past it.)
-                const double q = mix == 1 ? centres[std::min(centres.size() - 1, centres.size() * size_t(k) / size_t(n))]
-                                          : mixedQuantile(centres, mix, world.lo[ax], world.hi[ax], double(k) / n);
+                const std::vector<double> none;
+                const std::vector<double>& in = entries.empty() ? none : entries[size_t(g.indexOf(i, j))];
+                const double q = mix == 1 && (in.empty() || !(start.generation > 0))
+                                     ? centres[std::min(centres.size() - 1, centres.size() * size_t(k) / size_t(n))]
+                                     : mixedQuantile(centres, mix, world.lo[ax], world.hi[ax], double(k) / n, in,
+                                                     start.generation);
                 const double lo = b[size_t(k - 1)] + m, hi = world.hi[ax] - (n - k) * m;
                 b[size_t(k)] = std::clamp(q, lo, hi);
             }
             if (start.lighterOnly && heaviestBox(centres, b) >= heaviestBox(centres, uniform)) b = uniform;
+        }
+}
+
+// Each primary ray the host hands out (`stride`: assignPrimaryRays), with
+// the cell of the uniform split where it enters the world, or none.
+template <class Each>
+void forEachPrimary(const Camera& camera, const Box& world, const Lattice& cuts, int stride, Each&& each) {
+    for (int y = stride / 2; y < camera.height(); y += stride)
+        for (int x = stride / 2; x < camera.width(); x += stride) {
+            const RayJob j = primaryJob(camera, x, y, world);
+            each(j, cuts.locate(j.ray, j.t0));
         }
 }
 
@@ -149,7 +173,15 @@ StartMix startMixFor(const MachineConfig& cfg, const std::vector<Shape>& objects
     const TestAgainstHop t = testAgainstHop(cfg, objects);
     const bool aligned = t.cheap;
     const std::string& costs = t.costs;
-    if (t.testsAreTheWork) return {1, false, "auto: " + costs + ": the object median"};
+    if (t.testsAreTheWork) {
+        const double gen = generationWeight(cfg, t.test);
+        char weight[32];
+        std::snprintf(weight, sizeof weight, "%.2g", gen);
+        return {1, false,
+                "auto: " + costs + ": the object median, weighing where the primary rays enter at " + weight +
+                    " (a ray's generation against it and " + formatNumber(kTestsPerGeneration) + " tests)",
+                false, gen};
+    }
     // A ray's tests do not grow with the boxes it crosses; its hops do. Up to
     // 8 boxes a column (Fig. 4's N = 2 to 8, the SPD scenes at N = 4 to 8)
     // the half start paid; at 16 and 32, and on columns of 33 and 64 boxes,
@@ -175,12 +207,19 @@ StartMix startMixFor(const MachineConfig& cfg, const std::vector<Shape>& objects
             true};
 }
 
+double generationWeight(const MachineConfig& cfg, double test) {
+    const double gen = double(cfg.costs.rayGen) / cfg.speed;
+    const double all = gen + kTestsPerGeneration * test;
+    return all > 0 ? gen / all : 0.0;
+}
+
 void chooseStartMix(MachineConfig& cfg, const std::vector<Shape>& objects) {
     if (cfg.balance.startMix != kStartMixAuto || !cfg.balance.startsAtObjects() || !cfg.startBoundaries.empty()) return;
     StartMix m = startMixFor(cfg, objects);
     cfg.balance.startMix = m.mix;
     cfg.balance.startAligned = m.aligned;
     cfg.balance.startLighterOnly = m.lighterOnly;
+    cfg.balance.startGeneration = m.generation;
     cfg.balance.startMixWhy = std::move(m.why);
 }
 
@@ -193,7 +232,7 @@ void chooseSampleEnd(MachineConfig& cfg, const std::vector<Shape>& objects) {
 }
 
 ColumnPlanes initialPlanes(const MachineConfig& cfg, const Lattice& cuts, const Box& world, const ObjectBins& bins,
-                           double minThickness) {
+                           double minThickness, const Camera* camera) {
     const ColumnGeometry g(cfg.balance.axis, cfg.dims);
     ColumnPlanes planes(size_t(g.count()), cuts.planes(g.axis));
     // (the minimum less a report's rounding of its decimals)
@@ -201,8 +240,11 @@ ColumnPlanes initialPlanes(const MachineConfig& cfg, const Lattice& cuts, const 
     else if (cfg.balance.startsAtObjects()) {
         const StartMix m = cfg.balance.startMix == kStartMixAuto
                                ? startMixFor(cfg, bins.all())
-                               : StartMix{cfg.balance.startMix, cfg.balance.startAligned, "", cfg.balance.startLighterOnly};
-        atObjectQuantiles(planes, g, cuts, world, bins, minThickness, m);
+                               : StartMix{cfg.balance.startMix, cfg.balance.startAligned, "", cfg.balance.startLighterOnly,
+                                          cfg.balance.startGeneration};
+        std::vector<std::vector<double>> entries;
+        if (camera && m.generation > 0) entries = primaryEntries(*camera, world, cuts, g, cfg.pixelStride);
+        atObjectQuantiles(planes, g, cuts, world, bins, minThickness, m, entries);
     }
     return planes;
 }
@@ -220,23 +262,30 @@ PrimaryRays assignPrimaryRays(const Camera& camera, const Box& world, const Latt
     PrimaryRays r;
     r.perNode.resize(size_t(g.dims[0] * g.dims[1] * g.dims[2]));
     const int ax = g.axis;
-    for (int y = stride / 2; y < camera.height(); y += stride)
-        for (int x = stride / 2; x < camera.width(); x += stride) {
-            const RayJob j = primaryJob(camera, x, y, world);
-            std::optional<Cell> c = cuts.locate(j.ray, j.t0);
-            if (!c) {
-                r.misses.push_back(j);
-                continue;
-            }
-            // Along the axis, the column's own planes decide.
-            const std::vector<double>& b = planes[size_t(g.columnOf(*c))];
-            for (int k = 0; k < g.length(); ++k) {
-                const Interval s = slabInterval(j.ray, ax, b[size_t(k)], b[size_t(k + 1)]);
-                if (s.lo <= j.t0 && j.t0 < s.hi) (*c)[ax] = k;
-            }
-            r.perNode[nodeIndex(*c, g.dims)].push_back(j.pixel);
+    forEachPrimary(camera, world, cuts, stride, [&](const RayJob& j, std::optional<Cell> c) {
+        if (!c) {
+            r.misses.push_back(j);
+            return;
         }
+        // Along the axis, the column's own planes decide.
+        const std::vector<double>& b = planes[size_t(g.columnOf(*c))];
+        for (int k = 0; k < g.length(); ++k) {
+            const Interval s = slabInterval(j.ray, ax, b[size_t(k)], b[size_t(k + 1)]);
+            if (s.lo <= j.t0 && j.t0 < s.hi) (*c)[ax] = k;
+        }
+        r.perNode[nodeIndex(*c, g.dims)].push_back(j.pixel);
+    });
     return r;
+}
+
+std::vector<std::vector<double>> primaryEntries(const Camera& camera, const Box& world, const Lattice& cuts,
+                                                const ColumnGeometry& g, int stride) {
+    std::vector<std::vector<double>> at(size_t(g.count()));
+    forEachPrimary(camera, world, cuts, stride, [&](const RayJob& j, std::optional<Cell> c) {
+        if (c) at[size_t(g.columnOf(*c))].push_back(j.ray.at(j.t0)[g.axis]);
+    });
+    for (std::vector<double>& column : at) std::sort(column.begin(), column.end());
+    return at;
 }
 
 CreditShares shareCredit(const std::vector<std::vector<uint32_t>>& perNode, int maxExp) {

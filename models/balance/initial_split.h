@@ -70,7 +70,22 @@ struct StartMix {
     // A column whose heaviest box (by object centres) the start leaves as
     // heavy as the uniform split's starts uniform instead (auto's half start).
     bool lighterOnly = false;
+    // The weight of where the column's primary rays enter the world in its
+    // quantiles (the rest: `mix` as above): the node whose box a primary
+    // ray enters generates it, however thin the box. Where the objects are
+    // the work (the object median) generating a ray can still cost as much
+    // as a few tests (generationWeight); elsewhere 0.
+    double generation = 0;
 };
+// A primary ray's generation against itself and kTestsPerGeneration of the
+// scene's intersection tests (at the nodes' speed): 0.21 on the paper's
+// machine, 0.0025 with the modern machine's sphere tests x100. Measured on
+// Fig. 4's scene on the paper's machine at f = 1/N, N = 4 to 8, both views
+// (doc/balancing.md, "Where sample starts"): at 0.2 every first frame was
+// within 1.2 times max(1/N, the best static split); at 0.1, 0.15 and 0.32
+// one was not.
+constexpr double kTestsPerGeneration = 8;
+double generationWeight(const MachineConfig& cfg, double test);
 StartMix startMixFor(const MachineConfig& cfg, const std::vector<Shape>& objects);
 // cfg.balance.startMix, startAligned and startMixWhy set from startMixFor, if auto and
 // the policy starts at the objects, not where a frame before left them (so
@@ -92,8 +107,10 @@ void chooseSampleEnd(MachineConfig& cfg, const std::vector<Shape>& objects);
 // the start is aligned (mixed with its length: cfg.balance.startMix, or
 // startMixFor's if auto). Throws std::invalid_argument for
 // start boundaries that do not fit the mesh.
+// With `camera`, where its primary rays enter the world counts for
+// StartMix::generation (else not).
 ColumnPlanes initialPlanes(const MachineConfig& cfg, const Lattice& cuts, const Box& world, const ObjectBins& bins,
-                           double minThickness);
+                           double minThickness, const Camera* camera = nullptr);
 
 // Node c's box: its cell of the uniform split, with the column's planes along the axis.
 Box nodeBox(const Cell& c, const Lattice& cuts, const ColumnGeometry& g, const ColumnPlanes& planes);
@@ -109,6 +126,10 @@ struct PrimaryRays {
 };
 PrimaryRays assignPrimaryRays(const Camera& camera, const Box& world, const Lattice& cuts, const ColumnGeometry& g,
                               const ColumnPlanes& planes, int stride = 1);
+// The same primary rays' entry points into the world along the axis, by
+// column (column index), sorted (StartMix::generation).
+std::vector<std::vector<double>> primaryEntries(const Camera& camera, const Box& world, const Lattice& cuts,
+                                                const ColumnGeometry& g, int stride = 1);
 // How many of a row's (or a column's) n pixels that stride traces.
 inline int stridedCount(int n, int stride) { return (n - stride / 2 + stride - 1) / stride; }
 

@@ -76,6 +76,7 @@ struct BalanceConfig {
     double startMix = kStartMixAuto;
     bool startAligned = false;  // (set with startMix by auto: every column at the world's quantiles)
     bool startLighterOnly = false;  // (set with startMix by auto: a column whose heaviest box the start does not lighten starts uniform)
+    double startGeneration = 0;  // (set with startMix by auto: the primary rays' entry points' weight in the start's quantiles)
     std::string startMixWhy;
     // When `sample`'s gather starts up a column (doc/balancing.md, "When the
     // sample is done"): false (generated), once its lowest node has generated
@@ -146,7 +147,8 @@ inline const std::vector<Param<BalanceConfig>>& balanceParams() {
         orWord(numberParam("start-mix", &B::startMix, 0.0, 1.0, "/start_mix",
                            "median and sample start with each column's boundaries at the quantiles of this share of its "
                            "objects' centres plus the rest of its length (1: the object median; 0: the uniform split); "
-                           "auto: median 1; sample 1 where an intersection test costs at least a third of a ray's hop, else 0.5 "
+                           "auto: median 1; sample 1 where an intersection test costs at least a third of a ray's hop (weighing "
+                           "where the primary rays enter the world by a ray's generation against 8 tests), else 0.5 "
                            "(below a tenth of a hop, of all the objects: the same planes in every column; 0 in a column "
                            "whose heaviest box by objects 0.5 leaves as heavy), and 0 on columns of more than 8 boxes"),
                "auto", kStartMixAuto),

@@ -13,6 +13,7 @@ BinningSize binningSize(const Scene& scene, const MachineConfig& cfg) {
     const Lattice cuts = Lattice::uniform(world, cfg.dims);
     const ColumnGeometry columns(cfg.balance.axis, cfg.dims);
     const ObjectBins bins(scene.objects, cuts, roundingMargin(world));
+    // (without the camera: a start that weighs the primary rays' entries is estimated without them)
     const ColumnPlanes planes = initialPlanes(cfg, cuts, world, bins, minThicknessOf(cfg, world));
     BinningSize s;
     for (size_t i = 0; i < size_t(cfg.nodeCount()); ++i) {

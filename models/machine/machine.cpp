@@ -36,7 +36,7 @@ Machine::Machine(sc_core::sc_module_name name, const Scene& scene, const Machine
     // Each node's objects (and the median's columns) found by binning, not by
     // scanning the scene once per box.
     bins_ = std::make_unique<ObjectBins>(scene_.objects, cuts_, roundingMargin(world_));
-    columnPlanes_ = initialPlanes(cfg_, cuts_, world_, *bins_, minThickness_);
+    columnPlanes_ = initialPlanes(cfg_, cuts_, world_, *bins_, minThickness_, &camera_);
     const ColumnPlanes targets = startTargets();
     // Credit precision: the host's split, a node's split over its primary
     // rays, and one split per ray-tree level (a hit spawns at most L + 2 rays

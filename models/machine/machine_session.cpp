@@ -46,7 +46,7 @@ void Machine::nextFrame(const View& view, const MachineConfig& next, int frame) 
     cfg_ = next;
     cfg_.validate();
     camera_ = Camera(view, width_, height_);
-    columnPlanes_ = initialPlanes(cfg_, cuts_, world_, *bins_, minThickness_);
+    columnPlanes_ = initialPlanes(cfg_, cuts_, world_, *bins_, minThickness_, &camera_);
     const ColumnPlanes targets = startTargets();
     spawned_.clear();
     for (FrameBufferUnit& u : units_) spawned_.push_back(u.restart(cfg_.showProgress, frame));

@@ -259,6 +259,53 @@ TEST(InitialSplit, SampleEndAutoWaitsForTheCreditWhereTheTestsAreTheWork) {
     EXPECT_FALSE(carried.balance.sampleCredit);
 }
 
+// Where the tests are the work, sample's start weighs where the primary
+// rays enter too (StartMix::generation): by hand, four centres at x = .1
+// to .4 on a column of two boxes, every ray entering at x = 0 (seen along
+// x). At weight 0.5 the plane is the least x where half the centres' share
+// plus half the entries' (all of them, from x = 0 on) passes 1/2: the
+// first centre, 0.1; the object median alone (no camera, or weight 0) puts
+// it at the third, 0.3.
+TEST(InitialSplit, WherePrimaryRaysEnterWeighsInWhereTheTestsAreTheWork) {
+    const Box world{Vec3(0.0), Vec3(1.0)};
+    MachineConfig m = mesh({2, 1, 1});
+    m.balance.policy = "sample";
+    const Lattice cuts = Lattice::uniform(world, m.dims);
+    std::vector<Shape> objects;
+    for (int i = 0; i < 4; ++i) objects.push_back(sphere(Vec3(0.1 * (i + 1), 0.5, 0.5), 0.01, uint32_t(i)));
+    const ObjectBins bins(objects, cuts, 1e-9);
+    const Camera along(View{Vec3(-1.3, 0.5, 0.5), Vec3(0.5, 0.5, 0.5), Vec3(0, 0, 1), 20}, 16, 16);
+    const std::vector<std::vector<double>> entries = primaryEntries(along, world, cuts, ColumnGeometry(0, m.dims));
+    ASSERT_EQ(entries.size(), 1u);
+    ASSERT_EQ(entries[0].size(), 256u);
+    for (double x : entries[0]) EXPECT_NEAR(x, 0.0, 1e-9);
+    m.balance.startMix = 1;
+    m.balance.startGeneration = 0.5;
+    EXPECT_NEAR(initialPlanes(m, cuts, world, bins, 0.025, &along)[0][1], 0.1, 1e-9);
+    EXPECT_NEAR(initialPlanes(m, cuts, world, bins, 0.025)[0][1], 0.3, 1e-9);
+    m.balance.startGeneration = 0;
+    EXPECT_NEAR(initialPlanes(m, cuts, world, bins, 0.025, &along)[0][1], 0.3, 1e-9);
+    // The weight: a ray's generation against itself and 8 tests, at the
+    // nodes' speed (the paper's machine: 36 us against 8 x 17 us).
+    m.costs.rayGen = 36000000;
+    m.costs.test[0] = 17000000;
+    EXPECT_DOUBLE_EQ(generationWeight(m, 17000000), 36.0 / (36 + 8 * 17));
+    m.speed = 2;
+    EXPECT_DOUBLE_EQ(generationWeight(m, 8500000), 36.0 / (36 + 8 * 17));  // (the test as testAgainstHop gives it, at speed)
+    // auto: the object median and that weight where the tests are the work;
+    // where the hops are, none.
+    m.speed = 1;
+    m.balance.startMix = kStartMixAuto;
+    chooseStartMix(m, objects);
+    EXPECT_EQ(m.balance.startMix, 1.0);
+    EXPECT_DOUBLE_EQ(m.balance.startGeneration, 36.0 / (36 + 8 * 17));
+    EXPECT_NE(m.balance.startMixWhy.find("where the primary rays enter"), std::string::npos) << m.balance.startMixWhy;
+    MachineConfig cheap = mesh({2, 1, 1});
+    cheap.balance.policy = "sample";
+    chooseStartMix(cheap, objects);
+    EXPECT_EQ(cheap.balance.startGeneration, 0.0);
+}
+
 TEST(InitialSplit, EveryPrimaryRayGoesToTheNodeThatOwnsItsStart) {
     ProceduralParams p;
     p.spheres = 10;
