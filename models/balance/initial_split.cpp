@@ -78,6 +78,7 @@ void atObjectQuantiles(ColumnPlanes& planes, const ColumnGeometry& g, const Latt
     };
     const std::vector<double> everyObject = aligned ? centresOf(bins.all()) : std::vector<double>{};
     const double m = planeSpacing(minThickness);
+    const std::vector<double> noEntries;  // (a column none of whose primary rays is weighed)
     for (int j = 0; j < g.dims[g.v]; ++j)
         for (int i = 0; i < g.dims[g.u]; ++i) {
             Box column = cuts.cellBox(g.cell(i, j, 0));
@@ -87,10 +88,9 @@ void atObjectQuantiles(ColumnPlanes& planes, const ColumnGeometry& g, const Latt
             std::vector<double>& b = planes[size_t(g.indexOf(i, j))];
             if (centres.empty()) continue;
             const std::vector<double> uniform = b;
+            const std::vector<double>& in = entries.empty() ? noEntries : entries[size_t(g.indexOf(i, j))];
             for (int k = 1; k < n; ++k) {
                 // (At 1 the centre itself, as before the mix: the bisection lands a hair past it.)
-                const std::vector<double> none;
-                const std::vector<double>& in = entries.empty() ? none : entries[size_t(g.indexOf(i, j))];
                 const double q = mix == 1 && (in.empty() || !(start.generation > 0))
                                      ? centres[std::min(centres.size() - 1, centres.size() * size_t(k) / size_t(n))]
                                      : mixedQuantile(centres, mix, world.lo[ax], world.hi[ax], double(k) / n, in,
