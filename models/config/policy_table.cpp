@@ -31,8 +31,9 @@ const std::vector<PolicyInfo>& policies() {
          PolicyKind::Dynamic, 0.25, makeSlidePolicy},
         {"sample",
          "the first frame starts at a split of its objects and length (--start-mix: by default the object median, "
-         "weighing where the primary rays enter, where an intersection test costs at least a third of a ray's hop, else half each where that lightens a "
-         "column's heaviest box, or the uniform split (and on columns of more than 8 boxes)), gathers "
+         "weighing where the primary rays enter, where an intersection test costs at least a third of a ray's hop, "
+         "else half each where that lightens a column's heaviest box, or the uniform split (and on columns of more "
+         "than 8 boxes)), gathers "
          "where a sample of its rays (one pixel in 16, generated first) did their work up each column, and moves "
          "every plane once to where that work splits evenly; later frames re-split as resplit",
          PolicyKind::Dynamic, 0.25, makeSlidePolicy},
