@@ -376,8 +376,12 @@ class BadInput(unittest.TestCase):
 class Stops(unittest.TestCase):
     def test_ctrl_c_ends_a_stress_run_and_its_children_at_once(self):
         """stress.py with 400 configurations queued: SIGINT ends it within a
-        second, exit 130, no rtsim or rtref left running, its temporary
-        folder removed (it used to run every queued configuration first)."""
+        few seconds, exit 130, no rtsim or rtref left running, its temporary
+        folder removed (it used to run every queued configuration first:
+        about 0.2 s each, 40 s for the queue on 2 jobs). The bound is 5 s,
+        not 1: under ctest -j2 beside the suite's heaviest tests the stop
+        once took just over a second, and the test failed on a stop that
+        worked."""
         import signal
         import time
         with tempfile.TemporaryDirectory() as d:
@@ -394,7 +398,7 @@ class Stops(unittest.TestCase):
                 _, err = p.communicate(timeout=10)
             finally:
                 p.kill()
-            self.assertLess(time.monotonic() - t, 1.0, err)
+            self.assertLess(time.monotonic() - t, 5.0, err)
             self.assertEqual(p.returncode, 130, err)
             time.sleep(0.2)
             left = []
