@@ -189,7 +189,7 @@ StartMix startMixFor(const MachineConfig& cfg, const std::vector<Shape>& objects
     // slower than the uniform split by up to 79 %, in boxes it made long
     // whose sides the rays crossed, and the sample's move did not take it
     // back (doc/balancing.md, "At 16 and 32 boxes a column").
-    constexpr int kLongestHalfStartedColumn = 8;
+    // (kLongestHalfStartedColumn: config/machine_config.h, with --start-mix's help)
     const int length = cfg.dims[size_t(cfg.balance.axis)];
     if (length > kLongestHalfStartedColumn)
         return {0, false, "auto: " + costs + ", and a column has " + std::to_string(length) +

@@ -78,13 +78,14 @@ struct StartMix {
     double generation = 0;
 };
 // A primary ray's generation against itself and kTestsPerGeneration of the
-// scene's intersection tests (at the nodes' speed): 0.21 on the paper's
-// machine, 0.0025 with the modern machine's sphere tests x100. Measured on
+// scene's intersection tests (at the nodes' speed; the constant is in
+// config/machine_config.h, which --start-mix's help states it from): 0.21
+// on the paper's machine, 0.0025 with the modern machine's sphere tests
+// x100. Measured on
 // Fig. 4's scene on the paper's machine at f = 1/N, N = 4 to 8, both views
 // (doc/balancing.md, "Where sample starts"): at 0.2 every first frame was
 // within 1.2 times max(1/N, the best static split); at 0.1, 0.15 and 0.32
 // one was not.
-constexpr double kTestsPerGeneration = 8;
 double generationWeight(const MachineConfig& cfg, double test);
 StartMix startMixFor(const MachineConfig& cfg, const std::vector<Shape>& objects);
 // cfg.balance.startMix, startAligned and startMixWhy set from startMixFor, if auto and

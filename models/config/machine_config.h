@@ -60,6 +60,12 @@ constexpr const char* kRecommendedPolicy = "measured";
 
 // --start-mix auto, the default: a value outside the mixes' range [0, 1].
 constexpr double kStartMixAuto = -1;
+// Two of auto's measured constants (balance/initial_split.h says how they
+// were measured), here so that --start-mix's help states them from one place:
+// the tests a primary ray's generation is weighed against where the tests
+// are the work, and the longest column that takes the half start.
+constexpr int kTestsPerGeneration = 8;
+constexpr int kLongestHalfStartedColumn = 8;
 
 struct BalanceConfig {
     std::string policy = "none";
@@ -134,6 +140,13 @@ struct BalanceConfig {
 // command line itself, and the echo's gain is gainOf().
 inline const std::vector<Param<BalanceConfig>>& balanceParams() {
     using B = BalanceConfig;
+    static const std::string startMixHelp =
+        "median and sample start with each column's boundaries at the quantiles of this share of its objects' centres "
+        "plus the rest of its length (1: the object median; 0: the uniform split); auto: median 1; sample 1 where an "
+        "intersection test costs at least a third of a ray's hop (weighing where the primary rays enter the world by a "
+        "ray's generation against " + std::to_string(kTestsPerGeneration) + " tests), else 0.5 (below a tenth of a hop, "
+        "of all the objects: the same planes in every column; 0 in a column whose heaviest box by objects 0.5 leaves "
+        "as heavy), and 0 on columns of more than " + std::to_string(kLongestHalfStartedColumn) + " boxes";
     static const std::vector<Param<B>> rows = {
         specialParam<B>("balance", nullptr),
         timeParam("balance-interval", &B::interval, "/interval_ns", "time between load reports"),
@@ -144,13 +157,7 @@ inline const std::vector<Param<BalanceConfig>>& balanceParams() {
         numberParam("deadband", &B::deadband, 0.0, 0.999, "/deadband", "no slide while the load difference is at most this"),
         numberParam("min-thickness", &B::minThickness, 1e-6, 1.0, "/min_thickness",
                     "guard: a box keeps at least this fraction of its initial thickness"),
-        orWord(numberParam("start-mix", &B::startMix, 0.0, 1.0, "/start_mix",
-                           "median and sample start with each column's boundaries at the quantiles of this share of its "
-                           "objects' centres plus the rest of its length (1: the object median; 0: the uniform split); "
-                           "auto: median 1; sample 1 where an intersection test costs at least a third of a ray's hop (weighing "
-                           "where the primary rays enter the world by a ray's generation against 8 tests), else 0.5 "
-                           "(below a tenth of a hop, of all the objects: the same planes in every column; 0 in a column "
-                           "whose heaviest box by objects 0.5 leaves as heavy), and 0 on columns of more than 8 boxes"),
+        orWord(numberParam("start-mix", &B::startMix, 0.0, 1.0, "/start_mix", startMixHelp.c_str()),
                "auto", kStartMixAuto),
         orWord(choiceParam("sample-end", &B::sampleCredit, "credit", "generated", "/sample_end",
                            "sample: when a column's gather starts: generated, once its lowest node has generated its "
