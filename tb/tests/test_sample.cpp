@@ -396,6 +396,46 @@ protected:
     }
 };
 
+// Where the tests are the work (the paper's machine) sample starts at the
+// object median, weighing where each column's primary rays enter the world
+// (initialPlanes with the camera; StartMix::generation, 0.21 here). Across
+// the axis the front row's columns (y = 0) generate them all, entering
+// through the world's face at y = 0, evenly along x: their start planes
+// move from the object median's towards the uniform split's (column 0, 0
+// at 128x128: 0.073, 0.135, 0.196 -> 0.086, 0.160, 0.225; measured), and
+// the columns behind, which generate none, start at the object median.
+TEST_F(Sample, OnThePapersMachineTheFrontRowsStartWeighsWhereItsPrimaryRaysEnter) {
+    const auto starts = [](const json& r) {
+        std::map<std::pair<int, int>, std::vector<double>> planes;  // by column, in index order
+        for (const json& b : r["boundaries"])
+            planes[{b["column"][0].get<int>(), b["column"][1].get<int>()}].push_back(b["history"][0][1].get<double>());
+        return planes;
+    };
+    const json a = paper("across", "sample"), m = paper("across", "sample", "--start-mix 1");
+    EXPECT_NE(a["config"]["balance"]["start_mix_auto"].get<std::string>().find("weighing where the primary rays enter"),
+              std::string::npos);
+    const auto withEntries = starts(a), objectsOnly = starts(m);
+    ASSERT_EQ(withEntries.size(), 16u);
+    const double lo = -0.020104, width = 1.040208;  // the world along x (the spheres' box, their radius around)
+    double furthest = 0;
+    for (const auto& [column, planes] : withEntries) {
+        SCOPED_TRACE(std::to_string(column.first) + "," + std::to_string(column.second));
+        const std::vector<double>& median = objectsOnly.at(column);
+        ASSERT_EQ(planes.size(), 3u);
+        for (size_t i = 0; i < planes.size(); ++i) {
+            if (column.first > 0) {
+                EXPECT_EQ(planes[i], median[i]);
+                continue;
+            }
+            const double uniform = lo + width * double(i + 1) / 4;
+            EXPECT_GE(planes[i], median[i]);
+            EXPECT_LE(planes[i], uniform);
+            furthest = std::max(furthest, planes[i] - median[i]);
+        }
+    }
+    EXPECT_GT(furthest, 0.02);  // (0.036 measured)
+}
+
 // Along the axis every column generates its own primary rays (at its front
 // node): each sends its sum up (3 messages) and its planes down (3), 16
 // columns; the top nodes of the 24 pairs of columns side by side tell each
