@@ -173,6 +173,23 @@ StartMix startMixFor(const MachineConfig& cfg, const std::vector<Shape>& objects
     const TestAgainstHop t = testAgainstHop(cfg, objects);
     const bool aligned = t.cheap;
     const std::string& costs = t.costs;
+    // A ray's tests do not grow with the boxes it crosses; its hops do. Up to
+    // 8 boxes a column (Fig. 4's N = 2 to 8, the SPD scenes at N = 4 to 8)
+    // the start by the objects paid; at 16 and 32, and on columns of 33 and
+    // 64 boxes, it made the scenes with few objects a box slower than the
+    // uniform split, in boxes it made long whose sides the rays crossed
+    // (the half start where the hops are the work: gears-2, rings-2, tetra-3
+    // by up to 79 %, and the sample's move did not take it back), or in
+    // boxes it made thin, each of which a ray pays a hop in (the object
+    // median where the tests are the work: on the paper's machine, whose hop
+    // takes 111.5 us, tetra-3 at N = 32 2.40 times the unbalanced frame,
+    // gears-2 1.29; doc/balancing.md, "At 16 and 32 boxes a column" and "On
+    // the paper's machine at 16 and 32 boxes a column").
+    // (kLongestHalfStartedColumn: config/machine_config.h, with --start-mix's help)
+    const int length = cfg.dims[size_t(cfg.balance.axis)];
+    if (length > kLongestHalfStartedColumn)
+        return {0, false, "auto: " + costs + ", and a column has " + std::to_string(length) +
+                              " boxes (more than " + std::to_string(kLongestHalfStartedColumn) + "): the uniform split"};
     if (t.testsAreTheWork) {
         const double gen = generationWeight(cfg, t.test);
         char weight[32];
@@ -182,18 +199,6 @@ StartMix startMixFor(const MachineConfig& cfg, const std::vector<Shape>& objects
                     " (a ray's generation against it and " + formatNumber(kTestsPerGeneration) + " tests)",
                 false, gen};
     }
-    // A ray's tests do not grow with the boxes it crosses; its hops do. Up to
-    // 8 boxes a column (Fig. 4's N = 2 to 8, the SPD scenes at N = 4 to 8)
-    // the half start paid; at 16 and 32, and on columns of 33 and 64 boxes,
-    // it made the scenes with few objects a box (gears-2, rings-2, tetra-3)
-    // slower than the uniform split by up to 79 %, in boxes it made long
-    // whose sides the rays crossed, and the sample's move did not take it
-    // back (doc/balancing.md, "At 16 and 32 boxes a column").
-    // (kLongestHalfStartedColumn: config/machine_config.h, with --start-mix's help)
-    const int length = cfg.dims[size_t(cfg.balance.axis)];
-    if (length > kLongestHalfStartedColumn)
-        return {0, false, "auto: " + costs + ", and a column has " + std::to_string(length) +
-                              " boxes (more than " + std::to_string(kLongestHalfStartedColumn) + "): the uniform split"};
     // Where that start takes no object off a column's heaviest box it only
     // lengthens boxes, whose sides the rays cross: tetra-3's 64 triangles
     // fill each slab alike, and from the half start sample lost at N = 5 to 7

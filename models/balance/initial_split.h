@@ -44,9 +44,10 @@ ColumnPlanes withInnerPlanes(const char* what, ColumnPlanes planes, const std::v
 // passed on between columns whose faces differ cost more than fitting each
 // column's objects gains: every column starts at the same planes, the
 // quantiles of all the objects (doc/balancing.md, "Where sample starts").
-// On columns of more than 8 boxes, where the tests are not the work, the
-// uniform split (0): a ray's hops grow with the boxes it crosses, and a box
-// the half start made long carries the rays across its sides. For the same
+// On columns of more than 8 boxes, whatever the costs, the uniform split
+// (0): a ray's hops grow with the boxes it crosses; a box the half start
+// made long carries the rays across its sides, and each box the object
+// median made thin costs a ray a hop. For the same
 // reason a column whose heaviest box (by object centres) the half start
 // leaves as heavy as the uniform split's keeps the uniform split
 // (StartMix::lighterOnly): tetra-3's triangles fill every slab alike.

@@ -181,12 +181,17 @@ TEST(InitialSplit, AutoStartMixWeighsATestAgainstARaysHop) {
     EXPECT_EQ(mixAt(57333), 0.5);
     EXPECT_EQ(mixAt(57334), 1.0);
     m.hopsByLinks = false;
-    // A column of more than 8 boxes starts uniform where the hops are the
-    // work, and at the object median where the tests are.
+    // A column of more than 8 boxes starts uniform whatever the costs: where
+    // the hops are the work (a long box carries the rays across its sides)
+    // and where the tests are (a thin box costs every ray through it a hop:
+    // the paper's machine at N = 16 and 32, doc/balancing.md).
     m.dims = {9, 1, 1};
     EXPECT_EQ(mixAt(10000), 0.0);
     EXPECT_EQ(mixAt(70666), 0.0);
+    EXPECT_EQ(mixAt(70667), 0.0);
+    m.dims = {8, 1, 1};
     EXPECT_EQ(mixAt(70667), 1.0);
+    m.dims = {9, 1, 1};
     EXPECT_NE(startMixFor(m, spheres).why.find("a column has 9 boxes (more than 8): the uniform split"),
               std::string::npos)
         << startMixFor(m, spheres).why;
