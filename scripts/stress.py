@@ -304,7 +304,6 @@ def main():
     rng = random.Random(a.seed)
     configs = [configuration(rng) for _ in range(a.count)]
     t0 = time.time()
-    failures = []
     # The temporary folder's removal may not fail a stop: under ctest -j2 a
     # stop once ended in "stress.py: 0: Directory not empty" and exit 1 (a
     # configuration's folder gained a file while it was being removed). It

@@ -63,7 +63,8 @@ constexpr double kStartMixAuto = -1;
 // Two of auto's measured constants (balance/initial_split.h says how they
 // were measured), here so that --start-mix's help states them from one place:
 // the tests a primary ray's generation is weighed against where the tests
-// are the work, and the longest column that takes the half start.
+// are the work, and the longest column that starts by its objects (the half
+// start or the object median; a longer one starts at the uniform split).
 constexpr int kTestsPerGeneration = 8;
 constexpr int kLongestHalfStartedColumn = 8;
 
