@@ -345,7 +345,7 @@ MUTANTS = [
      "    return hops * hopPs + objectTime * 0.5 * (hops + 1);", "    return hops * hopPs + objectTime;",
      "a move's chain passes each object on once, not through every box between (resplit's and sample's forecasts)"),
     ("sample-long-columns-half-start", "models/balance/initial_split.cpp",
-     "    if (length > kLongestHalfStartedColumn)", "    if (length > 8 * kLongestHalfStartedColumn)",
+     "    if (length > kLongestColumnStartedByObjects)", "    if (length > 8 * kLongestColumnStartedByObjects)",
      "--start-mix auto starts sample half by the objects on columns of 9 to 64 boxes, where the hops are the work"),
     ("sample-credit-behind-holds", "models/machine/machine.cpp",
      "    std::vector<bool> gathers(size_t(g.count()), cfg_.balance.sampleCredit);",

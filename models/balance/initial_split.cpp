@@ -185,11 +185,11 @@ StartMix startMixFor(const MachineConfig& cfg, const std::vector<Shape>& objects
     // takes 111.5 us, tetra-3 at N = 32 2.40 times the unbalanced frame,
     // gears-2 1.29; doc/balancing.md, "At 16 and 32 boxes a column" and "On
     // the paper's machine at 16 and 32 boxes a column").
-    // (kLongestHalfStartedColumn: config/machine_config.h, with --start-mix's help)
+    // (kLongestColumnStartedByObjects: config/start_constants.h, with the help text)
     const int length = cfg.dims[size_t(cfg.balance.axis)];
-    if (length > kLongestHalfStartedColumn)
+    if (length > kLongestColumnStartedByObjects)
         return {0, false, "auto: " + costs + ", and a column has " + std::to_string(length) +
-                              " boxes (more than " + std::to_string(kLongestHalfStartedColumn) + "): the uniform split"};
+                              " boxes (more than " + std::to_string(kLongestColumnStartedByObjects) + "): the uniform split"};
     if (t.testsAreTheWork) {
         const double gen = generationWeight(cfg, t.test);
         char weight[32];

@@ -80,7 +80,7 @@ struct StartMix {
 };
 // A primary ray's generation against itself and kTestsPerGeneration of the
 // scene's intersection tests (at the nodes' speed; the constant is in
-// config/machine_config.h, which --start-mix's help states it from): 0.21
+// config/start_constants.h, which the help text states it from): 0.21
 // on the paper's machine, 0.0025 with the modern machine's sphere tests
 // x100. Measured on
 // Fig. 4's scene on the paper's machine at f = 1/N, N = 4 to 8, both views

@@ -17,6 +17,7 @@
 #include "base/mesh_geometry.h"
 #include "base/param.h"
 #include "base/units.h"
+#include "config/start_constants.h"
 
 namespace rt {
 
@@ -60,13 +61,6 @@ constexpr const char* kRecommendedPolicy = "measured";
 
 // --start-mix auto, the default: a value outside the mixes' range [0, 1].
 constexpr double kStartMixAuto = -1;
-// Two of auto's measured constants (balance/initial_split.h says how they
-// were measured), here so that --start-mix's help states them from one place:
-// the tests a primary ray's generation is weighed against where the tests
-// are the work, and the longest column that starts by its objects (the half
-// start or the object median; a longer one starts at the uniform split).
-constexpr int kTestsPerGeneration = 8;
-constexpr int kLongestHalfStartedColumn = 8;
 
 struct BalanceConfig {
     std::string policy = "none";
@@ -147,7 +141,7 @@ inline const std::vector<Param<BalanceConfig>>& balanceParams() {
         "intersection test costs at least a third of a ray's hop (weighing where the primary rays enter the world by a "
         "ray's generation against " + std::to_string(kTestsPerGeneration) + " tests), else 0.5 (below a tenth of a hop, "
         "of all the objects: the same planes in every column; 0 in a column whose heaviest box by objects 0.5 leaves "
-        "as heavy), and 0 on columns of more than " + std::to_string(kLongestHalfStartedColumn) + " boxes";
+        "as heavy), and 0 on columns of more than " + std::to_string(kLongestColumnStartedByObjects) + " boxes";
     static const std::vector<Param<B>> rows = {
         specialParam<B>("balance", nullptr),
         timeParam("balance-interval", &B::interval, "/interval_ns", "time between load reports"),

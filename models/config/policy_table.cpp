@@ -1,6 +1,10 @@
 // The balancing policies by name: one line each.
 #include "config/policy_table.h"
 
+#include <string>
+
+#include "config/start_constants.h"
+
 namespace rt {
 
 std::unique_ptr<BalancePolicy> makeSlidePolicy();
@@ -9,6 +13,13 @@ std::unique_ptr<BalancePolicy> makeQuantilePolicy();
 std::unique_ptr<BalancePolicy> makeRelayPolicy();
 
 const std::vector<PolicyInfo>& policies() {
+    static const std::string sampleHelp =
+        "the first frame starts at a split of its objects and length (--start-mix: by default the object median, "
+        "weighing where the primary rays enter, where an intersection test costs at least a third of a ray's hop, "
+        "else half each where that lightens a column's heaviest box, or the uniform split (and on columns of more "
+        "than " + std::to_string(kLongestColumnStartedByObjects) + " boxes)), gathers "
+        "where a sample of its rays (one pixel in 16, generated first) did their work up each column, and moves "
+        "every plane once to where that work splits evenly; later frames re-split as resplit";
     static const std::vector<PolicyInfo> all = {
         {"none", "boundaries stay where they start", PolicyKind::None, 0.0, nullptr},
         {"slide", "the paper: the heavier node moves its face by gain x load difference x thickness", PolicyKind::Dynamic,
@@ -29,14 +40,7 @@ const std::vector<PolicyInfo>& policies() {
          "as resplit, but the first frame keeps its starting split and only measures where the work is (no slides "
          "within a frame: the first frame is never slower than without balancing)",
          PolicyKind::Dynamic, 0.25, makeSlidePolicy},
-        {"sample",
-         "the first frame starts at a split of its objects and length (--start-mix: by default the object median, "
-         "weighing where the primary rays enter, where an intersection test costs at least a third of a ray's hop, "
-         "else half each where that lightens a column's heaviest box, or the uniform split (and on columns of more "
-         "than 8 boxes)), gathers "
-         "where a sample of its rays (one pixel in 16, generated first) did their work up each column, and moves "
-         "every plane once to where that work splits evenly; later frames re-split as resplit",
-         PolicyKind::Dynamic, 0.25, makeSlidePolicy},
+        {"sample", sampleHelp.c_str(), PolicyKind::Dynamic, 0.25, makeSlidePolicy},
         {"median", "a static split at the object-median (or --start-mix's mix of objects and length), no messages",
          PolicyKind::Static, 0.0, nullptr},
     };
