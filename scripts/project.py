@@ -45,7 +45,7 @@ PRESETS = ["modern", "transputer-1987", "paper"]
 def policy_named(label):
     """A balancing policy's name as a published CSV holds it, in today's
     words: rows run before `--balance default` was retired (it meant
-    measured, the recommended policy) say `default` (or `default@K` for its
+    measured, then the recommended policy) say `default` (or `default@K` for its
     K-th frame)."""
     head, at, frames = label.partition("@")
     return ("measured" if head == "default" else head) + at + frames

@@ -125,7 +125,9 @@ EarlierFrames runEarlierFrames(const Scene& scene, const Vec3& firstEye, RtsimOp
         out.frames.back()["then"] = sequence.said();
         if (next) {
             o.machine.targetBoundaries = *next;
-            if (sequence.startsAfresh()) o.machine.startBoundaries = first.startBoundaries;
+            // (A policy that starts at its objects tries the uniform split: it starts there.)
+            if (sequence.startsAfresh())
+                o.machine.startBoundaries = o.machine.balance.startsAtObjects() ? *next : first.startBoundaries;
         } else {  // (every later frame is the first one again)
             o.machine.startBoundaries = first.startBoundaries;
             o.machine.targetBoundaries = first.targetBoundaries;

@@ -14,7 +14,9 @@ namespace {
 // The balanced and the unbalanced run's times, and the unbalanced run's
 // bounds as fractions of its time: what the ratio could at best be.
 nlohmann::json comparison(const nlohmann::json& balanced, const nlohmann::json& unbalanced) {
-    return {{"balanced_policy", balanced["config"]["balance"]["policy"]},
+    const nlohmann::json& b = balanced["config"]["balance"];
+    return {{"balanced_policy", b["policy"]},
+            {"balanced_recommended", b.contains("recommended")},  // chosen by --balance recommended
             {"balanced_frame", balanced.contains("frames") ? balanced["frames"].size() : 1},  // of a sequence: its last
             {"balanced_ns", balanced["render_time_ns"]},
             {"unbalanced_ns", unbalanced["render_time_ns"]},
@@ -40,11 +42,11 @@ ReferenceRuns addReferenceRuns(nlohmann::json& report, const std::vector<std::st
     // written and parsed for nothing.)
     if (base) baseRun.emplace(args, std::vector<std::string>{"--as-baseline", "--report-detail", "summary"});
     std::vector<std::string> otherArgs{"--as-comparison", "--report-detail", "summary", "--balance",
-                                       policy == "none" ? kRecommendedPolicy : "none"};
-    // The recommended policy keeps a first frame's split and re-splits from
-    // the second: a single frame is compared with its second frame.
+                                       policy == "none" ? "recommended" : "none"};
+    // Where the recommended policy keeps a first frame's split and re-splits
+    // from the second, a single frame is compared with its second frame.
     BalanceConfig recommended;
-    recommended.policy = kRecommendedPolicy;
+    recommended.policy = recommendedPolicy(o.machine.dims, o.machine.balance.axis).policy;
     if (policy == "none" && o.frames == 1 && recommended.firstFrameHolds()) otherArgs.insert(otherArgs.end(), {"--frames", "2"});
     if (compare) otherRun.emplace(args, otherArgs);
     const std::optional<nlohmann::json> baseReport = baseRun ? baseRun->report() : std::nullopt;

@@ -237,16 +237,19 @@ void RtsimOptions::addSpecial(CLI::App& app, const std::string& name, const char
 void RtsimOptions::addPolicyFlag(CLI::App& app, const std::string& group) {
     BalanceConfig& b = machine.balance;
     // One name each: none (the default) does not balance, recommended is
-    // kRecommendedPolicy; `default` meant the latter while being the former.
-    const std::string recommended = kRecommendedPolicy;
-    std::string policyHelp = "policy: none (the default: no balancing, the boundaries stay where they start); recommended (the recommended policy, " + recommended + ")";
+    // recommendedPolicy's choice for the mesh (finish(), once the mesh and
+    // the axis are known); `default` meant the latter while being the former.
+    const std::string recommended = "sample on columns of at most " + std::to_string(kLongestColumnSampled) +
+                                    " boxes, else measured";
+    std::string policyHelp = "policy: none (the default: no balancing, the boundaries stay where they start); recommended (the recommended policy: " + recommended + ")";
     std::string names = "recommended";
     for (const PolicyInfo& p : policies()) {
         if (std::string(p.name) != "none") policyHelp += std::string("; ") + p.name + " (" + p.help + ")";
         names += std::string(", ") + p.name;
     }
-    app.add_option_function<std::string>("--balance", [&b, names, recommended](const std::string& s) {
-           if (s == "recommended") b.policy = recommended;
+    app.add_option_function<std::string>("--balance", [this, &b, names, recommended](const std::string& s) {
+           recommended_ = s == "recommended";
+           if (recommended_) b.policy = "none";  // (chosen in finish())
            else if (findPolicy(s)) b.policy = s;
            else if (s == "default")
                throw CLI::ValidationError("--balance", "'default' names no policy: the recommended policy is " + recommended +
@@ -322,13 +325,18 @@ void RtsimOptions::finish() {
             throw OptionError("--sample-end", "the frame starts where --boundaries-from's run left its boundaries: "
                                               "sample gathers no sample to end");
         machine.dims = {mesh, mesh, mesh};
+        machine.balance.axis = scene.axis == "x" ? 0 : scene.axis == "y" ? 1 : 2;  // one progress axis for scene and balancing
+        if (recommended_) {  // (before a reference run's settings, which depend on the policy)
+            PolicyChoice c = recommendedPolicy(meshDims.empty() ? machine.dims : parseMeshDims(meshDims), machine.balance.axis);
+            machine.balance.policy = c.policy;
+            machine.balance.recommendedWhy = std::move(c.why);
+        }
         frameIndex = frames - 1;     // this process renders the last frame of its sequence last
         if (asBaseline) frames = 1;  // the baseline is of the last frame's view
         if (asBaseline || asComparison) actAsReference();
         readSpecs();
         setQuantum();
         setMaxError();
-        machine.balance.axis = scene.axis == "x" ? 0 : scene.axis == "y" ? 1 : 2;  // one progress axis for scene and balancing
     } catch (const OptionError& e) {
         throw CLI::ValidationError(e.flag, e.what());
     }

@@ -103,9 +103,9 @@ std::string stabilityWord(const nlohmann::json& report) {
     return word;
 }
 
-// A policy as the summary names it: the recommended one says so.
-std::string policyName(const std::string& policy) {
-    return policy == kRecommendedPolicy ? policy + " (the recommended policy)" : policy;
+// A policy as the summary names it: one --balance recommended chose says so.
+std::string policyName(const std::string& policy, bool recommended) {
+    return recommended ? policy + " (the recommended policy)" : policy;
 }
 
 // The balancing and the bounds of this run's frame (when it balances), the
@@ -116,7 +116,7 @@ void printBalancing(const RtsimOptions& o, const nlohmann::json& report) {
     const bool balances = o.machine.balance.policy != "none";
     if (balances) {
         std::printf("  balancing        %s along %c: %zu slides; max / mean load %.2f; boundaries %s\n",
-                    policyName(o.machine.balance.policy).c_str(), axis, report["balance"]["slides"].get<size_t>(),
+                    policyName(o.machine.balance.policy, !o.machine.balance.recommendedWhy.empty()).c_str(), axis, report["balance"]["slides"].get<size_t>(),
                     report["balance"]["max_over_mean_load"].get<double>(), stabilityWord(report).c_str());
         const auto& b = report["bounds"];
         auto bound = [&](const char* k) {
@@ -130,10 +130,11 @@ void printBalancing(const RtsimOptions& o, const nlohmann::json& report) {
         const auto& c = report["comparison"];
         const int frame = c.value("balanced_frame", 1);
         const std::string policy = c["balanced_policy"].get<std::string>();
+        const bool recommended = c.value("balanced_recommended", false);
         const std::string ofFrame = frame > 1 ? ", frame " + std::to_string(frame) : "", which = policy + ofFrame;
         std::printf("  comparison       this run: %s; the comparison run: %s\n",
-                    balances ? ("balancing with " + policyName(policy)).c_str() : "no balancing (none)",
-                    balances ? "no balancing (none)" : ("balancing with " + policyName(policy) + ofFrame).c_str());
+                    balances ? ("balancing with " + policyName(policy, recommended)).c_str() : "no balancing (none)",
+                    balances ? "no balancing (none)" : ("balancing with " + policyName(policy, recommended) + ofFrame).c_str());
         std::printf("  with / without   %s: %s, none: %s; ratio %.2f (bound %.2f: the unbalanced frame's heaviest column "
                     "along %c spread evenly; paper about 0.2 at f = 1/N)\n",
                     which.c_str(), nsTime(c["balanced_ns"]).c_str(), nsTime(c["unbalanced_ns"]).c_str(),

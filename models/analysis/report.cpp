@@ -74,6 +74,7 @@ nlohmann::json machineConfigJson(const MachineConfig& cfg, int width, int height
     c["balance"]["axis"] = std::string(1, "xyz"[bc.axis]);
     c["balance"]["gain"] = bc.gainOf();
     c["balance"]["guard"] = bc.guard;
+    if (!bc.recommendedWhy.empty()) c["balance"]["recommended"] = bc.recommendedWhy;  // how --balance recommended chose
     if (!bc.startMixWhy.empty()) c["balance"]["start_mix_auto"] = bc.startMixWhy;  // how --start-mix auto chose
     if (!bc.sampleEndWhy.empty()) c["balance"]["sample_end_auto"] = bc.sampleEndWhy;  // how --sample-end auto chose
     for (const auto& [cell, s] : cfg.nodeSpeed) c["node_speed"].push_back({{"node", cellJson(cell)}, {"speed", s}});

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -33,6 +34,21 @@ InnerPlanes lastBoundaries(const FrameState& r, const MachineConfig& m, bool atS
         for (double x : c)
             if (!std::isfinite(x)) throw std::runtime_error("a boundary missing from its history");
     return b;
+}
+
+InnerPlanes uniformBoundaries(const FrameState& r, const MachineConfig& m) {
+    checkSameMachine(r, m);
+    const ColumnGeometry g(m.balance.axis, m.dims);
+    const int ax = g.axis, n = g.length();
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (const NodeFrameState& s : r.nodes) {
+        lo = std::min(lo, s.box.lo[ax]);
+        hi = std::max(hi, s.box.hi[ax]);
+    }
+    if (!(lo < hi)) throw std::runtime_error("a frame with no boxes");
+    std::vector<double> inner(size_t(n - 1));
+    for (int k = 1; k < n; ++k) inner[size_t(k - 1)] = lo + (hi - lo) * (double(k) / n);  // (as Lattice::uniform)
+    return InnerPlanes(size_t(g.count()), inner);
 }
 
 double timeAveraged(const std::vector<std::pair<double, double>>& history, double end) {
@@ -94,7 +110,7 @@ std::optional<InnerPlanes> ResplitSequence::next(const FrameState& r, int frame)
     const double t = r.renderTimeNs;
     if (frame == 1) {
         firstNs_ = t;
-        start_ = lastBoundaries(r, m_, true);
+        start_ = m_.balance.startsAtObjects() ? uniformBoundaries(r, m_) : lastBoundaries(r, m_, true);
         return forecast(r);
     }
     if (tryingStart_) {  // the frame just run held the starting split
@@ -115,7 +131,7 @@ std::optional<InnerPlanes> ResplitSequence::next(const FrameState& r, int frame)
     }
     if (bestNs_ > firstNs_) {  // no re-split frame has beaten the first yet
         if (resplits_ >= kTries) {
-            said_ = {{"next", "the starting split"}};
+            said_ = {{"next", m_.balance.startsAtObjects() ? "the uniform split" : "the starting split"}};
             if (firstHolds_) {  // frame 1 was the starting split: hold it
                 held_ = start_;
                 return held_;

@@ -20,6 +20,10 @@ namespace rt {
 // with `atStart`, where they stood when it began. Throws std::runtime_error
 // if `r` ran on another mesh or axis, or lacks a boundary.
 InnerPlanes lastBoundaries(const FrameState& r, const MachineConfig& m, bool atStart = false);
+// The uniform split of the mesh `r` ran on, every column's inner planes
+// as Lattice::uniform puts them over the world its boxes cover: the
+// unbalanced frame's.
+InnerPlanes uniformBoundaries(const FrameState& r, const MachineConfig& m);
 
 // The time-weighted mean position of a boundary over [0, end]: `history`
 // holds (time, position) from time 0 on, in time order.
@@ -64,7 +68,10 @@ InnerPlanes resplitTargets(const FrameState& r, const MachineConfig& m);
 //    held. `resplit`'s was balanced by `slide`: one frame holds the split
 //    the first frame started from; where even the first frame's slides
 //    lose, that one wins and is held; otherwise every later frame is the
-//    first one again.
+//    first one again. `sample`'s started at a split of its objects, which
+//    held for a whole frame can lose (on the paper's machine across the
+//    axis at N = 8, f = 1: 1.045 of the unbalanced frame): its trial holds
+//    the uniform split, the unbalanced frame itself.
 class ResplitSequence {
 public:
     explicit ResplitSequence(const MachineConfig& m) : m_(m), firstHolds_(m.balance.firstFrameHolds()) {}
@@ -78,7 +85,8 @@ public:
     bool startsAfresh() const { return afresh_; }
     // What next() chose and why, for the report's frames: {"next": "per
     // column" | "aligned" | "held" | "the fastest frame's planes" | "the
-    // starting split" | "frame 1 again"}, with the forecasts when it re-split.
+    // starting split" | "the uniform split" | "frame 1 again"}, with the
+    // forecasts when it re-split.
     const nlohmann::json& said() const { return said_; }
 
 private:
@@ -90,7 +98,7 @@ private:
     int resplits_ = 0;                     // re-split frames so far
     int misses_ = 0;                       // re-split frames in a row not faster than the fastest
     InnerPlanes best_;  // where the fastest re-split frame left the boundaries (not its report: K frames keep one)
-    InnerPlanes start_;  // where frame 1's boundaries started
+    InnerPlanes start_;  // the trial's split: where frame 1's boundaries started, or the uniform split (sample)
     std::optional<InnerPlanes> held_;
     bool tryingStart_ = false, again_ = false, afresh_ = false;
     nlohmann::json said_;

@@ -50,6 +50,24 @@ size_t heaviestBox(const std::vector<double>& sortedCentres, const std::vector<d
     return most;
 }
 
+// Whether a box of `start` objects is lighter than one of `uniform` by more
+// than chance: by kSpreadsLighter standard deviations of a box's count where
+// the objects spread evenly (a count's spread, sqrt(uniform)). On Fig. 4's
+// scene at f = 1, where the spheres spread evenly, the aligned half start's
+// heaviest slab was 1.01 to 1.10 times lighter than the uniform split's by
+// where they fell (265 against 254 spheres at N = 4, 142 against 133 at N =
+// 8: under one deviation), and along the axis at N = 8 sample lost from it
+// (1.037 of the unbalanced frame; 0.927 from the uniform split); the SPD
+// scenes' are lighter by 6 deviations and more (balls-4 at N = 4: 3,839
+// against 3,461; doc/balancing.md, "Where sample starts"). Only for the
+// aligned start, which counts every object: a column's own count is a few
+// dozen, and there 2 deviations took the 1987 machine's first-frame gains
+// (Fig. 4 across the axis at N = 8, f = 1/4: 0.561 of the unbalanced frame
+// to 0.890) where no first frame had lost by more than 1 %.
+bool lighterThanChance(size_t start, size_t uniform) {
+    return double(uniform) - double(start) > kSpreadsLighter * std::sqrt(double(uniform));
+}
+
 // `median` and `sample`'s start: boundary k of each column at the k/N
 // quantile of the centres of the objects in the column (mix 1: the object
 // median), or of mix x their share and (1 - mix) x the column's length (so
@@ -98,7 +116,10 @@ void atObjectQuantiles(ColumnPlanes& planes, const ColumnGeometry& g, const Latt
                 const double lo = b[size_t(k - 1)] + m, hi = world.hi[ax] - (n - k) * m;
                 b[size_t(k)] = std::clamp(q, lo, hi);
             }
-            if (start.lighterOnly && heaviestBox(centres, b) >= heaviestBox(centres, uniform)) b = uniform;
+            if (start.lighterOnly) {
+                const size_t heaviest = heaviestBox(centres, b), uniformHeaviest = heaviestBox(centres, uniform);
+                if (aligned ? !lighterThanChance(heaviest, uniformHeaviest) : heaviest >= uniformHeaviest) b = uniform;
+            }
         }
 }
 
@@ -150,12 +171,14 @@ TestAgainstHop testAgainstHop(const MachineConfig& cfg, const std::vector<Shape>
     LinkParams link = cfg.link;
     if (cfg.hopsByLinks) link.engine = cfg.costs.send;
     const double handling = cfg.hopsByLinks ? 0 : double(cfg.costs.send + cfg.costs.recv) / cfg.speed;
-    const double hop = (handling + wirePicos(link, kHeaderBytes + uint32_t(cfg.rayBatch) * kRayBytes)) / cfg.rayBatch;
+    const double wire = wirePicos(link, kHeaderBytes + uint32_t(cfg.rayBatch) * kRayBytes);
+    const double hop = (handling + wire) / cfg.rayBatch;
     // Measured on Fig. 4's scene (sample's first frames at f = 1/N, N = 2 to
     // 8, both views; doc/balancing.md, "Where sample starts"): 0.5 the better
     // start up to a test of 0.24 of a hop, 1 from 0.47 on.
     constexpr double kHopsPerTest = 3;  // the objects are the work from a test of a third of a hop
-    TestAgainstHop t{test, hop, kHopsPerTest * test >= hop, false, ""};
+    TestAgainstHop t{test, hop, kHopsPerTest * test >= hop, false,
+                     handling > 0 ? wire / handling : 0.0, ""};
     // In line below a tenth of a hop: measured on the modern machine (0.05
     // of a hop) and the 1987 one (0.13), where an aligned start made sample's
     // first frames at f = 1/N slower (across the axis, N = 4: 0.558 of the
@@ -199,6 +222,21 @@ StartMix startMixFor(const MachineConfig& cfg, const std::vector<Shape>& objects
                     " (a ray's generation against it and " + formatNumber(kTestsPerGeneration) + " tests)",
                 false, gen};
     }
+    // Where a hop's wire time is kWirePerHandling of its handlings or more,
+    // the links set the frame: the half start evens the nodes' work and can
+    // crowd the rays' crossings onto fewer links. rings-2 on 4x4x4 lost from
+    // it at 100 and 150 MB/s (1.142 and 1.143 of the unbalanced frame; wire
+    // 16.5 and 11 handlings) and gained from 200 MB/s (8.3) on; from the
+    // uniform split no point at 100 MB/s lost by its move (N = 4 to 8, the
+    // SPD scenes). The 1987 machine's hop is 5 handlings on the wire
+    // (doc/balancing.md, "Where sample starts").
+    if (t.wirePerHandling >= kWirePerHandling) {
+        char times[32];
+        std::snprintf(times, sizeof times, "%.3g", t.wirePerHandling);
+        return {0, false, "auto: " + costs + ", and its wire time is " + times +
+                              " times its handling (at least " + std::to_string(kWirePerHandling) +
+                              "): the uniform split"};
+    }
     // Where that start takes no object off a column's heaviest box it only
     // lengthens boxes, whose sides the rays cross: tetra-3's 64 triangles
     // fill each slab alike, and from the half start sample lost at N = 5 to 7
@@ -208,7 +246,9 @@ StartMix startMixFor(const MachineConfig& cfg, const std::vector<Shape>& objects
     return {0.5, aligned,
             "auto: " + costs + ": half by the objects, half by the length" +
                 (aligned ? ", the same planes in every column" : "") +
-                " (the uniform split in a column where that leaves the heaviest box as heavy)",
+                (aligned ? " (the uniform split where that does not lighten the heaviest box by more than " +
+                               std::to_string(kSpreadsLighter) + " deviations of an even spread)"
+                         : " (the uniform split in a column where that leaves the heaviest box as heavy)"),
             true};
 }
 

@@ -10,6 +10,15 @@
 
 namespace rt {
 
+PolicyChoice recommendedPolicy(const std::array<int, 3>& dims, int axis) {
+    const int length = dims[size_t(axis)];
+    const std::string column = "columns of " + std::to_string(length) + (length == 1 ? " box" : " boxes");
+    if (length <= kLongestColumnSampled)
+        return {"sample", "sample: " + column + " (at most " + std::to_string(kLongestColumnSampled) + ")"};
+    return {"measured", "measured: " + column + " (more than " + std::to_string(kLongestColumnSampled) +
+                            "): the first frame keeps its split"};
+}
+
 bool BalanceConfig::dynamic() const {
     const PolicyInfo* p = findPolicy(policy);
     return p && p->kind == PolicyKind::Dynamic;

@@ -50,14 +50,22 @@ inline const std::vector<Param<Costs>>& costParams() {
 // Sliding boundaries (doc/balancing.md). Every column of nodes along the
 // progress axis owns its own boundaries between them. Policies are named
 // (models/config/policy_table.cpp): none, slide, work, quantile, resplit, measured, median.
-// The recommended policy (doc/balancing.md; `--balance recommended`; the
-// default of --balance is none, no balancing).
-// `measured` keeps the starting split for the first frame, measuring where
-// the work is, and from the second frame on re-splits each column between
-// frames as `resplit` does: a first frame is never slower than without
-// balancing (sliding within a frame can lose: doc/balancing.md), and the
-// steady state is `resplit`'s.
-constexpr const char* kRecommendedPolicy = "measured";
+// The recommended policy (doc/balancing.md, "The recommended policy";
+// `--balance recommended`; the default of --balance is none, no
+// balancing): `sample`, which balances the first frame, on columns of at
+// most kLongestColumnSampled boxes; `measured` on longer ones, which keeps
+// the starting split for the first frame, measuring where the work is, and
+// from the second frame on re-splits each column between frames as
+// `resplit` does (as sample does). On columns of 16 to 64 boxes sample's
+// first frame lost at 3 of 58 SPD points (by its move, or by its sample's
+// pixels going first), measured's at none: the sample's sum climbs such a
+// column for most of the frame, and the hops its planes add are not in it.
+constexpr int kLongestColumnSampled = 8;
+struct PolicyChoice {
+    const char* policy;
+    std::string why;  // "sample: columns of 4 boxes (at most 8)"
+};
+PolicyChoice recommendedPolicy(const std::array<int, 3>& dims, int axis);
 
 // --start-mix auto, the default: a value outside the mixes' range [0, 1].
 constexpr double kStartMixAuto = -1;
@@ -90,6 +98,9 @@ struct BalanceConfig {
     bool sampleCredit = false;
     bool sampleEndAuto = true;
     std::string sampleEndWhy;
+    // Set where --balance recommended chose the policy (recommendedPolicy):
+    // which, and why.
+    std::string recommendedWhy;
     int bins = 16;                // work profile: bins per initial box thickness along the axis
     Picos rebuildCost = 20000;    // updating a node's grid: per object moved in or out
     // The guard (every policy; balance_agent.h): no slide on loads older than
@@ -140,8 +151,11 @@ inline const std::vector<Param<BalanceConfig>>& balanceParams() {
         "plus the rest of its length (1: the object median; 0: the uniform split); auto: median 1; sample 1 where an "
         "intersection test costs at least a third of a ray's hop (weighing where the primary rays enter the world by a "
         "ray's generation against " + std::to_string(kTestsPerGeneration) + " tests), else 0.5 (below a tenth of a hop, "
-        "of all the objects: the same planes in every column; 0 in a column whose heaviest box by objects 0.5 leaves "
-        "as heavy), and 0 on columns of more than " + std::to_string(kLongestColumnStartedByObjects) + " boxes";
+        "of all the objects: the same planes in every column, 0 where they do not lighten the heaviest box by more than " +
+        std::to_string(kSpreadsLighter) + " standard deviations of an even spread's; 0 in a column whose heaviest box "
+        "by objects 0.5 leaves as heavy), 0 "
+        "where a hop's wire time is at least " + std::to_string(kWirePerHandling) + " times its handling, and 0 on "
+        "columns of more than " + std::to_string(kLongestColumnStartedByObjects) + " boxes";
     static const std::vector<Param<B>> rows = {
         specialParam<B>("balance", nullptr),
         timeParam("balance-interval", &B::interval, "/interval_ns", "time between load reports"),

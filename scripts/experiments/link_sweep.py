@@ -59,7 +59,7 @@ def main():
     ap.add_argument("--preset", default="modern", choices=sorted(PRESETS), help="configs/PRESET.conf")
     ap.add_argument("--latencies", help="swept latencies (default: the preset's)")
     ap.add_argument("--bandwidths", help="swept bandwidths (default: the preset's)")
-    ap.add_argument("--balance", default="measured", help="the balancing policy compared with none (default: measured, the recommended one)")
+    ap.add_argument("--balance", default="measured", help="the balancing policy compared with none (default: measured, the between-frames policy the tables were made with)")
     ap.add_argument("--frames", type=int, default=6,
                     help="its steady state too: the last of this many frames (1: the first frame only)")
     ap.add_argument("--deep-depth", type=int, help="link depth of the repeated latency sweep (default: 4x the preset's)")

@@ -477,7 +477,8 @@ TEST_F(Rtsim, BadConfigurationExits2NamingTheFlag) {
     expectBad("--fb-units 257", "--fb-units");
     expectBad("--balance sometimes", "--balance");
     // `default` meant the recommended policy while the default of --balance was none: one name each now.
-    expectBad("--balance default", "--balance: 'default' names no policy: the recommended policy is measured (or 'recommended')");
+    expectBad("--balance default", "--balance: 'default' names no policy: the recommended policy is sample on columns of "
+                                   "at most 8 boxes, else measured (or 'recommended')");
     expectBad("--eye nan,0,0", "--eye");
     expectBad("--light 1,nan,1", "--light");
     expectBad("--eye-step 0,inf,0 --frames 2", "--eye-step");

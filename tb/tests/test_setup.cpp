@@ -92,28 +92,42 @@ TEST(InitialSplit, UniformUnlessStartedElsewhereOrAtTheMedians) {
 
 // Auto's half start keeps a column's planes uniform where it leaves the
 // column's heaviest box (by object centres) as heavy as the uniform split's:
-// it would only lengthen boxes (tetra-3 at N = 5 to 7 lost up to 53 % so).
-// By hand, a column of two over [0, 1] at start mix 0.5: centres .05 to .2
-// put the plane just past .2 (as above), and box 0 still holds all four;
-// centres .05 to .4 put it just past .3 (0.5 x 6/8 + 0.5 x 0.3 passes
-// 1/2), and box 0 holds 6 of 8 where the uniform split's held 8.
+// it would only lengthen boxes (tetra-3 at N = 5 to 7 lost up to 53 % so);
+// and, where every column starts at the same planes (aligned: all the
+// objects counted), where it lightens it by no more than chance, 2
+// standard deviations of an even spread's box (the square root of the
+// uniform split's count): Fig. 4's spheres spread evenly lost so (1.037 at
+// N = 8, f = 1). By hand, a column of two over [0, 1] at start mix 0.5:
+// centres .05 to .2 put the plane just past .2 (as above), and box 0 still
+// holds all four; centres .05 to .4 put it just past .3 (0.5 x 6/8 + 0.5 x
+// 0.3 passes 1/2), and box 0 holds 6 of 8 where the uniform split's held 8:
+// lighter by 2, under 2 sqrt(8) = 5.66. 100 centres .004 to .4 put it at
+// 2/7 (0.5 x x / 0.4 + 0.5 x passes 1/2 there), box 0 holding 71 of 100:
+// lighter by 29, over 2 sqrt(100) = 20.
 TEST(InitialSplit, TheHalfStartOnlyWhereItLightensTheHeaviestBox) {
     const Box world{Vec3(0.0), Vec3(1.0)};
     MachineConfig m = mesh({2, 1, 1});
     m.balance.policy = "sample";
     m.balance.startMix = 0.5;
     const Lattice cuts = Lattice::uniform(world, m.dims);
-    const auto planeWith = [&](int objects, bool lighterOnly) {
+    const auto planeWith = [&](int objects, bool lighterOnly, bool aligned, double apart = 0.05) {
         std::vector<Shape> s;
-        for (int i = 0; i < objects; ++i) s.push_back(sphere(Vec3(0.05 * (i + 1), 0.5, 0.5), 0.01, uint32_t(i)));
+        for (int i = 0; i < objects; ++i) s.push_back(sphere(Vec3(apart * (i + 1), 0.5, 0.5), 0.001, uint32_t(i)));
         const ObjectBins bins(s, cuts, 1e-9);
         m.balance.startLighterOnly = lighterOnly;
+        m.balance.startAligned = aligned;
         return initialPlanes(m, cuts, world, bins, 0.025)[0][1];
     };
-    EXPECT_NEAR(planeWith(4, false), 0.2, 1e-12);
-    EXPECT_EQ(planeWith(4, true), 0.5);  // as heavy: uniform
-    EXPECT_NEAR(planeWith(8, false), 0.3, 1e-12);
-    EXPECT_NEAR(planeWith(8, true), 0.3, 1e-12);  // lighter: kept
+    for (bool aligned : {false, true}) {
+        SCOPED_TRACE(aligned ? "aligned" : "each column its own");
+        EXPECT_NEAR(planeWith(4, false, aligned), 0.2, 1e-12);
+        EXPECT_EQ(planeWith(4, true, aligned), 0.5);  // as heavy: uniform
+        EXPECT_NEAR(planeWith(8, false, aligned), 0.3, 1e-12);
+        EXPECT_NEAR(planeWith(100, false, aligned, 0.004), 2.0 / 7, 0.004);
+        EXPECT_NEAR(planeWith(100, true, aligned, 0.004), 2.0 / 7, 0.004);  // lighter by more than chance: kept
+    }
+    EXPECT_NEAR(planeWith(8, true, false), 0.3, 1e-12);  // a column's own: lighter, kept
+    EXPECT_EQ(planeWith(8, true, true), 0.5);             // aligned: lighter by less than chance, uniform
 }
 
 // Where the objects crowd, the start packs boxes at the minimum thickness;
@@ -181,6 +195,23 @@ TEST(InitialSplit, AutoStartMixWeighsATestAgainstARaysHop) {
     EXPECT_EQ(mixAt(57333), 0.5);
     EXPECT_EQ(mixAt(57334), 1.0);
     m.hopsByLinks = false;
+    // Where a hop's wire time is at least 10 handlings (80 ns: 800 ns, a
+    // 132-byte message at 165 MB/s), the links set the frame: the half
+    // start gives way to the uniform split (rings-2 on 4x4x4 lost 14 % from
+    // it at 100 MB/s); the object median, where the tests are the work, not.
+    m.link.bandwidth = 165e6;
+    EXPECT_EQ(mixAt(10000), 0.0);
+    EXPECT_NE(startMixFor(m, spheres).why.find("its wire time is 10 times its handling (at least 10): the uniform split"),
+              std::string::npos)
+        << startMixFor(m, spheres).why;
+    EXPECT_EQ(mixAt(1000000), 1.0);
+    m.link.bandwidth = 166e6;
+    EXPECT_EQ(mixAt(10000), 0.5);
+    m.hopsByLinks = true;  // (no handling on the processors to weigh the wire against: not this rule)
+    m.link.bandwidth = 100e6;
+    EXPECT_EQ(mixAt(10000), 0.5);
+    m.hopsByLinks = false;
+    m.link.bandwidth = 1e9;
     // A column of more than 8 boxes starts uniform whatever the costs: where
     // the hops are the work (a long box carries the rays across its sides)
     // and where the tests are (a thin box costs every ray through it a hop:
@@ -506,4 +537,21 @@ TEST(BetweenFrames, ResplitThatDoesNotPayTriesTheStartingSplit) {
             EXPECT_FALSE(s.next(report(50, 0.30, 0.30, {1, 1, 1}), 5));
         }
     }
+}
+
+// --balance recommended: sample on columns of at most 8 boxes along the
+// axis, measured on longer ones (sample's first frame lost at 3 of 62 SPD
+// points on columns of 16 to 64 boxes, measured's at none: doc/balancing.md,
+// "The recommended policy"). The column's length is along the axis.
+TEST(RecommendedPolicy, SampleOnColumnsOfAtMostEightBoxesElseMeasured) {
+    EXPECT_STREQ(recommendedPolicy({8, 8, 8}, 0).policy, "sample");
+    EXPECT_STREQ(recommendedPolicy({1, 1, 2}, 0).policy, "sample");
+    EXPECT_STREQ(recommendedPolicy({9, 1, 1}, 0).policy, "measured");
+    EXPECT_STREQ(recommendedPolicy({2, 2, 32}, 0).policy, "sample");
+    EXPECT_STREQ(recommendedPolicy({2, 2, 32}, 2).policy, "measured");
+    EXPECT_STREQ(recommendedPolicy({16, 16, 4}, 2).policy, "sample");
+    EXPECT_EQ(recommendedPolicy({4, 4, 4}, 1).why, "sample: columns of 4 boxes (at most 8)");
+    EXPECT_EQ(recommendedPolicy({1, 1, 1}, 0).why, "sample: columns of 1 box (at most 8)");
+    EXPECT_EQ(recommendedPolicy({64, 1, 1}, 0).why,
+              "measured: columns of 64 boxes (more than 8): the first frame keeps its split");
 }
