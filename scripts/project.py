@@ -68,7 +68,9 @@ def add_machine_arguments(ap, preset, script):
     variant of it, --extra flags named by --tag (their files SCRIPT-PRESET-TAG.*)."""
     ap.add_argument("--preset", default=preset, help="configs/PRESET.conf")
     ap.add_argument("--extra", default="", help="more rtsim flags for every run")
-    ap.add_argument("--tag", default="", help=f"name of the --extra variant: its files are {script}-PRESET-TAG.*")
+    ap.add_argument("--tag", default="", help=f"name of the --extra variant: its files are {script}-PRESET-TAG.*; "
+                                              "ending in 'recommended', the recommended policy's runs on that "
+                                              "variant (the best static split is the variant's)")
 
 
 def check_variant(a):
@@ -95,6 +97,15 @@ def invocation(a):
     return f"--preset {a.preset}" + (f" --tag {a.tag} --extra={a.extra!r}" if a.tag else "")
 
 
+def machine_tag(tag):
+    """The part of a --tag that names a variant of the machine (its --extra
+    flags): a tag ending in `recommended` names the recommended policy's
+    runs on the machine the rest names (fig4.py --tag recommended,
+    sphere-x100-recommended), whose best static split is the machine's."""
+    tag = tag or ""
+    return tag[:-len("recommended")].rstrip("-") if tag.endswith("recommended") else tag
+
+
 def best_static(a):
     """The best static split's ratio per (view, N) at f = 1/N, where
     scripts/experiments/partition_search.py has found it for this preset:
@@ -104,7 +115,7 @@ def best_static(a):
     from outputs import read_csv
     best = {}
     for view in VIEWS:
-        stem = "partition_search" + variant(a.preset, a.tag) + ("" if view == "along" else f"-{view}")
+        stem = "partition_search" + variant(a.preset, machine_tag(a.tag)) + ("" if view == "along" else f"-{view}")
         path = os.path.join(a.out, stem + ".csv")
         if not os.path.exists(path):  # a run under out/ uses the published search
             path = os.path.join(RESULTS, stem + ".csv")

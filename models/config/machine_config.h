@@ -56,10 +56,11 @@ inline const std::vector<Param<Costs>>& costParams() {
 // most kLongestColumnSampled boxes; `measured` on longer ones, which keeps
 // the starting split for the first frame, measuring where the work is, and
 // from the second frame on re-splits each column between frames as
-// `resplit` does (as sample does). On columns of 16 to 64 boxes sample's
-// first frame lost at 3 of 58 SPD points (by its move, or by its sample's
-// pixels going first), measured's at none: the sample's sum climbs such a
-// column for most of the frame, and the hops its planes add are not in it.
+// `resplit` (and sample's later frames) do. On columns of 16 to 64 boxes
+// sample's first frame lost at 3 of 62 SPD points (by its move, or by its
+// sample's pixels going first), measured's at none: the sample's sum climbs
+// such a column for most of the frame, and the hops its planes add are not
+// in it.
 constexpr int kLongestColumnSampled = 8;
 struct PolicyChoice {
     const char* policy;
