@@ -2,12 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <stdexcept>
 #include <string>
 
 #include "balance/frame_forecast.h"
 #include "balance/move_forecast.h"
+#include "lattice.h"
 
 namespace rt {
 namespace {
@@ -39,16 +39,11 @@ InnerPlanes lastBoundaries(const FrameState& r, const MachineConfig& m, bool atS
 InnerPlanes uniformBoundaries(const FrameState& r, const MachineConfig& m) {
     checkSameMachine(r, m);
     const ColumnGeometry g(m.balance.axis, m.dims);
-    const int ax = g.axis, n = g.length();
-    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-    for (const NodeFrameState& s : r.nodes) {
-        lo = std::min(lo, s.box.lo[ax]);
-        hi = std::max(hi, s.box.hi[ax]);
-    }
-    if (!(lo < hi)) throw std::runtime_error("a frame with no boxes");
-    std::vector<double> inner(size_t(n - 1));
-    for (int k = 1; k < n; ++k) inner[size_t(k - 1)] = lo + (hi - lo) * (double(k) / n);  // (as Lattice::uniform)
-    return InnerPlanes(size_t(g.count()), inner);
+    Box world;  // the boxes cover it
+    for (const NodeFrameState& s : r.nodes) world.add(s.box);
+    if (world.empty()) throw std::runtime_error("a frame with no boxes");
+    const std::vector<double>& p = Lattice::uniform(world, m.dims).planes(g.axis);
+    return InnerPlanes(size_t(g.count()), std::vector<double>(p.begin() + 1, p.end() - 1));
 }
 
 double timeAveraged(const std::vector<std::pair<double, double>>& history, double end) {

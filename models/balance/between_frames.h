@@ -21,8 +21,8 @@ namespace rt {
 // if `r` ran on another mesh or axis, or lacks a boundary.
 InnerPlanes lastBoundaries(const FrameState& r, const MachineConfig& m, bool atStart = false);
 // The uniform split of the mesh `r` ran on, every column's inner planes
-// as Lattice::uniform puts them over the world its boxes cover: the
-// unbalanced frame's.
+// (Lattice::uniform over the world its boxes cover): the unbalanced
+// frame's.
 InnerPlanes uniformBoundaries(const FrameState& r, const MachineConfig& m);
 
 // The time-weighted mean position of a boundary over [0, end]: `history`
