@@ -63,7 +63,10 @@ public:
     int cells(int axis) const { return static_cast<int>(planes_[axis].size()) - 1; }
     long cellCount() const { return long(cells(0)) * cells(1) * cells(2); }
     double plane(int axis, int i) const { return planes_[axis][i]; }
-    const std::vector<double>& planes(int axis) const { return planes_[axis]; }
+    const std::vector<double>& planes(int axis) const& { return planes_[axis]; }
+    // Not on a temporary: the reference would outlive it (uniformBoundaries
+    // read a freed Lattice::uniform(...) so; AddressSanitizer caught it).
+    const std::vector<double>& planes(int axis) const&& = delete;
     Box bounds() const;
     Box cellBox(const Cell& c) const;
 

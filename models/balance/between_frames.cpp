@@ -42,7 +42,8 @@ InnerPlanes uniformBoundaries(const FrameState& r, const MachineConfig& m) {
     Box world;  // the boxes cover it
     for (const NodeFrameState& s : r.nodes) world.add(s.box);
     if (world.empty()) throw std::runtime_error("a frame with no boxes");
-    const std::vector<double>& p = Lattice::uniform(world, m.dims).planes(g.axis);
+    const Lattice uniform = Lattice::uniform(world, m.dims);  // (held: planes() refers into it)
+    const std::vector<double>& p = uniform.planes(g.axis);
     return InnerPlanes(size_t(g.count()), std::vector<double>(p.begin() + 1, p.end() - 1));
 }
 
