@@ -444,10 +444,12 @@ class SweepEdges(unittest.TestCase):
             t0 = time.monotonic()
             p.send_signal(signal.SIGINT)
             _, err = p.communicate(timeout=10)
-            self.assertLess(time.monotonic() - t0, 1.0)
+            # (the runs sleep 30 s: 5 s tells a stop from their end even on a
+            # loaded machine, where 1 s failed under the suite's other tests)
+            self.assertLess(time.monotonic() - t0, 5.0)
             self.assertEqual(p.returncode, 130, err)
             self.assertEqual(err.strip().splitlines(), ["sweep.py: stopped (SIGINT)"])
-            while any(alive(pid) for pid in pids()) and time.monotonic() < t0 + 1:
+            while any(alive(pid) for pid in pids()) and time.monotonic() < t0 + 5:
                 time.sleep(0.02)
             self.assertFalse([pid for pid in pids() if alive(pid)], "a worker's rtsim still runs after the stop")
 
