@@ -374,17 +374,18 @@ TEST_F(Edges, TheWallClockIsTheWholeRunItsPartsAddUpAndTheReferenceRunsAreOne) {
     for (const bool baseline : {true, false}) {
         SCOPED_TRACE(baseline ? "with its reference runs" : "--no-baseline");
         Outcome o{};
+        json w;  // the judged run's report's wall_clock
         double outside = 0;
         for (int attempt = 0; attempt < 3; ++attempt) {
             const auto t0 = std::chrono::steady_clock::now();
             o = rtsim(std::string(kSmall) + " --frames 2 --balance measured --image '' --report " + p("w.json") +
                       (baseline ? "" : " --no-baseline"));
             outside = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-            const json w = o.code == 0 ? json::parse(slurp(dir_ / "w.json"))["wall_clock"] : json();
-            if (o.code != 0 || w["total_s"].get<double>() + kOutside >= outside) break;
+            if (o.code != 0) break;
+            w = json::parse(slurp(dir_ / "w.json"))["wall_clock"];
+            if (w["total_s"].get<double>() + kOutside >= outside) break;
         }
         ASSERT_EQ(o.code, 0) << o.err;
-        const json w = json::parse(slurp(dir_ / "w.json"))["wall_clock"];
         const double parts = w["start_up_s"].get<double>() + w["frames_s"].get<double>() +
                              w["reference_runs_s"].get<double>() + w["writing_s"].get<double>();
         EXPECT_NEAR(parts, w["total_s"].get<double>(), 1e-9);
