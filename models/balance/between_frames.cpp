@@ -67,7 +67,7 @@ InnerPlanes averagedBoundaries(const FrameState& r, const MachineConfig& m) {
     return planes;
 }
 
-ResplitChoice resplitChoice(const FrameState& r, const MachineConfig& m) {
+ResplitChoice resplitChoice(const FrameState& r, const MachineConfig& m, double gain) {
     const InnerPlanes now = lastBoundaries(r, m);
     const FrameForecast f(r, m, averagedBoundaries(r, m));
     ResplitChoice c{"held", now, f.forecast(now).frameNs, 0};
@@ -84,7 +84,7 @@ ResplitChoice resplitChoice(const FrameState& r, const MachineConfig& m) {
         const bool linkBound = t.passes > 0 && t.linkNs >= t.nodeNs;
         const double beat = linkBound ? (1 - kMinForecastGain) * c.forecastNs : c.forecastNs;
         const double ns = t.frameNs + moveNs(r, m, now, planes);  // and getting there (move_forecast.h)
-        if (ns < beat && ns < (1 - kMinForecastGain) * c.heldNs) c = {name, planes, ns, c.heldNs};
+        if (ns < beat && ns < (1 - gain) * c.heldNs) c = {name, planes, ns, c.heldNs};
     }
     return c;
 }
@@ -92,8 +92,16 @@ ResplitChoice resplitChoice(const FrameState& r, const MachineConfig& m) {
 InnerPlanes resplitTargets(const FrameState& r, const MachineConfig& m) { return resplitChoice(r, m).planes; }
 
 std::optional<InnerPlanes> ResplitSequence::forecast(const FrameState& r) {
-    const ResplitChoice c = resplitChoice(r, m_);
-    said_ = {{"next", c.what}, {"forecast_ns", c.forecastNs}, {"held_forecast_ns", c.heldNs}};
+    ResplitChoice c = resplitChoice(r, m_);
+    std::string what = c.what;
+    if (tries_ && !tried_ && what == "held") {  // One try (between_frames.h)
+        c = resplitChoice(r, m_, kTryGain);
+        if (std::string(c.what) != "held") {
+            tried_ = true;
+            what = std::string("one try: ") + c.what;
+        }
+    }
+    said_ = {{"next", what}, {"forecast_ns", c.forecastNs}, {"held_forecast_ns", c.heldNs}};
     return c.planes;
 }
 

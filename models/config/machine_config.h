@@ -133,6 +133,9 @@ struct BalanceConfig {
     bool startsAtObjects() const { return policy == "median" || policy == "sample"; }
     // One whose first frame keeps its starting split and only measures (measured).
     bool firstFrameHolds() const { return policy == "measured"; }
+    // One whose later frames try once a re-split forecast to gain less than
+    // the margin a move needs (sample: between_frames.h, "One try").
+    bool triesWithinTheMargin() const { return policy == "sample"; }
     // One whose boxes never move, within a frame or between frames (none, median): --fidelity express's.
     bool boxesStayPut() const { return policy == "none" || policy == "median"; }
     double gainOf() const;        // gain, or the policy's default
