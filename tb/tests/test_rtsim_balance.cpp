@@ -672,7 +672,8 @@ TEST_F(Rtsim, SampleTriesOnceAReSplitTheMarginHides) {
     int tries = 0;
     for (const json& f : r["frames"]) tries += f.value("then", json::object()).value("next", "").rfind("one try", 0) == 0;
     EXPECT_EQ(tries, 1) << r["frames"].dump();
-    for (const json& f : report(args + " --balance measured", "m.json")["frames"])
+    const json m = report(args + " --balance measured", "m.json");  // (held: the loop refers into it)
+    for (const json& f : m["frames"])
         EXPECT_NE(f.value("then", json::object()).value("next", "").rfind("one try", 0), 0u) << f.dump();
 }
 
