@@ -325,6 +325,13 @@ def split_table(a, ns, rows, split):
     return "\n".join(lines) + "\n"
 
 
+def positive(xs, ys):
+    """The points a log axis can show: a small mesh's memory less the
+    process's own can round to 0 (N = 2's idle mesh, 8 nodes)."""
+    kept = [(x, y) for x, y in zip(xs, ys) if y > 0]
+    return [x for x, _ in kept], [y for _, y in kept]
+
+
 def chart(a, ns, rows, idle, path):
     import matplotlib
     matplotlib.use("Agg")
@@ -349,8 +356,10 @@ def chart(a, ns, rows, idle, path):
     bx.set_title("peak memory and start-up")
     bx.legend(fontsize=8)
     for scene in a.scenes.split(","):
-        cx.plot(ns, [kib_per_node(max(rows[(scene, n)]["mem"]), n, idle) for n in ns], marker="o", label=f"{scene}: this run")
-    cx.plot(ns, [kib_per_node(idle[n], n, idle) for n in ns], marker="x", linestyle="--", color="black", label="idle mesh")
+        cx.plot(*positive(ns, [kib_per_node(max(rows[(scene, n)]["mem"]), n, idle) for n in ns]), marker="o",
+                label=f"{scene}: this run")
+    cx.plot(*positive(ns, [kib_per_node(idle[n], n, idle) for n in ns]), marker="x", linestyle="--", color="black",
+            label="idle mesh")
     cx.set_xlabel("N (N x N x N nodes)")
     cx.set_yscale("log")
     cx.set_ylabel("KiB per node (peak less the process's, / nodes)")

@@ -171,6 +171,14 @@ class Scripts(unittest.TestCase):
         self.assertEqual(best[("along", 5)], (0.25, None))  # the one set won: its busiest node was not recorded
         self.assertEqual(best[("along", 8)], (0.20, None))
 
+    def test_the_scaling_chart_leaves_out_what_a_log_axis_cannot_show(self):
+        """bench_scaling.py's memory per node: N = 2's idle mesh, its peak
+        the process's own, is 0 KiB a node, and a log axis drew it at
+        minus infinity (the line fell off the chart)."""
+        import bench_scaling
+        self.assertEqual(bench_scaling.positive([2, 4, 8], [0.0, 60.8, -1.0]), ([4], [60.8]))
+        self.assertEqual(bench_scaling.positive([2, 4], [21250.5, 2529.1]), ([2, 4], [21250.5, 2529.1]))
+
     def test_the_scaling_split_reads_perf_and_weighs_the_mix(self):
         """bench_scaling.py's split of a profile: the tracing's symbols from
         perf's lines, each kind's cost, and the ratio the mix of events alone
