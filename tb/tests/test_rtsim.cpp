@@ -482,6 +482,8 @@ TEST_F(Rtsim, BadConfigurationExits2NamingTheFlag) {
     expectBad("--eye nan,0,0", "--eye");
     expectBad("--light 1,nan,1", "--light");
     expectBad("--eye-step 0,inf,0 --frames 2", "--eye-step");
+    expectBad("--eye-step 1 --frames 2", "--eye-step: expected three numbers");  // (was read past its end)
+    expectBad("--eye-step 1,2 --frames 2", "--eye-step: expected three numbers");
     std::ofstream(dir_ / "bad.ini") << "mesh = [not closed\n";
     expectBad("--config " + (dir_ / "bad.ini").string(), "");
     std::ofstream(dir_ / "bad2.ini") << "no-such-flag = 3\n";
