@@ -315,10 +315,7 @@ void RtsimOptions::finish() {
     try {
         if (noGuard_) machine.balance.guard = false;
         if (noBaseline_) baseline = false;
-        // (CLI11 2.1 takes fewer than expected(3) values: "--eye-step 1" was
-        // read past its end, the missing steps whatever memory held.)
-        if (!eyeStep.empty() && eyeStep.size() != 3)
-            throw OptionError("--eye-step", "expected three numbers x y z, got " + std::to_string(eyeStep.size()));
+        if (!eyeStep.empty() && eyeStep.size() != 3) throw OptionError("--eye-step", "expected three numbers x y z");
         if (machine.balance.idealLayerFaces && frames > 1)
             throw OptionError("--faces", "ideal-layer measures one frame from faces in line; not with --frames " +
                                              std::to_string(frames));
