@@ -41,11 +41,8 @@ std::string absolutePath(const std::string& p) { return std::filesystem::absolut
 
 }  // namespace
 
-nlohmann::json configEcho(const RtsimOptions& o, const Scene& scene) {
-    nlohmann::json c = machineConfigJson(o.machine, o.machine.width, o.machine.height);
-    c["fidelity"]["rung"] = rungOf(o.machine);  // (with --quantum too: fidelity_choice.h)
-    if (o.maxError > 0) c["fidelity"]["max_error"] = o.maxError;
-    auto& s = c["scene"];
+nlohmann::json sceneEcho(const RtsimOptions& o, const Scene& scene) {
+    nlohmann::json s;
     s["objects"] = scene.objects.size();
     if (!o.scene.file.empty()) {
         s["file"] = absolutePath(o.scene.file);
@@ -56,6 +53,14 @@ nlohmann::json configEcho(const RtsimOptions& o, const Scene& scene) {
                            {"seed", p.seed}};
     }
     s["axis"] = o.scene.axis;
+    return s;
+}
+
+nlohmann::json configEcho(const RtsimOptions& o, const Scene& scene) {
+    nlohmann::json c = machineConfigJson(o.machine, o.machine.width, o.machine.height);
+    c["fidelity"]["rung"] = rungOf(o.machine);  // (with --quantum too: fidelity_choice.h)
+    if (o.maxError > 0) c["fidelity"]["max_error"] = o.maxError;
+    c["scene"] = sceneEcho(o, scene);
     c["camera"] = {{"eye", vec(scene.view.from)}, {"look_at", vec(scene.view.at)}, {"up", vec(scene.view.up)},
                    {"fov_deg", scene.view.angle}};
     for (const Light& l : scene.lights) c["lights"].push_back({{"position", vec(l.position)}, {"colour", vec(l.colour)}});

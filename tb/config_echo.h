@@ -19,6 +19,9 @@ std::string sha256OfFile(const std::string& path);
 
 // Throws (std::runtime_error from sha256OfFile) if the scene file cannot be read.
 nlohmann::json configEcho(const RtsimOptions& o, const Scene& scene);
+// Its `scene`: the file and its SHA-256, or the procedural parameters; the
+// objects and the axis (also what --boundaries-from's run must have had).
+nlohmann::json sceneEcho(const RtsimOptions& o, const Scene& scene);
 
 // The first setting where two configs differ, as "PATH: A there, B here";
 // empty if none does.

@@ -162,13 +162,21 @@ Stop echoConfig(const rt::RtsimOptions& o, const rt::Scene& scene, const rt::Com
     return std::nullopt;
 }
 
-// A run that continues another's boundaries (--boundaries-from): where they
-// ended, and (`resplit`, `measured`) the targets its frame chooses.
-Stop startBoundaries(rt::RtsimOptions& o) {
+// A run that continues another's boundaries (--boundaries-from): of the
+// same scene (where its report says: a file of boundaries alone does not),
+// where they ended, and (`resplit`, `measured`) the targets its frame chooses.
+Stop startBoundaries(rt::RtsimOptions& o, const rt::Scene& scene) {
     try {
         if (!o.boundariesFrom.empty()) {
-            const rt::FrameState prev =  // (limits as --rerun's)
-                rt::frameStateFromReport(rt::readJsonFile(o.boundariesFrom, rt::kMaxReportBytes));
+            const nlohmann::json report = rt::readJsonFile(o.boundariesFrom, rt::kMaxReportBytes);  // (limits as --rerun's)
+            if (const nlohmann::json* c = report.contains("config") ? &report["config"] : nullptr; c && c->contains("scene")) {
+                nlohmann::json there = {{"scene", (*c)["scene"]}}, here = {{"scene", rt::sceneEcho(o, scene)}};
+                if (there["scene"].is_object()) there["scene"].erase("file");  // (the same bytes elsewhere: the same scene)
+                here["scene"].erase("file");
+                if (const std::string d = rt::firstDifference(there, here); !d.empty())
+                    throw std::invalid_argument("its run was of another scene: " + d);
+            }
+            const rt::FrameState prev = rt::frameStateFromReport(report);
             o.machine.startBoundaries = rt::lastBoundaries(prev, o.machine);
             if (o.machine.balance.betweenFrames()) o.machine.targetBoundaries = rt::resplitTargets(prev, o.machine);
         }
@@ -324,7 +332,7 @@ int sc_main(int argc, char** argv) {
     rt::FidelityChoice fidelity;  // --max-error: the rung chosen, how, and the machine that calibrated it
     if (Stop s = readCommandLine(app, o, cl, argc, argv)) return *s;
     if (Stop s = loadScene(o, cl, scene, firstEye)) return *s;
-    if (Stop s = startBoundaries(o)) return *s;
+    if (Stop s = startBoundaries(o, scene)) return *s;
     if (Stop s = checkMemory(o, scene)) return *s;
     if (Stop s = chooseRung(o, scene, fidelity)) return *s;
     if (Stop s = echoConfig(o, scene, cl, config)) return *s;

@@ -415,6 +415,27 @@ TEST_F(Rtsim, BoundariesFromAnotherMeshIsBadInput) {
     EXPECT_EQ(run(std::string(kSliding) + " -q --image '' --boundaries-from " + (dir_ / "bad.json").string()).code, 2);
 }
 
+// Its help says "the same scene, mesh and axis": another scene was taken
+// (exit 0, or a box "thinner than the minimum thickness" that named no
+// cause). The same scene's bytes under another name are the same scene.
+TEST_F(Rtsim, BoundariesFromAnotherSceneIsBadInput) {
+    report(std::string(kSliding), "a.json");
+    const Outcome o = run(std::string(kSliding) + " --seed 2 -q --image '' --boundaries-from " + (dir_ / "a.json").string());
+    EXPECT_EQ(o.code, 2);
+    EXPECT_NE(o.err.find("--boundaries-from " + (dir_ / "a.json").string() + ": its run was of another scene: /scene/procedural/seed"),
+              std::string::npos) << o.err;
+    EXPECT_EQ(std::count(o.err.begin(), o.err.end(), '\n'), 1) << o.err;
+    const std::string nff = std::string(RT_SCENE_DIR) + "/balls-1.nff";
+    std::filesystem::copy_file(nff, dir_ / "copy.nff");
+    const std::string file = " --size 32x32 --mesh 2 --balance measured -q --image '' --scene ";
+    report(file + nff, "f.json");
+    EXPECT_EQ(run(file + (dir_ / "copy.nff").string() + " --boundaries-from " + (dir_ / "f.json").string()).code, 0);
+    std::ofstream(dir_ / "other.nff") << slurp(nff) << "s 0.5 0.5 0.5 0.01\n";
+    const Outcome other = run(file + (dir_ / "other.nff").string() + " --boundaries-from " + (dir_ / "f.json").string());
+    EXPECT_EQ(other.code, 2);
+    EXPECT_NE(other.err.find("another scene"), std::string::npos) << other.err;
+}
+
 TEST_F(Rtsim, ResplitMovesTheBoundariesAtTheStartOfEachFrameAndKeepsTheFastest) {
     // Frame 1 balances as slide; every later frame starts by moving each
     // face once, at time 0, to the quantiles of the frame before's busy
