@@ -169,8 +169,8 @@ Stop startBoundaries(rt::RtsimOptions& o, const rt::Scene& scene) {
     try {
         if (!o.boundariesFrom.empty()) {
             const nlohmann::json report = rt::readJsonFile(o.boundariesFrom, rt::kMaxReportBytes);  // (limits as --rerun's)
-            if (const nlohmann::json* c = report.contains("config") ? &report["config"] : nullptr; c && c->contains("scene")) {
-                nlohmann::json there = {{"scene", (*c)["scene"]}}, here = {{"scene", rt::sceneEcho(o, scene)}};
+            if (report.contains("config") && report["config"].contains("scene")) {
+                nlohmann::json there = {{"scene", report["config"]["scene"]}}, here = {{"scene", rt::sceneEcho(o, scene)}};
                 if (there["scene"].is_object()) there["scene"].erase("file");  // (the same bytes elsewhere: the same scene)
                 here["scene"].erase("file");
                 if (const std::string d = rt::firstDifference(there, here); !d.empty())

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "balance/frame_forecast.h"
 #include "balance/move_forecast.h"
@@ -67,35 +69,65 @@ InnerPlanes averagedBoundaries(const FrameState& r, const MachineConfig& m) {
     return planes;
 }
 
-ResplitChoice resplitChoice(const FrameState& r, const MachineConfig& m, double gain) {
-    const InnerPlanes now = lastBoundaries(r, m);
+namespace {
+
+// What resplitChoice weighs, forecast once: holding, and each move with
+// getting there (move_forecast.h).
+struct Moves {
+    InnerPlanes now;
+    double heldNs;
+    struct Move {
+        const char* what;
+        InnerPlanes planes;
+        double ns;
+        bool linkBound;  // the links are its frame, and it passes rays on between columns
+    };
+    std::vector<Move> moves;
+};
+
+Moves forecastMoves(const FrameState& r, const MachineConfig& m) {
+    Moves out;
+    out.now = lastBoundaries(r, m);
     const FrameForecast f(r, m, averagedBoundaries(r, m));
-    ResplitChoice c{"held", now, f.forecast(now).frameNs, 0};
-    c.heldNs = c.forecastNs;
+    out.heldNs = f.forecast(out.now).frameNs;
+    const FrameForecast::Splits s = f.splits();
+    const std::pair<const char*, InnerPlanes> candidates[] = {{"aligned", s.aligned}, {"per column", s.perColumn}};
+    for (const auto& [what, planes] : candidates) {
+        const FrameForecast::Forecast t = f.forecast(planes);
+        const bool linkBound = t.passes > 0 && t.linkNs >= t.nodeNs;
+        const double ns = t.frameNs + moveNs(r, m, out.now, planes);  // and getting there (move_forecast.h)
+        out.moves.push_back({what, planes, ns, linkBound});
+    }
+    return out;
+}
+
+// The planes of the shortest forecast frame, moving only for `gain` over holding.
+ResplitChoice choose(const Moves& f, double gain) {
+    ResplitChoice c{"held", f.now, f.heldNs, f.heldNs};
     // Columns' own planes pass rays on between columns, which the
     // forecast counts short where the links are the frame: there they
     // must beat the aligned planes by the margin a move needs to beat
     // holding (the case that showed it: doc/history.md, "Figures behind
     // the code's comments").
-    const FrameForecast::Splits s = f.splits();
-    const std::pair<const char*, InnerPlanes> candidates[] = {{"aligned", s.aligned}, {"per column", s.perColumn}};
-    for (const auto& [name, planes] : candidates) {
-        const FrameForecast::Forecast t = f.forecast(planes);
-        const bool linkBound = t.passes > 0 && t.linkNs >= t.nodeNs;
-        const double beat = linkBound ? (1 - kMinForecastGain) * c.forecastNs : c.forecastNs;
-        const double ns = t.frameNs + moveNs(r, m, now, planes);  // and getting there (move_forecast.h)
-        if (ns < beat && ns < (1 - gain) * c.heldNs) c = {name, planes, ns, c.heldNs};
+    for (const Moves::Move& k : f.moves) {
+        const double beat = k.linkBound ? (1 - kMinForecastGain) * c.forecastNs : c.forecastNs;
+        if (k.ns < beat && k.ns < (1 - gain) * c.heldNs) c = {k.what, k.planes, k.ns, c.heldNs};
     }
     return c;
 }
 
+}  // namespace
+
+ResplitChoice resplitChoice(const FrameState& r, const MachineConfig& m) { return choose(forecastMoves(r, m), kMinForecastGain); }
+
 InnerPlanes resplitTargets(const FrameState& r, const MachineConfig& m) { return resplitChoice(r, m).planes; }
 
 std::optional<InnerPlanes> ResplitSequence::forecast(const FrameState& r) {
-    ResplitChoice c = resplitChoice(r, m_);
+    const Moves moves = forecastMoves(r, m_);  // (once: the try weighs the same forecasts)
+    ResplitChoice c = choose(moves, kMinForecastGain);
     std::string what = c.what;
     if (tries_ && !tried_ && what == "held") {  // One try (between_frames.h)
-        c = resplitChoice(r, m_, kTryGain);
+        c = choose(moves, kTryGain);
         if (std::string(c.what) != "held") {
             tried_ = true;
             what = std::string("one try: ") + c.what;

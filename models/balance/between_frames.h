@@ -49,9 +49,7 @@ struct ResplitChoice {
     InnerPlanes planes;
     double forecastNs, heldNs;  // the next frame, forecast: with these planes; with the planes held
 };
-// `gain`: the forecast gain a move must show over holding (kMinForecastGain,
-// or kTryGain for sample's one try).
-ResplitChoice resplitChoice(const FrameState& r, const MachineConfig& m, double gain = kMinForecastGain);
+ResplitChoice resplitChoice(const FrameState& r, const MachineConfig& m);
 // One try (sample): the first time the forecast says hold, a re-split it
 // forecasts at least this much faster is run once all the same; if that
 // frame is not the fastest, the fastest frame's planes are held (kPatience).
