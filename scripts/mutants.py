@@ -291,6 +291,16 @@ MUTANTS = [
      "node.objectBytes > 0 && node.objects > 0 ? node.objectBytes / double(node.objects) : kSlabObjectBytes;",
      "kSlabObjectBytes + 0 * node.objectBytes;",
      "the forecast of a move takes every object a sphere's size (gears-2's polygons are 3.7 times that)"),
+    ("start-counts-centres-only", "models/balance/initial_split.cpp",
+     "else if (aligned && !(heaviestReach(everyLo, everyHi, b) < heaviestReach(everyLo, everyHi, uniform)))",
+     "else if (false && !(heaviestReach(everyLo, everyHi, b) < heaviestReach(everyLo, everyHi, uniform)))",
+     "the aligned half start counts the centres a box holds, not the objects it reaches into: spheres crowded "
+     "thinner than one are cut into boxes that each hold them all"),
+    ("start-columns-count-centres-only", "models/balance/initial_split.cpp",
+     "if (start.lighterOnly && !aligned && !(reach < uniformReach)) planes = everyUniform;",
+     "if (false) planes = everyUniform;",
+     "columns that start at their own objects keep that start where the machine's heaviest box reaches into as "
+     "many objects as the uniform split's"),
     ("start-mix-without-the-length", "models/balance/initial_split.cpp",
      "(1 - mix) * (x - lo) / (hi - lo)) +", "(1 - mix) * 0 * (x - lo) / (hi - lo)) +",
      "a start mix below 1 weighs the objects alone: its share of the column's length is lost"),

@@ -50,6 +50,39 @@ size_t heaviestBox(const std::vector<double>& sortedCentres, const std::vector<d
     return most;
 }
 
+// Where each object is along axis `ax`, sorted: its centre, or where its
+// span along the axis starts or ends.
+enum AlongAxis { kCentres, kLowerFaces, kUpperFaces };
+std::vector<double> alongAxis(const std::vector<Shape>& shapes, int ax, AlongAxis which) {
+    std::vector<double> c;
+    for (const Shape& s : shapes) {
+        const Box ob = s.bounds();
+        c.push_back(which == kCentres ? 0.5 * (ob.lo[ax] + ob.hi[ax]) : which == kLowerFaces ? ob.lo[ax] : ob.hi[ax]);
+    }
+    std::sort(c.begin(), c.end());
+    return c;
+}
+
+// The most objects any box between `planes` reaches into: an object whose
+// span along the axis (`los`, `his`, each sorted) overlaps the box, as the
+// box's grid holds it and its rays test it. A box thinner than its objects
+// holds nearly all of those its planes cut: spheres of radius 0.02 crowded
+// into 0.005 of the axis, split by their centres into boxes 0.0025 and
+// 0.013 thick, left each box every sphere, and with the view across the
+// axis the half start's longer boxes took the frame to 1.47 of the
+// unbalanced one (built-in scene, 4x4x4, 128x128; doc/balancing.md, "Where
+// sample starts").
+size_t heaviestReach(const std::vector<double>& los, const std::vector<double>& his, const std::vector<double>& planes) {
+    size_t most = 0;
+    for (size_t k = 0; k + 1 < planes.size(); ++k) {
+        // (those starting below the box's top, less those ending at or below its bottom)
+        const size_t startBelow = size_t(std::lower_bound(los.begin(), los.end(), planes[k + 1]) - los.begin());
+        const size_t endBelow = size_t(std::upper_bound(his.begin(), his.end(), planes[k]) - his.begin());
+        most = std::max(most, startBelow - std::min(startBelow, endBelow));
+    }
+    return most;
+}
+
 // Whether a box of `start` objects is lighter than one of `uniform` by more
 // than chance: by kSpreadsLighter standard deviations of a box's count where
 // the objects spread evenly (a count's spread, sqrt(uniform)). On Fig. 4's
@@ -85,24 +118,21 @@ void atObjectQuantiles(ColumnPlanes& planes, const ColumnGeometry& g, const Latt
     const double mix = start.mix;
     const bool aligned = start.aligned;
     const int ax = g.axis, n = g.length();
-    const auto centresOf = [&](const std::vector<Shape>& shapes) {
-        std::vector<double> c;
-        for (const Shape& s : shapes) {
-            const Box ob = s.bounds();
-            c.push_back(0.5 * (ob.lo[ax] + ob.hi[ax]));
-        }
-        std::sort(c.begin(), c.end());
-        return c;
-    };
-    const std::vector<double> everyObject = aligned ? centresOf(bins.all()) : std::vector<double>{};
+    const std::vector<double> everyObject = aligned ? alongAxis(bins.all(), ax, kCentres) : std::vector<double>{};
+    const bool reaching = aligned && start.lighterOnly;
+    const std::vector<double> everyLo = reaching ? alongAxis(bins.all(), ax, kLowerFaces) : std::vector<double>{};
+    const std::vector<double> everyHi = reaching ? alongAxis(bins.all(), ax, kUpperFaces) : std::vector<double>{};
     const double m = planeSpacing(minThickness);
     const std::vector<double> noEntries;  // (a column none of whose primary rays is weighed)
+    const ColumnPlanes everyUniform = planes;
+    size_t reach = 0, uniformReach = 0;  // (the most objects a box reaches into, over the columns)
     for (int j = 0; j < g.dims[g.v]; ++j)
         for (int i = 0; i < g.dims[g.u]; ++i) {
             Box column = cuts.cellBox(g.cell(i, j, 0));
             column.lo[ax] = world.lo[ax];
             column.hi[ax] = world.hi[ax];
-            const std::vector<double> centres = aligned ? everyObject : centresOf(bins.overlapping(column));
+            const std::vector<Shape> mine = aligned ? std::vector<Shape>{} : bins.overlapping(column);
+            const std::vector<double> centres = aligned ? everyObject : alongAxis(mine, ax, kCentres);
             std::vector<double>& b = planes[size_t(g.indexOf(i, j))];
             if (centres.empty()) continue;
             const std::vector<double> uniform = b;
@@ -116,11 +146,26 @@ void atObjectQuantiles(ColumnPlanes& planes, const ColumnGeometry& g, const Latt
                 const double lo = b[size_t(k - 1)] + m, hi = world.hi[ax] - (n - k) * m;
                 b[size_t(k)] = std::clamp(q, lo, hi);
             }
-            if (start.lighterOnly) {
-                const size_t heaviest = heaviestBox(centres, b), uniformHeaviest = heaviestBox(centres, uniform);
-                if (aligned ? !lighterThanChance(heaviest, uniformHeaviest) : heaviest >= uniformHeaviest) b = uniform;
+            if (!start.lighterOnly) continue;
+            // Lighter by the centres a box holds, and by the objects it reaches into.
+            const size_t heaviest = heaviestBox(centres, b), uniformHeaviest = heaviestBox(centres, uniform);
+            if (aligned ? !lighterThanChance(heaviest, uniformHeaviest) : heaviest >= uniformHeaviest) b = uniform;
+            else if (aligned && !(heaviestReach(everyLo, everyHi, b) < heaviestReach(everyLo, everyHi, uniform)))
+                b = uniform;
+            else if (!aligned) {
+                const std::vector<double> los = alongAxis(mine, ax, kLowerFaces), his = alongAxis(mine, ax, kUpperFaces);
+                reach = std::max(reach, heaviestReach(los, his, b));
+                uniformReach = std::max(uniformReach, heaviestReach(los, his, uniform));
             }
         }
+    // A column's own count of the objects its boxes reach into is a few
+    // dozen, and a column that starts uniform beside columns that start by
+    // their objects made a frame slower than either (the 1987 machine,
+    // across the axis, N = 8, f = 0.05, 128x128: 1.60 of the unbalanced
+    // frame, where every column from the half start took 0.68 and from the
+    // uniform split 0.88): the columns that start by their objects keep it
+    // only where the machine's heaviest box by that count is lighter.
+    if (start.lighterOnly && !aligned && !(reach < uniformReach)) planes = everyUniform;
 }
 
 // Each primary ray the host hands out (`stride`: assignPrimaryRays), with
@@ -245,10 +290,10 @@ StartMix startMixFor(const MachineConfig& cfg, const std::vector<Shape>& objects
     // lighter (doc/balancing.md, "Where sample starts").
     return {0.5, aligned,
             "auto: " + costs + ": half by the objects, half by the length" +
-                (aligned ? ", the same planes in every column" : "") +
-                (aligned ? " (the uniform split where that does not lighten the heaviest box by more than " +
-                               std::to_string(kSpreadsLighter) + " deviations of an even spread)"
-                         : " (the uniform split in a column where that leaves the heaviest box as heavy)"),
+                (aligned ? ", the same planes in every column (the uniform split where that does not lighten the "
+                           "heaviest box by more than " + std::to_string(kSpreadsLighter) + " deviations of an even spread"
+                         : " (the uniform split in a column where that leaves the heaviest box as heavy") +
+                ", or leaves the heaviest box reaching into as many objects)",
             true};
 }
 

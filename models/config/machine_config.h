@@ -157,7 +157,8 @@ inline const std::vector<Param<BalanceConfig>>& balanceParams() {
         "ray's generation against " + std::to_string(kTestsPerGeneration) + " tests), else 0.5 (below a tenth of a hop, "
         "of all the objects: the same planes in every column, 0 where they do not lighten the heaviest box by more than " +
         std::to_string(kSpreadsLighter) + " standard deviations of an even spread's; 0 in a column whose heaviest box "
-        "by objects 0.5 leaves as heavy), 0 "
+        "by objects 0.5 leaves as heavy; and 0 where it leaves the heaviest box reaching into as many objects, "
+        "whose centres it holds or not), 0 "
         "where a hop's wire time is at least " + std::to_string(kWirePerHandling) + " times its handling, and 0 on "
         "columns of more than " + std::to_string(kLongestColumnStartedByObjects) + " boxes";
     static const std::vector<Param<B>> rows = {

@@ -130,6 +130,50 @@ TEST(InitialSplit, TheHalfStartOnlyWhereItLightensTheHeaviestBox) {
     EXPECT_EQ(planeWith(8, true, true), 0.5);             // aligned: lighter by less than chance, uniform
 }
 
+// Lighter by the centres a box holds is not lighter where the box is
+// thinner than its objects: 100 spheres of radius 0.1 with centres .004 to
+// .4 (as above: the plane at 2/7, box 0 holding 71 centres) reach from
+// -0.096 to 0.5, and with radius 0.3 every one of them reaches into box 0,
+// as into the uniform split's: the start is the uniform split, aligned or
+// a column's own. At radius 0.1, 85 reach into box 0 against the uniform
+// split's 100: kept.
+TEST(InitialSplit, TheHalfStartCountsTheObjectsABoxReachesInto) {
+    const Box world{Vec3(-0.5), Vec3(1.5)};
+    MachineConfig m = mesh({2, 1, 1});
+    m.balance.policy = "sample";
+    m.balance.startMix = 0.5;
+    m.balance.startLighterOnly = true;
+    const Lattice cuts = Lattice::uniform(world, m.dims);
+    const auto planeWith = [&](double radius, bool aligned) {
+        std::vector<Shape> s;
+        for (int i = 0; i < 100; ++i) s.push_back(sphere(Vec3(0.004 * (i + 1), 0.5, 0.5), radius, uint32_t(i)));
+        const ObjectBins bins(s, cuts, 1e-9);
+        m.balance.startAligned = aligned;
+        return initialPlanes(m, cuts, world, bins, 0.025)[0][1];
+    };
+    for (bool aligned : {false, true}) {
+        SCOPED_TRACE(aligned ? "aligned" : "each column its own");
+        EXPECT_LT(planeWith(0.1, aligned), 0.5);
+        EXPECT_EQ(planeWith(0.3, aligned), 0.5);
+    }
+    // Each column its own: the machine's heaviest box by reach decides for
+    // the columns its start lightens, and a column it leaves as heavy by
+    // centres (4 spheres -.45 to -.42: the plane at -.42, box 0 holding all
+    // four) still starts uniform beside one it lightens (the 100 above, at
+    // radius 0.001).
+    MachineConfig two = mesh({2, 2, 1});
+    two.balance = m.balance;
+    two.balance.startAligned = false;
+    const Lattice halves = Lattice::uniform(world, two.dims);
+    std::vector<Shape> s;
+    for (int i = 0; i < 100; ++i) s.push_back(sphere(Vec3(0.004 * (i + 1), 0.0, 0.5), 0.001, uint32_t(i)));
+    for (int i = 0; i < 4; ++i) s.push_back(sphere(Vec3(-0.45 + 0.01 * i, 1.0, 0.5), 0.001, uint32_t(100 + i)));
+    const ColumnPlanes p = initialPlanes(two, halves, world, ObjectBins(s, halves, 1e-9), 0.025);
+    ASSERT_EQ(p.size(), 2u);
+    EXPECT_LT(p[0][1], 0.5);
+    EXPECT_EQ(p[1][1], 0.5);
+}
+
 // Where the objects crowd, the start packs boxes at the minimum thickness;
 // those planes may be a later frame's targets, whose boxes the machine
 // checks exactly (withInnerPlanes, no slack). b + m - b may round below m:
