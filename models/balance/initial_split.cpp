@@ -69,9 +69,9 @@ std::vector<double> alongAxis(const std::vector<Shape>& shapes, int ax, AlongAxi
 // holds nearly all of those its planes cut: spheres of radius 0.02 crowded
 // into 0.005 of the axis, split by their centres into boxes 0.0025 and
 // 0.013 thick, left each box every sphere, and with the view across the
-// axis the half start's longer boxes took the frame to 1.47 of the
-// unbalanced one (built-in scene, 4x4x4, 128x128; doc/balancing.md, "Where
-// sample starts").
+// axis the half start's longer boxes took sample's first frame to 1.43 of
+// the unbalanced one (built-in scene, 4x4x4, 128x128; doc/balancing.md,
+// "The recommended policy", and crowded.py's table there).
 size_t heaviestReach(const std::vector<double>& los, const std::vector<double>& his, const std::vector<double>& planes) {
     size_t most = 0;
     for (size_t k = 0; k + 1 < planes.size(); ++k) {
