@@ -39,7 +39,7 @@ def main():
     driver.add_output_arguments(ap, os.path.join(ROOT, "doc", "balancing.md"))
     driver.add_arguments(ap)
     a = driver.parse_outputs(ap)
-    ns = outputs.numbers(a.n, "--n", least=2, most=64)
+    ns = outputs.numbers(a.n, "--n", least=2, most=32)  # (rtsim --mesh: at most 32)
     fractions = outputs.numbers(a.fractions, "--fractions", kind=float, least=1e-6, most=1)
     a.frames = outputs.numbers(a.frames, "--frames", least=1, most=100)[0]
     policies = [p for p in a.policies.split(",") if p]

@@ -66,7 +66,7 @@ def main():
     driver.add_output_arguments(ap, os.path.join(ROOT, "doc", "balancing.md"))
     driver.add_arguments(ap)
     a = driver.parse_outputs(ap)
-    ns = outputs.numbers(a.n, "--n", least=2, most=64)  # (nodes per axis: a column has a plane)
+    ns = outputs.numbers(a.n, "--n", least=2, most=32)  # (nodes per axis: a column has a plane; rtsim --mesh: at most 32)
     project.check_variant(a)
     policies = a.policies.split(",")
     for p in policies:

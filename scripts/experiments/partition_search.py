@@ -206,7 +206,7 @@ def main():
     outputs.check_input(preset_flags(outputs.check_name(a.preset, "--preset"))[1], "--preset")
     if a.tag:
         outputs.check_name(a.tag, "--tag")
-    ns = outputs.numbers(a.n, "--n", least=2, most=64)  # (nodes per axis: a column has a plane)
+    ns = outputs.numbers(a.n, "--n", least=2, most=32)  # (nodes per axis: a column has a plane; rtsim --mesh: at most 32)
     rows = []
     for path in a.merge:
         rows += read_csv(outputs.check_input(path, "--merge"))

@@ -52,7 +52,7 @@ def main():
     driver.add_output_arguments(ap, os.path.join(ROOT, "doc", "balancing.md"))
     driver.add_arguments(ap)
     a = driver.parse_outputs(ap)
-    ns = outputs.numbers(a.n, "--n", least=2, most=64)
+    ns = outputs.numbers(a.n, "--n", least=2, most=32)  # (rtsim --mesh: at most 32)
     mixes = outputs.numbers(a.mixes, "--mixes", kind=float, least=0, most=1)
     if len(set(mixes)) < len(mixes):
         raise outputs.ToolError(f"--mixes {a.mixes!r}: a mix given twice")
