@@ -72,7 +72,9 @@ void SceneOptions::addTo(CLI::App& app, bool positional) {
         ->group(g)
         ->check(openClosed(0, 1));
     app.add_option("--axis", axis, "progress axis: the procedural scene's and the balancing's")->group(g)->check(CLI::IsMember({"x", "y", "z"}));
-    app.add_option("--seed", p.seed, "procedural: random seed for sphere placement")->group(g);
+    app.add_option("--seed", p.seed, "procedural: random seed for sphere placement")->group(g)->check(CLI::Validator(
+        [](std::string& v) { return v.rfind('-', 0) == 0 ? std::string("expected a whole number, 0 or more") : std::string(); },
+        ""));  // (CLI11 takes -1 into the unsigned seed as 18446744073709551615)
     app.add_option("--eye", eye, "procedural: camera position x y z (or x,y,z)")
         ->group(g)
         ->expected(3)

@@ -480,6 +480,7 @@ TEST_F(Rtsim, BadConfigurationExits2NamingTheFlag) {
     expectBad("--balance default", "--balance: 'default' names no policy: the recommended policy is sample on columns of "
                                    "at most 8 boxes, else measured (or 'recommended')");
     expectBad("--eye nan,0,0", "--eye");
+    expectBad("--seed -1", "--seed");  // (was taken as 18446744073709551615)
     expectBad("--light 1,nan,1", "--light");
     expectBad("--eye-step 0,inf,0 --frames 2", "--eye-step");
     expectBad("--eye-step 1 --frames 2", "--eye-step: expected three numbers");  // (was read past its end)
