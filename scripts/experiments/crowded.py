@@ -6,8 +6,8 @@ with sphere tests x100), both views, N = 4 and 8. Per point, each policy's
 frames against the unbalanced frame: its first frame and the worst of
 --frames frames. Where the crowd is thinner than a sphere (radius 0.02)
 every box a start cuts inside it still holds nearly all of them: the
-case where a start by the objects can only lose (doc/balancing.md, "Where
-sample starts"). Every point is one rtsim run through the sweep driver, so
+case where a start by the objects can only lose (doc/balancing.md, "The
+recommended policy"). Every point is one rtsim run through the sweep driver, so
 it runs locally or on a Dask cluster and a stopped run resumes.
 
 With --doc, writes doc/results/crowded.{csv,md} and the table into
