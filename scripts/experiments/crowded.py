@@ -23,7 +23,7 @@ import outputs  # noqa: E402
 import project  # noqa: E402
 import sweep_driver as driver  # noqa: E402
 from project import PAPER_SCENE, ROOT, VIEWS, preset_flags, publish_table  # noqa: E402
-from start_mix import MACHINES, machine_of  # noqa: E402
+from start_mix import MACHINES, against_none, machine_of  # noqa: E402
 
 FRACTIONS = "0.005,0.01,0.02,0.05,0.1"
 POLICIES = "recommended,slide"
@@ -47,7 +47,9 @@ def main():
         raise outputs.ToolError(f"--policies {a.policies!r}: give one policy or more, none aside (it is the baseline)")
     csv_path = os.path.join(a.out, "crowded.csv")
     rows = driver.swept_rows(a, csv_path, lambda: sweep(a, ns, fractions, policies))
-    table(a, rows, ns, fractions, policies, os.path.join(a.out, "crowded.md"))
+    changed = " ".join(f"--{k} {getattr(a, k)}" for k in ("n", "fractions", "policies", "frames")
+                       if str(getattr(a, k)) != str(ap.get_default(k)))  # (for the table's "written by" line)
+    table(a, rows, ns, fractions, policies, changed, os.path.join(a.out, "crowded.md"))
 
 
 def sweep(a, ns, fractions, policies):
@@ -63,15 +65,11 @@ def sweep(a, ns, fractions, policies):
                         points.append({"params": dict(params, policy=policy),
                                        "args": base + ["--balance", policy] + frames + extra.split()})
     runs = driver.run("crowded", points, extract, None, a)
-    none = {(r["machine"], r["view"], r["N"], r["f"]): r["render_time_ns"] for r in runs if r["policy"] == "none"}
     rows = []
-    for r in runs:
-        if r["policy"] == "none":
-            continue
-        t0 = none[(r["machine"], r["view"], r["N"], r["f"])]
+    for r in against_none(runs, ["machine", "view", "N", "f", "policy"], keep=("frames_ns",)):
         frames = [float(t) for t in str(r["frames_ns"]).split(";")]
-        rows.append({k: r[k] for k in ("machine", "view", "N", "f", "policy")} |
-                    {"time_none_ns": t0, "first": frames[0] / t0, "worst": max(frames) / t0,
+        rows.append({k: r[k] for k in ("machine", "view", "N", "f", "policy", "time_none_ns")} |
+                    {"first": frames[0] / r["time_none_ns"], "worst": max(frames) / r["time_none_ns"],
                      "version": r["version"], "command": r["command"]})
     return rows
 
@@ -81,11 +79,9 @@ def extract(r):
     return {"render_time_ns": r["render_time_ns"], "frames_ns": ";".join(f"{t:.0f}" for t in frames)}
 
 
-def table(a, rows, ns, fractions, policies, md_path):
+def table(a, rows, ns, fractions, policies, inv, md_path):
     for r in rows:
         r["N"], r["f"], r["first"], r["worst"] = int(r["N"]), float(r["f"]), float(r["first"]), float(r["worst"])
-    inv = " ".join(f"--{k} {v}" for k, v in (("n", a.n), ("fractions", a.fractions), ("policies", a.policies),
-                                                 ("frames", a.frames)) if str(v) != str(DEFAULTS[k]))
     fs = " | ".join(f"f = {f:g}" for f in fractions)
     lines = [f"<!-- written by scripts/experiments/crowded.py{' ' + inv if inv else ''}; do not edit -->",
              f"Each cell: the first frame / the worst of {a.frames} frames, over the unbalanced frame "
@@ -110,8 +106,6 @@ def table(a, rows, ns, fractions, policies, md_path):
                      f"worst frame {max(worst):.3f}, median of the worst frames {statistics.median(worst):.3f}.")
     publish_table(lines, md_path, a.doc, "crowded")
 
-
-DEFAULTS = {"n": "4,8", "fractions": FRACTIONS, "policies": POLICIES, "frames": 3}
 
 if __name__ == "__main__":
     sys.exit(outputs.guard("crowded.py", main))

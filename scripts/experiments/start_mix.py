@@ -75,15 +75,17 @@ def machine_of(preset, tag, a):
     return types.SimpleNamespace(preset=preset, tag=tag, out=a.out)
 
 
-def against_none(runs, fields):
+def against_none(runs, fields, keep=()):
     """The CSV rows: each run's `fields` (its point's, the policy and the mix
     among them) and its frame beside the unbalanced run's of the same point
-    (the same fields but the policy and the mix), the unbalanced runs aside."""
+    (the same fields but the policy and the mix), the unbalanced runs aside;
+    and each run's `keep` figures, which name no point."""
     def point(r):
         return tuple(r[f] for f in fields if f not in ("policy", "mix"))
     none = {point(r): r["render_time_ns"] for r in runs if r["policy"] == "none"}
     return [{**{f: r[f] for f in fields}, "time_none_ns": none[point(r)], "time_ns": r["render_time_ns"],
-             "ratio": r["render_time_ns"] / none[point(r)], "version": r["version"], "command": r["command"]}
+             "ratio": r["render_time_ns"] / none[point(r)], **{k: r[k] for k in keep},
+             "version": r["version"], "command": r["command"]}
             for r in runs if r["policy"] != "none"]
 
 
