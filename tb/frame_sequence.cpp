@@ -91,7 +91,7 @@ EarlierFrames runEarlierFrames(const Scene& scene, const Vec3& firstEye, RtsimOp
     if (o.frames < 2) return out;
     const OrderlyStops orderly;  // a stop ends the frame running, and the sequence so far is written
     const bool carry = o.machine.balance.dynamic(), resplit = o.machine.balance.betweenFrames();
-    ResplitSequence sequence(o.machine);
+    ResplitSequence sequence(o.machine, &scene.objects);
     const MachineConfig first = o.machine;  // how frame 1 starts
     out.scene = std::make_unique<Scene>(scene);  // (the machine's, with frame 1's eye)
     out.scene->view.from = eyeOfFrame(o, firstEye, 0);

@@ -41,7 +41,11 @@ NodeFrameState nodeState(const nlohmann::json& node) {
     n.box = Box{Vec3(box[0][0], box[0][1], box[0][2]), Vec3(box[1][0], box[1][1], box[1][2])};
     n.objects = node.value("objects", size_t(0));  // (none recorded: none moved)
     n.objectBytes = node.value("object_bytes", 0.0);
-    if (node.contains("grid")) n.gridCells = node.at("grid").at("cells").get<std::array<int, 3>>();
+    if (node.contains("grid")) {
+        n.gridCells = node.at("grid").at("cells").get<std::array<int, 3>>();
+        const auto span = node.at("grid").at("span").get<std::array<std::array<double, 3>, 2>>();
+        n.gridSpan = Box{Vec3(span[0][0], span[0][1], span[0][2]), Vec3(span[1][0], span[1][1], span[1][2])};
+    }
     n.busyNs = node.at("busy_ns").get<double>();
     if (node.contains("work_by_position")) n.work = workAlongAxis(node.at("work_by_position"));
     return n;

@@ -27,6 +27,7 @@
 
 #include "balance/between_frames.h"
 #include "balance/initial_split.h"
+#include "balance/sample_end.h"
 #include "command_line.h"
 #include "config_echo.h"
 #include "frame_sequence.h"
@@ -112,7 +113,7 @@ Stop loadScene(rt::RtsimOptions& o, const rt::CommandLine& cl, rt::Scene& scene,
         o.scene.imageSize(scene, o.machine.width, o.machine.height);
         if (o.boundariesFrom.empty()) {  // (--start-mix auto, --sample-end auto: by the costs and objects)
             rt::chooseStartMix(o.machine, scene.objects);
-            rt::chooseSampleEnd(o.machine, scene.objects);
+            rt::chooseSampleEnd(o.machine, scene);
         }
         o.machine.checkDerivedTimes(scene.objects.size());  // (std::invalid_argument: exit 2 naming the flags)
         try {
@@ -178,7 +179,7 @@ Stop startBoundaries(rt::RtsimOptions& o, const rt::Scene& scene) {
             }
             const rt::FrameState prev = rt::frameStateFromReport(report);
             o.machine.startBoundaries = rt::lastBoundaries(prev, o.machine);
-            if (o.machine.balance.betweenFrames()) o.machine.targetBoundaries = rt::resplitTargets(prev, o.machine);
+            if (o.machine.balance.betweenFrames()) o.machine.targetBoundaries = rt::resplitTargets(prev, o.machine, &scene.objects);
         }
     } catch (const rt::JsonInputError& e) {  // ("PATH: why")
         rt::msg::error(rt::msg::kConfig, std::string("--boundaries-from ") + e.what());

@@ -85,10 +85,10 @@ struct Moves {
     std::vector<Move> moves;
 };
 
-Moves forecastMoves(const FrameState& r, const MachineConfig& m) {
+Moves forecastMoves(const FrameState& r, const MachineConfig& m, const std::vector<Shape>* objects) {
     Moves out;
     out.now = lastBoundaries(r, m);
-    const FrameForecast f(r, m, averagedBoundaries(r, m));
+    const FrameForecast f(r, m, averagedBoundaries(r, m), objects);
     out.heldNs = f.forecast(out.now).frameNs;
     const FrameForecast::Splits s = f.splits();
     const std::pair<const char*, InnerPlanes> candidates[] = {{"aligned", s.aligned}, {"per column", s.perColumn}};
@@ -118,12 +118,16 @@ ResplitChoice choose(const Moves& f, double gain) {
 
 }  // namespace
 
-ResplitChoice resplitChoice(const FrameState& r, const MachineConfig& m) { return choose(forecastMoves(r, m), kMinForecastGain); }
+ResplitChoice resplitChoice(const FrameState& r, const MachineConfig& m, const std::vector<Shape>* objects) {
+    return choose(forecastMoves(r, m, objects), kMinForecastGain);
+}
 
-InnerPlanes resplitTargets(const FrameState& r, const MachineConfig& m) { return resplitChoice(r, m).planes; }
+InnerPlanes resplitTargets(const FrameState& r, const MachineConfig& m, const std::vector<Shape>* objects) {
+    return resplitChoice(r, m, objects).planes;
+}
 
 std::optional<InnerPlanes> ResplitSequence::forecast(const FrameState& r) {
-    const Moves moves = forecastMoves(r, m_);  // (once: the try weighs the same forecasts)
+    const Moves moves = forecastMoves(r, m_, objects_);  // (once: the try weighs the same forecasts)
     ResplitChoice c = choose(moves, kMinForecastGain);
     std::string what = c.what;
     if (tries_ && !tried_ && what == "held") {  // One try (between_frames.h)

@@ -49,7 +49,9 @@ struct ResplitChoice {
     InnerPlanes planes;
     double forecastNs, heldNs;  // the next frame, forecast: with these planes; with the planes held
 };
-ResplitChoice resplitChoice(const FrameState& r, const MachineConfig& m);
+// With the scene's `objects` the forecast counts the grids a move would
+// coarsen (FrameForecast, kCoarser).
+ResplitChoice resplitChoice(const FrameState& r, const MachineConfig& m, const std::vector<Shape>* objects = nullptr);
 // One try (sample): the first time the forecast says hold, a re-split it
 // forecasts at least this much faster is run once all the same; if that
 // frame is not the fastest, the fastest frame's planes are held (kPatience).
@@ -60,7 +62,7 @@ ResplitChoice resplitChoice(const FrameState& r, const MachineConfig& m);
 // unbalanced frame and the forecast saw under 4 % to gain; the one try gave
 // 0.494 (doc/balancing.md, "The recommended policy").
 constexpr double kTryGain = 0.01;
-InnerPlanes resplitTargets(const FrameState& r, const MachineConfig& m);
+InnerPlanes resplitTargets(const FrameState& r, const MachineConfig& m, const std::vector<Shape>* objects = nullptr);
 
 // `resplit` and `measured` over a sequence of frames: what the next frame
 // does. Each frame re-splits by the forecast from the one before
@@ -84,8 +86,8 @@ InnerPlanes resplitTargets(const FrameState& r, const MachineConfig& m);
 //    the uniform split, the unbalanced frame itself.
 class ResplitSequence {
 public:
-    explicit ResplitSequence(const MachineConfig& m)
-        : m_(m), firstHolds_(m.balance.firstFrameHolds()), tries_(m.balance.triesWithinTheMargin()) {}
+    explicit ResplitSequence(const MachineConfig& m, const std::vector<Shape>* objects = nullptr)
+        : m_(m), objects_(objects), firstHolds_(m.balance.firstFrameHolds()), tries_(m.balance.triesWithinTheMargin()) {}
     // After frame `frame` (1-based), which left `r`: the next frame's
     // targets, or nothing if the next frame is to be the first one again.
     std::optional<InnerPlanes> next(const FrameState& r, int frame);
@@ -105,6 +107,7 @@ private:
     static constexpr int kTries = 2;
     static constexpr int kPatience = 1;  // such frames in a row before the fastest one's planes are held
     const MachineConfig& m_;
+    const std::vector<Shape>* objects_;  // the scene's (FrameForecast), if given
     bool firstHolds_;  // frame 1 held the starting split (measured): it needs no trial
     double firstNs_ = 0, bestNs_ = 1e300;  // the first frame's time; the fastest re-split frame's
     int resplits_ = 0;                     // re-split frames so far

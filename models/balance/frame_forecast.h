@@ -35,6 +35,7 @@
 #include "config/machine_config.h"
 #include "base/mesh_geometry.h"
 #include "balance/minimax_split.h"
+#include "shape.h"
 
 namespace rt {
 
@@ -53,11 +54,28 @@ constexpr double kTandem = 1.1;
 // the axis, to `thickness`: its cell along the axis over the old one.
 double oneCellGrowth(double thickness, double measured);
 
+// Where a box's grid would have cells more than this many times the size
+// (edge over edge) of a measured grid it takes objects from, the forecast
+// counts that grid's work there as grown (FrameForecast::coarsening). A box
+// that takes in a crowd beside a wide object (the SPD balls' floor, along
+// z) spreads its grid over the wide object's span: on balls-4 on the 1987
+// machine at 128x128, 4x4x4, along z, `measured` gave the bottom box the
+// lower half of the sphere flake, its cells grew 4.1 times and its sphere
+// tests 8 times (4.1^1.5 = 8.3), and the frame took 1.60 of the unbalanced
+// one where the forecast said 0.31. From 2 times, moves that gained were
+// refused: along x on balls-4 at N = 5, 1 GB/s, a box that took in the
+// floor's end grew its cells 2.1 times, and the steady state went from
+// 0.281 to 0.315 of the unbalanced frame.
+constexpr double kCoarser = 3;
+
 class FrameForecast {
 public:
     // From frame `r` (of this mesh and axis: the caller checks) and the
     // planes as they stood on average over it.
-    FrameForecast(const FrameState& r, const MachineConfig& m, const InnerPlanes& averaged);
+    // With the scene's `objects`, a part whose grid would be coarser than
+    // the ones measured there counts it (kCoarser); without, it does not.
+    FrameForecast(const FrameState& r, const MachineConfig& m, const InnerPlanes& averaged,
+                  const std::vector<Shape>* objects = nullptr);
 
     struct Forecast {
         double frameNs = 0;  // the dearer of the two below
@@ -94,13 +112,30 @@ private:
         // edge (G + 1 entries each): a node's link to its neighbour there
         // carries those of its part (the neighbour's node of its index).
         std::vector<std::vector<double>> lateralBelow;
+        // Each node's grid as the frame ended (the part it covered, the
+        // object centres there, its cell's size: the cube root of a cell's
+        // volume) and
+        // its tracing work below each bin edge from bin `first` on.
+        Box box;                    // over the whole axis
+        std::vector<Shape> objects;  // in it (with the scene's objects, where a grid was measured)
+        struct Grid {
+            size_t centres = 0;  // of the column's objects, in its span
+            Box span;
+            double cell = 0;
+            int first = 0;
+            std::vector<double> below;
+        };
+        std::vector<Grid> grids;
     };
     struct Lateral {
         int from, to, bin;  // columns; the bin it left from
         double rays;
     };
     double readNode(const NodeFrameState& node, const InnerPlanes& averaged);
+    void readGrid(Column& c, const NodeFrameState& node);
+    void readObjects(const FrameState& r, const std::vector<Shape>& objects);
     double work(const Column& c, int i, int j) const;  // forecast busy between edges i < j, passes aside
+    double coarsening(const Column& c, int i, int j) const;  // what a coarser grid there adds to it (kCoarser)
     double partCost(const Column& c, int i, int j) const;  // what the searches minimise the largest of
     int edgeOf(double x) const;
     int ownerOf(const std::vector<double>& planes, double x) const;  // the node index along the column
@@ -116,7 +151,8 @@ private:
     std::vector<Column> columns_;
     std::vector<Lateral> lateral_;
     double wirePerRay_ = 0;  // ns
-    double linkWeight_ = 1;  // a part's wire time in the searches: kTandem where a node set the frame measured
+    double linkWeight_ = 1;
+    double margin_ = 0;  // the world's rounding margin (objects in a box: region.h)  // a part's wire time in the searches: kTandem where a node set the frame measured
 };
 
 }  // namespace rt

@@ -47,6 +47,7 @@ struct NodeFrameState {
     size_t objects = 0;
     double objectBytes = 0;  // theirs on a link, summed (0: not known, a sphere's each: move_forecast.h)
     std::optional<std::array<int, 3>> gridCells;  // its grid's cells per axis, if it holds objects
+    std::optional<Box> gridSpan;                  // and the part of its box the grid covers (UniformGrid::occupiedPart)
     double busyNs = 0;
     std::optional<WorkAlongAxis> work;  // if it traced anything
 };

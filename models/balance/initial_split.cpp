@@ -313,14 +313,6 @@ void chooseStartMix(MachineConfig& cfg, const std::vector<Shape>& objects) {
     cfg.balance.startMixWhy = std::move(m.why);
 }
 
-void chooseSampleEnd(MachineConfig& cfg, const std::vector<Shape>& objects) {
-    BalanceConfig& b = cfg.balance;
-    if (!b.sampleEndAuto || b.policy != "sample" || !cfg.startBoundaries.empty()) return;
-    const TestAgainstHop t = testAgainstHop(cfg, objects);
-    b.sampleCredit = t.testsAreTheWork;
-    b.sampleEndWhy = "auto: " + t.costs + (t.testsAreTheWork ? ": credit" : ": generated");
-}
-
 ColumnPlanes initialPlanes(const MachineConfig& cfg, const Lattice& cuts, const Box& world, const ObjectBins& bins,
                            double minThickness, const Camera* camera) {
     const ColumnGeometry g(cfg.balance.axis, cfg.dims);

@@ -98,14 +98,7 @@ StartMix startMixFor(const MachineConfig& cfg, const std::vector<Shape>& objects
 // the policy starts at the objects, not where a frame before left them (so
 // the report echoes the mix used, and only if it is used).
 void chooseStartMix(MachineConfig& cfg, const std::vector<Shape>& objects);
-// --sample-end auto (the default): `sample`'s gather waits for the frame
-// buffer's word (credit) where the tests are the work, as the start is the
-// object median there: the sample then sets the split, and the split sets
-// the frame; where the hops and the links are the work, waiting for the
-// whole sample costs more than the better planes gain (doc/balancing.md,
-// "When the sample is done"), and the gather starts once the sample's
-// rays are generated. Not with a frame carried (no sample).
-void chooseSampleEnd(MachineConfig& cfg, const std::vector<Shape>& objects);
+// --sample-end auto: balance/sample_end.h.
 
 // The planes each column starts with: where a frame before left them
 // (cfg.startBoundaries, each box at least `minThickness`), or the policy's

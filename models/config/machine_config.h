@@ -94,8 +94,8 @@ struct BalanceConfig {
     // every sample ray's credit back and tells the column's lowest node, the
     // sample's rays going ahead of the rest on the control lane. With
     // sampleEndAuto (--sample-end auto, the default) chosen from the
-    // machine's costs as the start mix is (chooseSampleEnd,
-    // balance/initial_split.h), sampleEndWhy says how.
+    // machine's costs as the start mix is, and the view (chooseSampleEnd,
+    // balance/sample_end.h), sampleEndWhy says how.
     bool sampleCredit = false;
     bool sampleEndAuto = true;
     std::string sampleEndWhy;
@@ -178,7 +178,8 @@ inline const std::vector<Param<BalanceConfig>>& balanceParams() {
                            "sample's primary rays; credit, once the frame buffer has every sample ray's credit back and "
                            "says so (the sample's rays go first, on the links' control lane: a mesh link without one gets "
                            "one as deep as the link); auto: credit where an intersection test costs at least a third of a "
-                           "ray's hop (as --start-mix auto's object median), else generated"),
+                           "ray's hop (as --start-mix auto's object median), or where only the columns' top nodes generate "
+                           "the sample's primary rays (a view from beyond the axis's far end), else generated"),
                "auto", &B::sampleEndAuto),
         specialParam<B>("no-guard", "no guard: slide on loads however old, and whatever the slide costs against the work it moves"),
         numberParam("max-age", &B::maxAge, 0.0, 1e9, "/max_age_intervals", "guard: no slide on loads older than this many intervals"),

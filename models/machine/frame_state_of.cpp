@@ -49,7 +49,10 @@ FrameState frameStateOf(const MachineResult& r, const MachineConfig& cfg) {
         n.box = r.boxes[i];
         n.objects = r.objectsPerNode[i];
         n.objectBytes = double(r.objectBytesPerNode[i]);
-        if (i < r.grids.size() && r.grids[i]) n.gridCells = r.grids[i]->cells;
+        if (i < r.grids.size() && r.grids[i]) {
+            n.gridCells = r.grids[i]->cells;
+            n.gridSpan = r.grids[i]->span;
+        }
         n.busyNs = ns(s.busy);
         if (!s.balance.work.bins().empty()) n.work = workAlongAxis(s.balance);
         f.raysPassed += s.raysPassed;

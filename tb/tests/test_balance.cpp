@@ -386,6 +386,10 @@ void expectSameState(const FrameState& a, const FrameState& b) {
         EXPECT_EQ(x.objects, y.objects) << at;
         EXPECT_EQ(x.objectBytes, y.objectBytes) << at;
         EXPECT_EQ(x.gridCells, y.gridCells) << at;
+        ASSERT_EQ(x.gridSpan.has_value(), y.gridSpan.has_value()) << at;
+        if (x.gridSpan) {
+            EXPECT_TRUE(x.gridSpan->lo == y.gridSpan->lo && x.gridSpan->hi == y.gridSpan->hi) << at;
+        }
         EXPECT_EQ(x.busyNs, y.busyNs) << at;
         ASSERT_EQ(x.work.has_value(), y.work.has_value()) << at;
         if (x.work) expectSameWork(*x.work, *y.work, at);

@@ -13,6 +13,7 @@
 #include "frame_state_json.h"
 #include "balance/between_frames.h"
 #include "balance/initial_split.h"
+#include "balance/sample_end.h"
 #include "procedural.h"
 #include "shading.h"
 
@@ -38,6 +39,17 @@ MachineConfig sampleColumn() {
     return m;
 }
 const std::vector<Shape> kTwoSpheres{sphere(Vec3(0.5), 0.1, 0), sphere(Vec3(0.2), 0.1, 1)};
+// The objects seen along x from `eyeX`, looking at the middle of the unit cube.
+Scene viewedAlongX(const std::vector<Shape>& objects, double eyeX) {
+    Scene s;
+    s.objects = objects;
+    s.declaredBounds = Box{Vec3(0.0), Vec3(1.0)};
+    s.view.from = Vec3(eyeX, 0.5, 0.5);
+    s.view.at = Vec3(0.5);
+    s.view.up = Vec3(0, 0, 1);
+    s.view.width = s.view.height = 16;
+    return s;
+}
 MachineConfig withSphereTest(MachineConfig c, Picos test) {
     c.costs.test[0] = test;
     return c;
@@ -305,7 +317,7 @@ TEST(InitialSplit, AutoStartMixWeighsATestAgainstARaysHop) {
 // gathers (no frame carried), and never over a value given.
 TEST(InitialSplit, SampleEndAutoWaitsForTheCreditWhereTheTestsAreTheWork) {
     MachineConfig m = sampleColumn();
-    const std::vector<Shape>& spheres = kTwoSpheres;
+    const Scene spheres = viewedAlongX(kTwoSpheres, -1.0);  // (from below the column: its lowest node generates)
     auto endAt = [&](Picos test) {
         MachineConfig c = withSphereTest(m, test);
         chooseSampleEnd(c, spheres);
@@ -337,6 +349,34 @@ TEST(InitialSplit, SampleEndAutoWaitsForTheCreditWhereTheTestsAreTheWork) {
     carried.startBoundaries = {{0.25, 0.5, 0.75}};
     chooseSampleEnd(carried, spheres);
     EXPECT_FALSE(carried.balance.sampleCredit);
+}
+
+// The view decides too: `generated` starts the column's sum at its lowest
+// node, so where only the top nodes generate the sample's rays (the eye
+// beyond the column's far end, looking down it) the gather waits for the
+// credit, whatever the costs; the same scene seen from below starts on
+// generating. With one box along the axis there is no gather to start.
+TEST(InitialSplit, SampleEndAutoWaitsForTheCreditWhereOnlyTheTopNodesGenerateTheSample) {
+    MachineConfig m = sampleColumn();
+    const Scene below = viewedAlongX(kTwoSpheres, -1.0), above = viewedAlongX(kTwoSpheres, 2.0);
+    EXPECT_FALSE(onlyTopNodesGenerateSample(m, below));
+    EXPECT_TRUE(onlyTopNodesGenerateSample(m, above));
+    MachineConfig fromBelow = m, fromAbove = m;
+    chooseSampleEnd(fromBelow, below);
+    chooseSampleEnd(fromAbove, above);
+    EXPECT_FALSE(fromBelow.balance.sampleCredit);
+    EXPECT_TRUE(fromAbove.balance.sampleCredit);
+    EXPECT_NE(fromAbove.balance.sampleEndWhy.find("only the columns' top nodes generate primary rays of the sample"),
+              std::string::npos)
+        << fromAbove.balance.sampleEndWhy;
+    MachineConfig given = m;  // a value given stays
+    given.balance.sampleEndAuto = false;
+    chooseSampleEnd(given, above);
+    EXPECT_FALSE(given.balance.sampleCredit);
+    MachineConfig one = m;  // one box along the axis: it is the top one, and the lowest
+    one.dims = {1, 4, 1};
+    one.balance.axis = 0;
+    EXPECT_FALSE(onlyTopNodesGenerateSample(one, above));
 }
 
 // Where the tests are the work, sample's start weighs where the primary
