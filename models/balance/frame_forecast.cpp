@@ -10,6 +10,7 @@
 #include "balance/plane_spacing.h"
 #include "balance/work_by_position.h"
 #include "grid.h"
+#include "lattice.h"
 #include "region.h"
 
 namespace rt {
@@ -193,6 +194,9 @@ void FrameForecast::readObjects(const FrameState& r, const std::vector<Shape>& o
     Box world;
     for (const NodeFrameState& node : r.nodes) world.add(node.box);
     margin_ = roundingMargin(world);
+    // (binned once, as the machine bins the scene for its boxes: each
+    // column looks among a few cells' objects, not the whole scene's)
+    const ObjectBins bins(objects, Lattice::uniform(world, g_.dims), margin_);
     std::vector<bool> seen(columns_.size(), false);
     for (const NodeFrameState& node : r.nodes) {
         const size_t col = size_t(g_.columnOf(node.cell));
@@ -203,7 +207,7 @@ void FrameForecast::readObjects(const FrameState& r, const std::vector<Shape>& o
         c.box.lo[g_.axis] = lo_;
         c.box.hi[g_.axis] = hi_;
         if (c.grids.empty()) continue;  // (none measured: no grid grows)
-        c.objects = objectsOverlapping(objects, c.box, margin_);
+        c.objects = bins.overlapping(c.box);
         for (Column::Grid& g : c.grids) g.centres = centresIn(c.objects, g.span);
     }
 }

@@ -112,12 +112,12 @@ private:
         // edge (G + 1 entries each): a node's link to its neighbour there
         // carries those of its part (the neighbour's node of its index).
         std::vector<std::vector<double>> lateralBelow;
+        Box box;                     // over the whole axis
+        std::vector<Shape> objects;  // in it (with the scene's objects, where a grid was measured)
         // Each node's grid as the frame ended (the part it covered, the
         // object centres there, its cell's size: the cube root of a cell's
-        // volume) and
-        // its tracing work below each bin edge from bin `first` on.
-        Box box;                    // over the whole axis
-        std::vector<Shape> objects;  // in it (with the scene's objects, where a grid was measured)
+        // volume) and its tracing work below each bin edge from bin
+        // `first` on.
         struct Grid {
             size_t centres = 0;  // of the column's objects, in its span
             Box span;
@@ -151,8 +151,8 @@ private:
     std::vector<Column> columns_;
     std::vector<Lateral> lateral_;
     double wirePerRay_ = 0;  // ns
-    double linkWeight_ = 1;
-    double margin_ = 0;  // the world's rounding margin (objects in a box: region.h)  // a part's wire time in the searches: kTandem where a node set the frame measured
+    double linkWeight_ = 1;  // a part's wire time in the searches: kTandem where a node set the frame measured
+    double margin_ = 0;      // the world's rounding margin (objects in a box: region.h)
 };
 
 }  // namespace rt
