@@ -415,7 +415,7 @@ MUTANTS = [
      "const double growth = std::pow(r, 1.5) * density;", "const double growth = std::pow(r, 1.5);",
      "the forecast grows a coarser grid's work by the cells alone, as if the part kept the grid's density of objects"),
     ("coarsening-counts-a-few-centres", "models/balance/frame_forecast.cpp",
-     "constexpr size_t kLeastKept = 64;", "constexpr size_t kLeastKept = 1;",
+     "constexpr size_t kLeastKept = 8;", "constexpr size_t kLeastKept = 1;",
      "the forecast counts a coarser grid where the part keeps a handful of the grid's objects, whose density is a guess"),
     ("max-error-calibrates-short-frames", "tb/fidelity_choice.cpp",
      "constexpr int kLeastPixelsPerNode = 16;", "constexpr int kLeastPixelsPerNode = 2;",

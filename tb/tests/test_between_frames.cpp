@@ -177,27 +177,29 @@ TEST(FrameForecast, TestsWithinABoxOfOneCellAlongTheAxisGrowWithItsCell) {
 
 TEST(FrameForecast, APartWhoseGridWouldBeMuchCoarserCountsItsTestsGrown) {
     // Column z = 0: node 0, [0, 0.5), holds one big sphere (centre 0.25,
-    // 0.5, 0.5, radius 0.24); node 1, [0.5, 1), a crowd of 128 spheres of
-    // radius 0.005, 8 layers along x (0.53 ... 0.71 in its first half, 0.78
-    // ... 0.96 in its second) of 4 x 4 (y and z at 0.47, 0.49, 0.51, 0.53).
-    // Node 1's grid, as a node builds it: the crowd's part, [0.525, 0.965] x
-    // [0.465, 0.535]^2, in 34 x 5 x 5 cells (8 cells an object: 1,024 over
-    // 0.44 x 0.07^2 gives 78.0 a unit; 34.3, 5.46, 5.46 rounded), a cell's
-    // edge cbrt(0.44/34 x 0.014^2) = 0.013638. Each node did 100 ns spread
-    // over its box.
+    // 0.5, 0.5, radius 0.24); node 1, [0.5, 1), a crowd of 116 spheres of
+    // radius 0.005 in 8 layers along x: at 0.53 2 x 2 (y and z at 0.49 and
+    // 0.51), at 0.59 ... 0.71 and 0.78 ... 0.96 4 x 4 each (0.47, 0.49,
+    // 0.51, 0.53). Node 1's grid, as a node builds it: the crowd's part,
+    // [0.525, 0.965] x [0.465, 0.535]^2, in 33 x 5 x 5 cells (8 cells an
+    // object: 928 over 0.44 x 0.07^2 gives 75.5 a unit; 33.2, 5.29, 5.29
+    // rounded), a cell's edge cbrt(0.44/33 x 0.014^2) = 0.013774. Each
+    // node did 100 ns spread over its box.
     std::vector<Shape> objects{Shape{Sphere{Vec3(0.25, 0.5, 0.5), 0.24, false}, 0, 0}};
     for (double x : {0.53, 0.59, 0.65, 0.71, 0.78, 0.84, 0.90, 0.96})
         for (double y : {0.47, 0.49, 0.51, 0.53})
             for (double z : {0.47, 0.49, 0.51, 0.53})
-                objects.push_back(Shape{Sphere{Vec3(x, y, z), 0.005, false}, 0, uint32_t(objects.size())});
+                if (x > 0.55 || ((y == 0.49 || y == 0.51) && (z == 0.49 || z == 0.51)))
+                    objects.push_back(Shape{Sphere{Vec3(x, y, z), 0.005, false}, 0, uint32_t(objects.size())});
+    ASSERT_EQ(objects.size(), 117u);
     nlohmann::json r = forecastReport(2, 100);
     for (int k = 0; k < 2; ++k) {
         r["nodes"][k]["work_by_position"] = {{"axis_from", 0.0}, {"bin_width", 1.0 / 256}, {"first_bin", 128 * k},
                                              {"ns", std::vector<double>(128, 100.0 / 128)},
                                              {"face_handling_ns", 0.0}, {"face_crossings", 0}};
-        r["nodes"][k]["objects"] = k == 0 ? 1 : 128;
+        r["nodes"][k]["objects"] = k == 0 ? 1 : 116;
     }
-    r["nodes"][1]["grid"] = {{"cells", {34, 5, 5}}, {"span", {{0.525, 0.465, 0.465}, {0.965, 0.535, 0.535}}}};
+    r["nodes"][1]["grid"] = {{"cells", {33, 5, 5}}, {"span", {{0.525, 0.465, 0.465}, {0.965, 0.535, 0.535}}}};
     const MachineConfig m = forecastMesh(2);
     const FrameState state = frameStateFromReport(r);
     const FrameForecast blind(state, m, InnerPlanes{{0.5}, {0.5}});
@@ -205,18 +207,19 @@ TEST(FrameForecast, APartWhoseGridWouldBeMuchCoarserCountsItsTestsGrown) {
     // Held: as measured, with or without the objects.
     EXPECT_NEAR(seeing.forecast({{0.5}, {0.5}}).nodeNs, 100, 1e-9);
     // The plane to 0.75: node 0's box takes the big sphere and the crowd's
-    // first four layers (64 spheres). Its grid's part, [0.01, 0.715] x
-    // [0.26, 0.74]^2, 65 objects: 14.74 cells a unit, 10 x 7 x 7 cells, an
-    // edge of cbrt(0.0705 x (0.48/7)^2) = 0.069208, r = 5.0748 times node
-    // 1's. The crowd's work there grows r^1.5 = 11.432 times, times the
-    // density of centres the part keeps over the grid's own: 64 in 0.225 x
-    // 0.07^2 against 128 in 0.44 x 0.07^2, 0.97778: 11.178. Node 0: its 100
-    // and node 1's 50 there, of which those 50 grow: 150 + 50 x 10.178.
+    // first four layers (52 spheres). Its grid's part, [0.01, 0.715] x
+    // [0.26, 0.74]^2, 53 objects: 13.77 cells a unit, 10 x 7 x 7 cells, an
+    // edge of cbrt(0.0705 x (0.48/7)^2) = 0.069208, r = 5.0245 times node
+    // 1's. The crowd's work there grows r^1.5 = 11.263 times, times the
+    // density of centres the part keeps over the grid's own: 52 in 0.225 x
+    // 0.07^2 against 116 in 0.44 x 0.07^2, 0.87663: 9.873. Node 0: its 100
+    // and node 1's 50 there, of which those 50 grow: 150 + 50 x 8.873.
     EXPECT_NEAR(blind.forecast({{0.75}, {0.5}}).nodeNs, 150, 1e-9);
-    EXPECT_NEAR(seeing.forecast({{0.75}, {0.5}}).nodeNs, 150 + 50 * 10.178, 0.05);
-    // The plane to 0.62: the part keeps two layers, 32 centres: fewer than
-    // kLeastKept, so nothing is counted (node 0: its 100 and node 1's 24).
-    EXPECT_NEAR(seeing.forecast({{0.62}, {0.5}}).nodeNs, blind.forecast({{0.62}, {0.5}}).nodeNs, 1e-9);
+    EXPECT_NEAR(seeing.forecast({{0.75}, {0.5}}).nodeNs, 150 + 50 * 8.873, 0.05);
+    // The plane to 0.56: the part keeps the first layer, 4 centres: fewer
+    // than kLeastKept, so nothing is counted, though its grid (5 objects)
+    // is far coarser (node 0: its 100 and node 1's 12).
+    EXPECT_NEAR(seeing.forecast({{0.56}, {0.5}}).nodeNs, blind.forecast({{0.56}, {0.5}}).nodeNs, 1e-9);
     // The searches do not count it: both find the same planes.
     EXPECT_EQ(seeing.perColumn(), blind.perColumn());
 }
