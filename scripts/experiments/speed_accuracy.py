@@ -52,7 +52,7 @@ def main():
     ap.add_argument("--scenes", default=",".join(SPD), help="SPD scene names or 'procedural', comma-separated")
     ap.add_argument("--n", default="4,8,16,32", help="mesh sizes N (N x N x N)")
     ap.add_argument("--size", default="128x128", help="image size WxH")
-    ap.add_argument("--max-errors", default="1%,2%", help="--max-error values to run (empty: none)")
+    ap.add_argument("--max-errors", default="1%", help="--max-error values to run, comma-separated (empty: none)")
     ap.add_argument("--flags", default="", help="more rtsim flags for every point (the machine), e.g. '--link-bandwidth 200MB/s'")
     ap.add_argument("--repeats", type=int, default=3, help="runs per point; wall = their median (default 3)")
     driver.add_output_arguments(ap, os.path.join(ROOT, "doc", "exploration.md"))
