@@ -21,6 +21,25 @@ std::string shortNumber(double v) {
     return b;
 }
 
+// A token as an error message quotes it: bytes outside printable ASCII as
+// \xNN (a binary file's bytes, a NUL, would garble or cut the line), and
+// at most 40 of them (a file with no space is one token).
+std::string shown(const std::string& token) {
+    std::string out;
+    for (size_t i = 0; i < token.size() && i < 40; ++i) {
+        const unsigned char c = static_cast<unsigned char>(token[i]);
+        if (c >= 0x20 && c < 0x7f) {
+            out += char(c);
+        } else {
+            char b[5];
+            std::snprintf(b, sizeof b, "\\x%02x", c);
+            out += b;
+        }
+    }
+    if (token.size() > 40) out += "...";
+    return out;
+}
+
 struct Token {
     std::string text;
     int line;
@@ -59,7 +78,7 @@ public:
         while (pos_ < toks_.size()) {
             const Token& kw = toks_[pos_++];
             line_ = kw.line;
-            if (!viewKeyword(s.view, kw) && !sceneKeyword(s, kw)) fail("unknown keyword '" + kw.text + "'");
+            if (!viewKeyword(s.view, kw) && !sceneKeyword(s, kw)) fail("unknown keyword '" + shown(kw.text) + "'");
         }
         checkView(s.view);
         if (s.materials.empty()) s.materials.push_back(Material{});
@@ -241,13 +260,13 @@ private:
     double number(const std::string& what) {
         const Token& t = next(what);
         double v;
-        if (!parseDouble(t.text, v)) fail("expected a number for " + what + ", got '" + t.text + "'");
-        if (!std::isfinite(v)) fail("expected a finite number for " + what + ", got '" + t.text + "'");
+        if (!parseDouble(t.text, v)) fail("expected a number for " + what + ", got '" + shown(t.text) + "'");
+        if (!std::isfinite(v)) fail("expected a finite number for " + what + ", got '" + shown(t.text) + "'");
         // Far beyond any scene, and far enough from overflow that boxes and
         // grids built from it stay exact: a sphere of radius 1e98 made the
         // world box's planes collapse (found by scripts/fuzz.sh).
         if (std::abs(v) > kMaxMagnitude)
-            fail("expected a number of magnitude at most 1e9 for " + what + ", got '" + t.text + "'");
+            fail("expected a number of magnitude at most 1e9 for " + what + ", got '" + shown(t.text) + "'");
         return v;
     }
 
@@ -256,7 +275,7 @@ private:
         int v;
         const char* end = t.text.data() + t.text.size();
         auto res = std::from_chars(t.text.data(), end, v);
-        if (res.ec != std::errc() || res.ptr != end) fail("expected an integer for " + what + ", got '" + t.text + "'");
+        if (res.ec != std::errc() || res.ptr != end) fail("expected an integer for " + what + ", got '" + shown(t.text) + "'");
         return v;
     }
 

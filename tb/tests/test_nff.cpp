@@ -162,6 +162,12 @@ INSTANTIATE_TEST_SUITE_P(
     testing::Values(
         BadCase{"UnknownKeyword", H("sphere 0 0 0 1\n"), "bad.nff:11: unknown keyword 'sphere'"},
         BadCase{"MissingToken", H("s 0 0 0\n"), "bad.nff:11: expected sphere radius, got end of file"},
+        // A binary file's bytes, a NUL among them, quoted as \xNN: raw, they
+        // were not UTF-8 and broke the sweep driver's reading of the message,
+        // and the NUL cut it short. (A token of one 'M' and 99 more bytes: 40 shown.)
+        BadCase{"BinaryKeyword", H(std::string("M\xcc\xe4\0z", 5) + std::string(95, 'q') + "\n"),
+                "bad.nff:11: unknown keyword 'M\\xcc\\xe4\\x00z" + std::string(35, 'q') + "...'"},
+        BadCase{"BinaryNumber", H(std::string("s 0 0 0 \x01\n")), "got '\\x01'"},
         BadCase{"NonNumeric", H("s 0 0 zero 1\n"), "bad.nff:11: expected a number for sphere centre"},
         BadCase{"TrailingGarbageInNumber", H("s 0 0 0 1x\n"), "bad.nff:11: expected a number for sphere radius"},
         BadCase{"NaN", H("s 0 0 nan 1\n"), "bad.nff:11: expected a finite number"},
