@@ -22,7 +22,6 @@ invariant 7), for Python.
 
 Standard library only."""
 import contextlib
-import csv
 import os
 import re
 import signal
@@ -160,15 +159,22 @@ def check_distinct(files):
 
 
 def out_path(*parts):
-    """A default output under out/ (its folders made)."""
+    """A default output under out/ (its folders made; a failed run's clean_up removes them while empty)."""
     path = os.path.join(OUT, *parts)
+    folder, missing = os.path.dirname(path), []
+    while folder and not os.path.isdir(folder):
+        missing.append(folder)  # (deepest first)
+        folder = os.path.dirname(folder)
     os.makedirs(os.path.dirname(path), exist_ok=True)
+    with _lock:
+        _made.extend(missing)
     return path
 
 
 # The temporaries and children a stop must clean up.
 _temps = set()
 _children = set()
+_made = []  # folders out_path made, deepest first
 _lock = threading.Lock()
 
 
@@ -233,6 +239,7 @@ def run_child(cmd, timeout=None, **kw):
     a stop must end: registered while it runs, in its own process group so
     that a stop kills all of it; a timeout kills its whole group and raises
     subprocess.TimeoutExpired."""
+    kw.setdefault("errors", "backslashreplace")  # (a scene's stray bytes quoted in a child's message)
     p = subprocess.Popen(cmd, start_new_session=True, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                          text=True, **kw)
     with _lock:
@@ -271,17 +278,24 @@ def forget_temp(path):
 
 
 def clean_up():
-    """Kills every registered child (and its group) and removes every
-    registered temporary. Safe to call more than once."""
+    """Kills every registered child (and its group), removes every
+    registered temporary and the folders out_path made that are still
+    empty. Safe to call more than once."""
     with _lock:
-        children, temps = list(_children), list(_temps)
+        children, temps, made = list(_children), list(_temps), list(_made)
         _children.clear()
         _temps.clear()
+        _made.clear()
     for p in children:
         _kill(p)
     for t in temps:
         try:
             os.remove(t)
+        except OSError:
+            pass
+    for d in made:
+        try:
+            os.rmdir(d)  # (only while empty)
         except OSError:
             pass
 
@@ -434,9 +448,3 @@ def mesh_shapes(text, flag="--shapes"):
         if not m or not all(int(v) >= 1 for v in m.groups()):
             raise ToolError(f"{flag} {text!r}: {d!r} is not a mesh shape WxHxD, each at least 1 (such as 64x1x1)")
     return shapes
-
-
-def read_csv(path):
-    """A CSV's rows as dicts (its header the keys)."""
-    with open(path, newline="") as f:
-        return list(csv.DictReader(f))

@@ -187,11 +187,16 @@ class Line:
 
 def lines_of(table, x, ys, group):
     """{label: Line}; x as quantities; NaN, inf and empty y left out, said."""
-    out = {}
+    out, first = {}, None  # (first: the first row's x, whose kind of quantity every x must share)
     for row, line in zip(table.rows, table.lines):
         xq = quantity(row[x])
         if xq is None or not math.isfinite(xq):
             table.fail(line, f"column '{x}' (--x): '{row[x][:40]}' is not a number or quantity")
+        first = first or (row[x], line)
+        if base_unit(row[x]) != base_unit(first[0]):
+            kinds = {"B/s": "a rate", "s": "a time", "": "a bare number"}
+            table.fail(line, f"column '{x}' (--x): '{row[x][:40]}' is {kinds[base_unit(row[x])]}, where line {first[1]}'s "
+                             f"'{first[0][:40]}' is {kinds[base_unit(first[0])]}: one axis, one kind of quantity")
         for col in ys:
             label = " ".join(s for s in ((f"{group}={row[group]}" if group else ""),
                                          (words(col) if len(ys) > 1 else "")) if s) or words(col)

@@ -112,7 +112,7 @@ def best_static(a):
     the better of its one set of planes and, where --per-column refined
     it, each column's own: {(view, N): (ratio, its busiest node's busy
     time as a fraction of none's, or None where not recorded)}."""
-    from outputs import read_csv
+    from csv_rows import read_csv
     best = {}
     for view in VIEWS:
         stem = "partition_search" + variant(a.preset, machine_tag(a.tag)) + ("" if view == "along" else f"-{view}")
@@ -209,7 +209,7 @@ def run_rtsim(args, binary=RTSIM, timeout=None, image="", report=None):
         run, register, forget = outputs.run_child, outputs.register_temp, outputs.forget_temp
     except ImportError:
         def run(cmd, timeout):  # noqa: F811
-            return subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
+            return subprocess.run(cmd, capture_output=True, text=True, errors="backslashreplace", timeout=timeout)
         register = forget = lambda path: None
     temp = report is None
     if temp:

@@ -32,6 +32,7 @@ import threading
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import csv_rows  # noqa: E402
 import outputs  # noqa: E402
 import project  # noqa: E402
 from outputs import ToolError  # noqa: E402
@@ -40,11 +41,11 @@ from project import ROOT, RTSIM, run_rtsim, version  # noqa: E402,F401
 from sweep_journal import JOURNALS, RECORD_FIELDS, Journal, bad_metrics, journal_path, locked  # noqa: E402,F401
 # The flags every sweep script shares (scripts/sweep_flags.py), the driver's API.
 from sweep_flags import (DASK_TIMEOUT, add_arguments, add_output_arguments, check_out_folder,  # noqa: E402,F401
-                         parse_outputs)
+                         extra_flags, parse_outputs)
 
 
 # What a point is (scripts/sweep_points.py).
-from sweep_points import FIXED_FLAGS, command, point_id  # noqa: E402,F401
+from sweep_points import FIXED_FLAGS, check_point, command, point_id  # noqa: E402,F401
 
 
 class Cancelled(Exception):
@@ -260,10 +261,12 @@ def run(name, points, extract, csv_path, opts=None, repeats=1, timeout=None, bin
     counts:  a dict, given: counts["ran"] is the number of points run (the
              others resumed)
     Bad input (a NAME that is not a name, a CSV path that is not an output,
-    a journal another sweep holds) raises outputs.ToolError before any run;
+    a journal another sweep holds, a point's flags that sweep_points.
+    check_point refuses) raises outputs.ToolError before any run;
     a CSV another process wrote while the sweep ran is not overwritten
     (write_csv), exit 2, the points journalled.
     """
+    _check_points(name, points)
     jobs = getattr(opts, "jobs", 0) or 0
     if jobs < 0:
         raise ToolError(f"--jobs {jobs}: 0 (one per core) or more")
@@ -303,6 +306,15 @@ def run(name, points, extract, csv_path, opts=None, repeats=1, timeout=None, bin
             connection[2].close(timeout=2)
             opts.dask_connection = None
     return rows
+
+
+def _check_points(name, points):
+    """Every point's flags (sweep_points.check_point), before the journal and any run."""
+    for p in points:
+        try:
+            check_point(p["args"])
+        except ToolError as e:
+            raise ToolError(f"{name}: {e}") from None
 
 
 def _to_run(name, points, journal, binary, repeats, fields):
@@ -376,7 +388,7 @@ def swept_rows(a, csv_path, make):
         outputs.check_input(csv_path, "--plot-only: the CSV")
     else:
         write_csv(csv_path, make())
-    return outputs.read_csv(csv_path)
+    return csv_rows.read_csv(csv_path)
 
 
 def write_csv(path, rows, seen=_UNSEEN, shown=None):

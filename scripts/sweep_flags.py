@@ -6,6 +6,7 @@ Standard library only."""
 import argparse
 import os
 import re
+import shlex
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -14,6 +15,7 @@ import project  # noqa: E402
 from outputs import ToolError  # noqa: E402
 from project import ROOT  # noqa: E402
 from sweep_journal import JOURNALS  # noqa: E402
+from sweep_points import flag_names  # noqa: E402
 
 DASK_ADDRESS = re.compile(r"(tcp|tls)://(\[[0-9A-Fa-f:.]+\]|[A-Za-z0-9_.-]+):([0-9]{1,5})")
 DASK_TIMEOUT = 10.0
@@ -123,3 +125,19 @@ def parse_outputs(ap):
     except ToolError as e:
         ap.error(str(e))
     return a
+
+
+def extra_flags(text, flag, own):
+    """An experiment's more rtsim flags for every point (--extra, --flags),
+    split as a shell would; ToolError naming `flag`, before any run, for
+    text that does not split or a flag of `own`, which the experiment sets
+    on each point itself (given again, its rows would name one value and
+    rtsim run another). The driver checks the points' flags whole
+    (sweep_points.check_point)."""
+    try:
+        args = shlex.split(text)
+    except ValueError as e:
+        raise ToolError(f"{flag} {text!r}: {e} (the flags are split as a shell would)")
+    for f in sorted(flag_names(args) & set(own)):
+        raise ToolError(f"{flag}: {f} is the experiment's own: it sets it on each point ({', '.join(own)})")
+    return args

@@ -21,16 +21,9 @@ from outputs import ToolError  # noqa: E402
 from project import QUIET, RTSIM  # noqa: E402
 
 SWEEPS = sweep_driver.JOURNALS  # out/sweeps: the CSV beside its journal
-# rtsim's flags that write a file (rtsim --help, "Outputs"): the driver gives
-# every run its own report and no image; the others would write into the
-# working folder, once per point. Refused in --set, the base flags and presets.
-DRIVER_OWNS = {"--report": "the driver reads each run's report itself",
-               "--image": "sweeps write no images", "--map": "sweeps draw no maps", "--vcd": "sweeps write no VCD"}
-# rtsim's flags that read a file: checked (a regular file) before any run;
-# a FIFO or /dev/zero would block every point.
-INPUTS = ("--config", "--scene", "--rerun", "--boundaries-from")
-# Flags that set the mesh's shape: --mesh-dims wins over --mesh wherever each is given.
-MESH = ("--mesh", "--mesh-dims")
+MESH = sweep_points.MESH
+DRIVER_OWNS, INPUTS = sweep_points.DRIVER_OWNS, sweep_points.INPUTS
+flag_names, flag_values = sweep_points.flag_names, sweep_points.flag_values
 
 # Settings of particular nodes and links: not for the one-node run.
 PER_NODE = ("--node-speed", "--node-cost", "--link-set", "--trace-nodes", "--trace-links", "--boundaries-from")
@@ -58,11 +51,6 @@ def parse_set(text):
     return "--" + flag, vals
 
 
-def flag_names(args):
-    """The long flags named in a list of rtsim flags ('--mesh 4' and '--mesh=4' both name --mesh)."""
-    return {a.split("=", 1)[0] for a in args if a.startswith("--")}
-
-
 def without(args, flag):
     """`args` without `flag` and its value, in either spelling ('--flag V', '--flag=V')."""
     out, skip = [], False
@@ -73,24 +61,6 @@ def without(args, flag):
             skip = True
         elif not a.startswith(flag + "="):
             out.append(a)
-    return out
-
-
-def flag_values(args):
-    """[(flag, value)] of a list of rtsim flags: '--flag=V' and '--flag V'
-    give V, a flag alone (followed by another flag, or last) None."""
-    out, i = [], 0
-    while i < len(args):
-        a = args[i]
-        if a.startswith("--"):
-            if "=" in a:
-                out.append(tuple(a.split("=", 1)))
-            elif i + 1 < len(args) and not args[i + 1].startswith("--"):
-                out.append((a, args[i + 1]))
-                i += 1
-            else:
-                out.append((a, None))
-        i += 1
     return out
 
 

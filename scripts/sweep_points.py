@@ -21,6 +21,73 @@ from project import ROOT, RTSIM  # noqa: E402
 # Flags every point gets (project.run_rtsim): no reference runs, quiet, no image.
 FIXED_FLAGS = project.QUIET + ["--image", ""]
 
+# rtsim's flags that write a file (rtsim --help, "Outputs"): the driver gives
+# every run its own report and no image; the others would write into the
+# working folder, once per point. Refused in --set, the base flags and presets.
+DRIVER_OWNS = {"--report": "the driver reads each run's report itself",
+               "--image": "sweeps write no images", "--map": "sweeps draw no maps", "--vcd": "sweeps write no VCD"}
+# rtsim's flags that read a file: checked (a regular file) before any run;
+# a FIFO or /dev/zero would block every point.
+INPUTS = ("--config", "--scene", "--rerun", "--boundaries-from")
+# Flags that set the mesh's shape: --mesh-dims wins over --mesh wherever each is given.
+MESH = ("--mesh", "--mesh-dims")
+# rtsim's flags that may be given more than once (rtsim --help: "repeatable");
+# of every other flag the last one given wins.
+REPEATABLE = ("--config", "--node-speed", "--node-cost", "--link-set", "--trace-nodes", "--trace-links")
+# Flags after which rtsim prints and stops, writing no report.
+NO_RUN = ("--help", "-h", "--version")
+
+
+def flag_names(args):
+    """The long flags named in a list of rtsim flags ('--mesh 4' and '--mesh=4' both name --mesh)."""
+    return {a.split("=", 1)[0] for a in args if a.startswith("--")}
+
+
+def flag_values(args):
+    """[(flag, value)] of a list of rtsim flags: '--flag=V' and '--flag V'
+    give V, a flag alone (followed by another flag, or last) None."""
+    out, i = [], 0
+    while i < len(args):
+        a = args[i]
+        if a.startswith("--"):
+            if "=" in a:
+                out.append(tuple(a.split("=", 1)))
+            elif i + 1 < len(args) and not args[i + 1].startswith("--"):
+                out.append((a, args[i + 1]))
+                i += 1
+            else:
+                out.append((a, None))
+        i += 1
+    return out
+
+
+def check_point(args):
+    """A point's flags as an experiment made them (its own and the user's
+    --extra or --flags), checked before any run; ToolError, one line, for
+    a flag that writes a file (the driver owns the outputs), that stops
+    rtsim before it runs, a flag other than a repeatable one given twice
+    with two values (rtsim runs the last, where the point's row says the
+    first), both --mesh and --mesh-dims, or an input that is not a file."""
+    args = [str(a) for a in args]
+    for a in args:
+        if a in NO_RUN or a.split("=", 1)[0] in NO_RUN:
+            raise ToolError(f"{a} in a point's rtsim flags: rtsim would print and stop, with no report to read")
+    seen = {}
+    for flag, value in flag_values(args):
+        if flag in DRIVER_OWNS:
+            raise ToolError(f"{flag} in a point's rtsim flags writes a file: {DRIVER_OWNS[flag]}")
+        if flag in INPUTS and value is not None:
+            outputs.check_input(value, flag)
+        if flag in seen and flag not in REPEATABLE and seen[flag] != value:
+            raise ToolError(f"{flag} given twice in a point's rtsim flags ({seen[flag]}, then {value}): rtsim "
+                            "would run the last and the row name the first (a flag the experiment sets itself, "
+                            "given again in its --extra or --flags?)")
+        seen.setdefault(flag, value)
+    if all(m in seen for m in MESH):
+        raise ToolError(f"--mesh {seen['--mesh']} and --mesh-dims {seen['--mesh-dims']} in a point's rtsim flags: "
+                        "--mesh-dims wins, where the row names the mesh by the experiment's own")
+
+
 _binary_ids = {}
 
 

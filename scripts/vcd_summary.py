@@ -36,11 +36,15 @@ BRACKETS = {"$dumpvars", "$dumpall", "$dumpon", "$dumpoff", "$end"}
 SCALAR = set("01xzXZ")
 
 
-def lines(path):
+def lines(path, ends=None):
     """(line number, words) of the file's lines; a line that is not
-    ASCII/UTF-8 text is refused with its line."""
+    ASCII/UTF-8 text is refused with its line. `ends`, a list, gets whether
+    the last line ended with a newline (rtsim ends every line: a file that
+    does not was cut short)."""
     with open(path, "rb") as f:
         for n, raw in enumerate(f, 1):
+            if ends is not None:
+                ends[:] = [raw.endswith(b"\n")]
             try:
                 yield n, raw.decode("utf-8").split()
             except UnicodeDecodeError:
@@ -59,7 +63,9 @@ class Reader:
         self.changes = defaultdict(list)  # signal path -> [(tick, value)]
         self.seconds_per_tick = None
         self.first = self.last = None    # the first and last time stamps
-        self.source = lines(path)
+        self.incomplete = None           # rtsim's "$comment incomplete: WHY $end": the run stopped early
+        self.ended = [True]              # the last line ended with a newline (lines())
+        self.source = lines(path, self.ended)
         self.stream = self.tokens()
         self.n = 0
         self.rest = (0, [], 0)  # the line the header ended on: its number, its words, the first not read
@@ -114,6 +120,8 @@ class Reader:
                 self.var(self.until_end(tok), scope)
             elif tok == "$enddefinitions":
                 self.until_end(tok)
+                if scope:  # (its signals' names would be wrong, or missing from the summary)
+                    self.fail(f"$enddefinitions with $scope {scope[-1][:40]} not closed by its $upscope")
                 return
             else:
                 self.fail(f"'{tok[:40]}' in the declarations (expected $scope, $var, $upscope, ... $enddefinitions)")
@@ -142,6 +150,7 @@ class Reader:
         sinks = {code: [self.changes[name] for name in names] for code, names in self.names.items()}
         declared = self.declared
         free = None  # the $comment (or $date, $version) whose $end is still to come
+        comment = []  # its words
         # The words after $enddefinitions $end on its line first (a VCD
         # may be all on one line), then the lines after it.
         n, words, i = self.rest
@@ -151,7 +160,12 @@ class Reader:
                 tok = words[i]
                 i += 1
                 if free:
-                    free = None if tok == "$end" else free
+                    if tok != "$end":
+                        comment.append(tok)
+                        continue
+                    if free == "$comment" and comment[:1] == ["incomplete:"]:
+                        self.incomplete = " ".join(comment[1:])
+                    free, comment = None, []
                     continue
                 c = tok[0]
                 if c == "#":
@@ -355,6 +369,10 @@ def summarise_file(a):
     scale = "" if tick is not None else " (no $timescale: times in the VCD's ticks)"
     print(f"{a.vcd}: {time_text(span, tick)} traced ({time_text(start, tick)} to {time_text(end, tick)}), "
           f"{a.windows} windows of {time_text(width, tick)}; shares of each window{scale}")
+    if vcd.incomplete is not None:
+        print(f"incomplete: the run that wrote it stopped early ({vcd.incomplete}): the shares are of what it traced")
+    if not vcd.ended[0]:
+        print("incomplete: its last line has no newline (the file was cut short?): the last time may be partial")
     if nodes:
         print_nodes(nodes, start, width, span, a.windows)
     if links:

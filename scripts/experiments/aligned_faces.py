@@ -18,7 +18,7 @@ sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__)))) 
 import outputs  # noqa: E402
 import sweep_driver as driver  # noqa: E402
 from project import PAPER_SCENE, ROOT, VIEWS, publish_table  # noqa: E402
-from outputs import read_csv  # noqa: E402
+from csv_rows import read_csv  # noqa: E402
 from sweep_driver import write_csv  # noqa: E402
 
 # Where `slide` gains most (f = 1/N along the axis, and the view across at

@@ -25,22 +25,30 @@ from sweep_driver import write_csv  # noqa: E402
 # passed on untraced (a face moved, or the neighbouring column's faces are
 # elsewhere). A point that is one of the CASES below (rtsim's defaults are
 # N = 4, f = 1/4) names that case and uses its runs.
-# Every run: the paper's scene at rtsim's default concentration, on its default 4x4x4 mesh.
-BASE = PAPER_SCENE + ["--concentration", "0.25"]
+
+
+def case(view, *more):
+    """A run's flags: the paper's scene seen from `view`, at rtsim's default
+    concentration (f = 1/4) unless `more` gives one, on its default 4x4x4
+    mesh unless `more` gives one (each flag once: the row names what runs)."""
+    more = list(more)
+    return PAPER_SCENE + VIEWS[view] + ([] if "--concentration" in more else ["--concentration", "0.25"]) + more
+
+
 COSTS = {
     "along, N = 4, f = 1/4": "defaults (100 ns, 1 GB/s), f = 1/4",
     "across, N = 4, f = 1/4": "view across the axis",
-    "along, N = 8, f = 7/8": BASE + VIEWS["along"] + ["--mesh", "8", "--concentration", "0.875"],
-    "across, N = 7, f = 1": BASE + VIEWS["across"] + ["--mesh", "7", "--concentration", "1"],
-    "across, N = 8, f = 1": BASE + VIEWS["across"] + ["--mesh", "8", "--concentration", "1"],
+    "along, N = 8, f = 7/8": case("along", "--mesh", "8", "--concentration", "0.875"),
+    "across, N = 7, f = 1": case("across", "--mesh", "7", "--concentration", "1"),
+    "across, N = 8, f = 1": case("across", "--mesh", "8", "--concentration", "1"),
 }
 
 CASES = {
-    "defaults (100 ns, 1 GB/s), f = 1/4": BASE + VIEWS["along"],
-    "links at 3 us": BASE + VIEWS["along"] + ["--link-latency", "3us"],
-    "links at 300 MB/s": BASE + VIEWS["along"] + ["--link-bandwidth", "300MB/s"],
-    "spheres everywhere (f = 1)": BASE + VIEWS["along"] + ["--concentration", "1"],
-    "view across the axis": BASE + VIEWS["across"],
+    "defaults (100 ns, 1 GB/s), f = 1/4": case("along"),
+    "links at 3 us": case("along", "--link-latency", "3us"),
+    "links at 300 MB/s": case("along", "--link-bandwidth", "300MB/s"),
+    "spheres everywhere (f = 1)": case("along", "--concentration", "1"),
+    "view across the axis": case("across"),
 }
 
 

@@ -15,7 +15,7 @@ sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__)))) 
 import outputs  # noqa: E402
 import sweep_driver as driver  # noqa: E402
 from project import PAPER_SCENE, ROOT, publish_table  # noqa: E402
-from outputs import read_csv  # noqa: E402
+from csv_rows import read_csv  # noqa: E402
 
 SCENE = PAPER_SCENE + ["--concentration", "0.25", "--link-latency", "10ns", "--link-bandwidth", "100GB/s"]
 

@@ -25,7 +25,7 @@ import project  # noqa: E402
 import outputs  # noqa: E402
 import sweep_driver as driver  # noqa: E402
 from project import PAPER_SCENE, ROOT, preset_flags, publish_table  # noqa: E402
-from outputs import read_csv  # noqa: E402
+from csv_rows import read_csv  # noqa: E402
 from sweep_driver import write_csv  # noqa: E402
 
 SCENE = PAPER_SCENE + ["--concentration", "0.25"]

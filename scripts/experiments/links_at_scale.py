@@ -19,7 +19,7 @@ import outputs  # noqa: E402
 import sweep_driver as driver  # noqa: E402
 from plot_sweep import knee, quantity  # noqa: E402
 from project import ROOT, SPD, publish_table  # noqa: E402
-from outputs import read_csv  # noqa: E402
+from csv_rows import read_csv  # noqa: E402
 
 BANDWIDTHS = "50MB/s,100MB/s,200MB/s,400MB/s,1GB/s,4GB/s,16GB/s"
 

@@ -15,9 +15,9 @@ sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__)))) 
 import outputs  # noqa: E402
 import sweep_driver as driver  # noqa: E402
 from project import PAPER_SCENE, PRESETS, ROOT, VIEWS, preset_flags, publish_table  # noqa: E402
-from outputs import read_csv  # noqa: E402
+from csv_rows import read_csv  # noqa: E402
 
-SCENE = PAPER_SCENE + ["--concentration", "0.25", "--mesh", "4"]
+SCENE = PAPER_SCENE + ["--concentration", "0.25"]  # on 1 node and on 4x4x4 (--mesh, once)
 PARTS = ["tests", "voxel_steps", "shading", "ray_generation", "messages"]
 
 
@@ -31,8 +31,7 @@ def main():
         outputs.check_input(csv_path, "--plot-only: the CSV")
     else:
         points = [{"params": {"preset": p, "view": v, "mesh": m},
-                   "args": preset_flags(p) + SCENE + cam +
-                   (["--mesh", "1"] if m == 1 else [])}
+                   "args": preset_flags(p) + SCENE + cam + ["--mesh", str(m)]}
                   for p in PRESETS for v, cam in VIEWS.items() for m in (1, 4)]
         driver.run("presets", points, extract, csv_path, a)
     table(a, read_csv(csv_path))

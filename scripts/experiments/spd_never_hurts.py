@@ -19,7 +19,7 @@ import outputs  # noqa: E402
 import sweep_driver as driver  # noqa: E402
 import project  # noqa: E402
 from project import ROOT, SPD, publish_table  # noqa: E402
-from outputs import read_csv  # noqa: E402
+from csv_rows import read_csv  # noqa: E402
 
 SCENES = "balls-4,balls-5,tetra-3,gears-2,rings-2"
 WORST = 10  # rows of the worst points in the table

@@ -16,7 +16,7 @@ otherwise, each --repeats times; wall = the median. Needs
 python3-matplotlib (bash scripts/setup.sh plots); run with /usr/bin/python3."""
 import argparse
 import os
-import shlex
+import re
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # scripts/: project, sweep
@@ -24,7 +24,7 @@ import outputs  # noqa: E402
 import project  # noqa: E402
 import sweep_driver as driver  # noqa: E402
 from project import PAPER_SCENE, ROOT, publish_table, spd_scene  # noqa: E402
-from outputs import read_csv  # noqa: E402
+from csv_rows import read_csv  # noqa: E402
 from sweep_driver import write_csv  # noqa: E402
 
 SPD = ["balls-1", "balls-2", "balls-3", "balls-4", "balls-5", "gears-2", "rings-2", "tetra-3"]
@@ -35,6 +35,8 @@ RUNGS = {
     "quantum 10 us": ["--quantum", "10us"],
     "express, quantum 10 us": ["--fidelity", "express", "--quantum", "10us"],
 }
+# The flags a point sets itself (its scene, image, mesh and rung): not for --flags.
+OWN = ["--scene", "--size", "--mesh", "--mesh-dims", "--fidelity", "--quantum", "--max-error"]
 COLOURS = {"exact": "black", "express": "#2a6fdb", "quantum 10 us": "#e9a23b", "express, quantum 10 us": "#7b4fb0"}
 
 
@@ -69,24 +71,45 @@ def main():
     for name in a.scenes.split(","):
         if name not in SPD + ["procedural"]:
             ap.error(f"--scenes: {name!r} is not one of {', '.join(SPD + ['procedural'])}")
+    outputs.image_size(a.size)
+    a.errors = [error_share(e) for e in a.max_errors.split(",")] if a.max_errors else []
+    if len(set(a.errors)) != len(a.errors):
+        ap.error(f"--max-errors {a.max_errors!r}: a value given twice")
+    # The flags each point sets itself: given again, a row would name one value and rtsim run another.
+    a.extra = driver.extra_flags(a.flags, "--flags", OWN + ([f for f in PAPER_SCENE if f.startswith("--")] if "procedural" in a.scenes.split(",") else []))
     a.jobs = a.jobs or 1  # timing: one run at a time unless asked
     csv_path = os.path.join(a.out, "speed_accuracy.csv")
     if a.plot_only:  # (the CSV of an earlier run)
         outputs.check_input(csv_path, "--plot-only: the CSV")
     else:
         write_csv(csv_path, sweep(a))
-    rows = read_csv(csv_path)
+    rows = read_csv(csv_path, {"N": int, "wall_s": float, "render_time_ns": float, "error": float, "speedup": float})
     for r in rows:
-        r["N"] = int(r["N"])
-        for k in ("wall_s", "render_time_ns", "error", "speedup"):
-            r[k] = float(r[k])
+        if "mode" not in r or "scene" not in r or "rung" not in r:
+            raise outputs.ToolError(f"{csv_path}: no column mode, scene or rung (not this script's CSV?)")
+    cases = {(r["scene"], r["N"]) for r in rows}
+    exact = {(r["scene"], r["N"]) for r in rows if r["mode"] == "exact"}
+    if cases - exact:
+        scene, n = sorted(cases - exact)[0]
+        raise outputs.ToolError(f"{csv_path}: no exact row for {scene} at N = {n}, which the others are measured against")
     plot(a, rows)
     table(a, rows)
 
 
+def error_share(text):
+    """A --max-errors value as rtsim's --max-error takes it: a share above 0
+    and below 1 (0.02) or a percentage (2%); ToolError otherwise, before
+    any run."""
+    m = re.fullmatch(r"[+-]?([0-9]+(\.[0-9]*)?|\.[0-9]+)([eE][+-]?[0-9]+)?(%?)", text)
+    share = (float(text.rstrip("%")) / (100 if m.group(4) else 1)) if m else 0
+    if not 0 < share < 1:
+        raise outputs.ToolError(f"--max-errors: {text!r} is not a share above 0 and below 1 (0.02) "
+                                "or a percentage (2%); comma-separated")
+    return text
+
+
 def sweep(a):
-    extra = shlex.split(a.flags)
-    errors = [e for e in a.max_errors.split(",") if e]
+    extra, errors = a.extra, a.errors
     points = []
     for scene in a.scenes.split(","):
         flags = scene_flags(scene) + ["--size", a.size] + extra

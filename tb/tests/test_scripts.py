@@ -321,6 +321,18 @@ class BadInput(unittest.TestCase):
                 (py("experiments/aligned_faces.py", "--fig4", "/dev/zero"), "a device"),
                 (py("experiments/partition_search.py", "--merge", os.path.join(d, "none.csv")), "--merge"),
                 (py("experiments/presets.py", "--plot-only", "--out", d), "--plot-only"),
+                # More rtsim flags for every point: checked before any run, not found
+                # wrong after the sweep (or, given again, run silently under the rows' labels).
+                (py("experiments/speed_accuracy.py", "--flags=--size 8x8"), "--flags: --size is the experiment's own"),
+                (py("experiments/speed_accuracy.py", "--flags='"), "--flags \"'\": No closing quotation"),
+                (py("experiments/speed_accuracy.py", "--max-errors", "2%%"), "--max-errors: '2%%' is not a share"),
+                (py("experiments/speed_accuracy.py", "--size", "32"), "--size '32': WxH"),
+                (py("experiments/fig4.py", "--n", "2", "--tag", "t", "--extra=--vcd v.vcd"),
+                 "--vcd in a point's rtsim flags writes a file"),
+                (py("experiments/fig4.py", "--n", "2", "--tag", "t", "--extra=--help"),
+                 "--help in a point's rtsim flags: rtsim would print and stop"),
+                (py("experiments/spd_never_hurts.py", "--n", "4", "--extra=--size 8x8"),
+                 "--size given twice in a point's rtsim flags (256x256, then 8x8)"),
                 (["bash", os.path.join(SCRIPTS, "fuzz.sh"), "12x"], "SECONDS"),
                 (["bash", os.path.join(SCRIPTS, "render_gallery.sh"), "--bogus"], "--bogus"),
                 (["bash", os.path.join(SCRIPTS, "test.sh"), "x"], "no arguments"),
@@ -329,6 +341,69 @@ class BadInput(unittest.TestCase):
                 with self.subTest(cmd=" ".join(cmd[1:3])):
                     self.assert_one_line(cmd, words, cwd=d)
             self.assertEqual(os.listdir(d), [])
+
+    def test_a_point_runs_the_flags_its_row_names(self):
+        """sweep_points.check_point, which the driver applies to every point
+        before any run: a flag given twice with two values (rtsim runs the
+        last; the row names the first), an output the driver owns, a flag
+        that stops rtsim, or --mesh beside --mesh-dims is refused; a
+        repeatable flag, or one flag given twice the same, is not."""
+        import sweep_points
+        from outputs import ToolError
+        for args, says in ((["--size", "16x16", "--mesh", "2", "--size=8x8"], "--size given twice"),
+                           (["--vcd", "v.vcd"], "writes a file"), (["--report=r.json"], "writes a file"),
+                           (["--mesh", "2", "--help"], "--help in a point's"), (["--version"], "--version in a point's"),
+                           (["--mesh", "4", "--mesh-dims", "2x2x2"], "--mesh-dims wins")):
+            with self.subTest(args=args), self.assertRaises(ToolError) as e:
+                sweep_points.check_point(args)
+            self.assertIn(says, str(e.exception))
+        for args in (["--link-set", "0,0,0,+x:latency=1us", "--link-set", "1,0,0,+x:latency=2us", "--mesh", "2"],
+                     ["--node-speed", "0,0,0=2", "--node-speed=1,0,0=3"], ["--mesh", "2", "--mesh=2"]):
+            sweep_points.check_point(args)  # (no error)
+
+    def test_a_failed_tool_leaves_no_folder_it_made(self):
+        """outputs.out_path makes the default output's folders; a run that
+        then fails (clean_up) removes those it made while they are empty:
+        plot_sweep.py with a bad --x left an empty out/plots/ behind."""
+        import outputs
+        with tempfile.TemporaryDirectory() as d:
+            was = outputs.OUT
+            outputs.OUT = os.path.join(d, "out")
+            try:
+                outputs.out_path("plots", "a.png")
+                self.assertTrue(os.path.isdir(os.path.join(d, "out", "plots")))
+                outputs.clean_up()
+                self.assertEqual(os.listdir(d), [])  # out/ too: it made both
+                outputs.out_path("plots", "a.png")
+                with open(os.path.join(d, "out", "plots", "b.png"), "w"):
+                    pass  # (a file in it: the folder is someone's now)
+                outputs.clean_up()
+                self.assertEqual(os.listdir(os.path.join(d, "out", "plots")), ["b.png"])
+            finally:
+                outputs.OUT = was
+
+    def test_a_csv_to_redraw_is_checked_row_by_row(self):
+        """speed_accuracy.py --plot-only on its CSV cut short, edited by hand or
+        missing the exact rows: one line naming the file and line, exit 2, and
+        no chart drawn (it was drawn before the table failed)."""
+        good = ("scene,N,mode,rung,render_time_ns,error,wall_s,speedup,calibration_s,version,command\n"
+                "balls-1,2,exact,exact,100,0,1.0,1.0,0,v,c\n"
+                "balls-1,2,express,express,100,0,0.5,2.0,0,v,c\n")
+        bad = {"N y": (good.replace("balls-1,2,express", "balls-1,y,express"), "speed_accuracy.csv:3: column N: 'y'"),
+               "cut": (good[:-20], "speed_accuracy.csv:3: the row ends before column"),
+               "no exact": (good.replace(",exact,exact,", ",quantum,exact,"), "no exact row for balls-1 at N = 2"),
+               "empty": ("", "no column 'N'"), "not text": ("\udcff", "not a CSV")}
+        script = os.path.join(SCRIPTS, "experiments", "speed_accuracy.py")
+        for name, (text, says) in bad.items():
+            with self.subTest(csv=name), tempfile.TemporaryDirectory() as d:
+                with open(os.path.join(d, "speed_accuracy.csv"), "w", encoding="utf-8", errors="surrogateescape") as f:
+                    f.write(text)
+                p = subprocess.run(["/usr/bin/python3", script, "--plot-only", "--out", d], capture_output=True,
+                                   text=True, timeout=60, cwd=d)
+                self.assertEqual(p.returncode, 2, p.stderr)
+                self.assertEqual(p.stderr.strip().count("\n"), 0, p.stderr)
+                self.assertIn(says, p.stderr)
+                self.assertEqual(sorted(os.listdir(d)), ["speed_accuracy.csv"])
 
     def test_plot_only_is_offered_only_where_it_redraws(self):
         """Every experiment with --plot-only and no CSV to redraw refuses in

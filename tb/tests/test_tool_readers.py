@@ -250,10 +250,18 @@ class ToolReaders(unittest.TestCase):
             ("one_line.vcd", ["vcd_summary.py"], 0, "5.04 us traced"),
             ("other_tool.vcd", ["vcd_summary.py"], 0, "100 ns traced"),
             ("extra_upscope.vcd", ["vcd_summary.py"], 2, "extra_upscope.vcd:110: $upscope without a $scope"),
+            # (read as closed, its signals' names were wrong and its nodes missing from the summary)
+            ("missing_upscope.vcd", ["vcd_summary.py"], 2,
+             "missing_upscope.vcd:109: $enddefinitions with $scope machine not closed by its $upscope"),
+            ("stopped.vcd", ["vcd_summary.py"], 0,
+             "incomplete: the run that wrote it stopped early (interrupted by signal 2 at 5.04 us)"),
+            ("cut.vcd", ["vcd_summary.py"], 0, "incomplete: its last line has no newline"),
             ("nan_inf.csv", ["plot_sweep.py", "--x", "bw", "--y", "t", "--out", "c.png"], 0,
              "left out (not a finite number): bw=2GB/s (line 2: t nan); bw=8GB/s (line 5: t inf)"),
             ("cut_row.csv", ["plot_sweep.py", "--x", "bw", "--y", "t", "--out", "c.png"], 2,
              "cut_row.csv:4: 1 fields, the header has 2"),
+            ("mixed_x.csv", ["plot_sweep.py", "--x", "bw", "--y", "t", "--out", "c.png"], 2,
+             "mixed_x.csv:4: column 'bw' (--x): '2us' is a time, where line 2's '1GB/s' is a rate"),
             ("cut.json", ["mesh_map.py", "-o", "m.png"], 2, "cut.json:160: not JSON"),
             ("tiny.json", ["mesh_map.py", "-o", "m.png"], 0, ""),
         ]
