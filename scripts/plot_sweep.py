@@ -280,6 +280,8 @@ def parse_args(argv):
     ap.add_argument("--doc", action="store_true", help="allow --out under doc/")
     ap.add_argument("--title")
     a = ap.parse_args(argv)
+    if a.group is not None and a.group == a.x:
+        raise ToolError(f"--group {a.group}: the x column itself, a line per x value (its knees would be its own point)")
     if a.reference not in ("max-x", "min-x", "best") and quantity(a.reference) is None:
         raise ToolError(f"--reference {a.reference}: max-x, min-x, best or an x value (say 16GB/s)")
     for w in a.where:
@@ -425,7 +427,6 @@ def literal(text):
     return text.replace("$", r"\$")
 
 
-
 def main(argv=None):
     a = parse_args(argv)
     path = chart_path(a, a.y.split(","))  # checked before any work
@@ -435,6 +436,9 @@ def main(argv=None):
     text = io.StringIO()
     with contextlib.redirect_stdout(text), warnings.catch_warnings():
         warnings.filterwarnings("ignore", message="Glyph .* missing from")
+        # Nor matplotlib's lines on values near 1e308 or a legend too big to lay out: the chart is drawn.
+        warnings.filterwarnings("ignore", message="overflow encountered", category=RuntimeWarning)
+        warnings.filterwarnings("ignore", message="Tight layout not applied")
         ys, lines = analyse(a)
         draw(a, ys, lines, path)
         print(f"chart -> {path}")

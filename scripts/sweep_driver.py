@@ -348,7 +348,14 @@ def _journal_runs(runs, journal, extract, binary, ver, progress):
             failed.append(f"{command(p['args'], binary)}: {result}")
         else:
             report, wall, walls = result
-            rec = {"id": p["id"], "params": p["params"], "metrics": extract(report),
+            try:
+                metrics = extract(report)
+            except (KeyError, IndexError, TypeError, ValueError) as e:  # (--rtsim another program, or an older rtsim)
+                failed.append(f"{command(p['args'], binary)}: its report lacks what the sweep reads "
+                              f"({type(e).__name__}: {e}): not this rtsim's report?")
+                progress.tick()
+                continue
+            rec = {"id": p["id"], "params": p["params"], "metrics": metrics,
                    "wall_s": round(wall, 4), "command": command(p["args"], binary), "version": ver}
             if len(walls) > 1:
                 rec["walls_s"] = [round(w, 4) for w in walls]

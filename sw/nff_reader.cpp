@@ -303,7 +303,11 @@ Scene parseNff(const std::string& text, const std::string& name) { return Parser
 
 Scene readNff(const std::string& path) {
     std::error_code ec;
-    if (!std::filesystem::is_regular_file(path, ec)) throw SceneError(path + ": no such scene file");
+    const std::filesystem::file_status st = std::filesystem::status(path, ec);
+    if (!std::filesystem::exists(st)) throw SceneError(path + ": no such scene file");
+    if (std::filesystem::is_directory(st)) throw SceneError(path + ": a folder, not a scene file");
+    if (!std::filesystem::is_regular_file(st))  // (a FIFO or a device would block or never end)
+        throw SceneError(path + ": not a regular file (a FIFO, device or socket): a scene is a file");
     std::ifstream in(path, std::ios::binary);
     if (!in) throw SceneError(path + ": cannot open scene file");
     std::ostringstream ss;

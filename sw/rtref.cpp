@@ -56,8 +56,8 @@ void checkOutputs(const std::string& out, const std::string& stats, const rt::Sc
 
 // Objects that overlap many cells make the grid's references grow as their
 // count squared: refused with the estimate, not a bad_alloc.
-void checkFits(const rt::Scene& scene, const rt::RenderOptions& ro) {
-    rt::refuseIfTooBig("--size " + std::to_string(ro.width) + "x" + std::to_string(ro.height),
+void checkFits(const rt::Scene& scene, const rt::RenderOptions& ro, const rt::SceneOptions& sceneOpt) {
+    rt::refuseIfTooBig(sceneOpt.sizeNamed(ro.width, ro.height),
                        rt::kRtrefBytesPerPixel * ro.width * ro.height);
     const rt::UniformGrid::Size grid = rt::UniformGrid::sizeFor(scene.objects, scene.worldBox());
     if (grid.references > rt::UniformGrid::kMaxReferences)
@@ -108,7 +108,7 @@ int main(int argc, char** argv) {
         const rt::Scene scene = sceneOpt.load();
         rt::RenderOptions ro;
         sceneOpt.imageSize(scene, ro.width, ro.height);
-        checkFits(scene, ro);
+        checkFits(scene, ro, sceneOpt);
         ro.maxDepth = depth;
         ro.threads = threads;
         const auto t0 = std::chrono::steady_clock::now();

@@ -119,4 +119,9 @@ void SceneOptions::imageSize(const Scene& scene, int& width, int& height) const 
     if (!size.empty()) parseSize(size, width, height);
 }
 
+std::string SceneOptions::sizeNamed(int width, int height) const {
+    const std::string wxh = std::to_string(width) + "x" + std::to_string(height);
+    return size.empty() ? "the scene's resolution " + wxh + " (--size sets another)" : "--size " + wxh;
+}
+
 }  // namespace rt

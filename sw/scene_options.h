@@ -26,6 +26,9 @@ struct SceneOptions {
     Scene load() const;
     // The --size value, or the scene's resolution.
     void imageSize(const Scene& scene, int& width, int& height) const;
+    // That size as a message names it: "--size WxH", or the scene's
+    // resolution where no --size was given (the user never typed one).
+    std::string sizeNamed(int width, int height) const;
 };
 
 // "WxH" with positive integers; throws CLI::ValidationError otherwise.

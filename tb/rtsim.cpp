@@ -117,7 +117,7 @@ Stop loadScene(rt::RtsimOptions& o, const rt::CommandLine& cl, rt::Scene& scene,
         }
         o.machine.checkDerivedTimes(scene.objects.size());  // (std::invalid_argument: exit 2 naming the flags)
         try {
-            rt::refuseIfTooBig("--size " + std::to_string(o.machine.width) + "x" + std::to_string(o.machine.height),
+            rt::refuseIfTooBig(o.scene.sizeNamed(o.machine.width, o.machine.height),
                                rt::kRtsimBytesPerPixel * o.machine.width * o.machine.height);
         } catch (const rt::SceneError& e) {
             throw std::invalid_argument(e.what());  // (a flag's value, not the scene)

@@ -442,9 +442,9 @@ void RtsimOptions::setQuantum() {
 // --max-error: rtsim picks the rung (fidelity_choice.h), so not with a rung given.
 void RtsimOptions::setMaxError() {
     maxError = maxError_.empty() ? 0 : parseErrorShare(maxError_);
-    if (maxError > 0 && (quantum_ != "lookahead" || machine.express))
-        throw OptionError("--max-error", "it picks --fidelity and --quantum itself: not with --fidelity express or --quantum " +
-                                             quantum_);
+    if (maxError > 0 && (quantum_ != "lookahead" || machine.express))  // (--quantum lookahead is the exact rung's own)
+        throw OptionError("--max-error", "it picks --fidelity and --quantum itself: not with " +
+                                             (machine.express ? std::string("--fidelity express") : "--quantum " + quantum_));
 }
 
 }  // namespace rt

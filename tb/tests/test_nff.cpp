@@ -1,7 +1,12 @@
 // NFF reader: the SPD files parse with the counts their README lists, and
 // each kind of bad input gives a one-line "file:line: ..." error.
+#include <filesystem>
 #include <fstream>
 #include <random>
+#include <utility>
+
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <gtest/gtest.h>
 
@@ -214,6 +219,24 @@ TEST(Nff, MissingFileIsAnError) {
     } catch (const SceneError& e) {
         EXPECT_NE(std::string(e.what()).find("/nonexistent/scene.nff: no such scene file"), std::string::npos);
     }
+}
+
+// A folder or a FIFO is there but is no scene file (a FIFO would block the read): said so, not "no such scene file".
+TEST(Nff, AFolderOrAFifoIsNoSceneFile) {
+    const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("nff-fifo-" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    const std::string fifo = (dir / "scene.nff").string();
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    for (const auto& [path, says] : {std::pair<std::string, std::string>{dir.string(), ": a folder, not a scene file"},
+                                     {fifo, ": not a regular file (a FIFO, device or socket)"}}) {
+        try {
+            readNff(path);
+            ADD_FAILURE() << path << ": no error";
+        } catch (const SceneError& e) {
+            EXPECT_NE(std::string(e.what()).find(path + says), std::string::npos) << e.what();
+        }
+    }
+    std::filesystem::remove_all(dir);
 }
 
 TEST(Nff, HugeResolutionIsAnError) {

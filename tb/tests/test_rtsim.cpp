@@ -493,6 +493,10 @@ TEST_F(Rtsim, BadConfigurationExits2NamingTheFlag) {
     expectBad("--config /dev/urandom", "/dev/urandom");  // read whole, it never ended
     expectBad("--boundaries-from /dev/urandom", "--boundaries-from: not a regular file");
     expectBad("--size 65536x65536", "--size 65536x65536: needs at least");  // was bad_alloc, naming nothing
+    // A size the user never typed is named as the scene's (it said "--size 65536x65536").
+    std::ofstream(dir_ / "huge.nff") << "v\nfrom 0 0 -5\nat 0 0 0\nup 0 1 0\nangle 45\nhither 1\nresolution 65536 65536\n"
+                                        "s 0 0 0 1\n";
+    expectBad("--scene " + (dir_ / "huge.nff").string(), "the scene's resolution 65536x65536 (--size sets another): needs at least");
     // Times the picosecond counter cannot hold: 1e6 s once rendered 1.8e16 ns.
     expectBad("--link-latency 1e6s", "--link-latency");
     expectBad("--cost-sphere 1000.5s", "--cost-sphere");

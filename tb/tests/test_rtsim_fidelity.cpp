@@ -115,4 +115,10 @@ TEST_F(Rtsim, BadFidelityFlagsAreOneLineErrors) {
         EXPECT_NE(o.err.find(flag), std::string::npos) << bad << ": " << o.err;
         EXPECT_EQ(std::count(o.err.begin(), o.err.end(), '\n'), 1) << bad << ": " << o.err;
     }
+    // It names the rung given (it said "--fidelity express or --quantum lookahead", the exact rung's own quantum).
+    EXPECT_NE(run(kBalls4 + " --max-error 1% --quantum 10us --no-baseline -q --image ''").err.find("not with --quantum 10us"),
+              std::string::npos);
+    const Outcome express = run(kBalls4 + " --max-error 1% --fidelity express --no-baseline -q --image ''");
+    EXPECT_NE(express.err.find("not with --fidelity express"), std::string::npos) << express.err;
+    EXPECT_EQ(express.err.find("lookahead"), std::string::npos) << express.err;
 }

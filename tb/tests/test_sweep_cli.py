@@ -320,6 +320,23 @@ class SweepEdges(unittest.TestCase):
         self.assertEqual(p.returncode, 0, p.stderr)
         self.assertEqual(self.calls(), 8)
 
+    def test_a_report_without_what_the_sweep_reads_fails_its_point_in_words(self):
+        # --rtsim another program (or an older rtsim) whose report lacks `nodes`:
+        # the point fails naming what is missing, exit 1; not "internal error: KeyError".
+        other = os.path.join(self.dir, "other")
+        with open(self.fake) as f:
+            fake = f.read()
+        text = fake.replace('"nodes": [{"node": [0, 0, 0], "busy_ns": 1}], ', "")
+        self.assertNotEqual(text, fake)
+        with open(other, "w") as g:
+            g.write(text)
+        os.chmod(other, 0o755)
+        p = self.sweep("lacks", "--set", "mesh=1,2", "--", "--spheres", "5", binary=other)
+        self.assertEqual(p.returncode, 1, p.stderr)
+        self.assertIn("2 point(s) failed", p.stderr)
+        self.assertIn("its report lacks what the sweep reads (KeyError: 'nodes'): not this rtsim's report?", p.stderr)
+        self.assertNotIn("internal error", p.stderr)
+
     def test_another_binarys_points_are_not_resumed(self):
         out = os.path.join(self.dir, "s.csv")
         self.assertEqual(self.sweep("s", "--set", "a=1,2", csv_path=out).returncode, 0)

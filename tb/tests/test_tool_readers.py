@@ -262,6 +262,8 @@ class ToolReaders(unittest.TestCase):
              "cut_row.csv:4: 1 fields, the header has 2"),
             ("mixed_x.csv", ["plot_sweep.py", "--x", "bw", "--y", "t", "--out", "c.png"], 2,
              "mixed_x.csv:4: column 'bw' (--x): '2us' is a time, where line 2's '1GB/s' is a rate"),
+            ("sweep.csv", ["plot_sweep.py", "--x", "N", "--group", "N", "--out", "c.png"], 2,
+             "--group N: the x column itself"),
             ("cut.json", ["mesh_map.py", "-o", "m.png"], 2, "cut.json:160: not JSON"),
             ("tiny.json", ["mesh_map.py", "-o", "m.png"], 0, ""),
         ]
