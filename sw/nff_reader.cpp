@@ -87,7 +87,7 @@ public:
 
 private:
     // The 'v' block: which of from at up angle hither resolution were given.
-    std::array<int, 6> viewSeen_{};
+    std::array<int, 6> viewSeen_{};  // the line each of from, at, up, angle, hither, resolution was on (0: none)
     int viewLine_ = 0;
 
     bool viewKeyword(View& v, const Token& kw) {
@@ -96,27 +96,27 @@ private:
             viewLine_ = kw.line;
         } else if (k == "from") {
             v.from = vec("'from' eye position");
-            viewSeen_[0] = 1;
+            viewSeen_[0] = kw.line;
         } else if (k == "at") {
             v.at = vec("'at' look-at point");
-            viewSeen_[1] = 1;
+            viewSeen_[1] = kw.line;
         } else if (k == "up") {
             v.up = vec("'up' vector");
-            viewSeen_[2] = 1;
+            viewSeen_[2] = kw.line;
         } else if (k == "angle") {
             v.angle = number("'angle' in degrees");
             if (!(v.angle > 0 && v.angle < 180)) fail("'angle' must be in (0, 180) degrees");
-            viewSeen_[3] = 1;
+            viewSeen_[3] = kw.line;
         } else if (k == "hither") {
             v.hither = number("'hither' distance");
             if (v.hither < 0) fail("'hither' must not be negative");
-            viewSeen_[4] = 1;
+            viewSeen_[4] = kw.line;
         } else if (k == "resolution") {
             v.width = integer("'resolution' width");
             v.height = integer("'resolution' height");
             if (v.width <= 0 || v.height <= 0) fail("'resolution' must be positive");
             if (v.width > 65536 || v.height > 65536) fail("'resolution' must be at most 65536");
-            viewSeen_[5] = 1;
+            viewSeen_[5] = kw.line;
         } else {
             return false;
         }
@@ -152,9 +152,11 @@ private:
         if (!viewLine_) fail("no viewpoint: the 'v' block is missing");
         for (int i = 0; i < 6; ++i)
             if (!viewSeen_[i]) fail(std::string("viewpoint block lacks '") + names[i] + "'");
-        line_ = viewLine_;
+        // (Each named at the line that made it so: the later of 'from' and 'at', and 'up'.)
         const Vec3 dir = v.at - v.from;
+        line_ = std::max(viewSeen_[0], viewSeen_[1]);
         if (glm::length(dir) == 0) fail("'from' and 'at' are the same point");
+        line_ = viewSeen_[2];
         if (glm::length(v.up) == 0) fail("'up' vector has zero length");
         if (glm::length(glm::cross(dir, v.up)) <= 1e-12 * glm::length(dir) * glm::length(v.up))
             fail("'up' is parallel to the viewing direction");
