@@ -80,8 +80,8 @@ def check_point(args):
             outputs.check_input(value, flag)
         if flag in seen and flag not in REPEATABLE and seen[flag] != value:
             raise ToolError(f"{flag} given twice in a point's rtsim flags ({seen[flag]}, then {value}): rtsim "
-                            "would run the last and the row name the first (a flag the experiment sets itself, "
-                            "given again in its --extra or --flags?)")
+                            "would run the last and the row name the first; give it once (an experiment's own "
+                            "flag is not for its --extra or --flags)")
         seen.setdefault(flag, value)
     if all(m in seen for m in MESH):
         raise ToolError(f"--mesh {seen['--mesh']} and --mesh-dims {seen['--mesh-dims']} in a point's rtsim flags: "
