@@ -33,27 +33,12 @@ namespace rt {
 
 class ArrivalQueue : public ArrivalListener {
 public:
-    // Listens to every bound port of `ports` (an sc_vector of LinkRecvIf
-    // ports; an unbound one keeps its index, empty).
-    template <class Ports>
-    void listen(Ports& ports) {
-        std::vector<LinkRecvIf*> links(ports.size(), nullptr);
-        for (size_t i = 0; i < ports.size(); ++i)
-            if (ports[i].size()) links[i] = ports[i].operator->();
-        listen(std::move(links));
-    }
     // Listens to these links (a null one keeps its port, empty).
     void listen(std::vector<LinkRecvIf*> links) {
         links_ = std::move(links);
         head_.assign(links_.size(), kNone);
         for (size_t i = 0; i < links_.size(); ++i)
             if (links_[i]) links_[i]->setListener(this, int(i));  // (it tells the head it has now)
-    }
-    // Listens to every link a multiport is bound to, in binding order.
-    void listen(sc_core::sc_port<LinkRecvIf, 0>& multiport) {
-        std::vector<LinkRecvIf*> links(size_t(multiport.size()));
-        for (int i = 0; i < multiport.size(); ++i) links[size_t(i)] = multiport[i];
-        listen(std::move(links));
     }
 
     // A process that may take its input late (a frame-buffer unit other

@@ -159,9 +159,9 @@ void Machine::linkNeighbours(Node& n, std::vector<Picos>& nodeLookahead) {
         // --sample-end credit: the sample's rays go on the control lane, which every link then has.
         if (cfg_.balance.sampleCredit && p.controlDepth == 0) p.controlDepth = p.depth;
         links_.push_back(std::make_unique<Link>(lname, p, smallestMeshMessage(cfg_.balance.dynamic())));
-        n.out[d].bind(*links_.back());
+        n.bindOut(d, *links_.back());
         meshLinks_[{nodeIndex(c), d}] = links_.back().get();
-        nodes_[nodeIndex(m)].in[opposite(d)].bind(*links_.back());
+        nodes_[nodeIndex(m)].bindIn(opposite(d), *links_.back());
         Picos& receiver = nodeLookahead[nodeIndex(m)];
         receiver = std::min(receiver, links_.back()->lookahead());
         // A control lane places a control message among the data messages
@@ -220,7 +220,7 @@ void Machine::linkColumnsToFrameBuffer(std::vector<Picos>& nodeLookahead) {
         LinkParams p = cfg_.fbPortOf(n.cell());
         p.controlDepth = std::max(p.controlDepth, 1);
         unitLinks_.push_back(std::make_unique<Link>("fb0_to_" + nodeName(n.cell()), p));
-        n.in[dirOf(ax, -1)].bind(*unitLinks_.back());
+        n.bindIn(dirOf(ax, -1), *unitLinks_.back());
         byColumn[size_t(columns_.columnOf(n.cell()))] = unitLinks_.back().get();
         nodeLookahead[i] = std::min(nodeLookahead[i], unitLinks_.back()->lookahead());
     }

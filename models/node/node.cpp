@@ -12,8 +12,8 @@ namespace rt {
 Node::Node(sc_core::sc_module_name name, const Cell& cell, const Box& box, std::vector<Shape> objects,
            const NodeParams& params, const Costs& costs, double speed)
     : sc_module(name),
-      out("out", kDirs),
-      in("in", kDirs),
+      out("out"),
+      in("in"),
       fb("fb"),
       params_(params),
       cell_(cell),
@@ -65,20 +65,22 @@ void Node::suspend(Resume r) {
 }
 
 void Node::start() {
-    input_.listen(in);
+    std::array<LinkRecvIf*, kDirs> inLinks{};
+    for (int k = 0; k < in.size(); ++k) inLinks[inDirs_[size_t(k)]] = in[k];
+    input_.listen(inLinks);
     expressSelf_ = nullptr;  // (a frame without express, after one with it)
     if (params_.express) {
         ExpressNode& self = params_.express->node(params_.express->indexOf(cell_));
         expressSelf_ = self.empty ? &self : nullptr;
     }
-    for (int d = 0; d < kDirs; ++d) outLinks_[size_t(d)] = out[d].size() ? &asLink(*out[d].operator->()) : nullptr;
+    for (int k = 0; k < out.size(); ++k) outLinks_[outDirs_[size_t(k)]] = &asLink(*out[k]);
     for (int u = 0; u < fb.size(); ++u) fbLinks_.push_back(&asLink(*fb[u]));
     now_ = kernel();
     const BalanceConfig& bal = params_.balance;
     if (bal.dynamic()) {
         balance_ = std::make_unique<BalanceAgent>(bal, static_cast<BalanceHost&>(*this), params_.world, cell_[bal.axis],
-                                                  params_.columnLength, out[sideDir(-1)].size() > 0,
-                                                  out[sideDir(+1)].size() > 0, params_.minThickness);
+                                                  params_.columnLength, outLinks_[size_t(sideDir(-1))] != nullptr,
+                                                  outLinks_[size_t(sideDir(+1))] != nullptr, params_.minThickness);
         balance_->shareFaces(params_.layerFaces);
         if (startTargets_) {
             balance_->startAt((*startTargets_)[0], (*startTargets_)[1]);

@@ -220,7 +220,7 @@ double Node::passCost() const {
     const int batch = std::max(1, params_.rayBatch);
     double busy = 0, wire = 0;
     for (int d = 0; d < kDirs; ++d)
-        if (outLinks_[size_t(d)] && now_ > 0) busy = std::max(busy, double(out[d]->occupied()) / double(now_));
+        if (outLinks_[size_t(d)] && now_ > 0) busy = std::max(busy, double(outLinks_[size_t(d)]->occupied()) / double(now_));
     for (int side : {-1, +1})
         if (outLinks_[size_t(sideDir(side))]) {
             const LinkParams& l = linkTo(side);
@@ -245,7 +245,7 @@ Picos Node::reportTime(int side) const {
     return saturatedPicos(wirePicos(l, kHeaderBytes + kLoadReportBytes));
 }
 
-Picos Node::linkOccupied(int side) const { return out[sideDir(side)]->occupied(); }
+Picos Node::linkOccupied(int side) const { return outLinks_[size_t(sideDir(side))]->occupied(); }
 
 Picos Node::rayOccupies(int side) const {
     const LinkParams& l = linkTo(side);
