@@ -119,8 +119,11 @@ const std::string& checkExtension(const std::string& flag, const std::string& pa
 
 void checkDistinct(const std::vector<NamedFile>& files) {
     auto same = [](const std::string& a, const std::string& b) {
-        std::error_code ec1, ec2;
-        if (fs::weakly_canonical(a, ec1) == fs::weakly_canonical(b, ec2) && !ec1 && !ec2) return true;
+        // (Absolute first: a name of a file not there yet, "c1.png", stays
+        // relative in weakly_canonical, where "./c1.png" becomes absolute.)
+        std::error_code ec1, ec2, ec3, ec4;
+        const fs::path fa = fs::absolute(a, ec3), fb = fs::absolute(b, ec4);
+        if (!ec3 && !ec4 && fs::weakly_canonical(fa, ec1) == fs::weakly_canonical(fb, ec2) && !ec1 && !ec2) return true;
         struct stat sa {}, sb {};
         return ::stat(a.c_str(), &sa) == 0 && ::stat(b.c_str(), &sb) == 0 && sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
     };

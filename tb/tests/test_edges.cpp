@@ -211,6 +211,9 @@ TEST_F(Edges, NoTwoOutputsAndNoOutputAndInputNameOneFile) {
     const std::pair<std::string, std::string> clashes[] = {
         {" --image " + p("x.png") + " --map " + p("x.png"), "--map: " + p("x.png") + ": the same file as --image"},
         {" --vcd " + p("w.vcd") + " --map " + p("w.gtkw.png") + " --image " + p("./w.gtkw.png"), "the same file as --image"},
+        // One file not there yet, named relative and otherwise (the run is in dir_): the map was written over the image.
+        {" --image c1.png --map ./c1.png", "--map: ./c1.png: the same file as --image c1.png"},
+        {" --image c2.png --map " + p("c2.png"), "the same file as --image c2.png"},
         {" --scene " + p("scene.json") + " --size 8x8 --report " + p("scene.json"), "the same file as the input --scene"},
         {" --config " + p("c.json") + " --report " + p("c.json"), "the same file as the input --config"},
         {" --boundaries-from " + p("base.json") + " --report " + p("base.json"), "the same file as the input --boundaries-from"},
@@ -219,6 +222,7 @@ TEST_F(Edges, NoTwoOutputsAndNoOutputAndInputNameOneFile) {
     for (const auto& [args, mention] : clashes) bad(std::string(args.find("--rerun") != std::string::npos ? "" : kSmall) + args, mention);
     EXPECT_EQ(json::parse(slurp(dir_ / "base.json")), base);
     EXPECT_EQ(slurp(dir_ / "c.json"), "mesh = 2\n");
+    for (const char* f : {"c1.png", "c2.png"}) EXPECT_FALSE(fs::exists(dir_ / f)) << f;
 }
 
 TEST_F(Edges, AFailedRunLeavesEveryFileAsItWasAndNoTemporary) {
