@@ -62,7 +62,7 @@ std::set<std::string> namesGiven(const std::vector<std::string>& rest) {
 
 // Each line checked alone: a known flag, allowed here, with a value its
 // parser takes. Returns its arguments; `name`, the flag's own name.
-std::vector<std::string> checkedArgs(const ConfigLine& line, bool report, std::string& name) {
+std::vector<std::string> checkedArgs(const ConfigLine& line, bool report, std::string& name, bool& repeatable) {
     Probe p;
     CLI::Option* opt = p.find(line.name);
     if (!opt || line.name == "help")
@@ -73,6 +73,7 @@ std::vector<std::string> checkedArgs(const ConfigLine& line, bool report, std::s
     if (line.name == "config" || line.name == "rerun")
         throw ConfigError(line.where + ": --" + line.name + " is read only from the command line");
     name = opt->get_single_name();
+    repeatable = opt->get_expected_max() > 1 || opt->get_multi_option_policy() == CLI::MultiOptionPolicy::TakeAll;  // (rtsim --help: "...")
     const std::vector<std::string> args = argsOf(line, *opt);
     std::vector<std::string> reversed(args.rbegin(), args.rend());
     try {
@@ -113,20 +114,27 @@ std::string CommandLine::originOf(const std::string& message) const {
 }
 
 CommandLine mergeFlags(const std::vector<ConfigSource>& sources, const std::vector<std::string>& rest, const std::string& argv0) {
-    // Last value wins: a later line or file replaces a flag's whole value
-    // (a repeatable flag's list too), and the command line replaces them all.
+    // Last value wins: a later line or file replaces a flag's whole value,
+    // and the command line replaces them all; but a repeatable flag's lines
+    // in one file are its list, in order (node-speed on two lines: both
+    // nodes), which a later file replaces whole.
     CommandLine cl;
     cl.given = namesGiven(rest);
     std::vector<std::pair<std::string, std::vector<std::string>>> merged;  // in the order first named
-    for (const ConfigSource& s : sources)
+    for (const ConfigSource& s : sources) {
+        std::set<std::string> listed;  // repeatable flags this source has named
         for (const ConfigLine& line : s.lines) {
             std::string name;
-            std::vector<std::string> args = checkedArgs(line, s.fromReport, name);
+            bool repeatable = false;
+            std::vector<std::string> args = checkedArgs(line, s.fromReport, name, repeatable);
             auto it = std::find_if(merged.begin(), merged.end(), [&](const auto& m) { return m.first == name; });
             if (it == merged.end()) merged.push_back({name, std::move(args)});
+            else if (repeatable && listed.count(name)) it->second.insert(it->second.end(), args.begin(), args.end());
             else it->second = std::move(args);
+            if (repeatable) listed.insert(name);
             cl.where[name] = line.where;
         }
+    }
     cl.args = {argv0};
     for (const auto& [name, args] : merged) {
         if (cl.given.count(name)) {

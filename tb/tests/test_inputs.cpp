@@ -181,7 +181,15 @@ TEST(CommandLine, TheLastValueWinsEverywhere) {
     EXPECT_EQ(parsed(merge({{"mesh = 2\nfb-units = 3\nmesh = 3\n", false}}, {})).mesh, 3);
     EXPECT_EQ(parsed(merge({{"mesh = 2\n", false}, {"mesh = 3\n", false}}, {})).mesh, 3);
     EXPECT_EQ(parsed(merge({{"mesh = 2\n", false}, {"mesh = 3\n", false}}, {"--mesh", "1"})).mesh, 1);
-    // A repeatable flag's list is replaced whole, not added to.
+    // A repeatable flag's lines in one file are its list (the first was dropped,
+    // with no message), a non-repeatable one's the last; a later file replaces the list whole.
+    const RtsimOptions lines = parsed(merge({{"mesh = 3\nnode-speed = \"0,0,0=2\"\nmesh = 2\nnode-speed = \"1,1,1=3\"\n"
+                                              "eye = [0, -2, 0]\neye = [0, -3, 0]\n", false}}, {}));
+    EXPECT_EQ(lines.machine.nodeSpeed.size(), 2u);
+    EXPECT_EQ(lines.machine.nodeSpeed.count({0, 0, 0}), 1u);
+    EXPECT_EQ(lines.machine.nodeSpeed.count({1, 1, 1}), 1u);
+    EXPECT_EQ(lines.mesh, 2);
+    // A repeatable flag's list is replaced whole by a later file, not added to.
     const RtsimOptions o = parsed(merge({{"mesh = 2\nnode-speed = [\"0,0,0=2\", \"1,1,1=3\"]\n", false},
                                          {"node-speed = \"1,0,0=5\"\n", false}},
                                         {}));
