@@ -1,7 +1,11 @@
 #include "frame_sequence.h"
 
+#include <cmath>
+#include <cstdio>
 #include <stdexcept>
 #include <string>
+
+#include <glm/geometric.hpp>
 
 #include "analysis/report.h"
 #include "balance/between_frames.h"
@@ -82,6 +86,23 @@ nlohmann::json frameReport(const MachineResult& r, const MachineConfig& m, const
 Vec3 eyeOfFrame(const RtsimOptions& o, const Vec3& firstEye, int index) {
     if (o.eyeStep.empty()) return firstEye;
     return firstEye + Vec3(o.eyeStep[0], o.eyeStep[1], o.eyeStep[2]) * double(index);
+}
+
+void checkCameraPath(const RtsimOptions& o, const View& view, const Vec3& firstEye) {
+    if (o.eyeStep.empty()) return;
+    for (int k = 1; k < o.frames; ++k) {
+        const Vec3 eye = eyeOfFrame(o, firstEye, k), dir = view.at - eye;
+        const auto bad = [&](const std::string& why) {
+            char at[96];
+            std::snprintf(at, sizeof at, "(%g, %g, %g)", eye.x, eye.y, eye.z);
+            throw std::invalid_argument("--eye-step: frame " + std::to_string(k + 1) + "'s eye " + at + " " + why);
+        };
+        if (!std::isfinite(eye.x) || !std::isfinite(eye.y) || !std::isfinite(eye.z)) bad("is not finite");
+        if (glm::length(dir) == 0) bad("is the point looked at");
+        // (The NFF reader's tolerance: a view along `up` has no image plane.)
+        if (glm::length(glm::cross(dir, view.up)) <= 1e-12 * glm::length(dir) * glm::length(view.up))
+            bad("looks along the view's up vector");
+    }
 }
 
 EarlierFrames runEarlierFrames(const Scene& scene, const Vec3& firstEye, RtsimOptions& o,

@@ -55,6 +55,11 @@ nlohmann::json frameReport(const MachineResult& r, const MachineConfig& m, const
 
 // The eye of frame `index` (0-based) of a camera path from `firstEye`.
 Vec3 eyeOfFrame(const RtsimOptions& o, const Vec3& firstEye, int index);
+// Every frame's camera of the path, checked before any runs: an eye that
+// is not finite, is the point looked at, or looks along `up` would render
+// a flat background (or nothing) with exit 0. Throws std::invalid_argument
+// naming --eye-step and the frame.
+void checkCameraPath(const RtsimOptions& o, const View& view, const Vec3& firstEye);
 
 // The last frame's report with the sequence's frames listed.
 void listFrames(nlohmann::json& report, nlohmann::json frames, int count, Picos start);

@@ -135,6 +135,12 @@ Stop loadScene(rt::RtsimOptions& o, const rt::CommandLine& cl, rt::Scene& scene,
     // A frame of a camera path: the eye moved frameIndex steps (the last
     // frame's, or a reference run's of it).
     firstEye = scene.view.from;
+    try {
+        rt::checkCameraPath(o, scene.view, firstEye);
+    } catch (const std::invalid_argument& e) {
+        rt::msg::error(rt::msg::kConfig, e.what());
+        return 2;
+    }
     scene.view.from = rt::eyeOfFrame(o, firstEye, o.frameIndex);
     return std::nullopt;
 }

@@ -485,6 +485,10 @@ TEST_F(Rtsim, BadConfigurationExits2NamingTheFlag) {
     expectBad("--eye-step 0,inf,0 --frames 2", "--eye-step");
     expectBad("--eye-step 1 --frames 2", "--eye-step: expected three numbers");  // (was read past its end)
     expectBad("--eye-step 1,2 --frames 2", "--eye-step: expected three numbers");
+    // A camera path onto the point looked at, or along `up`: each frame's view checked first
+    // (they rendered a flat background, or nothing, with exit 0).
+    expectBad("--size 16x16 --mesh 2 --frames 3 --eye-step 0,1.05,0", "--eye-step: frame 3's eye (0.5, 0.5, 0.5) is the point looked at");
+    expectBad("--size 16x16 --mesh 2 --frames 2 --eye-step 0,2.1,-1", "frame 2's eye (0.5, 0.5, -0.5) looks along the view's up vector");
     std::ofstream(dir_ / "bad.ini") << "mesh = [not closed\n";
     expectBad("--config " + (dir_ / "bad.ini").string(), "");
     std::ofstream(dir_ / "bad2.ini") << "no-such-flag = 3\n";
