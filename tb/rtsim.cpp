@@ -15,6 +15,7 @@
 #include <sys/prctl.h>
 #include <unistd.h>
 
+#include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <limits>
@@ -348,6 +349,12 @@ int sc_main(int argc, char** argv) {
     rt::RunOutputs out(o);  // each to a temporary file until the end (outputs.h)
     try {
         return run(cl, app, o, scene, firstEye, config, fidelity, out);
+    } catch (const rt::SplitError& e) {  // (checked as the machine is built: bad input, exit 2)
+        const std::string from = o.boundariesFrom.empty() ? "" : "--boundaries-from " + o.boundariesFrom + ": ";
+        char thick[64];
+        std::snprintf(thick, sizeof thick, " (--min-thickness %g here)", o.machine.balance.minThickness);
+        rt::msg::error(rt::msg::kConfig, from + e.what() + thick);
+        return 2;
     } catch (const std::exception& e) {
         rt::msg::error(rt::msg::kRun, e.what());
         return 1;  // (nothing committed; `out` removes its temporaries)

@@ -185,16 +185,16 @@ ColumnPlanes withInnerPlanes(const char* what, ColumnPlanes planes, const std::v
                              double minThickness, double slack) {
     const std::string w = what;
     if (inner.size() != planes.size())
-        throw std::invalid_argument(w + ": " + std::to_string(inner.size()) + " columns, the mesh has " + std::to_string(planes.size()));
+        throw SplitError(w + ": " + std::to_string(inner.size()) + " columns, the mesh has " + std::to_string(planes.size()));
     for (size_t c = 0; c < planes.size(); ++c) {
         const size_t n = planes[c].size() - 1;
         if (inner[c].size() != n - 1)
-            throw std::invalid_argument(w + ": column " + std::to_string(c) + " has " + std::to_string(inner[c].size()) +
+            throw SplitError(w + ": column " + std::to_string(c) + " has " + std::to_string(inner[c].size()) +
                                         " planes, not " + std::to_string(n - 1));
         std::copy(inner[c].begin(), inner[c].end(), planes[c].begin() + 1);
         for (size_t k = 0; k < n; ++k)
             if (!(planes[c][k + 1] - planes[c][k] >= minThickness * (1 - slack)))
-                throw std::invalid_argument(w + ": column " + std::to_string(c) + ", box " + std::to_string(k) +
+                throw SplitError(w + ": column " + std::to_string(c) + ", box " + std::to_string(k) +
                                             " is thinner than the minimum thickness");
     }
     return planes;

@@ -5,6 +5,7 @@
 // configuration and the scene, run before the simulation.
 #pragma once
 #include <cstdint>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -25,9 +26,15 @@ using ColumnPlanes = std::vector<std::vector<double>>;
 // a uniform slice of the world.
 double minThicknessOf(const MachineConfig& cfg, const Box& world);
 
+// A split given from outside that does not fit this mesh (a report's, by
+// --boundaries-from): bad input, not a failed run.
+struct SplitError : std::invalid_argument {
+    using std::invalid_argument::invalid_argument;
+};
+
 // `planes` with each column's inner planes replaced by `inner`'s, for
-// `what` ("start boundaries", "target boundaries"). Throws
-// std::invalid_argument, naming `what`, if `inner` has another number of
+// `what` ("start boundaries", "target boundaries"). Throws SplitError,
+// naming `what`, if `inner` has another number of
 // columns or of planes in one, or a box thinner than minThickness (less
 // `slack` of it).
 ColumnPlanes withInnerPlanes(const char* what, ColumnPlanes planes, const std::vector<std::vector<double>>& inner,

@@ -413,6 +413,16 @@ TEST_F(Rtsim, BoundariesFromAnotherMeshIsBadInput) {
     EXPECT_EQ(std::count(o.err.begin(), o.err.end(), '\n'), 1) << o.err;
     std::ofstream(dir_ / "bad.json") << "{ not json";
     EXPECT_EQ(run(std::string(kSliding) + " -q --image '' --boundaries-from " + (dir_ / "bad.json").string()).code, 2);
+    // Planes out of order (or a box thinner than this run's --min-thickness, left by a run with a smaller one):
+    // bad input naming the file and the flag, exit 2, not a failed run (exit 1, rtsim/run).
+    json a = json::parse(slurp(dir_ / "a.json"));
+    for (json& b : a["boundaries"]) b["history"].back()[1] = 0.5;  // every plane of a column at one place
+    std::ofstream(dir_ / "flat.json") << a.dump();
+    const Outcome flat = run(std::string(kSliding) + " -q --image '' --boundaries-from " + (dir_ / "flat.json").string());
+    EXPECT_EQ(flat.code, 2) << flat.err;
+    EXPECT_NE(flat.err.find("--boundaries-from " + (dir_ / "flat.json").string() + ": start boundaries: column 0, box "),
+              std::string::npos) << flat.err;
+    EXPECT_NE(flat.err.find("is thinner than the minimum thickness (--min-thickness"), std::string::npos) << flat.err;
 }
 
 // Its help says "the same scene, mesh and axis": another scene was taken
