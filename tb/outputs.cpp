@@ -5,6 +5,7 @@
 #include <iomanip>
 #include <stdexcept>
 
+#include "base/progress.h"
 #include "subprocess.h"
 #include "trace/trace_writer.h"
 
@@ -71,8 +72,8 @@ void RunOutputs::gtkw(const std::string& text) {
     if (!o_.vcd.empty() && !text.empty()) open(gtkw_, gtkwPathFor(o_.vcd)).write(text);
 }
 
-void RunOutputs::map(const nlohmann::json& report) {
-    if (o_.map.empty()) return;
+bool RunOutputs::map(const nlohmann::json& report) {
+    if (o_.map.empty()) return true;
     // The report's temporary, or one of its own in /tmp.
     std::optional<TempFile> own;
     if (!report_) own.emplace("rtsim-map", ".json", report.dump());
@@ -84,6 +85,10 @@ void RunOutputs::map(const nlohmann::json& report) {
     const int code = waitExit(spawn({"/usr/bin/python3", kMapScript, from, "-o", open(map_, o_.map).temp(), "--format",
                                      mapFormat(o_.map), "--doc"},
                                     true, log.path()));
+    if (code != 0 && stopSignal) {  // (the script got the signal too: the frame's outputs are whole)
+        map_.reset();
+        return false;
+    }
     if (code != 0) {
         std::ifstream f(log.path());
         std::string line, last;
@@ -91,6 +96,7 @@ void RunOutputs::map(const nlohmann::json& report) {
             if (!line.empty()) last = line;
         throw std::runtime_error("--map: scripts/mesh_map.py failed: " + (last.empty() ? "exit " + std::to_string(code) : last));
     }
+    return true;
 }
 
 void RunOutputs::commit() {

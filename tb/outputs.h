@@ -36,7 +36,9 @@ public:
     void report(const nlohmann::json& report);
     void gtkw(const std::string& text);
     // scripts/mesh_map.py draws the report (call after report()).
-    void map(const nlohmann::json& report);
+    // False if a stop (Ctrl-C, SIGTERM) ended the drawing: no map, the rest
+    // kept (the frame is done); a map that fails otherwise throws.
+    bool map(const nlohmann::json& report);
     // Renames every temporary written over its path.
     void commit();
 

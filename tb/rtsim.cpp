@@ -270,12 +270,13 @@ int finish(const rt::CommandLine& cl, const rt::RtsimOptions& o, const rt::Scene
     wall.writing = assembling + rt::secondsBetween(refsDone, rt::WallClock::now());
     report["wall_clock"] = wall.json();
     out.report(report);
-    out.map(report);
+    const bool mapped = out.map(report);
     out.commit();
     wall.writing = assembling + rt::secondsBetween(refsDone, rt::WallClock::now());
     if (rt::stopSignal || ref.stopCode)
         return stopped(rt::stopSignal ? 128 + int(rt::stopSignal) : ref.stopCode,
-                       "the frame is done and written; its reference runs were stopped");
+                       mapped ? "the frame is done and written; its reference runs were stopped"
+                              : "the frame is done and written, but for its map: stopped while it was drawn");
     if (!o.quiet) rt::printSummary(scene, o, r, report, ref.baselineNs, wall);
     return 0;
 }

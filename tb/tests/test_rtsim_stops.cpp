@@ -119,6 +119,30 @@ TEST_F(RtsimTimed, AKilledOrInterruptedRunLeavesAValidVcd) {
     }
 }
 
+// A stop while the mesh map is drawn (the frame done, its image and report
+// written to their temporaries): exit 130 with every output but the map,
+// none left half made. It was exit 1 ("--map: scripts/mesh_map.py failed:
+// KeyboardInterrupt") with every output thrown away.
+TEST_F(RtsimTimed, AStopWhileTheMapIsDrawnKeepsTheFrame) {
+    const fs::path img = dir_ / "i.png", rep = dir_ / "r.json", map = dir_ / "m.png";
+    // Signalled once the map's temporary is there: the script is starting (it takes a
+    // good part of a second to load matplotlib), within a minute.
+    const std::string cmd = "bash -c '" + std::string(RTSIM_EXE) + " --scene " + scene("balls-2") + " --size 48x48 --mesh 2 -q " +
+                            "--no-baseline --image " + img.string() + " --report " + rep.string() + " --map " + map.string() +
+                            " 2>" + (dir_ / "err").string() + " & p=$!; for i in $(seq 1200); do "
+                            "ls " + map.string() + ".incomplete-* >/dev/null 2>&1 && break; sleep 0.05; done; kill -INT $p; wait $p'";
+    const int status = std::system(cmd.c_str());
+    const std::string err = slurp(dir_ / "err");
+    EXPECT_EQ(WIFEXITED(status) ? WEXITSTATUS(status) : -1, 130) << err;
+    EXPECT_NE(err.find("the frame is done and written, but for its map: stopped while it was drawn"), std::string::npos) << err;
+    EXPECT_TRUE(fs::exists(img));
+    ASSERT_TRUE(fs::exists(rep));
+    EXPECT_GT(json::parse(slurp(rep))["render_time_ns"].get<double>(), 0);
+    EXPECT_FALSE(fs::exists(map));
+    for (const auto& e : fs::directory_iterator(dir_))
+        EXPECT_EQ(e.path().string().find(".incomplete-"), std::string::npos) << e.path();
+}
+
 TEST_F(RtsimTimed, WatchdogSpanAndWallClockLimit) {
     // The span as given: stopped at the first check at least a span after
     // the last progress (checks every span up to 1 ms).
