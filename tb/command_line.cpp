@@ -118,8 +118,15 @@ CommandLine mergeFlags(const std::vector<ConfigSource>& sources, const std::vect
     // and the command line replaces them all; but a repeatable flag's lines
     // in one file are its list, in order (node-speed on two lines: both
     // nodes), which a later file replaces whole.
+    // --mesh and --mesh-dims are one setting, the mesh's shape: the later
+    // of a file's lines, and the command line's over a file's (a preset's
+    // mesh-dims beat --mesh on the command line); both on the command line
+    // are refused.
     CommandLine cl;
     cl.given = namesGiven(rest);
+    if (cl.given.count("mesh") && cl.given.count("mesh-dims"))
+        throw ConfigError("--mesh and --mesh-dims: both give the mesh's shape (--mesh-dims would win): give one");
+    const auto otherShape = [](const std::string& n) { return n == "mesh" ? "mesh-dims" : n == "mesh-dims" ? "mesh" : ""; };
     std::vector<std::pair<std::string, std::vector<std::string>>> merged;  // in the order first named
     for (const ConfigSource& s : sources) {
         std::set<std::string> listed;  // repeatable flags this source has named
@@ -127,6 +134,11 @@ CommandLine mergeFlags(const std::vector<ConfigSource>& sources, const std::vect
             std::string name;
             bool repeatable = false;
             std::vector<std::string> args = checkedArgs(line, s.fromReport, name, repeatable);
+            if (const std::string other = otherShape(name); !other.empty()) {
+                if (cl.given.count(other)) continue;  // the command line gives the shape the other way
+                merged.erase(std::remove_if(merged.begin(), merged.end(), [&](const auto& m) { return m.first == other; }),
+                             merged.end());
+            }
             auto it = std::find_if(merged.begin(), merged.end(), [&](const auto& m) { return m.first == name; });
             if (it == merged.end()) merged.push_back({name, std::move(args)});
             else if (repeatable && listed.count(name)) it->second.insert(it->second.end(), args.begin(), args.end());

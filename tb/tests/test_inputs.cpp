@@ -204,6 +204,18 @@ TEST(CommandLine, TheLastValueWinsEverywhere) {
     EXPECT_EQ(cl.originOf("--fb-units: x"), "");
 }
 
+// --mesh and --mesh-dims are one setting: a preset's mesh-dims beat --mesh on the
+// command line (silently), and both on the command line ran --mesh-dims.
+TEST(CommandLine, MeshAndMeshDimsAreOneSetting) {
+    EXPECT_EQ(parsed(merge({{"mesh-dims = 1x2x3\n", false}}, {"--mesh", "2"})).machine.dims, (std::array<int, 3>{2, 2, 2}));
+    EXPECT_EQ(parsed(merge({{"mesh = 3\n", false}}, {"--mesh-dims", "1x2x3"})).machine.dims, (std::array<int, 3>{1, 2, 3}));
+    EXPECT_EQ(parsed(merge({{"mesh = 3\nmesh-dims = 1x2x3\n", false}}, {})).machine.dims, (std::array<int, 3>{1, 2, 3}));
+    EXPECT_EQ(parsed(merge({{"mesh-dims = 1x2x3\n", false}, {"mesh = 3\n", false}}, {})).machine.dims,
+              (std::array<int, 3>{3, 3, 3}));
+    EXPECT_NE(thrown<ConfigError>([&] { merge({}, {"--mesh", "2", "--mesh-dims", "1x1x2"}); }).find("--mesh and --mesh-dims"),
+              std::string::npos);
+}
+
 TEST(CommandLine, EachValueOfAFileIsCheckedAloneNamingItsLine) {
     const std::pair<std::string, std::string> bad[] = {
         {"mesh = 2\nmesh = abc\n", "f1:2: mesh = abc: --mesh"},   // was silently ignored
