@@ -84,6 +84,7 @@ void printSummary(const rt::Scene& scene, const rt::RenderResult& r, const std::
 int main(int argc, char** argv) {
     CLI::App app{"rtref: sequential reference ray tracer (NFF scenes or the built-in procedural scene)"};
     rt::SceneOptions sceneOpt;
+    sceneOpt.procedural.concentration = rt::kDefaultConcentration;  // (rtsim's built-in scene)
     std::string out = "rtref.png", stats;
     int depth = 5, threads = 1;
     sceneOpt.addTo(app, true);

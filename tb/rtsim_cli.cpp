@@ -149,9 +149,7 @@ void addParam(CLI::App& app, const Param<S>& p, S& s, const std::string& flag, c
 void RtsimOptions::addTo(CLI::App& app) {
     // A flag given twice (or on the command line and in --config) takes its last value.
     app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
-    // The default scene is the paper's experiment on the default 4 x 4 x 4
-    // mesh: the spheres crowd into the first 1/N = 1/4 of the progress axis.
-    scene.procedural.concentration = 0.25;
+    scene.procedural.concentration = kDefaultConcentration;  // (the paper's experiment on the default mesh)
     scene.addTo(app, false);
     addMachineParams(app);
     addOutputFlags(app);

@@ -390,6 +390,15 @@ TEST_F(Rtsim, DefaultRunPrintsSummaryWithSpeedup) {
         EXPECT_NE(o.out.find(s), std::string::npos) << s << "\n" << o.out;
 }
 
+// Without flags both programs render the built-in scene, the same one
+// (rtref's was f = 1, rtsim's f = 1/4: two images, both "procedural (1000 objects)").
+TEST_F(Rtsim, RtsimAndRtrefWithoutFlagsRenderTheSameImage) {
+    ASSERT_EQ(std::system((std::string(RTREF_EXE) + " -o " + (dir_ / "ref.png").string() + " >/dev/null").c_str()), 0);
+    const Outcome o = run(" --no-baseline -q --image " + (dir_ / "sim.png").string());
+    ASSERT_EQ(o.code, 0) << o.err;
+    EXPECT_EQ(slurp(dir_ / "ref.png"), slurp(dir_ / "sim.png"));
+}
+
 // The speed-up's baseline (the same frame on one node, run by rtsim as a
 // child) against a computation of its own: one node does every operation
 // rtref counts for the frame, at the costs given, and sends its
