@@ -9,13 +9,15 @@
 namespace rt {
 namespace {
 
-// Splits "12.5us" into 12.5 and "us"; false if the number part is malformed.
+// Splits "12.5us" (or "12.5 us", as formatTime writes it and --help shows
+// the defaults) into 12.5 and "us"; false if the number part is malformed.
 bool splitNumber(const std::string& text, double& value, std::string& unit) {
     if (text.empty()) return false;
     const char* begin = text.c_str();
     char* end = nullptr;
     value = std::strtod(begin, &end);
     if (end == begin || !std::isfinite(value)) return false;
+    while (*end == ' ') ++end;
     unit.assign(end);
     return true;
 }

@@ -30,6 +30,12 @@ TEST(Options, NodesTimesRatesAndTheMeshShape) {
     EXPECT_EQ(refusedBy([] { parseTimeOf("--t", "2000s"); }), "--t");
     EXPECT_EQ(parseRateOf("--r", "10Gb/s"), 1.25e9);
     EXPECT_EQ(refusedBy([] { parseRateOf("--r", "0B/s"); }), "--r");
+    // As --help shows the defaults and the summary prints them (formatTime, formatRate): with a space.
+    EXPECT_EQ(parseTimeOf("--t", "10 ns"), 10000u);
+    EXPECT_EQ(parseTimeOf("--t", formatTime(123500)), 123500u);
+    EXPECT_EQ(parseRateOf("--r", "1 GB/s"), 1e9);
+    EXPECT_EQ(refusedBy([] { parseTimeOf("--t", "10 "); }), "--t");
+    EXPECT_EQ(refusedBy([] { parseTimeOf("--t", "10 n s"); }), "--t");
     EXPECT_EQ(parseMeshDims("2x3x16"), (std::array<int, 3>{2, 3, 16}));
     EXPECT_EQ(parseMeshDims("32x32x32"), (std::array<int, 3>{32, 32, 32}));
     EXPECT_EQ(parseMeshDims("64x64x8"), (std::array<int, 3>{64, 64, 8}));  // 32,768 nodes: the most
