@@ -167,6 +167,8 @@ def rerun_lines(path):
 def parse_config(data, origin):
     """config_lines of the bytes of a config text; `origin` names it in errors."""
     out = []
+    if data.startswith(b"\xef\xbb\xbf"):  # (a UTF-8 byte-order mark, as rtsim's reader skips it)
+        data = data[3:]
     for n, raw in enumerate(data.split(b"\n"), 1):
         if b"\0" in raw:
             raise ToolError(f"{origin}:{n}: a NUL byte (not a text file)")

@@ -107,7 +107,8 @@ private:
 
 std::vector<ConfigLine> parseConfig(const std::string& text, const std::string& origin) {
     std::vector<ConfigLine> out;
-    std::istringstream in(text);
+    // (A UTF-8 byte-order mark, as some editors save a file, is no part of its first line.)
+    std::istringstream in(text.rfind("\xEF\xBB\xBF", 0) == 0 ? text.substr(3) : text);
     std::string raw;
     for (int n = 1; std::getline(in, raw); ++n) {
         const std::string where = origin + ":" + std::to_string(n);

@@ -138,6 +138,8 @@ std::pair<std::pair<Cell, int>, LinkParams> parseLinkSet(const std::string& spec
     const std::optional<int> dir = dirNamed(dirText);
     if (!dir) throw OptionError(flag, "direction must be one of +x -x +y -y +z -z, got '" + dirText + "'");
     LinkParams p = base;
+    if (spec.size() == colon + 1)  // (accepted, it changed nothing: a setting lost in a script?)
+        throw OptionError(flag, "no setting after the ':' in '" + spec + "' (latency=T, bandwidth=R, depth=N, ...)");
     std::istringstream items(spec.substr(colon + 1));
     std::string item;
     while (std::getline(items, item, ',')) {

@@ -97,6 +97,11 @@ TEST(ConfigFile, ReadsEachFormOfAValue) {
     EXPECT_EQ(lines[7].values, std::vector<std::string>{"a b c"});  // a bare value keeps its spaces
     EXPECT_EQ(lines[8].values, std::vector<std::string>{"tab\there"});
     EXPECT_EQ(lines[8].where, "c.conf:12");
+    // A UTF-8 byte-order mark before the first line (it was "expected a flag's name").
+    const auto bom = parseConfig("\xEF\xBB\xBFmesh = 2\n", "b.conf");
+    ASSERT_EQ(bom.size(), 1u);
+    EXPECT_EQ(bom[0].name, "mesh");
+    EXPECT_EQ(bom[0].where, "b.conf:1");
 }
 
 TEST(ConfigFile, EachBadLineNamesItsFileAndLine) {

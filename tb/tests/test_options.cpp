@@ -71,7 +71,8 @@ TEST(Options, PerLinkSettings) {
     EXPECT_EQ(parseLinkSet("0,0,0,+z:depth=2", base).second.latency, base.latency);  // the rest as the machine's
     EXPECT_EQ(parseLinkSet("0,0,0,+z:control_depth=0,out_depth=5", base).second.outDepth, 5);  // 0: no lane
     for (const char* bad : {"0,0,0,+z", "0,0,+z:depth=2", "0,0,0,+w:depth=2", "0,0,0,+z:depth=0", "0,0,0,+z:control_depth=-1",
-                            "0,0,0,+z:out_depth=x", "0,0,0,+z:colour=red", "0,0,0,+z:latency=1"})
+                            "0,0,0,+z:out_depth=x", "0,0,0,+z:colour=red", "0,0,0,+z:latency=1",
+                            "0,0,0,+z:"})  // (no setting: it was accepted, and changed nothing)
         EXPECT_EQ(refusedBy([&] { parseLinkSet(bad, base); }), "--link-set") << bad;
 }
 
