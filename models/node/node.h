@@ -91,10 +91,9 @@ public:
     }
 
 private:
-    // Each binding's direction, in binding order. (Here, beside the ports:
-    // with them the node's later fields sit 64 bytes further on, each in
-    // the same place in its cache line as with the sc_vectors, whose step
-    // was 2 % faster at 4x4x4 than with these at the node's tail.)
+    // Each binding's direction, in binding order. (Here, beside the ports,
+    // so that the node's later fields sit a whole cache line further on
+    // than with the sc_vectors, each in the same place in its line.)
     std::vector<uint8_t> outDirs_, inDirs_;
 
 public:
