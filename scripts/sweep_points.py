@@ -31,9 +31,9 @@ DRIVER_OWNS = {"--report": "the driver reads each run's report itself",
 INPUTS = ("--config", "--scene", "--rerun", "--boundaries-from")
 # Flags that set the mesh's shape: --mesh-dims wins over --mesh wherever each is given.
 MESH = ("--mesh", "--mesh-dims")
-# rtsim's flags that may be given more than once (rtsim --help: "repeatable");
+# rtsim's flags that may be given more than once (rtsim --help: "repeatable", "repeat for more");
 # of every other flag the last one given wins.
-REPEATABLE = ("--config", "--node-speed", "--node-cost", "--link-set", "--trace-nodes", "--trace-links")
+REPEATABLE = ("--config", "--node-speed", "--node-cost", "--link-set", "--trace-nodes", "--trace-links", "--light")
 # Flags after which rtsim prints and stops, writing no report.
 NO_RUN = ("--help", "-h", "--version")
 

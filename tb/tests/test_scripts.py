@@ -358,7 +358,8 @@ class BadInput(unittest.TestCase):
                 sweep_points.check_point(args)
             self.assertIn(says, str(e.exception))
         for args in (["--link-set", "0,0,0,+x:latency=1us", "--link-set", "1,0,0,+x:latency=2us", "--mesh", "2"],
-                     ["--node-speed", "0,0,0=2", "--node-speed=1,0,0=3"], ["--mesh", "2", "--mesh=2"]):
+                     ["--node-speed", "0,0,0=2", "--node-speed=1,0,0=3"], ["--mesh", "2", "--mesh=2"],
+                     ["--light=1,2,3", "--light=4,5,6"]):
             sweep_points.check_point(args)  # (no error)
 
     def test_a_failed_tool_leaves_no_folder_it_made(self):
