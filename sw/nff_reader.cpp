@@ -153,13 +153,11 @@ private:
         for (int i = 0; i < 6; ++i)
             if (!viewSeen_[i]) fail(std::string("viewpoint block lacks '") + names[i] + "'");
         // (Each named at the line that made it so: the later of 'from' and 'at', and 'up'.)
-        const Vec3 dir = v.at - v.from;
-        line_ = std::max(viewSeen_[0], viewSeen_[1]);
-        if (glm::length(dir) == 0) fail("'from' and 'at' are the same point");
-        line_ = viewSeen_[2];
-        if (glm::length(v.up) == 0) fail("'up' vector has zero length");
-        if (glm::length(glm::cross(dir, v.up)) <= 1e-12 * glm::length(dir) * glm::length(v.up))
-            fail("'up' is parallel to the viewing direction");
+        const ViewFault f = viewFault(v.from, v.at, v.up);
+        line_ = f == ViewFault::EyeAtTarget ? std::max(viewSeen_[0], viewSeen_[1]) : viewSeen_[2];
+        if (f == ViewFault::EyeAtTarget) fail("'from' and 'at' are the same point");
+        if (f == ViewFault::ZeroUp) fail("'up' vector has zero length");
+        if (f == ViewFault::UpAlongView) fail("'up' is parallel to the viewing direction");
     }
 
     Material material() {

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <glm/geometric.hpp>
+
 namespace rt {
 
 Box Scene::objectBounds() const {
@@ -24,5 +26,13 @@ Box Scene::worldBox() const {
 }
 
 double Scene::rayEpsilon() const { return roundingMargin(worldBox()); }
+
+ViewFault viewFault(const Vec3& from, const Vec3& at, const Vec3& up) {
+    const Vec3 dir = at - from;
+    if (glm::length(dir) == 0) return ViewFault::EyeAtTarget;
+    if (glm::length(up) == 0) return ViewFault::ZeroUp;
+    if (glm::length(glm::cross(dir, up)) <= 1e-12 * glm::length(dir) * glm::length(up)) return ViewFault::UpAlongView;
+    return ViewFault::None;
+}
 
 }  // namespace rt

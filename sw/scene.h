@@ -31,6 +31,12 @@ struct View {
     int width = 512, height = 512;
 };
 
+// What keeps a view from being a camera, the first of: an eye at the point
+// looked at, a zero `up`, an `up` along the view (within 1e-12 of
+// parallel: there is no image plane). None: it is one.
+enum class ViewFault { None, EyeAtTarget, ZeroUp, UpAlongView };
+ViewFault viewFault(const Vec3& from, const Vec3& at, const Vec3& up);
+
 struct Scene {
     std::string name;
     View view;

@@ -5,8 +5,6 @@
 #include <stdexcept>
 #include <string>
 
-#include <glm/geometric.hpp>
-
 #include "analysis/report.h"
 #include "balance/between_frames.h"
 #include "config_echo.h"
@@ -91,17 +89,16 @@ Vec3 eyeOfFrame(const RtsimOptions& o, const Vec3& firstEye, int index) {
 void checkCameraPath(const RtsimOptions& o, const View& view, const Vec3& firstEye) {
     if (o.eyeStep.empty()) return;
     for (int k = 1; k < o.frames; ++k) {
-        const Vec3 eye = eyeOfFrame(o, firstEye, k), dir = view.at - eye;
+        const Vec3 eye = eyeOfFrame(o, firstEye, k);
         const auto bad = [&](const std::string& why) {
             char at[96];
             std::snprintf(at, sizeof at, "(%g, %g, %g)", eye.x, eye.y, eye.z);
             throw std::invalid_argument("--eye-step: frame " + std::to_string(k + 1) + "'s eye " + at + " " + why);
         };
         if (!std::isfinite(eye.x) || !std::isfinite(eye.y) || !std::isfinite(eye.z)) bad("is not finite");
-        if (glm::length(dir) == 0) bad("is the point looked at");
-        // (The NFF reader's tolerance: a view along `up` has no image plane.)
-        if (glm::length(glm::cross(dir, view.up)) <= 1e-12 * glm::length(dir) * glm::length(view.up))
-            bad("looks along the view's up vector");
+        const ViewFault f = viewFault(eye, view.at, view.up);
+        if (f == ViewFault::EyeAtTarget) bad("is the point looked at");
+        if (f != ViewFault::None) bad("looks along the view's up vector");  // (its up is the scene's, not zero)
     }
 }
 
