@@ -14,8 +14,8 @@ from outputs import ToolError  # noqa: E402
 
 def read_csv(path, types=None):
     """A CSV's rows as dicts (its header the keys). With `types` ({column:
-    int or float}), each of those columns must be in the header and hold
-    such a number on every row, converted; and there must be a row:
+    int, float or str}), each of those columns must be in the header and
+    hold such a value on every row, converted; and there must be a row:
     otherwise ToolError naming the file and line (a CSV edited by hand, cut
     short or of another script, read by --plot-only), not a traceback."""
     try:

@@ -29,7 +29,8 @@ DRIVER_OWNS = {"--report": "the driver reads each run's report itself",
 # rtsim's flags that read a file: checked (a regular file) before any run;
 # a FIFO or /dev/zero would block every point.
 INPUTS = ("--config", "--scene", "--rerun", "--boundaries-from")
-# Flags that set the mesh's shape: --mesh-dims wins over --mesh wherever each is given.
+# Flags that set the mesh's shape, one setting: rtsim refuses both on one
+# command line, and the command line's replaces a preset's.
 MESH = ("--mesh", "--mesh-dims")
 # rtsim's flags that may be given more than once (rtsim --help: "repeatable", "repeat for more");
 # of every other flag the last one given wins.
@@ -85,7 +86,7 @@ def check_point(args):
         seen.setdefault(flag, value)
     if all(m in seen for m in MESH):
         raise ToolError(f"--mesh {seen['--mesh']} and --mesh-dims {seen['--mesh-dims']} in a point's rtsim flags: "
-                        "--mesh-dims wins, where the row names the mesh by the experiment's own")
+                        "both set the mesh's shape, which rtsim refuses; give one")
 
 
 _binary_ids = {}

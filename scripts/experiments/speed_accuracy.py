@@ -83,10 +83,8 @@ def main():
         outputs.check_input(csv_path, "--plot-only: the CSV")
     else:
         write_csv(csv_path, sweep(a))
-    rows = read_csv(csv_path, {"N": int, "wall_s": float, "render_time_ns": float, "error": float, "speedup": float})
-    for r in rows:
-        if "mode" not in r or "scene" not in r or "rung" not in r:
-            raise outputs.ToolError(f"{csv_path}: no column mode, scene or rung (not this script's CSV?)")
+    rows = read_csv(csv_path, {"N": int, "wall_s": float, "render_time_ns": float, "error": float, "speedup": float,
+                               "scene": str, "mode": str, "rung": str})
     cases = {(r["scene"], r["N"]) for r in rows}
     exact = {(r["scene"], r["N"]) for r in rows if r["mode"] == "exact"}
     if cases - exact:

@@ -353,7 +353,7 @@ class BadInput(unittest.TestCase):
         for args, says in ((["--size", "16x16", "--mesh", "2", "--size=8x8"], "--size given twice"),
                            (["--vcd", "v.vcd"], "writes a file"), (["--report=r.json"], "writes a file"),
                            (["--mesh", "2", "--help"], "--help in a point's"), (["--version"], "--version in a point's"),
-                           (["--mesh", "4", "--mesh-dims", "2x2x2"], "--mesh-dims wins")):
+                           (["--mesh", "4", "--mesh-dims", "2x2x2"], "both set the mesh's shape, which rtsim refuses")):
             with self.subTest(args=args), self.assertRaises(ToolError) as e:
                 sweep_points.check_point(args)
             self.assertIn(says, str(e.exception))
