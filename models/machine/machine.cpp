@@ -29,8 +29,7 @@ Machine::Machine(sc_core::sc_module_name name, const Scene& scene, const Machine
       cuts_(Lattice::uniform(world_, config.dims)),
       camera_(scene.view, width_, height_),
       shader_(scene, config.maxDepth),
-      units_("fb"),
-      nodes_("node") {
+      units_("fb") {
     cfg_.validate();
     minThickness_ = minThicknessOf(cfg_, world_);
     // Each node's objects (and the median's columns) found by binning, not by
@@ -98,7 +97,7 @@ void Machine::buildNodes() {
     p.quantum = cfg_.quantum;
     p.layerFaces = layerFaces_.get();
     p.runAhead = cfg_.lookaheadQuantum && !cfg_.balance.dynamic();
-    nodes_.init(size_t(cfg_.nodeCount()), [&](const char*, size_t i) {
+    nodes_.init(size_t(cfg_.nodeCount()), [&](size_t i) {
         const Cell c = cellAt(i, cfg_.dims);
         const Box b = nodeBox(c, cuts_, columns_, columnPlanes_);
         return new Node(nodeName(c).c_str(), c, b, bins_->overlapping(b), *nodeParams_, cfg_.processorCostsOf(c), cfg_.speedOf(c));
@@ -184,7 +183,7 @@ void Machine::linkToFrameBuffer(Node& n, std::vector<Picos>& unitLookahead) {
     const LinkParams port = cfg_.fbPortOf(n.cell());
     for (int u = 0; u < k; ++u) {
         links_.push_back(std::make_unique<Link>(k > 1 ? fname + std::to_string(u) : fname, port));
-        n.fb.bind(*links_.back());                   // the node's u-th binding
+        n.fb->bind(*links_.back());                   // the node's u-th binding
         units_[size_t(u)].addNodeLink(*links_.back());  // the unit's input from this node (nodes in order)
         unitLookahead[size_t(u)] = std::min(unitLookahead[size_t(u)], links_.back()->lookahead());
         reportOf_.push_back(linkInfo_.size());

@@ -25,6 +25,7 @@
 #include "framebuffer/frame_buffer.h"
 #include "balance/initial_split.h"
 #include "lattice.h"
+#include "machine/module_array.h"
 #include "node/node.h"
 #include "trace/vcd_stream.h"
 #include "process/watchdog.h"
@@ -186,7 +187,7 @@ private:
     std::unique_ptr<ExpressRoutes> express_;   // --fidelity express (channel/express.h)
     std::unique_ptr<ExpressRelay> relay_;      // and its relay (process/express_relay.h)
     sc_core::sc_vector<FrameBufferUnit> units_;
-    sc_core::sc_vector<Node> nodes_;
+    ModuleArray<Node> nodes_;  // (not an sc_vector: module_array.h)
     std::vector<std::unique_ptr<Link>> links_;
     // Units 1..K-1: [2(u-1)] u -> 0, [2(u-1) + 1] 0 -> u; then (--sample-end credit) 0 -> each column's lowest node.
     std::vector<std::unique_ptr<Link>> unitLinks_;
@@ -211,6 +212,12 @@ private:
 // may run any number of sessions, one after another; one at a time (a new
 // session's context becomes the current one, and frameOrigin is the
 // running session's).
+// A simulation context of its own for what is built next, if the current
+// one has been elaborated (SystemC elaborates once per context; the
+// sessions and the tests' own modules call it). Not a leak: the contexts
+// are kept (machine_session.cpp says why).
+void freshContextIfUsed();
+
 class MachineSession {
 public:
     MachineSession(const Scene& scene, const MachineConfig& config);

@@ -15,6 +15,8 @@ double secondsBetween(std::chrono::steady_clock::time_point a, std::chrono::stea
     return std::chrono::duration<double>(b - a).count();
 }
 
+}  // namespace
+
 // SystemC elaborates once per simulation context: a session after another
 // in the same process (a test's machines, a reference run) gets a context
 // of its own. The one before is kept, not deleted: its modules went with
@@ -32,8 +34,6 @@ void freshContextIfUsed() {
     sc_core::sc_curr_simcontext = fresh;
     sc_core::sc_default_global_context = fresh;
 }
-
-}  // namespace
 
 // The order is the constructor's: the units, the nodes, the links, the
 // watchdog, the waveforms, then the host's job description; the processes

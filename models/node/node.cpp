@@ -12,9 +12,9 @@ namespace rt {
 Node::Node(sc_core::sc_module_name name, const Cell& cell, const Box& box, std::vector<Shape> objects,
            const NodeParams& params, const Costs& costs, double speed)
     : sc_module(name),
-      out("out"),
-      in("in"),
-      fb("fb"),
+      out(std::in_place, "out"),
+      in(std::in_place, "in"),
+      fb(std::in_place, "fb"),
       params_(params),
       cell_(cell),
       margin_(roundingMargin(params.world)),
@@ -66,15 +66,15 @@ void Node::suspend(Resume r) {
 
 void Node::start() {
     std::array<LinkRecvIf*, kDirs> inLinks{};
-    for (int k = 0; k < in.size(); ++k) inLinks[inDirs_[size_t(k)]] = in[k];
+    for (int k = 0; k < in->size(); ++k) inLinks[inDirs_[size_t(k)]] = (*in)[k];
     input_.listen(inLinks);
     expressSelf_ = nullptr;  // (a frame without express, after one with it)
     if (params_.express) {
         ExpressNode& self = params_.express->node(params_.express->indexOf(cell_));
         expressSelf_ = self.empty ? &self : nullptr;
     }
-    for (int k = 0; k < out.size(); ++k) outLinks_[outDirs_[size_t(k)]] = &asLink(*out[k]);
-    for (int u = 0; u < fb.size(); ++u) fbLinks_.push_back(&asLink(*fb[u]));
+    for (int k = 0; k < out->size(); ++k) outLinks_[outDirs_[size_t(k)]] = &asLink(*(*out)[k]);
+    for (int u = 0; u < fb->size(); ++u) fbLinks_.push_back(&asLink(*(*fb)[u]));
     now_ = kernel();
     const BalanceConfig& bal = params_.balance;
     if (bal.dynamic()) {

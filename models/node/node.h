@@ -79,14 +79,15 @@ public:
     // ports each: 32,768 nodes made 393,216 port objects, each named and
     // registered with SystemC when the machine was built and searched for
     // when it was taken down (doc/history.md, "At 32x32x32").
-    sc_core::sc_port<LinkSendIf, 0, sc_core::SC_ZERO_OR_MORE_BOUND> out;
-    sc_core::sc_port<LinkRecvIf, 0, sc_core::SC_ZERO_OR_MORE_BOUND> in;
+    // (Each held in an optional only so that releasePorts can end it.)
+    std::optional<sc_core::sc_port<LinkSendIf, 0, sc_core::SC_ZERO_OR_MORE_BOUND>> out;
+    std::optional<sc_core::sc_port<LinkRecvIf, 0, sc_core::SC_ZERO_OR_MORE_BOUND>> in;
     void bindOut(int dir, LinkSendIf& link) {
-        out.bind(link);
+        out->bind(link);
         outDirs_.push_back(uint8_t(dir));
     }
     void bindIn(int dir, LinkRecvIf& link) {
-        in.bind(link);
+        in->bind(link);
         inDirs_.push_back(uint8_t(dir));
     }
 
@@ -99,7 +100,16 @@ private:
 public:
     // Bound once per frame-buffer unit, in unit order (a multiport: one
     // object, not one per unit, since a big mesh has tens of thousands).
-    sc_core::sc_port<LinkSendIf, 0> fb;
+    std::optional<sc_core::sc_port<LinkSendIf, 0>> fb;
+
+    // The run is over and the node is about to be deleted: its ports leave
+    // SystemC now, before the nodes do (ModuleArray::clear: SystemC finds a
+    // port from the back of its registry, a module from the front of its).
+    void releasePorts() {
+        fb.reset();
+        in.reset();
+        out.reset();
+    }
 
     // Before the start: the host's job description (its primary rays, and
     // the credit it keeps of its share), its signals in the VCD, the

@@ -1,6 +1,7 @@
 // The machine in one process per test: image identity against the reference
 // renderer for N = 1..4 under several link and cost settings (depth 1
 // included), conservation, and exact time accounting on one node.
+#include <optional>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -221,4 +222,44 @@ TEST(TimeKeeper, SeesOnlyWhatNoMessageStillToBeSentCanReach) {
     EXPECT_TRUE(q.sees(soonest - 1));
     EXPECT_FALSE(q.sees(soonest));  // a message not yet sent may still arrive then
     EXPECT_FALSE(TimeKeeper(0).sees(0));  // lockstep: nothing ahead of the kernel is seen
+}
+
+// ModuleArray (machine/module_array.h): the machine's nodes as an sc_vector
+// held them, taken down in an order SystemC searches its lists fast in.
+// Every module it made is deleted, and with it every trace in SystemC's
+// hierarchy; iteration and indexing read them in the order made.
+namespace {
+struct Probe : sc_core::sc_module {
+    static int alive;
+    std::optional<sc_core::sc_port<LinkSendIf, 0, sc_core::SC_ZERO_OR_MORE_BOUND>> out;
+    explicit Probe(sc_core::sc_module_name n) : sc_module(n), out(std::in_place, "out") { ++alive; }
+    ~Probe() override { --alive; }
+    void releasePorts() { out.reset(); }
+};
+int Probe::alive = 0;
+
+struct ProbeParent : sc_core::sc_module {
+    ModuleArray<Probe> kids;
+    ProbeParent(sc_core::sc_module_name n, size_t count) : sc_module(n) {
+        kids.init(count, [](size_t i) { return new Probe(("p" + std::to_string(i)).c_str()); });
+    }
+};
+}  // namespace
+
+TEST(ModuleArray, DeletesEveryModuleItMadeAndItsTraceInSystemC) {
+    freshContextIfUsed();
+    for (size_t count : {0u, 1u, 5u, 9u, 300u}) {  // fewer than its lead, as many, more
+        auto parent = std::make_unique<ProbeParent>(("parent" + std::to_string(count)).c_str(), count);
+        ASSERT_EQ(Probe::alive, int(count));
+        ASSERT_EQ(parent->kids.size(), count);
+        size_t i = 0;
+        for (const Probe& p : parent->kids) EXPECT_EQ(p.basename(), "p" + std::to_string(i++)) << count;
+        if (count > 3) EXPECT_EQ(parent->kids[3].basename(), std::string("p3"));
+        EXPECT_EQ(parent->get_child_objects().size(), count);
+        parent->kids.clear();
+        EXPECT_EQ(Probe::alive, 0) << count;
+        EXPECT_TRUE(parent->get_child_objects().empty()) << count;
+        EXPECT_EQ(sc_core::sc_find_object(("parent" + std::to_string(count) + ".p0").c_str()), nullptr) << count;
+        EXPECT_EQ(parent->kids.size(), 0u);
+    }
 }
