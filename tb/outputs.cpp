@@ -2,7 +2,8 @@
 
 #include <cstdio>
 #include <fstream>
-#include <iomanip>
+#include <algorithm>
+#include <memory>
 #include <stdexcept>
 
 #include "base/progress.h"
@@ -17,6 +18,41 @@ const std::vector<std::string> kMapFormats = {".png", ".svg", ".pdf"};
 
 // --map's format, from its name (checked before the run): png, svg or pdf.
 std::string mapFormat(const std::string& path) { return checkExtension("--map", path, kMapFormats).substr(1); }
+
+// nlohmann's serializer, writing through a buffer: streamed to an
+// ostream it wrote a character or a token at a time, each a call through
+// the stream's sentry (at 32x32x32, a 70 MB report). The same bytes.
+class BufferedJsonOut final : public nlohmann::detail::output_adapter_protocol<char> {
+public:
+    explicit BufferedJsonOut(std::ostream& o) : o_(o) { buf_.reserve(kChunk); }
+    ~BufferedJsonOut() override { flush(); }
+    void write_character(char c) override {
+        buf_.push_back(c);
+        if (buf_.size() >= kChunk) flush();
+    }
+    void write_characters(const char* s, std::size_t n) override {
+        buf_.append(s, n);
+        if (buf_.size() >= kChunk) flush();
+    }
+
+private:
+    void flush() {
+        o_.write(buf_.data(), std::streamsize(buf_.size()));
+        buf_.clear();
+    }
+    static constexpr std::size_t kChunk = 1 << 16;
+    std::ostream& o_;
+    std::string buf_;
+};
+
+// As `o << std::setw(indent) << j` writes it (indent < 0: on one line).
+void writeJson(std::ostream& o, const nlohmann::json& j, int indent) {
+    {
+        nlohmann::detail::serializer<nlohmann::json> s(std::make_shared<BufferedJsonOut>(o), ' ');
+        s.dump(j, indent >= 0, false, unsigned(std::max(indent, 0)));
+    }  // (the buffer flushed)
+    o << '\n';
+}
 
 // --map draws with Debian's Python and matplotlib: there before the run,
 // not found missing after it.
@@ -65,7 +101,7 @@ void RunOutputs::report(const nlohmann::json& report) {
     // was half of its size.
     const bool indent = !o_.report.empty() && o_.fullReport();
     if (!o_.report.empty())
-        open(report_, o_.report).write([&](std::ostream& f) { f << std::setw(indent ? 2 : -1) << report << '\n'; });
+        open(report_, o_.report).write([&](std::ostream& f) { writeJson(f, report, indent ? 2 : -1); });
 }
 
 void RunOutputs::gtkw(const std::string& text) {
