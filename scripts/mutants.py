@@ -204,7 +204,7 @@ MUTANTS = [
      "    carried_.reset();\n", "",
      "a link's lanes and figures carried into the next frame of a sequence"),
     ("link-entries-kept-across-frames", "models/machine/machine_session.cpp",
-     "    for (LinkReport& e : linkInfo_) e.stats = {};", "",
+     "    for (LinkReport& e : linkInfo_) e.figures.reset();", "",
      "the links' figures in the report (waits, messages taken, windows) carried into the next frame of a sequence"),
     ("link-slot-wait-to-start", "models/channel/link.cpp",
      "f.slotWait += std::min(m.ready, upTo) - m.sent;", "f.slotWait += std::min(m.start, upTo) - m.sent;",

@@ -284,9 +284,9 @@ int finish(const rt::CommandLine& cl, const rt::RtsimOptions& o, const rt::Scene
 
 // Every output is written, committed and flushed: the process ends here,
 // rather than freeing its results, report and machine piece by piece, which
-// the system takes back at once (a 32x32x32 run's: 0.27 s; doc/history.md,
-// "At 32x32x32"). Built with AddressSanitizer it returns, so that the leak
-// check still sees everything freed.
+// the system takes back at once (what that saves at 32x32x32:
+// doc/history.md, "At 32x32x32"). Built with AddressSanitizer it returns,
+// so that the leak check still sees everything freed.
 void endWithoutFreeing(int code) {
 #ifndef __SANITIZE_ADDRESS__
     std::cout.flush();

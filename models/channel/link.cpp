@@ -48,7 +48,10 @@ const Link::Lane Link::kNoLane{};
 
 Link::Carried& Link::startCarrying() {
     carried_ = std::make_unique<Carried>();
-    if (!flow_) {  // no entry (flowInto): its own
+    if (entry_) {  // its entry's figures (flowInto), made by the first wire to carry
+        if (!*entry_) *entry_ = std::make_unique<LinkStats>();
+        flow_ = entry_->get();
+    } else {  // no entry: its own
         carried_->own = std::make_unique<LinkFlow>();
         flow_ = carried_->own.get();
     }
@@ -67,7 +70,7 @@ void Link::restart() {
     listener_ = nullptr;  // (the receiver listens again at its start)
     listenerPort_ = 0;
     trace_ = {};
-    if (carried_ && carried_->own) flow_ = nullptr;  // (an entry stays: its owner empties it, Machine::nextFrame)
+    flow_ = nullptr;  // (its entry's owner empties it, Machine::nextFrame; the next frame's first message finds it)
     carried_.reset();
     quiet();
 }

@@ -149,13 +149,17 @@ public:
     // `ready`, in the saturation figures (LinkFlow::windows, saturated).
     void countSaturation(Picos ready, Picos start, Picos end);
     // Where its waits, latencies, high-water marks and busy windows
-    // (LinkFlow) go: into `entry`, its entry in the run's report (Machine),
-    // which the channels side by side of a port share (a node's frame-buffer
-    // port has one per unit): the same figures as each channel's merged, as
-    // the report did. Without one, a link makes its own at its first message.
+    // (LinkFlow) go: into the figures of `entry`, its entry in the run's
+    // report (Machine), which the channels side by side of a port share (a
+    // node's frame-buffer port has one per unit): the same figures as each
+    // channel's merged, as the report did. The first of them to carry a
+    // message makes the figures, so an entry whose wires carry nothing has
+    // none. Without an entry, a link makes its own at its first message.
     // So a link that carries keeps only its lanes and its counts by type
     // (512 bytes, where it kept 1,056 and the report a copy).
-    void flowInto(LinkFlow* entry) { flow_ = entry; }
+    void flowInto(std::unique_ptr<LinkStats>* entry) { entry_ = entry; }
+    // Whether it has carried a message since it was built or restarted.
+    bool hasCarried() const { return carried_ != nullptr; }
     void setTrace(const LinkTrace& t) { trace_ = t; }
     // Whether changes it records later may be earlier than the kernel's time
     // (with a control lane: Link::traceStart).
@@ -336,7 +340,8 @@ private:
     // parameters are shared with the links that have the same, sharedParams.)
     const LinkParams* params_;
     std::unique_ptr<Carried> carried_;
-    LinkFlow* flow_ = nullptr;  // its entry's (flowInto), or once it carries without one, its own
+    LinkFlow* flow_ = nullptr;  // once it carries: its entry's (flowInto), or without one its own
+    std::unique_ptr<LinkStats>* entry_ = nullptr;  // its entry's figures, made by the first of its wires to carry
     mutable Picos lastTransfer_ = 0;   // transferTime's last message's time on the wire
     Picos owedWire_ = 0;     // every message sent: its time on the wire (occupied())
     Picos wireFree_ = 0;     // the end of the last transmission scheduled

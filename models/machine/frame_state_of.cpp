@@ -65,8 +65,8 @@ FrameState frameStateOf(const MachineResult& r, const MachineConfig& cfg) {
     }
     for (const LinkReport& l : r.links)
         if (l.dir >= 0) {  // (the frame buffer's ports aside)
-            f.rayWireNs += ns(l.stats.wire[size_t(MsgType::Ray)]);
-            f.busiestLinkWireNs = std::max(f.busiestLinkWireNs, ns(l.stats.wireBusy()));
+            f.rayWireNs += ns(l.stats().wire[size_t(MsgType::Ray)]);
+            f.busiestLinkWireNs = std::max(f.busiestLinkWireNs, ns(l.stats().wireBusy()));
         }
     return f;
 }

@@ -11,6 +11,8 @@
 
 namespace rt {
 
+const LinkStats LinkReport::kNoFigures{};
+
 namespace {
 
 int imageWidth(const Scene& s, const MachineConfig& c) { return c.width ? c.width : s.view.width; }
@@ -136,7 +138,7 @@ void Machine::buildLinks() {
     buildExpress();
     if (cfg_.lookaheadQuantum && cfg_.fbLate > 0 && cfg_.vcdPath.empty() && cfg_.fbPort.outDepth == 0)
         for (int u = 1; u < cfg_.fbUnits; ++u) units_[size_t(u)].setLate(cfg_.fbLate);
-    for (size_t i = 0; i < links_.size(); ++i) links_[i]->flowInto(&linkInfo_[reportOf_[i]].stats);  // (linkInfo_ grows no more)
+    for (size_t i = 0; i < links_.size(); ++i) links_[i]->flowInto(&linkInfo_[reportOf_[i]].figures);  // (linkInfo_ grows no more)
     startWatchdog();
     for (auto* links : {&links_, &unitLinks_})
         for (auto& l : *links) {
@@ -172,7 +174,7 @@ void Machine::linkNeighbours(Node& n, std::vector<Picos>& nodeLookahead) {
         Picos& sender = nodeLookahead[nodeIndex(c)];
         if (p.controlDepth > 0) sender = std::min(sender, p.latency);
         reportOf_.push_back(linkInfo_.size());
-        linkInfo_.push_back({lname, c, d, links_.back()->params(), 1, {}});
+        linkInfo_.emplace_back(lname, c, d, links_.back()->params(), 1);
     }
 }
 
@@ -188,7 +190,7 @@ void Machine::linkToFrameBuffer(Node& n, std::vector<Picos>& unitLookahead) {
         unitLookahead[size_t(u)] = std::min(unitLookahead[size_t(u)], links_.back()->lookahead());
         reportOf_.push_back(linkInfo_.size());
     }
-    linkInfo_.push_back({fname, n.cell(), -1, port, k, {}});
+    linkInfo_.emplace_back(fname, n.cell(), -1, port, k);
 }
 
 // Unit 0 and each other unit: a port each way, for the end-of-frame check.
@@ -386,7 +388,7 @@ MachineResult Machine::collect(double wallSeconds, bool last) {
     // counts by type are added. The last frame's links are emptied as they
     // are read: their lanes and rings make room for the rest of the report.
     for (size_t i = 0; i < links_.size(); ++i) {
-        links_[i]->addCountsTo(r.links[reportOf_[i]].stats);
+        if (links_[i]->hasCarried()) links_[i]->addCountsTo(r.links[reportOf_[i]].fill());
         if (last) links_[i]->restart();
     }
     r.image = assembleImage(units_, width_, height_);

@@ -41,7 +41,35 @@ struct LinkReport {
     int dir;  // -1: the node's frame-buffer port
     LinkParams params;
     int channels = 1;  // wires merged into it: a frame-buffer port has one per unit
-    LinkStats stats;
+    // Its figures, made when one of its wires first carries (Link::flowInto):
+    // most links of a large mesh carry nothing in a frame (what that saves:
+    // doc/history.md, "At 32x32x32"). None reads as all zero.
+    std::unique_ptr<LinkStats> figures;
+    const LinkStats& stats() const { return figures ? *figures : kNoFigures; }
+    LinkStats& fill() {
+        if (!figures) figures = std::make_unique<LinkStats>();
+        return *figures;
+    }
+
+    LinkReport(std::string name_, Cell from_, int dir_, LinkParams params_, int channels_)
+        : name(std::move(name_)), from(from_), dir(dir_), params(params_), channels(channels_) {}
+    LinkReport(const LinkReport& o) : name(o.name), from(o.from), dir(o.dir), params(o.params), channels(o.channels) {
+        if (o.figures) figures = std::make_unique<LinkStats>(*o.figures);
+    }
+    LinkReport(LinkReport&&) = default;
+    LinkReport& operator=(LinkReport o) {
+        name = std::move(o.name);
+        from = o.from;
+        dir = o.dir;
+        params = o.params;
+        channels = o.channels;
+        figures = std::move(o.figures);
+        return *this;
+    }
+    ~LinkReport() = default;
+
+private:
+    static const LinkStats kNoFigures;
 };
 
 struct FrameBufferUnitReport {

@@ -59,7 +59,7 @@ void Machine::nextFrame(const View& view, const MachineConfig& next, int frame) 
     aimAtTargets();
     for (auto* links : {&links_, &unitLinks_})
         for (auto& l : *links) l->restart();
-    for (LinkReport& e : linkInfo_) e.stats = {};  // (the last frame's figures went to its report)
+    for (LinkReport& e : linkInfo_) e.figures.reset();  // (the last frame's figures went to its report)
     if (relay_) {  // (the same machine: its boxes are where they were)
         express_->restart();
         spawned_.push_back(relay_->restart(frame));

@@ -224,7 +224,7 @@ TEST_P(EndOfFrameClosedForm, PortBoundFrameWithDepthOnePorts) {
     // Back-pressure: messages waited in the node's backlog for a slot.
     size_t backlog = 0;
     for (const LinkReport& l : e.result.links)
-        if (l.dir < 0) backlog = std::max(backlog, l.stats.backlogHighWater);
+        if (l.dir < 0) backlog = std::max(backlog, l.stats().backlogHighWater);
     EXPECT_GT(backlog, 1u);
 }
 

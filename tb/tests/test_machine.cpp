@@ -100,7 +100,7 @@ TEST_P(ImageIdentity, MatchesReferenceAndConserves) {
         EXPECT_EQ(r.objectsPerNode[i], objectsOverlapping(s.objects, r.boxes[i], roundingMargin(s.worldBox())).size());
     if (k.n > 1) {
         uint64_t rayMessages = 0;
-        for (const LinkReport& l : r.links) rayMessages += l.stats.messages[int(MsgType::Ray)];
+        for (const LinkReport& l : r.links) rayMessages += l.stats().messages[int(MsgType::Ray)];
         EXPECT_GT(rayMessages, 0u);
     }
 }
@@ -164,8 +164,8 @@ TEST(Timing, OneNodeTimeIsCountsTimesCosts) {
     EXPECT_EQ(n.wait, r.renderTime - n.busy);  // only the final stretch, after its last step
     uint64_t creditMsgs = 0, creditBytes = 0;
     for (const LinkReport& l : r.links) {
-        creditMsgs += l.stats.messages[int(MsgType::Credit)];
-        creditBytes += l.stats.bytes[int(MsgType::Credit)];
+        creditMsgs += l.stats().messages[int(MsgType::Credit)];
+        creditBytes += l.stats().bytes[int(MsgType::Credit)];
     }
     ASSERT_EQ(creditMsgs, 1u);
     EXPECT_EQ(r.renderTime, n.busy + 500000 + creditBytes);
@@ -254,7 +254,9 @@ TEST(ModuleArray, DeletesEveryModuleItMadeAndItsTraceInSystemC) {
         ASSERT_EQ(parent->kids.size(), count);
         size_t i = 0;
         for (const Probe& p : parent->kids) EXPECT_EQ(p.basename(), "p" + std::to_string(i++)) << count;
-        if (count > 3) EXPECT_EQ(parent->kids[3].basename(), std::string("p3"));
+        if (count > 3) {
+            EXPECT_EQ(parent->kids[3].basename(), std::string("p3"));
+        }
         EXPECT_EQ(parent->get_child_objects().size(), count);
         parent->kids.clear();
         EXPECT_EQ(Probe::alive, 0) << count;

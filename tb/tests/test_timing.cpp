@@ -553,9 +553,9 @@ TEST_P(RayAcrossEmptyNodes, EveryHopCostsWhatItShould) {
     uint64_t creditBytes = 0;
     for (const LinkReport& l : r.links)
         if (l.dir < 0 && l.from == r.cells.back()) {
-            EXPECT_EQ(l.stats.messages[int(MsgType::Contributions)], 1u);
-            EXPECT_EQ(l.stats.messages[int(MsgType::Credit)], 1u);
-            creditBytes = l.stats.bytes[int(MsgType::Credit)];
+            EXPECT_EQ(l.stats().messages[int(MsgType::Contributions)], 1u);
+            EXPECT_EQ(l.stats().messages[int(MsgType::Credit)], 1u);
+            creditBytes = l.stats().bytes[int(MsgType::Credit)];
         }
     ASSERT_GT(creditBytes, 0u);
     // Each +x link carried the one ray: its wire busy one ray's time, and
@@ -568,12 +568,12 @@ TEST_P(RayAcrossEmptyNodes, EveryHopCostsWhatItShould) {
             const Picos T = engine(i) + wire(kHeader + kRay, first ? 2e8 : 1e9), L = (first ? 1300000 : 500000) + taking(i + 1);
             // (Express: the relay takes the ray past the empty nodes; only the last one's link delivers it.)
             const bool delivers = !skips || i == n - 2;
-            EXPECT_EQ(l.stats.wireBusy(), T) << l.name;
-            EXPECT_EQ(l.stats.latency.count(), delivers ? 1u : 0u) << l.name;
+            EXPECT_EQ(l.stats().wireBusy(), T) << l.name;
+            EXPECT_EQ(l.stats().latency.count(), delivers ? 1u : 0u) << l.name;
             if (delivers) {
-                EXPECT_EQ(l.stats.latency.max(), uint64_t(T + L)) << l.name;
+                EXPECT_EQ(l.stats().latency.max(), uint64_t(T + L)) << l.name;
             }
-            EXPECT_EQ(l.stats.slotWait + l.stats.wireWait, 0u) << l.name;
+            EXPECT_EQ(l.stats().slotWait + l.stats().wireWait, 0u) << l.name;
             ++hops;
         }
     EXPECT_EQ(hops, n - 1);
