@@ -128,6 +128,7 @@ void Machine::buildLinks() {
     links_.reserve(most);
     reportOf_.reserve(most);
     linkInfo_.reserve(nodes_.size() * size_t(kDirs + 1));
+    meshLinks_.assign(nodes_.size() * kDirs, nullptr);
     for (Node& n : nodes_) {
         linkNeighbours(n, nodeLookahead);
         linkToFrameBuffer(n, unitLookahead);
@@ -161,7 +162,7 @@ void Machine::linkNeighbours(Node& n, std::vector<Picos>& nodeLookahead) {
         if (cfg_.balance.sampleCredit && p.controlDepth == 0) p.controlDepth = p.depth;
         links_.push_back(std::make_unique<Link>(lname, p, smallestMeshMessage(cfg_.balance.dynamic())));
         n.bindOut(d, *links_.back());
-        meshLinks_[{nodeIndex(c), d}] = links_.back().get();
+        meshLinks_[nodeIndex(c) * kDirs + size_t(d)] = links_.back().get();
         nodes_[nodeIndex(m)].bindIn(opposite(d), *links_.back());
         Picos& receiver = nodeLookahead[nodeIndex(m)];
         receiver = std::min(receiver, links_.back()->lookahead());

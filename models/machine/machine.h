@@ -219,7 +219,8 @@ private:
     std::vector<std::unique_ptr<Link>> links_;
     // Units 1..K-1: [2(u-1)] u -> 0, [2(u-1) + 1] 0 -> u; then (--sample-end credit) 0 -> each column's lowest node.
     std::vector<std::unique_ptr<Link>> unitLinks_;
-    std::map<std::pair<size_t, int>, Link*> meshLinks_;  // (node, direction) -> its outgoing link
+    std::vector<Link*> meshLinks_;  // [node * kDirs + direction]: its outgoing link (none at a mesh face)
+    Link* meshLink(size_t node, int dir) const { return meshLinks_[node * kDirs + size_t(dir)]; }
     std::vector<LinkReport> linkInfo_;  // the report's links (their figures but counts by type: Link::flowInto)
     std::vector<size_t> reportOf_;      // per link in links_: its entry in linkInfo_
     uint64_t primaryMisses_ = 0;

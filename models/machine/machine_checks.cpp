@@ -60,8 +60,8 @@ void Machine::checkConservation() const {
             throw std::runtime_error(std::string("guard: box thinner than the minimum at ") + n.name());
         const Cell up = neighbour(n.cell(), dirOf(ax, +1));
         if (!inMesh(up, cfg_.dims) || nodes_[nodeIndex(up)].region().box().lo[ax] == b.hi[ax]) continue;
-        const Link* l1 = meshLinks_.at({nodeIndex(n.cell()), dirOf(ax, +1)});
-        const Link* l2 = meshLinks_.at({nodeIndex(up), dirOf(ax, -1)});
+        const Link* l1 = meshLink(nodeIndex(n.cell()), dirOf(ax, +1));
+        const Link* l2 = meshLink(nodeIndex(up), dirOf(ax, -1));
         if (!l1->inFlight(MsgType::Slide) && !l2->inFlight(MsgType::Slide))
             throw std::runtime_error(std::string("ownership: a gap or overlap above ") + n.name());
     }

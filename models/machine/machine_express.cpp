@@ -18,13 +18,13 @@ void Machine::buildExpress() {
         const CostModel costs(cfg_.processorCostsOf(n.cell()), cfg_.speedOf(n.cell()), 0);
         e.pass = costs.step(Counters{}, Counters{}, 1, 1, 0);
         for (int d = 0; d < kDirs; ++d) {
-            auto out = meshLinks_.find({i, d});
-            if (out == meshLinks_.end()) continue;
+            Link* out = meshLink(i, d);
+            if (!out) continue;
             ExpressLink& l = e.out[size_t(d)];
-            l.link = out->second;
-            l.wire = wireTime(out->second->params(), oneRay);
-            l.latency = out->second->params().latency;
-            l.depth = uint32_t(out->second->params().depth);
+            l.link = out;
+            l.wire = wireTime(out->params(), oneRay);
+            l.latency = out->params().latency;
+            l.depth = uint32_t(out->params().depth);
         }
     }
     express_ = std::make_unique<ExpressRoutes>(cfg_.dims, std::move(info));

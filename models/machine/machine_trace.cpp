@@ -50,14 +50,14 @@ void Machine::traceNodes(std::vector<NodeTrace>& traces) {
         for (int d = 0; d <= kDirs; ++d) {
             if (!links.count({i, d})) continue;
             const bool fb = d == kDirs;
-            if (!fb && !meshLinks_.count({i, d})) continue;  // a mesh face
+            if (!fb && !meshLink(i, d)) continue;  // a mesh face
             const std::string scope = name + "." + (fb ? std::string("fb") : linkSuffix(d));
             LinkTrace lt{&v, v.declare(scope, "wire", fb ? K::Integer : K::Bit), v.declare(scope, "buffered", K::Integer),
                          v.declare(scope, "backlog", K::Integer)};
             if (fb) {
                 fbTraces[i] = lt;
             } else {
-                Link* l = meshLinks_.at({i, d});
+                Link* l = meshLink(i, d);
                 l->setTrace(lt);
                 tracedLinks_.push_back(l);
             }
