@@ -105,9 +105,10 @@ def check_settings(sets, base, frames, speedup):
         if flag == "--frames" and frames is not None:
             raise ToolError(f"{where}: --frames, with the driver's --frames {frames}: give one "
                             "(the driver's, before --, or rtsim's)")
-        if flag == "--mesh-dims" and "--mesh" in swept:
-            raise ToolError(f"--set mesh: --mesh-dims in {where}, which wins over --mesh: every point "
-                            "would run the same mesh (sweep mesh-dims instead)")
+        # (A preset's mesh shape, either spelling, is replaced by the point's
+        # --mesh or --mesh-dims, as rtsim's command line replaces it.)
+        if flag == "--mesh-dims" and "--mesh" in swept and kind == "base":
+            raise ToolError("--set mesh: --mesh-dims in the rtsim flags too: give the mesh's shape once")
         if flag == "--mesh" and "--mesh-dims" in swept and kind == "base":
             raise ToolError("--set mesh-dims: --mesh in the rtsim flags too: give the mesh's shape once")
         if kind == "preset" and from_swept and (flag in swept or flag in given):
@@ -192,7 +193,7 @@ def runs_of(args, frames, gain, speedup):
         one = args
         for flag in MESH + PER_NODE:
             one = without(one, flag)
-        # --mesh-dims, not --mesh 1: a preset's mesh-dims would win over --mesh.
+        # (replacing a preset's mesh shape, as the command line does)
         out["one"] = one + ["--mesh-dims", "1x1x1"]
     return out
 

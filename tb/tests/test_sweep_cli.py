@@ -243,8 +243,7 @@ class SweepEdges(unittest.TestCase):
             (["--set", "a=1,2", "--", "--config", "vcd.conf"], "vcd.conf:2: --vcd writes a file"),
             (["--set", "a=1,2", "--", "--config=map.conf"], "map.conf:1: --map writes a file"),
             (["--set", "config=dims.conf,vcd.conf"], "vcd.conf:2: --vcd writes a file"),
-            (["--set", "mesh=1,2", "--", "--mesh-dims", "2x2x2"], "--mesh-dims in the rtsim flags, which wins"),
-            (["--set", "mesh=1,2", "--", "--config", "dims.conf"], "--mesh-dims in dims.conf:1, which wins"),
+            (["--set", "mesh=1,2", "--", "--mesh-dims", "2x2x2"], "--mesh-dims in the rtsim flags too"),
             (["--set", "mesh-dims=1x1x2,2x2x2", "--", "--mesh", "2"], "give the mesh's shape once"),
             (["--set", "frames=1,2", "--frames", "2"], "--set frames: --frames, with the driver's --frames 2"),
             (["--set", "a=1,2", "--frames", "2", "--", "--frames", "3"], "the rtsim flags: --frames, with the driver's"),
@@ -252,7 +251,6 @@ class SweepEdges(unittest.TestCase):
             (["--set", "a=1,2", "--speedup", "--", "--config", "nodes.conf"], "nodes.conf:1: node-speed sets particular"),
             (["--set", "config=dims.conf,frames.conf", "--", "--mesh-dims", "2x2x2"],
              "dims.conf:1: mesh-dims in a swept preset"),
-            (["--set", "mesh=1,2", "--", "--rerun", "report.json"], "--mesh-dims in report.json: rerun.flags:2"),
             (["--set", "a=1,2", "--", "--rerun", "dims.conf"], "--rerun dims.conf: not an rtsim report"),
             (["--set", "a=1,2", "--", "--config", "latin1.conf"], "latin1.conf:2: not UTF-8"),
             (["--set", "a=1,2", "--", "--config", fifo], "a FIFO, not a file"),
@@ -503,6 +501,26 @@ class SweepEdges(unittest.TestCase):
             with open(rep) as f:
                 self.assertEqual(float(r["time_one_ns"]), json.load(f)["render_time_ns"])
             self.assertGreater(float(r["speedup"]), 1.5)
+
+    def test_a_swept_mesh_replaces_a_presets_mesh_shape(self):
+        # rtsim's command line replaces a preset's mesh shape (either
+        # spelling): each point runs its own --mesh, not the preset's 2x2x2.
+        preset = os.path.join(self.work, "dims.conf")
+        with open(preset, "w") as f:
+            f.write("mesh-dims = 2x2x2\n")
+        out = os.path.join(self.dir, "s.csv")
+        small = ["--spheres", "60", "--radius", "0.05", "--size", "24x24", "--seed", "3"]
+        p = self.sweep("s", "--set", "mesh=1,3", "--", *small, "--config", preset, binary=RTSIM, csv_path=out)
+        self.assertEqual(p.returncode, 0, p.stderr)
+        rep = os.path.join(self.dir, "direct.json")
+        times = set()
+        for r in self.rows(out):
+            subprocess.run([RTSIM, *small, "--mesh", r["mesh"], "--no-baseline", "-q", "--image", "", "--report", rep],
+                           check=True)
+            with open(rep) as f:
+                self.assertEqual(float(r["render_time_ns"]), json.load(f)["render_time_ns"], r["mesh"])
+            times.add(r["render_time_ns"])
+        self.assertEqual(len(times), 2)  # (two meshes, two times: not the preset's mesh twice)
 
     def test_experiment_flags_get_one_line(self):
         script = os.path.join(SCRIPTS, "experiments", "speed_accuracy.py")
