@@ -1,8 +1,8 @@
 #include "outputs.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
-#include <algorithm>
 #include <memory>
 #include <stdexcept>
 

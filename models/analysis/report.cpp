@@ -178,6 +178,7 @@ nlohmann::json nodeJson(const MachineResult& r, const NodeFrameState& st, size_t
 // Per link: messages, bytes and wire time by type, utilisation, waits and
 // (--link-stats full) latency percentiles and high-water marks.
 nlohmann::json linkJsonOf(const LinkReport& l, Picos renderTime, bool distributions, bool full) {
+    const LinkStats& st = l.stats();
     nlohmann::json lj;
     lj["name"] = l.name;
     lj["from"] = cellJson(l.from);
@@ -185,28 +186,28 @@ nlohmann::json linkJsonOf(const LinkReport& l, Picos renderTime, bool distributi
     if (full) lj["params"] = linkJson(l.params);
     for (int t = 0; full && t < kMsgTypes; ++t) {
         const char* name = msgTypeName(MsgType(t));
-        lj["messages"][name] = l.stats().messages[size_t(t)];
-        lj["bytes"][name] = l.stats().bytes[size_t(t)];
-        lj["wire_ns"][name] = ns(l.stats().wire[size_t(t)]);
+        lj["messages"][name] = st.messages[size_t(t)];
+        lj["bytes"][name] = st.bytes[size_t(t)];
+        lj["wire_ns"][name] = ns(st.wire[size_t(t)]);
     }
     // The wire's busy time over the frame (a port's channels are wires side
     // by side: their busy time over the frame's as many).
-    const Picos busy = l.stats().wireBusy();
+    const Picos busy = st.wireBusy();
     lj["wire_busy_ns"] = ns(busy);
     lj["channels"] = l.channels;
     lj["utilisation"] = renderTime ? double(busy) / (double(renderTime) * l.channels) : 0.0;
-    lj["saturated_ns"] = ns(l.stats().saturated);  // busy with a backlog waiting for the wire
-    if (distributions) lj["peak_utilisation"] = l.stats().windows.peak(renderTime, l.channels);
+    lj["saturated_ns"] = ns(st.saturated);  // busy with a backlog waiting for the wire
+    if (distributions) lj["peak_utilisation"] = st.windows.peak(renderTime, l.channels);
     if (!full) return lj;
-    lj["consumed"] = l.stats().consumed;
-    lj["slot_wait_ns"] = ns(l.stats().slotWait);
-    lj["wire_wait_ns"] = ns(l.stats().wireWait);
+    lj["consumed"] = st.consumed;
+    lj["slot_wait_ns"] = ns(st.slotWait);
+    lj["wire_wait_ns"] = ns(st.wireWait);
     if (distributions) {  // (--link-stats counts: not kept)
-        if (l.stats().latency.count()) lj["latency_ns"] = percentilesJson(l.stats().latency);
-        if (l.stats().controlLatency.count()) lj["control_latency_ns"] = percentilesJson(l.stats().controlLatency);
-        lj["backlog_high_water"] = l.stats().backlogHighWater;
-        lj["peak_window_ns"] = ns(l.stats().windows.width());
-        lj["buffer_high_water"] = l.stats().bufferHighWater;
+        if (st.latency.count()) lj["latency_ns"] = percentilesJson(st.latency);
+        if (st.controlLatency.count()) lj["control_latency_ns"] = percentilesJson(st.controlLatency);
+        lj["backlog_high_water"] = st.backlogHighWater;
+        lj["peak_window_ns"] = ns(st.windows.width());
+        lj["buffer_high_water"] = st.bufferHighWater;
     }
     return lj;
 }
@@ -216,9 +217,10 @@ nlohmann::json linkJsonOf(const LinkReport& l, Picos renderTime, bool distributi
 void addLinks(nlohmann::json& j, const MachineResult& r, const MachineConfig& cfg, const FrameState& st, bool full) {
     std::array<uint64_t, kMsgTypes> msgs{}, bytes{};
     for (const LinkReport& l : r.links) {
+        const LinkStats& st = l.stats();
         for (size_t t = 0; t < size_t(kMsgTypes); ++t) {
-            msgs[t] += l.stats().messages[t];
-            bytes[t] += l.stats().bytes[t];
+            msgs[t] += st.messages[t];
+            bytes[t] += st.bytes[t];
         }
         j["links"].push_back(linkJsonOf(l, r.renderTime, cfg.linkDistributions, full));
     }

@@ -485,40 +485,39 @@ class SweepEdges(unittest.TestCase):
         self.assertEqual(p.returncode, 1, p.stderr)
         self.assertIn("different render times", p.stderr)
 
-    def test_speedup_runs_one_node_whatever_a_preset_says(self):
+    # A small scene, with a preset that sets the mesh's shape (2x2x2), for
+    # the sweeps below run with the real rtsim.
+    SMALL = ["--spheres", "60", "--radius", "0.05", "--size", "24x24", "--seed", "3"]
+
+    def sweep_with_shape_preset(self, *args):
+        """The rows of sweep `s` of SMALL with a preset of mesh-dims 2x2x2
+        (args: the driver's, before the rtsim flags)."""
         preset = os.path.join(self.work, "dims.conf")
         with open(preset, "w") as f:
             f.write("mesh-dims = 2x2x2\n")
         out = os.path.join(self.dir, "s.csv")
-        small = ["--spheres", "60", "--radius", "0.05", "--size", "24x24", "--seed", "3"]
-        p = self.sweep("s", "--set", "link-latency=100ns,1us", "--speedup", "--", *small, "--config", preset,
-                       binary=RTSIM, csv_path=out)
+        p = self.sweep("s", *args, "--", *self.SMALL, "--config", preset, binary=RTSIM, csv_path=out)
         self.assertEqual(p.returncode, 0, p.stderr)
-        rep = os.path.join(self.dir, "one.json")
-        for r in self.rows(out):
-            subprocess.run([RTSIM, *small, "--mesh", "1", "--link-latency", r["link-latency"], "--no-baseline", "-q",
-                            "--image", "", "--report", rep], check=True)
-            with open(rep) as f:
-                self.assertEqual(float(r["time_one_ns"]), json.load(f)["render_time_ns"])
+        return self.rows(out)
+
+    def direct_time(self, *flags):
+        """The render time of SMALL run directly with `flags`, no preset."""
+        rep = os.path.join(self.dir, "direct.json")
+        subprocess.run([RTSIM, *self.SMALL, *flags, "--no-baseline", "-q", "--image", "", "--report", rep], check=True)
+        with open(rep) as f:
+            return json.load(f)["render_time_ns"]
+
+    def test_speedup_runs_one_node_whatever_a_preset_says(self):
+        for r in self.sweep_with_shape_preset("--set", "link-latency=100ns,1us", "--speedup"):
+            self.assertEqual(float(r["time_one_ns"]), self.direct_time("--mesh", "1", "--link-latency", r["link-latency"]))
             self.assertGreater(float(r["speedup"]), 1.5)
 
     def test_a_swept_mesh_replaces_a_presets_mesh_shape(self):
         # rtsim's command line replaces a preset's mesh shape (either
         # spelling): each point runs its own --mesh, not the preset's 2x2x2.
-        preset = os.path.join(self.work, "dims.conf")
-        with open(preset, "w") as f:
-            f.write("mesh-dims = 2x2x2\n")
-        out = os.path.join(self.dir, "s.csv")
-        small = ["--spheres", "60", "--radius", "0.05", "--size", "24x24", "--seed", "3"]
-        p = self.sweep("s", "--set", "mesh=1,3", "--", *small, "--config", preset, binary=RTSIM, csv_path=out)
-        self.assertEqual(p.returncode, 0, p.stderr)
-        rep = os.path.join(self.dir, "direct.json")
         times = set()
-        for r in self.rows(out):
-            subprocess.run([RTSIM, *small, "--mesh", r["mesh"], "--no-baseline", "-q", "--image", "", "--report", rep],
-                           check=True)
-            with open(rep) as f:
-                self.assertEqual(float(r["render_time_ns"]), json.load(f)["render_time_ns"], r["mesh"])
+        for r in self.sweep_with_shape_preset("--set", "mesh=1,3"):
+            self.assertEqual(float(r["render_time_ns"]), self.direct_time("--mesh", r["mesh"]), r["mesh"])
             times.add(r["render_time_ns"])
         self.assertEqual(len(times), 2)  # (two meshes, two times: not the preset's mesh twice)
 
