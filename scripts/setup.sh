@@ -24,8 +24,9 @@ packages=(
 
 # `setup.sh plots`: also what the sweep and chart scripts need.
 if [ "${1:-}" = "plots" ]; then packages+=(python3-numpy); fi
-# `setup.sh bench`: also perf, which bench_scaling.py samples the runs with.
-if [ "${1:-}" = "bench" ]; then packages+=(linux-perf); fi
+# `setup.sh bench`: also perf, which bench_scaling.py samples the runs with,
+# and valgrind, under which bench_misses.py counts a run's cache misses.
+if [ "${1:-}" = "bench" ]; then packages+=(linux-perf valgrind); fi
 # `setup.sh fuzz`: clang and its libFuzzer, for scripts/fuzz.sh.
 if [ "${1:-}" = "fuzz" ]; then packages+=(clang libclang-rt-14-dev); fi
 

@@ -126,13 +126,16 @@ void Link::send(Message&& m, Picos t) {
         l.held += transfer + 2 * params_->latency;
     }
     if (progress_ && !isControl(m.type)) progress_->mark(t);  // work moves; load reports alone are no progress
-    const bool nothingWaits = l.waiting() == 0;
-    l.backlog.emplace_back(t, bytes, m.type);
+    const Waiting w(t, bytes, m.type);
     l.messages.emplace_back(std::move(m));
-    if (nothingWaits && l.slotFree()) {
-        putOnWire(lane, slotTime(l));  // the usual case: a slot is free, nothing waits before it
+    if (l.waiting() == 0 && l.slotFree()) {
+        // The usual case: a slot is free and nothing waits before it: on
+        // the wire without a record in the backlog (a cache line fewer a
+        // message where every link's state is cold: doc/benchmarks/misses.md).
+        putOnWire(lane, slotTime(l), w);
         return;
     }
+    l.backlog.push_back(w);
     startWaiting(lane);
 }
 
@@ -166,7 +169,8 @@ void Link::startWaiting(int lane) {
             const Picos room = std::max(l.firstWaiting().sent, slot), k = frameClock();
             room_->notify(sc_core::sc_time::from_value(room > k ? room - k : 0));
         }
-        putOnWire(lane, slot);
+        putOnWire(lane, slot, l.firstWaiting());
+        l.backlog.pop_front();
     }
 }
 
@@ -182,10 +186,9 @@ Picos Link::roomAt(const Message& m, Picos t) {
     return l.leaving.size() >= mustLeave ? l.leaving[mustLeave - 1] : kRoomUnknown;
 }
 
-void Link::putOnWire(int lane, Picos slot) {
+void Link::putOnWire(int lane, Picos slot, const Waiting& w) {
     Carried& c = *carried_;
     Lane& l = c.lane(lane);
-    const Waiting& w = l.firstWaiting();
     const Picos sent = w.sent;
     const Picos transfer = transferTime(w.bytes);
     const Picos ready = std::max(sent, slot);
@@ -212,7 +215,6 @@ void Link::putOnWire(int lane, Picos slot) {
     if (trace_.vcd && params_->controlDepth == 0) traceStart(start, transfer);
     l.onWire_.fit(l.taken, l.wired);
     l.onWire_[l.wired] = Timed(w, arrival, start, ready, transfer);
-    l.backlog.pop_front();
     ++l.wired;
     if (listener_) ++listener_->buffered;
     if (l.buffered() == 1) headChanged();

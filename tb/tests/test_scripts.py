@@ -215,6 +215,34 @@ class Scripts(unittest.TestCase):
         self.assertIn("| balls-5: wall at most 60 s | 55.0 s | yes |", text)
         self.assertIn("| balls-5: peak memory at most 1.5 GiB | 1600 MiB | NO |", text)
 
+    def test_the_miss_count_reads_callgrinds_totals_per_message(self):
+        """bench_misses.py: the totals of a callgrind output file (its
+        events line names them; a run without the cache simulation has no
+        miss counts and is refused, not read as none), per message against
+        sums done by hand."""
+        import bench_misses
+        import outputs
+        text = "\n".join(["version: 1", "creator: callgrind-3.19.0",
+                           "events: Ir Dr Dw I1mr D1mr D1mw ILmr DLmr DLmw",
+                           "fn=(1) main", "0 5 1 1 0 0 0 0 0 0",
+                           "summary: 9000 3000 1000 40 500 100 4 60 16",
+                           "totals: 9000 3000 1000 40 500 100 4 60 16", ""])
+        counts = bench_misses.callgrind_totals(text)
+        self.assertEqual(counts["Ir"], 9000)
+        self.assertEqual(counts["DLmw"], 16)
+        # 10 messages: 900 instructions, (500 + 100) / 10 = 60 first-level
+        # data misses, (4 + 60 + 16) / 10 = 8 last-level misses each.
+        self.assertEqual(bench_misses.per_message(counts, 10), (900.0, 60.0, 8.0))
+        # Less an idle mesh's counts: the frame's start and end per node.
+        self.assertEqual(bench_misses.less_idle(counts, {"Ir": 1000, "DLmr": 50})["Ir"], 8000)
+        self.assertEqual(bench_misses.less_idle(counts, {"Ir": 1000, "DLmr": 50})["DLmr"], 10)
+        self.assertEqual(bench_misses.less_idle(counts, {"Ir": 1000, "DLmr": 50})["DLmw"], 16)
+        with self.assertRaises(outputs.ToolError) as e:
+            bench_misses.callgrind_totals("events: Ir\ntotals: 9000\n")
+        self.assertIn("D1mr", str(e.exception))
+        with self.assertRaises(outputs.ToolError):
+            bench_misses.callgrind_totals("events: Ir D1mr\n")
+
     def test_policy_extra_reaches_only_the_compared_policys_runs(self):
         """spd_never_hurts.py: --policy-extra's flags (--start-mix, which
         none refuses) go to the compared policy's runs alone, --extra's to
@@ -293,6 +321,8 @@ class BadInput(unittest.TestCase):
                 (py("bench_rtref.py", "--rtref", rtref, "--scene", d), "--scene"),
                 (py("bench_rtsim.py", "--growth", "x"), "--growth"),
                 (py("bench_scaling.py", "--scenes", "../../x"), "a name, not a path"),
+                (py("bench_misses.py", "--ll", "0"), "--ll 0"),
+                (py("bench_misses.py", "--against", d), "--against"),
                 (py("stress.py", "--jobs", "0"), "--jobs"),
                 (py("same_outputs.py", "--record", os.path.join(root, "doc", "x"), "--only", "slide-lane"), "in doc/"),
                 (py("same_outputs.py", "--compare", os.path.join(d, "none")), "--compare"),
