@@ -186,7 +186,7 @@ void Machine::linkToFrameBuffer(Node& n, std::vector<Picos>& unitLookahead) {
     const LinkParams port = cfg_.fbPortOf(n.cell());
     for (int u = 0; u < k; ++u) {
         links_.push_back(std::make_unique<Link>(k > 1 ? fname + std::to_string(u) : fname, port));
-        n.fb->bind(*links_.back());                   // the node's u-th binding
+        n.bindFrameBuffer(*links_.back());           // the node's u-th binding
         units_[size_t(u)].addNodeLink(*links_.back());  // the unit's input from this node (nodes in order)
         unitLookahead[size_t(u)] = std::min(unitLookahead[size_t(u)], links_.back()->lookahead());
         reportOf_.push_back(linkInfo_.size());

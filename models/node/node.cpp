@@ -65,16 +65,12 @@ void Node::suspend(Resume r) {
 }
 
 void Node::start() {
-    std::array<LinkRecvIf*, kDirs> inLinks{};
-    for (int k = 0; k < in->size(); ++k) inLinks[inDirs_[size_t(k)]] = (*in)[k];
-    input_.listen(inLinks);
+    input_.listen(inLinks_);
     expressSelf_ = nullptr;  // (a frame without express, after one with it)
     if (params_.express) {
         ExpressNode& self = params_.express->node(params_.express->indexOf(cell_));
         expressSelf_ = self.empty ? &self : nullptr;
     }
-    for (int k = 0; k < out->size(); ++k) outLinks_[outDirs_[size_t(k)]] = &asLink(*(*out)[k]);
-    for (int u = 0; u < fb->size(); ++u) fbLinks_.push_back(&asLink(*(*fb)[u]));
     now_ = kernel();
     const BalanceConfig& bal = params_.balance;
     if (bal.dynamic()) {

@@ -82,20 +82,29 @@ public:
     // (Each held in an optional only so that releasePorts can end it.)
     std::optional<sc_core::sc_port<LinkSendIf, 0, sc_core::SC_ZERO_OR_MORE_BOUND>> out;
     std::optional<sc_core::sc_port<LinkRecvIf, 0, sc_core::SC_ZERO_OR_MORE_BOUND>> in;
-    void bindOut(int dir, LinkSendIf& link) {
+    // The node keeps each link as it is bound, by direction: at each
+    // frame's start it took them back from the ports through a
+    // dynamic_cast (28 a node with 16 frame-buffer units), each reading a
+    // link's first cache line, most of them not read again that frame: at
+    // 32x32x32 about 900,000 misses a frame (doc/history.md, "At 32x32x32").
+    void bindOut(int dir, Link& link) {
         out->bind(link);
-        outDirs_.push_back(uint8_t(dir));
+        outLinks_[size_t(dir)] = &link;
     }
-    void bindIn(int dir, LinkRecvIf& link) {
+    void bindIn(int dir, Link& link) {
         in->bind(link);
-        inDirs_.push_back(uint8_t(dir));
+        inLinks_[size_t(dir)] = &link;
+    }
+    void bindFrameBuffer(Link& link) {  // the next unit's
+        fb->bind(link);
+        fbLinks_.push_back(&link);
     }
 
 private:
-    // Each binding's direction, in binding order. (Here, beside the ports,
-    // so that the node's later fields sit a whole cache line further on
-    // than with the sc_vectors, each in the same place in its line.)
-    std::vector<uint8_t> outDirs_, inDirs_;
+    // The links in, by direction (null: none). (Here, beside the ports, in
+    // the 48 bytes the bindings' directions took, so that the node's later
+    // fields stay where they were in their cache lines.)
+    std::array<Link*, kDirs> inLinks_{};
 
 public:
     // Bound once per frame-buffer unit, in unit order (a multiport: one
@@ -252,8 +261,8 @@ private:
     std::vector<ExpressHop> expressHops_;  // the boxes they skip (ExpressSend::route.first on)
     uint64_t expressSent_ = 0;  // express rays sent so far (their order among this node's)
     ExpressNode* expressSelf_ = nullptr;  // its own entry, if rays may skip it (its steps keep the relay's rays waiting)
-    std::array<Link*, kDirs> outLinks_{};  // the link out towards d (null: none), set at the start
-    std::vector<Link*> fbLinks_;           // fb's, by unit
+    std::array<Link*, kDirs> outLinks_{};  // the link out towards d (null: none), set when bound
+    std::vector<Link*> fbLinks_;           // fb's, by unit, set when bound
     std::unique_ptr<BalanceAgent> balance_;  // dynamic policies; made at the start
     std::optional<std::array<double, 2>> startTargets_;
     struct SampleSetup {

@@ -20,8 +20,6 @@ sc_core::sc_process_handle Node::restart(const Box& box, std::vector<Shape> obje
     batcher_ = RayBatcher(params_.rayBatch);
     fbOut_ = FrameBufferOutbox(params_.fbUnits, params_.fbBatch);
     outbox_ = Outbox{};
-    outLinks_ = {};
-    fbLinks_.clear();
     balance_.reset();
     startTargets_.reset();
     sample_.reset();  // (before the box: rebuild notes where a sample's objects are)

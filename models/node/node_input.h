@@ -43,11 +43,11 @@ struct Work {
 class NodeInput {
 public:
     // At the start: the node's input links by direction (null: none).
-    void listen(const std::array<LinkRecvIf*, kDirs>& in) {
+    void listen(const std::array<Link*, kDirs>& in) {
         arrivals_.listen(std::vector<LinkRecvIf*>(in.begin(), in.end()));
         // The links themselves, read at every step: a port's interface is
         // one more pointer to follow (a cache miss on a node not run for a while).
-        for (int d = 0; d < kDirs; ++d) links_[size_t(d)] = in[size_t(d)] ? &asLink(*in[size_t(d)]) : nullptr;
+        links_ = in;
     }
     // Before the start: the pixels whose primary rays this node generates,
     // each with credit 2^-exp; `sampleWidth`: `sample`'s first (primary_queue.h).
