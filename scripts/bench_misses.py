@@ -83,7 +83,7 @@ def less_idle(run, idle):
 
 
 def counted(binary, flags, n, ll_mib, tmp, tag):
-    """One run under callgrind: (counts, messages)."""
+    """One run under callgrind: (counts, messages, the build's version)."""
     out, report = os.path.join(tmp, f"cg.{tag}"), os.path.join(tmp, f"r.{tag}.json")
     cmd = ["valgrind", "--tool=callgrind", "--cache-sim=yes", "--I1=32768,8,64", "--D1=49152,12,64",
            f"--LL={ll_mib * 1024 * 1024},16,64", f"--toggle-collect={COLLECT}", f"--callgrind-out-file={out}",
@@ -95,8 +95,8 @@ def counted(binary, flags, n, ll_mib, tmp, tag):
     with open(out) as f:
         counts = callgrind_totals(f.read())
     with open(report) as f:
-        messages = sum(json.load(f)["totals"]["messages"].values())
-    return counts, messages
+        r = json.load(f)
+    return counts, sum(r["totals"]["messages"].values()), r["rerun"]["version"]
 
 
 def table(builds, ns, got, a, ver):
@@ -110,8 +110,8 @@ def table(builds, ns, got, a, ver):
             ir, d1, ll = per_message(counts, msgs)
             rel = f"{ll / base[2]:.2f}" if base and base[2] > 0 else "-"
             idle = got[(name, n, "idle")][0]
-            lines.append(f"| {name} | {n} | {msgs:,} | {ir:,.0f} | {d1:.1f} | {ll:.2f} | {rel} | "
-                         f"{idle['ILmr'] + idle['DLmr'] + idle['DLmw']:,} |")
+            lines.append(f"| {name} ({got[(name, 'version')]}) | {n} | {msgs:,} | {ir:,.0f} | {d1:.1f} | {ll:.2f} | "
+                         f"{rel} | {idle['ILmr'] + idle['DLmr'] + idle['DLmw']:,} |")
     lines += ["", f"{a.scene} at {a.size}, exact mode, `--no-baseline`; callgrind's cache model: 32 KiB 8-way "
               f"instructions, 48 KiB 12-way data, {a.ll} MiB 16-way last level, 64-byte lines; counted inside "
               f"`{COLLECT}` only, less an idle mesh's of the same N (`{' '.join(IDLE)}`, whose count is the last "
@@ -144,7 +144,8 @@ def main(argv=None):
     ap.add_argument("--scene", default="balls-5", help="an SPD scene's name, or 'paper'")
     ap.add_argument("--ll", type=int, default=32, help="the simulated last-level cache, MiB")
     ap.add_argument("--rtsim", default=RTSIM, help="the build to count (default: scripts/build.sh's)")
-    ap.add_argument("--against", default="", help="another rtsim binary (the build before), counted alike")
+    ap.add_argument("--against", default="", help="another rtsim binary (the build before), counted alike; "
+                    "the table names each build's version, as its report gives it")
     ap.add_argument("--jobs", type=int, default=2, help="runs at once (counts do not depend on it)")
     ap.add_argument("--doc", action="store_true", help="write doc/benchmarks/misses.md")
     a = ap.parse_args(argv)
@@ -165,7 +166,7 @@ def main(argv=None):
     got = {}
     for name, _ in builds:
         for n in ns:
-            (run, msgs), idle = raw[(name, n, "run")], raw[(name, n, "idle")]
+            (run, msgs, got[(name, "version")]), idle = raw[(name, n, "run")], raw[(name, n, "idle")]
             got[(name, n)] = (less_idle(run, idle[0]), msgs)
             got[(name, n, "idle")] = idle
             ir, d1, ll = per_message(*got[(name, n)])
