@@ -17,10 +17,10 @@ each against N = 4's.
 Why: this VM's wall times swing by up to 60 % between identical runs (a
 32x32x32 frame took 11.2 s and 19.7 s minutes apart), so a change to the
 message path worth 5 % cannot be told from noise by timing. The counts
-repeat (two runs of one build differed by 0.01 % in instructions and
-0.1 % in misses: the host's clock reads, such as the watchdog's, and
-where the system maps memory), so --against BINARY compares two builds
-to well within what a change moves. They are a model of a cache, not this CPU's:
+repeat (two runs of one build at 32x32x32 differed by 0.03 % in
+instructions, 0.2 % in first-level and 0.7 % in last-level misses: the
+host's clock reads, such as the watchdog's, and where the system maps
+memory), so --against BINARY compares two builds to within that. They are a model of a cache, not this CPU's:
 they say where misses come from and whether a change removes some, not
 what a miss costs (bench_scaling.py times that).
 

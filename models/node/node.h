@@ -82,11 +82,10 @@ public:
     // (Each held in an optional only so that releasePorts can end it.)
     std::optional<sc_core::sc_port<LinkSendIf, 0, sc_core::SC_ZERO_OR_MORE_BOUND>> out;
     std::optional<sc_core::sc_port<LinkRecvIf, 0, sc_core::SC_ZERO_OR_MORE_BOUND>> in;
-    // The node keeps each link as it is bound, by direction: at each
-    // frame's start it took them back from the ports through a
-    // dynamic_cast (28 a node with 16 frame-buffer units), each reading a
-    // link's first cache line, most of them not read again that frame: at
-    // 32x32x32 about 900,000 misses a frame (doc/history.md, "At 32x32x32").
+    // The node keeps each link as it is bound, by direction: taking them
+    // back from the ports at each frame's start, through a dynamic_cast,
+    // read every link's first cache line, most of them not read again that
+    // frame (doc/history.md, "At 32x32x32").
     void bindOut(int dir, Link& link) {
         out->bind(link);
         outLinks_[size_t(dir)] = &link;
