@@ -30,6 +30,7 @@ import argparse
 import concurrent.futures
 import json
 import os
+import subprocess
 import sys
 import tempfile
 
@@ -181,7 +182,7 @@ def main(argv=None):
 
 
 def subprocess_failed(cmd):
-    import subprocess
+    """Runs a setup or build script (its messages to stderr); whether it failed."""
     return subprocess.run(cmd, stdout=subprocess.DEVNULL).returncode != 0
 
 

@@ -234,9 +234,8 @@ class Scripts(unittest.TestCase):
         # data misses, (4 + 60 + 16) / 10 = 8 last-level misses each.
         self.assertEqual(bench_misses.per_message(counts, 10), (900.0, 60.0, 8.0))
         # Less an idle mesh's counts: the frame's start and end per node.
-        self.assertEqual(bench_misses.less_idle(counts, {"Ir": 1000, "DLmr": 50})["Ir"], 8000)
-        self.assertEqual(bench_misses.less_idle(counts, {"Ir": 1000, "DLmr": 50})["DLmr"], 10)
-        self.assertEqual(bench_misses.less_idle(counts, {"Ir": 1000, "DLmr": 50})["DLmw"], 16)
+        less = bench_misses.less_idle(counts, {"Ir": 1000, "DLmr": 50})
+        self.assertEqual((less["Ir"], less["DLmr"], less["DLmw"]), (8000, 10, 16))
         with self.assertRaises(outputs.ToolError) as e:
             bench_misses.callgrind_totals("events: Ir\ntotals: 9000\n")
         self.assertIn("D1mr", str(e.exception))
