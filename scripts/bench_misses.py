@@ -20,9 +20,10 @@ message path worth 5 % cannot be told from noise by timing. The counts
 repeat (two runs of one build at 32x32x32 differed by 0.03 % in
 instructions, 0.2 % in first-level and 0.7 % in last-level misses: the
 host's clock reads, such as the watchdog's, and where the system maps
-memory), so --against BINARY compares two builds to within that. They are a model of a cache, not this CPU's:
-they say where misses come from and whether a change removes some, not
-what a miss costs (bench_scaling.py times that).
+memory), so --against BINARY compares two builds to within that. They
+are a model of a cache, not this CPU's: they say where misses come from
+and whether a change removes some, not what a miss costs
+(bench_scaling.py times that).
 
 Prints the table; with --doc writes doc/benchmarks/misses.md (without it,
 nothing is written). Run with /usr/bin/python3."""
@@ -30,13 +31,13 @@ import argparse
 import concurrent.futures
 import json
 import os
-import subprocess
 import sys
 import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import outputs  # noqa: E402
-from project import PAPER_SCENE, ROOT, RTSIM, spd_scene, version  # noqa: E402
+from bench_scaling import build, paper_scene  # noqa: E402
+from project import ROOT, RTSIM, spd_scene, version  # noqa: E402
 
 EVENTS = ("Ir", "D1mr", "D1mw", "ILmr", "DLmr", "DLmw")
 # Only inside the kernel's evaluation phases (sc_simcontext::crunch).
@@ -68,11 +69,7 @@ def per_message(counts, messages):
 
 
 def scene_flags(scene, size):
-    if scene != "paper":
-        return ["--scene", spd_scene(scene), "--size", size]
-    flags = list(PAPER_SCENE)
-    flags[flags.index("--size") + 1] = size
-    return flags + ["--concentration", "0.25"]
+    return paper_scene(size) if scene == "paper" else ["--scene", spd_scene(scene), "--size", size]
 
 
 IDLE = ["--spheres", "1", "--size", "8x8"]  # the built-in scene: a mesh that starts and ends a frame, and no more
@@ -100,18 +97,18 @@ def counted(binary, flags, n, ll_mib, tmp, tag):
     return counts, sum(r["totals"]["messages"].values()), r["rerun"]["version"]
 
 
-def table(builds, ns, got, a, ver):
+def table(builds, ns, got, versions, a, ver):
+    """got: (build, N) -> (counts less the idle mesh's, messages, the idle mesh's counts)."""
     lines = ["| build | N | messages | instructions per message | L1 data misses per message | "
              "last-level misses per message | last-level misses / N = 4's | the idle mesh's last-level misses |",
              "|---|---:|---:|---:|---:|---:|---:|---:|"]
     for name, _ in builds:
-        base = per_message(*got[(name, 4)]) if (name, 4) in got else None
+        base = per_message(*got[(name, 4)][:2]) if (name, 4) in got else None
         for n in ns:
-            counts, msgs = got[(name, n)]
+            counts, msgs, idle = got[(name, n)]
             ir, d1, ll = per_message(counts, msgs)
             rel = f"{ll / base[2]:.2f}" if base and base[2] > 0 else "-"
-            idle = got[(name, n, "idle")][0]
-            lines.append(f"| {name} ({got[(name, 'version')]}) | {n} | {msgs:,} | {ir:,.0f} | {d1:.1f} | {ll:.2f} | "
+            lines.append(f"| {name} ({versions[name]}) | {n} | {msgs:,} | {ir:,.0f} | {d1:.1f} | {ll:.2f} | "
                          f"{rel} | {idle['ILmr'] + idle['DLmr'] + idle['DLmw']:,} |")
     lines += ["", f"{a.scene} at {a.size}, exact mode, `--no-baseline`; callgrind's cache model: 32 KiB 8-way "
               f"instructions, 48 KiB 12-way data, {a.ll} MiB 16-way last level, 64-byte lines; counted inside "
@@ -151,10 +148,9 @@ def main(argv=None):
     ap.add_argument("--doc", action="store_true", help="write doc/benchmarks/misses.md")
     a = ap.parse_args(argv)
     ns = check_arguments(a)
-    if subprocess_failed(["bash", os.path.join(ROOT, "scripts", "setup.sh"), "bench"]):
-        raise outputs.ToolError("setup.sh bench failed (its messages above)", outputs.FAILED)
-    if a.rtsim == RTSIM and subprocess_failed(["bash", os.path.join(ROOT, "scripts", "build.sh"), "rtsim"]):
-        raise outputs.ToolError("build.sh rtsim failed (its messages above)", outputs.FAILED)
+    build("setup.sh", "bench")  # valgrind
+    if a.rtsim == RTSIM:
+        build("build.sh", "rtsim")
     builds = [("this", os.path.abspath(a.rtsim))] + ([("against", os.path.abspath(a.against))] if a.against else [])
     flags = scene_flags(a.scene, a.size)
     raw = {}
@@ -164,26 +160,20 @@ def main(argv=None):
         for job in concurrent.futures.as_completed(jobs):
             raw[jobs[job]] = job.result()
             print(f"{' '.join(map(str, jobs[job]))}: counted", file=sys.stderr)
-    got = {}
+    got, versions = {}, {}
     for name, _ in builds:
         for n in ns:
-            (run, msgs, got[(name, "version")]), idle = raw[(name, n, "run")], raw[(name, n, "idle")]
-            got[(name, n)] = (less_idle(run, idle[0]), msgs)
-            got[(name, n, "idle")] = idle
-            ir, d1, ll = per_message(*got[(name, n)])
+            (run, msgs, versions[name]), idle = raw[(name, n, "run")], raw[(name, n, "idle")][0]
+            got[(name, n)] = (less_idle(run, idle), msgs, idle)
+            ir, d1, ll = per_message(got[(name, n)][0], msgs)
             print(f"{name}, N = {n}: {ir:,.0f} instructions, {d1:.1f} L1 and {ll:.2f} last-level misses a message",
                   file=sys.stderr)
-    text = table(builds, ns, got, a, version())
+    text = table(builds, ns, got, versions, a, version())
     print(text)
     if a.doc:
         outputs.write_text(os.path.join(ROOT, "doc", "benchmarks", "misses.md"),
                            "# What a message costs in instructions and cache misses\n\nWritten by "
                            "`scripts/bench_misses.py --doc`; do not edit by hand.\n\n" + text)
-
-
-def subprocess_failed(cmd):
-    """Runs a setup or build script (its messages to stderr); whether it failed."""
-    return subprocess.run(cmd, stdout=subprocess.DEVNULL).returncode != 0
 
 
 if __name__ == "__main__":
