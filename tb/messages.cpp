@@ -10,6 +10,7 @@ namespace rt::msg {
 namespace {
 
 int verbosity = 0;
+const char* programName = "rtsim";
 
 // A message is one line: a control character in it (a value given with a
 // newline, say) is written escaped.
@@ -40,11 +41,14 @@ void handler(const sc_core::sc_report& r, const sc_core::sc_actions& actions) {
         const char* what = r.get_severity() == sc_core::SC_ERROR     ? "error: "
                            : r.get_severity() == sc_core::SC_WARNING ? "warning: "
                                                                      : "";
-        std::cerr << "rtsim: " << what << oneLine(r.get_msg()) << (verbosity > 0 ? " [" + id + "]" : std::string()) << "\n";
+        std::cerr << programName << ": " << what << oneLine(r.get_msg()) << (verbosity > 0 ? " [" + id + "]" : std::string()) << "\n";
     }
 }
 
 }  // namespace
+
+const char* program() { return programName; }
+void setProgram(const char* name) { programName = name; }
 
 void install(int verbose) {
     using namespace sc_core;

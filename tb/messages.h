@@ -28,6 +28,13 @@ constexpr const char* kSignal = "rtsim/signal";
 constexpr const char* kReference = "rtsim/reference";
 constexpr const char* kInfo = "rtsim/info";
 
+// Who speaks on stderr: "rtsim", or a reference run's name when this
+// process is one (a child of another rtsim, sharing its stderr), so that
+// its stop or error does not read as the parent's. Set once, before the
+// stop handlers (which read it).
+const char* program();
+void setProgram(const char* name);
+
 // Installs the handler that prints rtsim's messages as one line each and
 // sets which are shown: `verbose` 0 (errors, warnings), 1 (and what rtsim
 // does: rtsim/info), 2 (and SystemC's own informational messages).

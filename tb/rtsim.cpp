@@ -102,6 +102,16 @@ Stop readCommandLine(CLI::App& app, rt::RtsimOptions& o, rt::CommandLine& cl, in
         rt::msg::error(rt::msg::kConfig, cl.originOf(e.what()) + e.what());
         return 2;
     }
+    // The trace flags say what the VCD holds: typed without --vcd, nothing
+    // would be traced. (From a --config file or a --rerun report they may
+    // wait for a --vcd given later; a reference run's are its parent's.)
+    if (o.vcd.empty() && !o.asBaseline && !o.asComparison)
+        for (const char* flag : {"trace-nodes", "trace-links", "trace-window"})
+            if (cl.given.count(flag)) {
+                rt::msg::error(rt::msg::kConfig, std::string("--") + flag +
+                                                     ": says what the VCD traces, but no --vcd is given: add --vcd FILE");
+                return 2;
+            }
     return std::nullopt;
 }
 
@@ -318,6 +328,10 @@ int run(const rt::CommandLine& cl, const CLI::App& app, rt::RtsimOptions& o, con
     o.machine.vcdPath = out.vcdStream();  // (renamed to --vcd at the end)
     o.machine.vcdName = o.vcd;
     const rt::MachineResult r = rt::runLastFrame(earlier, scene, o.machine);
+    if (!o.vcd.empty() && r.incomplete.empty() && o.machine.traceFrom > r.renderTime)  // (a valid VCD, of nothing)
+        rt::msg::warning(rt::msg::kOutput, "--trace-window: starts at " + rt::formatTime(o.machine.traceFrom) +
+                                               ", after the frame ended at " + rt::formatTime(r.renderTime) +
+                                               ": the VCD holds its declarations alone");
     const auto frameDone = rt::WallClock::now();
     wall.startUp += earlier.elaborationSeconds;  // building the machine (once, for every frame)
     wall.frames = rt::secondsBetween(framesFrom, frameDone) - earlier.elaborationSeconds;
@@ -383,9 +397,16 @@ int sc_main(int argc, char** argv) {
 
 int main(int argc, char** argv) {
     setenv("SYSTEMC_DISABLE_COPYRIGHT_MESSAGE", "1", 0);
+    // A child run (a reference run) says so in its messages (it shares its
+    // parent's stderr)...
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        if (a == "--as-baseline") rt::msg::setProgram("rtsim (its baseline run)");
+        if (a == "--as-comparison") rt::msg::setProgram("rtsim (its comparison run)");
+    }
     // Ctrl-C, SIGTERM and --watchdog-wall wherever rtsim is (stops.h).
     rt::installStopHandlers();
-    // A child run (a reference run) ends with its parent.
+    // ...and ends with its parent.
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         if (a == "--as-baseline" || a == "--as-comparison") {

@@ -6,6 +6,7 @@
 
 #include <cstring>
 
+#include "messages.h"
 #include "output_file.h"
 #include "subprocess.h"
 #include "wall_limit.h"
@@ -55,10 +56,10 @@ const char* nameOf(int sig) { return sig == SIGINT ? "SIGINT" : sig == SIGTERM ?
     signalChildrenNow(SIGKILL);
     Line l;
     if (sig == SIGALRM) {
-        l << "rtsim: error: watchdog: the wall-clock limit of ";
+        l << msg::program() << ": error: watchdog: the wall-clock limit of ";
         l.seconds(wallLimitSeconds()) << " s was reached during start-up\n";
     } else {
-        l << "rtsim: stopped by signal " << long(sig) << " (" << nameOf(sig) << ")"
+        l << msg::program() << ": stopped by signal " << long(sig) << " (" << nameOf(sig) << ")"
           << (second ? " a second time: at once" : " during start-up") << "\n";
     }
     if (::write(2, l.buf, l.n) < 0) {

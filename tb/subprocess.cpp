@@ -10,6 +10,7 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <stdexcept>
 
@@ -42,11 +43,34 @@ void forgetChild(pid_t pid) {
 // A child's report: rtsim's own output, still read within limits.
 constexpr uintmax_t kMaxChildReportBytes = uintmax_t(1) << 30;
 
+// Removes `folder`'s files PREFIX-PID-... of a PID no longer running
+// (kill(PID, 0): ESRCH), left by a process killed with SIGKILL. A file of
+// another user's or of a running process stays.
+void removeOrphans(const std::string& folder, const std::string& prefix) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    for (fs::directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec)) {
+        const std::string name = it->path().filename().string();
+        if (name.rfind(prefix + "-", 0) != 0) continue;
+        const size_t from = prefix.size() + 1, to = name.find('-', from);
+        if (to == std::string::npos || to == from || to - from > 9 ||
+            name.find_first_not_of("0123456789", from) != to)
+            continue;
+        const pid_t pid = pid_t(std::stol(name.substr(from, to - from)));
+        if (pid > 0 && ::kill(pid, 0) != 0 && errno == ESRCH) {
+            std::error_code gone;
+            fs::remove(it->path(), gone);
+        }
+    }
+}
+
 }  // namespace
 
 TempFile::TempFile(const std::string& prefix, const std::string& suffix, const std::string& text) {
     const char* dir = std::getenv("TMPDIR");  // (as mkstemp's callers do; the tests give their own)
-    std::string path = std::string(dir && *dir ? dir : "/tmp") + "/" + prefix + "-XXXXXX" + suffix;
+    const std::string folder = dir && *dir ? dir : "/tmp";
+    removeOrphans(folder, prefix);
+    std::string path = folder + "/" + prefix + "-" + std::to_string(::getpid()) + "-XXXXXX" + suffix;
     int fd = -1;
     {
         const StopsHeld held;  // (made and registered: a stop removes it)

@@ -20,10 +20,12 @@
 
 namespace rt {
 
-// A new file $TMPDIR/PREFIX-XXXXXXSUFFIX (/tmp without TMPDIR) holding
-// `text`, removed with this
-// object (and by a signal that ends rtsim at once). Throws
-// std::runtime_error if it cannot be made or written.
+// A new file $TMPDIR/PREFIX-PID-XXXXXXSUFFIX (/tmp without TMPDIR) holding
+// `text`, removed with this object (and by a signal that ends rtsim at
+// once). A SIGKILL leaves it (and a child's report being written beside
+// it), so each new one first removes those of PREFIX whose PID is no
+// longer running. Throws std::runtime_error if it cannot be made or
+// written.
 class TempFile {
 public:
     TempFile(const std::string& prefix, const std::string& suffix, const std::string& text = "");

@@ -102,6 +102,9 @@ struct BalanceConfig {
     // Set where --balance recommended chose the policy (recommendedPolicy):
     // which, and why.
     std::string recommendedWhy;
+    // --balance as given, for a message: "recommended (sample here)" where
+    // the recommended policy was chosen, else the policy's name.
+    std::string asGiven() const { return recommendedWhy.empty() ? policy : "recommended (" + policy + " here)"; }
     int bins = 16;                // work profile: bins per initial box thickness along the axis
     Picos rebuildCost = 20000;    // updating a node's grid: per object moved in or out
     // The guard (every policy; balance_agent.h): no slide on loads older than

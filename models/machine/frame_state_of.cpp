@@ -65,8 +65,9 @@ FrameState frameStateOf(const MachineResult& r, const MachineConfig& cfg) {
     }
     for (const LinkReport& l : r.links)
         if (l.dir >= 0) {  // (the frame buffer's ports aside)
-            f.rayWireNs += ns(l.stats().wire[size_t(MsgType::Ray)]);
-            f.busiestLinkWireNs = std::max(f.busiestLinkWireNs, ns(l.stats().wireBusy()));
+            const LinkStats s = l.stats();  // (made from the report's counts: once)
+            f.rayWireNs += ns(s.wire[size_t(MsgType::Ray)]);
+            f.busiestLinkWireNs = std::max(f.busiestLinkWireNs, ns(s.wireBusy()));
         }
     return f;
 }

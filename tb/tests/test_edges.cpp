@@ -7,6 +7,7 @@
 #include <sys/resource.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <chrono>
 #include <fstream>
@@ -307,6 +308,25 @@ TEST_F(EdgesTimed, ASignalInTheReferenceRunsWritesTheFinishedFrame) {
     EXPECT_NE(r.value("reference_runs_stopped", "").find("(a signal)"), std::string::npos) << r.dump().substr(0, 300);
     EXPECT_TRUE(fs::exists(dir_ / "i.png"));
     EXPECT_TRUE(leftBehind().empty());
+}
+
+TEST_F(EdgesTimed, ATemporaryASigkillLeftIsRemovedByTheNextRun) {
+    // SIGKILL cannot be caught: the children's reports stay in TMPDIR...
+    const Stopped s = stopWhen(" --spheres 2000 --size 256x256 --mesh 4 -v --image ''", sawLine("reference runs:"), "KILL");
+    EXPECT_EQ(s.code, 137) << s.err;
+    std::vector<std::string> left;
+    for (const auto& e : fs::directory_iterator(tmp())) left.push_back(e.path().filename().string());
+    ASSERT_FALSE(left.empty());
+    for (const std::string& n : left) EXPECT_EQ(n.rfind("rtsim-child-", 0), 0u) << n;
+    // ...until the next run with a child of its own removes them; one of a
+    // process still running stays.
+    const std::string running = "rtsim-child-" + std::to_string(getpid()) + "-abcdef.json";
+    write(tmp() / running, "{}");
+    const Outcome o = rtsim(std::string(kSmall) + " --mesh 2 -q --image ''");
+    ASSERT_EQ(o.code, 0) << o.err;
+    left.clear();
+    for (const auto& e : fs::directory_iterator(tmp())) left.push_back(e.path().filename().string());
+    EXPECT_EQ(left, std::vector<std::string>{running});
 }
 
 TEST_F(Edges, AFrameSequenceKeepsOneReportNotOnePerFrame) {

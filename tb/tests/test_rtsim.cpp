@@ -381,6 +381,13 @@ TEST_F(Rtsim, TraceSubsetAndWindow) {
             ++stamps;
         }
     EXPECT_GT(stamps, 1);
+    // A window after the frame's end: the VCD of nothing, and a warning that says so (it was silent).
+    const Outcome late = run(std::string(kSmall) + " --mesh 2 --no-baseline -q --image '' --vcd " + vcd + " --trace-window 1s,2s");
+    EXPECT_EQ(late.code, 0);
+    EXPECT_NE(late.err.find("warning: --trace-window: starts at 1 s, after the frame ended at "), std::string::npos) << late.err;
+    EXPECT_EQ(std::count(late.err.begin(), late.err.end(), '\n'), 1) << late.err;
+    EXPECT_EQ(slurp(vcd).find("\n#"), std::string::npos);
+    EXPECT_EQ(run(std::string(kSmall) + " --mesh 2 --no-baseline -q --image '' --vcd " + vcd + " --trace-window 2us,5us").err, "");
 }
 
 TEST_F(Rtsim, DefaultRunPrintsSummaryWithSpeedup) {
@@ -446,6 +453,32 @@ TEST_F(Rtsim, PresetsAreValidAndModernIsTheDefault) {
     EXPECT_GT(t["render_time_ns"].get<double>(), 1000 * b["render_time_ns"].get<double>());
 }
 
+// A traced run's report keeps its trace flags, not its --vcd: run again
+// without one, it traces nothing and says nothing; a trace flag typed
+// after --rerun without --vcd is refused as on any command line.
+TEST_F(Rtsim, RerunOfATracedRunNeedsNoVcd) {
+    const std::string rep = (dir_ / "traced.json").string();
+    ASSERT_EQ(run(std::string(kSmall) + " --mesh 2 --no-baseline -q --image '' --trace-nodes 1,0,0 --vcd " +
+                  (dir_ / "t.vcd").string() + " --report " + rep)
+                  .code,
+              0);
+    const Outcome again = run("--rerun " + rep + " -q --image ''");
+    EXPECT_EQ(again.code, 0) << again.err;
+    EXPECT_EQ(again.err, "");
+    expectBad("--rerun " + rep + " -q --image '' --trace-window 0,1us", "--trace-window: says what the VCD traces");
+}
+
+// A reference run shares its parent's stderr: its messages say whose they
+// are, so that its stop or error does not read as the parent's.
+TEST_F(Rtsim, AReferenceRunSaysItIsOne) {
+    const Outcome baseline = run(std::string(kSmall) + " --mesh 0 --as-baseline -q --image ''");
+    EXPECT_EQ(baseline.code, 2);
+    EXPECT_EQ(baseline.err.rfind("rtsim (its baseline run): error: --mesh", 0), 0u) << baseline.err;
+    const Outcome comparison = run(std::string(kSmall) + " --mesh 0 --as-comparison -q --image ''");
+    EXPECT_EQ(comparison.err.rfind("rtsim (its comparison run): error: --mesh", 0), 0u) << comparison.err;
+    EXPECT_EQ(run(std::string(kSmall) + " --mesh 0 -q --image ''").err.rfind("rtsim: error: --mesh", 0), 0u);
+}
+
 TEST_F(Rtsim, ConfigFileGivesEveryFlag) {
     std::ofstream(dir_ / "c.ini") << "mesh = 2\nspheres = 150\nsize = \"20x20\"\nlink-latency = \"250ns\"\n";
     const json r = report("--config " + (dir_ / "c.ini").string());
@@ -478,6 +511,11 @@ TEST_F(Rtsim, BadConfigurationExits2NamingTheFlag) {
     expectBad("--trace-links 0,0,0,+w", "--trace-links");
     expectBad("--mesh 2 --trace-links 5,0,0", "--trace-links: node outside the mesh");
     expectBad("--mesh 2 --trace-links 1,0,0,+x", "--trace-links: no link in that direction");
+    // Typed without --vcd they would trace nothing (a --rerun of a traced run carries them: RerunOfATracedRunNeedsNoVcd).
+    expectBad("--mesh 2 --trace-nodes 0,0,0", "--trace-nodes: says what the VCD traces, but no --vcd is given");
+    expectBad("--mesh 2 --trace-links 0,0,0,+x", "--trace-links: says what the VCD traces");
+    expectBad("--trace-window 0,5us", "--trace-window: says what the VCD traces");
+    expectBad("--trace-nodes busiest", "--trace-nodes: says what the VCD traces");
     expectBad("--map /nonexistent/m.png", "--map: /nonexistent/m.png");
     expectBad("--quantum soon", "--quantum");
     expectBad("--guard-wire -0.5", "--guard-wire");

@@ -121,4 +121,8 @@ TEST_F(Rtsim, BadFidelityFlagsAreOneLineErrors) {
     const Outcome express = run(kBalls4 + " --max-error 1% --fidelity express --no-baseline -q --image ''");
     EXPECT_NE(express.err.find("not with --fidelity express"), std::string::npos) << express.err;
     EXPECT_EQ(express.err.find("lookahead"), std::string::npos) << express.err;
+    // And the policy as given: recommended, then what it chose (it said "not --balance sample").
+    const Outcome recommended = run(kBalls4 + " --fidelity express --balance recommended --no-baseline -q --image ''");
+    EXPECT_EQ(recommended.code, 2);
+    EXPECT_NE(recommended.err.find("not --balance recommended ("), std::string::npos) << recommended.err;
 }
