@@ -12,8 +12,8 @@
 namespace rt {
 
 // A SystemC dynamic method process running `body` at each activation, for
-// `owner`'s frame `frame`: a top-level object, so named uniquely by the
-// owner's name and the frame's number ("node_1_0_2_frame3").
-sc_core::sc_process_handle spawnMethod(std::function<void()> body, const sc_core::sc_object& owner, int frame);
+// `owner`'s frame `frame`: a child of the module, named by the frame's
+// number ("rtsim.node_1_0_2.frame3").
+sc_core::sc_process_handle spawnMethod(std::function<void()> body, sc_core::sc_module& owner, int frame);
 
 }  // namespace rt
