@@ -420,4 +420,7 @@ MUTANTS = [
     ("max-error-calibrates-short-frames", "tb/fidelity_choice.cpp",
      "constexpr int kLeastPixelsPerNode = 16;", "constexpr int kLeastPixelsPerNode = 2;",
      "--max-error calibrates frames of fewer than 16 pixels a node, whose express gain does not pay for the calibration"),
+    ("region-kept-where-the-box-moved", "models/node/node_frame.cpp",
+     "if (std::memcmp(&region_->box(), &box, sizeof(Box)) != 0) rebuild", "if (false && std::memcmp(&region_->box(), &box, sizeof(Box)) != 0) rebuild",
+     "a node starts a frame of a sequence with the last frame's region though its box moved: the old objects and grid"),
 ]

@@ -54,7 +54,7 @@ void Machine::nextFrame(const View& view, const MachineConfig& next, int frame) 
     nodeParams_->layerFaces = layerFaces_.get();
     for (Node& n : nodes_) {
         const Box b = nodeBox(n.cell(), cuts_, columns_, columnPlanes_);
-        spawned_.push_back(n.restart(b, bins_->overlapping(b), frame));
+        spawned_.push_back(n.restart(b, *bins_, frame));
     }
     aimAtTargets();
     for (auto* links : {&links_, &unitLinks_})

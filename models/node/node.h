@@ -148,10 +148,13 @@ public:
     // figures as of then (time_ledger.h).
     void endFrame(Picos end, bool complete = true);
     // The next frame of a sequence (machine.h, MachineSession): the node as
-    // built, owning `box` and `objects`, with no figures, in a new process
-    // named after `frame`; its costs, lookahead, links and progress kept.
-    // Then, as before the first frame, its primary rays and the rest.
-    sc_core::sc_process_handle restart(const Box& box, std::vector<Shape> objects, int frame);
+    // built, owning `box` and the scene's objects in it (from `bins`), with
+    // no figures, in a new process named after `frame`; its costs,
+    // lookahead, links and progress kept. Then, as before the first frame,
+    // its primary rays and the rest. A box where the last frame left it
+    // keeps its region: the same objects, the same grid (a region does not
+    // change as it traces), without binning and building them again.
+    sc_core::sc_process_handle restart(const Box& box, const ObjectBins& bins, int frame);
     void quiet() { input_.arrivals().quiet(); }  // the frame is over: no wake still to come
 
     const Cell& cell() const { return cell_; }

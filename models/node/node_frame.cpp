@@ -1,6 +1,8 @@
 // The node at a frame's end (its figures, what it still holds), its flushes
 // (partial ray batches, what it owes the frame buffer), and at the next
 // frame's start in a sequence (machine.h, MachineSession).
+#include <cstring>
+
 #include "node/node.h"
 #include "process/spawn.h"
 
@@ -12,7 +14,7 @@ void Node::endFrame(Picos end, bool complete) {
     ledger_.endFrame(end, complete, name());
 }
 
-sc_core::sc_process_handle Node::restart(const Box& box, std::vector<Shape> objects, int frame) {
+sc_core::sc_process_handle Node::restart(const Box& box, const ObjectBins& bins, int frame) {
     stats_ = NodeStats{};
     ledger_.restart();
     marks_.restart();
@@ -39,7 +41,7 @@ sc_core::sc_process_handle Node::restart(const Box& box, std::vector<Shape> obje
     contributions_.clear();
     mailbox_ = Mailbox{};
     expressSent_ = 0;
-    rebuild(box, std::move(objects));
+    if (std::memcmp(&region_->box(), &box, sizeof(Box)) != 0) rebuild(box, bins.overlapping(box));  // (to the bit: -0 is not 0)
     return spawnMethod([this] { run(); }, *this, frame);
 }
 
