@@ -314,8 +314,12 @@ TEST_F(EdgesTimed, ATemporaryASigkillLeftIsRemovedByTheNextRun) {
     // SIGKILL cannot be caught: the children's reports stay in TMPDIR...
     const Stopped s = stopWhen(" --spheres 2000 --size 256x256 --mesh 4 -v --image ''", sawLine("reference runs:"), "KILL");
     EXPECT_EQ(s.code, 137) << s.err;
-    std::vector<std::string> left;
-    for (const auto& e : fs::directory_iterator(tmp())) left.push_back(e.path().filename().string());
+    auto names = [&] {
+        std::vector<std::string> out;
+        for (const auto& e : fs::directory_iterator(tmp())) out.push_back(e.path().filename().string());
+        return out;
+    };
+    const std::vector<std::string> left = names();
     ASSERT_FALSE(left.empty());
     for (const std::string& n : left) EXPECT_EQ(n.rfind("rtsim-child-", 0), 0u) << n;
     // ...until the next run with a child of its own removes them; one of a
@@ -324,9 +328,7 @@ TEST_F(EdgesTimed, ATemporaryASigkillLeftIsRemovedByTheNextRun) {
     write(tmp() / running, "{}");
     const Outcome o = rtsim(std::string(kSmall) + " --mesh 2 -q --image ''");
     ASSERT_EQ(o.code, 0) << o.err;
-    left.clear();
-    for (const auto& e : fs::directory_iterator(tmp())) left.push_back(e.path().filename().string());
-    EXPECT_EQ(left, std::vector<std::string>{running});
+    EXPECT_EQ(names(), std::vector<std::string>{running});
 }
 
 TEST_F(Edges, AFrameSequenceKeepsOneReportNotOnePerFrame) {
