@@ -495,6 +495,38 @@ TEST_P(FramesInOneMachine, EachFrameIsTheFrameAMachineOfItsOwnRenders) {
 
 INSTANTIATE_TEST_SUITE_P(Policies, FramesInOneMachine, ::testing::Values("slide", "measured", "none"));
 
+// A node keeps its region (objects and grid) into the next frame only
+// where its box is where the last frame left it (Node::restart). Here the
+// boxes start frame 2 elsewhere than frame 1 ended (the start boundaries of
+// a sequence that goes back to its first split, say) and frame 3 where
+// frame 2 did: each frame is still the one a machine built for it alone
+// renders, image and every figure.
+TEST(FramesInOneMachine, ABoxThatMovedBetweenFramesTakesItsNewObjects) {
+    const Scene s = crowded(0.4, 300, 0.03);
+    MachineConfig c;
+    c.width = c.height = 40;
+    c.dims = {3, 2, 2};
+    c.balance.policy = "none";
+    MachineConfig moved = c;
+    moved.startBoundaries.assign(4, {0.2, 0.45});  // (frame 1: thirds of the column)
+    const std::vector<MachineConfig> frames{c, moved, moved};
+    MachineSession session(s, c);
+    std::vector<MachineResult> results;
+    for (size_t k = 0; k < frames.size(); ++k) {
+        if (k) session.next(s.view, frames[k]);
+        results.push_back(session.run(k + 1 < frames.size()));
+    }
+    EXPECT_NE(results[1].renderTime, results[0].renderTime);  // (the split did change the frame)
+    EXPECT_EQ(results[1].image.pixels, results[0].image.pixels);  // (not the image: the same view)
+    for (size_t k = 0; k < frames.size(); ++k) {
+        const MachineResult fresh = runMachine(s, frames[k]);
+        EXPECT_EQ(fresh.image.pixels, results[k].image.pixels) << "frame " << k + 1;
+        const nlohmann::json a = withoutHost(machineReport(results[k], frames[k], ReportDetail::Full)),
+                             b = withoutHost(machineReport(fresh, frames[k], ReportDetail::Full));
+        EXPECT_EQ(a.dump(), b.dump()) << "frame " << k + 1 << ": " << nlohmann::json::diff(b, a).dump().substr(0, 600);
+    }
+}
+
 // --max-error's calibration frames (tb/fidelity_choice.h) run in the
 // machine that then renders the frame asked for: a session built with the
 // express routes (MachineConfig::expressRoutes), its frames tracing every
