@@ -166,6 +166,11 @@ private:
         m.kd = number("Kd of 'f'");
         m.ks = number("Ks of 'f'");
         m.shine = number("Shine of 'f'");
+        // (Negative, a hit's light would be a power of a cosine below one
+        // to a negative power: inf, and NaN against a light's zero channel.)
+        if (m.kd < 0) fail("diffuse Kd of 'f' must be at least 0");
+        if (m.ks < 0) fail("specular Ks of 'f' must be at least 0");
+        if (m.shine < 0) fail("Phong exponent Shine of 'f' must be at least 0");
         m.t = number("T of 'f'");
         const double ior = number("index of refraction of 'f'");
         if (m.t < 0 || m.t > 1) fail("transmittance T of 'f' must be in [0, 1]");
@@ -247,8 +252,6 @@ private:
         return t;
     }
 
-    static constexpr double kMaxMagnitude = 1e9;
-
     static bool parseDouble(const std::string& s, double& v) {
         const char* begin = s.data();
         const char* end = begin + s.size();
@@ -262,10 +265,7 @@ private:
         double v;
         if (!parseDouble(t.text, v)) fail("expected a number for " + what + ", got '" + shown(t.text) + "'");
         if (!std::isfinite(v)) fail("expected a finite number for " + what + ", got '" + shown(t.text) + "'");
-        // Far beyond any scene, and far enough from overflow that boxes and
-        // grids built from it stay exact: a sphere of radius 1e98 made the
-        // world box's planes collapse (found by scripts/fuzz.sh).
-        if (std::abs(v) > kMaxMagnitude)
+        if (std::abs(v) > kMaxSceneMagnitude)  // (scene_error.h)
             fail("expected a number of magnitude at most 1e9 for " + what + ", got '" + shown(t.text) + "'");
         return v;
     }

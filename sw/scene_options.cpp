@@ -6,6 +6,7 @@
 
 #include "nff_reader.h"
 #include "scene_error.h"
+#include "utf8.h"
 
 namespace rt {
 
@@ -26,9 +27,28 @@ CLI::Validator finiteNumber() {
             double v;
             std::istringstream in(s);
             if (!(in >> v) || !in.eof() || !std::isfinite(v)) return "expected a finite number, got '" + s + "'";
+            if (std::abs(v) > kMaxSceneMagnitude) return "expected a number of magnitude at most 1e9, got '" + s + "'";
             return std::string();
         },
         "", "");
+}
+
+void decimalIntegersOnly(CLI::App& app) {
+    const CLI::Validator decimal(
+        [](std::string& s) {
+            const size_t digits = s.find_first_not_of("+-") == 1 ? 1 : 0;  // (one sign at most)
+            const bool ok = s.size() > digits && s.find_first_not_of("0123456789", digits) == std::string::npos &&
+                            (s[digits] != '0' || s.size() == digits + 1);
+            if (ok) return std::string();
+            return "expected a decimal integer, got '" + s + "'" +
+                   (s.size() > digits + 1 && s[digits] == '0' ? " (a leading 0 reads as C's octal or hexadecimal: write it in decimal)" : "");
+        },
+        "", "");
+    for (CLI::Option* o : app.get_options()) {
+        const std::string type = o->get_type_name();  // ("INT", or "INT:" and its validators' descriptions)
+        const std::string base = type.substr(0, type.find(':'));
+        if (base == "INT" || base == "UINT") o->check(decimal);
+    }
 }
 
 namespace {
@@ -95,7 +115,12 @@ void SceneOptions::addTo(CLI::App& app, bool positional) {
 }
 
 Scene SceneOptions::load() const {
-    if (!file.empty()) return readNff(file);
+    if (!file.empty()) {
+        if (const std::string shown = notUtf8(file); !shown.empty())
+            throw SceneError(shown + ": the scene file's name is not valid UTF-8 (its bad bytes shown as U+FFFD): the "
+                                     "outputs' JSON keeps it and could not hold it; rename the file");
+        return readNff(file);
+    }
     ProceduralParams p = procedural;
     p.axis = axis == "x" ? 0 : axis == "y" ? 1 : 2;
     auto vec3 = [](const std::vector<double>& v, const char* flag, Vec3& out) {

@@ -34,8 +34,15 @@ struct SceneOptions {
 // "WxH" with positive integers; throws CLI::ValidationError otherwise.
 void parseSize(const std::string& text, int& width, int& height);
 
-// Each value a finite number (not nan or inf): for coordinates, which CLI11
-// would otherwise take as they come.
+// Each value a finite number (not nan or inf) of magnitude at most 1e9
+// (kMaxSceneMagnitude): for coordinates, which CLI11 would otherwise take
+// as they come.
 CLI::Validator finiteNumber();
+
+// Every integer option of `app` (CLI11's types INT and UINT) takes decimal
+// digits only: CLI11 reads integers as C's strtol in base 0 does, so that
+// "--mesh 010" ran an 8 x 8 x 8 mesh and " -1" wrapped to 2^64 - 1. Call it
+// once every option is added.
+void decimalIntegersOnly(CLI::App& app);
 
 }  // namespace rt

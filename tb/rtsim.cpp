@@ -50,6 +50,7 @@
 #include "stops.h"
 #include "summary.h"
 #include "trace_busiest.h"
+#include "utf8.h"
 #include "version.h"
 #include "wall_clock.h"
 
@@ -100,6 +101,23 @@ Stop readCommandLine(CLI::App& app, rt::RtsimOptions& o, rt::CommandLine& cl, in
         return app.exit(e);
     } catch (const CLI::ParseError& e) {
         rt::msg::error(rt::msg::kConfig, cl.originOf(e.what()) + e.what());
+        return 2;
+    }
+    // The report keeps every flag (its rerun.flags), in JSON, which holds
+    // UTF-8 alone: a value of other bytes (a file's name may be any) is
+    // refused now, not as the report is written after the run.
+    for (size_t i = 1; i < cl.args.size(); ++i) {
+        size_t f = i;  // the flag it is given to: itself (--flag=value) or the last flag before it
+        while (f > 1 && cl.args[f].rfind("-", 0) != 0) --f;
+        const std::string& a = cl.args[f];
+        const std::string flag = a.rfind("-", 0) == 0 ? a.substr(0, a.find('=')) : "";
+        if (flag.rfind("--", 0) == 0 && rt::isOutputOrInternal(flag.substr(2))) continue;  // (outputs are not kept)
+        const std::string value = f == i && a.find('=') != std::string::npos ? a.substr(a.find('=') + 1) : cl.args[i];
+        const std::string shown = rt::notUtf8(value);
+        if (shown.empty()) continue;
+        const std::string msg = (flag.empty() ? "an argument" : flag) + ": " + shown +
+                                " is not valid UTF-8 (its bad bytes shown as U+FFFD): the report keeps every flag, in JSON, which cannot hold it";
+        rt::msg::error(rt::msg::kConfig, cl.originOf(msg) + msg);
         return 2;
     }
     // The trace flags say what the VCD holds: typed without --vcd, nothing

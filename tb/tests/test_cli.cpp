@@ -102,6 +102,18 @@ TEST_F(Rtref, BadInputGivesOneLineAndExit2) {
     expectBadNoImage("--eye inf,0,0" + o, "--eye");
     expectBadNoImage("--look-at 0,0,-inf" + o, "--look-at");
     expectBadNoImage("--light nan,0,0" + o, "--light");
+    // Beyond 1e9 (an NFF file's limit too): an eye at 1e200 rendered the background with exit 0.
+    expectBadNoImage("--eye 1e200,0.5,0.5" + o, "--eye: expected a number of magnitude at most 1e9, got '1e200'");
+    expectBadNoImage("--light 0,-2e9,0" + o, "--light: expected a number of magnitude at most 1e9");
+    // CLI11 reads integers in C's base 0: 010 was 8 threads.
+    expectBadNoImage("--size 8x8 --threads 010" + o, "--threads: expected a decimal integer, got '010'");
+    expectBadNoImage("--size 8x8 --max-depth 0x2" + o, "--max-depth: expected a decimal integer");
+    // A scene's name goes into the stats (JSON): bytes that are not UTF-8 are
+    // refused before the render (they failed as the stats were written).
+    const std::string bytes = (dir_ / "\xff.nff").string();
+    std::ofstream(bytes) << "v\nfrom 0 0 5\nat 0 0 0\nup 0 1 0\nangle 40\nhither 0.01\nresolution 8 8\ns 0 0 0 1\n";
+    expectBadNoImage(bytes + o + " --stats " + (dir_ / "s.json").string(), "the scene file's name is not valid UTF-8");
+    EXPECT_FALSE(fs::exists(dir_ / "s.json"));
     // Outputs that cannot be written: found before the render, and the
     // image is not left behind when the stats cannot be written.
     expectBad("--size 8x8 -o /nonexistent/x.png", "--output: /nonexistent/x.png: no such folder");

@@ -161,6 +161,8 @@ TEST_F(Edges, AMalformedReportIsOneLineNamingTheField) {
     with([](json& r) { r["config"]["scene"] = "x"; }, "config.scene: expected an object, got a string");
     with([](json& r) { r["rerun"]["flags"] = "mesh = [2\n"; }, "rerun.flags:1: expected ',' or ']'");
     with([](json& r) { r["rerun"]["flags"] = "mesh = 99\n"; }, "rerun.flags:1: mesh = 99: --mesh");
+    // Longer than a config file may be: a million lines, each checked alone, looked like a hang.
+    with([](json& r) { r["rerun"]["flags"] = std::string(1100000, '#'); }, "rerun.flags: larger than 1048576 bytes");
     // Nested 300,000 deep (it crashed the comparison, SIGSEGV): refused as it is read.
     std::string deep = base.dump();
     deep.insert(deep.find("\"config\":{") + 10, "\"deep\":" + std::string(300000, '[') + std::string(300000, ']') + ",");

@@ -209,7 +209,11 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"DegenerateCone", H("c 0 0 0 1 0 0 0 1\n"), "bad.nff:11: degenerate cone"},
         BadCase{"ConeMixedSigns", H("c 0 0 0 1 0 0 1 -1\n"), "bad.nff:11: cone radii must not have opposite signs"},
         BadCase{"MaterialShort", H("f 1 1 1 0.5 0.5 3 0\n"), "expected index of refraction of 'f', got end of file"},
-        BadCase{"BadTransmittance", H("f 1 1 1 0.5 0.5 3 2 1\n"), "bad.nff:11: transmittance T of 'f' must be in [0, 1]"}),
+        BadCase{"BadTransmittance", H("f 1 1 1 0.5 0.5 3 2 1\n"), "bad.nff:11: transmittance T of 'f' must be in [0, 1]"},
+        // (A negative Phong exponent made inf, and NaN against a light's zero channel: NaN pixels, exit 0.)
+        BadCase{"NegativeShine", H("f 1 1 1 0.5 0.5 -1e9 0 1\n"), "bad.nff:11: Phong exponent Shine of 'f' must be at least 0"},
+        BadCase{"NegativeKd", H("f 1 1 1 -0.5 0.5 3 0 1\n"), "bad.nff:11: diffuse Kd of 'f' must be at least 0"},
+        BadCase{"NegativeKs", H("f 1 1 1 0.5 -0.5 3 0 1\n"), "bad.nff:11: specular Ks of 'f' must be at least 0"}),
     [](const testing::TestParamInfo<BadCase>& i) { return std::string(i.param.name); });
 
 TEST(Nff, MissingFileIsAnError) {

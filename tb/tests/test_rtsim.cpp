@@ -529,6 +529,22 @@ TEST_F(Rtsim, BadConfigurationExits2NamingTheFlag) {
     expectBad("--eye nan,0,0", "--eye");
     expectBad("--seed -1", "--seed");  // (was taken as 18446744073709551615)
     expectBad("--light 1,nan,1", "--light");
+    expectBad("--eye 1e200,0.5,0.5", "--eye: expected a number of magnitude at most 1e9");  // (ran, background only, exit 0)
+    expectBad("--look-at 0,0,1e10", "--look-at: expected a number of magnitude at most 1e9");
+    // CLI11 reads integers in C's base 0: --mesh 010 ran 8x8x8, 0x10 16x16x16.
+    expectBad("--mesh 010", "--mesh: expected a decimal integer, got '010' (a leading 0");
+    expectBad("--spheres 0x10", "--spheres: expected a decimal integer, got '0x10'");
+    expectBad("--seed 00", "--seed: expected a decimal integer");
+    // The report keeps every flag, in JSON: a value that is not UTF-8 (a
+    // file's name may be any bytes) is refused before the run, naming its
+    // flag (it failed as the report was written, exit 1, naming none).
+    {
+        const std::string bytes = (dir_ / "\xff.nff").string();
+        std::ofstream(bytes) << "v\nfrom 0 0 5\nat 0 0 0\nup 0 1 0\nangle 40\nhither 0.01\nresolution 8 8\ns 0 0 0 1\n";
+        expectBad("--scene " + bytes, "--scene: \"" + (dir_ / "\xef\xbf\xbd.nff").string() + "\" is not valid UTF-8");
+        std::ofstream(dir_ / "bytes.ini") << "scene = " << bytes << "\n";
+        expectBad("--config " + (dir_ / "bytes.ini").string(), "bytes.ini:1: --scene: ");
+    }
     expectBad("--eye-step 0,inf,0 --frames 2", "--eye-step");
     expectBad("--eye-step 1 --frames 2", "--eye-step: expected three numbers");  // (was read past its end)
     expectBad("--eye-step 1,2 --frames 2", "--eye-step: expected three numbers");
