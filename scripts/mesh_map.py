@@ -117,6 +117,15 @@ class Report:
             self.fail(f"{where}.{key}" if where else key, f"not a {kind.__name__ if isinstance(kind, type) else 'list'}")
         return obj[key]
 
+    def optional_list(self, obj, key):
+        """A list the report may leave out (or null): [] then."""
+        v = obj.get(key)
+        if v is None:
+            return []
+        if not isinstance(v, list):  # (enumerate(5) was an internal error)
+            self.fail(key, f"{str(v)[:30]!r} is not a list")
+        return v
+
     def coords(self, v, where, dims):
         if (not isinstance(v, list) or len(v) != 3 or
                 any(isinstance(c, bool) or not isinstance(c, int) or not 0 <= c < d for c, d in zip(v, dims))):
@@ -174,7 +183,7 @@ class Report:
             self.number(link, "saturated_ns", where, optional=True)
 
     def boundaries(self, r):
-        for i, b in enumerate(r.get("boundaries") or []):
+        for i, b in enumerate(self.optional_list(r, "boundaries")):
             where = f"boundaries[{i}]"
             if not isinstance(b, dict) or not isinstance(b.get("column"), list) or not all(
                     isinstance(c, int) for c in b["column"]):
@@ -187,7 +196,7 @@ class Report:
                 self.fail(where + ".history", "not a list of [time, position] pairs")
 
     def busiest(self, r):
-        for i, x in enumerate(r.get("busiest_links") or []):
+        for i, x in enumerate(self.optional_list(r, "busiest_links")):
             where = f"busiest_links[{i}]"
             if not isinstance(x, dict) or not isinstance(x.get("name"), str):
                 self.fail(where, "no name")

@@ -9,6 +9,7 @@ import argparse
 import csv
 import hashlib
 import itertools
+import math
 import os
 import sys
 import textwrap
@@ -25,6 +26,9 @@ MESH = sweep_points.MESH
 DRIVER_OWNS, INPUTS = sweep_points.DRIVER_OWNS, sweep_points.INPUTS
 flag_names, flag_values = sweep_points.flag_names, sweep_points.flag_values
 
+# The most points one sweep runs: each is an rtsim run of a second or more,
+# so more would take weeks, and the grid is built in memory before any runs.
+MAX_POINTS = 100_000
 # Settings of particular nodes and links: not for the one-node run.
 PER_NODE = ("--node-speed", "--node-cost", "--link-set", "--trace-nodes", "--trace-links", "--boundaries-from")
 
@@ -174,6 +178,10 @@ def grid(sets, base):
         raise ToolError(f"error: {', '.join(sorted(clash))} is both swept (--set) and in the base flags")
     if len(set(names)) != len(names):
         raise ToolError("error: a flag swept by two --set")
+    count = math.prod(len(vals) for _, vals in sets)
+    if count > MAX_POINTS:  # (the whole product was built in memory first: 10^9 points filled it)
+        raise ToolError(f"error: the --set lists make {count:,} points ({' x '.join(str(len(v)) for _, v in sets)}); "
+                        f"a sweep runs at most {MAX_POINTS:,}: split it into several")
     for combo in itertools.product(*(vals for _, vals in sets)):
         params = dict(zip(names, combo))
         args = list(base)

@@ -101,6 +101,8 @@ class Journal:
             return None, "not UTF-8 text"
         except json.JSONDecodeError:
             return None, "not a JSON line (cut short by a kill?)"
+        except RecursionError:
+            return None, "not a journal record (nested too deep)"
         if not isinstance(rec, dict):
             return None, "not a journal record (a JSON object)"
         for field, kind in RECORD_FIELDS.items():

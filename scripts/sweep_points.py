@@ -160,7 +160,7 @@ def rerun_lines(path):
             flags = json.loads(f.read().decode("utf-8"))["rerun"]["flags"]
         if not isinstance(flags, str):
             raise TypeError
-    except (UnicodeDecodeError, json.JSONDecodeError, KeyError, TypeError):
+    except (UnicodeDecodeError, json.JSONDecodeError, KeyError, TypeError, RecursionError):
         raise ToolError(f"--rerun {path}: not an rtsim report (no rerun.flags)") from None
     return parse_config(flags.encode(), f"{path}: rerun.flags")
 

@@ -210,9 +210,12 @@ class Reader:
             self.fail(f"'{tok[:40]}': not a real value")
 
     def time(self, tok):
-        if not tok[1:].isdigit():
-            self.fail(f"'{tok[:40]}': not a time (# and a whole number)")
-        t = int(tok[1:])
+        # ASCII digits only ('#²' is isdigit() and not int()), and a time a
+        # 64-bit counter holds: a longer one overflowed the windows' width.
+        digits = tok[1:]
+        if not (digits.isascii() and digits.isdigit()) or len(digits) > 19 or int(digits) >= 2 ** 63:
+            self.fail(f"'{tok[:40]}': not a time (# and a whole number below 2^63)")
+        t = int(digits)
         if self.last is not None and t < self.last:
             self.fail(f"time #{t} after #{self.last}: times go forward")
         if self.first is None:

@@ -144,6 +144,10 @@ class MeshMap(unittest.TestCase):
             "busy-below-0": (json.dumps(busy(-5)), ": nodes[1].busy_ns: -5 is below 0"),
             "load-nan": (json.dumps(nodes).replace('"load": "x"', '"load": NaN'),
                          ": nodes[1].load: 'nan' is not a finite number"),
+            # (Not lists, they were an internal error, exit 1.)
+            "boundaries": (json.dumps(dict(synthetic(2, [0, 0, 0]), boundaries=5)), ": boundaries: '5' is not a list"),
+            "busiest": (json.dumps(dict(synthetic(2, [0, 0, 0]), busiest_links={"a": 1})),
+                        ": busiest_links: \"{'a': 1}\" is not a list"),
         }
         for name, (text, said) in cases.items():
             with self.subTest(case=name):

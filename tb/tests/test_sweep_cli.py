@@ -231,7 +231,8 @@ class SweepEdges(unittest.TestCase):
         presets = {"vcd.conf": b"# writes a VCD\nvcd = cfg.vcd\n", "dims.conf": b"mesh-dims = 2x2x2\n",
                    "frames.conf": b"frames = 3\n", "latin1.conf": b"# caf\xe9\nlink-latency = 1us # d\xe9j\xe0\n",
                    "nodes.conf": b"node-speed = 1,1,1=2\n", "map.conf": b"map\n",
-                   "report.json": json.dumps({"rerun": {"flags": 'spheres=30\nmesh-dims="2x2x1"\n'}}).encode()}
+                   "report.json": json.dumps({"rerun": {"flags": 'spheres=30\nmesh-dims="2x2x1"\n'}}).encode(),
+                   "deep.json": b"[" * 100000 + b"]" * 100000}
         for name, text in presets.items():
             with open(os.path.join(self.work, name), "wb") as f:
                 f.write(text)
@@ -252,6 +253,10 @@ class SweepEdges(unittest.TestCase):
             (["--set", "config=dims.conf,frames.conf", "--", "--mesh-dims", "2x2x2"],
              "dims.conf:1: mesh-dims in a swept preset"),
             (["--set", "a=1,2", "--", "--rerun", "dims.conf"], "--rerun dims.conf: not an rtsim report"),
+            (["--set", "a=1,2", "--", "--rerun", "deep.json"], "--rerun deep.json: not an rtsim report"),  # (RecursionError)
+            # A product built in memory before any run (10^9 points filled it): refused.
+            (["--set", "seed=" + ",".join(map(str, range(1, 401))), "--set", "spheres=" + ",".join(map(str, range(1, 401)))],
+             "make 160,000 points (400 x 400); a sweep runs at most 100,000"),
             (["--set", "a=1,2", "--", "--config", "latin1.conf"], "latin1.conf:2: not UTF-8"),
             (["--set", "a=1,2", "--", "--config", fifo], "a FIFO, not a file"),
             (["--set", "a=1,2", "--", "--config", "/dev/zero"], "--config /dev/zero: a device"),
@@ -302,13 +307,13 @@ class SweepEdges(unittest.TestCase):
         # Points 1, 2 and 5 lose their records: undecodable, foreign and
         # malformed lines come first, the last record is cut short (a kill).
         damaged = [b"\xff\xfe not text", b"123", b'{"x": 1}', lines[2], lines[3], b'{"id": 5, "params": {}}',
-                   lines[4][:len(lines[4]) // 2]]
+                   b"[" * 100000 + b"]" * 100000, lines[4][:len(lines[4]) // 2]]
         with open(path, "wb") as f:
             f.write(b"\n".join(damaged))
         p = self.sweep("s", "--set", "a=1,2,3,4,5", csv_path=out)
         self.assertEqual(p.returncode, 0, p.stderr)
         warned = [ln for ln in p.stderr.splitlines() if ln.startswith(path + ":")]
-        self.assertEqual([ln.split(":")[1] for ln in warned], ["1", "2", "3", "6", "7"], p.stderr)
+        self.assertEqual([ln.split(":")[1] for ln in warned], ["1", "2", "3", "6", "7", "8"], p.stderr)
         self.assertTrue(all(ln.endswith("skipped (any point it held runs again)") for ln in warned), warned)
         self.assertEqual(self.calls(), 5 + 3)  # the three points whose records were lost
         strip = [{k: v for k, v in r.items() if k != "wall_s"} for r in first]

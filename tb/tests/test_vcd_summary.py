@@ -172,6 +172,12 @@ r0 %
             "timescale": (HAND.replace("1ps", "3 ps"), "$timescale", "$timescale '3 ps'"),
             "cut": (HAND[:HAND.index("$enddefinitions")] + "$var wire 1 ( busy", "$var wire 1 (",
                     "the file ends inside $var"),
+            # Times that were an internal error, exit 1: a digit int() does not
+            # take, one that overflowed the windows' width, one past Python's
+            # 4,300 digits.
+            "superscript": (HAND.replace("#90\n", "#\u00b2\n"), "#\u00b2", "'#\u00b2': not a time"),
+            "huge": (HAND.replace("#90\n", "#1" + "0" * 400 + "\n"), "#1000", "'#1" + "0" * 38 + "': not a time (# and a whole number below 2^63)"),
+            "huger": (HAND.replace("#90\n", "#" + "9" * 5000 + "\n"), "#999", "'#" + "9" * 39 + "': not a time"),
         }
         with tempfile.TemporaryDirectory() as d:
             for name, (text, words, said) in cases.items():
