@@ -26,9 +26,33 @@ ObjectBins::ObjectBins(const std::vector<Shape>& all, Lattice cells, double marg
     }
 }
 
+// On each axis, from the cell that holds the box's low face from inside (at
+// a plane, the cell above it) to the cell that holds its high face (at a
+// plane, the cell below). An object is binned into every cell its widened
+// bounds E touch, closed, and it is the box's iff E touches the box
+// (overlapsBox); E.hi >= box.lo and E.lo <= box.hi put E's cells and these
+// on each axis in one run (the searches are monotone), so one of these
+// holds it. The closed range (overlapRange) takes in the cells beyond each
+// face too: a box that is one cell of the lattice looked in 27 bins and
+// sorted what it found (doc/history.md, "At 32x32x32"); here it looks in
+// one, already in order. A flat axis keeps the closed range.
+void ObjectBins::binsOf(const Box& box, Cell& first, Cell& last) const {
+    cells_.overlapRange(box, first, last);
+    for (int a = 0; a < 3; ++a) {
+        const std::vector<double>& p = cells_.planes(a);
+        const int n = cells_.cells(a);
+        const int f = std::clamp(int(std::upper_bound(p.begin(), p.end(), box.lo[a]) - p.begin()) - 1, 0, n - 1);
+        const int l = std::clamp(int(std::lower_bound(p.begin(), p.end(), box.hi[a]) - p.begin()) - 1, 0, n - 1);
+        if (f <= l) {
+            first[a] = f;
+            last[a] = l;
+        }
+    }
+}
+
 std::vector<Shape> ObjectBins::overlapping(const Box& box) const {
     Cell first, last;
-    cells_.overlapRange(box, first, last);
+    binsOf(box, first, last);
     std::vector<uint32_t> candidates;
     for (int z = first[2]; z <= last[2]; ++z)
         for (int y = first[1]; y <= last[1]; ++y)
@@ -36,8 +60,10 @@ std::vector<Shape> ObjectBins::overlapping(const Box& box) const {
                 const std::vector<uint32_t>& b = bins_[binOf(x, y, z)];
                 candidates.insert(candidates.end(), b.begin(), b.end());
             }
-    std::sort(candidates.begin(), candidates.end());
-    candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+    if (first != last) {  // (one bin is in order, each object in it once)
+        std::sort(candidates.begin(), candidates.end());
+        candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+    }
     std::vector<Shape> out;
     for (uint32_t i : candidates)
         if (overlapsBox(all_[i], box, margin_)) out.push_back(all_[i]);

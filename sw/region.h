@@ -25,9 +25,8 @@ bool overlapsBox(const Shape& s, const Box& box, double margin);
 // The objects of a scene binned into the cells of a lattice that covers the
 // world (each object in every cell its widened bounds touch), so that the
 // objects of a box are looked for among a few cells' instead of the whole
-// scene: a 16x16x16 machine builds 4,096 boxes from 66,430 objects. Any
-// point where an object's widened bounds and a box (within the lattice) meet
-// lies in a cell both touch, so the cells a box touches hold every object
+// scene: a 16x16x16 machine builds 4,096 boxes from 66,430 objects. The
+// cells that hold a box's faces from inside (binsOf) hold every object
 // objectsOverlapping would find; the exact test then keeps those.
 class ObjectBins {
 public:
@@ -40,6 +39,7 @@ public:
 
 private:
     size_t binOf(int x, int y, int z) const { return (size_t(z) * cells_.cells(1) + y) * cells_.cells(0) + x; }
+    void binsOf(const Box& box, Cell& first, Cell& last) const;  // the cells to look in (region.cpp)
 
     const std::vector<Shape>& all_;
     Lattice cells_;

@@ -93,7 +93,8 @@ std::vector<std::string> checkedArgs(const ConfigLine& line, bool report, std::s
 
 // Each setting checked once (checkedArgs): the same line again (a file of
 // many lines) gives the same arguments. Each check parses with every flag
-// of rtsim, about 0.2 ms: 170,000 lines of `quiet` took a minute.
+// of rtsim, so a long file of one setting took long (doc/history.md,
+// "Figures behind the code's comments").
 class LineChecks {
 public:
     struct Checked {

@@ -158,7 +158,20 @@ TEST(ObjectBins, FindWhatAScanFindsInTheSameOrder) {
         for (const Lattice& bins : {Lattice::uniform(w, {1, 1, 1}), Lattice::uniform(w, {4, 3, 5}), randomCuts(s, 5, 4),
                                     Lattice(tight)}) {
             const ObjectBins binned(s.objects, bins, margin);
-            for (const Box& b : boxes) {
+            // The bins' own cells, and boxes with a face on a bin plane (binsOf
+            // looks in the cells inside the faces alone: one bin for a cell).
+            std::vector<Box> onPlanes = boxes;
+            for (int k = 0; k < 60; ++k) {
+                const Cell c{int(rng() % size_t(bins.cells(0))), int(rng() % size_t(bins.cells(1))),
+                             int(rng() % size_t(bins.cells(2)))};
+                Box b = bins.cellBox(c);
+                onPlanes.push_back(b);
+                const int a = int(rng() % 3);
+                if (k % 3 == 1) b.hi[a] = 0.5 * (b.lo[a] + b.hi[a]);  // the low face on a plane alone
+                if (k % 3 == 2) b.hi[a] = b.lo[a];                     // flat, on a plane
+                onPlanes.push_back(b);
+            }
+            for (const Box& b : onPlanes) {
                 SCOPED_TRACE(testing::Message() << name << ", box " << b.lo.x << " " << b.lo.y << " " << b.lo.z << " / "
                                                 << b.hi.x << " " << b.hi.y << " " << b.hi.z);
                 ASSERT_EQ(boundsOf(binned.overlapping(b)), boundsOf(objectsOverlapping(s.objects, b, margin)));
