@@ -29,10 +29,10 @@ from outputs import (ToolError, check_distinct, check_input, check_output, guard
                      savefig)
 from project import pyplot  # noqa: E402
 
-# Units rtsim's flags take (tb/option_parsers.cpp): times and rates.
+# Units rtsim's flags take (models/base/units.cpp, parseTime and parseRate): times and rates.
 UNITS = {"ps": 1e-12, "ns": 1e-9, "us": 1e-6, "ms": 1e-3, "s": 1.0,
          "B/s": 1.0, "KB/s": 1e3, "MB/s": 1e6, "GB/s": 1e9, "TB/s": 1e12,
-         "b/s": 1 / 8, "Kb/s": 1e3 / 8, "Mb/s": 1e6 / 8, "Gb/s": 1e9 / 8}
+         "b/s": 1 / 8, "Kb/s": 1e3 / 8, "Mb/s": 1e6 / 8, "Gb/s": 1e9 / 8, "Tb/s": 1e12 / 8}
 KNEES = (1.1, 2.0)  # +10 % and x2 of a line's reference value
 DECADE = 10.0       # values spanning this ratio or more get a log axis
 FORMATS = ("png", "svg", "pdf")

@@ -72,6 +72,9 @@ std::vector<std::string> checkedArgs(const ConfigLine& line, bool report, std::s
     if (report && isOutputOrInternal(line.name))
         throw ConfigError(line.where + ": '" + line.name +
                           "': a report's flags never name an output, a program or an internal flag; give outputs on the command line");
+    if (!opt->check_lname(line.name))  // (found as -q, not --q)
+        throw ConfigError(line.where + ": '" + line.name + "' is the short -" + line.name +
+                          ": a file names a flag by its long name, " + opt->get_single_name());
     if (line.name == "config" || line.name == "rerun")
         throw ConfigError(line.where + ": --" + line.name + " is read only from the command line");
     name = opt->get_single_name();

@@ -57,6 +57,23 @@ class PlotSweep(unittest.TestCase):
         self.assertNotIn("Traceback", p.stderr)
         self.assertIn(said, p.stderr)
 
+    def test_units_are_the_ones_rtsim_takes(self):
+        """The chart reads an x value with a unit as rtsim's parsers do
+        (models/base/units.cpp): the same units, the same scales (1Tb/s
+        was refused, which rtsim takes)."""
+        import re
+        with open(os.path.join(ROOT, "models", "base", "units.cpp")) as f:
+            text = f.read()
+        rates = dict(re.findall(r'\{"([A-Za-z]+/s)",\s*([0-9e.]+(?:\s*/\s*[0-9e.]+)?)\}', text))
+        times = dict(re.findall(r'unit == "([a-z]+)"\) scale = ([0-9e.]+);', text))
+        self.assertEqual(len(rates), 10, rates)
+        self.assertEqual(len(times), 5, times)
+        theirs = {u: eval(v) for u, v in rates.items()}  # (a number, or a number over 8)
+        theirs.update({u: float(v) * 1e-12 for u, v in times.items()})  # (rtsim's times are in ps)
+        self.assertEqual(set(plot_sweep.UNITS), set(theirs))
+        for u, scale in theirs.items():
+            self.assertAlmostEqual(plot_sweep.UNITS[u], scale, delta=scale * 1e-12, msg=u)
+
     def test_knees_where_a_hand_computation_puts_them(self):
         # Reference 100 at 16 GB/s (the fast end, also the best); 1.1 x = 110
         # lies a quarter of the way from 105 (4 GB/s) to 125 (2 GB/s); 1 to

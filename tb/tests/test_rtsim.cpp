@@ -556,6 +556,8 @@ TEST_F(Rtsim, BadConfigurationExits2NamingTheFlag) {
     expectBad("--config " + (dir_ / "bad.ini").string(), "");
     std::ofstream(dir_ / "bad2.ini") << "no-such-flag = 3\n";
     expectBad("--config " + (dir_ / "bad2.ini").string(), "no-such-flag");
+    std::ofstream(dir_ / "short.ini") << "q\n";  // (it said "argument was not expected: --q=true")
+    expectBad("--config " + (dir_ / "short.ini").string(), "short.ini:1: 'q' is the short -q: a file names a flag by its long name, quiet");
     expectBad("--config /nonexistent.ini", "/nonexistent.ini");
     expectBad("--config /dev/urandom", "/dev/urandom");  // read whole, it never ended
     expectBad("--boundaries-from /dev/urandom", "--boundaries-from: not a regular file");
