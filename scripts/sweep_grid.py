@@ -29,6 +29,7 @@ flag_names, flag_values = sweep_points.flag_names, sweep_points.flag_values
 # The most points one sweep runs: each is an rtsim run of a second or more,
 # so more would take weeks, and the grid is built in memory before any runs.
 MAX_POINTS = 100_000
+MAX_REPEAT = 1000  # runs of one point: a median of more says no more
 # Settings of particular nodes and links: not for the one-node run.
 PER_NODE = ("--node-speed", "--node-cost", "--link-set", "--trace-nodes", "--trace-links", "--boundaries-from")
 
@@ -309,8 +310,8 @@ def check_args(a):
         raise ToolError("error: nothing to sweep: give at least one --set FLAG=V1,V2,...")
     if a.frames is not None and a.frames < 1:
         raise ToolError(f"error: --frames {a.frames}: at least 1")
-    if a.repeat < 1:
-        raise ToolError(f"error: --repeat {a.repeat}: at least 1")
+    if not 1 <= a.repeat <= MAX_REPEAT:  # (10^9 ran until killed, saying nothing)
+        raise ToolError(f"error: --repeat {a.repeat}: at least 1 and at most {MAX_REPEAT}")
     if a.dask_timeout <= 0:
         raise ToolError(f"error: --dask-timeout {a.dask_timeout:g}: more than 0 seconds")
     if not os.path.isfile(a.rtsim):
@@ -338,6 +339,8 @@ def main(argv=None):
     found = check_settings(sets, base, a.frames, a.speedup)
     journal = sweep_driver.journal_path(a.name, a, make=False)
     csv_path = check_csv_path(a.csv, a.name)
+    if os.path.abspath(csv_path) == os.path.dirname(journal):  # (it ran every point, then wrote into a folder)
+        raise ToolError(f"error: --csv {a.csv} and --journal-dir {a.journal_dir}: the same path (the journal's folder)")
     inputs = [(flag, value) for _, flag, value, kind, _ in found if flag in INPUTS and value and kind != "preset"]
     outputs.check_distinct([("--csv", csv_path), ("the journal", journal), ("--rtsim", a.rtsim)] + inputs)
     ours_id = sweep_id(sets, base, a.frames, a.gain, a.speedup, a.repeat)

@@ -126,11 +126,11 @@ private:
     bool sceneKeyword(Scene& s, const Token& kw) {
         const std::string& k = kw.text;
         if (k == "b") {
-            s.background = vec("background colour 'b r g b'");
+            s.background = colour("background colour 'b r g b'");
         } else if (k == "l") {
             Light l;
             l.position = vec("light position 'l x y z'");
-            if (nextIsNumberOnLine(kw.line)) l.colour = vec("light colour 'l x y z r g b'");
+            if (nextIsNumberOnLine(kw.line)) l.colour = colour("light colour 'l x y z r g b'");
             s.lights.push_back(l);
         } else if (k == "f") {
             s.materials.push_back(material());
@@ -160,9 +160,17 @@ private:
         if (f == ViewFault::UpAlongView) fail("'up' is parallel to the viewing direction");
     }
 
+    // A colour: three numbers, none below 0 (a negative one took light away:
+    // 'f -1 -1 -1' rendered black, its highlights gone).
+    Vec3 colour(const std::string& what) {
+        const Vec3 c = vec(what);
+        if (c.x < 0 || c.y < 0 || c.z < 0) fail(what + " must not be below 0");
+        return c;
+    }
+
     Material material() {
         Material m;
-        m.colour = vec("material colour 'f r g b'");
+        m.colour = colour("material colour 'f r g b'");
         m.kd = number("Kd of 'f'");
         m.ks = number("Ks of 'f'");
         m.shine = number("Shine of 'f'");

@@ -1,5 +1,6 @@
 #include "scene_options.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <sstream>
@@ -33,6 +34,22 @@ CLI::Validator finiteNumber() {
         "", "");
 }
 
+void checkTriples(const std::vector<std::string>& args, const std::vector<std::string>& flags) {
+    const auto pieces = [](const std::string& t) { return size_t(std::count(t.begin(), t.end(), ',')) + 1; };
+    for (size_t i = 1; i < args.size(); ++i)
+        for (const std::string& flag : flags) {
+            size_t n = 0;
+            if (args[i].rfind(flag + "=", 0) == 0) {
+                n = pieces(args[i].substr(flag.size() + 1));
+            } else if (args[i] == flag) {  // its values follow, as many tokens as CLI11 takes for three
+                for (size_t j = i + 1; j < args.size() && n < 3 && args[j].rfind("--", 0) != 0; ++j) n += pieces(args[j]);
+            } else {
+                continue;
+            }
+            if (n != 3) throw CLI::ValidationError(flag, "expected three numbers x y z (or x,y,z), got " + std::to_string(n));
+        }
+}
+
 void decimalIntegersOnly(CLI::App& app) {
     const CLI::Validator decimal(
         [](std::string& s) {
@@ -44,10 +61,17 @@ void decimalIntegersOnly(CLI::App& app) {
                    (s.size() > digits + 1 && s[digits] == '0' ? " (a leading 0 reads as C's octal or hexadecimal: write it in decimal)" : "");
         },
         "", "");
+    const CLI::Validator noHex(
+        [](std::string& s) {
+            return s.find_first_of("xX") == std::string::npos ? std::string()
+                                                               : "expected a decimal number, got '" + s + "'";
+        },
+        "", "");
     for (CLI::Option* o : app.get_options()) {
         const std::string type = o->get_type_name();  // ("INT", or "INT:" and its validators' descriptions)
         const std::string base = type.substr(0, type.find(':'));
         if (base == "INT" || base == "UINT") o->check(decimal);
+        if (base == "FLOAT") o->check(noHex);  // (read as strtod does: 0x10 was 16)
     }
 }
 
@@ -94,6 +118,12 @@ void SceneOptions::addTo(CLI::App& app, bool positional) {
     app.add_option("--axis", axis, "progress axis: the procedural scene's and the balancing's")->group(g)->check(CLI::IsMember({"x", "y", "z"}));
     app.add_option("--seed", p.seed, "procedural: random seed for sphere placement")->group(g)->check(CLI::Validator(
         [](std::string& v) { return v.rfind('-', 0) == 0 ? std::string("expected a whole number, 0 or more") : std::string(); },
+        ""))->check(CLI::Validator(
+        [](std::string& v) {  // (CLI11 took 2^64 and beyond as 18446744073709551615)
+            uint64_t n;
+            const auto r = std::from_chars(v.data(), v.data() + v.size(), n);
+            return r.ec == std::errc::result_out_of_range ? "above " + std::to_string(UINT64_MAX) + ", got '" + v + "'" : std::string();
+        },
         ""));  // (CLI11 takes -1 into the unsigned seed as 18446744073709551615)
     app.add_option("--eye", eye, "procedural: camera position x y z (or x,y,z)")
         ->group(g)

@@ -39,10 +39,18 @@ void parseSize(const std::string& text, int& width, int& height);
 // as they come.
 CLI::Validator finiteNumber();
 
+// Each of `flags` (x y z vectors: --eye, --look-at) given with exactly
+// three numbers each time it appears in `args` (the command line, argv[0]
+// first): under rtsim's rule that a flag's last value wins (TakeLast),
+// CLI11 kept the last three of "--eye 1,2,3,4" and said nothing.
+// Throws CLI::ValidationError naming the flag.
+void checkTriples(const std::vector<std::string>& args, const std::vector<std::string>& flags);
+
 // Every integer option of `app` (CLI11's types INT and UINT) takes decimal
-// digits only: CLI11 reads integers as C's strtol in base 0 does, so that
-// "--mesh 010" ran an 8 x 8 x 8 mesh and " -1" wrapped to 2^64 - 1. Call it
-// once every option is added.
+// digits only, and every FLOAT one no hexadecimal: CLI11 reads integers as
+// C's strtol in base 0 does, so that "--mesh 010" ran an 8 x 8 x 8 mesh and
+// " -1" wrapped to 2^64 - 1, and numbers as strtod, "--speed 0x10" 16. Call
+// it once every option is added.
 void decimalIntegersOnly(CLI::App& app);
 
 }  // namespace rt

@@ -229,9 +229,12 @@ CommandLine assembleCommandLine(int argc, char** argv) {
     CommandLine cl = mergeFlags(sources, rest, argv[0]);
     cl.configs = configs;
     cl.rerun = std::move(rerun);
+    // A flag that changes no frame (--no-baseline skips the reference runs
+    // alone) is no what-if: the rerun is still checked against the report
+    // (with it, an edited report's mesh ran unchecked).
     if (cl.rerun)
         for (const std::string& name : cl.given)
-            if (!isOutputOrInternal(name)) cl.rerun->overrides = true;
+            if (!isOutputOrInternal(name) && name != "no-baseline") cl.rerun->overrides = true;
     return cl;
 }
 

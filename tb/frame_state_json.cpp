@@ -1,5 +1,6 @@
 #include "frame_state_json.h"
 
+#include <set>
 #include <stdexcept>
 #include <string>
 
@@ -58,8 +59,12 @@ FrameState read(const nlohmann::json& r) {
     f.axis = axis == "x" ? 0 : axis == "y" ? 1 : axis == "z" ? 2 : -1;
     if (f.axis < 0) throw std::runtime_error("not an rtsim report (config.balance.axis '" + axis + "')");
     f.renderTimeNs = r.value("render_time_ns", 0.0);
+    std::set<std::pair<std::array<int, 2>, int>> seen;  // (a boundary twice: the later one won, silently)
     for (const auto& h : r.at("boundaries")) {
         BoundaryState b{h.at("column").get<std::array<int, 2>>(), h.at("index").get<int>(), {}};
+        if (!seen.insert({b.column, b.index}).second)
+            throw std::runtime_error("boundaries: column " + std::to_string(b.column[0]) + "," + std::to_string(b.column[1]) +
+                                     "'s boundary " + std::to_string(b.index) + " given twice");
         for (const auto& p : h.at("history")) b.history.push_back({p.at(0).get<double>(), p.at(1).get<double>()});
         f.boundaries.push_back(std::move(b));
     }

@@ -72,7 +72,7 @@ double parseErrorShare(const std::string& text) {
     char* end = nullptr;
     const double v = std::strtod(t.c_str(), &end);
     const double e = percent ? v / 100 : v;
-    if (t.empty() || end != t.c_str() + t.size() || !(e > 0 && e < 1))
+    if (t.empty() || end != t.c_str() + t.size() || t.find_first_of("xX") != std::string::npos || !(e > 0 && e < 1))
         throw OptionError("--max-error", "expected a share above 0 and below 1 (0.02) or a percentage (2%), got '" + text + "'");
     return e;
 }

@@ -94,6 +94,7 @@ Stop readCommandLine(CLI::App& app, rt::RtsimOptions& o, rt::CommandLine& cl, in
     try {
         std::vector<std::string> reversed(cl.args.rbegin(), cl.args.rend() - 1);  // (CLI11 takes them reversed, without argv[0])
         app.parse(reversed);
+        rt::checkTriples(cl.args, {"--eye", "--look-at", "--eye-step"});
         o.finish();
         rt::msg::install(o.verbose);  // (0 in a reference run)
         rt::setWallLimit(o.machine.watchdogWall);
@@ -339,7 +340,10 @@ int run(const rt::CommandLine& cl, const CLI::App& app, rt::RtsimOptions& o, con
     if (earlier.stopped) {
         out.report(*earlier.stopped);
         out.commit();
-        return stopped(earlier.exitCode, earlier.why);
+        // (The VCD is the last frame's, which had not begun: said, not left out silently.)
+        const std::string noVcd = o.vcd.empty() ? "" : "; no VCD written: --vcd traces the sequence's last frame, frame " +
+                                                           std::to_string(o.frames) + ", which had not begun";
+        return stopped(earlier.exitCode, earlier.why + noVcd);
     }
     std::optional<rt::TraceChoice> chosen;
     if (o.traceBusiest > 0 && !o.vcd.empty()) chosen = rt::traceBusiest(earlier, scene, o);

@@ -1,5 +1,7 @@
 #include "base/units.h"
 
+#include <algorithm>
+
 #include <stdexcept>
 
 #include <cmath>
@@ -17,6 +19,8 @@ bool splitNumber(const std::string& text, double& value, std::string& unit) {
     char* end = nullptr;
     value = std::strtod(begin, &end);
     if (end == begin || !std::isfinite(value)) return false;
+    if (std::find_if(begin, static_cast<const char*>(end), [](char c) { return c == 'x' || c == 'X'; }) != end)
+        return false;  // (strtod reads C's hexadecimal: 0x10ns was 16 ns)
     while (*end == ' ') ++end;
     unit.assign(end);
     return true;

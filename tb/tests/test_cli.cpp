@@ -97,6 +97,7 @@ TEST_F(Rtref, BadInputGivesOneLineAndExit2) {
     expectBadNoImage("--concentration 0" + o, "--concentration");
     expectBadNoImage("--axis w" + o, "--axis");
     expectBadNoImage("--eye 1 2" + o, "--eye");
+    expectBadNoImage("--eye 1,2,3,4" + o, "--eye");  // (rtsim, whose flags take their last value, took 2,3,4)
     expectBadNoImage("--light 0,0" + o, "--light");
     expectBadNoImage("--eye nan,0,0" + o, "--eye");
     expectBadNoImage("--eye inf,0,0" + o, "--eye");

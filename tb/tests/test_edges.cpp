@@ -124,6 +124,16 @@ TEST_F(Edges, AReportsFlagsCannotWriteAnywhereOrStartAProgram) {
 
 TEST_F(Edges, ARerunLoadsOnlyTheSceneItsReportRecords) {
     const json base = baseReport();  // procedural: 200 spheres
+    // A report edited to another mesh than its flags give is refused, with
+    // --no-baseline too: it changes no frame, so it is no what-if (with it
+    // the edited report ran unchecked, 2x2x2).
+    {
+        json m = base;
+        m["config"]["mesh"] = {3, 3, 3};
+        write(dir_ / "m.json", m.dump());
+        bad("--rerun " + p("m.json") + " -q --image ''", "arrives at other settings than the report's: /mesh/0: 3 there, 2 here");
+        bad("--rerun " + p("m.json") + " --no-baseline -q --image ''", "/mesh/0: 3 there, 2 here");
+    }
     // Flags naming a scene file that config.scene does not: refused before
     // the file is read (nothing of it echoed).
     json r = base;
@@ -171,6 +181,12 @@ TEST_F(Edges, AMalformedReportIsOneLineNamingTheField) {
     // --boundaries-from takes a report too, read alike.
     bad(std::string(kSmall) + " --balance slide --boundaries-from " + p("deep.json") + " -q --image ''",
         "--boundaries-from " + p("deep.json") + ": nested more than 64 deep");
+    // A boundary given twice: the later entry won, silently.
+    json twice = base;
+    ASSERT_FALSE(twice["boundaries"].empty());
+    twice["boundaries"].push_back(twice["boundaries"][0]);
+    write(dir_ / "twice.json", twice.dump());
+    bad(std::string(kSmall) + " --balance slide --boundaries-from " + p("twice.json") + " -q --image ''", "boundaries: column 0,0's boundary 1 given twice");
     EXPECT_TRUE(leftBehind().empty());
 }
 

@@ -213,7 +213,10 @@ INSTANTIATE_TEST_SUITE_P(
         // (A negative Phong exponent made inf, and NaN against a light's zero channel: NaN pixels, exit 0.)
         BadCase{"NegativeShine", H("f 1 1 1 0.5 0.5 -1e9 0 1\n"), "bad.nff:11: Phong exponent Shine of 'f' must be at least 0"},
         BadCase{"NegativeKd", H("f 1 1 1 -0.5 0.5 3 0 1\n"), "bad.nff:11: diffuse Kd of 'f' must be at least 0"},
-        BadCase{"NegativeKs", H("f 1 1 1 0.5 -0.5 3 0 1\n"), "bad.nff:11: specular Ks of 'f' must be at least 0"}),
+        BadCase{"NegativeKs", H("f 1 1 1 0.5 -0.5 3 0 1\n"), "bad.nff:11: specular Ks of 'f' must be at least 0"},
+        BadCase{"NegativeColour", H("f -1 1 1 0.5 0.5 3 0 1\n"), "bad.nff:11: material colour 'f r g b' must not be below 0"},
+        BadCase{"NegativeLight", H("l 1 1 1 1 -5 1\n"), "bad.nff:11: light colour 'l x y z r g b' must not be below 0"},
+        BadCase{"NegativeBackground", H("b 0 0 -1\n"), "bad.nff:11: background colour 'b r g b' must not be below 0"}),
     [](const testing::TestParamInfo<BadCase>& i) { return std::string(i.param.name); });
 
 TEST(Nff, MissingFileIsAnError) {

@@ -535,6 +535,12 @@ TEST_F(Rtsim, BadConfigurationExits2NamingTheFlag) {
     expectBad("--mesh 010", "--mesh: expected a decimal integer, got '010' (a leading 0");
     expectBad("--spheres 0x10", "--spheres: expected a decimal integer, got '0x10'");
     expectBad("--seed 00", "--seed: expected a decimal integer");
+    // And strtod's hexadecimal in times, rates and numbers: 0x10ns was 16 ns, --speed 0x10 16.
+    expectBad("--link-latency 0x10ns", "--link-latency");
+    expectBad("--link-bandwidth 0x1p30B/s", "--link-bandwidth");
+    expectBad("--max-error 0x1%", "--max-error");
+    expectBad("--speed 0x10", "--speed: expected a decimal number, got '0x10'");
+    expectBad("--seed 18446744073709551616", "--seed: above 18446744073709551615");  // (was taken as 2^64 - 1)
     // The report keeps every flag, in JSON: a value that is not UTF-8 (a
     // file's name may be any bytes) is refused before the run, naming its
     // flag (it failed as the report was written, exit 1, naming none).
@@ -548,6 +554,12 @@ TEST_F(Rtsim, BadConfigurationExits2NamingTheFlag) {
     expectBad("--eye-step 0,inf,0 --frames 2", "--eye-step");
     expectBad("--eye-step 1 --frames 2", "--eye-step: expected three numbers");  // (was read past its end)
     expectBad("--eye-step 1,2 --frames 2", "--eye-step: expected three numbers");
+    // More than three: CLI11 kept the last three (--eye 1,2,3,4 ran from 2,3,4), on the command line or in a file.
+    expectBad("--eye 1,2,3,4", "--eye: expected three numbers x y z (or x,y,z), got 4");
+    expectBad("--look-at 0.5,0.5 0.5,0.5", "--look-at: expected three numbers x y z (or x,y,z), got 4");
+    expectBad("--eye-step 1,2,3,4 --frames 2", "--eye-step: expected three numbers");
+    std::ofstream(dir_ / "eye.ini") << "eye = [1, 2, 3, 4]\n";
+    expectBad("--config " + (dir_ / "eye.ini").string(), "eye.ini:1: --eye: expected three numbers");
     // A camera path onto the point looked at, or along `up`: each frame's view checked first
     // (they rendered a flat background, or nothing, with exit 0).
     expectBad("--size 16x16 --mesh 2 --frames 3 --eye-step 0,1.05,0", "--eye-step: frame 3's eye (0.5, 0.5, 0.5) is the point looked at");

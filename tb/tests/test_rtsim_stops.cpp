@@ -69,6 +69,20 @@ TEST_F(RtsimTimed, WatchdogInAnEarlierFrameStopsTheSequenceWithExit3) {
     EXPECT_TRUE(r["frames"][0].value("incomplete", false));
 }
 
+// The VCD traces the sequence's last frame: a stop before it begins leaves
+// no VCD, and says so (it was left out silently).
+TEST_F(RtsimTimed, AStopBeforeTheLastFrameSaysThereIsNoVcd) {
+    const fs::path vcd = dir_ / "frames.vcd";
+    const Outcome o = run(std::string(kSmall) + " --mesh 2 --frames 2 --fault-drop-credit --no-baseline -q --image ''"
+                                                " --report " + (dir_ / "frames.json").string() + " --vcd " + vcd.string());
+    EXPECT_EQ(o.code, 3) << o.err;
+    EXPECT_EQ(std::count(o.err.begin(), o.err.end(), '\n'), 1) << o.err;
+    EXPECT_NE(o.err.find("; no VCD written: --vcd traces the sequence's last frame, frame 2, which had not begun"),
+              std::string::npos) << o.err;
+    EXPECT_FALSE(fs::exists(vcd));
+    EXPECT_TRUE(fs::exists(dir_ / "frames.json"));
+}
+
 // The VCD is written as the run goes, into VCD.incomplete-XXXXXX beside
 // it (renamed at the end): a run killed outright leaves that, which
 // vcd2fst accepts (up to the last flush), and no VCD under the name given;

@@ -274,6 +274,9 @@ class SweepEdges(unittest.TestCase):
             (["--set", "a=1,2", "--jobs", "-1"], "--jobs: '-1'"),
             (["--set", "a=1,2", "--dask", "tcp://127.0.0.1:1", "--dask-timeout", "nan"], "--dask-timeout: 'nan'"),
             (["--set", "a=1,2", "--repeat", "0"], "--repeat 0: at least 1"),
+            (["--set", "a=1,2", "--repeat", "1000000000"], "--repeat 1000000000: at least 1 and at most 1000"),
+            (["--set", "a=1,2", "--csv", os.path.join(self.dir, "j"), "--journal-dir", os.path.join(self.dir, "j")],
+             "the same path (the journal's folder)"),
             (["--set", "a=1,2", "--dask", "nohost:8786"], "tcp://HOST:PORT"),
             (["--set", "a=1,2", "--dask", "tcp://nohost"], "tcp://HOST:PORT"),
         ]
