@@ -174,8 +174,8 @@ private:
         m.kd = number("Kd of 'f'");
         m.ks = number("Ks of 'f'");
         m.shine = number("Shine of 'f'");
-        // (Negative, a hit's light would be a power of a cosine below one
-        // to a negative power: inf, and NaN against a light's zero channel.)
+        // (Negative, Kd and Ks take light away, and Shine raises a cosine
+        // below one to a negative power: inf, NaN against a light's zero channel.)
         if (m.kd < 0) fail("diffuse Kd of 'f' must be at least 0");
         if (m.ks < 0) fail("specular Ks of 'f' must be at least 0");
         if (m.shine < 0) fail("Phong exponent Shine of 'f' must be at least 0");

@@ -96,7 +96,7 @@ int main(int argc, char** argv) {
     app.add_option("--threads", threads, "rendering threads (the image does not depend on it)")
         ->check(CLI::Range(1, 256))
         ->capture_default_str();
-    rt::decimalIntegersOnly(app);
+    rt::decimalNumbersOnly(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {

@@ -50,7 +50,7 @@ void checkTriples(const std::vector<std::string>& args, const std::vector<std::s
         }
 }
 
-void decimalIntegersOnly(CLI::App& app) {
+void decimalNumbersOnly(CLI::App& app) {
     const CLI::Validator decimal(
         [](std::string& s) {
             const size_t digits = s.find_first_not_of("+-") == 1 ? 1 : 0;  // (one sign at most)
@@ -116,15 +116,15 @@ void SceneOptions::addTo(CLI::App& app, bool positional) {
         ->group(g)
         ->check(openClosed(0, 1));
     app.add_option("--axis", axis, "progress axis: the procedural scene's and the balancing's")->group(g)->check(CLI::IsMember({"x", "y", "z"}));
+    // (CLI11 took -1 into the unsigned seed as 2^64 - 1, and 2^64 and beyond as that too.)
     app.add_option("--seed", p.seed, "procedural: random seed for sphere placement")->group(g)->check(CLI::Validator(
-        [](std::string& v) { return v.rfind('-', 0) == 0 ? std::string("expected a whole number, 0 or more") : std::string(); },
-        ""))->check(CLI::Validator(
-        [](std::string& v) {  // (CLI11 took 2^64 and beyond as 18446744073709551615)
+        [](std::string& v) {
+            if (v.rfind('-', 0) == 0) return std::string("expected a whole number, 0 or more");
             uint64_t n;
             const auto r = std::from_chars(v.data(), v.data() + v.size(), n);
             return r.ec == std::errc::result_out_of_range ? "above " + std::to_string(UINT64_MAX) + ", got '" + v + "'" : std::string();
         },
-        ""));  // (CLI11 takes -1 into the unsigned seed as 18446744073709551615)
+        ""));
     app.add_option("--eye", eye, "procedural: camera position x y z (or x,y,z)")
         ->group(g)
         ->expected(3)

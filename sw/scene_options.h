@@ -51,6 +51,6 @@ void checkTriples(const std::vector<std::string>& args, const std::vector<std::s
 // C's strtol in base 0 does, so that "--mesh 010" ran an 8 x 8 x 8 mesh and
 // " -1" wrapped to 2^64 - 1, and numbers as strtod, "--speed 0x10" 16. Call
 // it once every option is added.
-void decimalIntegersOnly(CLI::App& app);
+void decimalNumbersOnly(CLI::App& app);
 
 }  // namespace rt

@@ -158,7 +158,7 @@ void RtsimOptions::addTo(CLI::App& app) {
     app.add_option("--config", configs_,
                    "read flags from a file: name = value, one per line (repeatable: the files in order, then the "
                    "command line; the last value of a flag wins)");
-    decimalIntegersOnly(app);
+    decimalNumbersOnly(app);
 }
 
 // The machine's parameters, from their tables (config/machine_config.h,
