@@ -446,6 +446,16 @@ nlohmann::json withoutHost(nlohmann::json r) {
     r["kernel"].erase("delta_cycles");
     return r;
 }
+
+// Frame k + 1 of a session (`r`) is the frame a machine built for it alone
+// renders from `alone` and `c`: the image, and every figure of the full report.
+void expectAsAlone(const Scene& alone, const MachineConfig& c, const MachineResult& r, size_t k) {
+    const MachineResult fresh = runMachine(alone, c);
+    EXPECT_EQ(fresh.image.pixels, r.image.pixels) << "frame " << k + 1;
+    const nlohmann::json a = withoutHost(machineReport(r, c, ReportDetail::Full)),
+                         b = withoutHost(machineReport(fresh, c, ReportDetail::Full));
+    EXPECT_EQ(a.dump(), b.dump()) << "frame " << k + 1 << ": " << nlohmann::json::diff(b, a).dump().substr(0, 600);
+}
 }  // namespace
 
 class FramesInOneMachine : public ::testing::TestWithParam<const char*> {};
@@ -485,11 +495,7 @@ TEST_P(FramesInOneMachine, EachFrameIsTheFrameAMachineOfItsOwnRenders) {
     for (size_t k = 0; k < frames.size(); ++k) {
         Scene alone = s;
         alone.view = frames[k].first;
-        const MachineResult fresh = runMachine(alone, frames[k].second);
-        EXPECT_EQ(fresh.image.pixels, results[k].image.pixels) << "frame " << k + 1;
-        const nlohmann::json a = withoutHost(machineReport(results[k], frames[k].second, ReportDetail::Full)),
-                             b = withoutHost(machineReport(fresh, frames[k].second, ReportDetail::Full));
-        EXPECT_EQ(a.dump(), b.dump()) << "frame " << k + 1 << ": " << nlohmann::json::diff(b, a).dump().substr(0, 600);
+        expectAsAlone(alone, frames[k].second, results[k], k);
     }
 }
 
@@ -518,13 +524,7 @@ TEST(FramesInOneMachine, ABoxThatMovedBetweenFramesTakesItsNewObjects) {
     }
     EXPECT_NE(results[1].renderTime, results[0].renderTime);  // (the split did change the frame)
     EXPECT_EQ(results[1].image.pixels, results[0].image.pixels);  // (not the image: the same view)
-    for (size_t k = 0; k < frames.size(); ++k) {
-        const MachineResult fresh = runMachine(s, frames[k]);
-        EXPECT_EQ(fresh.image.pixels, results[k].image.pixels) << "frame " << k + 1;
-        const nlohmann::json a = withoutHost(machineReport(results[k], frames[k], ReportDetail::Full)),
-                             b = withoutHost(machineReport(fresh, frames[k], ReportDetail::Full));
-        EXPECT_EQ(a.dump(), b.dump()) << "frame " << k + 1 << ": " << nlohmann::json::diff(b, a).dump().substr(0, 600);
-    }
+    for (size_t k = 0; k < frames.size(); ++k) expectAsAlone(s, frames[k], results[k], k);
 }
 
 // --max-error's calibration frames (tb/fidelity_choice.h) run in the
@@ -558,13 +558,7 @@ TEST(FramesInOneMachine, CalibrationFramesSwitchPixelsAndExpressAndLeaveTheFrame
     uint64_t expressed = 0;
     for (const NodeStats& n : results[2].nodes) expressed += n.raysExpressed;
     EXPECT_GT(expressed, 0u);  // (express did skip boxes in the frame that has it)
-    for (size_t k = 0; k < frames.size(); ++k) {
-        const MachineResult fresh = runMachine(s, frames[k]);
-        EXPECT_EQ(fresh.image.pixels, results[k].image.pixels) << "frame " << k + 1;
-        const nlohmann::json a = withoutHost(machineReport(results[k], frames[k], ReportDetail::Full)),
-                             b = withoutHost(machineReport(fresh, frames[k], ReportDetail::Full));
-        EXPECT_EQ(a.dump(), b.dump()) << "frame " << k + 1 << ": " << nlohmann::json::diff(b, a).dump().substr(0, 600);
-    }
+    for (size_t k = 0; k < frames.size(); ++k) expectAsAlone(s, frames[k], results[k], k);
     // Every 4th pixel of every 4th row, from (2, 2): 9 x 9 of them, as the whole frame colours them; the rest black.
     const Image& part = results[0].image;
     const Image& whole = results[3].image;
