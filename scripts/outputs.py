@@ -52,7 +52,7 @@ def check_name(name, what="NAME"):
     """`name` if it is a name (letters, digits, '-', '_', '.'; no separator,
     not starting with a dot, at most NAME_MAX characters), else ToolError."""
     if not isinstance(name, str) or not NAME_RE.fullmatch(name) or len(name) > NAME_MAX or ".." in name:
-        raise ToolError(f"{what} {name!r}: a name, not a path: letters, digits, '-', '_' and '.' "
+        raise ToolError(f"{what} '{one_line(name)}': a name, not a path: letters, digits, '-', '_' and '.' "
                         f"(not first), at most {NAME_MAX} characters")
     return name
 
@@ -331,11 +331,11 @@ def stop_handlers():
 
 
 def one_line(text):
-    """`text` as one printable line: control characters and undecodable
-    bytes that a message quotes from a damaged file (a NUL, a newline in a
-    quoted CSV field) written as escapes."""
-    return "".join(c if c.isprintable() else c.encode("unicode_escape", "backslashreplace").decode("ascii")
-                   for c in str(text))
+    """`text` as one printable line: control characters, bytes of a damaged
+    file (a NUL, a newline in a quoted CSV field) and of an argument that
+    was not UTF-8 (surrogateescape's U+DC80-U+DCFF: \\xff, not \\udcff) escaped."""
+    return "".join(c if c.isprintable() else f"\\x{ord(c) - 0xDC00:02x}" if 0xDC80 <= ord(c) <= 0xDCFF
+                   else c.encode("unicode_escape", "backslashreplace").decode("ascii") for c in str(text))
 
 
 def deliver(text, lost):

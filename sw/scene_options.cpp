@@ -70,8 +70,10 @@ void decimalNumbersOnly(CLI::App& app) {
     for (CLI::Option* o : app.get_options()) {
         const std::string type = o->get_type_name();  // ("INT", or "INT:" and its validators' descriptions)
         const std::string base = type.substr(0, type.find(':'));
-        if (base == "INT" || base == "UINT") o->check(decimal);
-        if (base == "FLOAT") o->check(noHex);  // (read as strtod does: 0x10 was 16)
+        // transform, not check: these run before the option's own range
+        // check, which would read "08" as a number and call it out of range.
+        if (base == "INT" || base == "UINT") o->transform(decimal);
+        if (base == "FLOAT") o->transform(noHex);  // (read as strtod does: 0x10 was 16)
     }
 }
 

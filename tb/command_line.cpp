@@ -67,6 +67,8 @@ std::set<std::string> namesGiven(const std::vector<std::string>& rest) {
 std::vector<std::string> checkedArgs(const ConfigLine& line, bool report, std::string& name, bool& repeatable) {
     Probe p;
     CLI::Option* opt = p.find(line.name);
+    if (!opt && line.name.rfind('-', 0) == 0)  // (a file names a flag without its dashes: "mesh = 4")
+        throw ConfigError(line.where + ": '" + line.name + "': write the flag's name without its dashes, as in 'mesh = 4'");
     if (!opt || line.name == "help")
         throw ConfigError(line.where + ": no flag --" + line.name + " (rtsim --help lists them)");
     if (report && isOutputOrInternal(line.name))

@@ -533,6 +533,7 @@ TEST_F(Rtsim, BadConfigurationExits2NamingTheFlag) {
     expectBad("--look-at 0,0,1e10", "--look-at: expected a number of magnitude at most 1e9");
     // CLI11 reads integers in C's base 0: --mesh 010 ran 8x8x8, 0x10 16x16x16.
     expectBad("--mesh 010", "--mesh: expected a decimal integer, got '010' (a leading 0");
+    expectBad("--mesh 08", "--mesh: expected a decimal integer, got '08' (a leading 0");  // said "not in range 1 to 32"
     expectBad("--spheres 0x10", "--spheres: expected a decimal integer, got '0x10'");
     expectBad("--seed 00", "--seed: expected a decimal integer");
     // And strtod's hexadecimal in times, rates and numbers: 0x10ns was 16 ns, --speed 0x10 16.

@@ -220,6 +220,8 @@ class SweepEdges(unittest.TestCase):
                 self.refused(self.sweep(name, "--set", "a=1,2"), "a name, not a path")
                 self.refused(self.sweep(name, "--set", "a=1,2", csv_path=os.path.join(self.dir, "x.csv")),
                              "a name, not a path")
+        # A byte that is not UTF-8 is quoted as the byte it was (it read '\\udcff').
+        self.refused(self.sweep(os.fsdecode(b"a\xff"), "--set", "a=1,2"), "NAME 'a\\xff': a name, not a path")
         self.assertEqual(tree(self.dir), before)
         self.assertEqual(tree(results), before_doc)
         self.assertFalse(os.path.exists(os.path.join(sweep.ROOT, "x.csv")))
