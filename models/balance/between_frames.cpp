@@ -176,6 +176,13 @@ std::optional<InnerPlanes> ResplitSequence::next(const FrameState& r, int frame)
                 held_ = start_;
                 return held_;
             }
+            const double startNs = FrameForecast(r, m_, averagedBoundaries(r, m_), objects_).forecast(start_).frameNs;
+            if (startNs > kTrialReach * firstNs_) {  // it cannot beat frame 1: frame 1 again without it
+                again_ = true;
+                said_ = {{"next", "frame 1 again"}, {"start_forecast_ns", startNs}};
+                return std::nullopt;
+            }
+            said_["start_forecast_ns"] = startNs;
             tryingStart_ = afresh_ = true;
             return start_;
         }

@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "rtsim_test.h"
+#include "balance/between_frames.h"  // (kTrialReach)
 
 using nlohmann::json;
 using namespace rt::test;
@@ -744,17 +745,39 @@ TEST_F(Rtsim, SampleTriesOnceAReSplitTheMarginHides) {
 // the picosecond. It held sample's start there before, which on the paper's
 // machine across the axis at f = 1 is slower than not balancing (1.024 of
 // the unbalanced frame at N = 3: doc/balancing.md, "The recommended policy").
-// (Here across the axis at N = 5, f = 1/5: re-split frames of 0.312 and
-// 0.307 of the unbalanced frame after a first frame of 0.285.)
+// (Across the axis at N = 2, f = 1: frames of 0.965, 0.968 and 0.968 of the
+// unbalanced frame; the trial forecast at 1.03 of frame 1.)
 TEST_F(Rtsim, SamplesTrialFrameIsTheUnbalancedFrame) {
+    const std::string args = " --config " RT_CONFIG_DIR "/paper.conf --spheres 1000 --radius 0.02 --seed 1 --size 256x256"
+                             " --mesh 2 --concentration 1";
+    const json r = report(args + " --balance sample --frames 4", "s.json");
+    const double none = report(args + " --balance none", "n.json")["render_time_ns"];
+    ASSERT_EQ(r["frames"].size(), 4u);
+    EXPECT_EQ(r["frames"][2]["then"]["next"], "the uniform split");
+    EXPECT_LE(r["frames"][2]["then"]["start_forecast_ns"].get<double>(),
+              rt::kTrialReach * r["frames"][0]["render_time_ns"].get<double>());
+    EXPECT_EQ(r["frames"][3]["render_time_ns"].get<double>(), none);
+    EXPECT_LT(r["frames"][0]["render_time_ns"].get<double>(), none);  // (so frame 1 again after it)
+}
+
+// ... but not where the forecast puts the uniform split far slower than
+// frame 1: that frame was lost (the paper's machine across the axis at
+// N = 5, f = 1/5: re-split frames of 0.312 and 0.307 of the unbalanced
+// frame after a first frame of 0.285, then the unbalanced frame). The
+// forecast of the trial is checked against the unbalanced frame run.
+TEST_F(Rtsim, SampleSkipsATrialItsForecastPutsFarBehindFrameOne) {
     const std::string args = " --config " RT_CONFIG_DIR "/paper.conf --spheres 1000 --radius 0.02 --seed 1 --size 256x256"
                              " --mesh 5 --concentration 0.2";
     const json r = report(args + " --balance sample --frames 4", "s.json");
     const double none = report(args + " --balance none", "n.json")["render_time_ns"];
     ASSERT_EQ(r["frames"].size(), 4u);
-    EXPECT_EQ(r["frames"][2]["then"]["next"], "the uniform split");
-    EXPECT_EQ(r["frames"][3]["render_time_ns"].get<double>(), none);
-    EXPECT_LT(r["frames"][0]["render_time_ns"].get<double>(), none);  // (so frame 1 again after it)
+    const double first = r["frames"][0]["render_time_ns"];
+    EXPECT_EQ(r["frames"][2]["then"]["next"], "frame 1 again");
+    const double forecast = r["frames"][2]["then"]["start_forecast_ns"];
+    EXPECT_GT(forecast, rt::kTrialReach * first);
+    EXPECT_NEAR(forecast / none, 1.0, 0.1);  // (3.42 against the 3.51 measured, in frame 1's times)
+    EXPECT_EQ(r["frames"][3]["render_time_ns"].get<double>(), first);
+    EXPECT_LT(first, 0.3 * none);
 }
 
 // The SPD balls along z, on the 1987 machine: the eye looks down from above
