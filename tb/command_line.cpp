@@ -67,8 +67,13 @@ std::set<std::string> namesGiven(const std::vector<std::string>& rest) {
 std::vector<std::string> checkedArgs(const ConfigLine& line, bool report, std::string& name, bool& repeatable) {
     Probe p;
     CLI::Option* opt = p.find(line.name);
-    if (!opt && line.name.rfind('-', 0) == 0)  // (a file names a flag without its dashes: "mesh = 4")
-        throw ConfigError(line.where + ": '" + line.name + "': write the flag's name without its dashes, as in 'mesh = 4'");
+    if (line.name.rfind('-', 0) == 0) {  // (a file names a flag without its dashes: "mesh = 4")
+        const std::string bare = line.name.substr(std::min(line.name.find_first_not_of('-'), line.name.size()));
+        const CLI::Option* named = bare.empty() ? nullptr : p.find(bare);
+        throw ConfigError(line.where + ": '" + line.name + "': " +
+                          (named ? "write the flag's long name without its dashes: '" + named->get_single_name() + " = ...'"
+                                 : "no flag of that name (a file names a flag without its dashes, as in 'mesh = 4')"));
+    }
     if (!opt || line.name == "help")
         throw ConfigError(line.where + ": no flag --" + line.name + " (rtsim --help lists them)");
     if (report && isOutputOrInternal(line.name))

@@ -176,13 +176,15 @@ std::optional<InnerPlanes> ResplitSequence::next(const FrameState& r, int frame)
                 held_ = start_;
                 return held_;
             }
-            const double startNs = FrameForecast(r, m_, averagedBoundaries(r, m_), objects_).forecast(start_).frameNs;
-            if (startNs > kTrialReach * firstNs_) {  // it cannot beat frame 1: frame 1 again without it
-                again_ = true;
-                said_ = {{"next", "frame 1 again"}, {"start_forecast_ns", startNs}};
-                return std::nullopt;
+            if (m_.balance.startsAtObjects()) {  // (sample's trial, the uniform split: kTrialReach)
+                const double startNs = FrameForecast(r, m_, averagedBoundaries(r, m_), objects_).forecast(start_).frameNs;
+                if (std::isfinite(startNs) && startNs > kTrialReach * firstNs_) {  // it cannot beat frame 1: frame 1 again
+                    again_ = true;
+                    said_ = {{"next", "frame 1 again"}, {"start_forecast_ns", startNs}};
+                    return std::nullopt;
+                }
+                if (std::isfinite(startNs)) said_["start_forecast_ns"] = startNs;
             }
-            said_["start_forecast_ns"] = startNs;
             tryingStart_ = afresh_ = true;
             return start_;
         }

@@ -84,8 +84,8 @@ InnerPlanes resplitTargets(const FrameState& r, const MachineConfig& m, const st
 //    held for a whole frame can lose (on the paper's machine across the
 //    axis at N = 8, f = 1: 1.045 of the unbalanced frame): its trial holds
 //    the uniform split, the unbalanced frame itself.
-// The starting split's trial is run only where the forecast (from the
-// last re-split frame) gives it at most this many times frame 1's time: a
+// sample's trial is run only where the forecast (from the last re-split
+// frame) gives it at most this many times frame 1's time: a
 // trial the forecast puts far slower than frame 1 is a lost frame. sample's
 // trial, the uniform split, is the unbalanced frame itself, and it was run
 // where frame 1 had taken 0.285 of it (the paper's machine across the axis

@@ -10,6 +10,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cerrno>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -26,16 +28,26 @@ namespace {
 
 constexpr const char* kAlone = "RT_SC_TEST_ALONE";  // set in the children: run in this process
 
-// Whether the arguments name at most one test (a filter with no wildcard,
-// no list and no negation) or only ask for the list: then this process runs it.
+// Whether the arguments name at most one test (the last filter, as gtest
+// reads them, with no wildcard, no list and no negation) or only ask for
+// the list or the help: then this process runs it.
 bool inThisProcess(int argc, char** argv) {
     if (std::getenv(kAlone)) return true;
+    std::string filter = "*";
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         if (a.rfind("--gtest_list_tests", 0) == 0 || a == "--help" || a == "-h" || a == "-?" || a == "--gtest_help") return true;
-        if (a.rfind("--gtest_filter=", 0) == 0) return a.find_first_of("*?:-", 15) == std::string::npos;
+        if (a.rfind("--gtest_filter=", 0) == 0) filter = a.substr(15);
     }
-    return false;
+    return filter.find_first_of("*?:-") == std::string::npos;
+}
+
+// What a child cannot do alone: repeat (each child would elaborate again)
+// or write gtest's XML or JSON (each child would overwrite the last's).
+const char* refusedFlag(const std::string& a) {
+    for (const char* f : {"--gtest_repeat", "--gtest_output"})
+        if (a.rfind(f, 0) == 0) return f;
+    return nullptr;
 }
 
 // Runs `args` (args[0] the program) with this process's environment plus
@@ -65,18 +77,21 @@ int run(const std::vector<std::string>& args, std::string* out) {
     }
     if (spawned != 0) return -1;
     int status = 0;
-    while (waitpid(pid, &status, 0) < 0) {
+    pid_t got;
+    while ((got = waitpid(pid, &status, 0)) < 0 && errno == EINTR) {
     }
+    if (got != pid) return -1;  // (SIGCHLD ignored: the child was reaped unseen)
     return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
 }
 
 // The tests the arguments select ("Suite.Name", parameterised ones with
 // their prefix and index), from the program's own --gtest_list_tests.
-std::vector<std::string> selectedTests(const std::vector<std::string>& args) {
+std::vector<std::string> selectedTests(const std::vector<std::string>& args, bool& listed) {
     std::vector<std::string> list = args;
     list.push_back("--gtest_list_tests");
     std::string text;
-    if (run(list, &text) != 0) return {};
+    listed = run(list, &text) == 0;
+    if (!listed) return {};
     std::vector<std::string> names;
     std::string suite;
     size_t at = 0;
@@ -98,17 +113,28 @@ std::vector<std::string> selectedTests(const std::vector<std::string>& args) {
 // Each selected test in a child of its own, its output as it comes; a
 // summary at the end, as gtest's own. Exit 1 if any failed.
 int runEachAlone(int argc, char** argv) {
+    signal(SIGCHLD, SIG_DFL);  // (ignored, the children would be reaped before their status is read)
     std::vector<std::string> args(argv, argv + argc);
-    const std::vector<std::string> tests = selectedTests(args);
-    if (tests.empty()) {
-        std::cerr << args[0] << ": no test selected (or the listing failed)\n";
+    for (const std::string& a : args)
+        if (const char* f = refusedFlag(a)) {
+            std::cerr << args[0] << ": " << f << " with more than one test: give one test (--gtest_filter=Suite.Name), "
+                      << "or run them through ctest (--repeat, --output-junit)\n";
+            return 2;
+        }
+    bool listed = false;
+    const std::vector<std::string> tests = selectedTests(args, listed);
+    if (!listed) {
+        std::cerr << args[0] << ": listing the tests failed\n";
         return 1;
     }
     std::vector<std::string> kept;  // the arguments other than the filter
     for (const std::string& a : args)
         if (a.rfind("--gtest_filter=", 0) != 0) kept.push_back(a);
+    bool disabledToo = false;
+    for (const std::string& a : args) disabledToo |= a.rfind("--gtest_also_run_disabled_tests", 0) == 0;
     std::vector<std::string> failed;
     for (const std::string& t : tests) {
+        if (!disabledToo && (t.find("DISABLED_") == 0 || t.find(".DISABLED_") != std::string::npos)) continue;
         std::vector<std::string> one = kept;
         one.push_back("--gtest_filter=" + t);
         if (run(one, nullptr) != 0) failed.push_back(t);

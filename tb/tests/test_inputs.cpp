@@ -225,7 +225,11 @@ TEST(CommandLine, EachValueOfAFileIsCheckedAloneNamingItsLine) {
     const std::pair<std::string, std::string> bad[] = {
         {"mesh = 2\nmesh = abc\n", "f1:2: mesh = abc: --mesh"},   // was silently ignored
         {"no-such-flag = 3\n", "f1:1: no flag --no-such-flag"},
-        {"--mesh = 2\n", "f1:1: '--mesh': write the flag's name without its dashes"},  // said "no flag ----mesh"
+        {"--mesh = 2\n", "f1:1: '--mesh': write the flag's long name without its dashes: 'mesh = ...'"},  // said "no flag ----mesh"
+        {"-mesh = 2\n", "f1:1: '-mesh': write the flag's long name without its dashes: 'mesh = ...'"},  // said "the short --mesh"
+        {"-q = true\n", "f1:1: '-q': write the flag's long name without its dashes: 'quiet = ...'"},
+        {"--nosuch = 3\n", "f1:1: '--nosuch': no flag of that name"},
+        {"-5 = 3\n", "f1:1: '-5': no flag of that name"},
         {"config = other.conf\n", "f1:1: --config is read only from the command line"},
         {"mesh = [2, 3]\n", "f1:1: mesh takes one value, not a list of 2"},
         {"link-latency = 5\n", "f1:1: link-latency = 5: --link-latency"},
