@@ -56,6 +56,10 @@ class ReportDoc(unittest.TestCase):
              "--vcd", "VCD", "--no-baseline"],
             ["--scene", scene, "--size", "16x16", "--mesh", "2", "--eye-step", "0,0,0.01", "--frames", "2",
              "--no-baseline"],
+            # A sequence that reaches sample's trial (frames[].then from frame 3 on: start_forecast_ns).
+            ["--config", os.path.join(ROOT, "configs", "paper.conf"), "--spheres", "1000", "--radius", "0.02", "--seed",
+             "1", "--size", "256x256", "--mesh", "5", "--concentration", "0.2", "--balance", "sample", "--frames", "4",
+             "--no-baseline"],
         ]
         with tempfile.TemporaryDirectory() as d:
             reports = []
