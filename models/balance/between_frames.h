@@ -85,15 +85,14 @@ InnerPlanes resplitTargets(const FrameState& r, const MachineConfig& m, const st
 //    axis at N = 8, f = 1: 1.045 of the unbalanced frame): its trial holds
 //    the uniform split, the unbalanced frame itself.
 // sample's trial is run only where the forecast (from the last re-split
-// frame) gives it at most this many times frame 1's time: a
-// trial the forecast puts far slower than frame 1 is a lost frame. sample's
-// trial, the uniform split, is the unbalanced frame itself, and it was run
-// where frame 1 had taken 0.285 of it (the paper's machine across the axis
-// at N = 5, f = 1/5). The forecast misses frames by a few per cent, and by
-// up to a quarter in the worst cases measured (doc/balancing.md, "Between
-// frames"); on the 23 Fig. 4 sequences that ran the trial, it was within
-// 5 % of the frame the trial then measured. (Measured: doc/balancing.md,
-// "The recommended policy".)
+// frame) puts it within this many times frame 1's time. Its trial, the
+// uniform split, is the unbalanced frame itself: where frame 1 took 0.285
+// of it (the paper's machine across the axis at N = 5, f = 1/5) the trial
+// was a frame lost. The forecast misses frames by a few per cent, by up to
+// a quarter in the worst cases measured (doc/balancing.md, "Between
+// frames"); on the 23 Fig. 4 sequences that ran the trial it was within
+// 5 % of the frame the trial then measured (doc/balancing.md, "The
+// recommended policy").
 constexpr double kTrialReach = 1.2;
 class ResplitSequence {
 public:
