@@ -12,9 +12,7 @@
 
 #include <cerrno>
 #include <csignal>
-#include <cstdio>
 #include <cstdlib>
-#include <cstring>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -27,6 +25,7 @@ extern char** environ;
 namespace {
 
 constexpr const char* kAlone = "RT_SC_TEST_ALONE";  // set in the children: run in this process
+const std::string kFilter = "--gtest_filter=";
 
 // Whether the arguments name at most one test (the last filter, as gtest
 // reads them, with no wildcard, no list and no negation) or only ask for
@@ -37,7 +36,7 @@ bool inThisProcess(int argc, char** argv) {
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         if (a.rfind("--gtest_list_tests", 0) == 0 || a == "--help" || a == "-h" || a == "-?" || a == "--gtest_help") return true;
-        if (a.rfind("--gtest_filter=", 0) == 0) filter = a.substr(15);
+        if (a.rfind(kFilter, 0) == 0) filter = a.substr(kFilter.size());
     }
     return filter.find_first_of("*?:-") == std::string::npos;
 }
@@ -128,19 +127,22 @@ int runEachAlone(int argc, char** argv) {
         return 1;
     }
     std::vector<std::string> kept;  // the arguments other than the filter
-    for (const std::string& a : args)
-        if (a.rfind("--gtest_filter=", 0) != 0) kept.push_back(a);
     bool disabledToo = false;
-    for (const std::string& a : args) disabledToo |= a.rfind("--gtest_also_run_disabled_tests", 0) == 0;
+    for (const std::string& a : args) {
+        if (a.rfind(kFilter, 0) != 0) kept.push_back(a);
+        disabledToo |= a.rfind("--gtest_also_run_disabled_tests", 0) == 0;
+    }
     std::vector<std::string> failed;
+    size_t ran = 0;
     for (const std::string& t : tests) {
         if (!disabledToo && (t.find("DISABLED_") == 0 || t.find(".DISABLED_") != std::string::npos)) continue;
         std::vector<std::string> one = kept;
-        one.push_back("--gtest_filter=" + t);
+        one.push_back(kFilter + t);
+        ++ran;
         if (run(one, nullptr) != 0) failed.push_back(t);
     }
-    std::cout << "\n" << tests.size() << " tests, each in a process of its own (SystemC elaborates once per process): "
-              << tests.size() - failed.size() << " passed, " << failed.size() << " failed\n";
+    std::cout << "\n" << ran << " tests, each in a process of its own (SystemC elaborates once per process): "
+              << ran - failed.size() << " passed, " << failed.size() << " failed\n";
     for (const std::string& t : failed) std::cout << "  FAILED " << t << "\n";
     return failed.empty() ? 0 : 1;
 }
