@@ -747,11 +747,20 @@ TEST_F(Rtsim, SampleTriesOnceAReSplitTheMarginHides) {
 // the unbalanced frame at N = 3: doc/balancing.md, "The recommended policy").
 // (Across the axis at N = 2, f = 1: frames of 0.965, 0.968 and 0.968 of the
 // unbalanced frame; the trial forecast at 1.03 of frame 1.)
-TEST_F(Rtsim, SamplesTrialFrameIsTheUnbalancedFrame) {
-    const std::string args = " --config " RT_CONFIG_DIR "/paper.conf --spheres 1000 --radius 0.02 --seed 1 --size 256x256"
-                             " --mesh 2 --concentration 1";
-    const json r = report(args + " --balance sample --frames 4", "s.json");
-    const double none = report(args + " --balance none", "n.json")["render_time_ns"];
+// The two tests of sample's trial: four frames under sample on the paper's
+// machine across the axis, and the unbalanced frame's time.
+class SampleTrial : public Rtsim {
+protected:
+    std::pair<json, double> sequence(int n, const char* concentration) {
+        const std::string args = " --config " RT_CONFIG_DIR "/paper.conf --spheres 1000 --radius 0.02 --seed 1"
+                                 " --size 256x256 --mesh " + std::to_string(n) + " --concentration " + concentration;
+        const json r = report(args + " --balance sample --frames 4", "s.json");
+        return {r, report(args + " --balance none", "n.json")["render_time_ns"].get<double>()};
+    }
+};
+
+TEST_F(SampleTrial, IsTheUnbalancedFrame) {
+    const auto [r, none] = sequence(2, "1");
     ASSERT_EQ(r["frames"].size(), 4u);
     EXPECT_EQ(r["frames"][2]["then"]["next"], "the uniform split");
     EXPECT_LE(r["frames"][2]["then"]["start_forecast_ns"].get<double>(),
@@ -765,11 +774,8 @@ TEST_F(Rtsim, SamplesTrialFrameIsTheUnbalancedFrame) {
 // N = 5, f = 1/5: re-split frames of 0.312 and 0.307 of the unbalanced
 // frame after a first frame of 0.285, then the unbalanced frame). The
 // forecast of the trial is checked against the unbalanced frame run.
-TEST_F(Rtsim, SampleSkipsATrialItsForecastPutsFarBehindFrameOne) {
-    const std::string args = " --config " RT_CONFIG_DIR "/paper.conf --spheres 1000 --radius 0.02 --seed 1 --size 256x256"
-                             " --mesh 5 --concentration 0.2";
-    const json r = report(args + " --balance sample --frames 4", "s.json");
-    const double none = report(args + " --balance none", "n.json")["render_time_ns"];
+TEST_F(SampleTrial, IsSkippedWhereItsForecastPutsItFarBehindFrameOne) {
+    const auto [r, none] = sequence(5, "0.2");
     ASSERT_EQ(r["frames"].size(), 4u);
     const double first = r["frames"][0]["render_time_ns"];
     EXPECT_EQ(r["frames"][2]["then"]["next"], "frame 1 again");
