@@ -429,4 +429,10 @@ MUTANTS = [
     ("region-kept-where-the-box-moved", "models/node/node_frame.cpp",
      "if (std::memcmp(&region_->box(), &box, sizeof(Box)) != 0) rebuild", "if (false && std::memcmp(&region_->box(), &box, sizeof(Box)) != 0) rebuild",
      "a node starts a frame of a sequence with the last frame's region though its box moved: the old objects and grid"),
+    ("spread-order-not-passed-on", "models/machine/machine.cpp",
+     "p.spreadPrimaries = cfg_.spreadPrimaries;", "p.spreadPrimaries = false;",
+     "--primary-order spread is echoed in the report, but every node generates its primary rays row by row"),
+    ("spread-order-strides-by-one", "models/node/primary_queue.cpp",
+     "while (std::gcd(s, n) != 1) ++s;", "s = 1;",
+     "--primary-order spread keeps the host's order (a stride of one)"),
 ]

@@ -259,6 +259,10 @@ struct MachineConfig {
     Picos hostCost = 5000;             // per contribution accumulated, in its unit
     int fbBatch = 32;                  // contributions per frame-buffer message
     int rayBatch = 1;                  // rays per link message (sent when full or before the node waits)
+    // The order in which a node generates its primary rays: false, the
+    // host's (row by row); true, spread through its pixels
+    // (node/primary_queue.h, spreadOrder).
+    bool spreadPrimaries = false;  // --primary-order spread
 
     BalanceConfig balance;
     // Where each column's boundaries along the progress axis start: per
@@ -371,6 +375,8 @@ inline const std::vector<Param<MachineConfig>>& machineParams() {
                         "whose grids would not fit in memory is refused with the estimate",
                         gm),
         numberParam("max-depth", &M::maxDepth, 0, 39, "/max_depth", "mirror/refraction levels below the primary ray", gm),
+        choiceParam("primary-order", &M::spreadPrimaries, "spread", "scan", "/primary_order", "each node's primary rays: scan "
+                    "(row by row) or spread (a stride through its pixels: work reaches every box evenly; doc/machine.md)", gm),
         partParam<M>("costs", gc),
         choiceParam("hop-handling", &M::hopsByLinks, "link", "processor", "/hop_handling",
                     "who pays for a hop: processor (each node's busy time pays --cost-send and --cost-recv per message) "
@@ -399,13 +405,11 @@ inline const std::vector<Param<MachineConfig>>& machineParams() {
         choiceParam("link-stats", &M::linkDistributions, "full", "counts", "/link_stats",
                     "what the links keep beyond message counts, bytes, wire, wait and backlog times: full (also latency "
                     "percentiles, backlog and buffer high-water marks and the busiest window's utilisation) or counts "
-                    "(not those: a 100 us run about 7 % faster; timing unchanged)",
-                    gl),
+                    "(not those: a 100 us run about 7 % faster; timing unchanged)", gl),
         specialParam<M>("link-set", nullptr, gl),
         numberParam("fb-units", &M::fbUnits, 1, 256, "/fb_units",
                     "frame-buffer units, pixel-interleaved (pixel p in unit p mod K), each with a port from every node; "
-                    "1: a single host",
-                    gl),
+                    "1: a single host", gl),
         partParam<M>("fb-port", gl),
         numberParam("ray-batch", &M::rayBatch, 1, 65536, "/ray_batch", "rays per link message (sent when full or before a node waits)", gl),
         numberParam("fb-batch", &M::fbBatch, 1, 65536, "/fb_batch", "contributions per frame-buffer message", gl),

@@ -94,6 +94,7 @@ void Machine::buildNodes() {
     p.fbUnits = cfg_.fbUnits;
     p.fbBatch = cfg_.fbBatch;
     p.rayBatch = cfg_.rayBatch;
+    p.spreadPrimaries = cfg_.spreadPrimaries;
     p.columnLength = cfg_.dims[ax];
     p.minThickness = minThickness_;
     p.quantum = cfg_.quantum;

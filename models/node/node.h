@@ -53,6 +53,7 @@ struct NodeParams {
     const Camera& camera;
     Box world;
     int fbUnits = 1, fbBatch = 1, rayBatch = 1;
+    bool spreadPrimaries = false;  // --primary-order spread (primary_queue.h)
     const BalanceConfig& balance;
     int columnLength = 1;   // nodes along the balancing axis
     double minThickness = 0;  // absolute, along the balancing axis
@@ -125,7 +126,7 @@ public:
     // lookahead), and (`resplit` with a frame before) where its faces along
     // the axis go at the frame's start (NaN: that face stays).
     void assignPrimaries(const std::vector<uint32_t>& pixels, int primaryExp, const Credit& remainder) {
-        input_.assignPrimaries(pixels, primaryExp, sample_ ? uint32_t(params_.camera.width()) : 0);
+        input_.assignPrimaries(pixels, primaryExp, sample_ ? uint32_t(params_.camera.width()) : 0, params_.spreadPrimaries);
         fbOut_.setCredit(remainder);
     }
     void enableTrace(const NodeTrace& t) { trace_ = t; }

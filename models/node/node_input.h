@@ -50,9 +50,10 @@ public:
         links_ = in;
     }
     // Before the start: the pixels whose primary rays this node generates,
-    // each with credit 2^-exp; `sampleWidth`: `sample`'s first (primary_queue.h).
-    void assignPrimaries(const std::vector<uint32_t>& pixels, int exp, uint32_t sampleWidth = 0) {
-        primaries_.assign(pixels, uint16_t(exp), sampleWidth);
+    // each with credit 2^-exp; `sampleWidth`: `sample`'s first; `spread`:
+    // --primary-order spread (primary_queue.h).
+    void assignPrimaries(const std::vector<uint32_t>& pixels, int exp, uint32_t sampleWidth = 0, bool spread = false) {
+        primaries_.assign(pixels, uint16_t(exp), sampleWidth, spread);
     }
     PrimaryQueue& primaries() { return primaries_; }
     // The next frame: nothing in hand, no primary rays; it listens again at its start.

@@ -1,7 +1,9 @@
 // The primary rays a node still has to generate, and in what order: the
-// host's pixels in the host's order; under `sample` (sample_split.h) the
-// sample's pixels first, then the rest. Rays handed over with a slab
-// (`sample`: they start in the slab) join the part of their pixel.
+// host's pixels in the host's order (row by row), or with --primary-order
+// spread a stride through them (spreadOrder); under `sample`
+// (sample_split.h) the sample's pixels first, then the rest. Rays handed
+// over with a slab (`sample`: they start in the slab) join the part of
+// their pixel.
 #pragma once
 #include <cstdint>
 #include <functional>
@@ -11,10 +13,19 @@
 
 namespace rt {
 
+// The order --primary-order spread generates `n` items in: item (i s) mod n
+// at step i, s the whole number nearest n over the golden ratio that has no
+// factor in common with n (a stride that visits each item once). Any run
+// of k steps takes items from all over the list, about n / k apart, so a
+// node's work arrives evenly over the frame rather than one part of its
+// image after another (doc/machine.md, "The order of the primary rays").
+std::vector<size_t> spreadOrder(size_t n);
+
 class PrimaryQueue {
 public:
-    // `sampleWidth`: the image's width, to put the sample first (0: the host's order).
-    void assign(const std::vector<uint32_t>& pixels, uint16_t exp, uint32_t sampleWidth);
+    // `sampleWidth`: the image's width, to put the sample first (0: no
+    // sample); `spread`: each part in spreadOrder, not the host's.
+    void assign(const std::vector<uint32_t>& pixels, uint16_t exp, uint32_t sampleWidth, bool spread = false);
     bool next(Primary& p);
     size_t left() const { return parts_[0].size() - next_[0] + parts_[1].size() - next_[1]; }
     size_t sampleLeft() const { return parts_[0].size() - next_[0]; }

@@ -5,6 +5,7 @@
 // for one image: the image stays rtref's, the gather's messages are the
 // ones counted by hand, and columns that generate no primary rays hold.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <numeric>
@@ -347,6 +348,40 @@ TEST(PrimaryQueue, TheSampleFirstThenTheRestInTheHostsOrder) {
     Primary p;
     ASSERT_TRUE(host.next(p) && host.next(p));
     EXPECT_EQ(p.pixel, 1u);
+}
+
+// --primary-order spread: a stride through the pixels that visits each once,
+// and any stretch of it takes them from all over the list (the first 100 of
+// 1,000: from 9 to 13 in each tenth); under `sample` the sample still goes
+// first, itself spread, and the same pixels follow.
+TEST(PrimaryQueue, SpreadVisitsEveryPixelOnceAndEveryPartOfTheListEarly) {
+    for (size_t n : {0, 1, 2, 3, 10, 64, 97, 1000, 4096}) {
+        std::vector<size_t> order = spreadOrder(n);
+        std::sort(order.begin(), order.end());
+        for (size_t i = 0; i < n; ++i) ASSERT_EQ(order[i], i) << "n = " << n;
+    }
+    const std::vector<size_t> order = spreadOrder(1000);
+    std::array<int, 10> tenths{};
+    for (size_t i = 0; i < 100; ++i) ++tenths[order[i] / 100];
+    for (int c : tenths) {
+        EXPECT_GE(c, 8);
+        EXPECT_LE(c, 13);
+    }
+    std::vector<uint32_t> pixels(64);
+    std::iota(pixels.begin(), pixels.end(), 0u);
+    PrimaryQueue scan, spread;
+    scan.assign(pixels, 7, 8);
+    spread.assign(pixels, 7, 8, true);
+    std::vector<uint32_t> a, b;
+    for (Primary p; scan.next(p);) a.push_back(p.pixel);
+    for (Primary p; spread.next(p);) b.push_back(p.pixel);
+    ASSERT_EQ(b.size(), 64u);
+    EXPECT_NE(a, b);
+    std::vector<uint32_t> sample(b.begin(), b.begin() + 4);
+    std::sort(sample.begin(), sample.end());
+    EXPECT_EQ(sample, (std::vector<uint32_t>{0, 4, 32, 36}));
+    std::sort(b.begin(), b.end());
+    EXPECT_EQ(b, pixels);
 }
 
 // Handed over with a slab: those not yet generated, with their credit; the

@@ -1,0 +1,161 @@
+#!/usr/bin/python3
+"""The order of the primary rays (--primary-order scan or spread) and what
+it does to a frame: the unbalanced frame on SPD scenes, and the
+recommended policy's steady state (its sixth frame) at the 24 points
+where issue 61 holds it against the best static split (Fig. 4's f = 1/N,
+N = 4, 5 and 8, both views, the modern, 1987 and paper machines and
+sphere tests x100).
+
+A node generates its primary rays row by row (scan) or in a stride
+through its pixels (spread); the image is the same. Under scan a box
+gets its work one part of the image after another, and waits between
+them; the forecast that places the planes counts busy time, not that
+waiting. The best static split was searched under scan
+(partition_search.py); its planes are also run under spread, which no
+search has done: a best static split under spread is at most that time,
+so the spread gap beside it is a lower bound.
+
+With --doc, writes doc/results/primary_order.{csv,md} and the table
+into doc/balancing.md. Run with /usr/bin/python3."""
+import argparse
+import json
+import os
+import statistics
+import sys
+import tempfile
+
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # scripts/: project, sweep
+import outputs  # noqa: E402
+import sweep_driver as driver  # noqa: E402
+from project import PAPER_SCENE, RESULTS, ROOT, VIEWS, machine_tag, preset_flags, publish_table, spd_scene, variant  # noqa: E402,E501
+from csv_rows import read_csv  # noqa: E402
+
+ORDERS = ["scan", "spread"]
+# (name, preset, --tag of its partition search, extra flags)
+MACHINES = [("modern", "modern", "", []), ("1987", "transputer-1987", "", []), ("paper", "paper", "", []),
+            ("sphere tests x100", "modern", "sphere-x100", ["--cost-sphere", "1us"])]
+NS = [4, 5, 8]
+FRAMES = 6
+SCENES = ["balls-4", "gears-2", "tetra-3", "rings-2"]
+SCENE_NS = [4, 8]
+
+
+def best_split(preset, tag, view, n):
+    """The searched best static split at f = 1/N: (its ratio to none, each
+    column's planes or None for one set, one set's planes)."""
+    stem = "partition_search" + variant(preset, machine_tag(tag)) + ("" if view == "along" else f"-{view}")
+    for r in read_csv(os.path.join(RESULTS, stem + ".csv")):
+        if int(r["N"]) == n:
+            aligned = [float(x) for x in r["planes"].split()]
+            own = r.get("columns_ratio")
+            if own and float(own) < float(r["ratio"]):
+                cols = [[float(x) for x in c.split()] for c in r["columns_planes"].split(";")]
+                return float(own), cols, aligned
+            return float(r["ratio"]), None, aligned
+    raise SystemExit(f"primary_order.py: no searched split for {preset} {tag} {view} N = {n} in {stem}.csv")
+
+
+def boundaries_file(folder, name, n, cols, aligned):
+    """A --boundaries-from file holding every column's inner planes along x."""
+    keys = [(i, j) for i in range(n) for j in range(n)]
+    planes = dict(zip(keys, cols)) if cols else {k: aligned for k in keys}
+    rep = {"config": {"mesh": [n, n, n], "balance": {"axis": "x"}},
+           "boundaries": [{"column": list(c), "index": k + 1, "history": [[0, p]]}
+                          for c, ps in sorted(planes.items()) for k, p in enumerate(ps)]}
+    path = os.path.join(folder, name + ".json")
+    with open(path, "w") as fh:
+        json.dump(rep, fh)
+    return path
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    driver.add_output_arguments(ap, os.path.join(ROOT, "doc", "balancing.md"))
+    driver.add_arguments(ap)
+    a = driver.parse_outputs(ap)
+    csv_path = os.path.join(a.out, "primary_order.csv")
+    if a.plot_only:
+        outputs.check_input(csv_path, "--plot-only: the CSV")
+    else:
+        with tempfile.TemporaryDirectory() as folder:
+            rows = sweep(a, folder)
+        driver.write_csv(csv_path, rows)
+    table(a, read_csv(csv_path))
+
+
+def sweep(a, folder):
+    points = []
+    for scene in SCENES:
+        for n in SCENE_NS:
+            for order in ORDERS:
+                points.append({"params": {"part": "scene", "machine": scene, "view": "", "N": n, "order": order, "run": "none"},
+                               "args": ["--scene", spd_scene(scene), "--size", "128x128", "--mesh", n,
+                                        "--primary-order", order]})
+    for name, preset, tag, extra in MACHINES:
+        for view, cam in VIEWS.items():
+            for n in NS:
+                base = preset_flags(preset) + PAPER_SCENE + cam + ["--mesh", n, "--concentration", f"{1 / n:.6f}"] + extra
+                _, cols, aligned = best_split(preset, tag, view, n)
+                split = boundaries_file(folder, f"{preset}-{tag}-{view}-{n}", n, cols, aligned)
+                for order in ORDERS:
+                    o = ["--primary-order", order]
+                    for run, flags in (("none", ["--balance", "none"]),
+                                       ("recommended", ["--balance", "recommended", "--frames", str(FRAMES)]),
+                                       ("split", ["--balance", "none", "--boundaries-from", split])):
+                        points.append({"params": {"part": "steady", "machine": name, "view": view, "N": n, "order": order,
+                                                  "run": run},
+                                       "args": base + flags + o})
+    runs = driver.run("primary_order", points, extract, None, a)
+    return [dict(r) for r in runs]
+
+
+def extract(r):
+    return {"render_time_ns": r["render_time_ns"], "max_busy_ns": max(n["busy_ns"] for n in r["nodes"]),
+            "frames_ns": " ".join(f"{f['render_time_ns']:.0f}" for f in r.get("frames", []))}
+
+
+def table(a, rows):
+    by = {(r["machine"], r["view"], int(r["N"]), r["order"], r["run"]): r for r in rows}
+    t = lambda *k: float(by[k]["render_time_ns"])  # noqa: E731
+    lines = ["<!-- written by scripts/experiments/primary_order.py; do not edit -->",
+             "The unbalanced frame (`--balance none`, 128x128) under each order, and its busiest node's busy time "
+             "as a share of the frame (the rest is waiting):", "",
+             "| scene | N | scan | busy share | spread | busy share | spread / scan |",
+             "|---|---:|---:|---:|---:|---:|---:|"]
+    for scene in SCENES:
+        for n in SCENE_NS:
+            s, p = by[(scene, "", n, "scan", "none")], by[(scene, "", n, "spread", "none")]
+            ts, tp = float(s["render_time_ns"]), float(p["render_time_ns"])
+            lines.append(f"| {scene} | {n} | {ts / 1e3:,.1f} us | {float(s['max_busy_ns']) / ts:.3f} | {tp / 1e3:,.1f} us | "
+                         f"{float(p['max_busy_ns']) / tp:.3f} | {tp / ts:.3f} |")
+    lines += ["", f"The recommended policy's frame {FRAMES} at the 24 points of the steady-state target, as a share of the "
+              "unbalanced frame of its own order, and over max(1/N, the best static split): under scan the split "
+              "searched under scan; under spread the same planes run under spread (not searched under spread: "
+              "a lower bound of the gap).", "",
+              "| machine | view | N | scan: frame 6 | busy share | best split | busy share | gap | "
+              "spread: unbalanced / scan's | frame 6 | busy share | the split | busy share | gap (at least) |",
+              "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+    gaps = {o: [] for o in ORDERS}
+    for name, *_ in MACHINES:
+        for view in VIEWS:
+            for n in NS:
+                cells = []
+                for o in ORDERS:
+                    none = t(name, view, n, o, "none")
+                    last = float(by[(name, view, n, o, "recommended")]["frames_ns"].split()[-1]) / none
+                    split = t(name, view, n, o, "split") / none
+                    gap = last / max(1 / n, split)
+                    gaps[o].append(gap)
+                    share = lambda run: float(by[(name, view, n, o, run)]["max_busy_ns"]) / (  # noqa: E731
+                        float(by[(name, view, n, o, run)]["frames_ns"].split()[-1]) if run == "recommended" else t(name, view, n, o, run))
+                    cells.append((none, last, share("recommended"), split, share("split"), gap))
+                (_, l0, b0, s0, c0, g0), (n1, l1, b1, s1, c1, g1) = cells
+                lines.append(f"| {name} | {view} | {n} | {l0:.4f} | {b0:.3f} | {s0:.4f} | {c0:.3f} | {g0:.4f} | "
+                             f"{n1 / t(name, view, n, 'scan', 'none'):.3f} | {l1:.4f} | {b1:.3f} | {s1:.4f} | {c1:.3f} | {g1:.4f} |")
+    lines += ["", " ".join(f"{o}: gap median {statistics.median(g):.4f}, worst {max(g):.4f}" + (";" if o == "scan" else ".")
+                           for o, g in gaps.items())]
+    publish_table(lines, os.path.join(a.out, "primary_order.md"), a.doc, "primary_order table")
+
+
+if __name__ == "__main__":
+    sys.exit(outputs.guard("primary_order.py", main))
