@@ -1,5 +1,6 @@
 #include "node/primary_queue.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numeric>
 
