@@ -181,8 +181,9 @@ void printSummary(const Scene& scene, const RtsimOptions& o, const MachineResult
                   double baselineNs, const WallClock& wall) {
     const auto& d = o.machine.dims;
     const double renderNs = report["render_time_ns"].get<double>();
-    std::printf("rtsim: %s (%zu objects), %dx%dx%d mesh, %dx%d image\n", scene.name.c_str(), scene.objects.size(), d[0],
-                d[1], d[2], r.image.width, r.image.height);
+    std::printf("rtsim: %s (%zu objects), %dx%dx%d mesh, %dx%d image%s\n", scene.name.c_str(), scene.objects.size(), d[0],
+                d[1], d[2], r.image.width, r.image.height,
+                o.machine.spreadPrimaries ? ", primary rays spread (--primary-order spread)" : "");
     std::printf("  render time      %s simulated", formatTime(r.renderTime).c_str());
     if (baselineNs > 0)
         std::printf("   (1x1x1 with the same costs: %s, speed-up %.2f)", formatTime(Picos(baselineNs * 1000 + 0.5)).c_str(),

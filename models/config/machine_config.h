@@ -376,7 +376,7 @@ inline const std::vector<Param<MachineConfig>>& machineParams() {
                         gm),
         numberParam("max-depth", &M::maxDepth, 0, 39, "/max_depth", "mirror/refraction levels below the primary ray", gm),
         choiceParam("primary-order", &M::spreadPrimaries, "spread", "scan", "/primary_order", "each node's primary rays: scan "
-                    "(row by row) or spread (a stride through its pixels: work reaches every box evenly; doc/machine.md)", gm),
+                    "(row by row) or spread (a stride through its pixels: work reaches every box evenly; same image; doc/machine.md)", gm),
         partParam<M>("costs", gc),
         choiceParam("hop-handling", &M::hopsByLinks, "link", "processor", "/hop_handling",
                     "who pays for a hop: processor (each node's busy time pays --cost-send and --cost-recv per message) "

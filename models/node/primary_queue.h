@@ -14,8 +14,9 @@
 namespace rt {
 
 // The order --primary-order spread generates `n` items in: item (i s) mod n
-// at step i, s the whole number nearest n over the golden ratio that has no
-// factor in common with n (a stride that visits each item once). Any run
+// at step i, s n over the golden ratio rounded, or the first whole number
+// above it with no factor in common with n (a stride that visits each item
+// once). Any run
 // of k steps takes items from all over the list, about n / k apart, so a
 // node's work arrives evenly over the frame rather than one part of its
 // image after another (doc/machine.md, "The order of the primary rays").

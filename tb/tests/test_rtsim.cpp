@@ -631,3 +631,23 @@ TEST_F(Rtsim, AnOutputBufferThatNeverFillsChangesNothing) {
         EXPECT_EQ(deep["nodes"][i]["wait_ns"], free["nodes"][i]["wait_ns"]);
     }
 }
+
+// --primary-order spread from the command line: echoed in the report and
+// named in the summary's first line (a row-by-row run says nothing), the
+// same image, another render time; and a rerun of its report runs it again.
+TEST_F(Rtsim, SpreadPrimaryOrderIsEchoedSaidAndRerun) {
+    const std::string args = "--spheres 200 --size 32x32 --mesh 3";
+    const nlohmann::json scan = reportWithImage(args + " -q --no-baseline", "scan.png");
+    const nlohmann::json spread = reportWithImage(args + " -q --no-baseline --primary-order spread", "spread.png");
+    EXPECT_EQ(scan["config"]["primary_order"], "scan");
+    EXPECT_EQ(spread["config"]["primary_order"], "spread");
+    EXPECT_EQ(slurp(dir_ / "scan.png"), slurp(dir_ / "spread.png"));
+    EXPECT_NE(scan["render_time_ns"], spread["render_time_ns"]);
+    const std::string said = ", primary rays spread (--primary-order spread)";
+    EXPECT_NE(run(args + " --no-baseline --image '' --primary-order spread").out.find(said), std::string::npos);
+    EXPECT_EQ(run(args + " --no-baseline --image ''").out.find(said), std::string::npos);
+    const std::string path = (dir_ / "spread.json").string();
+    ASSERT_EQ(run(args + " -q --no-baseline --image '' --primary-order spread --report " + path).code, 0);
+    const nlohmann::json again = report("--rerun " + path, "again.json");
+    EXPECT_EQ(again["render_time_ns"], spread["render_time_ns"]);
+}
