@@ -112,6 +112,13 @@ def best_static(a):
     the better of its one set of planes and, where --per-column refined
     it, each column's own: {(view, N): (ratio, its busiest node's busy
     time as a fraction of none's, or None where not recorded)}."""
+    return {k: v[:2] for k, v in best_static_splits(a).items()}
+
+
+def best_static_splits(a):
+    """best_static's, with the split's planes: {(view, N): (ratio, busiest
+    or None, each column's inner planes in the search's column order where
+    they won or None, the one set's or None where the CSV has none)}."""
     from csv_rows import read_csv
     best = {}
     for view in VIEWS:
@@ -122,12 +129,22 @@ def best_static(a):
         if os.path.exists(path):
             for r in read_csv(path):  # one set of planes for all columns, or each column's own where refined
                 own = r.get("columns_ratio")
+                aligned = [float(x) for x in r["planes"].split()] if r.get("planes") else None
                 if own and float(own) < float(r["ratio"]):
                     busiest = r.get("columns_max_busy")
-                    best[(r["view"], int(r["N"]))] = (float(own), float(busiest) if busiest else None)
+                    cols = [[float(x) for x in c.split()] for c in r["columns_planes"].split(";")] if r.get("columns_planes") else None
+                    best[(r["view"], int(r["N"]))] = (float(own), float(busiest) if busiest else None, cols, aligned)
                 else:
-                    best[(r["view"], int(r["N"]))] = (float(r["ratio"]), None)
+                    best[(r["view"], int(r["N"]))] = (float(r["ratio"]), None, None, aligned)
     return best
+
+
+def start_boundaries(n, cols):
+    """A --boundaries-from report for an n x n x n mesh along x: column
+    (i, j)'s inner planes at cols[(i, j)], from time 0."""
+    return {"config": {"mesh": [n, n, n], "balance": {"axis": "x"}},
+            "boundaries": [{"column": [i, j], "index": k + 1, "history": [[0, p]]}
+                           for (i, j), planes in sorted(cols.items()) for k, p in enumerate(planes)]}
 
 
 def spd_scene(name):

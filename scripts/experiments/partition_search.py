@@ -20,7 +20,7 @@ import tempfile
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # scripts/: project, sweep
 import outputs  # noqa: E402
 import sweep_driver as driver  # noqa: E402
-from project import PAPER_SCENE, ROOT, VIEWS, preset_flags, publish_table, variant  # noqa: E402
+from project import PAPER_SCENE, ROOT, VIEWS, preset_flags, publish_table, start_boundaries, variant  # noqa: E402
 from csv_rows import read_csv  # noqa: E402
 from sweep_driver import write_csv  # noqa: E402
 
@@ -45,9 +45,7 @@ def run(a, n, f, planes):
 def run_columns(a, n, f, cols):
     """(Render time in ns, report) of the frame with column (i, j)'s inner
     planes at cols[(i, j)]."""
-    rep = {"config": {"mesh": [n, n, n], "balance": {"axis": "x"}},
-           "boundaries": [{"column": [i, j], "index": k + 1, "history": [[0, p]]}
-                          for (i, j), planes in sorted(cols.items()) for k, p in enumerate(planes)]}
+    rep = start_boundaries(n, cols)
     fd, path = tempfile.mkstemp(suffix=".json")
     with os.fdopen(fd, "w") as fh:
         json.dump(rep, fh)

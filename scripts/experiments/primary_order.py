@@ -27,7 +27,7 @@ import tempfile
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # scripts/: project, sweep
 import outputs  # noqa: E402
 import sweep_driver as driver  # noqa: E402
-from project import PAPER_SCENE, RESULTS, ROOT, VIEWS, machine_tag, preset_flags, publish_table, spd_scene, variant  # noqa: E402,E501
+from project import PAPER_SCENE, RESULTS, ROOT, VIEWS, best_static_splits, preset_flags, publish_table, spd_scene, start_boundaries  # noqa: E402,E501
 from csv_rows import read_csv  # noqa: E402
 
 ORDERS = ["scan", "spread"]
@@ -40,31 +40,13 @@ SCENES = ["balls-4", "gears-2", "tetra-3", "rings-2"]
 SCENE_NS = [4, 8]
 
 
-def best_split(preset, tag, view, n):
-    """The searched best static split at f = 1/N: (its ratio to none, each
-    column's planes or None for one set, one set's planes)."""
-    stem = "partition_search" + variant(preset, machine_tag(tag)) + ("" if view == "along" else f"-{view}")
-    for r in read_csv(os.path.join(RESULTS, stem + ".csv")):
-        if int(r["N"]) == n:
-            aligned = [float(x) for x in r["planes"].split()]
-            own = r.get("columns_ratio")
-            if own and float(own) < float(r["ratio"]):
-                cols = [[float(x) for x in c.split()] for c in r["columns_planes"].split(";")]
-                return float(own), cols, aligned
-            return float(r["ratio"]), None, aligned
-    raise SystemExit(f"primary_order.py: no searched split for {preset} {tag} {view} N = {n} in {stem}.csv")
-
-
 def boundaries_file(folder, name, n, cols, aligned):
-    """A --boundaries-from file holding every column's inner planes along x."""
+    """A --boundaries-from file holding every column's inner planes along x
+    (each column's own where given, else the one set)."""
     keys = [(i, j) for i in range(n) for j in range(n)]
-    planes = dict(zip(keys, cols)) if cols else {k: aligned for k in keys}
-    rep = {"config": {"mesh": [n, n, n], "balance": {"axis": "x"}},
-           "boundaries": [{"column": list(c), "index": k + 1, "history": [[0, p]]}
-                          for c, ps in sorted(planes.items()) for k, p in enumerate(ps)]}
     path = os.path.join(folder, name + ".json")
     with open(path, "w") as fh:
-        json.dump(rep, fh)
+        json.dump(start_boundaries(n, dict(zip(keys, cols)) if cols else {k: aligned for k in keys}), fh)
     return path
 
 
@@ -92,10 +74,13 @@ def sweep(a, folder):
                                "args": ["--scene", spd_scene(scene), "--size", "128x128", "--mesh", n,
                                         "--primary-order", order]})
     for name, preset, tag, extra in MACHINES:
+        best = best_static_splits(argparse.Namespace(preset=preset, tag=tag, out=RESULTS))
         for view, cam in VIEWS.items():
             for n in NS:
                 base = preset_flags(preset) + PAPER_SCENE + cam + ["--mesh", n, "--concentration", f"{1 / n:.6f}"] + extra
-                _, cols, aligned = best_split(preset, tag, view, n)
+                if (view, n) not in best:
+                    raise SystemExit(f"primary_order.py: no searched split for {preset} {tag} {view} N = {n}")
+                _, _, cols, aligned = best[(view, n)]
                 split = boundaries_file(folder, f"{preset}-{tag}-{view}-{n}", n, cols, aligned)
                 for order in ORDERS:
                     o = ["--primary-order", order]
