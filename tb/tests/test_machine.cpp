@@ -195,6 +195,24 @@ TEST(PrimaryOrder, SpreadFeedsEveryBoxEvenlyOverTheFrame) {
     EXPECT_GT(busyShare(true), 0.95);
 }
 
+// On one node nothing waits for another: the frame is its busy time (the
+// counts times the costs, Timing.OneNodeTimeIsCountsTimesCosts) and its
+// credit's crossing, whatever order it generates its rays in. So spread
+// gives the row-by-row frame to the picosecond.
+TEST(PrimaryOrder, OneNodesFrameIsTheSameInEitherOrder) {
+    const Scene s = test::spd("balls-2");
+    MachineConfig c;
+    c.dims = {1, 1, 1};
+    c.width = c.height = 40;
+    const MachineResult scan = runMachine(s, c);
+    c.spreadPrimaries = true;
+    const MachineResult spread = runMachine(s, c);
+    ASSERT_EQ(spread.nodes.size(), 1u);
+    EXPECT_EQ(spread.nodes[0].busy, scan.nodes[0].busy);
+    EXPECT_EQ(spread.renderTime, scan.renderTime);
+    EXPECT_TRUE(spread.image == scan.image);
+}
+
 TEST(Timing, SlowNodeTakesLonger) {
     const Scene s = test::spd("balls-2");
     MachineConfig c;
