@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "analysis/report.h"
+#include "config/param_rows.h"
 #include "fidelity_choice.h"
 
 namespace rt {
@@ -69,15 +70,40 @@ nlohmann::json configEcho(const RtsimOptions& o, const Scene& scene) {
     return c;
 }
 
-std::string firstDifference(const nlohmann::json& there, const nlohmann::json& here) {
-    for (const nlohmann::json& op : nlohmann::json::diff(there, here)) {
-        const std::string where = op["path"].get<std::string>();
-        const nlohmann::json::json_pointer path(where);
-        const nlohmann::json a = there.contains(path) ? there[path] : nlohmann::json();
-        const nlohmann::json b = here.contains(path) ? here[path] : nlohmann::json();
-        return where + ": " + a.dump() + " there, " + b.dump() + " here";
-    }
+namespace {
+
+// The path of the first setting where two configs differ ("" if none).
+std::string firstDifferingPath(const nlohmann::json& there, const nlohmann::json& here) {
+    for (const nlohmann::json& op : nlohmann::json::diff(there, here)) return op["path"].get<std::string>();
     return "";
+}
+
+}  // namespace
+
+std::string firstDifference(const nlohmann::json& there, const nlohmann::json& here) {
+    const std::string where = firstDifferingPath(there, here);
+    if (where.empty()) return "";
+    const nlohmann::json::json_pointer path(where);
+    const std::string a = there.contains(path) ? there[path].dump() + " there" : "not in the report";
+    const std::string b = here.contains(path) ? here[path].dump() + " here" : "not a setting of this run";
+    return where + ": " + a + ", " + b;
+}
+
+std::string newerSettingHint(const nlohmann::json& there, const nlohmann::json& here, const std::string& report) {
+    const std::string where = firstDifferingPath(there, here);
+    const nlohmann::json::json_pointer path(where);
+    if (where.empty() || there.contains(path) || !here.contains(path)) return "";
+    const nlohmann::json& value = here[path];
+    std::string flag;
+    forEachParamRow([&](const auto& p, const std::string& name, const std::string& echo) {
+        if (!flag.empty() || echo != where) return;
+        flag = name + " " + (value.is_string() ? value.get<std::string>() : value.dump());
+        if (p.kind == ParamKind::Time && value.is_number()) flag += "ns";  // (echoed in ns)
+        if (p.kind == ParamKind::Rate && value.is_number()) flag += "B/s";
+    });
+    if (flag.empty()) return "";
+    return "; a setting newer than the report's build: to rerun it as this build does, give it after the report (--rerun " +
+           report + " " + flag + "), which makes the rerun a what-if, not checked against the report";
 }
 
 }  // namespace rt

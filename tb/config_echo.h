@@ -23,8 +23,15 @@ nlohmann::json configEcho(const RtsimOptions& o, const Scene& scene);
 // objects and the axis (also what --boundaries-from's run must have had).
 nlohmann::json sceneEcho(const RtsimOptions& o, const Scene& scene);
 
-// The first setting where two configs differ, as "PATH: A there, B here";
-// empty if none does.
+// The first setting where two configs differ, as "PATH: A there, B here"
+// ("not in the report" where `there` lacks it, "not a setting of this run"
+// where `here` does); empty if none does.
 std::string firstDifference(const nlohmann::json& there, const nlohmann::json& here);
+// Where the first difference is a setting `there` (an older build's
+// report) lacks and a flag sets: how to rerun it with this build's value
+// anyway ("; ..."), else empty. Such a setting came after the report's
+// build, and a flag after --rerun makes the run a what-if, which is not
+// checked against the report.
+std::string newerSettingHint(const nlohmann::json& there, const nlohmann::json& here, const std::string& report);
 
 }  // namespace rt

@@ -194,7 +194,8 @@ Stop echoConfig(const rt::RtsimOptions& o, const rt::Scene& scene, const rt::Com
             return 2;
         }
     } else if (const std::string differs = rt::firstDifference(cl.rerun->config, config); !differs.empty()) {
-        rt::msg::error(rt::msg::kConfig, where + "this run arrives at other settings than the report's: " + differs);
+        rt::msg::error(rt::msg::kConfig, where + "this run arrives at other settings than the report's: " + differs +
+                                             rt::newerSettingHint(cl.rerun->config, config, cl.rerun->path));
         return 2;
     }
     return std::nullopt;

@@ -122,6 +122,36 @@ TEST_F(Edges, AReportsFlagsCannotWriteAnywhereOrStartAProgram) {
     EXPECT_TRUE(leftBehind().empty());
 }
 
+// A report from a build before a setting existed lacks it: the plain
+// rerun is refused, naming the setting and the flag that reruns it with
+// this build's value; with that flag the rerun is a what-if and runs, to
+// the same image (the setting's default is the older build's behaviour).
+// A setting with no flag of its own gets no hint.
+TEST_F(Edges, ARerunOfAnOlderReportNamesTheFlagOfTheSettingItLacks) {
+    json old = baseReport();
+    old["config"].erase("primary_order");
+    write(dir_ / "old.json", old.dump());
+    bad("--rerun " + p("old.json") + " -q --image ''",
+        "/primary_order: not in the report, \"scan\" here; a setting newer than the report's build: to rerun it as this "
+        "build does, give it after the report (--rerun " + p("old.json") + " --primary-order scan)");
+    const Outcome o = rtsim("--rerun " + p("old.json") + " --primary-order scan -q --image " + p("again.png"));
+    EXPECT_EQ(o.code, 0) << o.err;
+    const Outcome first = rtsim(std::string(kSmall) + " --no-baseline -q --image " + p("first.png"));
+    EXPECT_EQ(first.code, 0) << first.err;
+    EXPECT_EQ(slurp(dir_ / "again.png"), slurp(dir_ / "first.png"));
+    json t = old;
+    t["config"]["link"].erase("latency_ns");
+    write(dir_ / "t.json", t.dump());
+    bad("--rerun " + p("t.json") + " -q --image ''", "(--rerun " + p("t.json") + " --link-latency 100.0ns)");
+    json c = baseReport();
+    c["config"]["camera"].erase("fov_deg");
+    write(dir_ / "c.json", c.dump());
+    const Outcome noHint = rtsim("--rerun " + p("c.json") + " -q --image ''");
+    EXPECT_EQ(noHint.code, 2);
+    EXPECT_NE(noHint.err.find("/camera/fov_deg: not in the report, 40.0 here"), std::string::npos) << noHint.err;
+    EXPECT_EQ(noHint.err.find("newer than"), std::string::npos) << noHint.err;
+}
+
 TEST_F(Edges, ARerunLoadsOnlyTheSceneItsReportRecords) {
     const json base = baseReport();  // procedural: 200 spheres
     // A report edited to another mesh than its flags give is refused, with

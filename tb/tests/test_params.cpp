@@ -13,6 +13,7 @@
 
 #include "analysis/report.h"
 #include "cli_test.h"
+#include "config/param_rows.h"
 #include "command_line.h"
 #include "config_file.h"
 #include "rtsim_cli.h"
@@ -32,30 +33,13 @@ struct Row {
     std::string help;
 };
 
-template <class S>
-Row rowOf(const Param<S>& p, const std::string& flag, const std::string& echoAt, const char* help) {
-    return {flag, p.echo ? echoAt + p.echo : "", p.kind, p.lo, p.hi, p.openBelow, p.on ? p.on : "", p.off ? p.off : "", help};
-}
-
 // Every row with a value of its own (not Special), the parts in their places.
 std::vector<Row> allRows() {
     std::vector<Row> rows;
-    for (const Param<MachineConfig>& p : machineParams()) {
-        if (p.kind == ParamKind::Special) continue;
-        if (p.kind != ParamKind::Part) {
-            rows.push_back(rowOf(p, std::string("--") + p.name, "", p.help));
-        } else if (p.part == std::string("costs")) {
-            for (const auto& c : costParams()) rows.push_back(rowOf(c, std::string("--cost-") + c.name, "/costs", c.help));
-        } else if (p.part == std::string("link")) {
-            for (const auto& l : linkParams()) rows.push_back(rowOf(l, std::string("--link-") + l.name, "/link", l.help));
-        } else if (p.part == std::string("fb-port")) {
-            for (const auto& l : linkParams())
-                if (l.portHelp) rows.push_back(rowOf(l, std::string("--fb-") + l.name, "/fb_port", l.portHelp));
-        } else {
-            for (const auto& b : balanceParams())
-                if (b.kind != ParamKind::Special) rows.push_back(rowOf(b, std::string("--") + b.name, "/balance", b.help));
-        }
-    }
+    forEachParamRow([&](const auto& p, const std::string& flag, const std::string& echo) {
+        const char* help = p.portHelp && flag.rfind("--fb-", 0) == 0 ? p.portHelp : p.help;
+        rows.push_back({flag, echo, p.kind, p.lo, p.hi, p.openBelow, p.on ? p.on : "", p.off ? p.off : "", help});
+    });
     return rows;
 }
 
