@@ -26,17 +26,16 @@ public:
     // The smallest time queued (the heap must not be empty). It changes
     // nothing: a time may still be pushed that is smaller than it (but not
     // than the last popped).
+    // (Each bucket keeps its least time as items come in, so the top is
+    // found without reading the bucket: the relay asks for it before every
+    // pop, and a bucket far from the last popped holds thousands.)
     uint64_t top() const {
-        size_t b = 0;
-        while (buckets_[b].empty()) ++b;  // (size_ > 0)
-        if (b == 0) return last_;
-        uint64_t least = ~uint64_t(0);
-        for (const Entry& e : buckets_[b]) least = std::min(least, e.t);
-        return least;
+        const size_t b = lowest();  // (size_ > 0)
+        return b == 0 ? last_ : least_[b];
     }
     void push(uint64_t t, Item item) {
         if (t < last_) throw std::logic_error("radix heap: a time before the last popped");
-        buckets_[bucketOf(t)].push_back({t, std::move(item)});
+        add(bucketOf(t), {t, std::move(item)});
         ++size_;
     }
     // Every item of the smallest time, appended to `out` (the heap must not be empty).
@@ -44,10 +43,10 @@ public:
         settle();
         for (Entry& e : buckets_[0]) out.push_back(std::move(e.item));
         size_ -= buckets_[0].size();
-        buckets_[0].clear();
+        empty(0);
     }
     void clear() {
-        for (auto& b : buckets_) b.clear();
+        for (size_t b = 0; b < buckets_.size(); ++b) empty(b);
         size_ = 0;
         last_ = 0;
     }
@@ -58,18 +57,29 @@ private:
         Item item;
     };
     size_t bucketOf(uint64_t t) const { return t == last_ ? 0 : size_t(64 - __builtin_clzll(t ^ last_)); }
+    // The lowest bucket that holds an item (the heap must not be empty).
+    size_t lowest() const { return full_[0] ? size_t(__builtin_ctzll(full_[0])) : 64; }
+    void add(size_t b, Entry&& e) {
+        if (buckets_[b].empty()) least_[b] = e.t;
+        else least_[b] = std::min(least_[b], e.t);
+        buckets_[b].push_back(std::move(e));
+        full_[b / 64] |= uint64_t(1) << (b % 64);
+    }
+    void empty(size_t b) {
+        buckets_[b].clear();
+        full_[b / 64] &= ~(uint64_t(1) << (b % 64));
+    }
     // Makes bucket 0 hold the items of the smallest time (last_).
     void settle() {
         if (!buckets_[0].empty()) return;
-        size_t b = 1;
-        while (buckets_[b].empty()) ++b;  // (size_ > 0)
-        uint64_t least = ~uint64_t(0);
-        for (const Entry& e : buckets_[b]) least = std::min(least, e.t);
-        last_ = least;
-        for (Entry& e : buckets_[b]) buckets_[bucketOf(e.t)].push_back(std::move(e));
-        buckets_[b].clear();
+        const size_t b = lowest();  // (size_ > 0; not 0)
+        last_ = least_[b];
+        for (Entry& e : buckets_[b]) add(bucketOf(e.t), std::move(e));  // (each to a lower bucket: its time is closer to last_)
+        empty(b);
     }
     std::array<std::vector<Entry>, 65> buckets_;
+    std::array<uint64_t, 65> least_{};  // bucket b's least time, while it holds any
+    std::array<uint64_t, 2> full_{};    // bit b: bucket b holds items (bucket 64 in the second word)
     size_t size_ = 0;
     uint64_t last_ = 0;
 };

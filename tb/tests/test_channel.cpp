@@ -16,6 +16,7 @@
 
 #include "balance/balance_agent.h"
 #include "base/fifo.h"
+#include "base/radix_heap.h"
 #include "balance/frame_forecast.h"
 #include "channel/link.h"
 #include "balance/minimax_split.h"
@@ -131,6 +132,48 @@ TEST(Histogram, ExactForFewValuesThenWithinHalfABinAndBoundedByTheRange) {
 // sorted: the figures must not depend on the order the values came in, nor
 // on where the waiting ones stood when it was read, across the change from
 // exact to coarse bins (at the 65th distinct value).
+// The express relay's queue (base/radix_heap.h) against a multiset: its
+// top is always the least time queued, times pushed after a pop may be
+// below the top but not below the time popped, every item of the least
+// time comes out at once, and none is lost; with times from 0 to 2^63 so
+// that every bucket is used, the last (bit 63) too.
+TEST(RadixHeap, TopAndTiesAreTheLeastTimesQueuedAsItemsComeAndGo) {
+    std::mt19937_64 rng(7);
+    RadixHeap<uint32_t> heap;
+    std::multiset<std::pair<uint64_t, uint32_t>> ref;
+    uint64_t last = 0;
+    uint32_t next = 0;
+    std::vector<uint32_t> ties;
+    for (int round = 0; round < 4000; ++round) {
+        const int pushes = int(rng() % 4);
+        for (int i = 0; i < pushes; ++i) {
+            const int bits = int(rng() % 64);  // spans of every size past the last popped
+            const uint64_t span = bits == 0 ? 0 : rng() >> (64 - bits);
+            const uint64_t t = last + std::min(span, (uint64_t(1) << 63) - last);
+            heap.push(t, next);
+            ref.insert({t, next++});
+        }
+        if (round % 500 == 0 && last > 0) {
+            EXPECT_THROW(heap.push(last - 1, 0), std::logic_error);
+        }
+        ASSERT_EQ(heap.size(), ref.size());
+        if (ref.empty()) continue;
+        ASSERT_EQ(heap.top(), ref.begin()->first) << round;
+        if (rng() % 3 == 0) continue;  // (a top asked for and not popped: later pushes may be below it)
+        ties.clear();
+        heap.popTies(ties);
+        last = ref.begin()->first;
+        std::vector<uint32_t> want;
+        while (!ref.empty() && ref.begin()->first == last) {
+            want.push_back(ref.begin()->second);
+            ref.erase(ref.begin());
+        }
+        std::sort(ties.begin(), ties.end());
+        ASSERT_EQ(ties, want) << round;
+    }
+    EXPECT_GT(next, 5000u);
+}
+
 TEST(Histogram, TheOrderValuesComeInDoesNotMatter) {
     std::vector<uint64_t> values;
     for (uint64_t i = 0; i < 300; ++i) values.push_back(1000 + (i * 7919) % 97 * 13 + (i % 5 == 0 ? 100000 : 0));
