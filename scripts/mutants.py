@@ -435,4 +435,8 @@ MUTANTS = [
     ("spread-order-strides-by-one", "models/node/primary_queue.cpp",
      "while (std::gcd(s, n) != 1) ++s;", "s = 1;",
      "--primary-order spread keeps the host's order (a stride of one)"),
+    ("radix-heap-least-not-kept", "models/base/radix_heap.h",
+     "else least_[b] = std::min(least_[b], e.t);", "else least_[b] = least_[b];",
+     "the express relay's queue keeps a bucket's first time as its least: a ray pushed later with an earlier time "
+     "is taken late"),
 ]
