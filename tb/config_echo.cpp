@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <stdexcept>
 
 #include "analysis/report.h"
@@ -72,27 +73,31 @@ nlohmann::json configEcho(const RtsimOptions& o, const Scene& scene) {
 
 namespace {
 
-// The path of the first setting where two configs differ ("" if none).
-std::string firstDifferingPath(const nlohmann::json& there, const nlohmann::json& here) {
+// The path of the first setting where two configs differ, if any ("": the
+// whole of them).
+std::optional<std::string> firstDifferingPath(const nlohmann::json& there, const nlohmann::json& here) {
     for (const nlohmann::json& op : nlohmann::json::diff(there, here)) return op["path"].get<std::string>();
-    return "";
+    return std::nullopt;
 }
 
 }  // namespace
 
 std::string firstDifference(const nlohmann::json& there, const nlohmann::json& here) {
-    const std::string where = firstDifferingPath(there, here);
-    if (where.empty()) return "";
-    const nlohmann::json::json_pointer path(where);
+    const std::optional<std::string> differs = firstDifferingPath(there, here);
+    if (!differs) return "";
+    const std::string where = differs->empty() ? "/" : *differs;
+    const nlohmann::json::json_pointer path(*differs);
     const std::string a = there.contains(path) ? there[path].dump() + " there" : "not in the report";
     const std::string b = here.contains(path) ? here[path].dump() + " here" : "not a setting of this run";
     return where + ": " + a + ", " + b;
 }
 
 std::string newerSettingHint(const nlohmann::json& there, const nlohmann::json& here, const std::string& report) {
-    const std::string where = firstDifferingPath(there, here);
+    const std::optional<std::string> differs = firstDifferingPath(there, here);
+    if (!differs || differs->empty()) return "";
+    const std::string& where = *differs;
     const nlohmann::json::json_pointer path(where);
-    if (where.empty() || there.contains(path) || !here.contains(path)) return "";
+    if (there.contains(path) || !here.contains(path)) return "";
     const nlohmann::json& value = here[path];
     std::string flag;
     forEachParamRow([&](const auto& p, const std::string& name, const std::string& echo) {
