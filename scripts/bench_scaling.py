@@ -14,14 +14,15 @@ and an idle mesh's (one sphere at 8x8, one run per N: what a node costs
 for existing, its module, links and ports), each less the peak of the
 idle 1x1x1 mesh (the process itself).
 
-Where the time per event goes: at N = 4 and at the largest N, one more
-run of each scene under `perf record` (sampled, not timed; in the plain
+Where the time per event goes: at every N, one more run of each scene
+under `perf record` (sampled, not timed; in the plain
 Release build of scripts/build.sh, whose profile keeps the region's trace
 apart from the node's step, which the profile-guided build inlines it
 into) splits the simulation's time into the tracing (the grid walk,
 intersection tests and shading: TRACING below) and the rest (messages,
 links, the nodes' loops, the SystemC kernel), each over its own events:
-tracing per ray step or test, the rest per message. From them, the wall
+tracing per ray step or test, the rest per message, each against
+N = 4's (issue 64's per-kind targets, per N; charted). From them, the wall
 time per event that the largest mesh would have if every kind of event
 cost what it does at N = 4: the ratio the mix of events alone sets,
 against which issue 45's 1.3 is to be read; and issue 64's targets (per
@@ -202,7 +203,7 @@ def measure(a, ns, pin, ver, tmp):
         print(f"idle mesh, N = {n}: {idle[n]:.0f} MiB", file=sys.stderr)
     split = {}  # (scene, n) -> (tracing s, rest s, start-up s, events), from one run under perf
     for scene in a.scenes.split(","):
-        for n in sorted({4, ns[-1]}) if 4 in ns else []:
+        for n in ns if 4 in ns else []:
             tracing, rest = profiled(command(scene, n, binary=RTSIM), tmp)
             with open(report) as f:
                 r = json.load(f)
@@ -223,7 +224,7 @@ def measure(a, ns, pin, ver, tmp):
         outputs.write_text(os.path.join(out, "scaling.md"),
                            "# How rtsim scales with the mesh\n\nWritten by `scripts/bench_scaling.py --doc`; do not "
                            "edit by hand.\n\n" + image_link("scaling.png") + "\n\n" + text)
-        chart(a, ns, rows, idle, os.path.join(out, "scaling.png"))
+        chart(a, ns, rows, idle, split, os.path.join(out, "scaling.png"))
 
 
 def image_link(name):
@@ -233,6 +234,12 @@ def image_link(name):
 
 def per_event(row):
     return statistics.median(row["wall"]) / sum(row["report"]["events"]) * 1e9
+
+
+def per_message(row):
+    """The wall time per message, all work included (start-up, tracing,
+    report): issue 64's first target reads it against N = 4's."""
+    return statistics.median(row["wall"]) / row["report"]["events"][2] * 1e9
 
 
 def kib_per_node(mib, n, idle):
@@ -245,8 +252,8 @@ def kib_per_node(mib, n, idle):
 def table(a, ns, rows, idle, same, pin, ver):
     lines = ["| scene | N | nodes | wall (median) | start-up (median) | start-up share | peak memory (max) | "
              "per node: this run / idle mesh (less the process's own) | ray steps | intersection tests | messages | wall per event | "
-             "per event / N = 4's |",
-             "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+             "per event / N = 4's | wall per message | per message / N = 4's |",
+             "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
     for scene in a.scenes.split(","):
         base = rows.get((scene, 4))
         for n in ns:
@@ -254,10 +261,11 @@ def table(a, ns, rows, idle, same, pin, ver):
             w, s = statistics.median(row["wall"]), statistics.median(row["startup"])
             steps, tests, msgs = row["report"]["events"]
             rel = f"{per_event(row) / per_event(base):.2f}" if base else "-"
+            rel_msg = f"{per_message(row) / per_message(base):.2f}" if base else "-"
             lines.append(f"| {scene} | {n} | {n ** 3:,} | {w:.2f} s | {s:.2f} s | {s / w * 100:.1f} % | "
                          f"{max(row['mem']):.0f} MiB | {kib_per_node(max(row['mem']), n, idle):.1f} / "
                          f"{kib_per_node(idle[n], n, idle):.1f} KiB | {steps:,} | {tests:,} | {msgs:,} | {per_event(row):.0f} ns | "
-                         f"{rel} |")
+                         f"{rel} | {per_message(row):.0f} ns | {rel_msg} |")
     top = ns[-1]
     lines += ["", f"Against issue 45's targets (N = {top}):", "",
               "| target | measured | met |", "|---|---|---|"]
@@ -283,15 +291,17 @@ def table(a, ns, rows, idle, same, pin, ver):
 
 
 def split_table(a, ns, rows, split):
-    """Where the time per event goes, at N = 4 and the largest N, and the
-    ratio the mix of events alone sets (mix_ratio)."""
+    """Where the time per event goes, at every N profiled: each kind's cost
+    and its ratio to N = 4's, and the ratio the mix of events alone sets
+    (mix_ratio) at the largest N."""
     top = ns[-1]
     lines = ["", f"Where the time goes (one more run of each point under `perf record`, {PERF_HZ} samples a second, "
              "in the plain Release build, where the region's trace is a function of its own; start-up aside): the "
              "tracing (the grid walk, intersection tests, shading) per ray step or test, and the rest (messages, "
-             "links, the nodes' loops, the SystemC kernel) per message:", "",
-             "| scene | N | tracing | per ray step or test | the rest | per message | per event | per event / N = 4's |",
-             "|---|---:|---:|---:|---:|---:|---:|---:|"]
+             "links, the nodes' loops, the SystemC kernel) per message, each against N = 4's:", "",
+             "| scene | N | tracing | per ray step or test | / N = 4's | the rest | per message | / N = 4's | "
+             "per event | per event / N = 4's |",
+             "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
     mixes = []
     for scene in a.scenes.split(","):
         if (scene, 4) not in split:
@@ -299,12 +309,13 @@ def split_table(a, ns, rows, split):
         t4 = split[(scene, 4)]
         c4 = kind_costs(*t4)
         base = per_event_at(c4, t4[3])
-        for n in sorted({4, top}):
+        for n in [n for n in ns if (scene, n) in split]:
             tracing, rest, startup, ev = split[(scene, n)]
             c = kind_costs(tracing, rest, startup, ev)
             pe = per_event_at(c, ev)
-            lines.append(f"| {scene} | {n} | {tracing:.2f} s | {c[0] * 1e9:.0f} ns | {rest - startup:.2f} s | "
-                         f"{c[1] * 1e9:.0f} ns | {pe * 1e9:.0f} ns | {pe / base:.2f} |")
+            lines.append(f"| {scene} | {n} | {tracing:.2f} s | {c[0] * 1e9:.0f} ns | {c[0] / c4[0]:.2f} | "
+                         f"{rest - startup:.2f} s | {c[1] * 1e9:.0f} ns | {c[1] / c4[1]:.2f} | {pe * 1e9:.0f} ns | "
+                         f"{pe / base:.2f} |")
         mixes.append((scene, mix_ratio(c4, t4[3], split[(scene, top)][3])))
     if mixes:
         lines += ["", f"If every kind of event cost at N = {top} what it does at N = 4, the wall time per event "
@@ -314,6 +325,10 @@ def split_table(a, ns, rows, split):
     lines += ["", f"Against issue 64's targets (N = {top}; per kind from the split above):", "",
               "| target | measured | met |", "|---|---|---|"]
     for scene in a.scenes.split(","):
+        if (scene, 4) in rows and (scene, top) in rows:
+            r = per_message(rows[(scene, top)]) / per_message(rows[(scene, 4)])
+            lines.append(f"| {scene}: wall per message, all work included, at most {TARGET_PER_KIND} x N = 4's "
+                         f"(the issue reads it at 256x256) | {r:.2f} x | {'yes' if r <= TARGET_PER_KIND else 'NO'} |")
         if (scene, 4) in split and (scene, top) in split:
             base, got = kind_costs(*split[(scene, 4)]), kind_costs(*split[(scene, top)])
             for k, kind in ((1, "per message"), (0, "per ray step or test")):
@@ -334,11 +349,22 @@ def positive(xs, ys):
     return [x for x, _ in kept], [y for _, y in kept]
 
 
-def chart(a, ns, rows, idle, path):
+def kind_ratios(scene, ns, split):
+    """Per N profiled: (N, per step or test, per message), each over N = 4's."""
+    c4 = kind_costs(*split[(scene, 4)])
+    out = []
+    for n in ns:
+        if (scene, n) in split:
+            c = kind_costs(*split[(scene, n)])
+            out.append((n, c[0] / c4[0], c[1] / c4[1]))
+    return out
+
+
+def chart(a, ns, rows, idle, split, path):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    fig, (ax, bx, cx) = plt.subplots(1, 3, figsize=(15, 4.2))
+    fig, (ax, bx, cx, dx) = plt.subplots(1, 4, figsize=(20, 4.2))
     for scene in a.scenes.split(","):
         ax.plot(ns, [per_event(rows[(scene, n)]) for n in ns], marker="o", label=scene)
         bx.plot(ns, [max(rows[(scene, n)]["mem"]) for n in ns], marker="o", label=f"{scene}: peak memory")
@@ -367,7 +393,18 @@ def chart(a, ns, rows, idle, path):
     cx.set_ylabel("KiB per node (peak less the process's, / nodes)")
     cx.set_title("memory per node")
     cx.legend(fontsize=8)
-    for x in (ax, bx, cx):
+    for scene in a.scenes.split(","):
+        if (scene, 4) in split:
+            got = kind_ratios(scene, ns, split)
+            dx.plot([g[0] for g in got], [g[2] for g in got], marker="o", label=f"{scene}: per message")
+            dx.plot([g[0] for g in got], [g[1] for g in got], marker="x", linestyle="--", label=f"{scene}: per step or test")
+    dx.axhline(TARGET_PER_KIND, color="grey", linestyle=":", linewidth=1)
+    dx.set_xlabel("N (N x N x N nodes)")
+    dx.set_ylabel("wall per event of the kind / N = 4's")
+    dx.set_title(f"each kind of event (perf split; dotted: {TARGET_PER_KIND} x)")
+    dx.set_ylim(bottom=0)
+    dx.legend(fontsize=8)
+    for x in (ax, bx, cx, dx):
         x.set_xticks(ns)
         x.grid(True, alpha=0.3)
     fig.tight_layout()

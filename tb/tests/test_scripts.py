@@ -214,6 +214,18 @@ class Scripts(unittest.TestCase):
         self.assertIn("| balls-5: per ray step or test at most 1.5 x N = 4's | 2.00 x | NO |", text)
         self.assertIn("| balls-5: wall at most 60 s | 55.0 s | yes |", text)
         self.assertIn("| balls-5: peak memory at most 1.5 GiB | 1600 MiB | NO |", text)
+        # Each N's row with each kind against N = 4's: (4 + 6) s over 60 M
+        # events is 167 ns, 2.08 x N = 4's 80 ns.
+        self.assertIn("| balls-5 | 32 | 4.00 s | 100 ns | 2.00 | 6.00 s | 300 ns | 1.50 | 167 ns | 2.08 |", text)
+        self.assertEqual(bench_scaling.kind_ratios("balls-5", [4, 32], split), [(4, 1.0, 1.0), (32, 2.0, 1.5)])
+        # The wall per message, all work included: 1 s over 1 M messages at
+        # N = 4 (1,000 ns), 16 s (the median) over 8 M at N = 32 (2,000 ns).
+        rows[("balls-5", 4)] = {"wall": [1.0, 1.2, 0.9], "mem": [100.0], "report": {"events": (1, 1, 1e6)}}
+        rows[("balls-5", 32)]["report"] = {"events": (1, 1, 8e6)}
+        rows[("balls-5", 32)]["wall"] = [16.0, 15.0, 17.0]
+        self.assertAlmostEqual(bench_scaling.per_message(rows[("balls-5", 32)]), 2000.0)
+        self.assertIn("| balls-5: wall per message, all work included, at most 1.5 x N = 4's (the issue reads it at "
+                      "256x256) | 2.00 x | NO |", bench_scaling.split_table(a, [4, 32], rows, split))
 
     def test_the_miss_count_reads_callgrinds_totals_per_message(self):
         """bench_misses.py: the totals of a callgrind output file (its
