@@ -6,6 +6,11 @@ where issue 61 holds it against the best static split (Fig. 4's f = 1/N,
 N = 4, 5 and 8, both views, the modern, 1987 and paper machines and
 sphere tests x100).
 
+The steady state depends on where the sequence of re-split frames starts:
+the same 24 points under scan with `measured` (its first frame at the
+unbalanced split, re-split from frame 2 on) beside the recommended
+policy (`sample`'s balanced first frame), and the better of the two.
+
 A node generates its primary rays row by row (scan) or in a stride
 through its pixels (spread); the image is the same. Under scan a box
 gets its work one part of the image after another, and waits between
@@ -84,9 +89,12 @@ def sweep(a, folder):
                 split = boundaries_file(folder, f"{preset}-{tag}-{view}-{n}", n, cols, aligned)
                 for order in ORDERS:
                     o = ["--primary-order", order]
-                    for run, flags in (("none", ["--balance", "none"]),
-                                       ("recommended", ["--balance", "recommended", "--frames", str(FRAMES)]),
-                                       ("split", ["--balance", "none", "--boundaries-from", split])):
+                    runs = [("none", ["--balance", "none"]),
+                            ("recommended", ["--balance", "recommended", "--frames", str(FRAMES)]),
+                            ("split", ["--balance", "none", "--boundaries-from", split])]
+                    if order == "scan":  # the sequence from the unbalanced first frame
+                        runs.append(("measured", ["--balance", "measured", "--frames", str(FRAMES)]))
+                    for run, flags in runs:
                         points.append({"params": {"part": "steady", "machine": name, "view": view, "N": n, "order": order,
                                                   "run": run},
                                        "args": base + flags + o})
@@ -139,7 +147,34 @@ def table(a, rows):
                              f"{n1 / t(name, view, n, 'scan', 'none'):.3f} | {l1:.4f} | {b1:.3f} | {s1:.4f} | {c1:.3f} | {g1:.4f} |")
     lines += ["", " ".join(f"{o}: gap median {statistics.median(g):.4f}, worst {max(g):.4f}" + (";" if o == "scan" else ".")
                            for o, g in gaps.items())]
+    lines += starts_table(by)
     publish_table(lines, os.path.join(a.out, "primary_order.md"), a.doc, "primary_order table")
+
+
+def starts_table(by):
+    """The sixth frame under scan from the two starts: `measured` (frame 1
+    the unbalanced split) and the recommended policy (frame 1 `sample`'s),
+    each over max(1/N, the best static split), and the better of the two."""
+    lines = ["", f"Where the sequence starts, under scan: frame {FRAMES} over max(1/N, the best static split) after "
+             "`measured`'s first frame (the unbalanced split, measured) and after the recommended policy's "
+             "(`sample`'s, balanced within the frame), and the better of the two:", "",
+             "| machine | view | N | measured: frame 1 | frame 2 | frame 6 | gap | recommended: frame 1 | frame 6 | gap "
+             "| the better |", "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+    gaps = {"measured": [], "recommended": [], "the better": []}
+    for name, *_ in MACHINES:
+        for view in VIEWS:
+            for n in NS:
+                none = float(by[(name, view, n, "scan", "none")]["render_time_ns"])
+                bound = max(1 / n, float(by[(name, view, n, "scan", "split")]["render_time_ns"]) / none)
+                fm = [float(x) / none for x in by[(name, view, n, "scan", "measured")]["frames_ns"].split()]
+                fr = [float(x) / none for x in by[(name, view, n, "scan", "recommended")]["frames_ns"].split()]
+                gm, gr = fm[-1] / bound, fr[-1] / bound
+                for k, g in (("measured", gm), ("recommended", gr), ("the better", min(gm, gr))):
+                    gaps[k].append(g)
+                lines.append(f"| {name} | {view} | {n} | {fm[0]:.4f} | {fm[1]:.4f} | {fm[-1]:.4f} | {gm:.4f} | "
+                             f"{fr[0]:.4f} | {fr[-1]:.4f} | {gr:.4f} | {min(gm, gr):.4f} |")
+    lines += ["", "; ".join(f"{k}: gap median {statistics.median(g):.4f}, worst {max(g):.4f}" for k, g in gaps.items()) + "."]
+    return lines
 
 
 if __name__ == "__main__":
