@@ -309,12 +309,12 @@ def split_table(a, ns, rows, split):
         t4 = split[(scene, 4)]
         c4 = kind_costs(*t4)
         base = per_event_at(c4, t4[3])
-        for n in [n for n in ns if (scene, n) in split]:
+        for n, step_ratio, message_ratio in kind_ratios(scene, ns, split):
             tracing, rest, startup, ev = split[(scene, n)]
             c = kind_costs(tracing, rest, startup, ev)
             pe = per_event_at(c, ev)
-            lines.append(f"| {scene} | {n} | {tracing:.2f} s | {c[0] * 1e9:.0f} ns | {c[0] / c4[0]:.2f} | "
-                         f"{rest - startup:.2f} s | {c[1] * 1e9:.0f} ns | {c[1] / c4[1]:.2f} | {pe * 1e9:.0f} ns | "
+            lines.append(f"| {scene} | {n} | {tracing:.2f} s | {c[0] * 1e9:.0f} ns | {step_ratio:.2f} | "
+                         f"{rest - startup:.2f} s | {c[1] * 1e9:.0f} ns | {message_ratio:.2f} | {pe * 1e9:.0f} ns | "
                          f"{pe / base:.2f} |")
         mixes.append((scene, mix_ratio(c4, t4[3], split[(scene, top)][3])))
     if mixes:
@@ -330,9 +330,8 @@ def split_table(a, ns, rows, split):
             lines.append(f"| {scene}: wall per message, all work included, at most {TARGET_PER_KIND} x N = 4's "
                          f"(the issue reads it at 256x256) | {r:.2f} x | {'yes' if r <= TARGET_PER_KIND else 'NO'} |")
         if (scene, 4) in split and (scene, top) in split:
-            base, got = kind_costs(*split[(scene, 4)]), kind_costs(*split[(scene, top)])
-            for k, kind in ((1, "per message"), (0, "per ray step or test")):
-                r = got[k] / base[k]
+            _, step_ratio, message_ratio = kind_ratios(scene, [top], split)[0]
+            for r, kind in ((message_ratio, "per message"), (step_ratio, "per ray step or test")):
                 lines.append(f"| {scene}: {kind} at most {TARGET_PER_KIND} x N = 4's | {r:.2f} x | "
                              f"{'yes' if r <= TARGET_PER_KIND else 'NO'} |")
         if scene == "balls-5":

@@ -135,9 +135,9 @@ def table(a, rows):
                 cells = []
                 for o in ORDERS:
                     none = t(name, view, n, o, "none")
-                    last = float(by[(name, view, n, o, "recommended")]["frames_ns"].split()[-1]) / none
+                    last = frame_shares(by, (name, view, n, o, "recommended"))[-1]
                     split = t(name, view, n, o, "split") / none
-                    gap = last / max(1 / n, split)
+                    gap = last / bound(by, name, view, n, o)
                     gaps[o].append(gap)
                     share = lambda run: float(by[(name, view, n, o, run)]["max_busy_ns"]) / (  # noqa: E731
                         float(by[(name, view, n, o, run)]["frames_ns"].split()[-1]) if run == "recommended" else t(name, view, n, o, run))
@@ -149,6 +149,18 @@ def table(a, rows):
                            for o, g in gaps.items())]
     lines += starts_table(by)
     publish_table(lines, os.path.join(a.out, "primary_order.md"), a.doc, "primary_order table")
+
+
+def frame_shares(by, key):
+    """Each frame of run `key` as a share of the unbalanced frame of its order."""
+    none = float(by[key[:4] + ("none",)]["render_time_ns"])
+    return [float(x) / none for x in by[key]["frames_ns"].split()]
+
+
+def bound(by, name, view, n, order):
+    """max(1/N, the best static split's frame as a share of the unbalanced one): a gap's denominator."""
+    none = float(by[(name, view, n, order, "none")]["render_time_ns"])
+    return max(1 / n, float(by[(name, view, n, order, "split")]["render_time_ns"]) / none)
 
 
 def starts_table(by):
@@ -164,11 +176,10 @@ def starts_table(by):
     for name, *_ in MACHINES:
         for view in VIEWS:
             for n in NS:
-                none = float(by[(name, view, n, "scan", "none")]["render_time_ns"])
-                bound = max(1 / n, float(by[(name, view, n, "scan", "split")]["render_time_ns"]) / none)
-                fm = [float(x) / none for x in by[(name, view, n, "scan", "measured")]["frames_ns"].split()]
-                fr = [float(x) / none for x in by[(name, view, n, "scan", "recommended")]["frames_ns"].split()]
-                gm, gr = fm[-1] / bound, fr[-1] / bound
+                b = bound(by, name, view, n, "scan")
+                fm = frame_shares(by, (name, view, n, "scan", "measured"))
+                fr = frame_shares(by, (name, view, n, "scan", "recommended"))
+                gm, gr = fm[-1] / b, fr[-1] / b
                 for k, g in (("measured", gm), ("recommended", gr), ("the better", min(gm, gr))):
                     gaps[k].append(g)
                 lines.append(f"| {name} | {view} | {n} | {fm[0]:.4f} | {fm[1]:.4f} | {fm[-1]:.4f} | {gm:.4f} | "
