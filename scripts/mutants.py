@@ -439,4 +439,7 @@ MUTANTS = [
      "else least_[b] = std::min(least_[b], e.t);", "else least_[b] = least_[b];",
      "the express relay's queue keeps a bucket's first time as its least: a ray pushed later with an earlier time "
      "is taken late"),
+    ("radix-heap-digits-descending", "models/base/radix_heap.h",
+     "size_t((t >> (level * kDigitBits)) & (kRadix - 1));", "size_t(kRadix - 1 - ((t >> (level * kDigitBits)) & (kRadix - 1)));",
+     "the express relay's queue orders the buckets of one digit by descending value: a ray due later is taken first"),
 ]

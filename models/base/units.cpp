@@ -28,8 +28,7 @@ bool splitNumber(const std::string& text, double& value, std::string& unit) {
 
 }  // namespace
 
-void checkSimTime(Picos t, const char* who) {
-    if (t <= kMaxSimTime) return;
+void throwSimTimePast(const char* who) {
     throw std::runtime_error(std::string(who) + ": simulated time past " + formatTime(kMaxSimTime) +
                              " (the picosecond counter would wrap); are the costs, latencies or bandwidths meant to be this large?");
 }
