@@ -5,10 +5,10 @@
 // digit where its time differs from the last popped, and of that digit's
 // value, so a push is O(1) and a pop moves each item at most once per digit:
 // a quarter as many moves at most as on binary digits, where moving items
-// down the buckets was most of the relay's own work (doc/history.md,
-// "Figures behind the code's comments"). The buckets are plain vectors,
-// read in order, where a binary heap of hundreds of thousands of events
-// touched a cache line per level at every push and pop.
+// down the buckets was the largest part of the relay's own instructions
+// (doc/history.md, "Figures behind the code's comments"). The buckets are
+// plain vectors, read in order, where a binary heap of hundreds of
+// thousands of events touched a cache line per level at every push and pop.
 // Items of one time come out together, in no particular order: the caller
 // orders them (popTies). After a pop, the times pushed must be at least the
 // one popped, though they may be less than the smallest still queued.
@@ -94,7 +94,7 @@ private:
         empty(b);
     }
     std::array<std::vector<Entry>, kBuckets> buckets_;
-    std::array<uint64_t, kBuckets> least_{};               // bucket b's least time, while it holds any
+    std::array<uint64_t, kBuckets> least_{};             // bucket b's least time, while it holds any
     std::array<uint64_t, (kBuckets + 63) / 64> full_{};  // bit b % 64 of word b / 64: bucket b holds items
     size_t size_ = 0;
     uint64_t last_ = 0;

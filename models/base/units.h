@@ -18,8 +18,8 @@ using Picos = uint64_t;
 constexpr Picos kMaxTimeValue = Picos(1000) * 1000000000000;  // 1,000 s
 constexpr Picos kMaxSimTime = Picos(1) << 62;                  // about 53 days
 // Throws std::runtime_error naming `who` once `t` is past kMaxSimTime.
-// (Inline: every step, message and express hop checks, and the call was
-// 3 % of the express relay's instructions; the throw is out of line.)
+// (Inline, the throw out of line: every step, message and express hop
+// checks; doc/history.md, "Figures behind the code's comments".)
 [[noreturn]] void throwSimTimePast(const char* who);
 inline void checkSimTime(Picos t, const char* who) {
     if (t > kMaxSimTime) throwSimTimePast(who);

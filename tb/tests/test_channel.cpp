@@ -136,7 +136,7 @@ TEST(Histogram, ExactForFewValuesThenWithinHalfABinAndBoundedByTheRange) {
 // top is always the least time queued, times pushed after a pop may be
 // below the top but not below the time popped, every item of the least
 // time comes out at once, and none is lost; with times from 0 to 2^63 so
-// that every bucket is used, the last (bit 63) too.
+// that every digit's buckets are used, the last digit's (bits 60 to 63) too.
 TEST(RadixHeap, TopAndTiesAreTheLeastTimesQueuedAsItemsComeAndGo) {
     std::mt19937_64 rng(7);
     RadixHeap<uint32_t> heap;
