@@ -65,7 +65,7 @@ MachineResult renderFrame(EarlierFrames& e, const Scene& scene, const View& view
 // A frame stopped by the watchdog or a signal: its report so far, as the
 // last frame's would be (its config echo that of frame `k`, 0-based).
 nlohmann::json partialReport(const MachineResult& r, const MachineConfig& m, RtsimOptions& o, const Scene& scene, int k) {
-    nlohmann::json report = frameReport(r, m, o);
+    nlohmann::json report = frameReport(r, m, o).whole();
     const int last = o.frameIndex;
     o.frameIndex = k;
     report["config"] = configEcho(o, scene);
@@ -75,9 +75,9 @@ nlohmann::json partialReport(const MachineResult& r, const MachineConfig& m, Rts
 
 }  // namespace
 
-nlohmann::json frameReport(const MachineResult& r, const MachineConfig& m, const RtsimOptions& o) {
-    nlohmann::json report = machineReport(r, m, o.fullReport() ? ReportDetail::Full : ReportDetail::Summary);
-    report["report_detail"] = {{"level", o.fullReport() ? "full" : "summary"}, {"why", o.reportDetailWhy()}};
+Report frameReport(const MachineResult& r, const MachineConfig& m, const RtsimOptions& o) {
+    Report report = machineReportOf(r, m, o.fullReport() ? ReportDetail::Full : ReportDetail::Summary);
+    report.json["report_detail"] = {{"level", o.fullReport() ? "full" : "summary"}, {"why", o.reportDetailWhy()}};
     return report;
 }
 

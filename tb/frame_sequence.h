@@ -13,6 +13,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "analysis/report.h"
 #include "machine/machine.h"
 #include "rtsim_cli.h"
 #include "scene.h"
@@ -51,7 +52,7 @@ EarlierFrames runEarlierFrames(const Scene& scene, const Vec3& firstEye, RtsimOp
 MachineResult runLastFrame(EarlierFrames& earlier, const Scene& scene, const MachineConfig& m, bool again = false);
 
 // A frame's report, at the detail --report-detail gives (models/analysis/report.h).
-nlohmann::json frameReport(const MachineResult& r, const MachineConfig& m, const RtsimOptions& o);
+Report frameReport(const MachineResult& r, const MachineConfig& m, const RtsimOptions& o);
 
 // The eye of frame `index` (0-based) of a camera path from `firstEye`.
 Vec3 eyeOfFrame(const RtsimOptions& o, const Vec3& firstEye, int index);

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <fstream>
 #include <memory>
+#include <sstream>
 #include <stdexcept>
 
 #include "base/progress.h"
@@ -45,14 +46,57 @@ private:
     std::string buf_;
 };
 
-// As `o << std::setw(indent) << j` writes it (indent < 0: on one line).
-void writeJson(std::ostream& o, const nlohmann::json& j, int indent) {
+// `entries` as nlohmann's serializer writes an array at indentation `at`
+// (pretty printed: `step` more for each entry), made one at a time.
+void writeEntries(BufferedJsonOut& out, nlohmann::detail::serializer<nlohmann::json>& s, const ReportEntries& entries,
+                  bool pretty, unsigned step, unsigned at) {
+    const std::string inner(pretty ? at + step : 0, ' ');
+    out.write_characters(pretty ? "[\n" : "[", pretty ? 2 : 1);
+    for (size_t i = 0; i < entries.size(); ++i) {
+        out.write_characters(inner.data(), inner.size());
+        s.dump(entries[i], pretty, false, step, at + step);
+        if (i + 1 < entries.size()) out.write_characters(pretty ? ",\n" : ",", pretty ? 2 : 1);
+    }
+    if (pretty) {
+        out.write_character('\n');
+        out.write_characters(std::string(at, ' ').data(), at);
+    }
+    out.write_character(']');
+}
+
+// As `o << std::setw(indent) << j` writes it (indent < 0: on one line),
+// with the entries `report` makes (if given) in their top-level arrays.
+void writeJson(std::ostream& o, const nlohmann::json& j, const Report* report, int indent) {
+    const bool pretty = indent >= 0, made = report && !report->made.empty() && j.is_object() && !j.empty();
+    const unsigned step = unsigned(std::max(indent, 0));
     {
-        nlohmann::detail::serializer<nlohmann::json> s(std::make_shared<BufferedJsonOut>(o), ' ');
-        s.dump(j, indent >= 0, false, unsigned(std::max(indent, 0)));
+        auto out = std::make_shared<BufferedJsonOut>(o);
+        nlohmann::detail::serializer<nlohmann::json> s(out, ' ');
+        if (!made) {
+            s.dump(j, pretty, false, step);
+        } else {  // the top-level object as the serializer writes one
+            const std::string inner(pretty ? step : 0, ' ');
+            out->write_characters(pretty ? "{\n" : "{", pretty ? 2 : 1);
+            for (auto it = j.begin(); it != j.end(); ++it) {
+                if (it != j.begin()) out->write_characters(pretty ? ",\n" : ",", pretty ? 2 : 1);
+                out->write_characters(inner.data(), inner.size());
+                s.dump(nlohmann::json(it.key()), false, false, 0);
+                out->write_characters(pretty ? ": " : ":", pretty ? 2 : 1);
+                if (const ReportEntries* entries = report->madeAt(it.key())) writeEntries(*out, s, *entries, pretty, step, step);
+                else s.dump(it.value(), pretty, false, step, step);
+            }
+            if (pretty) out->write_character('\n');
+            out->write_character('}');
+        }
     }  // (the buffer flushed)
     o << '\n';
 }
+
+}  // namespace
+
+void writeReport(std::ostream& o, const Report& report, int indent) { writeJson(o, report.json, &report, indent); }
+
+namespace {
 
 // --map draws with Debian's Python and matplotlib: there before the run,
 // not found missing after it.
@@ -95,24 +139,34 @@ void RunOutputs::image(const Image& image) {
     if (!o_.image.empty()) writePng(image, open(image_, o_.image).temp());
 }
 
-void RunOutputs::report(const nlohmann::json& report) {
+void RunOutputs::report(const Report& report) {
     // Streamed: the text of a 32x32x32 mesh's report was over 300 MB. A
     // summary (--report-detail) is for programs: without indentation, which
     // was half of its size.
     const bool indent = !o_.report.empty() && o_.fullReport();
     if (!o_.report.empty())
-        open(report_, o_.report).write([&](std::ostream& f) { writeJson(f, report, indent ? 2 : -1); });
+        open(report_, o_.report).write([&](std::ostream& f) { writeReport(f, report, indent ? 2 : -1); });
+}
+
+void RunOutputs::report(const nlohmann::json& report) {
+    const bool indent = !o_.report.empty() && o_.fullReport();
+    if (!o_.report.empty())
+        open(report_, o_.report).write([&](std::ostream& f) { writeJson(f, report, nullptr, indent ? 2 : -1); });
 }
 
 void RunOutputs::gtkw(const std::string& text) {
     if (!o_.vcd.empty() && !text.empty()) open(gtkw_, gtkwPathFor(o_.vcd)).write(text);
 }
 
-bool RunOutputs::map(const nlohmann::json& report) {
+bool RunOutputs::map(const Report& report) {
     if (o_.map.empty()) return true;
     // The report's temporary, or one of its own in /tmp.
     std::optional<TempFile> own;
-    if (!report_) own.emplace("rtsim-map", ".json", report.dump());
+    if (!report_) {
+        std::ostringstream text;
+        writeReport(text, report, -1);
+        own.emplace("rtsim-map", ".json", text.str());
+    }
     const std::string from = report_ ? report_->temp() : own->path();
     const TempFile log("rtsim-map", ".log");
     // --doc: the user named this path himself (rtsim --map doc/MAP.png, as

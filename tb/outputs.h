@@ -16,6 +16,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "analysis/report.h"
 #include "image.h"
 #include "output_file.h"
 #include "rtsim_cli.h"
@@ -26,6 +27,10 @@ namespace rt {
 // names the same file as another output or as one of `inputs`.
 void checkOutputs(const RtsimOptions& o, std::vector<NamedFile> inputs);
 
+// `report` as `o << std::setw(indent) << whole` writes its whole tree
+// (indent < 0: on one line), its links' entries made one at a time.
+void writeReport(std::ostream& o, const Report& report, int indent);
+
 class RunOutputs {
 public:
     explicit RunOutputs(const RtsimOptions& o) : o_(o) {}
@@ -33,12 +38,13 @@ public:
     // without --vcd).
     std::string vcdStream();
     void image(const Image& image);
-    void report(const nlohmann::json& report);
+    void report(const Report& report);
+    void report(const nlohmann::json& report);  // (a sequence stopped before its last frame)
     void gtkw(const std::string& text);
     // scripts/mesh_map.py draws the report (call after report()).
     // False if a stop (Ctrl-C, SIGTERM) ended the drawing: no map, the rest
     // kept (the frame is done); a map that fails otherwise throws.
-    bool map(const nlohmann::json& report);
+    bool map(const Report& report);
     // Renames every temporary written over its path.
     void commit();
 

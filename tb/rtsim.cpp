@@ -288,9 +288,9 @@ Stop chooseRung(rt::RtsimOptions& o, const rt::Scene& scene, rt::FidelityChoice&
 // The reference runs, the outputs and the summary of a finished frame; the
 // wall clock's last two parts (the frame was done at `frameDone`).
 int finish(const rt::CommandLine& cl, const rt::RtsimOptions& o, const rt::Scene& scene, const rt::MachineResult& r,
-           nlohmann::json& report, rt::RunOutputs& out, rt::WallClock& wall, rt::WallClock::Clock::time_point frameDone) {
+           rt::Report& report, rt::RunOutputs& out, rt::WallClock& wall, rt::WallClock::Clock::time_point frameDone) {
     const auto refsFrom = rt::WallClock::now();
-    const rt::ReferenceRuns ref = rt::addReferenceRuns(report, cl.args, o);
+    const rt::ReferenceRuns ref = rt::addReferenceRuns(report.json, cl.args, o);
     const auto refsDone = rt::WallClock::now();
     // (Without any, the moment it took is the report's assembling.)
     wall.referenceRuns = ref.ran ? rt::secondsBetween(refsFrom, refsDone) : 0;
@@ -299,7 +299,7 @@ int finish(const rt::CommandLine& cl, const rt::RtsimOptions& o, const rt::Scene
     // The report holds the parts up to its own writing; the summary's line
     // holds everything.
     wall.writing = assembling + rt::secondsBetween(refsDone, rt::WallClock::now());
-    report["wall_clock"] = wall.json();
+    report.json["wall_clock"] = wall.json();
     out.report(report);
     const bool mapped = out.map(report);
     out.commit();
@@ -308,7 +308,7 @@ int finish(const rt::CommandLine& cl, const rt::RtsimOptions& o, const rt::Scene
         return stopped(rt::stopSignal ? 128 + int(rt::stopSignal) : ref.stopCode,
                        mapped ? "the frame is done and written; its reference runs were stopped"
                               : "the frame is done and written, but for its map: stopped while it was drawn");
-    if (!o.quiet) rt::printSummary(scene, o, r, report, ref.baselineNs, wall);
+    if (!o.quiet) rt::printSummary(scene, o, r, report.json, ref.baselineNs, wall);
     return 0;
 }
 
@@ -359,13 +359,14 @@ int run(const rt::CommandLine& cl, const CLI::App& app, rt::RtsimOptions& o, con
     wall.startUp += earlier.elaborationSeconds;  // building the machine (once, for every frame)
     wall.frames = rt::secondsBetween(framesFrom, frameDone) - earlier.elaborationSeconds;
     const rt::OrderlyStops orderly;  // from here on a stop still writes the frame's outputs
-    nlohmann::json report = rt::frameReport(r, o.machine, o);
-    report["config"] = config;
-    report["rerun"] = {{"flags", rt::flagsGiven(app)}, {"version", RTSIM_VERSION}};
-    if (cl.rerun) report["rerun"]["of"] = cl.rerun->rerun;  // what it reran (its flags and version)
-    if (o.frames > 1) rt::listFrames(report, earlier.frames, o.frames, r.frameStart - earlier.origin);
-    if (chosen) report["trace_busiest"] = rt::traceChoiceJson(o.traceBusiest, *chosen);
-    if (!fidelity.is_null()) report["fidelity"] = fidelity;
+    rt::Report report = rt::frameReport(r, o.machine, o);
+    nlohmann::json& j = report.json;
+    j["config"] = config;
+    j["rerun"] = {{"flags", rt::flagsGiven(app)}, {"version", RTSIM_VERSION}};
+    if (cl.rerun) j["rerun"]["of"] = cl.rerun->rerun;  // what it reran (its flags and version)
+    if (o.frames > 1) rt::listFrames(j, earlier.frames, o.frames, r.frameStart - earlier.origin);
+    if (chosen) j["trace_busiest"] = rt::traceChoiceJson(o.traceBusiest, *chosen);
+    if (!fidelity.is_null()) j["fidelity"] = fidelity;
     out.gtkw(r.gtkw);
     if (!r.incomplete.empty()) {  // the watchdog or a signal: the report and VCD so far
         out.report(report);

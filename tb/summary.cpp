@@ -6,6 +6,8 @@
 #include <utility>
 #include <vector>
 
+#include "analysis/report.h"
+#include "node/busy_parts.h"
 #include "trace/trace_writer.h"
 
 namespace rt {
@@ -13,11 +15,13 @@ namespace {
 
 std::string nsTime(const nlohmann::json& ns) { return formatTime(Picos(ns.get<double>() * 1000)); }
 
-// The smallest, mean and largest of a per-node figure of the report.
-void printSpread(const nlohmann::json& nodes, const char* label, const char* key, bool time) {
+// The smallest, mean and largest of a per-node figure of the report (`of`
+// gives it from the node's statistics, in its units there: ns, or a share).
+template <class Of>
+void printSpread(const std::vector<NodeStats>& nodes, const char* label, Of of, bool time) {
     double lo = 1e300, mean = 0, hi = -1e300;
-    for (const auto& n : nodes) {
-        const double v = n[key].get<double>();
+    for (const NodeStats& n : nodes) {
+        const double v = of(n);
         lo = std::min(lo, v);
         hi = std::max(hi, v);
         mean += v / double(nodes.size());
@@ -30,18 +34,20 @@ void printSpread(const nlohmann::json& nodes, const char* label, const char* key
                     mean > 0 ? hi / mean : 0.0);
 }
 
+double ns(Picos p) { return double(p) / 1000.0; }  // (as the report has it)
+
 // The busiest node and where its busy time went (busy_by_category), largest
 // kinds first, down to 1 %.
-void printBusiestNode(const nlohmann::json& nodes) {
-    const auto& n = *std::max_element(nodes.begin(), nodes.end(), [](const auto& a, const auto& b) {
-        return a["busy_ns"].template get<double>() < b["busy_ns"].template get<double>();
-    });
-    const auto& c = n["node"];
-    const double busy = n["busy_ns"].get<double>();
-    std::printf("  busiest node     node_%d_%d_%d busy %s:", c[0].get<int>(), c[1].get<int>(), c[2].get<int>(),
-                nsTime(n["busy_ns"]).c_str());
+void printBusiestNode(const MachineResult& r) {
+    const size_t i = size_t(std::max_element(r.nodes.begin(), r.nodes.end(), [](const NodeStats& a, const NodeStats& b) {
+                                return ns(a.busy) < ns(b.busy);
+                            }) - r.nodes.begin());
+    const Cell& c = r.cells[i];
+    const double busy = ns(r.nodes[i].busy);
+    std::printf("  busiest node     node_%d_%d_%d busy %s:", c[0], c[1], c[2], formatTime(Picos(busy * 1000)).c_str());
     std::vector<std::pair<double, std::string>> kinds;
-    for (const auto& [k, v] : n["busy_by_category"].items()) kinds.push_back({v.get<double>(), k});
+    for (int k = 0; k < kBusyKinds; ++k) kinds.push_back({ns(r.nodes[i].busyBy[size_t(k)]), busyKindName(k)});
+    std::sort(kinds.begin(), kinds.end(), [](const auto& a, const auto& b) { return a.second < b.second; });  // (the report's order)
     std::stable_sort(kinds.begin(), kinds.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
     const char* sep = " ";
     for (const auto& [v, k] : kinds) {
@@ -189,12 +195,13 @@ void printSummary(const Scene& scene, const RtsimOptions& o, const MachineResult
         std::printf("   (1x1x1 with the same costs: %s, speed-up %.2f)", formatTime(Picos(baselineNs * 1000 + 0.5)).c_str(),
                     baselineNs / renderNs);
     std::printf("\n");
-    const auto& nodes = report["nodes"];
-    printSpread(nodes, "busy per node", "busy_ns", true);
-    printSpread(nodes, "wait per node", "wait_ns", true);
-    if (report["totals"]["blocked_ns"].get<double>() > 0) printSpread(nodes, "  of it blocked", "blocked_ns", true);  // full output buffers
-    printSpread(nodes, "load per node", "load", false);
-    printBusiestNode(nodes);
+    // (From the statistics the report's nodes are made of: it holds them as it is written.)
+    printSpread(r.nodes, "busy per node", [](const NodeStats& n) { return ns(n.busy); }, true);
+    printSpread(r.nodes, "wait per node", [](const NodeStats& n) { return ns(n.wait); }, true);
+    if (report["totals"]["blocked_ns"].get<double>() > 0)  // full output buffers
+        printSpread(r.nodes, "  of it blocked", [](const NodeStats& n) { return ns(n.blocked); }, true);
+    printSpread(r.nodes, "load per node", loadOf, false);
+    printBusiestNode(r);
     printTraffic(report);
     printBalancing(o, report);
     printFidelity(report);

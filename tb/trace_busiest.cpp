@@ -49,7 +49,7 @@ std::optional<TraceChoice> traceBusiest(EarlierFrames& earlier, const Scene& sce
         msg::warning(msg::kReference, "--trace-nodes busiest: the first pass did not end normally (" + r.incomplete + "); tracing every node");
         return std::nullopt;
     }
-    const TraceChoice c = busiestOf(frameReport(r, pass, o), o.traceBusiest);
+    const TraceChoice c = busiestOf(frameReport(r, pass, o).whole(), o.traceBusiest);
     o.machine.traceNodes = c.nodes;
     o.machine.traceLinks = c.links;
     return c;

@@ -140,7 +140,7 @@ nlohmann::json nodeJson(const MachineResult& r, const NodeFrameState& st, size_t
     n["wait_ns"] = ns(s.wait);  // busy + wait = render time (checked at the end of every run)
     n["blocked_ns"] = ns(s.blocked);  // of the wait: on a full output buffer (--link-out-depth)
     n["busy_by_category"] = busyPartsJson(s.busyBy);  // sums to busy_ns (in whole ps)
-    n["load"] = s.busy + s.wait ? double(s.busy) / double(s.busy + s.wait) : 0.0;
+    n["load"] = loadOf(s);
     n["rays_traced"] = s.raysTraced;
     n["rays_generated"] = s.raysGenerated;
     n["rays_forwarded"] = s.raysForwarded;
@@ -175,6 +175,12 @@ nlohmann::json nodeJson(const MachineResult& r, const NodeFrameState& st, size_t
     return n;
 }
 
+// The wire's busy time over the frame (a port's channels are wires side by
+// side: their busy time over the frame's as many).
+double utilisationOf(const LinkReport& l, Picos renderTime) {
+    return renderTime ? double(l.stats().wireBusy()) / (double(renderTime) * l.channels) : 0.0;
+}
+
 // Per link: messages, bytes and wire time by type, utilisation, waits and
 // (--link-stats full) latency percentiles and high-water marks.
 nlohmann::json linkJsonOf(const LinkReport& l, Picos renderTime, bool distributions, bool full) {
@@ -190,12 +196,9 @@ nlohmann::json linkJsonOf(const LinkReport& l, Picos renderTime, bool distributi
         lj["bytes"][name] = st.bytes[size_t(t)];
         lj["wire_ns"][name] = ns(st.wire[size_t(t)]);
     }
-    // The wire's busy time over the frame (a port's channels are wires side
-    // by side: their busy time over the frame's as many).
-    const Picos busy = st.wireBusy();
-    lj["wire_busy_ns"] = ns(busy);
+    lj["wire_busy_ns"] = ns(st.wireBusy());
     lj["channels"] = l.channels;
-    lj["utilisation"] = renderTime ? double(busy) / (double(renderTime) * l.channels) : 0.0;
+    lj["utilisation"] = utilisationOf(l, renderTime);
     lj["saturated_ns"] = ns(st.saturated);  // busy with a backlog waiting for the wire
     if (distributions) lj["peak_utilisation"] = st.windows.peak(renderTime, l.channels);
     if (!full) return lj;
@@ -212,24 +215,67 @@ nlohmann::json linkJsonOf(const LinkReport& l, Picos renderTime, bool distributi
     return lj;
 }
 
-// The links, the three busiest wires (ties: the first in the list) and the
-// totals by message type.
-void addLinks(nlohmann::json& j, const MachineResult& r, const MachineConfig& cfg, const FrameState& st, bool full) {
+// The links' entries, made as the report is written.
+class LinkEntries final : public ReportEntries {
+public:
+    LinkEntries(const MachineResult& r, bool distributions, bool full) : r_(r), distributions_(distributions), full_(full) {}
+    size_t size() const override { return r_.links.size(); }
+    nlohmann::json operator[](size_t i) const override {
+        return linkJsonOf(r_.links[i], r_.renderTime, distributions_, full_);
+    }
+
+private:
+    const MachineResult& r_;
+    bool distributions_, full_;
+};
+
+// The nodes' entries, made as the report is written.
+class NodeEntries final : public ReportEntries {
+public:
+    NodeEntries(const MachineResult& r, FrameState st, bool full) : r_(r), st_(std::move(st)), full_(full) {}
+    size_t size() const override { return r_.nodes.size(); }
+    nlohmann::json operator[](size_t i) const override { return nodeJson(r_, st_.nodes[i], i, full_); }
+
+private:
+    const MachineResult& r_;
+    const FrameState st_;
+    bool full_;
+};
+
+// An array of `entries` at top-level `key`: made as written, or null
+// where it has none (as a tree that was never pushed to).
+void addMade(Report& rep, const char* key, std::shared_ptr<const ReportEntries> entries) {
+    if (entries->size() == 0) {
+        rep.json[key] = nullptr;
+        return;
+    }
+    rep.json[key] = nlohmann::json::array();
+    rep.made.emplace_back(key, std::move(entries));
+}
+
+// The links (made as the report is written: LinkEntries), the three
+// busiest wires (ties: the first in the list) and the totals by message
+// type.
+void addLinks(Report& rep, const MachineResult& r, const MachineConfig& cfg, const FrameState& st, bool full) {
+    nlohmann::json& j = rep.json;
     std::array<uint64_t, kMsgTypes> msgs{}, bytes{};
+    std::vector<std::pair<double, double>> key;  // (saturated_ns, utilisation), as each entry has them
+    key.reserve(r.links.size());
     for (const LinkReport& l : r.links) {
         const LinkStats& st = l.stats();
         for (size_t t = 0; t < size_t(kMsgTypes); ++t) {
             msgs[t] += st.messages[t];
             bytes[t] += st.bytes[t];
         }
-        j["links"].push_back(linkJsonOf(l, r.renderTime, cfg.linkDistributions, full));
+        key.push_back({ns(st.saturated), utilisationOf(l, r.renderTime)});
     }
-    const std::vector<size_t> busiest = linksByBacklog(j["links"]);
+    addMade(rep, "links", std::make_shared<LinkEntries>(r, cfg.linkDistributions, full));
+    const std::vector<size_t> busiest = rankedByBacklog(key);
     j["busiest_links"] = nlohmann::json::array();
     for (size_t i = 0; i < std::min<size_t>(3, busiest.size()); ++i) {
-        const auto& l = j["links"][busiest[i]];
-        nlohmann::json b = {{"name", l["name"]}, {"utilisation", l["utilisation"]}, {"saturated_ns", l["saturated_ns"]}};
-        if (l.contains("peak_utilisation")) b["peak_utilisation"] = l["peak_utilisation"];
+        const LinkReport& l = r.links[busiest[i]];
+        nlohmann::json b = {{"name", l.name}, {"utilisation", key[busiest[i]].second}, {"saturated_ns", key[busiest[i]].first}};
+        if (cfg.linkDistributions) b["peak_utilisation"] = l.stats().windows.peak(r.renderTime, l.channels);
         j["busiest_links"].push_back(std::move(b));
     }
     j["totals"]["ray_wire_ns"] = st.rayWireNs;  // resplit's forecast (frame_forecast.h); a summary has no per-link wire_ns
@@ -266,12 +312,12 @@ nlohmann::json frameBufferJson(const MachineResult& r, const Bounds& bd) {
 // over the whole frame, whether the boundaries settled, the decisions,
 // what the guard stopped, and how old the loads they used were (the older
 // of the two, in intervals).
-nlohmann::json balanceJson(const MachineResult& r, const MachineConfig& cfg, const nlohmann::json& nodes) {
+nlohmann::json balanceJson(const MachineResult& r, const MachineConfig& cfg) {
     const size_t slides = slideCount(r.boundaries);
     double maxLoad = 0, sumLoad = 0;
-    for (const auto& n : nodes) {
-        maxLoad = std::max(maxLoad, n["load"].get<double>());
-        sumLoad += n["load"].get<double>();
+    for (const NodeStats& n : r.nodes) {
+        maxLoad = std::max(maxLoad, loadOf(n));
+        sumLoad += loadOf(n);
     }
     nlohmann::json b = {{"slides", slides},
                         {"max_over_mean_load", sumLoad > 0 ? maxLoad / (sumLoad / double(r.nodes.size())) : 0.0}};
@@ -316,19 +362,45 @@ nlohmann::json boundariesJson(const FrameState& st) {
 
 }  // namespace
 
-std::vector<size_t> linksByBacklog(const nlohmann::json& links) {
-    std::vector<std::pair<double, double>> key;  // (saturated_ns, utilisation)
-    for (const auto& l : links) key.push_back({l.at("saturated_ns").get<double>(), l.at("utilisation").get<double>()});
+std::vector<size_t> rankedByBacklog(const std::vector<std::pair<double, double>>& key) {
     std::vector<size_t> idx(key.size());
     for (size_t i = 0; i < idx.size(); ++i) idx[i] = i;
     std::stable_sort(idx.begin(), idx.end(), [&](size_t a, size_t b) { return key[a] > key[b]; });
     return idx;
 }
 
+std::vector<size_t> linksByBacklog(const nlohmann::json& links) {
+    std::vector<std::pair<double, double>> key;  // (saturated_ns, utilisation)
+    for (const auto& l : links) key.push_back({l.at("saturated_ns").get<double>(), l.at("utilisation").get<double>()});
+    return rankedByBacklog(key);
+}
+
+double loadOf(const NodeStats& s) { return s.busy + s.wait ? double(s.busy) / double(s.busy + s.wait) : 0.0; }
+
+const ReportEntries* Report::madeAt(const std::string& key) const {
+    for (const auto& [k, entries] : made)
+        if (k == key) return entries.get();
+    return nullptr;
+}
+
+nlohmann::json Report::whole() && {
+    for (const auto& [key, entries] : made) {
+        nlohmann::json& to = json[key];
+        for (size_t i = 0; i < entries->size(); ++i) to.push_back((*entries)[i]);
+    }
+    made.clear();
+    return std::move(json);
+}
+
 nlohmann::json machineReport(const MachineResult& r, const MachineConfig& cfg, ReportDetail detail) {
+    return machineReportOf(r, cfg, detail).whole();
+}
+
+Report machineReportOf(const MachineResult& r, const MachineConfig& cfg, ReportDetail detail) {
     const bool full = detail == ReportDetail::Full;
-    const FrameState st = frameStateOf(r, cfg);  // what the next frame takes: serialised as it is
-    nlohmann::json j;
+    FrameState st = frameStateOf(r, cfg);  // what the next frame takes: serialised as it is
+    Report rep;
+    nlohmann::json& j = rep.json;
     j["config"] = machineConfigJson(cfg, r.image.width, r.image.height);
     j["render_time_ns"] = ns(r.renderTime);
     if (!r.incomplete.empty()) j["incomplete"] = r.incomplete;  // stopped by the watchdog: every figure up to then
@@ -346,9 +418,8 @@ nlohmann::json machineReport(const MachineResult& r, const MachineConfig& cfg, R
         total.raysPassedBetweenColumns += s.raysPassedBetweenColumns;
         total.raysExpressed += s.raysExpressed;
         total.boxesSkipped += s.boxesSkipped;
-        j["nodes"].push_back(nodeJson(r, st.nodes[i], i, full));
     }
-    addLinks(j, r, cfg, st, full);
+    addLinks(rep, r, cfg, st, full);
     j["totals"]["busy_ns"] = ns(total.busy);
     j["totals"]["busy_by_category"] = busyPartsJson(total.busyBy);
     j["totals"]["blocked_ns"] = ns(total.blocked);
@@ -369,8 +440,9 @@ nlohmann::json machineReport(const MachineResult& r, const MachineConfig& cfg, R
     j["bounds"] = {{"perfect", bound(bd.perfect)}, {"column", bound(bd.column)}, {"frame_buffer", bound(bd.frameBuffer)}};
     j["kernel"] = {{"delta_cycles", r.deltaCycles}};
     j["boundaries"] = boundariesJson(st);
-    j["balance"] = balanceJson(r, cfg, j["nodes"]);
-    return j;
+    j["balance"] = balanceJson(r, cfg);
+    addMade(rep, "nodes", std::make_shared<NodeEntries>(r, std::move(st), full));
+    return rep;
 }
 
 }  // namespace rt

@@ -6,6 +6,8 @@
 // axis). The policies' decisions and the protocol on their own:
 // test_policies.cpp and test_agent.cpp.
 #include <random>
+#include <sstream>
+#include <iomanip>
 
 #include <gtest/gtest.h>
 
@@ -14,6 +16,7 @@
 #include "frame_state_json.h"
 #include "machine/frame_state_of.h"
 #include "machine/machine.h"
+#include "outputs.h"
 #include "renderer.h"
 #include "scenes.h"
 #include "analysis/stability.h"
@@ -431,6 +434,45 @@ TEST(BetweenFrames, TheReportHoldsTheFrameStateToTheBit) {
         const nlohmann::json text = nlohmann::json::parse(machineReport(r, c, detail).dump());
         expectSameState(state, frameStateFromReport(text));
     }
+}
+
+// The report is written with its nodes' and links' entries made one at a
+// time (analysis/report.h, Report): the text is its whole tree's, written
+// as nlohmann writes one, in the full report's indented form and on one
+// line as a summary is; and the balance's loads, now taken from the nodes'
+// statistics, are the entries' (loadOf).
+TEST(Report, WrittenEntryByEntryIsItsWholeTreeWritten) {
+    const Scene s = crowded(0.4, 300, 0.03);
+    MachineConfig c;
+    c.width = c.height = 32;
+    c.dims = {3, 2, 2};
+    c.fbUnits = 2;
+    const MachineResult r = runMachine(s, c);
+    for (const ReportDetail detail : {ReportDetail::Full, ReportDetail::Summary})
+        for (const int indent : {2, -1}) {
+            Report parts = machineReportOf(r, c, detail);
+            ASSERT_EQ(parts.made.size(), 2u);
+            EXPECT_TRUE(parts.json.at("nodes").empty());
+            EXPECT_TRUE(parts.json.at("links").empty());
+            std::ostringstream written, expected;
+            writeReport(written, parts, indent);
+            const nlohmann::json whole = std::move(parts).whole();
+            if (indent >= 0) expected << std::setw(indent);
+            expected << whole << '\n';
+            const std::string a = written.str(), b = expected.str();
+            const size_t at = size_t(std::mismatch(a.begin(), a.begin() + long(std::min(a.size(), b.size())), b.begin()).first - a.begin());
+            EXPECT_EQ(a.size(), b.size()) << "indent " << indent;
+            EXPECT_EQ(at, std::min(a.size(), b.size())) << "indent " << indent << ": written \"" << a.substr(at > 60 ? at - 60 : 0, 120)
+                                                         << "\", the tree \"" << b.substr(at > 60 ? at - 60 : 0, 120) << "\"";
+            ASSERT_EQ(whole.at("nodes").size(), r.nodes.size());
+            EXPECT_EQ(whole.at("links").size(), r.links.size());
+            double most = 0, sum = 0;
+            for (const auto& n : whole["nodes"]) {
+                most = std::max(most, n["load"].get<double>());
+                sum += n["load"].get<double>();
+            }
+            EXPECT_EQ(whole["balance"]["max_over_mean_load"].get<double>(), most / (sum / double(r.nodes.size())));
+        }
 }
 
 // A sequence of frames in one elaboration (MachineSession): each frame is
