@@ -442,4 +442,12 @@ MUTANTS = [
     ("radix-heap-digits-descending", "models/base/radix_heap.h",
      "size_t((t >> (level * kDigitBits)) & (kRadix - 1));", "size_t(kRadix - 1 - ((t >> (level * kDigitBits)) & (kRadix - 1)));",
      "the express relay's queue orders the buckets of one digit by descending value: a ray due later is taken first"),
+    ("busiest-links-by-utilisation-first", "models/analysis/report.cpp",
+     "key.push_back({ns(st.saturated), utilisationOf(l, r.renderTime)});",
+     "key.push_back({utilisationOf(l, r.renderTime), ns(st.saturated)});",
+     "the report's busiest links, taken from the links' figures rather than their entries, ranked by utilisation first"),
+    ("report-nodes-load-of-waiting", "models/analysis/report.cpp",
+     "double loadOf(const NodeStats& s) { return s.busy + s.wait ? double(s.busy) / double(s.busy + s.wait) : 0.0; }",
+     "double loadOf(const NodeStats& s) { return s.busy + s.wait ? double(s.wait) / double(s.busy + s.wait) : 0.0; }",
+     "a node's load (the report's, the balance's max over mean and the summary's) its waiting share, not its busy share"),
 ]
