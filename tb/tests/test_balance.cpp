@@ -439,8 +439,9 @@ TEST(BetweenFrames, TheReportHoldsTheFrameStateToTheBit) {
 // The report is written with its nodes' and links' entries made one at a
 // time (analysis/report.h, Report): the text is its whole tree's, written
 // as nlohmann writes one, in the full report's indented form and on one
-// line as a summary is; and the balance's loads, now taken from the nodes'
-// statistics, are the entries' (loadOf).
+// line as a summary is; and the busiest links and the balance's loads,
+// now taken from the links' and nodes' statistics, are the entries'
+// (rankedByBacklog, loadOf).
 TEST(Report, WrittenEntryByEntryIsItsWholeTreeWritten) {
     const Scene s = crowded(0.4, 300, 0.03);
     MachineConfig c;
@@ -466,6 +467,11 @@ TEST(Report, WrittenEntryByEntryIsItsWholeTreeWritten) {
                                                          << "\", the tree \"" << b.substr(at > 60 ? at - 60 : 0, 120) << "\"";
             ASSERT_EQ(whole.at("nodes").size(), r.nodes.size());
             EXPECT_EQ(whole.at("links").size(), r.links.size());
+            // busiest_links, ranked from the links' figures: the first of the entries as written.
+            const std::vector<size_t> ranked = linksByBacklog(whole["links"]);
+            ASSERT_EQ(whole["busiest_links"].size(), std::min<size_t>(3, ranked.size()));
+            for (size_t i = 0; i < whole["busiest_links"].size(); ++i)
+                EXPECT_EQ(whole["busiest_links"][i]["name"], whole["links"][ranked[i]]["name"]) << i;
             double most = 0, sum = 0;
             for (const auto& n : whole["nodes"]) {
                 most = std::max(most, n["load"].get<double>());
