@@ -442,8 +442,8 @@ MUTANTS = [
     ("radix-heap-digits-descending", "models/base/radix_heap.h",
      "size_t((t >> (level * kDigitBits)) & (kRadix - 1));", "size_t(kRadix - 1 - ((t >> (level * kDigitBits)) & (kRadix - 1)));",
      "the express relay's queue orders the buckets of one digit by descending value: a ray due later is taken first"),
-    ("busiest-links-by-utilisation-first", "models/analysis/report.cpp", "{ns(st.saturated), utilisationOf(l, r.renderTime)}",
-     "{utilisationOf(l, r.renderTime), ns(st.saturated)}", "the report's busiest links ranked by utilisation first"),
+    ("busiest-links-by-utilisation-first", "models/analysis/report.cpp", "{inNs(st.saturated), utilisationOf(l, r.renderTime)}",
+     "{utilisationOf(l, r.renderTime), inNs(st.saturated)}", "the report's busiest links ranked by utilisation first"),
     ("report-nodes-load-of-waiting", "models/analysis/report.cpp", "? double(s.busy) / double(s.busy + s.wait)",
      "? double(s.wait) / double(s.busy + s.wait)", "a node's load (report, balance, summary) its waiting share, not its busy share"),
 ]

@@ -139,19 +139,17 @@ void RunOutputs::image(const Image& image) {
     if (!o_.image.empty()) writePng(image, open(image_, o_.image).temp());
 }
 
-void RunOutputs::report(const Report& report) {
+void RunOutputs::report(const Report& report) { writeReportFile(report.json, &report); }
+
+void RunOutputs::report(const nlohmann::json& report) { writeReportFile(report, nullptr); }
+
+void RunOutputs::writeReportFile(const nlohmann::json& j, const Report* made) {
     // Streamed: the text of a 32x32x32 mesh's report was over 300 MB. A
     // summary (--report-detail) is for programs: without indentation, which
     // was half of its size.
     const bool indent = !o_.report.empty() && o_.fullReport();
     if (!o_.report.empty())
-        open(report_, o_.report).write([&](std::ostream& f) { writeReport(f, report, indent ? 2 : -1); });
-}
-
-void RunOutputs::report(const nlohmann::json& report) {
-    const bool indent = !o_.report.empty() && o_.fullReport();
-    if (!o_.report.empty())
-        open(report_, o_.report).write([&](std::ostream& f) { writeJson(f, report, nullptr, indent ? 2 : -1); });
+        open(report_, o_.report).write([&](std::ostream& f) { writeJson(f, j, made, indent ? 2 : -1); });
 }
 
 void RunOutputs::gtkw(const std::string& text) {

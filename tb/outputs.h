@@ -50,6 +50,8 @@ public:
 
 private:
     AtomicFile& open(std::optional<AtomicFile>& f, const std::string& path);
+    // `j`, with the entries `made` makes where given (writeReport).
+    void writeReportFile(const nlohmann::json& j, const Report* made);
     const RtsimOptions& o_;
     std::optional<AtomicFile> image_, report_, vcd_, gtkw_, map_;
 };

@@ -34,19 +34,16 @@ void printSpread(const std::vector<NodeStats>& nodes, const char* label, Of of, 
                     mean > 0 ? hi / mean : 0.0);
 }
 
-double ns(Picos p) { return double(p) / 1000.0; }  // (as the report has it)
-
 // The busiest node and where its busy time went (busy_by_category), largest
 // kinds first, down to 1 %.
 void printBusiestNode(const MachineResult& r) {
-    const size_t i = size_t(std::max_element(r.nodes.begin(), r.nodes.end(), [](const NodeStats& a, const NodeStats& b) {
-                                return ns(a.busy) < ns(b.busy);
-                            }) - r.nodes.begin());
+    const size_t i = size_t(std::max_element(r.nodes.begin(), r.nodes.end(), [](const NodeStats& a, const NodeStats& b) { return a.busy < b.busy; }) -
+                             r.nodes.begin());
     const Cell& c = r.cells[i];
-    const double busy = ns(r.nodes[i].busy);
+    const double busy = inNs(r.nodes[i].busy);
     std::printf("  busiest node     node_%d_%d_%d busy %s:", c[0], c[1], c[2], formatTime(Picos(busy * 1000)).c_str());
     std::vector<std::pair<double, std::string>> kinds;
-    for (int k = 0; k < kBusyKinds; ++k) kinds.push_back({ns(r.nodes[i].busyBy[size_t(k)]), busyKindName(k)});
+    for (int k = 0; k < kBusyKinds; ++k) kinds.push_back({inNs(r.nodes[i].busyBy[size_t(k)]), busyKindName(k)});
     std::sort(kinds.begin(), kinds.end(), [](const auto& a, const auto& b) { return a.second < b.second; });  // (the report's order)
     std::stable_sort(kinds.begin(), kinds.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
     const char* sep = " ";
@@ -196,10 +193,10 @@ void printSummary(const Scene& scene, const RtsimOptions& o, const MachineResult
                     baselineNs / renderNs);
     std::printf("\n");
     // (From the statistics the report's nodes are made of: it holds them as it is written.)
-    printSpread(r.nodes, "busy per node", [](const NodeStats& n) { return ns(n.busy); }, true);
-    printSpread(r.nodes, "wait per node", [](const NodeStats& n) { return ns(n.wait); }, true);
+    printSpread(r.nodes, "busy per node", [](const NodeStats& n) { return inNs(n.busy); }, true);
+    printSpread(r.nodes, "wait per node", [](const NodeStats& n) { return inNs(n.wait); }, true);
     if (report["totals"]["blocked_ns"].get<double>() > 0)  // full output buffers
-        printSpread(r.nodes, "  of it blocked", [](const NodeStats& n) { return ns(n.blocked); }, true);
+        printSpread(r.nodes, "  of it blocked", [](const NodeStats& n) { return inNs(n.blocked); }, true);
     printSpread(r.nodes, "load per node", loadOf, false);
     printBusiestNode(r);
     printTraffic(report);

@@ -13,7 +13,6 @@ namespace rt {
 namespace {
 
 nlohmann::json cellJson(const Cell& c) { return {c[0], c[1], c[2]}; }
-double ns(Picos p) { return double(p) / 1000.0; }
 
 // Each row of a parameter table with an echo, at its place in `j`, in the
 // report's units (base/param.h).
@@ -23,7 +22,7 @@ void echoParams(nlohmann::json& j, const std::vector<Param<S>>& rows, const S& s
         if (!p.echo) continue;
         nlohmann::json& at = j[nlohmann::json::json_pointer(p.echo)];
         switch (p.kind) {
-            case ParamKind::Time: at = ns(fieldOf<Picos>(p, s)); break;
+            case ParamKind::Time: at = inNs(fieldOf<Picos>(p, s)); break;
             case ParamKind::Rate: at = fieldOf<double>(p, s); break;
             case ParamKind::Real:
                 if (p.word && fieldOf<double>(p, s) == p.wordValue) at = p.word;  // (not chosen: unused)
@@ -45,14 +44,14 @@ nlohmann::json costsJson(const Costs& c) {
 nlohmann::json linkJson(const LinkParams& l) {
     nlohmann::json j = nlohmann::json::object();
     echoParams(j, linkParams(), l);
-    if (l.engine) j["engine_ns"] = ns(l.engine);  // --hop-handling link: the sending engine's time per message
+    if (l.engine) j["engine_ns"] = inNs(l.engine);  // --hop-handling link: the sending engine's time per message
     return j;
 }
 
 // Latencies in ps: p50, p95 and max in ns (histogram.h: exact for a few
 // distinct values, within 0.8 % beyond).
 nlohmann::json percentilesJson(const Histogram& h) {
-    return {{"p50", h.percentile(0.5) / 1000.0}, {"p95", h.percentile(0.95) / 1000.0}, {"max", ns(Picos(h.max()))}};
+    return {{"p50", h.percentile(0.5) / 1000.0}, {"p95", h.percentile(0.95) / 1000.0}, {"max", inNs(Picos(h.max()))}};
 }
 
 }  // namespace
@@ -81,7 +80,7 @@ nlohmann::json machineConfigJson(const MachineConfig& cfg, int width, int height
     for (const auto& [cell, k] : cfg.nodeCosts) c["node_costs"].push_back({{"node", cellJson(cell)}, {"costs", costsJson(k)}});
     for (const auto& [key, l] : cfg.linkOverride)
         c["link_overrides"].push_back({{"node", cellJson(key.first)}, {"dir", dirName(key.second)}, {"link", linkJson(l)}});
-    c["quantum_ns"] = ns(cfg.lookaheadQuantum ? cfg.lookahead() : cfg.quantum);
+    c["quantum_ns"] = inNs(cfg.lookaheadQuantum ? cfg.lookahead() : cfg.quantum);
     c["quantum"] = cfg.lookaheadQuantum ? "lookahead" : "fixed";  // lookahead: each process its own, quantum_ns the smallest
     auto& tr = c["trace"];
     tr["nodes"] = nlohmann::json::array();
@@ -89,8 +88,8 @@ nlohmann::json machineConfigJson(const MachineConfig& cfg, int width, int height
     tr["links"] = nlohmann::json::array();
     for (const auto& [n, d] : cfg.traceLinks)
         tr["links"].push_back({{"node", cellJson(n)}, {"dir", d < 0 ? "all" : d == kDirs ? "fb" : dirName(d)}});
-    tr["window_ns"] = cfg.traceTo == ~Picos(0) ? nlohmann::json{ns(cfg.traceFrom), nullptr}  // (to the end)
-                                                : nlohmann::json{ns(cfg.traceFrom), ns(cfg.traceTo)};
+    tr["window_ns"] = cfg.traceTo == ~Picos(0) ? nlohmann::json{inNs(cfg.traceFrom), nullptr}  // (to the end)
+                                                : nlohmann::json{inNs(cfg.traceFrom), inNs(cfg.traceTo)};
     return c;
 }
 
@@ -98,7 +97,7 @@ namespace {
 
 nlohmann::json busyPartsJson(const BusyParts& p) {
     nlohmann::json j = nlohmann::json::object();
-    for (int k = 0; k < kBusyKinds; ++k) j[busyKindName(k)] = ns(p[size_t(k)]);
+    for (int k = 0; k < kBusyKinds; ++k) j[busyKindName(k)] = inNs(p[size_t(k)]);
     return j;
 }
 
@@ -136,9 +135,9 @@ nlohmann::json nodeJson(const MachineResult& r, const NodeFrameState& st, size_t
         const Box& b = r.grids[i]->span;
         n["grid"] = {{"cells", r.grids[i]->cells}, {"span", {{b.lo.x, b.lo.y, b.lo.z}, {b.hi.x, b.hi.y, b.hi.z}}}};
     }
-    n["busy_ns"] = ns(s.busy);
-    n["wait_ns"] = ns(s.wait);  // busy + wait = render time (checked at the end of every run)
-    n["blocked_ns"] = ns(s.blocked);  // of the wait: on a full output buffer (--link-out-depth)
+    n["busy_ns"] = inNs(s.busy);
+    n["wait_ns"] = inNs(s.wait);  // busy + wait = render time (checked at the end of every run)
+    n["blocked_ns"] = inNs(s.blocked);  // of the wait: on a full output buffer (--link-out-depth)
     n["busy_by_category"] = busyPartsJson(s.busyBy);  // sums to busy_ns (in whole ps)
     n["load"] = loadOf(s);
     n["rays_traced"] = s.raysTraced;
@@ -156,7 +155,7 @@ nlohmann::json nodeJson(const MachineResult& r, const NodeFrameState& st, size_t
     n["messages_received"] = s.messagesReceived;
     n["contributions_sent"] = s.contributionsSent;
     n["queue_high_water"] = s.queueHighWater;
-    n["last_active_ns"] = ns(s.lastActive);
+    n["last_active_ns"] = inNs(s.lastActive);
     n["counters"] = countersJson(s.counters);
     n["slides_given"] = s.slides.size();
     n["slides_taken"] = s.slidesTaken;
@@ -167,9 +166,9 @@ nlohmann::json nodeJson(const MachineResult& r, const NodeFrameState& st, size_t
         auto& iv = n["intervals"];
         iv["intervals_per_record"] = s.balance.intervalsPerRecord;  // > 1: merged to bound the report
         for (const IntervalRecord& x : s.balance.intervals) {
-            iv["end_ns"].push_back(ns(x.end));
-            iv["busy_ns"].push_back(ns(x.busy));
-            iv["wait_ns"].push_back(ns(x.wait));
+            iv["end_ns"].push_back(inNs(x.end));
+            iv["busy_ns"].push_back(inNs(x.busy));
+            iv["wait_ns"].push_back(inNs(x.wait));
         }
     }
     return n;
@@ -194,22 +193,22 @@ nlohmann::json linkJsonOf(const LinkReport& l, Picos renderTime, bool distributi
         const char* name = msgTypeName(MsgType(t));
         lj["messages"][name] = st.messages[size_t(t)];
         lj["bytes"][name] = st.bytes[size_t(t)];
-        lj["wire_ns"][name] = ns(st.wire[size_t(t)]);
+        lj["wire_ns"][name] = inNs(st.wire[size_t(t)]);
     }
-    lj["wire_busy_ns"] = ns(st.wireBusy());
+    lj["wire_busy_ns"] = inNs(st.wireBusy());
     lj["channels"] = l.channels;
     lj["utilisation"] = utilisationOf(l, renderTime);
-    lj["saturated_ns"] = ns(st.saturated);  // busy with a backlog waiting for the wire
+    lj["saturated_ns"] = inNs(st.saturated);  // busy with a backlog waiting for the wire
     if (distributions) lj["peak_utilisation"] = st.windows.peak(renderTime, l.channels);
     if (!full) return lj;
     lj["consumed"] = st.consumed;
-    lj["slot_wait_ns"] = ns(st.slotWait);
-    lj["wire_wait_ns"] = ns(st.wireWait);
+    lj["slot_wait_ns"] = inNs(st.slotWait);
+    lj["wire_wait_ns"] = inNs(st.wireWait);
     if (distributions) {  // (--link-stats counts: not kept)
         if (st.latency.count()) lj["latency_ns"] = percentilesJson(st.latency);
         if (st.controlLatency.count()) lj["control_latency_ns"] = percentilesJson(st.controlLatency);
         lj["backlog_high_water"] = st.backlogHighWater;
-        lj["peak_window_ns"] = ns(st.windows.width());
+        lj["peak_window_ns"] = inNs(st.windows.width());
         lj["buffer_high_water"] = st.bufferHighWater;
     }
     return lj;
@@ -267,7 +266,7 @@ void addLinks(Report& rep, const MachineResult& r, const MachineConfig& cfg, con
             msgs[t] += st.messages[t];
             bytes[t] += st.bytes[t];
         }
-        key.push_back({ns(st.saturated), utilisationOf(l, r.renderTime)});
+        key.push_back({inNs(st.saturated), utilisationOf(l, r.renderTime)});
     }
     addMade(rep, "links", std::make_shared<LinkEntries>(r, cfg.linkDistributions, full));
     const std::vector<size_t> busiest = rankedByBacklog(key);
@@ -296,14 +295,14 @@ nlohmann::json frameBufferJson(const MachineResult& r, const Bounds& bd) {
         total += s.busy;
         contributions += s.contributions;
         fb["units"].push_back({{"unit", u},
-                               {"busy_ns", ns(s.busy)},
-                               {"last_active_ns", ns(s.lastActive)},
+                               {"busy_ns", inNs(s.busy)},
+                               {"last_active_ns", inNs(s.lastActive)},
                                {"contributions", s.contributions},
                                {"contribution_messages", s.contributionMessages},
                                {"credit_messages", s.creditMessages}});
     }
-    fb["busy_ns"] = ns(bd.frameBuffer);
-    fb["busy_total_ns"] = ns(total);
+    fb["busy_ns"] = inNs(bd.frameBuffer);
+    fb["busy_total_ns"] = inNs(total);
     fb["contributions"] = contributions;
     return fb;
 }
@@ -402,7 +401,7 @@ Report machineReportOf(const MachineResult& r, const MachineConfig& cfg, ReportD
     Report rep;
     nlohmann::json& j = rep.json;
     j["config"] = machineConfigJson(cfg, r.image.width, r.image.height);
-    j["render_time_ns"] = ns(r.renderTime);
+    j["render_time_ns"] = inNs(r.renderTime);
     if (!r.incomplete.empty()) j["incomplete"] = r.incomplete;  // stopped by the watchdog: every figure up to then
     j["wall_s"] = r.wallSeconds;
     j["wall_elaboration_s"] = r.wallElaborationSeconds;  // of wall_s: building the machine, to the first event
@@ -420,9 +419,9 @@ Report machineReportOf(const MachineResult& r, const MachineConfig& cfg, ReportD
         total.boxesSkipped += s.boxesSkipped;
     }
     addLinks(rep, r, cfg, st, full);
-    j["totals"]["busy_ns"] = ns(total.busy);
+    j["totals"]["busy_ns"] = inNs(total.busy);
     j["totals"]["busy_by_category"] = busyPartsJson(total.busyBy);
-    j["totals"]["blocked_ns"] = ns(total.blocked);
+    j["totals"]["blocked_ns"] = inNs(total.blocked);
     j["totals"]["rays_forwarded"] = total.raysForwarded;
     j["totals"]["rays_passed"] = total.raysPassed;
     j["totals"]["rays_passed_between_columns"] = total.raysPassedBetweenColumns;
@@ -435,7 +434,7 @@ Report machineReportOf(const MachineResult& r, const MachineConfig& cfg, ReportD
     j["frame_buffer"] = frameBufferJson(r, bd);
     // Each bound in ns and as a fraction of the render time.
     auto bound = [&](Picos t) {
-        return nlohmann::json{{"ns", ns(t)}, {"fraction", r.renderTime ? double(t) / double(r.renderTime) : 0.0}};
+        return nlohmann::json{{"ns", inNs(t)}, {"fraction", r.renderTime ? double(t) / double(r.renderTime) : 0.0}};
     };
     j["bounds"] = {{"perfect", bound(bd.perfect)}, {"column", bound(bd.column)}, {"frame_buffer", bound(bd.frameBuffer)}};
     j["kernel"] = {{"delta_cycles", r.deltaCycles}};

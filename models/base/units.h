@@ -40,6 +40,8 @@ std::optional<Picos> parseTime(const std::string& text);
 // Parses a positive, finite rate in bytes per second.
 std::optional<double> parseRate(const std::string& text);
 
+// A time in ns, as the report gives every time.
+constexpr double inNs(Picos t) { return double(t) / 1000.0; }
 std::string formatTime(Picos t);    // "12.5 us"
 std::string formatRate(double bps); // "1 GB/s"
 std::string formatNumber(double v);  // "%g": "0.5", "1e+09"

@@ -5,7 +5,6 @@
 namespace rt {
 namespace {
 
-double ns(Picos p) { return double(p) / 1000.0; }
 
 Binned binned(const WorkByPosition& w, double scale) {
     Binned b{w.firstBin(), {}};
@@ -22,7 +21,7 @@ WorkAlongAxis workAlongAxis(const BalanceStats& s) {
     w.binWidth = s.work.binWidth();
     w.ns = binned(s.work, 1000.0);
     if (!s.within.bins().empty()) w.within = binned(s.within, 1000.0);
-    w.faceHandlingNs = ns(s.faceCost);
+    w.faceHandlingNs = inNs(s.faceCost);
     w.faceCrossings = s.faceCrossings;
     for (int up = 0; up < 2; ++up) {
         Binned& c = w.cuts[size_t(up)];
@@ -41,7 +40,7 @@ FrameState frameStateOf(const MachineResult& r, const MachineConfig& cfg) {
     FrameState f;
     f.dims = cfg.dims;
     f.axis = cfg.balance.axis;
-    f.renderTimeNs = ns(r.renderTime);
+    f.renderTimeNs = inNs(r.renderTime);
     for (size_t i = 0; i < r.nodes.size(); ++i) {
         const NodeStats& s = r.nodes[i];
         NodeFrameState n;
@@ -53,21 +52,21 @@ FrameState frameStateOf(const MachineResult& r, const MachineConfig& cfg) {
             n.gridCells = r.grids[i]->cells;
             n.gridSpan = r.grids[i]->span;
         }
-        n.busyNs = ns(s.busy);
+        n.busyNs = inNs(s.busy);
         if (!s.balance.work.bins().empty()) n.work = workAlongAxis(s.balance);
         f.raysPassed += s.raysPassed;
         f.nodes.push_back(std::move(n));
     }
     for (const BoundaryHistory& h : r.boundaries) {
         BoundaryState b{h.column, h.index, {}};
-        for (const auto& [t, x] : h.positions) b.history.push_back({ns(t), x});
+        for (const auto& [t, x] : h.positions) b.history.push_back({inNs(t), x});
         f.boundaries.push_back(std::move(b));
     }
     for (const LinkReport& l : r.links)
         if (l.dir >= 0) {  // (the frame buffer's ports aside)
             const LinkStats s = l.stats();  // (made from the report's counts: once)
-            f.rayWireNs += ns(s.wire[size_t(MsgType::Ray)]);
-            f.busiestLinkWireNs = std::max(f.busiestLinkWireNs, ns(s.wireBusy()));
+            f.rayWireNs += inNs(s.wire[size_t(MsgType::Ray)]);
+            f.busiestLinkWireNs = std::max(f.busiestLinkWireNs, inNs(s.wireBusy()));
         }
     return f;
 }
