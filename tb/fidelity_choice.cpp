@@ -55,6 +55,7 @@ int calibrationDivisor(int w, int h) {
 
 MachineConfig withRung(MachineConfig m, const FidelityRung& r) {
     m.express = r.express;
+    m.through = r.through;
     m.lookaheadQuantum = r.quantum == 0;
     m.quantum = r.quantum == 0 ? m.lookahead() : r.quantum;
     return m;
@@ -68,7 +69,7 @@ MachineConfig withRung(MachineConfig m, const FidelityRung& r) {
 // at 128x128 on 16x16x16 (-1.49 % on the frame) and on rings-2 on
 // 32x32x32 (+13.8 %) (doc/results/speed_accuracy.md).
 bool applies(const FidelityRung& r, const MachineConfig& m) {
-    return r.express && r.quantum == 0 && m.balance.boxesStayPut() && m.rayBatch <= 1;
+    return (r.express || r.through) && r.quantum == 0 && m.balance.boxesStayPut() && m.rayBatch <= 1;
 }
 
 double secondsSince(std::chrono::steady_clock::time_point t) {
@@ -79,20 +80,22 @@ double secondsSince(std::chrono::steady_clock::time_point t) {
 
 const std::vector<FidelityRung>& fidelityRungs() {
     static const std::vector<FidelityRung> rungs = {
-        {"exact", false, 0},
-        {"express", true, 0},
-        {"quantum 10 us", false, kCoarseQuantum},
-        {"express, quantum 10 us", true, kCoarseQuantum},
+        {"exact", false, false, 0},
+        {"express", true, false, 0},
+        {"through", false, true, 0},
+        {"quantum 10 us", false, false, kCoarseQuantum},
+        {"express, quantum 10 us", true, false, kCoarseQuantum},
     };
     return rungs;
 }
 
 std::string rungOf(const MachineConfig& m) {
     for (const FidelityRung& r : fidelityRungs())
-        if (r.express == m.express && (r.quantum == 0 ? m.lookaheadQuantum : !m.lookaheadQuantum && m.quantum == r.quantum)) return r.name;
+        if (r.express == m.express && r.through == m.through && (r.quantum == 0 ? m.lookaheadQuantum : !m.lookaheadQuantum && m.quantum == r.quantum)) return r.name;
     std::ostringstream s;
-    s << (m.express ? "express, " : "") << "quantum " << formatTime(m.quantum);
-    return m.lookaheadQuantum ? (m.express ? "express" : "exact") : s.str();
+    const std::string relay = m.through ? "through" : m.express ? "express" : "";
+    s << (relay.empty() ? "" : relay + ", ") << "quantum " << formatTime(m.quantum);
+    return m.lookaheadQuantum ? (relay.empty() ? "exact" : relay) : s.str();
 }
 
 namespace {

@@ -25,6 +25,7 @@ namespace rt {
 struct FidelityRung {
     std::string name;
     bool express = false;
+    bool through = false;  // (--fidelity through: express too)
     Picos quantum = 0;  // 0: each process's lookahead (exact); else a fixed quantum
 };
 

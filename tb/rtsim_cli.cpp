@@ -397,7 +397,7 @@ void RtsimOptions::actAsReference() {
     if ((asBaseline || asComparison) && machine.balance.policy != "sample") machine.balance.sampleCredit = false;  // (no sample)
     // A reference run is timed as its run asks, without a calibration of its own; express only where it applies.
     maxError_.clear();
-    if (!machine.balance.boxesStayPut()) machine.express = false;
+    if (!machine.balance.boxesStayPut()) machine.express = machine.through = false;
 }
 
 // The flags whose values have a syntax of their own (option_parsers.h).
@@ -441,9 +441,10 @@ void RtsimOptions::setQuantum() {
 // --max-error: rtsim picks the rung (fidelity_choice.h), so not with a rung given.
 void RtsimOptions::setMaxError() {
     maxError = maxError_.empty() ? 0 : parseErrorShare(maxError_);
-    if (maxError > 0 && (quantum_ != "lookahead" || machine.express))  // (--quantum lookahead is the exact rung's own)
+    if (maxError > 0 && (quantum_ != "lookahead" || machine.usesRelay()))  // (--quantum lookahead is the exact rung's own)
         throw OptionError("--max-error", "it picks --fidelity and --quantum itself: not with " +
-                                             (machine.express ? std::string("--fidelity express") : "--quantum " + quantum_));
+                                             (machine.usesRelay() ? std::string("--fidelity ") + (machine.through ? "through" : "express")
+                                                                  : "--quantum " + quantum_));
 }
 
 }  // namespace rt

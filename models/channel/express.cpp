@@ -20,31 +20,41 @@ void ExpressRoutes::countOnLinks() {
             }
 }
 
-bool ExpressRoutes::route(const Cell& from, int dir, RayJob& job, Route& r, std::vector<ExpressHop>& hops) const {
+bool ExpressRoutes::route(const Cell& from, int dir, RayJob& job, Picos now, Route& r, std::vector<ExpressHop>& hops) const {
     Cell at = neighbour(from, dir);
     size_t cur = indexOf(at);
     Route path;
     path.first = uint32_t(hops.size());
     RayJob probe = job;
     double t0 = job.t0;  // where the ray enters `cur`
-    while (nodes_[cur].empty) {
-        // What the empty box's node would do with it (Node::step): route it
-        // on if the box does not own t0; else "trace" it (no object: it
-        // ends here only if it reaches its light here) and send it on by
-        // the face it leaves by.
-        const Box& box = nodes_[cur].box;
+    Picos reach = now + nodes_[indexOf(from)].out[size_t(dir)].hop();  // the soonest it reaches `cur`
+    for (;;) {
+        // What the box's node would do with it (Node::step): route it on if
+        // the box does not own t0; else trace it (an empty box's: it ends
+        // there only if it reaches its light there) and send it on by the
+        // face it leaves by.
+        const ExpressNode& n = nodes_[cur];
+        if (!n.empty && !(n.through && through_)) break;
+        if (n.through && (n.processorFree > reach || n.queued > 0)) break;  // busy then: its node takes it
+        const Box& box = n.box;
         const BoxSlabs s = boxSlabs(probe.ray, box);
         int d = routeRay(probe, s, box);
+        Picos step = n.pass;
         if (d < 0) {
-            if (probe.tEnd <= s.span.hi) break;  // it ends in this box: its node takes it
-            probe.t0 = s.span.hi;
-            const auto [axis, step] = s.exitFace(probe.ray);
+            if (n.empty) {
+                if (probe.tEnd <= s.span.hi) break;  // it ends in this box: its node takes it
+                probe.t0 = s.span.hi;
+            } else if (!through_->passes(cur, probe, s.span.hi, step)) {
+                break;  // it hits or ends in this box: its node takes it
+            }
+            const auto [axis, sign] = s.exitFace(probe.ray);
             if (axis < 0) break;  // (its node says what is wrong)
-            d = dirOf(axis, step);
+            d = dirOf(axis, sign);
         }
         const Cell next = neighbour(at, d);
         if (!inMesh(next, dims_)) break;  // it leaves the world here: its node sends the background
-        hops.push_back({uint32_t(cur), int8_t(d)});
+        hops.push_back({uint32_t(cur), int8_t(d), step, t0});
+        reach += step + n.out[size_t(d)].hop();
         t0 = probe.t0;
         at = next;
         cur = indexOf(at);

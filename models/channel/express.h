@@ -23,6 +23,14 @@
 // same. A box holds no object for the whole frame only if no boundary
 // moves: the rung runs with --balance none or median.
 //
+// The through rung (--fidelity through) goes further: past a box with
+// objects too, where the ray crosses it without a hit (its node would trace
+// it there and send it on). The relay books that node's step for it (the
+// trace's cost) on its processor, which has work of its own throughout, so
+// the passes and the node's own steps wait for each other in the order
+// booked, not the order of their times, and a pass goes ahead of the rays
+// queued at the node: that is this rung's error (doc/fidelity.md).
+//
 // This is the simulator's shortcut, not the machine's: the sender reads the
 // boxes beyond its neighbour from here (architecture.md, invariant 4, holds
 // for the machine it models: every ray still takes the links it would).
@@ -49,6 +57,9 @@ struct ExpressLink {
     uint64_t rays = 0;    // the rays the relay sent on it (the link's figures count them at the frame's end)
     Link* link = nullptr;
     uint32_t depth = 0;   // its slots
+    // Its sender both works and is passed (--fidelity through): the relay's
+    // rays take the wire in turn with the sender's own (Link::shareWire).
+    bool shared = false;
     // Its slots, as the exact model's link (link.h): ray k goes on the wire
     // once ray k - depth was taken at the far end and the slot's credit is
     // back, one latency later. The take times of the last `depth` rays
@@ -76,30 +87,51 @@ struct ExpressNode {
     Picos processorFree = 0;  // its processor is free of the express rays' passes so far (and of its own steps)
     Picos pass = 0;           // its processor's step for a ray it passes on (a receive and a send, at its speed)
     bool empty = false;       // holds no object and generates no primary ray: a ray passes it without work of its own
+    bool through = false;     // (--fidelity through) holds objects, generates no primary ray: a ray it traces without a hit passes
+    uint32_t queued = 0;      // (through) the rays its node held at its last step, its own and arrived or on their way
     std::array<ExpressLink, kDirs> out;  // (no link: none)
     Box box;
 };
-// One box a ray skips: its node and the link it would leave by.
+// One box a ray skips: its node, the link it would leave by, its node's
+// step for the ray, and where the ray enters its box (job.t0: should the
+// node take the ray after all, --fidelity through).
 struct ExpressHop {
     uint32_t node;
     int8_t dir;
+    Picos step;
+    double t0;
+};
+
+// --fidelity through: whether a ray in box `node` (one with objects, whose
+// region owns job.t0) crosses it without a hit, traced as its node would
+// to `tOut`: then the ray at its exit (job.t0) and the node's step for it;
+// false if it hits or ends there (its node takes it). The machine's
+// (machine_express.cpp), from its nodes' regions and costs.
+class ThroughBoxes {
+public:
+    virtual ~ThroughBoxes() = default;
+    virtual bool passes(size_t node, RayJob& job, double tOut, Picos& step) const = 0;
 };
 
 class ExpressRoutes {
 public:
     ExpressRoutes(std::array<int, 3> dims, std::vector<ExpressNode> nodes);
 
-    // Whether a ray that node `from` sends towards `dir` at job.t0
-    // crosses at least one box it may skip: then the boxes it skips (their
+    // Whether a ray that node `from` sends towards `dir` at job.t0, at its
+    // time `now`, crosses at least one box it may skip: then the boxes it skips (their
     // nodes and the links they would send it on, the last one's into the
     // box that takes it) are appended to `hops`, from r.first on, and
     // job.t0 moves to where it enters that box. False (and job unchanged):
     // the neighbour takes it as in the exact model (it holds objects or
     // generates primary rays, or the ray ends or leaves the world there).
+    // Under --fidelity through a box with objects is skipped only where its
+    // node's processor is free by the time the ray would reach it, as far
+    // as the passes and steps booked so far tell: a busy node takes the ray
+    // into its queue, as in the exact model.
     struct Route {
         uint32_t first = 0, skipped = 0;
     };
-    bool route(const Cell& from, int dir, RayJob& job, Route& r, std::vector<ExpressHop>& hops) const;
+    bool route(const Cell& from, int dir, RayJob& job, Picos now, Route& r, std::vector<ExpressHop>& hops) const;
     size_t indexOf(const Cell& c) const { return nodeIndex(c, dims_); }
     const ExpressNode& node(size_t i) const { return nodes_[i]; }
     ExpressNode& node(size_t i) { return nodes_[i]; }
@@ -107,6 +139,8 @@ public:
     Picos soonestHop() const { return soonestHop_; }
     // The frame's end: the rays the relay sent on each link, into the link's figures.
     void countOnLinks();
+    // --fidelity through's boxes (none: only the empty ones are skipped).
+    void passThrough(const ThroughBoxes* boxes) { through_ = boxes; }
     // A new frame: no express ray has used a processor or a wire yet.
     void restart() {
         for (ExpressNode& n : nodes_) {
@@ -124,6 +158,7 @@ private:
     std::array<int, 3> dims_;
     std::vector<ExpressNode> nodes_;
     Picos soonestHop_ = 0;
+    const ThroughBoxes* through_ = nullptr;
 };
 
 }  // namespace rt

@@ -156,6 +156,18 @@ Picos Link::expressStart(uint32_t bytes, Picos t) {
     return start;
 }
 
+void Link::deliverExpress(Message&& m, Picos arrival) {
+    Carried& c = carry();
+    Lane& l = c.lane(kData);
+    if (l.waiting() > 0) throw std::logic_error(name() + ": an express ray delivered behind messages waiting for a slot");
+    const uint32_t bytes = m.bytes();
+    const Picos transfer = transferTime(bytes), start = arrival - transfer - params_->latency;
+    ++c.byType[size_t(m.type)].inFlight;
+    if (progress_) progress_->mark(arrival);
+    l.messages.emplace_back(std::move(m));
+    recordOnWire(l, Timed(Waiting(start, bytes, MsgType::Ray), arrival, start, start, transfer));
+}
+
 Picos Link::slotTime(const Lane& l) const {
     if (l.wired < l.slots) return 0;  // a slot not used yet
     return l.takenAt(l.wired - l.slots) + params_->latency;  // the credit travelled back
@@ -213,8 +225,12 @@ void Link::putOnWire(int lane, Picos slot, const Waiting& w) {
     }
     c.byType[size_t(w.type)].wire += transfer;
     if (trace_.vcd && params_->controlDepth == 0) traceStart(start, transfer);
+    recordOnWire(l, Timed(w, arrival, start, ready, transfer));
+}
+
+void Link::recordOnWire(Lane& l, const Timed& m) {
     l.onWire_.fit(l.taken, l.wired);
-    l.onWire_[l.wired] = Timed(w, arrival, start, ready, transfer);
+    l.onWire_[l.wired] = m;
     ++l.wired;
     if (listener_) ++listener_->buffered;
     if (l.buffered() == 1) headChanged();

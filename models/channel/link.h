@@ -94,6 +94,22 @@ public:
     // `count` express rays of `bytes` that went past this link's sender:
     // counted as above, timed by the express relay (express.h).
     void countExpress(uint32_t bytes, uint64_t count = 1);
+    // A ray the express relay brought to this link's far end at `arrival`
+    // (its wire, slot and counts the relay's: express.h), into the
+    // receiver's input as if it had come on this link: --fidelity through,
+    // where the node the relay would pass it through has work then.
+    // Only behind the messages on the wire: not while messages wait for a
+    // slot (they would be taken ahead of it).
+    void deliverExpress(Message&& m, Picos arrival);
+    bool mayDeliverExpress() const { return carried().lane(kData).waiting() == 0; }
+    // A ray the relay passes on over this link's wire at `t` (--fidelity
+    // through: its sender also sends rays of its own on it): when it goes
+    // on the wire, which it then holds for its transfer.
+    Picos shareWire(uint32_t bytes, Picos t) {
+        const Picos start = std::max(t, wireFree_);
+        wireFree_ = start + transferTime(bytes);
+        return start;
+    }
     bool peekArrival(Picos& arrival) const override;
     Message consume(Picos t) override;
     bool controlArrivedBy(Picos t) const override;
@@ -277,7 +293,8 @@ private:
     // (A port's channels have the same slots, so its mark, the largest
     // channel's, is reached for all of them at once: flowInto.)
     bool keepsBufferMark(const Lane& l) const { return distributions_ && flow().bufferHighWater < l.slots; }
-    void putOnWire(int lane, Picos slot, const Waiting& w);  // the lane's message w: its first waiting one (the caller then drops it), or one sent to a free slot
+    void putOnWire(int lane, Picos slot, const Waiting& w);
+    void recordOnWire(Lane& l, const Timed& m);  // the lane's next message on the wire: its record  // the lane's message w: its first waiting one (the caller then drops it), or one sent to a free slot
     // A message's slot and wire waits (LinkFlow::slotWait, wireWait) up to
     // `upTo`: at its take, all of them; at the frame's end, those so far.
     void countWaits(const Timed& m, Picos upTo);

@@ -241,6 +241,12 @@ struct MachineConfig {
     // express: rays cross the boxes whose nodes have no work of their own
     // through one relay process, not the nodes' (channel/express.h).
     bool express = false;  // --fidelity express
+    // through: express, and also past boxes with objects that a ray crosses
+    // without a hit (channel/express.h): their nodes' processors take the
+    // relay's passes among their own steps in the order booked.
+    bool through = false;  // --fidelity through
+    // Either rung: rays go through the express relay.
+    bool usesRelay() const { return express || through; }
     // A session whose later frames may turn express on (--max-error's
     // calibration frames, tb/fidelity_choice.h) builds the express routes
     // and relay even where express is off: a frame without express then
@@ -388,16 +394,15 @@ inline const std::vector<Param<MachineConfig>>& machineParams() {
                           "node speed factor (time = cost / speed)", gc)),
         specialParam<M>("node-speed", "speed factor of one node: x,y,z=SPEED (repeatable)", gc),
         specialParam<M>("node-cost", nullptr, gc),
-        specialParam<M>("quantum",
-                        "temporal decoupling: how far a process may run ahead of the kernel. 'lookahead': each process's "
-                        "own, the largest that is still exact (its input links' latency plus the smallest message's time "
-                        "on their wire); 0: synchronise after every step (also exact, slower); a time: every process by "
-                        "that much, exact up to the smallest lookahead, beyond it faster and timing approximate",
-                        gm),
-        choiceParam("fidelity", &M::express, "express", "exact", "/fidelity/rung",
-                    "exact (every hop an event) or express (rays cross boxes with no objects in one relay, timed as the "
-                    "exact model but for the order of those nodes' own work against the rays; --balance none or median; "
-                    "doc/fidelity.md)", gm),
+        specialParam<M>("quantum", "temporal decoupling: how far a process may run ahead of the kernel. 'lookahead': "
+                        "each process's own, the largest that is still exact (its input links' latency plus the smallest "
+                        "message's time on their wire); 0: synchronise after every step (also exact, slower); a time: every "
+                        "process by that much, exact up to the smallest lookahead, beyond it faster and timing approximate", gm),
+        orWord(choiceParam("fidelity", &M::express, "express", "exact", "/fidelity/rung", "exact (every hop an event); "
+                           "express (rays cross boxes with no objects in one relay, timed as the exact model but for the "
+                           "order of those nodes' own work against the rays); or through (express, and past boxes with "
+                           "objects a ray crosses without a hit where their nodes are free); --balance none or median; "
+                           "doc/fidelity.md", gm), "through", &M::through),
         specialParam<M>("max-error", "the render-time error you accept (2% or 0.02): rtsim picks --fidelity, the fastest "
                                      "rung within it on a calibration frame, or exact where a calibration would not pay "
                                      "(doc/fidelity.md)", gm),

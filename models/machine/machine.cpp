@@ -269,10 +269,7 @@ void Machine::giveOutPrimaryRays(const ColumnPlanes& planes) {
     const std::vector<bool> gathers = sample ? prepareSample(primaries.perNode, planes) : std::vector<bool>{};
     CreditShares credit = shareCredit(primaries.perNode, maxExp_);
     if (sample && cfg_.balance.sampleCredit) expectSampleCredit(primaries.perNode, credit, gathers);
-    if (express_)  // a node that generates primary rays is not skipped: it has work of its own
-        for (size_t i = 0; i < nodes_.size(); ++i)
-            express_->node(i).empty = nodes_[i].region().objects().empty() && primaries.perNode[i].empty();
-    useExpress();
+    useExpress(primaries.perNode);
     for (size_t i = 0; i < nodes_.size(); ++i)
         nodes_[i].assignPrimaries(std::move(primaries.perNode[i]), credit.exp[i], credit.remainder[i]);
     units_[0].keep(credit.host);
@@ -416,7 +413,7 @@ MachineResult Machine::collect(double wallSeconds, bool last) {
     r.boundaries = boundaryHistories();
     r.worldBox = world_;
     r.primaryMisses = primaryMisses_;
-    r.express = cfg_.express;
+    r.express = cfg_.usesRelay();
     r.deltaCycles = sc_core::sc_delta_count() - deltaAtStart_;
     r.wallSeconds = wallSeconds;
     r.gtkw = gtkw_;

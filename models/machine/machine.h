@@ -170,8 +170,10 @@ private:
     void linkUnits(std::vector<Picos>& unitLookahead);
     void linkColumnsToFrameBuffer(std::vector<Picos>& nodeLookahead);
     void startWatchdog();
-    void buildExpress();  // --fidelity express: the routes past empty boxes (machine_express.cpp)
-    void useExpress();    // and whether this frame's rays take them
+    void buildExpress();  // --fidelity express, through: the routes past boxes (machine_express.cpp)
+    // Whether this frame's rays take them, and past which boxes (a node
+    // that generates primary rays, `perNode`, has work of its own).
+    void useExpress(const std::vector<std::vector<uint32_t>>& perNode);
     std::vector<bool> prepareSample(const std::vector<std::vector<uint32_t>>& perNode, const ColumnPlanes& planes);  // which columns gather
     void expectSampleCredit(const std::vector<std::vector<uint32_t>>& perNode, const CreditShares& credit,
                             const std::vector<bool>& gathers);
@@ -214,6 +216,7 @@ private:
     std::unique_ptr<NodeParams> nodeParams_;  // what the nodes share (they hold a reference)
     std::unique_ptr<ExpressRoutes> express_;   // --fidelity express (channel/express.h)
     std::unique_ptr<ExpressRelay> relay_;      // and its relay (process/express_relay.h)
+    std::unique_ptr<ThroughBoxes> through_;    // --fidelity through's boxes (machine_express.cpp)
     sc_core::sc_vector<FrameBufferUnit> units_;
     ModuleArray<Node> nodes_;  // (not an sc_vector: module_array.h)
     std::vector<std::unique_ptr<Link>> links_;

@@ -41,7 +41,7 @@ void freshContextIfUsed() {
 // watchdog). What persists: the modules, their ports and links, the
 // lookaheads, costs and parameters, the objects' binning.
 void Machine::nextFrame(const View& view, const MachineConfig& next, int frame) {
-    if (next.express && !express_)
+    if (next.usesRelay() && !express_)
         throw std::logic_error("MachineSession::next: express in a machine built without its routes (MachineConfig::expressRoutes)");
     cfg_ = next;
     cfg_.validate();

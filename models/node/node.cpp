@@ -69,7 +69,7 @@ void Node::start() {
     expressSelf_ = nullptr;  // (a frame without express, after one with it)
     if (params_.express) {
         ExpressNode& self = params_.express->node(params_.express->indexOf(cell_));
-        expressSelf_ = self.empty ? &self : nullptr;
+        expressSelf_ = self.empty || self.through ? &self : nullptr;
     }
     now_ = kernel();
     const BalanceConfig& bal = params_.balance;
@@ -278,6 +278,7 @@ void Node::step(Work& w) {
         if (sample_ && balance_->sampling() && sampleRay(w.job)) recordSample(parts, span, w.from);
     }
     markQueueDepth();
+    if (expressSelf_) expressSelf_->queued = uint32_t(input_.inHand() + input_.arrivals().unconsumed());  // (express.h: route)
     chargeAndSend(parts, true);
 }
 

@@ -161,6 +161,7 @@ public:
     const Cell& cell() const { return cell_; }
     const Region& region() const { return *region_; }
     const NodeStats& stats() const { return stats_; }
+    const CostModel& costs() const { return costs_; }
 
 private:
     // ---- The process (node.cpp) ----

@@ -8,7 +8,7 @@ namespace rt {
 bool Node::sendExpress(const Work& w, int dir) {
     ExpressRoutes::Route r;
     RayJob j = w.job;
-    if (!params_.express->route(cell_, dir, j, r, expressHops_)) return false;
+    if (!params_.express->route(cell_, dir, j, now_, r, expressHops_)) return false;
     expressOut_.push_back(ExpressSend{dir, r, Message(j, w.creditExp)});
     ++stats_.raysExpressed;
     stats_.boxesSkipped += r.skipped;

@@ -52,9 +52,13 @@ void ExpressRelay::launch(uint32_t slot, ExpressLink& l, Picos ready, bool first
     }
     Picos start;
     if (first) {
-        start = l.link->expressStart(ray.m.bytes(), std::max(ready, free));
+        // (Under --fidelity through a node both sends express rays of its
+        // own and passes the relay's on this wire: they take it in turn.)
+        start = l.link->expressStart(ray.m.bytes(), std::max({ready, free, l.free}));
+        l.free = std::max(l.free, start + l.wire);
     } else {
         start = std::max({ready, free, l.free});
+        if (l.shared) start = l.link->shareWire(ray.m.bytes(), start);
         l.free = start + l.wire;
         ++l.rays;
     }
@@ -101,10 +105,13 @@ void ExpressRelay::hop(uint32_t slot, Picos t) {
     const ExpressHop h = ray.hops[ray.next];
     ExpressNode& n = routes_.node(h.node);
     ExpressLink& out = n.out[size_t(h.dir)];
-    const Picos taken = std::max(t, n.processorFree), passed = taken + n.pass;
-    n.processorFree = passed;
-    // Taken from the link it came by: its slot's credit goes back, and a ray waiting for one may go.
+    // (--fidelity through) A node with work now takes the ray into its
+    // input, behind the rays before it, as in the exact model.
     ExpressLink& in = *ray.on;
+    const bool busy = n.through && (n.processorFree > t || n.queued > 0) && in.link->mayDeliverExpress();
+    const Picos taken = busy ? t : std::max(t, n.processorFree), passed = taken + h.step;
+    if (!busy) n.processorFree = passed;
+    // Taken from the link it came by: its slot's credit goes back, and a ray waiting for one may go.
     in.taken[ray.number] = taken;
     while (in.waitingHead < in.waiting.size() && in.slotFree() != ExpressLink::kUnknown) {
         const auto [next, ready] = in.waiting[in.waitingHead++];
@@ -113,6 +120,12 @@ void ExpressRelay::hop(uint32_t slot, Picos t) {
             in.waitingHead = 0;
         }
         launch(next, in, ready, rays_[next].first, true);
+    }
+    if (busy) {
+        ray.m.ray.t0 = h.t0;
+        in.link->deliverExpress(std::move(ray.m), t);
+        free_.push_back(slot);
+        return;
     }
     if (++ray.next == ray.hops.size()) {
         out.link->send(std::move(ray.m), passed);

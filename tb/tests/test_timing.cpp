@@ -669,18 +669,99 @@ TEST(ExpressRung, IsOffWhereSkippedNodesWorkOutOfOrder) {
     EXPECT_LT(std::fabs(error), 0.02);
 }
 
-// The rung needs boxes that stay put: with a policy that moves them, or
+// The rungs need boxes that stay put: with a policy that moves them, or
 // with batches of rays, a run is refused (the user asks for exact then).
 TEST(ExpressRung, RefusesMovingBoxesAndBatches) {
-    MachineConfig c;
-    c.express = true;
-    c.balance.policy = "slide";
-    EXPECT_THROW(c.validate(), std::invalid_argument);
-    c.balance.policy = "median";
-    EXPECT_NO_THROW(c.validate());
-    c.rayBatch = 4;
-    EXPECT_THROW(c.validate(), std::invalid_argument);
+    for (const bool through : {false, true}) {
+        MachineConfig c;
+        (through ? c.through : c.express) = true;
+        c.balance.policy = "slide";
+        EXPECT_THROW(c.validate(), std::invalid_argument);
+        c.balance.policy = "median";
+        EXPECT_NO_THROW(c.validate());
+        c.rayBatch = 4;
+        EXPECT_THROW(c.validate(), std::invalid_argument);
+    }
 }
+
+// The through rung (--fidelity through): past boxes with objects too,
+// where the ray crosses them without a hit. On the line of five nodes,
+// spheres in nodes 1 to 3 whose bounds the ray crosses (0.18 off its path,
+// 0.15 wide): their nodes walk their grids and test them, and the ray goes
+// on. Through takes the ray from node 0 to node 4 in one
+// event, each of the three nodes' steps timed from the tests its trace
+// makes (the nodes are idle: their processors free): the frame ends at the
+// exact model's picosecond, the same image, and the three nodes test
+// nothing themselves. Express stops at node 1, which holds an object.
+namespace {
+Scene lineWithSpheresBeside() {
+    return sceneFrom("beside", "b 0 0 0\nv\nfrom -5 0 0\nat 10 0 0\nup 0 0 1\nangle 10\nhither 0.01\nresolution 1 1\n"
+                               "l 5 -30 0\nf 1 1 1 1 0 0 0 1\ns 0 4 0 0.1\ns 10 0 0 1\n"
+                               "s 3 0.13 0.13 0.15\ns 5 -0.13 0.13 0.15\ns 7 0.13 -0.13 0.15\n");
+}
+MachineResult lineAt(const Scene& scene, bool express, bool through) {
+    MachineConfig c;
+    c.dims = {5, 1, 1};
+    c.width = c.height = 1;
+    c.costs = test::distinctCosts();
+    c.express = express;
+    c.through = through;
+    return runMachine(scene, c);
+}
+}  // namespace
+
+TEST(ThroughRung, PassesIdleBoxesWithObjectsAsTheExactModelTimesThem) {
+    const Scene scene = lineWithSpheresBeside();
+    const MachineResult exact = lineAt(scene, false, false), express = lineAt(scene, true, false),
+                        through = lineAt(scene, false, true);
+    for (int i = 1; i <= 3; ++i) {
+        ASSERT_EQ(exact.objectsPerNode[size_t(i)], 1u) << "node " << i;
+        EXPECT_GT(exact.nodes[size_t(i)].counters.tests[0], 0u) << "node " << i;  // (its step is more than a pass)
+        EXPECT_EQ(through.nodes[size_t(i)].counters.tests[0], 0u) << "node " << i;
+        EXPECT_EQ(through.nodes[size_t(i)].messagesReceived, 0u) << "node " << i;
+    }
+    EXPECT_EQ(express.nodes[0].raysExpressed, 0u);  // (node 1 holds an object)
+    EXPECT_EQ(through.nodes[0].raysExpressed, 1u);
+    EXPECT_EQ(through.nodes[0].boxesSkipped, 3u);
+    EXPECT_TRUE(through.image.pixels == exact.image.pixels);
+    EXPECT_EQ(through.renderTime, exact.renderTime);
+    EXPECT_EQ(express.renderTime, exact.renderTime);
+}
+
+// Where through is not exact: the sender passes a node where its processor
+// is free as far as the bookings tell, and the relay, as the ray reaches
+// it, leaves the ray to the node if it has work then (into its input,
+// behind the rays before it); but what the node will do is not booked yet
+// (its process runs ahead of the relay or behind it), and a ray that found
+// it free may still go ahead of work that reaches it at that time. On
+// balls-2 at 32x32 on 16x16x16 the frame is off by about half a per cent,
+// the image the same.
+//
+// Where nodes are busy, the rays are theirs: passed all the same (the
+// sender not asking whether the node is free when the ray would reach it),
+// the passes go ahead of their queues, and balls-5 at 128x128 on 16x16x16
+// ended 23 % later than in the exact model; left to them, within 0.1 %.
+namespace {
+double throughError(const std::string& scene, int n, int pixels) {
+    const Scene s = readNff(std::string(RT_SCENE_DIR) + "/" + scene + ".nff");
+    MachineConfig c;
+    c.dims = {n, n, n};
+    c.width = c.height = pixels;
+    const MachineResult exact = runMachine(s, c);
+    c.through = true;
+    const MachineResult through = runMachine(s, c);
+    EXPECT_TRUE(through.image.pixels == exact.image.pixels);
+    return double(through.renderTime) / double(exact.renderTime) - 1;
+}
+}  // namespace
+
+TEST(ThroughRung, IsOffWhereAPassedNodeTurnsBusy) {
+    const double error = throughError("balls-2", 16, 32);
+    EXPECT_GT(std::fabs(error), 0.002);
+    EXPECT_LT(std::fabs(error), 0.02);
+}
+
+TEST(ThroughRung, LeavesBusyNodesTheRay) { EXPECT_LT(std::fabs(throughError("balls-5", 16, 128)), 0.005); }
 
 // The frame buffer as the bottleneck: two nodes each send two batches of 4
 // contributions (16 rays that miss everything) into one host that takes
