@@ -6,7 +6,8 @@ CPU: the medians of their process wall times (the --max-error run's
 calibration included) and their ratio, the rung --max-error chose, the
 rays sent from node to node in the exact run over those in the chosen
 rung's (about the most it can gain: each is a message and a step of a
-node's process; express sends a ray past empty boxes as one), its render
+node's process; express sends a ray past empty boxes as one, through past
+boxes with objects it crosses without a hit too), its render
 time's error against the exact one, and whether the images are identical. Cases (--case NAME, repeatable; default all):
 
   big     balls-5 at 1024x1024 on 32x32x32, --max-error 2% (target: within
@@ -75,7 +76,7 @@ def case(tmp, name, runs):
     ok = abs(got) <= target_error and speedup >= target_speedup * (1 - TIMING_NOISE) and same
     # What the rung can gain at most: a node's step and a link message per
     # ray between nodes is most of a frame's simulation, and the express
-    # rung keeps those between boxes with work of their own.
+    # and through rungs keep those into boxes with work of their own.
     hops = ex["totals"]["rays_forwarded"] / max(1, mx["totals"]["rays_forwarded"])
     return (f"| {scene} {size}, {n}x{n}x{n} | {error} | {mx['config']['fidelity']['rung']} | "
             f"{statistics.median(walls['exact']):.1f} | {statistics.median(walls['max']):.1f} "

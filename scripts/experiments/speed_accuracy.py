@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """Speed against accuracy, rung by rung: every fidelity rung of rtsim
-(doc/fidelity.md: express, a 10 us quantum, both) and what --max-error
+(doc/fidelity.md: express, through, a 10 us quantum, express with it) and what --max-error
 chooses, against the exact model in rtsim's default mode, on any scenes,
 meshes and machine flags. Charts each point's |render-time error| against
 its wall-time speed-up over the default mode (the process's wall time, a
@@ -32,12 +32,14 @@ SPD = ["balls-1", "balls-2", "balls-3", "balls-4", "balls-5", "gears-2", "rings-
 RUNGS = {
     "exact": [],
     "express": ["--fidelity", "express"],
+    "through": ["--fidelity", "through"],
     "quantum 10 us": ["--quantum", "10us"],
     "express, quantum 10 us": ["--fidelity", "express", "--quantum", "10us"],
 }
 # The flags a point sets itself (its scene, image, mesh and rung): not for --flags.
 OWN = ["--scene", "--size", "--mesh", "--mesh-dims", "--fidelity", "--quantum", "--max-error"]
-COLOURS = {"exact": "black", "express": "#2a6fdb", "quantum 10 us": "#e9a23b", "express, quantum 10 us": "#7b4fb0"}
+COLOURS = {"exact": "black", "express": "#2a6fdb", "through": "#2a9d5b", "quantum 10 us": "#e9a23b",
+           "express, quantum 10 us": "#7b4fb0"}
 
 
 def scene_flags(name):
