@@ -25,11 +25,14 @@
 //
 // The through rung (--fidelity through) goes further: past a box with
 // objects too, where the ray crosses it without a hit (its node would trace
-// it there and send it on). The relay books that node's step for it (the
-// trace's cost) on its processor, which has work of its own throughout, so
-// the passes and the node's own steps wait for each other in the order
-// booked, not the order of their times, and a pass goes ahead of the rays
-// queued at the node: that is this rung's error (doc/fidelity.md).
+// it there and send it on) and its node is free: the sender's route skips
+// it only where the node's processor is free by the time the ray would
+// reach it, and the relay, as the ray reaches it, leaves the ray to a node
+// that has work then (into its input: Link::deliverExpress). The relay
+// books the node's step for the ray (the trace's cost) on its processor.
+// What the node will do is not booked yet when a ray passes, so a pass can
+// still go ahead of work that reaches the node then: that is this rung's
+// error (doc/fidelity.md).
 //
 // This is the simulator's shortcut, not the machine's: the sender reads the
 // boxes beyond its neighbour from here (architecture.md, invariant 4, holds
@@ -118,8 +121,8 @@ public:
     ExpressRoutes(std::array<int, 3> dims, std::vector<ExpressNode> nodes);
 
     // Whether a ray that node `from` sends towards `dir` at job.t0, at its
-    // time `now`, crosses at least one box it may skip: then the boxes it skips (their
-    // nodes and the links they would send it on, the last one's into the
+    // time `now`, crosses at least one box it may skip: then the boxes it
+    // skips (their nodes and the links they would send it on, the last one's into the
     // box that takes it) are appended to `hops`, from r.first on, and
     // job.t0 moves to where it enters that box. False (and job unchanged):
     // the neighbour takes it as in the exact model (it holds objects or

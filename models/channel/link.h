@@ -293,8 +293,8 @@ private:
     // (A port's channels have the same slots, so its mark, the largest
     // channel's, is reached for all of them at once: flowInto.)
     bool keepsBufferMark(const Lane& l) const { return distributions_ && flow().bufferHighWater < l.slots; }
-    void putOnWire(int lane, Picos slot, const Waiting& w);
-    void recordOnWire(Lane& l, const Timed& m);  // the lane's next message on the wire: its record  // the lane's message w: its first waiting one (the caller then drops it), or one sent to a free slot
+    void putOnWire(int lane, Picos slot, const Waiting& w);  // the lane's message w: its first waiting one (the caller then drops it), or one sent to a free slot
+    void recordOnWire(Lane& l, const Timed& m);  // the lane's next message on the wire: its record
     // A message's slot and wire waits (LinkFlow::slotWait, wireWait) up to
     // `upTo`: at its take, all of them; at the frame's end, those so far.
     void countWaits(const Timed& m, Picos upTo);

@@ -179,15 +179,16 @@ void MachineConfig::validate() const {
     for (const auto& [c, d] : traceLinks) checkNode(c, dims, "--trace-links", d);
     if (traceFrom > traceTo) throw std::invalid_argument("--trace-window: start after end");
     balance.validate(std::max<Picos>(1000, costs.send + costs.recv), !startBoundaries.empty() || !targetBoundaries.empty());
+    const std::string rung = through ? "through" : "express";
     if (usesRelay() && !balance.boxesStayPut())
-        throw std::invalid_argument("--fidelity: " + std::string(through ? "through" : "express") + " needs boxes that stay put within and between frames (--balance none "
-                                    "or median), not --balance " + balance.asGiven());
+        throw std::invalid_argument("--fidelity: " + rung + " needs boxes that stay put within and between frames (--balance "
+                                    "none or median), not --balance " + balance.asGiven());
     if (expressRoutes && !balance.boxesStayPut())
         throw std::invalid_argument("--max-error: a calibration that may switch express on needs boxes that stay put, not --balance " +
                                     balance.asGiven());
     if (pixelStride < 1) throw std::invalid_argument("pixel stride: must be at least 1, not " + std::to_string(pixelStride));
     if (usesRelay() && rayBatch > 1)
-        throw std::invalid_argument("--fidelity: " + std::string(through ? "through" : "express") + " sends a ray per message, not with --ray-batch " + std::to_string(rayBatch));
+        throw std::invalid_argument("--fidelity: " + rung + " sends a ray per message, not with --ray-batch " + std::to_string(rayBatch));
 }
 
 void BalanceConfig::validate(Picos reportFloor, bool carriedBoundaries) const {

@@ -41,7 +41,9 @@ TEST_F(Rtsim, MaxErrorPicksARungWithinItAndSaysHow) {
     const json& tried = f["calibration"]["rungs"];
     ASSERT_GE(tried.size(), 1u);
     EXPECT_EQ(tried[0]["rung"], "through");  // (the coarsest of the two it tries: doc/fidelity.md)
-    if (tried.size() > 1) EXPECT_EQ(tried[1]["rung"], "express");
+    if (tried.size() > 1) {
+        EXPECT_EQ(tried[1]["rung"], "express");
+    }
     for (size_t i = 0; i + 1 < tried.size(); ++i) EXPECT_FALSE(tried[i]["within"].get<bool>()) << "tried on past " << tried[i]["rung"];
     EXPECT_EQ(tried.back()["rung"], f["rung"]);
     for (const json& r : tried) {

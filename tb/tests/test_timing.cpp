@@ -741,7 +741,8 @@ TEST(ThroughRung, PassesIdleBoxesWithObjectsAsTheExactModelTimesThem) {
 // Where nodes are busy, the rays are theirs: passed all the same (the
 // sender not asking whether the node is free when the ray would reach it),
 // the passes go ahead of their queues, and balls-5 at 128x128 on 16x16x16
-// ended 23 % later than in the exact model; left to them, within 0.1 %.
+// ended 23 % later than in the exact model (at rtsim's default quantum);
+// left to them, within 0.1 %.
 namespace {
 double throughError(const std::string& scene, int n, int pixels) {
     const Scene s = readNff(std::string(RT_SCENE_DIR) + "/" + scene + ".nff");
