@@ -93,7 +93,7 @@ std::string rungOf(const MachineConfig& m) {
     for (const FidelityRung& r : fidelityRungs())
         if (r.express == m.express && r.through == m.through && (r.quantum == 0 ? m.lookaheadQuantum : !m.lookaheadQuantum && m.quantum == r.quantum)) return r.name;
     std::ostringstream s;
-    const std::string relay = m.through ? "through" : m.express ? "express" : "";
+    const std::string relay = m.usesRelay() ? m.relayRung() : "";
     s << (relay.empty() ? "" : relay + ", ") << "quantum " << formatTime(m.quantum);
     return m.lookaheadQuantum ? (relay.empty() ? "exact" : relay) : s.str();
 }

@@ -443,7 +443,7 @@ void RtsimOptions::setMaxError() {
     maxError = maxError_.empty() ? 0 : parseErrorShare(maxError_);
     if (maxError > 0 && (quantum_ != "lookahead" || machine.usesRelay()))  // (--quantum lookahead is the exact rung's own)
         throw OptionError("--max-error", "it picks --fidelity and --quantum itself: not with " +
-                                             (machine.usesRelay() ? std::string("--fidelity ") + (machine.through ? "through" : "express")
+                                             (machine.usesRelay() ? std::string("--fidelity ") + machine.relayRung()
                                                                   : "--quantum " + quantum_));
 }
 

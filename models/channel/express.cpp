@@ -35,7 +35,7 @@ bool ExpressRoutes::route(const Cell& from, int dir, RayJob& job, Picos now, Rou
         // face it leaves by.
         const ExpressNode& n = nodes_[cur];
         if (!n.empty && !(n.through && through_)) break;
-        if (n.through && (n.processorFree > reach || n.queued > 0)) break;  // busy then: its node takes it
+        if (n.through && n.busyAt(reach)) break;  // busy then: its node takes it
         const Box& box = n.box;
         const BoxSlabs s = boxSlabs(probe.ray, box);
         int d = routeRay(probe, s, box);

@@ -92,6 +92,9 @@ struct ExpressNode {
     bool empty = false;       // holds no object and generates no primary ray: a ray passes it without work of its own
     bool through = false;     // (--fidelity through) holds objects, generates no primary ray: a ray it traces without a hit passes
     uint32_t queued = 0;      // (through) the rays its node held at its last step, its own and arrived or on their way
+    // (through) Whether its node has work at `t`, as far as the bookings
+    // tell: the sender's route and then the relay ask.
+    bool busyAt(Picos t) const { return processorFree > t || queued > 0; }
     std::array<ExpressLink, kDirs> out;  // (no link: none)
     Box box;
 };

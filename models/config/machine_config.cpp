@@ -179,7 +179,7 @@ void MachineConfig::validate() const {
     for (const auto& [c, d] : traceLinks) checkNode(c, dims, "--trace-links", d);
     if (traceFrom > traceTo) throw std::invalid_argument("--trace-window: start after end");
     balance.validate(std::max<Picos>(1000, costs.send + costs.recv), !startBoundaries.empty() || !targetBoundaries.empty());
-    const std::string rung = through ? "through" : "express";
+    const std::string rung = relayRung();
     if (usesRelay() && !balance.boxesStayPut())
         throw std::invalid_argument("--fidelity: " + rung + " needs boxes that stay put within and between frames (--balance "
                                     "none or median), not --balance " + balance.asGiven());

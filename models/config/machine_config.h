@@ -247,6 +247,7 @@ struct MachineConfig {
     bool through = false;  // --fidelity through
     // Either rung: rays go through the express relay.
     bool usesRelay() const { return express || through; }
+    const char* relayRung() const { return through ? "through" : "express"; }  // (its name, where usesRelay)
     // A session whose later frames may turn express on (--max-error's
     // calibration frames, tb/fidelity_choice.h) builds the express routes
     // and relay even where express is off: a frame without express then

@@ -108,7 +108,7 @@ void ExpressRelay::hop(uint32_t slot, Picos t) {
     // (--fidelity through) A node with work now takes the ray into its
     // input, behind the rays before it, as in the exact model.
     ExpressLink& in = *ray.on;
-    const bool busy = n.through && (n.processorFree > t || n.queued > 0) && in.link->mayDeliverExpress();
+    const bool busy = n.through && n.busyAt(t) && in.link->mayDeliverExpress();
     const Picos taken = busy ? t : std::max(t, n.processorFree), passed = taken + h.step;
     if (!busy) n.processorFree = passed;
     // Taken from the link it came by: its slot's credit goes back, and a ray waiting for one may go.
