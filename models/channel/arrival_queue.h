@@ -131,10 +131,12 @@ public:
     size_t unconsumed() const { return buffered; }
 
     // Messages that have arrived at the listened ports by `t`, not yet taken.
+    // (Only the links whose oldest message has arrived by then: the others
+    // have none, and are not read.)
     size_t arrivedBy(Picos t) const {
         size_t n = 0;
-        for (const LinkRecvIf* l : links_)
-            if (l) n += l->arrivedBy(t);
+        for (size_t p = 0; p < links_.size(); ++p)
+            if (head_[p] <= t) n += links_[p]->arrivedBy(t);
         return n;
     }
 

@@ -60,6 +60,8 @@ Link::Carried& Link::startCarrying() {
         carried_->control = std::make_unique<Lane>();
         carried_->control->slots = uint32_t(params_->controlDepth);
     }
+    if (params_->outDepth > 0)
+        for (int k = 0; k < carried_->lanes(); ++k) carried_->lane(k).leaving = std::make_unique<Fifo<Picos>>();
     return *carried_;
 }
 
@@ -189,13 +191,14 @@ void Link::startWaiting(int lane) {
 Picos Link::roomAt(const Message& m, Picos t) {
     if (params_->outDepth <= 0 || !carried_) return t;
     Lane& l = carried_->lane(laneOf(m));
-    while (!l.leaving.empty() && l.leaving.front() <= t) l.leaving.pop_front();
+    Fifo<Picos>& leaving = *l.leaving;
+    while (!leaving.empty() && leaving.front() <= t) leaving.pop_front();
     // Held at `t`: the backlog, and those that leave it later than `t`
     // (in the order they leave: slots come back in order).
-    const size_t held = l.waiting() + l.leaving.size(), cap = size_t(params_->outDepth);
+    const size_t held = l.waiting() + leaving.size(), cap = size_t(params_->outDepth);
     if (held < cap) return t;
     const size_t mustLeave = held - cap + 1;
-    return l.leaving.size() >= mustLeave ? l.leaving[mustLeave - 1] : kRoomUnknown;
+    return leaving.size() >= mustLeave ? leaving[mustLeave - 1] : kRoomUnknown;
 }
 
 void Link::putOnWire(int lane, Picos slot, const Waiting& w) {
@@ -207,7 +210,7 @@ void Link::putOnWire(int lane, Picos slot, const Waiting& w) {
     // Until its slot is free it is in the sender's output buffer. (With a
     // quantum the slot may be known before the message is sent, when the
     // receiver runs ahead: it waits all the same, without a backlog.)
-    if (params_->outDepth > 0 && ready > sent) l.leaving.push_back(ready);
+    if (params_->outDepth > 0 && ready > sent) l.leaving->push_back(ready);
     Picos start;
     if (lane == kData) {
         start = std::max(ready, wireFree_);

@@ -253,8 +253,11 @@ private:
     // before the oldest on the wire) in `takenAt_`; message n at n mod each
     // ring's size, a power of two that grows as the window does (to at most
     // slots and 2 slots).
+    //
+    // Its fields in the order a message sent or taken reads them, so that
+    // the lane and the counts of the message's type (Carried) are three
+    // cache lines, where they were four: on a large mesh every one is cold.
     struct Lane {
-        Fifo<Waiting> backlog;
         Fifo<Message> messages;
         NumberedRing<Timed> onWire_;
         NumberedRing<Picos> takenAt_;
@@ -265,12 +268,14 @@ private:
         // Every message sent: its transfer and the latency there and back,
         // summed (the slots' round trips it owes, for occupied()).
         Picos held = 0;
+        Fifo<Waiting> backlog;
         // For the backlog's high-water mark: when the messages that waited
         // for the wire started.
         Fifo<Picos> waitedUntil;
-        // With an output depth: when the messages that left the backlog
-        // (given a slot) leave the sender's buffer, from the sender's time on.
-        Fifo<Picos> leaving;
+        // With an output depth (only then made: startCarrying): when the
+        // messages that left the backlog (given a slot) leave the sender's
+        // buffer, from the sender's time on.
+        std::unique_ptr<Fifo<Picos>> leaving;
         size_t buffered() const { return size_t(wired - taken); }
         size_t waiting() const { return backlog.size(); }
         Timed& onWire(size_t i) { return onWire_[taken + i]; }  // i < buffered(), oldest first
@@ -329,14 +334,16 @@ private:
     // 32x32x32 with 16 units; and the express rung leaves the empty boxes'
     // links idle), so a link allocates them at its first message, and one
     // that has carried none reads as empty (kNothingCarried).
+    // (The data lane, the control lane's pointer and the first type's
+    // counts in the first three cache lines: Lane.)
     struct Carried {
-        std::unique_ptr<LinkFlow> own;  // without an entry (flowInto)
         Lane data;
         // The control lane's, with one (LinkParams::controlDepth > 0): most
         // links have none, and it was a fifth of what every link that
         // carried kept (about 200 bytes).
         std::unique_ptr<Lane> control;
         std::array<TypeCounts, kMsgTypes> byType{};
+        std::unique_ptr<LinkFlow> own;  // without an entry (flowInto)
         int lanes() const { return control ? 2 : 1; }
         Lane& lane(int i) { return i == kData ? data : *control; }  // (kControl: one it has)
         const Lane& lane(int i) const { return i == kData ? data : control ? *control : kNoLane; }

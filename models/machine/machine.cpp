@@ -338,7 +338,9 @@ void Machine::endFrame() {
 // first: the kernel finds a killed process in its list of processes from
 // the newest on, so ending the oldest first would take a search of every
 // process for each: quadratic in the nodes. The first frame's processes
-// are the modules' own (SC_METHOD); a later frame's were spawned.
+// are the modules' own (SC_METHOD); a later frame's were spawned. Both are
+// held (spawned_): SystemC deletes them at the next frame's start, not
+// here, a search of its names each (doc/history.md, "Figures behind ...").
 void Machine::endProcesses() {
     const sc_core::sc_process_handle self = sc_core::sc_get_current_process_handle();
     auto kill = [&](sc_core::sc_process_handle h) {
@@ -346,7 +348,7 @@ void Machine::endProcesses() {
     };
     if (spawned_.empty()) {
         auto end = [&](const sc_core::sc_object& module) {
-            for (sc_core::sc_object* child : module.get_child_objects()) kill(sc_core::sc_process_handle(child));
+            for (sc_core::sc_object* child : module.get_child_objects()) kill(spawned_.emplace_back(child));  // (a port: invalid)
         };
         end(*watchdog_);
         if (relay_) end(*relay_);
