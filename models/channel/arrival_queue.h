@@ -150,16 +150,19 @@ private:
     static constexpr Picos kNone = ~Picos(0);
     static constexpr size_t kScanned = 8;  // ports up to which a choice scans the heads, without the heap
     bool heaped() const { return head_.size() > kScanned; }
-    std::vector<LinkRecvIf*> links_;
-    // Each port's oldest unconsumed arrival, as its link last said (kNone: empty).
-    boost::container::small_vector<Picos, kScanned> head_;
-    std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> heap_;
-    sc_core::sc_event arrived_;  // wakes the waiting process
+    // What a message landing in an empty link and a choice of input read
+    // first, in the queue's first cache lines (on a large mesh the sender
+    // finds its receiver's queue cold): the wait's state and the heads.
     bool waiting_ = false;
     Picos notBefore_ = 0;        // while waiting: the process's local time, before which it takes nothing
     Picos wakeAt_ = 0;           // while waiting: when the process wakes anyway
     Picos late_ = 0;             // setLate
     size_t punctualFrom_ = ~size_t(0);
+    // Each port's oldest unconsumed arrival, as its link last said (kNone: empty).
+    boost::container::small_vector<Picos, kScanned> head_;
+    std::vector<LinkRecvIf*> links_;
+    std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> heap_;
+    sc_core::sc_event arrived_;  // wakes the waiting process
 };
 
 }  // namespace rt

@@ -16,12 +16,12 @@ Node::Node(sc_core::sc_module_name name, const Cell& cell, const Box& box, std::
       in(std::in_place, "in"),
       fb(std::in_place, "fb"),
       params_(params),
-      cell_(cell),
-      margin_(roundingMargin(params.world)),
-      costs_(costs, speed, params.balance.rebuildCost),
       time_(params.quantum),
+      costs_(costs, speed, params.balance.rebuildCost),
+      fbOut_(params.fbUnits, params.fbBatch),
       batcher_(params.rayBatch),
-      fbOut_(params.fbUnits, params.fbBatch) {
+      cell_(cell),
+      margin_(roundingMargin(params.world)) {
     rebuild(box, std::move(objects));
     runAhead_ = params.runAhead;
     SC_METHOD(run);

@@ -241,18 +241,32 @@ private:
     int sideDir(int side) const { return dirOf(params_.balance.axis, side); }  // side -1 / +1 -> link direction
     const LinkParams& linkTo(int side) const { return outLinks_[size_t(sideDir(side))]->params(); }
 
+    // The fields in the order a step reads them, the hot ones first: on a
+    // large mesh a node is cold whenever it runs, and each of its cache
+    // lines that a step reads is a miss (doc/history.md, "Figures behind
+    // the code's comments").
     const NodeParams& params_;
-    Cell cell_;
     std::unique_ptr<Region> region_;  // the box, its objects and their grid
-    double margin_;                   // object overlap margin, the same in every node (the world's)
-    CostModel costs_;
-    NodeStats stats_;
-    TimeLedger ledger_{stats_};
-    QueueDepthMarks marks_{stats_.queueHighWater};
-    TimeKeeper time_;  // when to let the kernel catch up
-    NodeInput input_;
-    RayBatcher batcher_;
-    FrameBufferOutbox fbOut_;
+    Progress* progress_ = nullptr;  // the watchdog's (watchdog.h)
+    ExpressNode* expressSelf_ = nullptr;  // its own entry, if rays may skip it (its steps keep the relay's rays waiting)
+    std::unique_ptr<BalanceAgent> balance_;  // dynamic policies; made at the start
+
+    // The process between activations (run): how it goes on, its local
+    // time, and the step whose outbox is being sent: the next message, the
+    // step's cost, whether it may wait for work at once, and the time
+    // blocked so far.
+    Resume resume_ = Resume::Start;
+    bool suspended_ = false;
+    bool intervalClosed_ = false;  // the last turn closed an interval whose actions are being taken
+    bool sendMayWait_ = false;
+    // Running ahead (NodeParams::runAhead): takeWork found it must see its
+    // input as of now_ first.
+    bool runAhead_ = false, mustSee_ = false;
+    Picos now_ = 0;
+    size_t outboxNext_ = 0;
+    Picos sendCost_ = 0, sendBlocked_ = 0;
+    NodeTrace trace_;  // (signals -1: not traced)
+    std::array<Link*, kDirs> outLinks_{};  // the link out towards d (null: none), set when bound
     Outbox outbox_;    // this step's sends
     // This step's express rays (--fidelity express): sent with the outbox,
     // each to the express relay, which takes it past the boxes it skips.
@@ -262,12 +276,29 @@ private:
         Message m;
     };
     std::vector<ExpressSend> expressOut_;
+    TimeKeeper time_;  // when to let the kernel catch up
+    CostModel costs_;
+    // What proceed and step work on, members rather than locals: as locals a
+    // Work and an empty optional Message would be cleared at every turn, and
+    // the scratch lists would allocate at every step.
+    Work work_;
+    std::vector<RayJob> spawned_;
+    std::vector<Contribution> contributions_;
+    Mailbox mailbox_;
+    NodeInput input_;
+    FrameBufferOutbox fbOut_;
+    std::vector<Link*> fbLinks_;           // fb's, by unit, set when bound
+    RayBatcher batcher_;
+    NodeStats stats_;
+    TimeLedger ledger_{stats_};
+    QueueDepthMarks marks_{stats_.queueHighWater};
+
+    // Read at the start, or with balancing, express or `sample` alone.
+    Cell cell_;
+    double margin_;                   // object overlap margin, the same in every node (the world's)
+    std::optional<Message> control_;
     std::vector<ExpressHop> expressHops_;  // the boxes they skip (ExpressSend::route.first on)
     uint64_t expressSent_ = 0;  // express rays sent so far (their order among this node's)
-    ExpressNode* expressSelf_ = nullptr;  // its own entry, if rays may skip it (its steps keep the relay's rays waiting)
-    std::array<Link*, kDirs> outLinks_{};  // the link out towards d (null: none), set when bound
-    std::vector<Link*> fbLinks_;           // fb's, by unit, set when bound
-    std::unique_ptr<BalanceAgent> balance_;  // dynamic policies; made at the start
     std::optional<std::array<double, 2>> startTargets_;
     struct SampleSetup {
         bool gathers = true;  // its column gathers its sample (Machine::prepareSample; else its faces hold)
@@ -278,31 +309,6 @@ private:
     };
     std::optional<SampleSetup> sample_;
     std::array<double, 2> occupied_{};  // along the axis, the part of the box its objects occupy (recordSample)
-    Progress* progress_ = nullptr;  // the watchdog's (watchdog.h)
-    NodeTrace trace_;  // (signals -1: not traced)
-
-    // The process between activations (run): how it goes on, its local
-    // time, and the step whose outbox is being sent: the next message, the
-    // step's cost, whether it may wait for work at once, and the time
-    // blocked so far.
-    Resume resume_ = Resume::Start;
-    bool suspended_ = false;
-    bool intervalClosed_ = false;  // the last turn closed an interval whose actions are being taken
-    Picos now_ = 0;
-    size_t outboxNext_ = 0;
-    Picos sendCost_ = 0, sendBlocked_ = 0;
-    bool sendMayWait_ = false;
-    // Running ahead (NodeParams::runAhead): takeWork found it must see its
-    // input as of now_ first.
-    bool runAhead_ = false, mustSee_ = false;
-    // What proceed and step work on, members rather than locals: as locals a
-    // Work and an empty optional Message would be cleared at every turn, and
-    // the scratch lists would allocate at every step.
-    Work work_;
-    std::optional<Message> control_;
-    std::vector<RayJob> spawned_;
-    std::vector<Contribution> contributions_;
-    Mailbox mailbox_;
 };
 
 }  // namespace rt
