@@ -33,6 +33,7 @@ void FrameBufferOutbox::flush(Outbox& out, const std::string& who) {
         out.push_back({target(0), Message::credit(credit_, std::move(counts), sampleCredit_)});
         credit_.clear();
         sampleCredit_.clear();
+        holds_ = holdsSample_ = false;
     } else if (std::any_of(sentSince_.begin(), sentSince_.end(), [](uint32_t n) { return n != 0; })) {
         // A contribution is made with credit kept for it (Node::terminate), so this cannot happen.
         throw std::logic_error(who + ": contributions sent without credit to cover them");

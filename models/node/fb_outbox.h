@@ -24,11 +24,19 @@ public:
         credit_ = c;
         sampleCredit_ = c;
         sampleCredit_.clear();
+        holds_ = !credit_.isZero();
+        holdsSample_ = false;
     }
-    void addCredit(int e, uint64_t k = 1) { credit_.add(e, k); }
+    void addCredit(int e, uint64_t k = 1) {
+        credit_.add(e, k);
+        holds_ = holds_ || k > 0;
+    }
     // --sample-end credit: what a ray of the sample gives back, returned
     // within the same credit messages and counted apart by unit 0.
-    void addSampleCredit(int e, uint64_t k = 1) { sampleCredit_.add(e, k); }
+    void addSampleCredit(int e, uint64_t k = 1) {
+        sampleCredit_.add(e, k);
+        holdsSample_ = holdsSample_ || k > 0;
+    }
 
     // A step's contributions into their units' batches; the batches they
     // fill go into the outbox.
@@ -52,8 +60,11 @@ public:
 
     bool owes() const { return count_ || holdsCredit(); }  // contributions or credit not yet sent
     size_t contributions() const { return count_; }
-    bool holdsCredit() const { return !credit_.isZero() || !sampleCredit_.isZero(); }
-    bool holdsSampleCredit() const { return !sampleCredit_.isZero(); }
+    // (Kept as flags: a node asks after every step, and the credit's words
+    // are a cold read on a large mesh. Credit added is never zero: its
+    // whole part does not wrap.)
+    bool holdsCredit() const { return holds_ || holdsSample_; }
+    bool holdsSampleCredit() const { return holdsSample_; }
 
 private:
     int unitOf(const Contribution& c) const { return int(c.pixel % uint32_t(pending_.size())); }
@@ -61,6 +72,7 @@ private:
 
     std::vector<std::vector<Contribution>> pending_;  // per unit: contributions not yet sent
     size_t count_ = 0;                                // in all of them
+    bool holds_ = false, holdsSample_ = false;        // credit_, sampleCredit_ not zero
     std::vector<uint32_t> sentSince_;  // per unit: contributions sent since the last credit return
     int batch_;
     Credit credit_;  // returned credit not yet sent

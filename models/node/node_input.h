@@ -129,13 +129,15 @@ public:
     const ArrivalQueue& arrivals() const { return arrivals_; }
 
 private:
-    ArrivalQueue arrivals_;
+    // (What taking work reads, together, ahead of the arrival queue's
+    // first fields: on a large mesh each cache line of it is a miss.)
     std::array<Link*, kDirs> links_{};  // in[d]'s link (null: none), set at the start
     std::vector<Work> local_;           // spawned rays, LIFO
     RayList received_;                  // the rest of the last batch received (FIFO)
     size_t receivedNext_ = 0;
     int8_t receivedFrom_ = -1;          // the link it came on
     PrimaryQueue primaries_;
+    ArrivalQueue arrivals_;
 };
 
 }  // namespace rt
