@@ -101,9 +101,9 @@ public:
     }
 
 private:
-    // The links in, by direction (null: none). (Here, beside the ports, in
-    // the 48 bytes the bindings' directions took, so that the node's later
-    // fields stay where they were in their cache lines.)
+    // The links in, by direction (null: none); here, beside the ports, in
+    // the 48 bytes the bindings' directions took (the node's other fields
+    // are below, hot ones first).
     std::array<Link*, kDirs> inLinks_{};
 
 public:
