@@ -34,10 +34,7 @@ public:
         if (batch.size() >= size_t(batch_)) send(dir, out);
     }
     // Every partial batch into the outbox.
-    // (A message per ray holds none: the batches are not read, on a large
-    // mesh a cold line or three at every idle turn of a node's loop.)
     void flush(Outbox& out) {
-        if (batch_ <= 1) return;
         for (int d = 0; d < kDirs; ++d)
             if (!batches_[size_t(d)].empty()) send(d, out);
     }
@@ -49,7 +46,6 @@ public:
     }
     // Rays in partial batches.
     size_t held() const {
-        if (batch_ <= 1) return 0;
         size_t n = 0;
         for (const RayList& b : batches_) n += b.size();
         return n;
