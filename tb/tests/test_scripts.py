@@ -179,6 +179,16 @@ class Scripts(unittest.TestCase):
         self.assertEqual(bench_scaling.positive([2, 4, 8], [0.0, 60.8, -1.0]), ([4], [60.8]))
         self.assertEqual(bench_scaling.positive([2, 4], [21250.5, 2529.1]), ([2, 4], [21250.5, 2529.1]))
 
+    def test_the_memory_benchmark_finds_where_the_cache_ends(self):
+        """bench_memory.py: where the cache ends is between the two
+        neighbouring sizes whose loads are furthest apart, not at the
+        first step up (a second-level cache's)."""
+        import bench_memory
+        mibs = [0.25, 1, 2, 8, 16, 64]
+        # (this VM's run of 2026-12-06: the second level ends at 1 MiB, the last between 8 and 16)
+        self.assertEqual(bench_memory.cache_ends(mibs, {0.25: 4, 1: 9, 2: 14, 8: 33, 16: 129, 64: 150}), (8, 16))
+        self.assertEqual(bench_memory.cache_ends(mibs, {0.25: 4, 1: 9, 2: 40, 8: 50, 16: 60, 64: 70}), (1, 2))
+
     def test_the_scaling_split_reads_perf_and_weighs_the_mix(self):
         """bench_scaling.py's split of a profile: the tracing's symbols from
         perf's lines, each kind's cost, and the ratio the mix of events alone
@@ -334,6 +344,8 @@ class BadInput(unittest.TestCase):
                 (py("bench_scaling.py", "--scenes", "../../x"), "a name, not a path"),
                 (py("bench_misses.py", "--ll", "0"), "--ll 0"),
                 (py("bench_misses.py", "--against", d), "--against"),
+                (py("bench_memory.py", "--mib", "1"), "at least two sizes"),
+                (py("bench_memory.py", "--mib", "0,4"), "--mib '0,4'"),
                 (py("stress.py", "--jobs", "0"), "--jobs"),
                 (py("same_outputs.py", "--record", os.path.join(root, "doc", "x"), "--only", "slide-lane"), "in doc/"),
                 (py("same_outputs.py", "--compare", os.path.join(d, "none")), "--compare"),
