@@ -189,6 +189,23 @@ class Scripts(unittest.TestCase):
         self.assertEqual(bench_memory.cache_ends(mibs, {0.25: 4, 1: 9, 2: 14, 8: 33, 16: 129, 64: 150}), (8, 16))
         self.assertEqual(bench_memory.cache_ends(mibs, {0.25: 4, 1: 9, 2: 40, 8: 50, 16: 60, 64: 70}), (1, 2))
 
+    def test_the_memory_probe_prints_a_line_a_size_and_refuses_bad_input(self):
+        """tb/memory_probe.cpp, which bench_memory.py reads: a JSON object a
+        size, in the order asked, each load and first touch timed; a size
+        out of range is one line and exit 2."""
+        probe = os.path.join(os.path.dirname(RTSIM), "memory_probe")
+        p = subprocess.run([probe, "--mib", "0.125,0.0625", "--pages", "small", "--loads", "1000"],
+                           capture_output=True, text=True, timeout=60)
+        self.assertEqual(p.returncode, 0, p.stderr)
+        rows = [json.loads(line) for line in p.stdout.splitlines()]
+        self.assertEqual([(r["mib"], r["pages"]) for r in rows], [(0.125, "small"), (0.0625, "small")])
+        for r in rows:
+            self.assertGreater(r["ns_per_load"], 0)
+            self.assertGreater(r["touch_ms_per_mib"], 0)
+        p = subprocess.run([probe, "--mib", "0"], capture_output=True, text=True, timeout=60)
+        self.assertEqual((p.returncode, p.stdout, p.stderr.count("\n")), (2, "", 1), p.stderr)
+        self.assertIn("--mib", p.stderr)
+
     def test_the_scaling_split_reads_perf_and_weighs_the_mix(self):
         """bench_scaling.py's split of a profile: the tracing's symbols from
         perf's lines, each kind's cost, and the ratio the mix of events alone
