@@ -22,8 +22,8 @@ instructions, 0.2 % in first-level and 0.7 % in last-level misses: the
 host's clock reads, such as the watchdog's, and where the system maps
 memory), so --against BINARY compares two builds to within that. They
 are a model of a cache, not this CPU's: they say where misses come from
-and whether a change removes some, not what a miss costs
-(bench_scaling.py times that).
+and whether a change removes some, not what a miss costs (bench_memory.py
+times one; bench_scaling.py times whole runs).
 
 Prints the table; with --doc writes doc/benchmarks/misses.md (without it,
 nothing is written). Run with /usr/bin/python3."""
