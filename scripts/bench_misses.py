@@ -137,7 +137,7 @@ def check_arguments(a):
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     outputs.one_line_errors(ap)
-    ap.add_argument("--n", default="4,8,16,32", help="mesh sizes N (N x N x N)")
+    ap.add_argument("--n", default="4,8,16,24,32", help="mesh sizes N (N x N x N)")
     ap.add_argument("--size", default="128x128")
     ap.add_argument("--scene", default="balls-5", help="an SPD scene's name, or 'paper'")
     # 4 MiB: the cache one process gets on this VM ends between 4 and 8
