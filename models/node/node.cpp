@@ -180,7 +180,7 @@ void Node::endWait() {
 // What the node will do next without input: rays in hand or still to
 // generate, rays in partial batches, contributions or credit owed.
 bool Node::nothingToDo() const {
-    return !input_.inHand() && !input_.primariesLeft() && !fbOut_.owes() && (params_.rayBatch <= 1 || !batcher_.held());
+    return !input_.inHand() && !input_.primariesLeft() && !fbOut_.owes() && (!batchesRays() || !batcher_.held());
 }
 
 // The control lane's messages are handled before any ray (link.h), as an

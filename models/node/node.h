@@ -196,6 +196,10 @@ private:
     void giveBack(const Work& w, int e, uint64_t k = 1);
     // `sample`'s first frame under --sample-end credit (its rays first, their credit apart).
     bool sampleCredit() const { return sample_ && params_.balance.sampleCredit; }
+    // Whether rays travel in batches (--ray-batch above 1). Asked of the
+    // shared parameters, not the batcher: with a message per ray it holds
+    // none, and on a large mesh its batches are a cold line or three.
+    bool batchesRays() const { return params_.rayBatch > 1; }
     // A ray of a sample pixel, or spawned by one (sample_split.h, inSample).
     bool sampleRay(const RayJob& j) const { return inSample(j.pixel, uint32_t(params_.camera.width())); }
     void markQueueDepth();

@@ -64,7 +64,7 @@ std::string Node::holding() const {
 }
 
 bool Node::flushRays() {
-    if (params_.rayBatch > 1) batcher_.flush(outbox_);  // (a message per ray holds no batch: not read, on a large mesh a cold line)
+    if (batchesRays()) batcher_.flush(outbox_);
     if (outbox_.empty()) return false;
     traceState(true, false);
     finishControlStep(0, 0, false);
