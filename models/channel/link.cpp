@@ -61,7 +61,7 @@ Link::Carried& Link::startCarrying() {
         carried_->control->slots = uint32_t(params_->controlDepth);
     }
     if (params_->outDepth > 0)
-        for (int k = 0; k < carried_->lanes(); ++k) carried_->lane(k).leaving = std::make_unique<Fifo<Picos>>();
+        carried_->leaving = std::make_unique<std::array<Fifo<Picos>, 2>>();
     return *carried_;
 }
 
@@ -190,8 +190,9 @@ void Link::startWaiting(int lane) {
 
 Picos Link::roomAt(const Message& m, Picos t) {
     if (params_->outDepth <= 0 || !carried_) return t;
-    Lane& l = carried_->lane(laneOf(m));
-    Fifo<Picos>& leaving = *l.leaving;
+    const int lane = laneOf(m);
+    const Lane& l = carried_->lane(lane);
+    Fifo<Picos>& leaving = (*carried_->leaving)[size_t(lane)];
     while (!leaving.empty() && leaving.front() <= t) leaving.pop_front();
     // Held at `t`: the backlog, and those that leave it later than `t`
     // (in the order they leave: slots come back in order).
@@ -210,7 +211,7 @@ void Link::putOnWire(int lane, Picos slot, const Waiting& w) {
     // Until its slot is free it is in the sender's output buffer. (With a
     // quantum the slot may be known before the message is sent, when the
     // receiver runs ahead: it waits all the same, without a backlog.)
-    if (params_->outDepth > 0 && ready > sent) l.leaving->push_back(ready);
+    if (params_->outDepth > 0 && ready > sent) (*c.leaving)[size_t(lane)].push_back(ready);
     Picos start;
     if (lane == kData) {
         start = std::max(ready, wireFree_);
@@ -224,7 +225,7 @@ void Link::putOnWire(int lane, Picos slot, const Waiting& w) {
     if (distributions_) {
         while (!l.waitedUntil.empty() && l.waitedUntil.front() <= sent) l.waitedUntil.pop_front();
         if (start > sent) l.waitedUntil.push_back(start);
-        flow().backlogHighWater = std::max(flow().backlogHighWater, l.waitedUntil.size());
+        l.backlogMark = std::max(l.backlogMark, uint32_t(l.waitedUntil.size()));  // (foldTaken)
     }
     c.byType[size_t(w.type)].wire += transfer;
     if (trace_.vcd && params_->controlDepth == 0) traceStart(start, transfer);
@@ -232,7 +233,10 @@ void Link::putOnWire(int lane, Picos slot, const Waiting& w) {
 }
 
 void Link::recordOnWire(Lane& l, const Timed& m) {
-    l.onWire_.fit(l.taken, l.wired);
+    // The ring keeps the records of the messages taken and not yet folded
+    // as well: folded now rather than the ring grown for them.
+    if (l.unfolded > 0 && l.wired + 1 - (l.taken - l.unfolded) > l.onWire_.mask + 1) foldTaken();
+    l.onWire_.fit(l.taken - l.unfolded, l.wired);
     l.onWire_[l.wired] = m;
     ++l.wired;
     if (listener_) ++listener_->buffered;
@@ -248,6 +252,7 @@ Picos Link::occupied() const {
 
 void Link::endFrame(Picos end) {
     if (!carried_) return;
+    foldTaken();  // (those taken first, as counted at their takes)
     Carried& c = *carried_;
     const bool late = tracesLate();  // a lane's messages are traced when consumed: these never were
     for (int k = 0; k < c.lanes(); ++k) {
@@ -270,8 +275,8 @@ void Link::endFrame(Picos end) {
     }
 }
 
-void Link::countWaits(const Timed& m, Picos upTo) {
-    LinkFlow& f = flow();
+void Link::countWaits(const Timed& m, Picos upTo) const {
+    LinkFlow& f = *flow_;
     f.slotWait += std::min(m.ready, upTo) - m.sent;
     f.wireWait += std::min(m.start, upTo) - std::min(m.ready, upTo);
 }
@@ -280,12 +285,32 @@ void Link::countWaits(const Timed& m, Picos upTo) {
 // waits end in order on each lane: the union is counted as it grows. A
 // control message overtaking data ones may end its wait before the last
 // counted: its overlap is not counted twice.)
-void Link::countSaturation(Picos ready, Picos start, Picos end) {
-    LinkFlow& f = flow();
+void Link::countSaturation(Picos ready, Picos start, Picos end) const {
+    LinkFlow& f = *flow_;
     if (distributions_) f.windows.add(start, end);  // (--link-stats full)
     const Picos from = std::max(ready, saturatedUntil_);
     if (start > from) f.saturated += start - from;
     saturatedUntil_ = std::max(saturatedUntil_, start);
+}
+
+void Link::foldTaken() const {
+    if (!carried_) return;
+    Carried& c = *carried_;
+    LinkFlow& f = *flow_;
+    for (int k = 0; k < c.lanes(); ++k) {  // (the data lane first: a control message is folded as it is taken)
+        Lane& l = c.lane(k);
+        for (uint64_t j = l.taken - l.unfolded; j < l.taken; ++j) {
+            const Timed& m = l.onWire_[j];  // (m.t: its take)
+            countWaits(m, m.t);  // (taken after its arrival: its whole waits)
+            countSaturation(m.ready, m.start, m.start + m.transfer);
+            if (distributions_) (isControl(m.type) ? f.controlLatency : f.latency).add(m.t - m.sent);
+        }
+        f.consumed += l.unfolded;
+        l.unfolded = 0;
+        f.bufferHighWater = std::max(f.bufferHighWater, size_t(l.bufferMark));
+        l.bufferMark = uint32_t(std::min(f.bufferHighWater, size_t(l.slots)));  // (the mark is at most the slots)
+        f.backlogHighWater = std::max(f.backlogHighWater, size_t(l.backlogMark));
+    }
 }
 
 Picos Link::scheduleControl(Picos ready, Picos transfer) {
@@ -343,7 +368,7 @@ Message Link::take(int lane, Picos t) {
     Lane& l = c.lane(lane);
     if (!l.buffered() || l.head().t > t) throw std::logic_error(name() + ": consumed before arrival");
     const uint64_t j = l.taken;  // its number
-    const Timed& head = l.head();
+    Timed& head = l.head();
     // Messages on the lane when it went on the wire: those before it taken
     // after that (take times do not decrease), and itself. They held a slot
     // each then, so they are the last `slots` at most (its own slot came
@@ -351,7 +376,7 @@ Message Link::take(int lane, Picos t) {
     if (keepsBufferMark(l)) {
         if (j + 1 > l.slots) l.markFrom = std::max(l.markFrom, j + 1 - l.slots);
         while (l.markFrom < j && l.takenAt(l.markFrom) <= head.start) ++l.markFrom;
-        flow().bufferHighWater = std::max(flow().bufferHighWater, size_t(j - l.markFrom + 1));
+        l.bufferMark = std::max(l.bufferMark, uint32_t(j - l.markFrom + 1));  // (foldTaken)
     }
     // Its take time, beside those the next slots need (message n's slot is
     // message n - slots's) and those the mark may still read (from markFrom,
@@ -360,11 +385,7 @@ Message Link::take(int lane, Picos t) {
     if (keepsBufferMark(l)) from = std::min(from, l.markFrom);
     l.takenAt_.fit(std::min(from, j), j);
     l.takenAt_[j] = t;
-    countWaits(head, t);  // (taken after its arrival: its whole waits)
-    countSaturation(head.ready, head.start, head.start + head.transfer);
-    LinkFlow& f = flow();
-    ++f.consumed;
-    if (distributions_) (isControl(head.type) ? f.controlLatency : f.latency).add(t - head.sent);
+    head.t = t;  // (its figures: foldTaken)
     if (trace_.vcd) {
         VcdStream& v = *trace_.vcd;
         if (params_->controlDepth > 0) {  // (its start may have moved: recorded now, when final)
@@ -376,6 +397,8 @@ Message Link::take(int lane, Picos t) {
     Message m = std::move(l.messages.front());
     l.messages.pop_front();
     ++l.taken;
+    ++l.unfolded;
+    if (lane == kControl) foldTaken();  // (the union of the wire waits in the order of the takes)
     if (!l.messages.empty()) {  // the next one, written long ago by the sender: on its way to the cache
         const char* next = reinterpret_cast<const char*>(&l.messages.front());
         for (size_t b = 0; b < sizeof(Message); b += 64) __builtin_prefetch(next + b);

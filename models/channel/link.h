@@ -126,6 +126,7 @@ public:
     // Its figures; with an entry (flowInto), the entry's flow (a port's:
     // every channel's).
     LinkStats stats() const {
+        foldTaken();
         LinkStats s;
         addCountsTo(s);
         if (flow_) static_cast<LinkFlow&>(s) = *flow_;
@@ -161,9 +162,6 @@ public:
     // Whether it keeps its latency distributions and high-water marks
     // (MachineConfig::linkDistributions); set before the first message.
     void keepDistributions(bool keep) { distributions_ = keep; }
-    // A message's time on the wire [start, end) and its wait for it from
-    // `ready`, in the saturation figures (LinkFlow::windows, saturated).
-    void countSaturation(Picos ready, Picos start, Picos end);
     // Where its waits, latencies, high-water marks and busy windows
     // (LinkFlow) go: into the figures of `entry`, its entry in the run's
     // report (Machine), which the channels side by side of a port share (a
@@ -226,7 +224,7 @@ private:
         Timed() = default;
         Timed(const Waiting& w, Picos arrival, Picos start_, Picos ready_, Picos transfer_)
             : t(arrival), sent(w.sent), start(start_), ready(ready_), transfer(transfer_), bytes(w.bytes), type(w.type) {}
-        Picos t = 0;         // its arrival
+        Picos t = 0;         // its arrival; once taken (until folded: foldTaken), when it was taken
         Picos sent = 0;      // when the sender sent it
         Picos start = 0;     // when it went on the wire
         Picos ready = 0;     // when it could have (sent, and a slot free)
@@ -265,17 +263,21 @@ private:
         uint64_t wired = 0;      // messages put on the wire so far (the next one's number)
         uint64_t markFrom = 0;   // the first message that may still count towards the buffer's high-water mark
         uint32_t slots = 0;
+        // The last messages taken whose figures are not yet in the flow
+        // (foldTaken): their records stay in onWire_ until then.
+        uint32_t unfolded = 0;
         // Every message sent: its transfer and the latency there and back,
         // summed (the slots' round trips it owes, for occupied()).
         Picos held = 0;
+        // The high-water marks of messages on the lane at once (buffer) and
+        // of those waiting for the wire (backlog), as the lane has seen them
+        // (its own, and the flow's at its last fold): its flow gets them at
+        // the next fold.
+        uint32_t bufferMark = 0, backlogMark = 0;
         Fifo<Waiting> backlog;
         // For the backlog's high-water mark: when the messages that waited
         // for the wire started.
         Fifo<Picos> waitedUntil;
-        // With an output depth (only then made: startCarrying): when the
-        // messages that left the backlog (given a slot) leave the sender's
-        // buffer, from the sender's time on.
-        std::unique_ptr<Fifo<Picos>> leaving;
         size_t buffered() const { return size_t(wired - taken); }
         size_t waiting() const { return backlog.size(); }
         Timed& onWire(size_t i) { return onWire_[taken + i]; }  // i < buffered(), oldest first
@@ -297,12 +299,28 @@ private:
     // messages on the 16x16x16 mesh go on links that fill their 16 slots).
     // (A port's channels have the same slots, so its mark, the largest
     // channel's, is reached for all of them at once: flowInto.)
-    bool keepsBufferMark(const Lane& l) const { return distributions_ && flow().bufferHighWater < l.slots; }
+    bool keepsBufferMark(const Lane& l) const { return distributions_ && l.bufferMark < l.slots; }
     void putOnWire(int lane, Picos slot, const Waiting& w);  // the lane's message w: its first waiting one (the caller then drops it), or one sent to a free slot
     void recordOnWire(Lane& l, const Timed& m);  // the lane's next message on the wire: its record
     // A message's slot and wire waits (LinkFlow::slotWait, wireWait) up to
     // `upTo`: at its take, all of them; at the frame's end, those so far.
-    void countWaits(const Timed& m, Picos upTo);
+    void countWaits(const Timed& m, Picos upTo) const;
+    // A message's time on the wire [start, end) and its wait for it from
+    // `ready`, in the saturation figures (LinkFlow::windows, saturated).
+    void countSaturation(Picos ready, Picos start, Picos end) const;
+    // The messages taken since the last fold, and the lanes' marks, into
+    // the figures (LinkFlow), in the order they were taken. A take writes
+    // only its own record (its take time) and leaves the rest to this: the
+    // figures are another block of memory, shared by a port's channels,
+    // that on a large mesh is out of cache at every message (a cache line
+    // or more, and the busy windows' and the latencies' one more), so they
+    // gain a batch of messages at a time, from records the lane keeps in
+    // its ring of those on the wire until the ring is full (recordOnWire),
+    // a control message is taken (take: the saturation's union is counted
+    // in the order of the takes, across the lanes), the frame ends or the
+    // figures are read. Sums, maxima and a union counted in order, so the
+    // figures are the same as counted message by message.
+    void foldTaken() const;
     // A control message ready at `ready`: its start on the wire, after the
     // message being sent then; the data messages not started by then move
     // back behind it.
@@ -344,6 +362,11 @@ private:
         std::unique_ptr<Lane> control;
         std::array<TypeCounts, kMsgTypes> byType{};
         std::unique_ptr<LinkFlow> own;  // without an entry (flowInto)
+        // With an output depth (only then made: startCarrying), for each
+        // lane: when the messages that left its backlog (given a slot) leave
+        // the sender's buffer, from the sender's time on. (Here, not in the
+        // lane: a lane and its type's counts are three cache lines.)
+        std::unique_ptr<std::array<Fifo<Picos>, 2>> leaving;
         int lanes() const { return control ? 2 : 1; }
         Lane& lane(int i) { return i == kData ? data : *control; }  // (kControl: one it has)
         const Lane& lane(int i) const { return i == kData ? data : control ? *control : kNoLane; }
@@ -370,7 +393,7 @@ private:
     Picos owedWire_ = 0;     // every message sent: its time on the wire (occupied())
     Picos wireFree_ = 0;     // the end of the last transmission scheduled
     Picos controlFree_ = 0;  // the end of the last control transmission
-    Picos saturatedUntil_ = 0;  // LinkFlow::saturated counted up to here
+    mutable Picos saturatedUntil_ = 0;  // LinkFlow::saturated counted up to here (foldTaken)
     ArrivalListener* listener_ = nullptr;
     Progress* progress_ = nullptr;  // the watchdog's (machine.h)
     mutable uint32_t lastBytes_ = 0;   // and its size

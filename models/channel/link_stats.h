@@ -32,9 +32,9 @@ struct LinkFlow {
     // the link held rays back then).
     BusyWindows windows;
     Picos saturated = 0;
-    // The latencies (the first comment's third figure), last: a message
-    // taken reads the figures above and one place in its histogram, in the
-    // first three cache lines (on a large mesh each is cold).
+    // The latencies (the first comment's third figure), last. A link adds
+    // its messages to these figures a batch at a time (Link::foldTaken),
+    // not at each take: on a large mesh they are out of cache at each.
     Histogram latency, controlLatency;
 };
 

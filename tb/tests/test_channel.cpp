@@ -395,3 +395,70 @@ TEST(ControlLane, AStreamOfReportsCannotStarveARay) {
     EXPECT_THROW(l.consume(1203 * ns), std::logic_error);
     EXPECT_EQ(l.consume(1204 * ns).type, MsgType::Ray);
 }
+
+// A link adds what it measured of each message it delivered to its figures
+// a batch at a time (Link::foldTaken), not at each take. The figures must be
+// those counted one take at a time: a link whose figures are read after
+// every take (each read folds) against one read only at the frame's end,
+// on the same random traffic of rays and load reports over both lanes,
+// with few slots so that messages wait for slots and for the wire, and
+// control messages go ahead of waiting rays (the union of the wire waits,
+// `saturated`, is counted in the order of the takes across the lanes).
+TEST(Link, FiguresGainedABatchAtATimeAreThoseCountedTakeByTake) {
+    for (int controlSlots : {0, 1, 2})
+        for (unsigned seed = 1; seed <= 6; ++seed) {
+            LinkParams p{100 * ns, 1e9, 3};
+            p.controlDepth = controlSlots;
+            Link eachTake("each", p, smallestMeshMessage(true)), atEnd("end", p, smallestMeshMessage(true));
+            std::mt19937 rng(seed);
+            Picos t = 0;
+            uint64_t sent = 0, taken = 0;
+            for (int step = 0; step < 3000; ++step) {
+                t += Picos(rng() % 300) * ns / 2;
+                const unsigned what = rng() % 8;
+                if (what < 3) {  // a ray message of 1 to 4 rays
+                    const int k = 1 + int(rng() % 4);
+                    eachTake.send(rays(k), t);
+                    atEnd.send(rays(k), t);
+                    ++sent;
+                } else if (what < 4) {
+                    eachTake.send(report(), t);
+                    atEnd.send(report(), t);
+                    ++sent;
+                } else {  // the receiver takes what has arrived: a control message first, now and then
+                    const bool control = what == 4 && eachTake.controlArrivedBy(t);
+                    Picos a = 0;
+                    if (!control && !(eachTake.peekArrival(a) && a <= t)) continue;
+                    const Message m1 = control ? eachTake.consumeControl(t) : eachTake.consume(t);
+                    const Message m2 = control ? atEnd.consumeControl(t) : atEnd.consume(t);
+                    ASSERT_EQ(m1.type, m2.type);
+                    ++taken;
+                    (void)eachTake.stats();  // (folds)
+                }
+            }
+            ASSERT_GT(taken, 500u);
+            ASSERT_GT(sent - taken, 0u);  // some left at the frame's end, their waits counted up to it
+            eachTake.endFrame(t);
+            atEnd.endFrame(t);
+            const LinkStats a = eachTake.stats(), b = atEnd.stats();
+            const std::string at = "control slots " + std::to_string(controlSlots) + ", seed " + std::to_string(seed);
+            EXPECT_EQ(a.consumed, taken) << at;
+            EXPECT_EQ(b.consumed, a.consumed) << at;
+            EXPECT_GT(a.slotWait, 0u) << at;  // (the traffic made messages wait for slots)
+            EXPECT_EQ(b.slotWait, a.slotWait) << at;
+            EXPECT_EQ(b.wireWait, a.wireWait) << at;
+            EXPECT_GT(a.saturated, 0u) << at;
+            EXPECT_EQ(b.saturated, a.saturated) << at;
+            EXPECT_EQ(b.backlogHighWater, a.backlogHighWater) << at;
+            EXPECT_EQ(b.bufferHighWater, a.bufferHighWater) << at;
+            EXPECT_EQ(b.windows.width(), a.windows.width()) << at;
+            EXPECT_EQ(b.windows.busy(), a.windows.busy()) << at;
+            for (const auto& [ha, hb] : {std::pair{&a.latency, &b.latency}, std::pair{&a.controlLatency, &b.controlLatency}}) {
+                EXPECT_EQ(hb->count(), ha->count()) << at;
+                EXPECT_EQ(hb->bins(), ha->bins()) << at;
+                EXPECT_EQ(hb->max(), ha->max()) << at;
+                for (double q : {0.0, 0.25, 0.5, 0.9, 1.0}) EXPECT_EQ(hb->percentile(q), ha->percentile(q)) << at << ", " << q;
+            }
+            EXPECT_EQ(a.latency.count() + a.controlLatency.count(), taken) << at;
+        }
+}
