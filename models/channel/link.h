@@ -297,8 +297,10 @@ private:
     // slots: once the buffer's high-water mark has reached that, no message
     // can raise it, and the lane stops keeping what it needs for it (most
     // messages on the 16x16x16 mesh go on links that fill their 16 slots).
-    // (A port's channels have the same slots, so its mark, the largest
-    // channel's, is reached for all of them at once: flowInto.)
+    // (A port's channels have the same slots and share the mark, the
+    // largest channel's: flowInto. A channel sees the shared mark at its
+    // folds, foldTaken, and until then may count marks that cannot raise
+    // it: the same figure, a few messages' work later.)
     bool keepsBufferMark(const Lane& l) const { return distributions_ && l.bufferMark < l.slots; }
     void putOnWire(int lane, Picos slot, const Waiting& w);  // the lane's message w: its first waiting one (the caller then drops it), or one sent to a free slot
     void recordOnWire(Lane& l, const Timed& m);  // the lane's next message on the wire: its record
