@@ -32,7 +32,9 @@ DOC = os.path.join(ROOT, "doc", "benchmarks", "memory.md")
 
 def probe(mibs, pages, loads):
     """One run of the probe: {mib: (ns per load, ms per MiB to touch)}."""
-    p = outputs.run_child([PROBE, "--mib", ",".join(f"{m:g}" for m in mibs), "--pages", pages, "--loads", str(loads)])
+    # (each size as Python writes it back exactly: the probe's JSON gives the
+    # same double back, the key of its row)
+    p = outputs.run_child([PROBE, "--mib", ",".join(repr(m) for m in mibs), "--pages", pages, "--loads", str(loads)])
     if p.returncode:
         raise outputs.ToolError(f"memory_probe --pages {pages}: exit {p.returncode}: "
                                 f"{(p.stderr.strip().splitlines() or ['no message'])[-1]}", outputs.FAILED)

@@ -202,6 +202,11 @@ class Scripts(unittest.TestCase):
         for r in rows:
             self.assertGreater(r["ns_per_load"], 0)
             self.assertGreater(r["touch_ms_per_mib"], 0)
+        # bench_memory.py reads each row back by the size it asked for, one
+        # that no short decimal writes too (a size printed "%g" was not found)
+        import bench_memory
+        third = 1 / 3
+        self.assertEqual(sorted(bench_memory.probe([third, 0.0625], "small", 1000)), [0.0625, third])
         p = subprocess.run([probe, "--mib", "0"], capture_output=True, text=True, timeout=60)
         self.assertEqual((p.returncode, p.stdout, p.stderr.count("\n")), (2, "", 1), p.stderr)
         self.assertIn("--mib", p.stderr)
