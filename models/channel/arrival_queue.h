@@ -33,12 +33,27 @@ namespace rt {
 
 class ArrivalQueue : public ArrivalListener {
 public:
-    // Listens to these links (a null one keeps its port, empty).
-    void listen(std::vector<LinkRecvIf*> links) {
-        links_ = std::move(links);
-        head_.assign(links_.size(), kNone);
-        for (size_t i = 0; i < links_.size(); ++i)
-            if (links_[i]) links_[i]->setListener(this, int(i));  // (it tells the head it has now)
+    // Listens to `link` as its port `port` (ports with no link stay empty),
+    // in every frame: a link keeps its listener when a frame restarts it
+    // (Link::restart), so a frame's start touches none of them. The machine
+    // has each process listen as it builds the links, while their memory is
+    // being written anyway (at 32x32x32 the frame-buffer units listen to
+    // 524,288 links, most of which never carry a message).
+    void listen(int port, LinkRecvIf* link) {
+        if (links_.size() <= size_t(port)) {
+            if (head_.capacity() <= size_t(port)) {  // (grown by doubling: a unit's ports come one at a time)
+                head_.reserve(std::max(size_t(port) + 1, 2 * head_.capacity()));
+                links_.reserve(head_.capacity());
+            }
+            links_.resize(size_t(port) + 1, nullptr);
+            head_.resize(size_t(port) + 1, kNone);
+        }
+        links_[size_t(port)] = link;
+        if (link) link->setListener(this, port);  // (it tells the head it has now)
+    }
+    // The ports in order (a null one keeps its port, empty).
+    void listen(const std::vector<LinkRecvIf*>& links) {
+        for (size_t i = 0; i < links.size(); ++i) listen(int(i), links[i]);
     }
 
     // A process that may take its input late (a frame-buffer unit other
@@ -88,12 +103,13 @@ public:
     void woke() { waiting_ = false; }
     // The frame is over: no wake still to come.
     void quiet() { arrived_.cancel(); }
-    // And the next frame's process listens again.
+    // The next frame: its links, emptied too (Link::restart), still tell
+    // this queue their heads; it starts with none.
     void restart() {
         quiet();
-        links_.clear();
-        head_.clear();
+        std::fill(head_.begin(), head_.end(), kNone);
         heap_ = {};
+        buffered = 0;
         waiting_ = false;
         notBefore_ = wakeAt_ = 0;
         late_ = 0;

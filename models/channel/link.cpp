@@ -69,8 +69,8 @@ void Link::restart() {
     lastBytes_ = 0;
     lastTransfer_ = 0;
     owedWire_ = wireFree_ = controlFree_ = saturatedUntil_ = 0;
-    listener_ = nullptr;  // (the receiver listens again at its start)
-    listenerPort_ = 0;
+    // (Its listener stays: the receiver's queue restarts with no heads, as
+    // this link restarts empty.)
     trace_ = {};
     flow_ = nullptr;  // (its entry's owner empties it, Machine::nextFrame; the next frame's first message finds it)
     carried_.reset();

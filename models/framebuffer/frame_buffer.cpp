@@ -50,7 +50,6 @@ sc_core::sc_process_handle FrameBufferUnit::restart(bool progress, int frame) {
     expect_.reset();
     sums_ = PixelSums(sums_.size());
     inputOrder_.restart();
-    inLinks_.clear();
     stats_ = {};
     done_ = false;
     dropCredit_ = false;
@@ -152,13 +151,17 @@ void FrameBufferUnit::run() {
     }
 }
 
-// Its first activation: listens to its ports; false if the frame is over
-// already (nothing to trace at all).
+// Its first activation: listens to the other units' ports (in the first
+// frame); false if the frame is over already (nothing to trace at all).
 bool FrameBufferUnit::begin() {
     started_ = true;
-    inLinks_ = fromNodes_;
-    for (int i = 0; i < in.size(); ++i) inLinks_.push_back(&asLink(*in[i]));
-    inputOrder_.listen(std::vector<LinkRecvIf*>(inLinks_.begin(), inLinks_.end()));
+    if (!unitsListened_) {  // (the first frame's start, when the ports are bound)
+        for (int i = 0; i < in.size(); ++i) {
+            inLinks_.push_back(&asLink(*in[i]));
+            inputOrder_.listen(int(inLinks_.size() - 1), inLinks_.back());
+        }
+        unitsListened_ = true;
+    }
     if (late_ > 0) inputOrder_.setLate(late_, inLinks_.size() - 1);  // its last input is from unit 0
     now_ = frameClock();
     lastPrint_ = std::chrono::steady_clock::now();

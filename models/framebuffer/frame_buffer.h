@@ -51,7 +51,10 @@ public:
     // The links from the nodes, in node order, given before the start. Not
     // bound to a port: a multiport checks each new binding against every
     // one before it, quadratic in the nodes.
-    void addNodeLink(Link& l) { fromNodes_.push_back(&l); }
+    void addNodeLink(Link& l) {
+        inLinks_.push_back(&l);
+        inputOrder_.listen(int(inLinks_.size() - 1), &l);
+    }
     // Then (unit 0) the links from units 1..K-1, or (the others) from unit 0.
     sc_core::sc_port<LinkRecvIf, 0, sc_core::SC_ZERO_OR_MORE_BOUND> in;
     // Units 1..K-1: the port to unit 0 (unbound on unit 0).
@@ -160,14 +163,16 @@ private:
     // come: the order they come in cannot change a bit (pixel_sum.h).
     PixelSums sums_;
     ArrivalQueue inputOrder_;
-    std::vector<Link*> fromNodes_;
     // Unit 0, --sample-end credit: the sample's credit, what is back of it,
     // the links to the columns' lowest nodes and which of them to tell.
     Credit sampleTotal_, sampleBack_;
     std::vector<Link*> toColumns_;
     std::vector<bool> tellColumns_;
     bool sampleDue_ = false;
-    std::vector<Link*> inLinks_;  // the nodes' links, then in's, in binding order (set at the start)
+    // The nodes' links (addNodeLink), then in's in binding order (at the
+    // first frame's start: unitsListened_); its input ports, in every frame.
+    std::vector<Link*> inLinks_;
+    bool unitsListened_ = false;
     FrameBufferStats stats_;
     bool done_ = false;
     bool dropCredit_ = false;

@@ -70,7 +70,9 @@ void Machine::buildUnits() {
     const int k = cfg_.fbUnits;
     const size_t pixels = size_t(long(width_) * height_);
     units_.init(size_t(k), [&](const char* n, size_t u) {
-        return new FrameBufferUnit(n, int(u), k, pixels, cfg_.hostCost, maxExp_, cfg_.showProgress, cfg_.quantum);
+        auto* unit = new FrameBufferUnit(n, int(u), k, pixels, cfg_.hostCost, maxExp_, cfg_.showProgress, cfg_.quantum);
+        keepProcess(*unit);
+        return unit;
     });
 }
 
@@ -103,7 +105,9 @@ void Machine::buildNodes() {
     nodes_.init(size_t(cfg_.nodeCount()), [&](size_t i) {
         const Cell c = cellAt(i, cfg_.dims);
         const Box b = nodeBox(c, cuts_, columns_, columnPlanes_);
-        return new Node(nodeName(c).c_str(), c, b, bins_->overlapping(b), *nodeParams_, cfg_.processorCostsOf(c), cfg_.speedOf(c));
+        auto* node = new Node(nodeName(c).c_str(), c, b, bins_->overlapping(b), *nodeParams_, cfg_.processorCostsOf(c), cfg_.speedOf(c));
+        keepProcess(*node);
+        return node;
     });
     aimAtTargets();
 }
@@ -253,6 +257,7 @@ void Machine::startWatchdog() {
                               [this] { return whoHolds(); }, [this] { endProcesses(); }};
     watchdog_ = std::make_unique<Watchdog>("watchdog", cfg_.watchdogSpanOrDefault(scene_.objects.size()),
                                            cfg_.watchdogWall, std::move(watched));
+    keepProcess(*watchdog_);
 }
 
 // The host's job description (initial_split.h): each node's primary rays
@@ -328,40 +333,6 @@ void Machine::endFrame() {
     if (express_) express_->countOnLinks();
     for (Node& n : nodes_) n.endFrame(frameEnd(), !stopped());
     for (auto& l : links_) l->endFrame(frameEnd());
-}
-
-// Ends every process but the caller's, from within the simulation, and
-// every wake still pending (a process's next input, a sender's room, the
-// watchdog's): nothing is left to happen, and the simulation returns at the
-// frame's end (the next frame may start there: machine_session.cpp). A
-// process ended here does not run in the current delta cycle. Newest
-// first: the kernel finds a killed process in its list of processes from
-// the newest on, so ending the oldest first would take a search of every
-// process for each: quadratic in the nodes. The first frame's processes
-// are the modules' own (SC_METHOD); a later frame's were spawned. Both are
-// held (spawned_): SystemC deletes them at the next frame's start, not
-// here, a search of its names each (doc/history.md, "Figures behind ...").
-void Machine::endProcesses() {
-    const sc_core::sc_process_handle self = sc_core::sc_get_current_process_handle();
-    auto kill = [&](sc_core::sc_process_handle h) {
-        if (h.valid() && h != self && !h.terminated()) h.kill();
-    };
-    if (spawned_.empty()) {
-        auto end = [&](const sc_core::sc_object& module) {
-            for (sc_core::sc_object* child : module.get_child_objects()) kill(spawned_.emplace_back(child));  // (a port: invalid)
-        };
-        end(*watchdog_);
-        if (relay_) end(*relay_);
-        for (size_t i = nodes_.size(); i-- > 0;) end(nodes_[i]);
-        for (size_t u = units_.size(); u-- > 0;) end(units_[u]);
-    }
-    for (size_t i = spawned_.size(); i-- > 0;) kill(spawned_[i]);
-    watchdog_->quiet();
-    if (relay_) relay_->quiet();
-    for (Node& n : nodes_) n.quiet();
-    for (FrameBufferUnit& u : units_) u.quiet();
-    for (auto* links : {&links_, &unitLinks_})
-        for (auto& l : *links) l->quiet();
 }
 
 // Which nodes still hold work or credit, and how much credit unit 0 lacks:

@@ -28,6 +28,7 @@
 #include "machine/module_array.h"
 #include "node/node.h"
 #include "trace/vcd_stream.h"
+#include "process/frame_processes.h"
 #include "process/watchdog.h"
 
 namespace rt {
@@ -186,6 +187,7 @@ private:
     const FrameBufferUnit& controller() const { return units_[0]; }  // unit 0 ends the frame
     // Ends every process but the caller's, from within the simulation.
     void endProcesses();
+    void keepProcess(const sc_core::sc_module& m);  // m's process, as m is made (the first frame's)
     std::string whoHolds() const;
     bool stopped() const { return !watchdog_->stall().empty(); }
 
@@ -229,9 +231,10 @@ private:
     uint64_t primaryMisses_ = 0;
     std::unique_ptr<Watchdog> watchdog_;
     std::unique_ptr<ObjectBins> bins_;  // the scene's objects by cell of the uniform split
-    // A later frame's: its processes (spawned, in the order the modules
-    // made theirs), and the kernel's delta count at its start.
-    std::vector<sc_core::sc_process_handle> spawned_;
+    // The frame's processes (the modules' own in the first frame, then
+    // spawned), in the order the modules made theirs, and the kernel's
+    // delta count at its start.
+    FrameProcesses spawned_;
     uint64_t deltaAtStart_ = 0;
 };
 

@@ -61,6 +61,7 @@ void Machine::buildExpress() {
     through_ = std::make_unique<NodesTraceThrough>(nodes_, shader_);
     express_->passThrough(through_.get());
     relay_ = std::make_unique<ExpressRelay>("express_relay", *express_);
+    keepProcess(*relay_);
 }
 
 // Whether this frame's rays take the express routes: the nodes see them

@@ -1,5 +1,6 @@
 // A sequence of frames in one elaboration (machine.h, MachineSession): the
-// host phase between two frames, and running each.
+// host phase between two frames, running each, and each frame's processes,
+// kept as they are made and ended at the frame's end.
 #include <chrono>
 #include <stdexcept>
 
@@ -35,6 +36,37 @@ void freshContextIfUsed() {
     sc_core::sc_default_global_context = fresh;
 }
 
+// The first frame's processes are the modules' own (SC_METHOD), each the
+// last thing its constructor makes: kept as they are made, in the order of
+// the later frames' (spawned_), so that a frame's end need not look for
+// them among the modules' children (ports and all, each cast to find
+// whether it is a process). (SystemC's sc_get_last_created_process_handle
+// gives no process during elaboration here.)
+void Machine::keepProcess(const sc_core::sc_module& m) {
+    const std::vector<sc_core::sc_object*>& children = m.get_child_objects();
+    sc_core::sc_process_handle h(children.empty() ? nullptr : children.back());
+    if (!h.valid()) throw std::logic_error(std::string(m.name()) + ": its constructor's last child is not its process");
+    spawned_.add(h);
+}
+
+// Ends every process but the caller's, from within the simulation, and
+// every wake still pending (a process's next input, a sender's room, the
+// watchdog's): nothing is left to happen, and the simulation returns at the
+// frame's end (the next frame may start there: machine_session.cpp). A
+// process ended here does not run in the current delta cycle. Newest
+// first (frame_processes.h). The processes are held: SystemC deletes them
+// at the next frame's start, not here, a search of its names each
+// (doc/history.md, "Figures behind ...").
+void Machine::endProcesses() {
+    spawned_.endAllBut(sc_core::sc_get_current_process_handle());
+    watchdog_->quiet();
+    if (relay_) relay_->quiet();
+    for (Node& n : nodes_) n.quiet();
+    for (FrameBufferUnit& u : units_) u.quiet();
+    for (auto* links : {&links_, &unitLinks_})
+        for (auto& l : *links) l->quiet();
+}
+
 // The order is the constructor's: the units, the nodes, the links, the
 // watchdog, the waveforms, then the host's job description; the processes
 // are spawned in the order the modules made theirs (units, nodes,
@@ -48,13 +80,13 @@ void Machine::nextFrame(const View& view, const MachineConfig& next, int frame) 
     camera_ = Camera(view, width_, height_);
     columnPlanes_ = initialPlanes(cfg_, cuts_, world_, *bins_, minThickness_, &camera_);
     const ColumnPlanes targets = startTargets();
-    spawned_.clear();
-    for (FrameBufferUnit& u : units_) spawned_.push_back(u.restart(cfg_.showProgress, frame));
+    spawned_.clear();  // (the last frame's: SystemC deletes them now)
+    for (FrameBufferUnit& u : units_) spawned_.add(u.restart(cfg_.showProgress, frame));
     makeLayerFaces();
     nodeParams_->layerFaces = layerFaces_.get();
     for (Node& n : nodes_) {
         const Box b = nodeBox(n.cell(), cuts_, columns_, columnPlanes_);
-        spawned_.push_back(n.restart(b, *bins_, frame));
+        spawned_.add(n.restart(b, *bins_, frame));
     }
     aimAtTargets();
     for (auto* links : {&links_, &unitLinks_})
@@ -62,9 +94,9 @@ void Machine::nextFrame(const View& view, const MachineConfig& next, int frame) 
     for (LinkReport& e : linkInfo_) e.figures.reset();  // (the last frame's figures went to its report)
     if (relay_) {  // (the same machine: its boxes are where they were)
         express_->restart();
-        spawned_.push_back(relay_->restart(frame));
+        spawned_.add(relay_->restart(frame));
     }
-    spawned_.push_back(watchdog_->restart(frame));
+    spawned_.add(watchdog_->restart(frame));
     if (cfg_.faultDropFirstCredit) units_[0].dropFirstCredit();
     vcd_.reset();
     tracedLinks_.clear();

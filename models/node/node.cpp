@@ -65,7 +65,6 @@ void Node::suspend(Resume r) {
 }
 
 void Node::start() {
-    input_.listen(inLinks_);
     expressSelf_ = nullptr;  // (a frame without express, after one with it)
     if (params_.express) {
         ExpressNode& self = params_.express->node(params_.express->indexOf(cell_));

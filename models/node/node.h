@@ -94,6 +94,7 @@ public:
     void bindIn(int dir, Link& link) {
         in->bind(link);
         inLinks_[size_t(dir)] = &link;
+        input_.listen(dir, link);
     }
     void bindFrameBuffer(Link& link) {  // the next unit's
         fb->bind(link);

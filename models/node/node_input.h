@@ -42,12 +42,13 @@ struct Work {
 
 class NodeInput {
 public:
-    // At the start: the node's input links by direction (null: none).
-    void listen(const std::array<Link*, kDirs>& in) {
-        arrivals_.listen(std::vector<LinkRecvIf*>(in.begin(), in.end()));
+    // As the machine is built: the node's input link from direction `dir`,
+    // listened to in every frame.
+    void listen(int dir, Link& in) {
+        arrivals_.listen(dir, &in);
         // The links themselves, read at every step: a port's interface is
         // one more pointer to follow (a cache miss on a node not run for a while).
-        links_ = in;
+        links_[size_t(dir)] = &in;
     }
     // Before the start: the pixels whose primary rays this node generates,
     // each with credit 2^-exp; `sampleWidth`: `sample`'s first; `spread`:
@@ -56,10 +57,9 @@ public:
         primaries_.assign(pixels, uint16_t(exp), sampleWidth, spread);
     }
     PrimaryQueue& primaries() { return primaries_; }
-    // The next frame: nothing in hand, no primary rays; it listens again at its start.
+    // The next frame: nothing in hand, no primary rays; the same links.
     void restart() {
         arrivals_.restart();
-        links_ = {};
         local_.clear();
         received_.clear();
         receivedNext_ = 0;
