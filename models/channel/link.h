@@ -157,6 +157,7 @@ public:
     void quiet() {
         if (room_) room_->cancel();
     }
+    bool waitsForRoom() const { return bool(room_); }  // (--link-out-depth: a sender may wait for its room)
     Picos occupied() const override;
     void setProgress(Progress* p) { progress_ = p; }
     // Whether it keeps its latency distributions and high-water marks

@@ -150,6 +150,7 @@ void Machine::buildLinks() {
         for (auto& l : *links) {
             l->setProgress(&watchdog_->progress());
             l->keepDistributions(cfg_.linkDistributions);
+            if (l->waitsForRoom()) roomLinks_.push_back(l.get());
         }
 }
 

@@ -224,6 +224,10 @@ private:
     std::vector<std::unique_ptr<Link>> links_;
     // Units 1..K-1: [2(u-1)] u -> 0, [2(u-1) + 1] 0 -> u; then (--sample-end credit) 0 -> each column's lowest node.
     std::vector<std::unique_ptr<Link>> unitLinks_;
+    // The links a sender may wait on for room (--link-out-depth), which a
+    // frame's end quiets: not every link, most of which have no such wait
+    // (at 32x32x32, 714,000 links read, each out of cache, at every frame).
+    std::vector<Link*> roomLinks_;
     std::vector<Link*> meshLinks_;  // [node * kDirs + direction]: its outgoing link (none at a mesh face)
     Link* meshLink(size_t node, int dir) const { return meshLinks_[node * kDirs + size_t(dir)]; }
     std::vector<LinkReport> linkInfo_;  // the report's links (their figures but counts by type: Link::flowInto)

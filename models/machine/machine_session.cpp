@@ -63,8 +63,7 @@ void Machine::endProcesses() {
     if (relay_) relay_->quiet();
     for (Node& n : nodes_) n.quiet();
     for (FrameBufferUnit& u : units_) u.quiet();
-    for (auto* links : {&links_, &unitLinks_})
-        for (auto& l : *links) l->quiet();
+    for (Link* l : roomLinks_) l->quiet();
 }
 
 // The order is the constructor's: the units, the nodes, the links, the
