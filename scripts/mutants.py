@@ -212,8 +212,6 @@ MUTANTS = [
     ("listener-dropped-at-restart", "models/channel/link.cpp", "void Link::restart() {\n",
      "void Link::restart() {\n    listener_ = nullptr;\n",
      "a link forgets its receiver at a frame's restart: the next frame's messages never reach its queue"),
-    ("room-waits-not-quieted", "models/machine/machine_session.cpp", "    for (Link* l : roomLinks_) l->quiet();\n", "",
-     "a frame ends with a sender's wait for room still pending (--link-out-depth)"),
     ("stale-heads-at-restart", "models/channel/arrival_queue.h",
      "        std::fill(head_.begin(), head_.end(), kNone);\n        heap_ = {};\n        buffered = 0;\n", "        heap_ = {};\n",
      "a process's input queue keeps the heads and count a stalled frame left on its links into the next frame"),
