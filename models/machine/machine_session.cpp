@@ -52,7 +52,7 @@ void Machine::keepProcess(const sc_core::sc_module& m) {
 // Ends every process but the caller's, from within the simulation, and
 // every wake still pending (a process's next input, a sender's room, the
 // watchdog's): nothing is left to happen, and the simulation returns at the
-// frame's end (the next frame may start there: machine_session.cpp). A
+// frame's end (the next frame may start there: nextFrame, below). A
 // process ended here does not run in the current delta cycle. Newest
 // first (frame_processes.h). The processes are held: SystemC deletes them
 // at the next frame's start, not here, a search of its names each
