@@ -51,10 +51,6 @@ public:
         links_[size_t(port)] = link;
         if (link) link->setListener(this, port);  // (it tells the head it has now)
     }
-    // The ports in order (a null one keeps its port, empty).
-    void listen(const std::vector<LinkRecvIf*>& links) {
-        for (size_t i = 0; i < links.size(); ++i) listen(int(i), links[i]);
-    }
 
     // A process that may take its input late (a frame-buffer unit other
     // than 0: FrameBufferUnit::setLate) is woken up to `late` after a message

@@ -93,21 +93,13 @@ public:
     }
     void bindIn(int dir, Link& link) {
         in->bind(link);
-        inLinks_[size_t(dir)] = &link;
-        input_.listen(dir, link);
+        input_.listen(dir, link);  // (its input keeps the link, and listens to it in every frame)
     }
     void bindFrameBuffer(Link& link) {  // the next unit's
         fb->bind(link);
         fbLinks_.push_back(&link);
     }
 
-private:
-    // The links in, by direction (null: none); here, beside the ports, in
-    // the 48 bytes the bindings' directions took (the node's other fields
-    // are below, hot ones first).
-    std::array<Link*, kDirs> inLinks_{};
-
-public:
     // Bound once per frame-buffer unit, in unit order (a multiport: one
     // object, not one per unit, since a big mesh has tens of thousands).
     std::optional<sc_core::sc_port<LinkSendIf, 0>> fb;

@@ -993,7 +993,7 @@ TEST(ArrivalOrder, OldestFirstTiesToTheLowerPort) {
         }
         in[1] = nullptr;  // an unbound port keeps its index
         ArrivalQueue q;
-        q.listen(in);
+        for (size_t p = 0; p < ports; ++p) q.listen(int(p), in[p]);
         const Picos T = wire(kHeader + kRay, 1e9), L = 100000;
         // Port 2 and the last port send at 0 (a tie), port 0 at 5 ns, the
         // last port once more at 0 (behind its first).
@@ -1032,7 +1032,8 @@ TEST(ArrivalOrder, OldestFirstTiesToTheLowerPort) {
 TEST(ArrivalOrder, ALinkKeepsItsListenerFromFrameToFrame) {
     Link a("a", LinkParams{100000, 1e9, 16}), b("b", LinkParams{100000, 1e9, 16});
     ArrivalQueue q;
-    q.listen({&a, &b});
+    q.listen(0, &a);
+    q.listen(1, &b);
     const Picos T = wire(kHeader + kRay, 1e9), L = 100000;
     b.send(rays(1), 0);
     b.send(rays(1), 0);
