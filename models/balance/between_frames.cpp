@@ -9,6 +9,7 @@
 
 #include "balance/frame_forecast.h"
 #include "balance/move_forecast.h"
+#include "balance/plane_spacing.h"
 #include "lattice.h"
 
 namespace rt {
@@ -141,23 +142,156 @@ std::optional<InnerPlanes> ResplitSequence::forecast(const FrameState& r) {
     return c.planes;
 }
 
+namespace {
+
+Busiest busiestOf(const FrameState& r, int axis) {
+    const NodeFrameState* most = &r.nodes.at(0);
+    for (const NodeFrameState& n : r.nodes)
+        if (n.busyNs > most->busyNs) most = &n;
+    Busiest b{most->cell};
+    for (const NodeFrameState& n : r.nodes) {
+        Cell c = n.cell;
+        const int d = c[size_t(axis)] - most->cell[size_t(axis)];
+        c[size_t(axis)] = most->cell[size_t(axis)];
+        if (c != most->cell) continue;
+        if (d == -1) b.belowNs = n.busyNs;
+        if (d == 1) b.aboveNs = n.busyNs;
+    }
+    return b;
+}
+
+}  // namespace
+
+std::optional<InnerPlanes> ResplitSequence::hold(const InnerPlanes& planes, double ns, const Busiest& busiest) {
+    held_ = planes;
+    if (m_.balance.polishTries <= 0) return held_;
+    polishing_ = true;
+    polishLeft_ = m_.balance.polishTries;
+    base_ = planes;
+    baseNs_ = ns;
+    baseBusiest_ = busiest;
+    if (std::optional<InnerPlanes> next = tryMove()) return next;
+    return held_;
+}
+
+InnerPlanes ResplitSequence::moved(int kind) const {
+    const ColumnGeometry g(m_.balance.axis, m_.dims);
+    const int n = g.length(), k = baseBusiest_.cell[size_t(g.axis)], col = g.columnOf(baseBusiest_.cell);
+    InnerPlanes out = base_;
+    if (kind == 0) {  // the busiest node's box, on the side of its less busy neighbour
+        const std::vector<double>& own = base_.at(size_t(col));
+        auto face = [&](int i) { return i < 0 ? worldLo_ : i >= n - 1 ? worldHi_ : own.at(size_t(i)); };
+        const bool down = baseBusiest_.belowNs >= 0 && (baseBusiest_.aboveNs < 0 || baseBusiest_.belowNs <= baseBusiest_.aboveNs);
+        const double t = face(k) - face(k - 1);
+        // Aligned planes stay aligned (a column's own would pass rays on
+        // between columns); a column's own planes move alone.
+        const bool aligned = std::all_of(base_.begin(), base_.end(), [&](const std::vector<double>& c) { return c == base_[0]; });
+        for (size_t c = 0; c < out.size(); ++c) {
+            if (!aligned && c != size_t(col)) continue;
+            if (down) out[c][size_t(k - 1)] += shrink_ * std::min(t, face(k - 1) - face(k - 2));
+            else if (k < n - 1) out[c][size_t(k)] -= shrink_ * std::min(t, face(k + 1) - face(k));
+        }
+        return out;
+    }
+    const double sign = kind == 1 ? -1 : 1;  // every plane towards the axis's start, or its end
+    for (std::vector<double>& c : out)
+        for (size_t i = 0; i < c.size(); ++i) {
+            const double below = c[i] - (i == 0 ? worldLo_ : c[i - 1]), above = (i + 1 == c.size() ? worldHi_ : c[i + 1]) - c[i];
+            c[i] += sign * shrink_ * std::min(below, above);
+        }
+    return out;
+}
+
+std::optional<InnerPlanes> ResplitSequence::tryMove() {
+    const int n = m_.dims[size_t(m_.balance.axis)];
+    const double least = planeSpacing(m_.balance.minThickness * (worldHi_ - worldLo_) / n);  // (plane_spacing.h)
+    auto fits = [&](const InnerPlanes& planes) {
+        for (const std::vector<double>& c : planes)
+            for (size_t i = 0; i <= c.size(); ++i)
+                if (!((i == c.size() ? worldHi_ : c[i]) - (i == 0 ? worldLo_ : c[i - 1]) >= least)) return false;
+        return true;
+    };
+    while (polishLeft_ > 0) {
+        --polishLeft_;
+        const InnerPlanes next = moved(moveKind_ % 3);
+        if (++moveKind_ % 3 == 0) shrink_ /= 2;
+        if (next == base_ || !fits(next)) continue;
+        trying_ = true;
+        said_["next"] = "a move tried";
+        said_["held_ns"] = baseNs_;
+        return next;
+    }
+    return std::nullopt;
+}
+
+std::optional<InnerPlanes> ResplitSequence::polish(const FrameState& r) {
+    said_ = {{"next", "held"}};
+    if (trying_) {
+        trying_ = false;
+        if (r.renderTimeNs < baseNs_) {  // the move gained: polish from there
+            base_ = lastBoundaries(r, m_);
+            baseNs_ = r.renderTimeNs;
+            baseBusiest_ = busiestOf(r, m_.balance.axis);
+            held_ = base_;
+        }
+    }
+    if (std::optional<InnerPlanes> next = tryMove()) return next;
+    if (orFirst_ && baseNs_ >= firstNs_) {  // polished, and still not faster than frame 1
+        polishing_ = false;
+        again_ = true;
+        said_ = {{"next", "frame 1 again"}};
+        return std::nullopt;
+    }
+    return base_;
+}
+
+std::optional<InnerPlanes> ResplitSequence::firstFrame(const FrameState& r) {
+    firstNs_ = r.renderTimeNs;
+    worldLo_ = 1e300;
+    worldHi_ = -1e300;
+    for (const NodeFrameState& n : r.nodes) {
+        worldLo_ = std::min(worldLo_, n.box.lo[m_.balance.axis]);
+        worldHi_ = std::max(worldHi_, n.box.hi[m_.balance.axis]);
+    }
+    start_ = m_.balance.startsAtObjects() ? uniformBoundaries(r, m_) : lastBoundaries(r, m_, true);
+    return forecast(r);
+}
+
+std::optional<InnerPlanes> ResplitSequence::noResplitWon(const FrameState& r) {
+    if (resplits_ < kTries) return forecast(r);
+    said_ = {{"next", m_.balance.startsAtObjects() ? "the uniform split" : "the starting split"}};
+    if (firstHolds_) {  // frame 1 was the starting split: hold it
+        held_ = start_;
+        return held_;
+    }
+    if (m_.balance.startsAtObjects()) {  // (sample's trial, the uniform split: kTrialReach)
+        const double startNs = FrameForecast(r, m_, averagedBoundaries(r, m_), objects_).forecast(start_).frameNs;
+        if (std::isfinite(startNs) && startNs > kTrialReach * firstNs_) {  // it cannot beat frame 1: frame 1 again
+            said_ = {{"next", "frame 1 again"}, {"start_forecast_ns", startNs}};
+            if (m_.balance.polishTries > 0) {  // unless polishing the fastest re-split frame's planes beats it
+                orFirst_ = true;
+                return hold(best_, bestNs_, bestBusiest_);
+            }
+            again_ = true;
+            return std::nullopt;
+        }
+        if (std::isfinite(startNs)) said_["start_forecast_ns"] = startNs;
+    }
+    tryingStart_ = afresh_ = true;
+    return start_;
+}
+
 std::optional<InnerPlanes> ResplitSequence::next(const FrameState& r, int frame) {
     afresh_ = false;
+    if (polishing_) return polish(r);
     said_ = {{"next", "frame 1 again"}};
     if (again_) return std::nullopt;
     said_ = {{"next", "held"}};
     if (held_) return held_;
     const double t = r.renderTimeNs;
-    if (frame == 1) {
-        firstNs_ = t;
-        start_ = m_.balance.startsAtObjects() ? uniformBoundaries(r, m_) : lastBoundaries(r, m_, true);
-        return forecast(r);
-    }
+    if (frame == 1) return firstFrame(r);
     if (tryingStart_) {  // the frame just run held the starting split
-        if (t < firstNs_) {
-            held_ = start_;
-            return held_;
-        }
+        if (t < firstNs_) return hold(start_, t, busiestOf(r, m_.balance.axis));
         again_ = true;
         said_ = {{"next", "frame 1 again"}};
         return std::nullopt;
@@ -168,34 +302,17 @@ std::optional<InnerPlanes> ResplitSequence::next(const FrameState& r, int frame)
     if (faster) {
         bestNs_ = t;
         best_ = lastBoundaries(r, m_);
+        bestBusiest_ = busiestOf(r, m_.balance.axis);
     }
-    if (bestNs_ > firstNs_) {  // no re-split frame has beaten the first yet
-        if (resplits_ >= kTries) {
-            said_ = {{"next", m_.balance.startsAtObjects() ? "the uniform split" : "the starting split"}};
-            if (firstHolds_) {  // frame 1 was the starting split: hold it
-                held_ = start_;
-                return held_;
-            }
-            if (m_.balance.startsAtObjects()) {  // (sample's trial, the uniform split: kTrialReach)
-                const double startNs = FrameForecast(r, m_, averagedBoundaries(r, m_), objects_).forecast(start_).frameNs;
-                if (std::isfinite(startNs) && startNs > kTrialReach * firstNs_) {  // it cannot beat frame 1: frame 1 again
-                    again_ = true;
-                    said_ = {{"next", "frame 1 again"}, {"start_forecast_ns", startNs}};
-                    return std::nullopt;
-                }
-                if (std::isfinite(startNs)) said_["start_forecast_ns"] = startNs;
-            }
-            tryingStart_ = afresh_ = true;
-            return start_;
-        }
-        return forecast(r);
-    }
+    if (bestNs_ > firstNs_) return noResplitWon(r);  // no re-split frame has beaten the first yet
     if (misses_ >= kPatience) {
         said_ = {{"next", "the fastest frame's planes"}};
-        held_ = best_;
-        return held_;
+        return hold(best_, bestNs_, bestBusiest_);
     }
-    return forecast(r);
+    std::optional<InnerPlanes> next = forecast(r);
+    // The forecast holds: polish the fastest re-split frame's planes.
+    if (m_.balance.polishTries > 0 && said_.value("next", "") == "held") return hold(best_, bestNs_, bestBusiest_);
+    return next;
 }
 
 }  // namespace rt

@@ -94,6 +94,23 @@ InnerPlanes resplitTargets(const FrameState& r, const MachineConfig& m, const st
 // 5 % of the frame the trial then measured (doc/balancing.md, "The
 // recommended policy").
 constexpr double kTrialReach = 1.2;
+// Polish (--polish-tries K): the forecast misses frames by a few per cent
+// (a box's tests move with the objects a plane cuts and with its grid's
+// cells: doc/balancing.md, "Polish"), more than is left to gain once the
+// sequence holds. So the sequence then spends K frames on moves of its own
+// from the planes held, each run as a frame and kept only if that frame is
+// faster: the busiest node's box shrunk on the side of its less busy
+// neighbour, by kPolishShrink of the thinner of the two boxes that face
+// bounds; every plane shifted towards the axis's start by that share of the
+// thinner box it bounds; or towards its end. In that order, the share
+// halved after each round of the three. Then the fastest planes are held
+// (under sample, frame 1 again if they are still slower than frame 1).
+constexpr double kPolishShrink = 0.08;
+// The busiest node of a frame, and its neighbours' busy times along the column.
+struct Busiest {
+    Cell cell{};
+    double belowNs = -1, aboveNs = -1;  // (-1: no neighbour there)
+};
 class ResplitSequence {
 public:
     explicit ResplitSequence(const MachineConfig& m, const std::vector<Shape>* objects = nullptr)
@@ -109,8 +126,9 @@ public:
     // What next() chose and why, for the report's frames: {"next": "per
     // column" | "aligned" | "held" | "one try: per column" | "one try:
     // aligned" | "the fastest frame's planes" | "the
-    // starting split" | "the uniform split" | "frame 1 again"}, with the
-    // forecasts when it re-split.
+    // starting split" | "the uniform split" | "frame 1 again" | "a move
+    // tried"}, with the forecasts when it re-split, and when it tries a
+    // move, the time of the frame held (held_ns).
     const nlohmann::json& said() const { return said_; }
 
 private:
@@ -130,6 +148,23 @@ private:
     bool tryingStart_ = false, again_ = false, afresh_ = false;
     nlohmann::json said_;
     std::optional<InnerPlanes> forecast(const FrameState& r);  // resplitChoice, said
+    std::optional<InnerPlanes> firstFrame(const FrameState& r);    // frame 1's
+    std::optional<InnerPlanes> noResplitWon(const FrameState& r);  // no re-split frame has beaten frame 1 yet
+    // Holding `planes`, whose frame took `ns`: polished first (kPolishShrink).
+    std::optional<InnerPlanes> hold(const InnerPlanes& planes, double ns, const Busiest& busiest);
+    std::optional<InnerPlanes> polish(const FrameState& r);  // after a polish frame
+    std::optional<InnerPlanes> tryMove();                    // from base_, or nothing once the tries are spent
+    InnerPlanes moved(int kind) const;                       // base_ with move `kind` (0 to 2), at shrink_
+    bool polishing_ = false;
+    bool trying_ = false;    // the frame being run tries a move
+    bool orFirst_ = false;   // frame 1 again, unless the polish beats it
+    int polishLeft_ = 0, moveKind_ = 0;
+    double shrink_ = kPolishShrink;
+    InnerPlanes base_;       // the fastest planes polished so far, their frame's time and busiest node
+    double baseNs_ = 0;
+    Busiest baseBusiest_{};
+    Busiest bestBusiest_{};  // the fastest re-split frame's
+    double worldLo_ = 0, worldHi_ = 0;  // the world along the axis
 };
 
 }  // namespace rt

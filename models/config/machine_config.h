@@ -106,6 +106,9 @@ struct BalanceConfig {
     // the recommended policy was chosen, else the policy's name.
     std::string asGiven() const { return recommendedWhy.empty() ? policy : "recommended (" + policy + " here)"; }
     int bins = 16;                // work profile: bins per initial box thickness along the axis
+    // Between frames, once the sequence would hold: frames that try small
+    // moves of the planes held, keeping the faster (between_frames.h, "Polish").
+    int polishTries = 0;
     Picos rebuildCost = 20000;    // updating a node's grid: per object moved in or out
     // The guard (every policy; balance_agent.h): no slide on loads older than
     // maxAge intervals, or whose cost exceeds the work it moves over the
@@ -203,6 +206,10 @@ inline const std::vector<Param<BalanceConfig>>& balanceParams() {
                     "by a layer and moved by slide's rule on the layer's summed loads, read without messages "
                     "(doc/balancing.md)"),
         numberParam("bins", &B::bins, 1, 4096, "/bins", "work profile: bins per box thickness along the axis"),
+        numberParam("polish-tries", &B::polishTries, 0, 1000, "/polish_tries",
+                    "resplit, measured, sample: once the sequence would hold, this many frames each try a small move of "
+                    "the planes held (the busiest node's box shrunk, or every plane shifted along the axis), keeping "
+                    "the faster; then the fastest planes are held (0: off)"),
         timeParam("cost-rebuild", &B::rebuildCost, "/rebuild_cost_ns", "updating a node's grid, per object moved in or out"),
     };
     return rows;

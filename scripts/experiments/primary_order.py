@@ -10,6 +10,8 @@ The steady state depends on where the sequence of re-split frames starts:
 the same 24 points under scan with `measured` (its first frame at the
 unbalanced split, re-split from frame 2 on) beside the recommended
 policy (`sample`'s balanced first frame), and the better of the two.
+Then the recommended policy with --polish-tries 8 (between_frames.h,
+"Polish"): its frame 6, and frame 14, once its tries are spent.
 
 A node generates its primary rays row by row (scan) or in a stride
 through its pixels (spread); the image is the same. Under scan a box
@@ -41,6 +43,7 @@ MACHINES = [("modern", "modern", "", []), ("1987", "transputer-1987", "", []), (
             ("sphere tests x100", "modern", "sphere-x100", ["--cost-sphere", "1us"])]
 NS = [4, 5, 8]
 FRAMES = 6
+POLISH_TRIES, POLISHED_FRAMES = 8, 14
 SCENES = ["balls-4", "gears-2", "tetra-3", "rings-2"]
 SCENE_NS = [4, 8]
 
@@ -92,8 +95,10 @@ def sweep(a, folder):
                     runs = [("none", ["--balance", "none"]),
                             ("recommended", ["--balance", "recommended", "--frames", str(FRAMES)]),
                             ("split", ["--balance", "none", "--boundaries-from", split])]
-                    if order == "scan":  # the sequence from the unbalanced first frame
+                    if order == "scan":  # the sequence from the unbalanced first frame, and the polish
                         runs.append(("measured", ["--balance", "measured", "--frames", str(FRAMES)]))
+                        runs.append(("polished", ["--balance", "recommended", "--polish-tries", str(POLISH_TRIES),
+                                                  "--frames", str(POLISHED_FRAMES)]))
                     for run, flags in runs:
                         points.append({"params": {"part": "steady", "machine": name, "view": view, "N": n, "order": order,
                                                   "run": run},
@@ -147,7 +152,7 @@ def table(a, rows):
                              f"{n1 / t(name, view, n, 'scan', 'none'):.3f} | {l1:.4f} | {b1:.3f} | {s1:.4f} | {c1:.3f} | {g1:.4f} |")
     lines += ["", " ".join(f"{o}: gap median {statistics.median(g):.4f}, worst {max(g):.4f}" + (";" if o == "scan" else ".")
                            for o, g in gaps.items())]
-    lines += starts_table(by)
+    lines += starts_table(by) + polish_table(by)
     publish_table(lines, os.path.join(a.out, "primary_order.md"), a.doc, "primary_order table")
 
 
@@ -184,6 +189,32 @@ def starts_table(by):
                     gaps[k].append(g)
                 lines.append(f"| {name} | {view} | {n} | {fm[0]:.4f} | {fm[1]:.4f} | {fm[-1]:.4f} | {gm:.4f} | "
                              f"{fr[0]:.4f} | {fr[-1]:.4f} | {gr:.4f} | {min(gm, gr):.4f} |")
+    lines += ["", "; ".join(f"{k}: gap median {statistics.median(g):.4f}, worst {max(g):.4f}" for k, g in gaps.items()) + "."]
+    return lines
+
+
+def polish_table(by):
+    """The recommended policy with --polish-tries: frame 6 (some of its
+    frames then still try moves) and frame 14 (its tries spent), over
+    max(1/N, the best static split), beside the recommended policy's frame 6;
+    and the slowest of its frames over the unbalanced frame."""
+    lines = ["", f"With `--polish-tries {POLISH_TRIES}` (the recommended policy, under scan): frame {FRAMES} and frame "
+             f"{POLISHED_FRAMES} over max(1/N, the best static split), beside the recommended policy's frame {FRAMES}; "
+             "and its slowest frame after frame 1 as a share of the unbalanced frame:", "",
+             f"| machine | view | N | recommended: frame {FRAMES} gap | polished: frame {FRAMES} gap | frame "
+             f"{POLISHED_FRAMES} | gap | slowest frame after frame 1 |", "|---|---|---:|---:|---:|---:|---:|---:|"]
+    keys = [f"recommended, frame {FRAMES}", f"polished, frame {FRAMES}", f"polished, frame {POLISHED_FRAMES}"]
+    gaps = {k: [] for k in keys}
+    for name, *_ in MACHINES:
+        for view in VIEWS:
+            for n in NS:
+                b = bound(by, name, view, n, "scan")
+                fr = frame_shares(by, (name, view, n, "scan", "recommended"))
+                fp = frame_shares(by, (name, view, n, "scan", "polished"))
+                g6, gr, gp = fr[-1] / b, fp[FRAMES - 1] / b, fp[-1] / b
+                for k, g in zip(keys, (g6, gr, gp)):
+                    gaps[k].append(g)
+                lines.append(f"| {name} | {view} | {n} | {g6:.4f} | {gr:.4f} | {fp[-1]:.4f} | {gp:.4f} | {max(fp[1:]):.4f} |")
     lines += ["", "; ".join(f"{k}: gap median {statistics.median(g):.4f}, worst {max(g):.4f}" for k, g in gaps.items()) + "."]
     return lines
 

@@ -623,6 +623,74 @@ TEST(BetweenFrames, ResplitThatDoesNotPayTriesTheStartingSplit) {
     }
 }
 
+// --polish-tries: once the sequence would hold, frames that each try a
+// move of the planes held (between_frames.h, "Polish"), keeping the faster.
+TEST(BetweenFrames, PolishTriesMovesAndKeepsTheFasterFrames) {
+    MachineConfig m = freeMoves({3, 1, 1});
+    m.balance.polishTries = 3;
+    ResplitSequence s(m);
+    ASSERT_TRUE(s.next(report(100, 0.30, 0.31, {2, 1, 1}), 1));
+    ASSERT_TRUE(s.next(report(80, 0.31, 0.32, {1.5, 1, 1}), 2));  // faster: re-split again
+    // Slower: frame 2's planes, {0.32, 2/3}, are held, and polished. Its
+    // busiest node, 0, has one neighbour: its upper face moves down by
+    // kPolishShrink of the thinner box it bounds (0.32 against 0.347).
+    const auto first = s.next(report(90, 0.32, 0.33, {1.5, 1, 1}), 3);
+    ASSERT_TRUE(first);
+    EXPECT_EQ(s.said().at("next"), "a move tried");
+    EXPECT_EQ(s.said().at("held_ns"), 80);
+    const double kept = 0.32 - kPolishShrink * 0.32;
+    EXPECT_NEAR((*first)[0][0], kept, 1e-12);
+    EXPECT_EQ((*first)[0][1], 2.0 / 3);
+    // That frame is faster: kept. Its busiest node, 1, has two neighbours;
+    // the next move shifts every plane towards the axis's start by the same
+    // share of the thinner box each bounds.
+    const auto second = s.next(report(70, 0.32, kept, {1, 1.2, 1}), 4);
+    ASSERT_TRUE(second);
+    EXPECT_EQ(s.said().at("held_ns"), 70);
+    EXPECT_NEAR((*second)[0][0], kept - kPolishShrink * kept, 1e-12);
+    EXPECT_NEAR((*second)[0][1], 2.0 / 3 - kPolishShrink / 3, 1e-12);
+    // Slower: back to the planes kept, and the third move shifts them
+    // towards the axis's end.
+    const auto third = s.next(report(75, kept, 0.25, {1, 1.2, 1}), 5);
+    ASSERT_TRUE(third);
+    EXPECT_EQ(s.said().at("held_ns"), 70);
+    EXPECT_NEAR((*third)[0][0], kept + kPolishShrink * kept, 1e-12);
+    EXPECT_NEAR((*third)[0][1], 2.0 / 3 + kPolishShrink / 3, 1e-12);
+    // Slower again, and the tries are spent: the planes kept are held.
+    const auto held = s.next(report(72, kept, 0.3, {1, 1.2, 1}), 6);
+    ASSERT_TRUE(held);
+    EXPECT_EQ(s.said().at("next"), "held");
+    EXPECT_NEAR((*held)[0][0], kept, 1e-12);
+    EXPECT_EQ(*s.next(report(71, kept, kept, {1, 1.2, 1}), 7), *held);
+    // Without --polish-tries the same frames hold frame 2's planes at once.
+    ResplitSequence plain(freeMoves({3, 1, 1}));
+    plain.next(report(100, 0.30, 0.31, {2, 1, 1}), 1);
+    plain.next(report(80, 0.31, 0.32, {1.5, 1, 1}), 2);
+    EXPECT_EQ(*plain.next(report(90, 0.32, 0.33, {1.5, 1, 1}), 3), (InnerPlanes{{0.32, 2.0 / 3}}));
+}
+
+// A move that would leave a box thinner than the minimum is not tried.
+TEST(BetweenFrames, PolishTriesNoMoveBelowTheMinimumThickness) {
+    MachineConfig m = freeMoves({3, 1, 1});
+    m.balance.polishTries = 1;
+    m.balance.minThickness = 0.95;  // of the uniform split's 1/3: the boxes held are 0.32, 0.347 and 0.333
+    ResplitSequence s(m);
+    s.next(report(100, 0.30, 0.31, {2, 1, 1}), 1);
+    s.next(report(80, 0.31, 0.32, {1.5, 1, 1}), 2);
+    const auto held = s.next(report(90, 0.32, 0.33, {1.5, 1, 1}), 3);
+    ASSERT_TRUE(held);
+    EXPECT_EQ(*held, (InnerPlanes{{0.32, 2.0 / 3}}));
+    EXPECT_EQ(s.said().at("next"), "held");  // (no move tried: none fits)
+    EXPECT_FALSE(s.said().contains("held_ns"));
+    // With room, the same frames try a move.
+    m.balance.minThickness = 0.05;
+    ResplitSequence roomy(m);
+    roomy.next(report(100, 0.30, 0.31, {2, 1, 1}), 1);
+    roomy.next(report(80, 0.31, 0.32, {1.5, 1, 1}), 2);
+    roomy.next(report(90, 0.32, 0.33, {1.5, 1, 1}), 3);
+    EXPECT_EQ(roomy.said().at("next"), "a move tried");
+}
+
 // --balance recommended: sample on columns of at most 8 boxes along the
 // axis, measured on longer ones (sample's first frame lost at 3 of 62 SPD
 // points on columns of 16 to 64 boxes, measured's at none: doc/balancing.md,
