@@ -662,6 +662,16 @@ TEST(BetweenFrames, PolishTriesMovesAndKeepsTheFasterFrames) {
     EXPECT_EQ(s.said().at("next"), "held");
     EXPECT_NEAR((*held)[0][0], kept, 1e-12);
     EXPECT_EQ(*s.next(report(71, kept, kept, {1, 1.2, 1}), 7), *held);
+    // Where the busiest node is the last along the column, its lower face
+    // moves up: by kPolishShrink of its own box (1/3, the thinner).
+    ResplitSequence last(m);
+    last.next(report(100, 0.30, 0.31, {2, 1, 1}), 1);
+    last.next(report(80, 0.31, 0.32, {1, 1, 1.5}), 2);
+    const auto up = last.next(report(90, 0.32, 0.33, {1.5, 1, 1}), 3);
+    ASSERT_TRUE(up);
+    EXPECT_EQ(last.said().at("next"), "a move tried");
+    EXPECT_EQ((*up)[0][0], 0.32);
+    EXPECT_NEAR((*up)[0][1], 2.0 / 3 + kPolishShrink / 3, 1e-12);
     // Without --polish-tries the same frames hold frame 2's planes at once.
     ResplitSequence plain(freeMoves({3, 1, 1}));
     plain.next(report(100, 0.30, 0.31, {2, 1, 1}), 1);
