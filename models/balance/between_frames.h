@@ -105,6 +105,8 @@ constexpr double kTrialReach = 1.2;
 // thinner box it bounds; or towards its end. In that order, the share
 // halved after each round of the three. Then the fastest planes are held
 // (under sample, frame 1 again if they are still slower than frame 1).
+// (measured's hold of its own starting split, where re-splitting did not
+// pay, is not polished: that frame 1 was the unbalanced split itself.)
 constexpr double kPolishShrink = 0.08;
 // The busiest node of a frame, and its neighbours' busy times along the column.
 struct Busiest {
