@@ -673,7 +673,8 @@ TEST(BetweenFrames, PolishTriesMovesAndKeepsTheFasterFrames) {
     EXPECT_EQ((*up)[0][0], 0.32);
     EXPECT_NEAR((*up)[0][1], 2.0 / 3 + kPolishShrink / 3, 1e-12);
     // Without --polish-tries the same frames hold frame 2's planes at once.
-    ResplitSequence plain(freeMoves({3, 1, 1}));
+    const MachineConfig off = freeMoves({3, 1, 1});  // (the sequence keeps a reference to it)
+    ResplitSequence plain(off);
     plain.next(report(100, 0.30, 0.31, {2, 1, 1}), 1);
     plain.next(report(80, 0.31, 0.32, {1.5, 1, 1}), 2);
     EXPECT_EQ(*plain.next(report(90, 0.32, 0.33, {1.5, 1, 1}), 3), (InnerPlanes{{0.32, 2.0 / 3}}));
