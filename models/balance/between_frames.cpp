@@ -163,15 +163,17 @@ Busiest busiestOf(const FrameState& r, int axis) {
 }  // namespace
 
 std::optional<InnerPlanes> ResplitSequence::hold(const InnerPlanes& planes, double ns, const Busiest& busiest) {
-    held_ = planes;
-    if (m_.balance.polishTries <= 0) return held_;
-    polishing_ = true;
+    if (m_.balance.polishTries <= 0) {
+        held_ = planes;
+        return held_;
+    }
+    polishing_ = true;  // (from here on polish() says what the next frame holds)
     polishLeft_ = m_.balance.polishTries;
     base_ = planes;
     baseNs_ = ns;
     baseBusiest_ = busiest;
     if (std::optional<InnerPlanes> next = tryMove()) return next;
-    return held_;
+    return base_;
 }
 
 InnerPlanes ResplitSequence::moved(int kind) const {
@@ -180,7 +182,7 @@ InnerPlanes ResplitSequence::moved(int kind) const {
     InnerPlanes out = base_;
     if (kind == 0) {  // the busiest node's box, on the side of its less busy neighbour
         const std::vector<double>& own = base_.at(size_t(col));
-        auto face = [&](int i) { return i < 0 ? worldLo_ : i >= n - 1 ? worldHi_ : own.at(size_t(i)); };
+        auto face = [&](int i) { return edge(own, i); };
         const bool down = baseBusiest_.belowNs >= 0 && (baseBusiest_.aboveNs < 0 || baseBusiest_.belowNs <= baseBusiest_.aboveNs);
         const double t = face(k) - face(k - 1);
         // Aligned planes stay aligned (a column's own would pass rays on
@@ -196,8 +198,8 @@ InnerPlanes ResplitSequence::moved(int kind) const {
     const double sign = kind == 1 ? -1 : 1;  // every plane towards the axis's start, or its end
     for (std::vector<double>& c : out)
         for (size_t i = 0; i < c.size(); ++i) {
-            const double below = c[i] - (i == 0 ? worldLo_ : c[i - 1]), above = (i + 1 == c.size() ? worldHi_ : c[i + 1]) - c[i];
-            c[i] += sign * shrink_ * std::min(below, above);
+            const int j = int(i);
+            c[i] += sign * shrink_ * std::min(c[i] - edge(c, j - 1), edge(c, j + 1) - c[i]);
         }
     return out;
 }
@@ -207,8 +209,8 @@ std::optional<InnerPlanes> ResplitSequence::tryMove() {
     const double least = planeSpacing(m_.balance.minThickness * (worldHi_ - worldLo_) / n);  // (plane_spacing.h)
     auto fits = [&](const InnerPlanes& planes) {
         for (const std::vector<double>& c : planes)
-            for (size_t i = 0; i <= c.size(); ++i)
-                if (!((i == c.size() ? worldHi_ : c[i]) - (i == 0 ? worldLo_ : c[i - 1]) >= least)) return false;
+            for (int i = 0; i <= int(c.size()); ++i)
+                if (!(edge(c, i) - edge(c, i - 1) >= least)) return false;
         return true;
     };
     while (polishLeft_ > 0) {
@@ -232,7 +234,6 @@ std::optional<InnerPlanes> ResplitSequence::polish(const FrameState& r) {
             base_ = lastBoundaries(r, m_);
             baseNs_ = r.renderTimeNs;
             baseBusiest_ = busiestOf(r, m_.balance.axis);
-            held_ = base_;
         }
     }
     if (std::optional<InnerPlanes> next = tryMove()) return next;

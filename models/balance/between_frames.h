@@ -157,6 +157,11 @@ private:
     std::optional<InnerPlanes> polish(const FrameState& r);  // after a polish frame
     std::optional<InnerPlanes> tryMove();                    // from base_, or nothing once the tries are spent
     InnerPlanes moved(int kind) const;                       // base_ with move `kind` (0 to 2), at shrink_
+    // A column's box edge i along the axis: its inner plane i, and the
+    // world's ends before the first (i < 0) and past the last.
+    double edge(const std::vector<double>& planes, int i) const {
+        return i < 0 ? worldLo_ : i >= int(planes.size()) ? worldHi_ : planes[size_t(i)];
+    }
     bool polishing_ = false;
     bool trying_ = false;    // the frame being run tries a move
     bool orFirst_ = false;   // frame 1 again, unless the polish beats it

@@ -177,20 +177,31 @@ def starts_table(by):
              "(`sample`'s, balanced within the frame), and the better of the two:", "",
              "| machine | view | N | measured: frame 1 | frame 2 | frame 6 | gap | recommended: frame 1 | frame 6 | gap "
              "| the better |", "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
-    gaps = {"measured": [], "recommended": [], "the better": []}
+
+    def row(name, view, n, b):
+        fm = frame_shares(by, (name, view, n, "scan", "measured"))
+        fr = frame_shares(by, (name, view, n, "scan", "recommended"))
+        gm, gr = fm[-1] / b, fr[-1] / b
+        return (f"{fm[0]:.4f} | {fm[1]:.4f} | {fm[-1]:.4f} | {gm:.4f} | {fr[0]:.4f} | {fr[-1]:.4f} | {gr:.4f} | "
+                f"{min(gm, gr):.4f}"), (gm, gr, min(gm, gr))
+    lines += gap_rows(by, ["measured", "recommended", "the better"], row)
+    return lines
+
+
+def gap_rows(by, keys, row):
+    """A row per point of the steady-state target, from row(machine, view,
+    N, max(1/N, the best static split)) -> (its cells after N, its gaps,
+    one per key), then each key's median and worst gap."""
+    gaps = {k: [] for k in keys}
+    lines = []
     for name, *_ in MACHINES:
         for view in VIEWS:
             for n in NS:
-                b = bound(by, name, view, n, "scan")
-                fm = frame_shares(by, (name, view, n, "scan", "measured"))
-                fr = frame_shares(by, (name, view, n, "scan", "recommended"))
-                gm, gr = fm[-1] / b, fr[-1] / b
-                for k, g in (("measured", gm), ("recommended", gr), ("the better", min(gm, gr))):
+                cells, got = row(name, view, n, bound(by, name, view, n, "scan"))
+                for k, g in zip(keys, got):
                     gaps[k].append(g)
-                lines.append(f"| {name} | {view} | {n} | {fm[0]:.4f} | {fm[1]:.4f} | {fm[-1]:.4f} | {gm:.4f} | "
-                             f"{fr[0]:.4f} | {fr[-1]:.4f} | {gr:.4f} | {min(gm, gr):.4f} |")
-    lines += ["", "; ".join(f"{k}: gap median {statistics.median(g):.4f}, worst {max(g):.4f}" for k, g in gaps.items()) + "."]
-    return lines
+                lines.append(f"| {name} | {view} | {n} | {cells} |")
+    return lines + ["", "; ".join(f"{k}: gap median {statistics.median(g):.4f}, worst {max(g):.4f}" for k, g in gaps.items()) + "."]
 
 
 def polish_table(by):
@@ -203,19 +214,13 @@ def polish_table(by):
              "and its slowest frame after frame 1 as a share of the unbalanced frame:", "",
              f"| machine | view | N | recommended: frame {FRAMES} gap | polished: frame {FRAMES} gap | frame "
              f"{POLISHED_FRAMES} | gap | slowest frame after frame 1 |", "|---|---|---:|---:|---:|---:|---:|---:|"]
-    keys = [f"recommended, frame {FRAMES}", f"polished, frame {FRAMES}", f"polished, frame {POLISHED_FRAMES}"]
-    gaps = {k: [] for k in keys}
-    for name, *_ in MACHINES:
-        for view in VIEWS:
-            for n in NS:
-                b = bound(by, name, view, n, "scan")
-                fr = frame_shares(by, (name, view, n, "scan", "recommended"))
-                fp = frame_shares(by, (name, view, n, "scan", "polished"))
-                g6, gr, gp = fr[-1] / b, fp[FRAMES - 1] / b, fp[-1] / b
-                for k, g in zip(keys, (g6, gr, gp)):
-                    gaps[k].append(g)
-                lines.append(f"| {name} | {view} | {n} | {g6:.4f} | {gr:.4f} | {fp[-1]:.4f} | {gp:.4f} | {max(fp[1:]):.4f} |")
-    lines += ["", "; ".join(f"{k}: gap median {statistics.median(g):.4f}, worst {max(g):.4f}" for k, g in gaps.items()) + "."]
+
+    def row(name, view, n, b):
+        fr = frame_shares(by, (name, view, n, "scan", "recommended"))
+        fp = frame_shares(by, (name, view, n, "scan", "polished"))
+        g6, gr, gp = fr[-1] / b, fp[FRAMES - 1] / b, fp[-1] / b
+        return f"{g6:.4f} | {gr:.4f} | {fp[-1]:.4f} | {gp:.4f} | {max(fp[1:]):.4f}", (g6, gr, gp)
+    lines += gap_rows(by, [f"recommended, frame {FRAMES}", f"polished, frame {FRAMES}", f"polished, frame {POLISHED_FRAMES}"], row)
     return lines
 
 
