@@ -28,7 +28,10 @@ void echoParams(nlohmann::json& j, const std::vector<Param<S>>& rows, const S& s
                 if (p.word && fieldOf<double>(p, s) == p.wordValue) at = p.word;  // (not chosen: unused)
                 else at = fieldOf<double>(p, s);
                 break;
-            case ParamKind::Count: at = fieldOf<int>(p, s); break;
+            case ParamKind::Count:
+                if (p.word && fieldOf<int>(p, s) == p.wordValue) at = p.word;  // (not chosen: unused)
+                else at = fieldOf<int>(p, s);
+                break;
             case ParamKind::Choice: at = fieldOf<bool>(p, s) ? p.on : p.off; break;
             default: break;
         }

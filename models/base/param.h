@@ -49,7 +49,7 @@ struct Param {
     const char* group = nullptr;  // --help's group (a part's rows take their Part row's)
     const char* portHelp = nullptr;  // link settings: the frame-buffer ports' --fb-NAME, if they have it
     const char* part = nullptr;   // Part: "costs", "link", "fb-port" or "balance"
-    const char* word = nullptr;   // Real: a word it also takes, for the value wordValue (outside [lo, hi]); Choice: a third name
+    const char* word = nullptr;   // Real, Count: a word it also takes, for the value wordValue (outside [lo, hi]); Choice: a third name
     double wordValue = 0;
     bool S::*wordField = nullptr;  // Choice: set by `word` (and cleared by the other two)
 };
@@ -84,7 +84,7 @@ Param<S> shownAs(Param<S> p, const char* shown) {
     p.shown = shown;
     return p;
 }
-// The same Real row taking `word` too, held as `value` (outside its range:
+// The same Real or Count row taking `word` too, held as `value` (outside its range:
 // "auto", chosen where the row's field is used).
 template <class S>
 Param<S> orWord(Param<S> p, const char* word, double value) {

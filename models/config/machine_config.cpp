@@ -99,6 +99,7 @@ void checkRanges(const std::vector<Param<S>>& rows, const S& s, const std::strin
         const std::string name = flag + p.name;
         if (p.kind == ParamKind::Count) {
             const int v = fieldOf<int>(p, s);
+            if (p.word && v == p.wordValue) continue;  // ("auto": chosen where it is used)
             if (v < p.lo || v > p.hi) throw std::invalid_argument(name + ": must be in " + formatNumber(p.lo) + ".." + formatNumber(p.hi));
         } else if (p.kind == ParamKind::Real) {
             const double v = fieldOf<double>(p, s);

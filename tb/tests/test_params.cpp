@@ -147,3 +147,29 @@ TEST(Parameters, ValidateChecksEachRowsRange) {
     EXPECT_THROW(m.validate(), std::invalid_argument);
     EXPECT_NO_THROW(MachineConfig{}.validate());
 }
+
+// --polish-tries auto is kSamplePolishTries under sample, named or chosen
+// by --balance recommended, else 0: not under measured, where the
+// recommended policy is measured (columns of more than 8 boxes), nor
+// resplit. The default is 0; the last value given counts.
+TEST(Parameters, PolishTriesAutoIsEightUnderSampleOnly) {
+    const auto tries = [](const std::string& file, const std::vector<std::string>& rest = {}) {
+        const RtsimOptions o = parsed(file, rest);
+        return std::make_pair(o.machine.balance.policy, o.machine.balance.polishTries);
+    };
+    const std::string autoTries = "polish-tries = \"auto\"\n";
+    EXPECT_EQ(tries("balance = \"recommended\"\n" + autoTries), std::make_pair(std::string("sample"), kSamplePolishTries));
+    EXPECT_EQ(tries("balance = \"sample\"\n" + autoTries), std::make_pair(std::string("sample"), kSamplePolishTries));
+    EXPECT_EQ(tries("balance = \"resplit\"\n" + autoTries), std::make_pair(std::string("resplit"), 0));
+    EXPECT_EQ(tries("balance = \"recommended\"\nmesh-dims = \"16x1x1\"\n" + autoTries), std::make_pair(std::string("measured"), 0));
+    EXPECT_EQ(tries("balance = \"sample\"\n"), std::make_pair(std::string("sample"), 0));  // (the default)
+    EXPECT_EQ(tries("balance = \"recommended\"\n" + autoTries, {"--polish-tries", "3"}), std::make_pair(std::string("sample"), 3));
+    EXPECT_EQ(tries("balance = \"recommended\"\npolish-tries = \"3\"\n", {"--polish-tries", "auto"}),
+              std::make_pair(std::string("sample"), kSamplePolishTries));
+    // Built in code, auto passes validate() unresolved (and polishes nothing); another negative does not.
+    MachineConfig m;
+    m.balance.polishTries = kPolishTriesAuto;
+    EXPECT_NO_THROW(m.validate());
+    m.balance.polishTries = -2;
+    EXPECT_THROW(m.validate(), std::invalid_argument);
+}
