@@ -106,6 +106,26 @@ std::string stabilityWord(const nlohmann::json& report) {
     return word;
 }
 
+// The polish's tries (--polish-tries; between_frames.h, "Polish"): the
+// frames that tried a move of the planes held, and how many of the moves
+// were kept, their frame faster than the one held. "" where none tried.
+std::string polishLine(const nlohmann::json& frames, int tries) {
+    int tried = 0, kept = 0;
+    size_t from = 0, to = 0;
+    for (size_t k = 1; k < frames.size(); ++k) {
+        const nlohmann::json then = frames[k - 1].value("then", nlohmann::json::object());
+        if (then.value("next", "") != "a move tried") continue;
+        from = tried++ ? from : k + 1;
+        to = k + 1;
+        if (frames[k]["render_time_ns"].get<double>() < then["held_ns"].get<double>()) ++kept;
+    }
+    if (!tried) return "";
+    char buf[200];
+    std::snprintf(buf, sizeof buf, "frames %zu to %zu tried a move of the planes held each, %d of %d faster and kept "
+                  "(--polish-tries %d)", from, to, kept, tried, tries);
+    return buf;
+}
+
 // A policy as the summary names it: one --balance recommended chose says so.
 std::string policyName(const std::string& policy, bool recommended) {
     return recommended ? policy + " (the recommended policy)" : policy;
@@ -147,6 +167,8 @@ void printBalancing(const RtsimOptions& o, const nlohmann::json& report) {
         std::printf("  frames          ");
         for (const auto& f : report["frames"]) std::printf(" %s", nsTime(f["render_time_ns"]).c_str());
         std::printf("  (render times; the figures above are the last frame's)\n");
+        const std::string polish = polishLine(report["frames"], o.machine.balance.polishTries);
+        if (!polish.empty()) std::printf("  polish           %s\n", polish.c_str());
     }
 }
 

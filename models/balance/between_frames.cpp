@@ -162,7 +162,8 @@ Busiest busiestOf(const FrameState& r, int axis) {
 
 }  // namespace
 
-std::optional<InnerPlanes> ResplitSequence::hold(const InnerPlanes& planes, double ns, const Busiest& busiest) {
+std::optional<InnerPlanes> ResplitSequence::hold(const InnerPlanes& planes, double ns, const Busiest& busiest,
+                                                 const FrameState& r) {
     if (m_.balance.polishTries <= 0) {
         held_ = planes;
         return held_;
@@ -172,7 +173,7 @@ std::optional<InnerPlanes> ResplitSequence::hold(const InnerPlanes& planes, doub
     base_ = planes;
     baseNs_ = ns;
     baseBusiest_ = busiest;
-    if (std::optional<InnerPlanes> next = tryMove()) return next;
+    if (std::optional<InnerPlanes> next = tryMove(r)) return next;
     return base_;
 }
 
@@ -204,7 +205,7 @@ InnerPlanes ResplitSequence::moved(int kind) const {
     return out;
 }
 
-std::optional<InnerPlanes> ResplitSequence::tryMove() {
+std::optional<InnerPlanes> ResplitSequence::tryMove(const FrameState& r) {
     const int n = m_.dims[size_t(m_.balance.axis)];
     const double least = planeSpacing(m_.balance.minThickness * (worldHi_ - worldLo_) / n);  // (plane_spacing.h)
     auto fits = [&](const InnerPlanes& planes) {
@@ -213,11 +214,21 @@ std::optional<InnerPlanes> ResplitSequence::tryMove() {
                 if (!(edge(c, i) - edge(c, i - 1) >= least)) return false;
         return true;
     };
+    // Each frame forecast from the last, with getting there: none tried
+    // that is not kPolishRoom faster than the unbalanced frame, forecast
+    // the same way (a move not tried spends its try all the same).
+    std::optional<FrameForecast> f;
+    double roomNs = 0;
     while (polishLeft_ > 0) {
         --polishLeft_;
         const InnerPlanes next = moved(moveKind_ % 3);
         if (++moveKind_ % 3 == 0) shrink_ /= 2;
         if (next == base_ || !fits(next)) continue;
+        if (!f) {
+            f.emplace(r, m_, averagedBoundaries(r, m_), objects_);
+            roomNs = (1 - kPolishRoom) * f->forecast(start_).frameNs;
+        }
+        if (f->forecast(next).frameNs + moveNs(r, m_, lastBoundaries(r, m_), next) > roomNs) continue;
         trying_ = true;
         said_["next"] = "a move tried";
         said_["held_ns"] = baseNs_;
@@ -236,7 +247,7 @@ std::optional<InnerPlanes> ResplitSequence::polish(const FrameState& r) {
             baseBusiest_ = busiestOf(r, m_.balance.axis);
         }
     }
-    if (std::optional<InnerPlanes> next = tryMove()) return next;
+    if (std::optional<InnerPlanes> next = tryMove(r)) return next;
     if (orFirst_ && baseNs_ >= firstNs_) {  // polished, and still not faster than frame 1
         polishing_ = false;
         again_ = true;
@@ -271,7 +282,7 @@ std::optional<InnerPlanes> ResplitSequence::noResplitWon(const FrameState& r) {
             said_ = {{"next", "frame 1 again"}, {"start_forecast_ns", startNs}};
             if (m_.balance.polishTries > 0) {  // unless polishing the fastest re-split frame's planes beats it
                 orFirst_ = true;
-                return hold(best_, bestNs_, bestBusiest_);
+                return hold(best_, bestNs_, bestBusiest_, r);
             }
             again_ = true;
             return std::nullopt;
@@ -292,7 +303,7 @@ std::optional<InnerPlanes> ResplitSequence::next(const FrameState& r, int frame)
     const double t = r.renderTimeNs;
     if (frame == 1) return firstFrame(r);
     if (tryingStart_) {  // the frame just run held the starting split
-        if (t < firstNs_) return hold(start_, t, busiestOf(r, m_.balance.axis));
+        if (t < firstNs_) return hold(start_, t, busiestOf(r, m_.balance.axis), r);
         again_ = true;
         said_ = {{"next", "frame 1 again"}};
         return std::nullopt;
@@ -308,11 +319,11 @@ std::optional<InnerPlanes> ResplitSequence::next(const FrameState& r, int frame)
     if (bestNs_ > firstNs_) return noResplitWon(r);  // no re-split frame has beaten the first yet
     if (misses_ >= kPatience) {
         said_ = {{"next", "the fastest frame's planes"}};
-        return hold(best_, bestNs_, bestBusiest_);
+        return hold(best_, bestNs_, bestBusiest_, r);
     }
     std::optional<InnerPlanes> next = forecast(r);
     // The forecast holds: polish the fastest re-split frame's planes.
-    if (m_.balance.polishTries > 0 && said_.value("next", "") == "held") return hold(best_, bestNs_, bestBusiest_);
+    if (m_.balance.polishTries > 0 && said_.value("next", "") == "held") return hold(best_, bestNs_, bestBusiest_, r);
     return next;
 }
 

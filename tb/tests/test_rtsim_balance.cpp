@@ -786,6 +786,43 @@ TEST_F(SampleTrial, IsSkippedWhereItsForecastPutsItFarBehindFrameOne) {
     EXPECT_LT(first, 0.3 * none);
 }
 
+// --polish-tries auto is 8 under sample: the same sequence tries a move
+// where it would have held.
+TEST_F(SampleTrial, PolishesUnderAuto) {
+    const auto [r, none] = sequence(5, "0.2", " --frames 4 --polish-tries auto");
+    EXPECT_EQ(r["config"]["balance"]["polish_tries"], rt::kSamplePolishTries);
+    EXPECT_EQ(r["frames"][2]["then"]["next"], "a move tried");
+    EXPECT_LT(r["frames"][3]["render_time_ns"].get<double>(), none);
+}
+
+// The summary names the frames that tried a move and counts those kept:
+// counted here as the try frames faster than every frame since the one
+// the polish started from (the frame before the first try).
+TEST_F(SampleTrial, TheSummaryCountsThePolishsMoves) {
+    const std::string args = " --config " RT_CONFIG_DIR "/paper.conf --spheres 1000 --radius 0.02 --seed 1 --size 128x128"
+                             " --mesh 5 --concentration 0.2 --balance sample --frames 14 --polish-tries 8 --no-baseline --image '' --report " +
+                             (dir_ / "p.json").string();
+    const Outcome o = run(args);
+    ASSERT_EQ(o.code, 0) << o.err;
+    const json r = json::parse(slurp(dir_ / "p.json"));
+    int first = 0, last = 0, kept = 0;
+    double best = 0;
+    for (int k = 1; k < int(r["frames"].size()); ++k) {
+        if (r["frames"][k - 1]["then"]["next"] != "a move tried") continue;
+        if (!first) best = r["frames"][k - 1]["render_time_ns"].get<double>();
+        first = first ? first : k + 1;
+        last = k + 1;
+        const double t = r["frames"][k]["render_time_ns"];
+        kept += t < best;
+        best = std::min(best, t);
+    }
+    ASSERT_GT(last, first);
+    const std::string line = "polish           frames " + std::to_string(first) + " to " + std::to_string(last) +
+                             " tried a move of the planes held each, " + std::to_string(kept) + " of " +
+                             std::to_string(last - first + 1) + " faster and kept (--polish-tries 8)\n";
+    EXPECT_NE(o.out.find(line), std::string::npos) << o.out;
+}
+
 // With --polish-tries, the same sequence polishes the fastest re-split
 // frame's planes first (between_frames.h, "Polish"), and goes back to
 // frame 1 only if no polished frame beat it. (Measured at 8 tries and 14

@@ -629,7 +629,7 @@ TEST(BetweenFrames, PolishTriesMovesAndKeepsTheFasterFrames) {
     MachineConfig m = freeMoves({3, 1, 1});
     m.balance.polishTries = 3;
     ResplitSequence s(m);
-    ASSERT_TRUE(s.next(report(100, 0.30, 0.31, {2, 1, 1}), 1));
+    ASSERT_TRUE(s.next(report(100, 0.10, 0.31, {2, 1, 1}), 1));
     ASSERT_TRUE(s.next(report(80, 0.31, 0.32, {1.5, 1, 1}), 2));  // faster: re-split again
     // Slower: frame 2's planes, {0.32, 2/3}, are held, and polished. Its
     // busiest node, 0, has one neighbour: its upper face moves down by
@@ -665,7 +665,7 @@ TEST(BetweenFrames, PolishTriesMovesAndKeepsTheFasterFrames) {
     // Where the busiest node is the last along the column, its lower face
     // moves up: by kPolishShrink of its own box (1/3, the thinner).
     ResplitSequence last(m);
-    last.next(report(100, 0.30, 0.31, {2, 1, 1}), 1);
+    last.next(report(100, 0.10, 0.31, {2, 1, 1}), 1);
     last.next(report(80, 0.31, 0.32, {1, 1, 1.5}), 2);
     const auto up = last.next(report(90, 0.32, 0.33, {1.5, 1, 1}), 3);
     ASSERT_TRUE(up);
@@ -675,9 +675,36 @@ TEST(BetweenFrames, PolishTriesMovesAndKeepsTheFasterFrames) {
     // Without --polish-tries the same frames hold frame 2's planes at once.
     const MachineConfig off = freeMoves({3, 1, 1});  // (the sequence keeps a reference to it)
     ResplitSequence plain(off);
-    plain.next(report(100, 0.30, 0.31, {2, 1, 1}), 1);
+    plain.next(report(100, 0.10, 0.31, {2, 1, 1}), 1);
     plain.next(report(80, 0.31, 0.32, {1.5, 1, 1}), 2);
     EXPECT_EQ(*plain.next(report(90, 0.32, 0.33, {1.5, 1, 1}), 3), (InnerPlanes{{0.32, 2.0 / 3}}));
+}
+
+// A move is tried only where the forecast puts it kPolishRoom faster than
+// the unbalanced split (here the split frame 1 started from, as measured's
+// is). Frame 3's busy times (1.5, 1, 1), spread over boxes 0.32, 0.347 and
+// 0.333: node 0's box shrunk by 0.0256 is forecast at 1.38 (node 0), 8 %
+// faster than the planes held (1.5). From frame 1 started at 0.10 (node 1
+// then forecast at 1.5 x 0.22 / 0.32 + 1 = 2.03) that is room; started
+// where the planes are held, it is not (0.9 x 1.5 < 1.38).
+TEST(BetweenFrames, PolishTriesOnlyWithRoomUnderTheUnbalancedFrame) {
+    MachineConfig m = freeMoves({3, 1, 1});
+    m.balance.polishTries = 1;
+    const InnerPlanes shrunk{{0.32 - kPolishShrink * 0.32, 2.0 / 3}};
+    for (const double start : {0.10, 0.32}) {
+        ResplitSequence s(m);
+        s.next(report(100, start, 0.31, {2, 1, 1}), 1);
+        s.next(report(80, 0.31, 0.32, {1.5, 1, 1}), 2);
+        const auto next = s.next(report(90, 0.32, 0.32, {1.5, 1, 1}), 3);
+        ASSERT_TRUE(next);
+        if (start == 0.10) {
+            EXPECT_EQ(s.said().at("next"), "a move tried");
+            EXPECT_NEAR((*next)[0][0], shrunk[0][0], 1e-12);
+        } else {
+            EXPECT_EQ(s.said().at("next"), "the fastest frame's planes");  // (held, no move tried)
+            EXPECT_EQ(*next, (InnerPlanes{{0.32, 2.0 / 3}}));
+        }
+    }
 }
 
 // A move that would leave a box thinner than the minimum is not tried.
@@ -686,7 +713,7 @@ TEST(BetweenFrames, PolishTriesNoMoveBelowTheMinimumThickness) {
     m.balance.polishTries = 1;
     m.balance.minThickness = 0.95;  // of the uniform split's 1/3: the boxes held are 0.32, 0.347 and 0.333
     ResplitSequence s(m);
-    s.next(report(100, 0.30, 0.31, {2, 1, 1}), 1);
+    s.next(report(100, 0.10, 0.31, {2, 1, 1}), 1);
     s.next(report(80, 0.31, 0.32, {1.5, 1, 1}), 2);
     const auto held = s.next(report(90, 0.32, 0.33, {1.5, 1, 1}), 3);
     ASSERT_TRUE(held);
@@ -696,7 +723,7 @@ TEST(BetweenFrames, PolishTriesNoMoveBelowTheMinimumThickness) {
     // With room, the same frames try a move.
     m.balance.minThickness = 0.05;
     ResplitSequence roomy(m);
-    roomy.next(report(100, 0.30, 0.31, {2, 1, 1}), 1);
+    roomy.next(report(100, 0.10, 0.31, {2, 1, 1}), 1);
     roomy.next(report(80, 0.31, 0.32, {1.5, 1, 1}), 2);
     roomy.next(report(90, 0.32, 0.33, {1.5, 1, 1}), 3);
     EXPECT_EQ(roomy.said().at("next"), "a move tried");
