@@ -29,6 +29,7 @@ from project import PAPER_SCENE, ROOT, VIEWS, check_variant, invocation, machine
 # axis x, the camera looking along x or across it (project.VIEWS).
 POLICIES = "median,slide,sample,work"
 STEADY = "slide,resplit,measured"  # their steady state too: "resplit@6" is resplit's frame 6
+FRAMES = 6  # (the recommended tables: 14, sample's polish spent)
 PAPER = 0.2
 # The policies whose steady state the gap table takes apart, the first of
 # them run: measured (the between-frames policy), else sample (the
@@ -43,7 +44,7 @@ def main():
     ap.add_argument("--policies", default=POLICIES, help="policies compared with none")
     project.add_machine_arguments(ap, "modern", "fig4")
     ap.add_argument("--steady", default=STEADY, help="policies whose steady state is drawn too ('': none)")
-    ap.add_argument("--frames", type=int, default=6, help="frames of the steady-state curves (the last is plotted)")
+    ap.add_argument("--frames", type=int, default=FRAMES, help="frames of the steady-state curves (the last is plotted)")
     driver.add_output_arguments(ap, os.path.join(ROOT, "doc", "fig4.md"))
     driver.add_arguments(ap)
     a = driver.parse_outputs(ap)
@@ -159,6 +160,16 @@ def plot(a, rows, ns, policies, path):
     outputs.savefig(fig, path, dpi=90)
 
 
+def written_by(a):
+    """The flags of this run, for a table's "written by" line: the
+    machine's, and those of the policies and frames where not the defaults."""
+    flags = [invocation(a)]
+    flags += [f"--policies {a.policies}"] if a.policies != POLICIES else []
+    flags += [f"--steady {a.steady}"] if a.steady != STEADY else []
+    flags += [f"--frames {a.frames}"] if a.frames != FRAMES else []
+    return " ".join(flags)
+
+
 def table(a, rows, ns, policies, md_path):
     """The f = 1/N points: every policy's ratio beside the bounds and the
     best static split where searched, and for the paper's rule (slide) the
@@ -166,7 +177,7 @@ def table(a, rows, ns, policies, md_path):
     head = " | ".join(policies)
     best = project.best_static(a)
     main = "slide" if "slide" in policies else policies[0]
-    lines = [f"<!-- written by scripts/experiments/fig4.py {invocation(a)}; do not edit -->",
+    lines = [f"<!-- written by scripts/experiments/fig4.py {written_by(a)}; do not edit -->",
              f"| view | N | {head} | best static split | column bound | perfect bound | frame buffer | 1/N | paper | "
              f"{main}: busy time added | {main}: its own column bound |",
              "|---|---:|" + "---:|" * (len(policies) + 8)]
@@ -187,7 +198,7 @@ def frames_table(a, rows, policies, md_path):
     """Over every point (both views, every N and f): how often each policy
     loses more than 2 % against the unbalanced frame, in its last frame and
     in any frame of its sequence, and its worst frame."""
-    lines = [f"<!-- written by scripts/experiments/fig4.py {invocation(a)}; do not edit -->",
+    lines = [f"<!-- written by scripts/experiments/fig4.py {written_by(a)}; do not edit -->",
              "| policy | points | last frame above 1.02 | worst last frame | any frame above 1.02 | worst frame, where |",
              "|---|---:|---:|---:|---:|---|"]
     for p in policies:
@@ -213,7 +224,7 @@ def gap_table(a, rows, ns, policy, md_path):
     its own busiest node where the search recorded it (a split with a
     busier busiest node can still make the shorter frame: it waits less)."""
     best = project.best_static(a)
-    lines = [f"<!-- written by scripts/experiments/fig4.py {invocation(a)}; do not edit -->",
+    lines = [f"<!-- written by scripts/experiments/fig4.py {written_by(a)}; do not edit -->",
              f"| view | N | 1/N | perfect bound | + unequal columns | + work balancing added | + imbalance left | "
              f"+ fill and drain | = {policy} | best static split | its busiest node | "
              f"{policy} / max(1/N, best static) |",
