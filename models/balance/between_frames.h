@@ -114,7 +114,7 @@ constexpr double kPolishShrink = 0.08;
 // sample): a try is a frame risked on what the forecast cannot see, and
 // where the frame held is near the unbalanced one, a miss of a few per cent
 // loses. (Without it, on Fig. 4's f = 1, where the frames held ran 0.98 to
-// 1.0 of the unbalanced frame, tries ran 1.046 to 1.066 on the modern
+// 1.0 of the unbalanced frame, tries ran 1.045 to 1.066 on the modern
 // machine at N = 2 and 1.031 to 1.068 on the 1987 machine at N = 8.)
 constexpr double kPolishRoom = 0.1;
 // The busiest node of a frame, and its neighbours' busy times along the column.
