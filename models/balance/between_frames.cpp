@@ -218,6 +218,7 @@ std::optional<InnerPlanes> ResplitSequence::tryMove(const FrameState& r) {
     // that is not kPolishRoom faster than the unbalanced frame, forecast
     // the same way (a move not tried spends its try all the same).
     std::optional<FrameForecast> f;
+    InnerPlanes now;
     double roomNs = 0;
     while (polishLeft_ > 0) {
         --polishLeft_;
@@ -226,9 +227,10 @@ std::optional<InnerPlanes> ResplitSequence::tryMove(const FrameState& r) {
         if (next == base_ || !fits(next)) continue;
         if (!f) {
             f.emplace(r, m_, averagedBoundaries(r, m_), objects_);
+            now = lastBoundaries(r, m_);
             roomNs = (1 - kPolishRoom) * f->forecast(start_).frameNs;
         }
-        if (f->forecast(next).frameNs + moveNs(r, m_, lastBoundaries(r, m_), next) > roomNs) continue;
+        if (f->forecast(next).frameNs + moveNs(r, m_, now, next) > roomNs) continue;
         trying_ = true;
         said_["next"] = "a move tried";
         said_["held_ns"] = baseNs_;

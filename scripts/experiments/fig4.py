@@ -29,7 +29,7 @@ from project import PAPER_SCENE, ROOT, VIEWS, check_variant, invocation, machine
 # axis x, the camera looking along x or across it (project.VIEWS).
 POLICIES = "median,slide,sample,work"
 STEADY = "slide,resplit,measured"  # their steady state too: "resplit@6" is resplit's frame 6
-FRAMES = 6  # (the recommended tables: 14, sample's polish spent)
+FRAMES = 6  # frames of a steady-state sequence (--frames)
 PAPER = 0.2
 # The policies whose steady state the gap table takes apart, the first of
 # them run: measured (the between-frames policy), else sample (the
