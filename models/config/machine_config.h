@@ -73,7 +73,7 @@ constexpr double kStartMixAuto = -1;
 
 // --polish-tries auto: kSamplePolishTries under sample (the recommended
 // policy on columns of at most 8 boxes), else 0 (resplit and measured,
-// where it was not measured). Not the default yet: balancing.md, "Polish".
+// where it was not measured), the default: balancing.md, "Polish".
 constexpr int kPolishTriesAuto = -1;
 constexpr int kSamplePolishTries = 8;
 constexpr const char* kPolishTriesHelp =
@@ -118,7 +118,7 @@ struct BalanceConfig {
     int bins = 16;                // work profile: bins per initial box thickness along the axis
     // Between frames, once the sequence would hold: frames that try small
     // moves of the planes held, keeping the faster (between_frames.h, "Polish").
-    int polishTries = 0;  // (kPolishTriesAuto: RtsimOptions::finish() makes it 8 under sample, else 0)
+    int polishTries = kPolishTriesAuto;  // (auto: RtsimOptions::finish() makes it 8 under sample, else 0)
     Picos rebuildCost = 20000;    // updating a node's grid: per object moved in or out
     // The guard (every policy; balance_agent.h): no slide on loads older than
     // maxAge intervals, or whose cost exceeds the work it moves over the

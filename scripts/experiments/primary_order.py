@@ -1,17 +1,20 @@
 #!/usr/bin/python3
 """The order of the primary rays (--primary-order scan or spread) and what
 it does to a frame: the unbalanced frame on SPD scenes, and the
-recommended policy's steady state (its sixth frame) at the 24 points
-where issue 61 holds it against the best static split (Fig. 4's f = 1/N,
-N = 4, 5 and 8, both views, the modern, 1987 and paper machines and
-sphere tests x100).
+recommended policy's steady state (its frame 14, once sample's polish has
+spent its tries: between_frames.h, "Polish") at the 24 points where issue
+61 holds it against the best static split (Fig. 4's f = 1/N, N = 4, 5
+and 8, both views, the modern, 1987 and paper machines and sphere tests
+x100).
 
 The steady state depends on where the sequence of re-split frames starts:
 the same 24 points under scan with `measured` (its first frame at the
 unbalanced split, re-split from frame 2 on) beside the recommended
 policy (`sample`'s balanced first frame), and the better of the two.
-Then the recommended policy with --polish-tries 8 (between_frames.h,
-"Polish"): its frame 6, and frame 14, once its tries are spent.
+Then what the polish adds: the recommended policy's frame 6 (some frames
+then still trying moves) and frame 14, beside its frame 6 without the
+polish (--polish-tries 0, the recommended policy before the polish was
+its default).
 
 A node generates its primary rays row by row (scan) or in a stride
 through its pixels (spread); the image is the same. Under scan a box
@@ -42,8 +45,8 @@ ORDERS = ["scan", "spread"]
 MACHINES = [("modern", "modern", "", []), ("1987", "transputer-1987", "", []), ("paper", "paper", "", []),
             ("sphere tests x100", "modern", "sphere-x100", ["--cost-sphere", "1us"])]
 NS = [4, 5, 8]
-FRAMES = 6
-POLISH_TRIES, POLISHED_FRAMES = 8, 14
+FRAMES = 14  # the steady state: sample holds by frame 6, then polishes 8 frames
+EARLY = 6  # the steady state before the polish (--polish-tries 0)
 SCENES = ["balls-4", "gears-2", "tetra-3", "rings-2"]
 SCENE_NS = [4, 8]
 
@@ -95,10 +98,10 @@ def sweep(a, folder):
                     runs = [("none", ["--balance", "none"]),
                             ("recommended", ["--balance", "recommended", "--frames", str(FRAMES)]),
                             ("split", ["--balance", "none", "--boundaries-from", split])]
-                    if order == "scan":  # the sequence from the unbalanced first frame, and the polish
+                    if order == "scan":  # the sequence from the unbalanced first frame, and without the polish
                         runs.append(("measured", ["--balance", "measured", "--frames", str(FRAMES)]))
-                        runs.append(("polished", ["--balance", "recommended", "--polish-tries", str(POLISH_TRIES),
-                                                  "--frames", str(POLISHED_FRAMES)]))
+                        runs.append(("unpolished", ["--balance", "recommended", "--polish-tries", "0",
+                                                    "--frames", str(EARLY)]))
                     for run, flags in runs:
                         points.append({"params": {"part": "steady", "machine": name, "view": view, "N": n, "order": order,
                                                   "run": run},
@@ -108,8 +111,11 @@ def sweep(a, folder):
 
 
 def extract(r):
+    frames = r.get("frames", [])
     return {"render_time_ns": r["render_time_ns"], "max_busy_ns": max(n["busy_ns"] for n in r["nodes"]),
-            "frames_ns": " ".join(f"{f['render_time_ns']:.0f}" for f in r.get("frames", []))}
+            "frames_ns": " ".join(f"{f['render_time_ns']:.0f}" for f in frames),
+            # (whether the last frame still tried a move of the polish: the frame before chose it)
+            "last_tried": int(len(frames) > 1 and frames[-2].get("then", {}).get("next") == "a move tried")}
 
 
 def table(a, rows):
@@ -130,8 +136,8 @@ def table(a, rows):
               "unbalanced frame of its own order, and over max(1/N, the best static split): under scan the split "
               "searched under scan; under spread the same planes run under spread (not searched under spread: "
               "a lower bound of the gap).", "",
-              "| machine | view | N | scan: frame 6 | busy share | best split | busy share | gap | "
-              "spread: unbalanced / scan's | frame 6 | busy share | the split | busy share | gap (at least) |",
+              f"| machine | view | N | scan: frame {FRAMES} | busy share | best split | busy share | gap | "
+              f"spread: unbalanced / scan's | frame {FRAMES} | busy share | the split | busy share | gap (at least) |",
               "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
     gaps = {o: [] for o in ORDERS}
     for name, *_ in MACHINES:
@@ -150,8 +156,10 @@ def table(a, rows):
                 (_, l0, b0, s0, c0, g0), (n1, l1, b1, s1, c1, g1) = cells
                 lines.append(f"| {name} | {view} | {n} | {l0:.4f} | {b0:.3f} | {s0:.4f} | {c0:.3f} | {g0:.4f} | "
                              f"{n1 / t(name, view, n, 'scan', 'none'):.3f} | {l1:.4f} | {b1:.3f} | {s1:.4f} | {c1:.3f} | {g1:.4f} |")
+    tried = sum(int(r["last_tried"]) for r in rows if r["run"] == "recommended")
     lines += ["", " ".join(f"{o}: gap median {statistics.median(g):.4f}, worst {max(g):.4f}" + (";" if o == "scan" else ".")
-                           for o, g in gaps.items())]
+                           for o, g in gaps.items()) + f" Frame {FRAMES} still tried a move of the polish in {tried} of "
+              f"the {len(gaps['scan']) * len(ORDERS)} runs."]
     lines += starts_table(by) + polish_table(by)
     publish_table(lines, os.path.join(a.out, "primary_order.md"), a.doc, "primary_order table")
 
@@ -169,14 +177,14 @@ def bound(by, name, view, n, order):
 
 
 def starts_table(by):
-    """The sixth frame under scan from the two starts: `measured` (frame 1
+    """The steady-state frame under scan from the two starts: `measured` (frame 1
     the unbalanced split) and the recommended policy (frame 1 `sample`'s),
     each over max(1/N, the best static split), and the better of the two."""
     lines = ["", f"Where the sequence starts, under scan: frame {FRAMES} over max(1/N, the best static split) after "
              "`measured`'s first frame (the unbalanced split, measured) and after the recommended policy's "
              "(`sample`'s, balanced within the frame), and the better of the two:", "",
-             "| machine | view | N | measured: frame 1 | frame 2 | frame 6 | gap | recommended: frame 1 | frame 6 | gap "
-             "| the better |", "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+             f"| machine | view | N | measured: frame 1 | frame 2 | frame {FRAMES} | gap | recommended: frame 1 | "
+             f"frame {FRAMES} | gap | the better |", "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
 
     def row(name, view, n, b):
         fm = frame_shares(by, (name, view, n, "scan", "measured"))
@@ -205,22 +213,22 @@ def gap_rows(by, keys, row):
 
 
 def polish_table(by):
-    """The recommended policy with --polish-tries: frame 6 (some of its
-    frames then still try moves) and frame 14 (its tries spent), over
-    max(1/N, the best static split), beside the recommended policy's frame 6;
-    and the slowest of its frames over the unbalanced frame."""
-    lines = ["", f"With `--polish-tries {POLISH_TRIES}` (the recommended policy, under scan): frame {FRAMES} and frame "
-             f"{POLISHED_FRAMES} over max(1/N, the best static split), beside the recommended policy's frame {FRAMES}; "
-             "and its slowest frame after frame 1 as a share of the unbalanced frame:", "",
-             f"| machine | view | N | recommended: frame {FRAMES} gap | polished: frame {FRAMES} gap | frame "
-             f"{POLISHED_FRAMES} | gap | slowest frame after frame 1 |", "|---|---|---:|---:|---:|---:|---:|---:|"]
+    """What the polish adds, under scan: the recommended policy's frame 6
+    without it (--polish-tries 0) and with it, and frame 14, over
+    max(1/N, the best static split); and the slowest of its frames after
+    the first over the unbalanced frame."""
+    lines = ["", f"What the polish adds (under scan): frame {EARLY} without it (`--polish-tries 0`) and with it, "
+             f"and frame {FRAMES}, over max(1/N, the best static split); and the slowest frame after frame 1 (a "
+             "move tried or not) as a share of the unbalanced frame:", "",
+             f"| machine | view | N | no polish: frame {EARLY} gap | frame {EARLY} gap | frame {FRAMES} | gap | "
+             "slowest frame after frame 1 |", "|---|---|---:|---:|---:|---:|---:|---:|"]
 
     def row(name, view, n, b):
+        fu = frame_shares(by, (name, view, n, "scan", "unpolished"))
         fr = frame_shares(by, (name, view, n, "scan", "recommended"))
-        fp = frame_shares(by, (name, view, n, "scan", "polished"))
-        g6, gr, gp = fr[-1] / b, fp[FRAMES - 1] / b, fp[-1] / b
-        return f"{g6:.4f} | {gr:.4f} | {fp[-1]:.4f} | {gp:.4f} | {max(fp[1:]):.4f}", (g6, gr, gp)
-    lines += gap_rows(by, [f"recommended, frame {FRAMES}", f"polished, frame {FRAMES}", f"polished, frame {POLISHED_FRAMES}"], row)
+        gu, g6, gp = fu[-1] / b, fr[EARLY - 1] / b, fr[-1] / b
+        return f"{gu:.4f} | {g6:.4f} | {fr[-1]:.4f} | {gp:.4f} | {max(fr[1:]):.4f}", (gu, g6, gp)
+    lines += gap_rows(by, [f"no polish, frame {EARLY}", f"frame {EARLY}", f"frame {FRAMES}"], row)
     return lines
 
 
