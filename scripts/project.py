@@ -12,6 +12,7 @@ import atexit
 import glob
 import json
 import os
+import shlex
 import shutil
 import subprocess
 import sys
@@ -95,6 +96,15 @@ def target_factor(a):
 def invocation(a):
     """The flags that name the machine, for a table's "written by" line."""
     return f"--preset {a.preset}" + (f" --tag {a.tag} --extra={a.extra!r}" if a.tag else "")
+
+
+def changed_flags(ap, a, names):
+    """The flags among names whose values differ from the parser's
+    defaults, as typed (quoted where needed), for a table's "written by"
+    line: the line says how to write the table again."""
+    def flag(k, v):  # (--k=v where v looks like a flag itself)
+        return f"--{k.replace('_', '-')}{'=' if v.startswith('-') else ' '}{shlex.quote(v)}"
+    return " ".join(flag(k, str(getattr(a, k))) for k in names if str(getattr(a, k)) != str(ap.get_default(k)))
 
 
 def machine_tag(tag):

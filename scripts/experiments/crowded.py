@@ -47,8 +47,7 @@ def main():
         raise outputs.ToolError(f"--policies {a.policies!r}: give one policy or more, none aside (it is the baseline)")
     csv_path = os.path.join(a.out, "crowded.csv")
     rows = driver.swept_rows(a, csv_path, lambda: sweep(a, ns, fractions, policies))
-    changed = " ".join(f"--{k} {getattr(a, k)}" for k in ("n", "fractions", "policies", "frames")
-                       if str(getattr(a, k)) != str(ap.get_default(k)))  # (for the table's "written by" line)
+    changed = project.changed_flags(ap, a, ("n", "fractions", "policies", "frames"))
     table(a, rows, ns, fractions, policies, changed, os.path.join(a.out, "crowded.md"))
 
 

@@ -43,6 +43,8 @@ def main():
     driver.add_output_arguments(ap, os.path.join(ROOT, "doc", "balancing.md"))
     driver.add_arguments(ap)
     a = driver.parse_outputs(ap)
+    a.how = project.changed_flags(ap, a, ("scenes", "n", "shapes", "bandwidths", "size", "policy", "frames", "extra",
+                                          "policy_extra", "tag"))  # (the table's "written by" line)
     if a.doc and not a.tag and (project.policy_named(a.policy) != "recommended" or a.policy_extra):
         ap.error(f"--tag: --doc with --policy {a.policy}" + (" and --policy-extra" if a.policy_extra else "") +
                  " needs one: untagged, its table would replace the recommended policy's in doc/")
@@ -94,8 +96,7 @@ def table(a, rows, md_path):
         ratios = [float(x) / t0 for x in r["frames_ns"].split()]
         points.append({"scene": r["scene"], "N": r["N"], "bandwidth": r["bandwidth"], "none": t0, "ratios": ratios})
     points.sort(key=lambda p: -max(p["ratios"]))
-    how = " ".join(f"--{k} {v}" for k, v in (("shapes", a.shapes), ("tag", a.tag)) if v)
-    lines = [f"<!-- written by scripts/experiments/spd_never_hurts.py{' ' + how if how else ''}; do not edit -->",
+    lines = [f"<!-- written by scripts/experiments/spd_never_hurts.py{' ' + a.how if a.how else ''}; do not edit -->",
              f"{len(points)} points ({a.scenes.replace(',', ', ')}; "
              f"{'meshes ' + a.shapes.replace(',', ', ') if a.shapes else 'N = ' + a.n.replace(',', ', ')}; links "
              f"{a.bandwidths.replace(',', ', ')}; {a.size}); `--balance {a.policy}{' ' + a.policy_extra if a.policy_extra else ''}` over {a.frames} frames, each "

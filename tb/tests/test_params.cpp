@@ -151,7 +151,7 @@ TEST(Parameters, ValidateChecksEachRowsRange) {
 // --polish-tries auto is kSamplePolishTries under sample, named or chosen
 // by --balance recommended, else 0: not under measured, where the
 // recommended policy is measured (columns of more than 8 boxes), nor
-// resplit. The default is 0; the last value given counts.
+// resplit. It is the default; the last value given counts.
 TEST(Parameters, PolishTriesAutoIsEightUnderSampleOnly) {
     const auto tries = [](const std::string& file, const std::vector<std::string>& rest = {}) {
         const RtsimOptions o = parsed(file, rest);
@@ -162,7 +162,9 @@ TEST(Parameters, PolishTriesAutoIsEightUnderSampleOnly) {
     EXPECT_EQ(tries("balance = \"sample\"\n" + autoTries), std::make_pair(std::string("sample"), kSamplePolishTries));
     EXPECT_EQ(tries("balance = \"resplit\"\n" + autoTries), std::make_pair(std::string("resplit"), 0));
     EXPECT_EQ(tries("balance = \"recommended\"\nmesh-dims = \"16x1x1\"\n" + autoTries), std::make_pair(std::string("measured"), 0));
-    EXPECT_EQ(tries("balance = \"sample\"\n"), std::make_pair(std::string("sample"), 0));  // (the default)
+    EXPECT_EQ(tries("balance = \"sample\"\n"), std::make_pair(std::string("sample"), kSamplePolishTries));  // (the default)
+    EXPECT_EQ(tries("balance = \"measured\"\n"), std::make_pair(std::string("measured"), 0));
+    EXPECT_EQ(tries("balance = \"sample\"\npolish-tries = \"0\"\n"), std::make_pair(std::string("sample"), 0));
     EXPECT_EQ(tries("balance = \"recommended\"\n" + autoTries, {"--polish-tries", "3"}), std::make_pair(std::string("sample"), 3));
     EXPECT_EQ(tries("balance = \"recommended\"\npolish-tries = \"3\"\n", {"--polish-tries", "auto"}),
               std::make_pair(std::string("sample"), kSamplePolishTries));

@@ -775,7 +775,7 @@ TEST_F(SampleTrial, IsTheUnbalancedFrame) {
 // frame after a first frame of 0.285, then the unbalanced frame). The
 // forecast of the trial is checked against the unbalanced frame run.
 TEST_F(SampleTrial, IsSkippedWhereItsForecastPutsItFarBehindFrameOne) {
-    const auto [r, none] = sequence(5, "0.2");
+    const auto [r, none] = sequence(5, "0.2", " --frames 4 --polish-tries 0");  // (by default it polishes: below)
     ASSERT_EQ(r["frames"].size(), 4u);
     const double first = r["frames"][0]["render_time_ns"];
     EXPECT_EQ(r["frames"][2]["then"]["next"], "frame 1 again");
@@ -786,10 +786,10 @@ TEST_F(SampleTrial, IsSkippedWhereItsForecastPutsItFarBehindFrameOne) {
     EXPECT_LT(first, 0.3 * none);
 }
 
-// --polish-tries auto is 8 under sample: the same sequence tries a move
-// where it would have held.
-TEST_F(SampleTrial, PolishesUnderAuto) {
-    const auto [r, none] = sequence(5, "0.2", " --frames 4 --polish-tries auto");
+// --polish-tries auto, the default, is 8 under sample: the same sequence
+// tries a move where, with --polish-tries 0, it goes back to frame 1.
+TEST_F(SampleTrial, PolishesByDefault) {
+    const auto [r, none] = sequence(5, "0.2");
     EXPECT_EQ(r["config"]["balance"]["polish_tries"], rt::kSamplePolishTries);
     EXPECT_EQ(r["frames"][2]["then"]["next"], "a move tried");
     EXPECT_LT(r["frames"][3]["render_time_ns"].get<double>(), none);
