@@ -7,8 +7,10 @@ defaults give. Each tool refuses bad input in one line and exit 2 before
 any work (BadInput), and a stop ends a long run at once, its children and
 temporaries with it (Stops). Run by ctest as: /usr/bin/python3
 test_scripts.py <rtsim>."""
+import contextlib
 import csv
 import glob
+import io
 import json
 import os
 import subprocess
@@ -306,6 +308,38 @@ class Scripts(unittest.TestCase):
             self.assertNotEqual(p.returncode, 0)
             self.assertIn("'none' starts at the uniform split", p.stderr)
 
+    def test_the_random_never_hurts_run_draws_the_same_machines_and_lists_the_losses(self):
+        """never_hurts_random.py: a seed draws the same machines (another
+        seed others), each flag set one rtsim accepts; the table lists a
+        point whose later frame lost more than 2 %, with its flags, and not
+        one within 2 %."""
+        sys.path.insert(0, os.path.join(SCRIPTS, "experiments"))
+        import argparse
+        import never_hurts_random as nh
+        self.assertEqual(nh.draw(20, 1), nh.draw(20, 1))
+        self.assertNotEqual(nh.draw(20, 1), nh.draw(20, 2))
+        with tempfile.TemporaryDirectory() as d:
+            for flags in nh.draw(3, 1):
+                p = subprocess.run([RTSIM, *flags, "--size", "16x16", "--no-baseline", "-q", "--image", ""],
+                                   capture_output=True, text=True)
+                self.assertEqual(p.returncode, 0, p.stderr)
+            rows = [{"point": 0, "machine": "--mesh 4 --size 64x64", "policy": "none", "render_time_ns": "100",
+                     "frames_ns": "100", "chosen": ""},
+                    {"point": 0, "machine": "--mesh 4 --size 64x64", "policy": "recommended", "render_time_ns": "99",
+                     "frames_ns": "90 103 99", "chosen": "sample"},
+                    {"point": 1, "machine": "--mesh 2x1x1", "policy": "none", "render_time_ns": "100",
+                     "frames_ns": "100", "chosen": ""},
+                    {"point": 1, "machine": "--mesh 2x1x1", "policy": "recommended", "render_time_ns": "101",
+                     "frames_ns": "101 101 101", "chosen": "sample"}]
+            md = os.path.join(d, "t.md")
+            with contextlib.redirect_stdout(io.StringIO()):
+                nh.table(argparse.Namespace(seed=1, policy="recommended", frames=3, doc=None), "", rows, md)
+            with open(md) as f:
+                text = f.read()
+        self.assertIn("Points with a frame above 1.02: 1 (0 in the first frame)", text)
+        self.assertIn("| `--mesh 4 --size 64x64` | sample | 0.900 1.030 0.990 | 1.030 |", text)
+        self.assertNotIn("2x1x1", text)
+
     def test_the_paper_scene_is_the_one_rtsims_defaults_give(self):
         with tempfile.TemporaryDirectory() as d:
             def scene(flags):
@@ -377,6 +411,8 @@ class BadInput(unittest.TestCase):
                 (py("experiments/fig4.py", "--preset", "../x"), "a name, not a path"),
                 (py("experiments/fig4.py", "--tag", "a/b"), "a name, not a path"),
                 (py("experiments/fb_scaling.py", "--n", "x"), "--n"),
+                (py("experiments/never_hurts_random.py", "--count", "0"), "--count '0'"),
+                (py("experiments/never_hurts_random.py", "--policy", "none"), "--policy none"),
                 (py("experiments/first_frame.py", "--n", "4,1"), "where each must be at least 2"),
                 (py("experiments/first_frame.py", "--tag", "a/b"), "a name, not a path"),
                 (py("experiments/first_frame.py", "--policies", "sample+sample-end"), "each +FLAG needs =VALUE"),
