@@ -66,10 +66,11 @@ def main():
 
 def draw(count, seed):
     """count machines, each as the rtsim flags that make it (paths from
-    ROOT's parent as `../shared/...` would not rerun elsewhere: absolute)."""
+    ROOT's parent as `../shared/...` would not rerun elsewhere: absolute),
+    a machine drawn twice drawn again."""
     rng = random.Random(seed)
     machines = []
-    for _ in range(count):
+    while len(machines) < count:
         preset = rng.choice(project.PRESETS)
         flags = preset_flags(preset)
         if rng.random() < 0.5:
@@ -82,7 +83,8 @@ def draw(count, seed):
         flags += ["--size", rng.choice(SIZES)]
         if preset != "paper":  # (the paper's simulator's links are its own)
             flags += ["--link-bandwidth", rng.choice(BANDWIDTHS)]
-        machines.append(flags)
+        if flags not in machines:
+            machines.append(flags)
     return machines
 
 
