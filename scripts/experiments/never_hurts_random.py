@@ -26,6 +26,9 @@ import sweep_driver as driver  # noqa: E402
 from csv_rows import read_csv  # noqa: E402
 from project import ROOT, SPD, VIEWS, preset_flags, publish_table  # noqa: E402
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))  # (its sibling, spd_never_hurts)
+from spd_never_hurts import extract as frame_times  # noqa: E402
+
 SPD_SCENES = ["balls-2", "balls-3", "balls-4", "gears-2", "rings-2", "tetra-3"]
 SHAPES = ["64x1x1", "33x1x1", "1x16x1", "16x4x1", "8x8x2", "2x2x32", "1x1x2", "3x5x7", "12x3x3", "4x4x16"]
 FRACTIONS = [0.01, 0.05, 0.125, 0.25, 0.5, 1.0]
@@ -89,10 +92,8 @@ def draw(count, seed):
 
 
 def extract(r):
-    return {"render_time_ns": r["render_time_ns"],
-            "frames_ns": " ".join(f"{f['render_time_ns']:.0f}" for f in r.get("frames", [])) or
-            f"{r['render_time_ns']:.0f}",
-            "chosen": r["config"]["balance"].get("policy", "")}
+    """spd_never_hurts's figures (the frames' times), and the policy the run chose."""
+    return {**frame_times(r), "chosen": r["config"]["balance"].get("policy", "")}
 
 
 def table(a, how, rows, md_path):
