@@ -26,8 +26,10 @@ double moveNs(const FrameState& r, const MachineConfig& m, const InnerPlanes& fr
     const int ax = g.axis, n = g.length();
     const LinkParams& l = m.link;
     const Costs& k = m.costs;
-    const double hop = double(l.latency) + (m.hopsByLinks ? 0.0 : double(k.send + k.recv));  // ps
-    const double updates = 2.0 * double(m.balance.rebuildCost);  // ps an object, the giver's and the taker's
+    // The handling and the grid updates at the nodes' speed, as the nodes
+    // charge them (cost_model.h; per-node overrides aside).
+    const double hop = double(l.latency) + (m.hopsByLinks ? 0.0 : double(k.send + k.recv) / m.speed);  // ps
+    const double updates = 2.0 * double(m.balance.rebuildCost) / m.speed;  // ps an object, the giver's and the taker's
     // Each column's boxes along the axis, and what passing their objects on costs.
     std::vector<std::vector<BoxPass>> boxes(size_t(g.count()), std::vector<BoxPass>(size_t(n), BoxPass{0, 0, 0, 1}));
     for (const NodeFrameState& node : r.nodes) {
