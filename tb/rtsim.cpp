@@ -30,6 +30,7 @@
 #include "balance/between_frames.h"
 #include "balance/initial_split.h"
 #include "balance/sample_end.h"
+#include "balance/start_links.h"
 #include "command_line.h"
 #include "config_echo.h"
 #include "frame_sequence.h"
@@ -144,6 +145,7 @@ Stop loadScene(rt::RtsimOptions& o, const rt::CommandLine& cl, rt::Scene& scene,
         o.scene.imageSize(scene, o.machine.width, o.machine.height);
         if (o.boundariesFrom.empty()) {  // (--start-mix auto, --sample-end auto: by the costs and objects)
             rt::chooseStartMix(o.machine, scene.objects);
+            rt::weighStartLinks(o.machine, scene);  // (the camera's view: the half start's long boxes on their links)
             rt::chooseSampleEnd(o.machine, scene);
         }
         o.machine.checkDerivedTimes(scene.objects.size());  // (std::invalid_argument: exit 2 naming the flags)

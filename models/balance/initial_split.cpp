@@ -230,6 +230,8 @@ TestAgainstHop testAgainstHop(const MachineConfig& cfg, const std::vector<Shape>
     // unbalanced frame against 0.530).
     constexpr double kHopsPerTestAligned = 10;
     t.cheap = !t.testsAreTheWork && kHopsPerTestAligned * test < hop;
+    t.wire = wire / cfg.rayBatch;
+    t.handling = handling / cfg.rayBatch;
     t.costs = "a test (" + formatTime(Picos(std::llround(test))) + ") costs " +
               (t.testsAreTheWork ? "at least" : t.cheap ? "less than a tenth of" : "less than a third of") +
               " a ray's hop (" + formatTime(Picos(std::llround(hop))) + ")";

@@ -73,6 +73,7 @@ struct TestAgainstHop {
     // that kind was measured for it).
     double wirePerHandling;
     std::string costs;  // "a test (10 ns) costs less than a third of a ray's hop (212 ns)"
+    double wire = 0, handling = 0;  // ps a ray: on the link (its engine included), on the processors at both ends
 };
 TestAgainstHop testAgainstHop(const MachineConfig& cfg, const std::vector<Shape>& objects);
 

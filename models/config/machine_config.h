@@ -91,8 +91,8 @@ struct BalanceConfig {
     // Where median and sample start: each column's boundaries at the
     // quantiles of startMix x the objects' centres + (1 - startMix) x the
     // column's length (1: the object median; doc/balancing.md, "Where sample
-    // starts"). kStartMixAuto: chosen from the machine's costs
-    // (startMixFor, balance/initial_split.h), startMixWhy says how.
+    // starts"). kStartMixAuto: chosen from the machine's costs and the view
+    // (startMixFor, weighStartLinks), startMixWhy says how.
     double startMix = kStartMixAuto;
     bool startAligned = false;  // (set with startMix by auto: every column at the world's quantiles)
     bool startLighterOnly = false;  // (set with startMix by auto: a column whose heaviest box the start does not lighten starts uniform)
@@ -109,8 +109,7 @@ struct BalanceConfig {
     bool sampleCredit = false;
     bool sampleEndAuto = true;
     std::string sampleEndWhy;
-    // Set where --balance recommended chose the policy (recommendedPolicy):
-    // which, and why.
+    // Set where --balance recommended chose the policy (recommendedPolicy): which, and why.
     std::string recommendedWhy;
     // --balance as given, for a message: "recommended (sample here)" where
     // the recommended policy was chosen, else the policy's name.
@@ -173,10 +172,11 @@ inline const std::vector<Param<BalanceConfig>>& balanceParams() {
         "ray's generation against " + std::to_string(kTestsPerGeneration) + " tests), else 0.5 (below a tenth of a hop, "
         "of all the objects: the same planes in every column, 0 where they do not lighten the heaviest box by more than " +
         std::to_string(kSpreadsLighter) + " standard deviations of an even spread's; 0 in a column whose heaviest box "
-        "by objects 0.5 leaves as heavy; and 0 where it leaves the heaviest box reaching into as many objects, "
-        "whose centres it holds or not), 0 "
-        "where a hop's wire time is at least " + std::to_string(kWirePerHandling) + " times its handling, and 0 on "
-        "columns of more than " + std::to_string(kLongestColumnStartedByObjects) + " boxes";
+        "by objects 0.5 leaves as heavy; and 0 where it leaves the heaviest box reaching into as many objects, whose "
+        "centres it holds or not), 0 where a hop's wire time is at least " + std::to_string(kWirePerHandling) + " times "
+        "its handling, 0 where 0.5's busiest box's primary rays would keep its link longer than the uniform split's "
+        "frame (a ray's work in the heaviest box: its handling and " + std::to_string(kTestsPerRayInHeaviestBox) +
+        " tests), and 0 on columns of more than " + std::to_string(kLongestColumnStartedByObjects) + " boxes";
     static const std::vector<Param<B>> rows = {
         specialParam<B>("balance", nullptr),
         timeParam("balance-interval", &B::interval, "/interval_ns", "time between load reports"),

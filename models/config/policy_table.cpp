@@ -18,7 +18,8 @@ const std::vector<PolicyInfo>& policies() {
         "weighing where the primary rays enter, where an intersection test costs at least a third of a ray's hop, "
         "else half each where that lightens a column's heaviest box (by more than chance where every column starts "
         "at the same planes), or the uniform split (and "
-        "where a hop's wire time is at least " + std::to_string(kWirePerHandling) + " times its handling, and on "
+        "where a hop's wire time is at least " + std::to_string(kWirePerHandling) + " times its handling, where the "
+        "half start's longest box would keep its link longer than the uniform split's frame, and on "
         "columns of more than " + std::to_string(kLongestColumnStartedByObjects) + " boxes)), gathers "
         "where a sample of its rays (one pixel in 16, generated first) did their work up each column, and moves "
         "every plane once to where that work splits evenly; later frames re-split as resplit";

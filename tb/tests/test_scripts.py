@@ -340,6 +340,35 @@ class Scripts(unittest.TestCase):
         self.assertIn("| `--mesh 4 --size 64x64` | sample | 0.900 1.030 0.990 | 1.030 |", text)
         self.assertNotIn("2x1x1", text)
 
+    def test_start_links_runs_each_start_and_marks_the_first_frames_that_lose(self):
+        """start_links.py: each case and link runs none and sample from
+        auto, 0.5 and 0 (rtsim's chosen mix echoed); the table bolds a
+        first frame above 1.02, not one within it, and counts them."""
+        sys.path.insert(0, os.path.join(SCRIPTS, "experiments"))
+        import start_links as sl
+        with tempfile.TemporaryDirectory() as d:
+            p = subprocess.run(["/usr/bin/python3", os.path.join(SCRIPTS, "experiments", "start_links.py"), "--cases",
+                                "0.125:2:16", "--links", "1GB/s", "--out", d, "--journal-dir", d, "--fresh"],
+                               capture_output=True, text=True, timeout=120)
+            self.assertEqual(p.returncode, 0, p.stderr)
+            with open(os.path.join(d, "start_links.csv")) as f:
+                rows = list(csv.DictReader(f))
+            self.assertEqual(sorted(r["mix"] for r in rows), ["0", "0.5", "auto"])
+            self.assertEqual({float(r["chosen"]) for r in rows if r["mix"] != "auto"}, {0.0, 0.5})
+            name = sl.case_name(0.125, 2, 16)
+            rows = [{"case": name, "link": "1GB/s", "mix": "auto", "ratio": "0.99", "chosen": "0", "busiest_box_rays": "50"},
+                    {"case": name, "link": "1GB/s", "mix": "0.5", "ratio": "1.3", "chosen": "0.5", "busiest_box_rays": "99"},
+                    {"case": name, "link": "1GB/s", "mix": "0", "ratio": "1.02", "chosen": "0", "busiest_box_rays": "50"}]
+            md = os.path.join(d, "t.md")
+            with contextlib.redirect_stdout(io.StringIO()):
+                sl.table(rows, [(0.125, 2, 16)], ["1GB/s"], "", md, None)
+            with open(md) as f:
+                text = f.read()
+        self.assertIn("| `--start-mix auto` | 0.990 (0, 50) |", text)
+        self.assertIn("| `--start-mix 0.5` | **1.300 (99)** |", text)
+        self.assertIn("| `--start-mix 0` | 1.020 (50) |", text)
+        self.assertIn("`auto`: 0 of 1 first frames above 1.02, worst 0.990; the half start by hand: 1 of 1", text)
+
     def test_the_paper_scene_is_the_one_rtsims_defaults_give(self):
         with tempfile.TemporaryDirectory() as d:
             def scene(flags):
@@ -413,6 +442,9 @@ class BadInput(unittest.TestCase):
                 (py("experiments/fb_scaling.py", "--n", "x"), "--n"),
                 (py("experiments/never_hurts_random.py", "--count", "0"), "--count '0'"),
                 (py("experiments/never_hurts_random.py", "--policy", "none"), "--policy none"),
+                (py("experiments/start_links.py", "--cases", "0.1:5"), "give f:N:side"),
+                (py("experiments/start_links.py", "--cases", "0.1:1:64"), "where each must be at least 2"),
+                (py("experiments/start_links.py", "--links", ","), "--links ','"),
                 (py("experiments/first_frame.py", "--n", "4,1"), "where each must be at least 2"),
                 (py("experiments/first_frame.py", "--tag", "a/b"), "a name, not a path"),
                 (py("experiments/first_frame.py", "--policies", "sample+sample-end"), "each +FLAG needs =VALUE"),
