@@ -38,14 +38,14 @@ void weighStartLinks(MachineConfig& cfg, const Scene& scene) {
     const size_t half = busiestBoxRays(cfg, 0.5, scene, camera), uniform = busiestBoxRays(cfg, 0, scene, camera);
     const TestAgainstHop t = testAgainstHop(cfg, scene.objects);
     const double work = t.handling + kTestsPerRayInHeaviestBox * t.test;  // ps a ray in the heaviest box
-    if (!(double(half) * t.wire > double(uniform) * std::max(t.wire, work))) return;
+    if (!(double(half) * t.wire > kLinkOverUniformFrame * double(uniform) * std::max(t.wire, work))) return;
     char why[400];
     std::snprintf(why, sizeof why,
                   "auto: half by the objects, half by the length would give one box %zu primary rays (the uniform "
                   "split's busiest: %zu), and at %.3g ns each on its link (a ray's work in the heaviest box: %.3g ns, "
-                  "its handling and %d tests) that link would take longer than the uniform split's frame: the "
+                  "its handling and %d tests) that link would take over %g times the uniform split's frame: the "
                   "uniform split",
-                  half, uniform, t.wire / 1000, work / 1000, kTestsPerRayInHeaviestBox);
+                  half, uniform, t.wire / 1000, work / 1000, kTestsPerRayInHeaviestBox, kLinkOverUniformFrame);
     b.startMix = 0;
     b.startAligned = b.startLighterOnly = false;
     b.startGeneration = 0;

@@ -27,7 +27,8 @@ namespace rt {
 // ray's wire time w and its work in the heaviest box, handling + 40
 // tests. The half start's busiest link takes E_half w; the uniform
 // split's frame at least E_uniform max(w, that work). Where the first is
-// the larger, the start is the uniform split, and startMixWhy says why.
+// over kLinkOverUniformFrame (1.2) times the second, the start is the
+// uniform split, and startMixWhy says why.
 void weighStartLinks(MachineConfig& cfg, const Scene& scene);
 
 }  // namespace rt

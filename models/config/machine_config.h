@@ -31,8 +31,7 @@ struct Costs {
     Picos recv = 40000;     // handling one incoming message
 };
 
-// The costs a flag sets (base/param.h): --cost-NAME, --node-cost's NAMEs,
-// the report's config.costs and node_costs.
+// The costs a flag sets (base/param.h): --cost-NAME, --node-cost's NAMEs, the report's config.costs and node_costs.
 inline const std::vector<Param<Costs>>& costParams() {
     static const std::vector<Param<Costs>> rows = {
         timeParamAt<Costs>("sphere", [](Costs& c) -> Picos& { return c.test[0]; }, "/test_sphere_ns", "intersection test, sphere"),
@@ -173,10 +172,11 @@ inline const std::vector<Param<BalanceConfig>>& balanceParams() {
         "of all the objects: the same planes in every column, 0 where they do not lighten the heaviest box by more than " +
         std::to_string(kSpreadsLighter) + " standard deviations of an even spread's; 0 in a column whose heaviest box "
         "by objects 0.5 leaves as heavy; and 0 where it leaves the heaviest box reaching into as many objects, whose "
-        "centres it holds or not), 0 where a hop's wire time is at least " + std::to_string(kWirePerHandling) + " times "
-        "its handling, 0 where 0.5's busiest box's primary rays would keep its link longer than the uniform split's "
-        "frame (a ray's work in the heaviest box: its handling and " + std::to_string(kTestsPerRayInHeaviestBox) +
-        " tests), and 0 on columns of more than " + std::to_string(kLongestColumnStartedByObjects) + " boxes";
+        "centres it holds or not), 0 where a hop's wire time is at least " + std::to_string(kWirePerHandling) +
+        " times its handling, 0 where 0.5's busiest box's primary rays would keep its link " +
+        formatNumber(kLinkOverUniformFrame) + " times longer than the uniform split's frame (a ray's work in the "
+        "heaviest box: its handling and " + std::to_string(kTestsPerRayInHeaviestBox) + " tests), and 0 on columns of "
+        "more than " + std::to_string(kLongestColumnStartedByObjects) + " boxes";
     static const std::vector<Param<B>> rows = {
         specialParam<B>("balance", nullptr),
         timeParam("balance-interval", &B::interval, "/interval_ns", "time between load reports"),
