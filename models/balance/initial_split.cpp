@@ -222,16 +222,13 @@ TestAgainstHop testAgainstHop(const MachineConfig& cfg, const std::vector<Shape>
     // 8, both views; doc/balancing.md, "Where sample starts"): 0.5 the better
     // start up to a test of 0.24 of a hop, 1 from 0.47 on.
     constexpr double kHopsPerTest = 3;  // the objects are the work from a test of a third of a hop
-    TestAgainstHop t{test, hop, kHopsPerTest * test >= hop, false,
-                     handling > 0 ? wire / handling : 0.0, ""};
+    TestAgainstHop t{test, hop, kHopsPerTest * test >= hop, false, "", wire / cfg.rayBatch, handling / cfg.rayBatch};
     // In line below a tenth of a hop: measured on the modern machine (0.05
     // of a hop) and the 1987 one (0.13), where an aligned start made sample's
     // first frames at f = 1/N slower (across the axis, N = 4: 0.558 of the
     // unbalanced frame against 0.530).
     constexpr double kHopsPerTestAligned = 10;
     t.cheap = !t.testsAreTheWork && kHopsPerTestAligned * test < hop;
-    t.wire = wire / cfg.rayBatch;
-    t.handling = handling / cfg.rayBatch;
     t.costs = "a test (" + formatTime(Picos(std::llround(test))) + ") costs " +
               (t.testsAreTheWork ? "at least" : t.cheap ? "less than a tenth of" : "less than a third of") +
               " a ray's hop (" + formatTime(Picos(std::llround(hop))) + ")";
@@ -277,9 +274,9 @@ StartMix startMixFor(const MachineConfig& cfg, const std::vector<Shape>& objects
     // uniform split no point at 100 MB/s lost by its move (N = 4 to 8, the
     // SPD scenes). The 1987 machine's hop is 5 handlings on the wire
     // (doc/balancing.md, "Where sample starts").
-    if (t.wirePerHandling >= kWirePerHandling) {
+    if (t.wirePerHandling() >= kWirePerHandling) {
         char times[32];
-        std::snprintf(times, sizeof times, "%.3g", t.wirePerHandling);
+        std::snprintf(times, sizeof times, "%.3g", t.wirePerHandling());
         return {0, false, "auto: " + costs + ", and its wire time is " + times +
                               " times its handling (at least " + std::to_string(kWirePerHandling) +
                               "): the uniform split"};

@@ -67,13 +67,13 @@ ColumnPlanes withInnerPlanes(const char* what, ColumnPlanes planes, const std::v
 struct TestAgainstHop {
     double test, hop;
     bool testsAreTheWork, cheap;
+    std::string costs;  // "a test (10 ns) costs less than a third of a ray's hop (212 ns)"
+    double wire = 0, handling = 0;  // ps a ray: on the link (its engine included), on the processors at both ends
     // A hop's time on the wire against its handling on the processors:
     // where the wire is at least kWirePerHandling handlings, the links set
     // the frame. 0 where the links' engines handle the hop (no machine of
     // that kind was measured for it).
-    double wirePerHandling;
-    std::string costs;  // "a test (10 ns) costs less than a third of a ray's hop (212 ns)"
-    double wire = 0, handling = 0;  // ps a ray: on the link (its engine included), on the processors at both ends
+    double wirePerHandling() const { return handling > 0 ? wire / handling : 0.0; }
 };
 TestAgainstHop testAgainstHop(const MachineConfig& cfg, const std::vector<Shape>& objects);
 

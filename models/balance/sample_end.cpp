@@ -2,26 +2,21 @@
 
 #include "balance/initial_split.h"
 #include "balance/sample_split.h"
+#include "balance/start_scene.h"
 #include "base/mesh_geometry.h"
-#include "camera.h"
-#include "region.h"
 
 namespace rt {
 
 bool onlyTopNodesGenerateSample(const MachineConfig& cfg, const Scene& scene) {
-    const Box world = scene.worldBox();
-    const Lattice cuts = Lattice::uniform(world, cfg.dims);
     const ColumnGeometry g(cfg.balance.axis, cfg.dims);
     if (g.length() < 2) return false;  // (the top node is the lowest)
-    const int width = cfg.width ? cfg.width : scene.view.width, height = cfg.height ? cfg.height : scene.view.height;
-    const Camera camera(scene.view, width, height);
-    const ObjectBins bins(scene.objects, cuts, roundingMargin(world));
-    const ColumnPlanes planes = initialPlanes(cfg, cuts, world, bins, minThicknessOf(cfg, world), &camera);
-    const PrimaryRays rays = assignPrimaryRays(camera, world, cuts, g, planes, cfg.pixelStride);
+    const StartScene at(cfg, scene);
+    const uint32_t width = uint32_t(at.camera.width());
+    const PrimaryRays rays = at.primaryRays(cfg);
     for (size_t i = 0; i < rays.perNode.size(); ++i) {
         if (cellAt(i, cfg.dims)[g.axis] == g.length() - 1) continue;
         for (uint32_t p : rays.perNode[i])
-            if (inSample(p, uint32_t(width))) return false;
+            if (inSample(p, width)) return false;
     }
     return true;
 }

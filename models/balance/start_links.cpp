@@ -4,26 +4,18 @@
 #include <cstdio>
 
 #include "balance/initial_split.h"
-#include "base/mesh_geometry.h"
-#include "camera.h"
-#include "region.h"
+#include "balance/start_scene.h"
 
 namespace rt {
 
 namespace {
 
 // The most primary rays any one node generates, its column's planes at `mix`.
-size_t busiestBoxRays(MachineConfig cfg, double mix, const Scene& scene, const Camera& camera) {
+size_t busiestBoxRays(MachineConfig cfg, double mix, const StartScene& at) {
     if (mix == 0) cfg.balance.startAligned = cfg.balance.startLighterOnly = false;
     cfg.balance.startMix = mix;
-    const Box world = scene.worldBox();
-    const Lattice cuts = Lattice::uniform(world, cfg.dims);
-    const ColumnGeometry g(cfg.balance.axis, cfg.dims);
-    const ObjectBins bins(scene.objects, cuts, roundingMargin(world));
-    const ColumnPlanes planes = initialPlanes(cfg, cuts, world, bins, minThicknessOf(cfg, world), &camera);
-    const PrimaryRays rays = assignPrimaryRays(camera, world, cuts, g, planes, cfg.pixelStride);
     size_t most = 0;
-    for (const auto& pixels : rays.perNode) most = std::max(most, pixels.size());
+    for (const auto& pixels : at.primaryRays(cfg).perNode) most = std::max(most, pixels.size());
     return most;
 }
 
@@ -33,9 +25,8 @@ void weighStartLinks(MachineConfig& cfg, const Scene& scene) {
     BalanceConfig& b = cfg.balance;
     if (b.policy != "sample" || b.startMix != 0.5 || b.startMixWhy.rfind("auto", 0) != 0 || !cfg.startBoundaries.empty())
         return;  // (only the half start auto chose)
-    const int width = cfg.width ? cfg.width : scene.view.width, height = cfg.height ? cfg.height : scene.view.height;
-    const Camera camera(scene.view, width, height);
-    const size_t half = busiestBoxRays(cfg, 0.5, scene, camera), uniform = busiestBoxRays(cfg, 0, scene, camera);
+    const StartScene at(cfg, scene);
+    const size_t half = busiestBoxRays(cfg, 0.5, at), uniform = busiestBoxRays(cfg, 0, at);
     const TestAgainstHop t = testAgainstHop(cfg, scene.objects);
     const double work = t.handling + kTestsPerRayInHeaviestBox * t.test;  // ps a ray in the heaviest box
     if (!(double(half) * t.wire > kLinkOverUniformFrame * double(uniform) * std::max(t.wire, work))) return;
