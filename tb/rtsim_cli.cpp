@@ -125,8 +125,8 @@ void RtsimOptions::addPolicyFlag(CLI::App& app, const std::string& group) {
     // One name each: none (the default) does not balance, recommended is
     // recommendedPolicy's choice for the mesh (finish(), once the mesh and
     // the axis are known); `default` meant the latter while being the former.
-    const std::string recommended = "sample on columns of at most " + std::to_string(kLongestColumnSampled) +
-                                    " boxes, else measured";
+    const std::string recommended = "sample on columns of 2 to " + std::to_string(kLongestColumnSampled) +
+                                    " boxes, measured on longer ones, none on columns of one box";
     std::string policyHelp = "policy: none (the default: no balancing, the boundaries stay where they start); recommended (the recommended policy: " + recommended + ")";
     std::string names = "recommended";
     for (const PolicyInfo& p : policies()) {

@@ -137,6 +137,8 @@ std::string policyName(const std::string& policy, bool recommended) {
 void printBalancing(const RtsimOptions& o, const nlohmann::json& report) {
     const char axis = "xyz"[o.machine.balance.axis];
     const bool balances = o.machine.balance.policy != "none";
+    if (!balances && !o.machine.balance.recommendedWhy.empty())  // (--balance recommended chose none: why)
+        std::printf("  balancing        %s\n", o.machine.balance.recommendedWhy.c_str());
     if (balances) {
         std::printf("  balancing        %s along %c: %zu slides; max / mean load %.2f; boundaries %s\n",
                     policyName(o.machine.balance.policy, !o.machine.balance.recommendedWhy.empty()).c_str(), axis, report["balance"]["slides"].get<size_t>(),

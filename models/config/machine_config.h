@@ -51,8 +51,8 @@ inline const std::vector<Param<Costs>>& costParams() {
 // (models/config/policy_table.cpp): none, slide, work, quantile, resplit, measured, median.
 // The recommended policy (doc/balancing.md, "The recommended policy";
 // `--balance recommended`; the default of --balance is none, no
-// balancing): `sample`, which balances the first frame, on columns of at
-// most kLongestColumnSampled boxes; `measured` on longer ones, which keeps
+// balancing): `sample`, which balances the first frame, on columns of 2 to
+// kLongestColumnSampled boxes (none on columns of one); `measured` on longer ones, which keeps
 // the starting split for the first frame, measuring where the work is, and
 // from the second frame on re-splits each column between frames as
 // `resplit` (and sample's later frames) do. On columns of 16 to 64 boxes

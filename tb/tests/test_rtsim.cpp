@@ -525,7 +525,7 @@ TEST_F(Rtsim, BadConfigurationExits2NamingTheFlag) {
     expectBad("--balance sometimes", "--balance");
     // `default` meant the recommended policy while the default of --balance was none: one name each now.
     expectBad("--balance default", "--balance: 'default' names no policy: the recommended policy is sample on columns of "
-                                   "at most 8 boxes, else measured (or 'recommended')");
+                                   "2 to 8 boxes, measured on longer ones, none on columns of one box (or 'recommended')");
     expectBad("--eye nan,0,0", "--eye");
     expectBad("--seed -1", "--seed");  // (was taken as 18446744073709551615)
     expectBad("--light 1,nan,1", "--light");

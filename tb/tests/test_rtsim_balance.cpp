@@ -709,6 +709,23 @@ TEST_F(Rtsim, TheRecommendedPolicyNeverLosesOnALongColumn) {
     }
 }
 
+// A column of one box has no face along the axis to move: there the
+// recommended policy is none, and its frame is the unbalanced one to the
+// picosecond (sample there only sent its sample's rays first, and that
+// order alone made balls-3 on 64x1x1 along z 1.030 of the unbalanced frame).
+TEST_F(Rtsim, TheRecommendedPolicyIsNoneOnColumnsOfOneBox) {
+    const std::string args = " --size 32x32 --mesh-dims 4x4x1 --axis z --frames 2";
+    const json r = report(args + " --balance recommended", "r.json"), none = report(args + " --balance none", "n.json");
+    EXPECT_EQ(r["config"]["balance"]["policy"], "none");
+    EXPECT_EQ(r["config"]["balance"].value("recommended", ""), "none: columns of 1 box: no boundary along the axis to move");
+    ASSERT_EQ(r["frames"].size(), 2u);
+    for (size_t i = 0; i < 2; ++i)
+        EXPECT_EQ(r["frames"][i]["render_time_ns"], none["frames"][i]["render_time_ns"]) << i;
+    const Outcome o = run(args + " --balance recommended --no-baseline --image ''");  // (the summary says why)
+    EXPECT_NE(o.out.find("balancing        none: columns of 1 box: no boundary along the axis to move"), std::string::npos)
+        << o.out;
+}
+
 // Spheres crowded into less than a sphere's width of the axis, seen across
 // it: the half start by the objects cut the crowd into boxes thinner than
 // its spheres, each of which still held nearly all of them, and gave the

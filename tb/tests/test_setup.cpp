@@ -729,19 +729,22 @@ TEST(BetweenFrames, PolishTriesNoMoveBelowTheMinimumThickness) {
     EXPECT_EQ(roomy.said().at("next"), "a move tried");
 }
 
-// --balance recommended: sample on columns of at most 8 boxes along the
+// --balance recommended: sample on columns of 2 to 8 boxes along the
 // axis, measured on longer ones (sample's first frame lost at 3 of 62 SPD
 // points on columns of 16 to 64 boxes, measured's at none: doc/balancing.md,
-// "The recommended policy"). The column's length is along the axis.
-TEST(RecommendedPolicy, SampleOnColumnsOfAtMostEightBoxesElseMeasured) {
+// "The recommended policy"), none on columns of one box (no face to move).
+// The column's length is along the axis.
+TEST(RecommendedPolicy, NoneOnOneBoxSampleOnAtMostEightBoxesElseMeasured) {
     EXPECT_STREQ(recommendedPolicy({8, 8, 8}, 0).policy, "sample");
-    EXPECT_STREQ(recommendedPolicy({1, 1, 2}, 0).policy, "sample");
+    EXPECT_STREQ(recommendedPolicy({1, 1, 2}, 2).policy, "sample");
+    EXPECT_STREQ(recommendedPolicy({1, 1, 2}, 0).policy, "none");  // (a column of one box: nothing to move)
+    EXPECT_EQ(recommendedPolicy({64, 1, 1}, 2).why, "none: columns of 1 box: no boundary along the axis to move");
     EXPECT_STREQ(recommendedPolicy({9, 1, 1}, 0).policy, "measured");
     EXPECT_STREQ(recommendedPolicy({2, 2, 32}, 0).policy, "sample");
     EXPECT_STREQ(recommendedPolicy({2, 2, 32}, 2).policy, "measured");
     EXPECT_STREQ(recommendedPolicy({16, 16, 4}, 2).policy, "sample");
     EXPECT_EQ(recommendedPolicy({4, 4, 4}, 1).why, "sample: columns of 4 boxes (at most 8)");
-    EXPECT_EQ(recommendedPolicy({1, 1, 1}, 0).why, "sample: columns of 1 box (at most 8)");
+    EXPECT_STREQ(recommendedPolicy({1, 1, 1}, 0).policy, "none");
     EXPECT_EQ(recommendedPolicy({64, 1, 1}, 0).why,
               "measured: columns of 64 boxes (more than 8): the first frame keeps its split");
 }
