@@ -104,7 +104,9 @@ constexpr double kTrialReach = 1.2;
 // bounds; every plane shifted towards the axis's start by that share of the
 // thinner box it bounds; or towards its end. In that order, the share
 // halved after each round of the three. Then the fastest planes are held
-// (under sample, frame 1 again if they are still slower than frame 1).
+// (under sample, frame 1 again if they are still slower than frame 1; and
+// where no re-split frame beat frame 1, only if the fastest of them took
+// at most kTrialReach times frame 1: else frame 1 again at once).
 // (measured's hold of its own starting split, where re-splitting did not
 // pay, is not polished: that frame 1 was the unbalanced split itself.)
 constexpr double kPolishShrink = 0.08;

@@ -761,6 +761,23 @@ TEST_F(Rtsim, ABaselineIgnoresTheBoundariesItHasNone) {
     EXPECT_TRUE(json::parse(slurp(r)).contains("baseline"));
 }
 
+// Where neither re-split frame beat frame 1 and the uniform split is out of
+// reach, the sequence polishes the fastest re-split frame's planes only if
+// that frame took at most kTrialReach (1.2) times frame 1, else it goes back
+// to frame 1 at once: gears-2 on the paper's machine, 8x8x2 along z, 64x64,
+// re-split frames of 1.635 and 1.629 times frame 1, and the polish's first
+// try took 1.617 times it.
+TEST_F(Rtsim, SampleGoesBackToFrameOneWhereItsReSplitsAreBeyondAPolishsReach) {
+    const json r = report(" --config " RT_CONFIG_DIR "/paper.conf --scene " + std::string(RT_SCENE_DIR) +
+                              "/gears-2.nff --axis z --mesh-dims 8x8x2 --size 64x64 --balance sample --frames 4",
+                          "g.json");
+    ASSERT_EQ(r["frames"].size(), 4u);
+    const double first = r["frames"][0]["render_time_ns"].get<double>();
+    for (size_t i : {1, 2}) EXPECT_GT(r["frames"][i]["render_time_ns"].get<double>(), rt::kTrialReach * first) << i;
+    EXPECT_EQ(r["frames"][2]["then"]["next"], "frame 1 again") << r["frames"].dump();
+    EXPECT_EQ(r["frames"][3]["render_time_ns"], r["frames"][0]["render_time_ns"]);
+}
+
 // One try (between_frames.h): the first time sample's forecast says hold,
 // a re-split forecast at least 1 % faster (and under the 4 % margin) runs
 // once. With the built-in scene's spheres everywhere, across the axis,
