@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Planted timing bugs: does the test suite notice?
 
-Each mutant (scripts/mutants.py) is one small, plausible timing bug in models/ (a link's
+Each mutant (scripts/mutants.py; the balancing's in scripts/mutants_balance.py) is one small, plausible timing bug in models/ (a link's
 slot returned at the wrong time, serialisation dropped, a cost not charged,
 an override ignored, a message's size wrong). The script copies the tracked
 sources to a work directory, checks that the suite passes there unchanged,
