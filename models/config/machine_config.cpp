@@ -208,20 +208,24 @@ void BalanceConfig::validate(Picos reportFloor, bool carriedBoundaries) const {
                                     " is shorter than a node takes to send and take a load report (" +
                                     formatTime(reportFloor) + ": --cost-send + --cost-recv, at least 1 ns)");
     if (!findPolicy(policy)) throw std::invalid_argument("--balance: no policy named '" + policy + "'");
+    // The policy as the user chose it: by name, or --balance recommended's choice and why.
+    const size_t why = recommendedWhy.find(": ");
+    const std::string named = "'" + policy + "'" +
+                              (why == std::string::npos ? "" : " (--balance recommended's choice: " + recommendedWhy.substr(why + 2) + ")");
     // The layer's planes apply the paper's rule (ideal_layer_faces.h) and
     // start in line: one frame of slide (or resplit, whose first frame is slide).
     if (idealLayerFaces && policy != "slide" && policy != "resplit")
-        throw std::invalid_argument("--faces ideal-layer: applies slide's rule to the layers; needs --balance slide (or resplit, one frame), not '" +
-                                    policy + "'");
+        throw std::invalid_argument("--faces ideal-layer: applies slide's rule to the layers; needs --balance slide (or resplit, one frame), not " +
+                                    named);
     if (idealLayerFaces && carriedBoundaries)
         throw std::invalid_argument("--faces ideal-layer: needs every column's faces in line at the start (one frame, "
                                     "no --boundaries-from)");
     checkRanges(balanceParams(), *this, "--");
     if (sampleCredit && policy != "sample")
-        throw std::invalid_argument("--sample-end credit: only sample gathers a sample, not '" + policy + "'");
+        throw std::invalid_argument("--sample-end credit: only sample gathers a sample, not " + named);
     if (startMix != kStartMixAuto && !startsAtObjects())  // (after the ranges: a nan is named as a bad value)
-        throw std::invalid_argument("--start-mix " + formatNumber(startMix) + ": only median and sample start at a split of their own; '" + policy +
-                                    "' starts at the uniform split");
+        throw std::invalid_argument("--start-mix " + formatNumber(startMix) + ": only median and sample start at a split of their own; " + named +
+                                    " starts at the uniform split");
 }
 
 }  // namespace rt

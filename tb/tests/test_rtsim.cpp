@@ -526,6 +526,13 @@ TEST_F(Rtsim, BadConfigurationExits2NamingTheFlag) {
     // `default` meant the recommended policy while the default of --balance was none: one name each now.
     expectBad("--balance default", "--balance: 'default' names no policy: the recommended policy is sample on columns of "
                                    "2 to 8 boxes, measured on longer ones, none on columns of one box (or 'recommended')");
+    // (a flag the policy --balance recommended chose does not take: the error says it chose it, and why)
+    expectBad("--mesh-dims 4x4x1 --axis z --balance recommended --start-mix 0.5",
+              "--start-mix 0.5: only median and sample start at a split of their own; 'none' (--balance recommended's "
+              "choice: columns of 1 box: no boundary along the axis to move) starts at the uniform split");
+    expectBad("--mesh-dims 9x1x1 --balance recommended --sample-end credit",
+              "--sample-end credit: only sample gathers a sample, not 'measured' (--balance recommended's choice: columns "
+              "of 9 boxes (more than 8): the first frame keeps its split)");
     expectBad("--eye nan,0,0", "--eye");
     expectBad("--seed -1", "--seed");  // (was taken as 18446744073709551615)
     expectBad("--light 1,nan,1", "--light");
