@@ -218,6 +218,11 @@ void RtsimOptions::finish() {
             machine.balance.policy = c.policy;
             machine.balance.recommendedWhy = std::move(c.why);
         }
+        // (given, not auto: a policy that holds no planes between frames has none to polish; a
+        // reference run, which does not balance or balances the other way, takes the run's flags)
+        if (machine.balance.polishTries > 0 && !machine.balance.betweenFrames() && !asBaseline && !asComparison)
+            throw OptionError("--polish-tries", "only resplit, measured and sample polish the planes they hold between "
+                                                "frames, not " + machine.balance.named());
         if (machine.balance.polishTries == kPolishTriesAuto)
             machine.balance.polishTries = machine.balance.policy == "sample" ? kSamplePolishTries : 0;
         frameIndex = frames - 1;     // this process renders the last frame of its sequence last

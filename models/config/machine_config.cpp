@@ -23,6 +23,12 @@ PolicyChoice recommendedPolicy(const std::array<int, 3>& dims, int axis) {
                             "): the first frame keeps its split"};
 }
 
+// The policy as the user chose it: by name, or --balance recommended's choice and why.
+std::string BalanceConfig::named() const {
+    const size_t why = recommendedWhy.find(": ");
+    return "'" + policy + "'" + (why == std::string::npos ? "" : " (--balance recommended's choice: " + recommendedWhy.substr(why + 2) + ")");
+}
+
 bool BalanceConfig::dynamic() const {
     const PolicyInfo* p = findPolicy(policy);
     return p && p->kind == PolicyKind::Dynamic;
@@ -208,10 +214,7 @@ void BalanceConfig::validate(Picos reportFloor, bool carriedBoundaries) const {
                                     " is shorter than a node takes to send and take a load report (" +
                                     formatTime(reportFloor) + ": --cost-send + --cost-recv, at least 1 ns)");
     if (!findPolicy(policy)) throw std::invalid_argument("--balance: no policy named '" + policy + "'");
-    // The policy as the user chose it: by name, or --balance recommended's choice and why.
-    const size_t why = recommendedWhy.find(": ");
-    const std::string named = "'" + policy + "'" +
-                              (why == std::string::npos ? "" : " (--balance recommended's choice: " + recommendedWhy.substr(why + 2) + ")");
+    const std::string named = this->named();
     // The layer's planes apply the paper's rule (ideal_layer_faces.h) and
     // start in line: one frame of slide (or resplit, whose first frame is slide).
     if (idealLayerFaces && policy != "slide" && policy != "resplit")

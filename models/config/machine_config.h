@@ -145,8 +145,8 @@ struct BalanceConfig {
     bool betweenFrames() const { return policy == "resplit" || policy == "measured" || policy == "sample"; }
     // One that starts at a split of its own, from the objects (startMix).
     bool startsAtObjects() const { return policy == "median" || policy == "sample"; }
-    // One whose first frame keeps its starting split and only measures (measured).
-    bool firstFrameHolds() const { return policy == "measured"; }
+    bool firstFrameHolds() const { return policy == "measured"; }  // its first frame keeps its split, measures
+    std::string named() const;  // 'policy', or with --balance recommended's choice and why (for errors)
     // One whose later frames try once a re-split forecast to gain less than
     // the margin a move needs (sample: between_frames.h, "One try").
     bool triesWithinTheMargin() const { return policy == "sample"; }

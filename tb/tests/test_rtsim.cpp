@@ -533,6 +533,11 @@ TEST_F(Rtsim, BadConfigurationExits2NamingTheFlag) {
     expectBad("--mesh-dims 9x1x1 --balance recommended --sample-end credit",
               "--sample-end credit: only sample gathers a sample, not 'measured' (--balance recommended's choice: columns "
               "of 9 boxes (more than 8): the first frame keeps its split)");
+    expectBad("--balance slide --polish-tries 3",
+              "--polish-tries: only resplit, measured and sample polish the planes they hold between frames, not 'slide'");
+    expectBad("--mesh-dims 4x4x1 --axis z --balance recommended --frames 3 --polish-tries 2",
+              "--polish-tries: only resplit, measured and sample polish the planes they hold between frames, not 'none' "
+              "(--balance recommended's choice: columns of 1 box: no boundary along the axis to move)");
     expectBad("--eye nan,0,0", "--eye");
     expectBad("--seed -1", "--seed");  // (was taken as 18446744073709551615)
     expectBad("--light 1,nan,1", "--light");
