@@ -8,7 +8,9 @@ without balancing and with --policy over --frames frames of the same view:
 every frame against the unbalanced frame. Prints the points with a frame
 above 1.02, the worst first, with the flags that make each again; with
 --doc, writes doc/results/never_hurts_random.{csv,md} and the table into
-doc/balancing.md. The same seed draws the same machines.
+doc/balancing.md (with --frames other than 3, never_hurts_random-Nframes.*
+and its own table there: 14 frames show the polish's tries). The same seed
+draws the same machines.
 
   /usr/bin/python3 scripts/experiments/never_hurts_random.py [--count 500] [--seed 1] [--frames 3] [--doc]
 
@@ -53,7 +55,8 @@ def main():
     if a.policy == "none":
         ap.error("--policy none: it is the baseline; name a balancing policy")
     how = project.changed_flags(ap, a, ("count", "seed", "policy", "frames"))
-    csv_path = os.path.join(a.out, "never_hurts_random.csv")
+    stem = "never_hurts_random" + ("" if a.frames == 3 else f"-{a.frames}frames")
+    csv_path = os.path.join(a.out, stem + ".csv")
     if a.plot_only:  # (the CSV of an earlier run)
         outputs.check_input(csv_path, "--plot-only: the CSV")
     else:
@@ -64,7 +67,7 @@ def main():
                 points.append({"params": {"point": k, "machine": " ".join(machine), "policy": policy},
                                "args": machine + ["--balance", policy] + frames})
         driver.run("never-hurts-random", points, extract, csv_path, a)
-    table(a, how, read_csv(csv_path), os.path.join(a.out, "never_hurts_random.md"))
+    table(a, how, read_csv(csv_path), os.path.join(a.out, stem + ".md"))
 
 
 def draw(count, seed):
@@ -109,10 +112,13 @@ def table(a, how, rows, md_path):
         raise outputs.ToolError(f"{md_path}: no point has both runs")
     points.sort(key=lambda p: -max(p["ratios"]))
     lost = [p for p in points if max(p["ratios"]) > LOSS]
+    # (past the third frame: where a sequence of more frames polishes, or re-splits again)
+    late = [p for p in lost if max(p["ratios"][3:], default=0) > LOSS]
     lines = [f"<!-- written by scripts/experiments/never_hurts_random.py{' ' + how if how else ''}; do not edit -->",
              f"{len(points)} machines drawn at random (seed {a.seed}); `--balance {a.policy}` over {a.frames} frames, each "
              f"frame's time / the unbalanced frame's. Points with a frame above {LOSS}: {len(lost)} "
-             f"({sum(1 for p in lost if p['ratios'][0] > LOSS)} in the first frame); worst frame "
+             f"({sum(1 for p in lost if p['ratios'][0] > LOSS)} in the first frame"
+             f"{f', {len(late)} past the third' if a.frames > 3 else ''}); worst frame "
              f"{max(max(p['ratios']) for p in points):.3f}; last frame: median "
              f"{statistics.median(p['ratios'][-1] for p in points):.3f}.", ""]
     if lost:
@@ -122,7 +128,7 @@ def table(a, how, rows, md_path):
             flags = p["machine"].replace(ROOT + os.sep, "").replace(os.path.dirname(SPD) + os.sep, "../shared/scenes/")
             lines.append(f"| `{flags}` | {p['chosen']} | " + " ".join(f"{x:.3f}" for x in p["ratios"]) +
                          f" | {max(p['ratios']):.3f} |")
-    publish_table(lines, md_path, a.doc or None, "never hurts random")
+    publish_table(lines, md_path, a.doc or None, "never hurts random" + ("" if a.frames == 3 else f" {a.frames} frames"))
 
 
 if __name__ == "__main__":

@@ -339,6 +339,14 @@ class Scripts(unittest.TestCase):
         self.assertIn("Points with a frame above 1.02: 1 (0 in the first frame)", text)
         self.assertIn("| `--mesh 4 --size 64x64` | sample | 0.900 1.030 0.990 | 1.030 |", text)
         self.assertNotIn("2x1x1", text)
+        # Over more frames, the points that lose past the third are counted too.
+        rows[1]["frames_ns"], rows[3]["frames_ns"] = "90 99 99 99 104", "101 101 101 101 101"
+        with tempfile.TemporaryDirectory() as d, contextlib.redirect_stdout(io.StringIO()):
+            nh.table(argparse.Namespace(seed=1, policy="recommended", frames=5, doc=None), "", rows, os.path.join(d, "t.md"))
+            with open(os.path.join(d, "t.md")) as f:
+                text = f.read()
+        self.assertIn("over 5 frames", text)
+        self.assertIn("Points with a frame above 1.02: 1 (0 in the first frame, 1 past the third)", text)
 
     def test_start_links_runs_each_start_and_marks_the_first_frames_that_lose(self):
         """start_links.py: each case and link runs none and sample from
