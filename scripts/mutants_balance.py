@@ -129,4 +129,8 @@ BALANCE_MUTANTS = [
     ("polish-from-beyond-reach", "models/balance/between_frames.cpp",
      "if (m_.balance.polishTries > 0 && bestNs_ <= kTrialReach * firstNs_) {", "if (m_.balance.polishTries > 0) {",
      "a sequence whose re-split frames all took far longer than frame 1 polishes the fastest of them anyway"),
+    ("sample-links-without-the-link", "models/balance/sample_split.cpp",
+     "if (column.crossings && i < planes.size()) work = std::max(work, column.wirePs * column.crossingsAt(to));",
+     "if (false) work = std::max(work, column.wirePs * column.crossingsAt(to));",
+     "--sample-links on carries the crossings but no part is bounded by its link up"),
 ]

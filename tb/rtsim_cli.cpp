@@ -288,7 +288,8 @@ void RtsimOptions::actAsReference() {
     if ((asBaseline || asComparison) && machine.balance.policy != "slide" && machine.balance.policy != "resplit")
         machine.balance.idealLayerFaces = false;
     if ((asBaseline || asComparison) && !machine.balance.startsAtObjects()) machine.balance.startMix = kStartMixAuto;  // (its start is uniform)
-    if ((asBaseline || asComparison) && machine.balance.policy != "sample") machine.balance.sampleCredit = false;  // (no sample)
+    if ((asBaseline || asComparison) && machine.balance.policy != "sample")
+        machine.balance.sampleCredit = machine.balance.sampleLinks = false;  // (no sample)
     // A reference run is timed as its run asks, without a calibration of its own; express only where it applies.
     maxError_.clear();
     if (!machine.balance.boxesStayPut()) machine.express = machine.through = false;

@@ -201,6 +201,9 @@ public:
     // A sample ray across the column's side, to or from a column beside, at
     // `where` along the axis: `passCost` if it were passed on.
     void recordSide(double where, double passCost);
+    // With --sample-links on: a sample ray's segment along the axis from
+    // `a` to `b` (a <= b), `pastTop` if it crosses the box's upper face.
+    void recordCrossing(double a, double b, bool pastTop);
     void sampleReady(Picos now);
     void onSample(const Message& m, Picos now);
     // Planes: from above, the column's; from a column beside (to a top
@@ -268,6 +271,7 @@ private:
         double lo = 0, hi = 1;      // the box along the axis while it samples
         std::vector<double> own;    // the sample's work here, in kSampleBins bins over [lo, hi]
         std::vector<double> side;   // its rays across the sides (recordSide), likewise
+        std::vector<double> cross;  // with --sample-links on: its segments' starts and ends (recordCrossing), and one past the top
         ColumnSample sum;           // the column's, from its lowest node through this one
         std::vector<double> planes;
         double movePs = 0;  // (the top node) how long moving the faces to `planes` takes (sampleMovePs)

@@ -34,6 +34,8 @@ void BalanceAgent::startSample(bool gathers, const std::vector<int>& besideDirs,
     g.sum.sides = !besideDirs.empty();
     g.own.assign(kSampleBins, 0.0);
     g.side.assign(kSampleBins, 0.0);
+    g.sum.crossings = cfg_.sampleLinks;
+    if (g.sum.crossings) g.cross.assign(kSampleBins + 1, 0.0);
     host_.sampleBegins();
 }
 
@@ -47,6 +49,13 @@ void addToBin(std::vector<double>& bins, double lo, double hi, double where, dou
 void BalanceAgent::recordSample(double where, Picos work) { addToBin(gather_.own, gather_.lo, gather_.hi, where, double(work)); }
 
 void BalanceAgent::recordSide(double where, double passCost) { addToBin(gather_.side, gather_.lo, gather_.hi, where, passCost); }
+
+void BalanceAgent::recordCrossing(double a, double b, bool pastTop) {
+    Gather& g = gather_;
+    addToBin(g.cross, g.lo, g.hi, a, 1.0);
+    if (pastTop) g.cross[kSampleBins] -= 1.0;
+    else addToBin(g.cross, g.lo, g.hi, b, -1.0);
+}
 
 void BalanceAgent::sampleReady(Picos now) {
     if (!gather_.on || gather_.ready) return;
@@ -97,18 +106,20 @@ void BalanceAgent::passSum(Picos now) {
     const double passPs = count_ < 2 ? 0.0
                                      : double(host_.slabCost(s, s > 0 ? box.lo[cfg_.axis] : box.hi[cfg_.axis])) -
                                            double(host_.slabCost(s, s > 0 ? box.hi[cfg_.axis] : box.lo[cfg_.axis]));
-    g.sum.add(g.lo, g.hi, g.own, g.side, std::max(0.0, passPs));
+    g.sum.add(g.lo, g.hi, g.own, g.side, std::max(0.0, passPs), g.cross);
     if (!g.sum.sides) g.sum.groupBoxes(kSampleGroups);
     g.sum.compress(g.sum.cellsWithin(kSampleValues));
     if (sides_[1].present) {
         g.up = true;
         return;
     }
+    // (a ray's time on the wire of the column's links: each part at least its link up's)
+    if (g.sum.crossings) g.sum.wirePs = count_ < 2 ? 0.0 : double(host_.rayOccupies(-1));
     g.planes = splitBySample(g.sum, count_, minThickness_);
     // (a handover's latency and handling: an empty slab's to the node below)
     g.movePs = sampleMovePs(g.sum, g.planes, count_ < 2 ? 0.0 : double(host_.slabCost(-1, host_.box().lo[cfg_.axis])));
     g.paysAlone = !g.planes.empty() &&
-                  samplePays(g.sum, g.sum.busiestBox, dearestPart(g.sum, g.planes), double(now), g.movePs);
+                  samplePays(g.sum, holdingPart(g.sum, {}), dearestPart(g.sum, g.planes), double(now), g.movePs);
     g.faces = g.sum.faces;
     g.proposal = g.paysAlone ? g.planes : g.faces;
     g.round = 1;

@@ -14,7 +14,7 @@ bool inSample(uint32_t pixel, uint32_t width) {
 }
 
 void ColumnSample::add(double lo, double hi, const std::vector<double>& bins, const std::vector<double>& sideBins,
-                       double passPs) {
+                       double passPs, const std::vector<double>& crossBins) {
     if (edges.empty()) edges.push_back(lo);
     else faces.push_back(lo);
     moves.push_back(passPs);
@@ -25,8 +25,10 @@ void ColumnSample::add(double lo, double hi, const std::vector<double>& bins, co
         edges.push_back(k + 1 == bins.size() ? hi : lo + double(k + 1) * w);
         mass.push_back(bins[k]);
         side.push_back(k < sideBins.size() ? sideBins[k] : 0.0);
+        if (crossings) cross.push_back((k < crossBins.size() ? crossBins[k] : 0.0) + (k == 0 ? crossOver : 0.0));
         box += bins[k];
     }
+    if (crossings) crossOver = crossBins.size() > bins.size() ? crossBins[bins.size()] : 0.0;
     busiestBox = std::max(busiestBox, box);
 }
 
@@ -34,7 +36,8 @@ void ColumnSample::compress(int cells) {
     if (int(mass.size()) <= cells) return;
     const double all = total();
     const double allSide = std::accumulate(side.begin(), side.end(), 0.0);
-    std::vector<double> e{lo()}, m, s;
+    const double allCross = std::accumulate(cross.begin(), cross.end(), 0.0);
+    std::vector<double> e{lo()}, m, s, x2;
     if (all > 0) {
         double done = 0;  // the work below edge e.back()
         for (int j = 1; j < cells; ++j) {
@@ -42,16 +45,19 @@ void ColumnSample::compress(int cells) {
             if (!(x > e.back()) || !(x < hi())) continue;
             m.push_back(within(e.back(), x));
             s.push_back(sideWithin(e.back(), x));
+            if (crossings) x2.push_back(below(edges, cross, x) - below(edges, cross, e.back()));
             done += m.back();
             e.push_back(x);
         }
     }
     m.push_back(all - std::accumulate(m.begin(), m.end(), 0.0));
     s.push_back(std::max(0.0, allSide - std::accumulate(s.begin(), s.end(), 0.0)));
+    if (crossings) x2.push_back(allCross - std::accumulate(x2.begin(), x2.end(), 0.0));
     e.push_back(hi());
     edges = std::move(e);
     mass = std::move(m);
     side = std::move(s);
+    if (crossings) cross = std::move(x2);
 }
 
 void ColumnSample::groupBoxes(int most) {
@@ -99,46 +105,50 @@ int ColumnSample::cellsWithin(int values) const {
     // the boxes' passes, one a box, come on top; without, the passes and
     // the boxes of each group, at most kSampleGroups of them, take their
     // room too)
-    const int ahead = 5 + int(faces.size()) + (sides ? 0 : int(moves.size() + boxes.size()));
-    return std::max(1, (values - ahead) / (sides ? 3 : 2));
+    const int ahead = 5 + int(faces.size()) + (sides ? 0 : int(moves.size() + boxes.size())) + (crossings ? 1 : 0);
+    return std::max(1, (values - ahead) / ((sides ? 3 : 2) + (crossings ? 1 : 0)));
 }
 
 std::vector<double> ColumnSample::values() const {
     // Beside no column (a mesh one box across), no sides: a message no
     // longer than it must be (on a long column a longer sum holds every ray
     // behind it to its pace).
-    std::vector<double> v{busiestBox, startedAt, sides ? 1.0 : 0.0, double(faces.size())};
-    for (const std::vector<double>* part : {&faces, &moves, &boxes, &edges, &mass, &side})
+    std::vector<double> v{busiestBox, startedAt, (sides ? 1.0 : 0.0) + (crossings ? 2.0 : 0.0), double(faces.size())};
+    for (const std::vector<double>* part : {&faces, &moves, &boxes, &edges, &mass, &side, &cross})
         if (sides ? part != &boxes : part != &side) v.insert(v.end(), part->begin(), part->end());
+    if (crossings) v.push_back(crossOver);
     return v;
 }
 
 ColumnSample ColumnSample::of(const std::vector<double>& v) {
     ColumnSample c;
-    if (v.size() < 4 || !(v[2] == 0 || v[2] == 1) || !(v[3] >= 0) || !(v[3] <= double(v.size())) ||
-        v[3] != std::floor(v[3]))
+    if (v.size() < 4 || !(v[2] == 0 || v[2] == 1 || v[2] == 2 || v[2] == 3) || !(v[3] >= 0) ||
+        !(v[3] <= double(v.size())) || v[3] != std::floor(v[3]))
         return c;
-    const bool sides = v[2] == 1;
-    const size_t f = size_t(v[3]), per = sides ? 3 : 2;  // (values per cell)
+    const bool sides = v[2] == 1 || v[2] == 3, crossings = v[2] >= 2;
+    const size_t f = size_t(v[3]), per = (sides ? 3 : 2) + (crossings ? 1 : 0);  // (values per cell)
     const size_t b = sides ? 0 : f + 1;  // (the boxes a group, without sides)
-    const size_t ahead = 4 + f + (f + 1) + b + 1;  // (the faces, the passes, the boxes, the first edge)
+    const size_t ahead = 4 + f + (f + 1) + b + 1 + (crossings ? 1 : 0);  // (the faces, the passes, the boxes, the first edge)
     if (v.size() < ahead + per || (v.size() - ahead) % per != 0) return c;
     const size_t k = (v.size() - ahead) / per;
     c.busiestBox = v[0];
     c.startedAt = v[1];
     auto at = v.begin() + 4;
     for (auto [part, n] : {std::pair{&c.faces, f}, {&c.moves, f + 1}, {&c.boxes, b}, {&c.edges, k + 1}, {&c.mass, k},
-                           {&c.side, sides ? k : 0}}) {
+                           {&c.side, sides ? k : 0}, {&c.cross, crossings ? k : 0}}) {
         part->assign(at, at + long(n));
         at += long(n);
     }
     if (!sides) c.side.assign(k, 0.0);
     c.sides = sides;
+    c.crossings = crossings;
+    if (crossings) c.crossOver = *at;
     return c;
 }
 
 bool ColumnSample::wellFormed() const {
     if (mass.empty() || edges.size() != mass.size() + 1 || side.size() != mass.size()) return false;
+    if (crossings != (cross.size() == mass.size())) return false;
     if (moves.size() != faces.size() + 1 || boxes.size() != (sides ? 0 : moves.size())) return false;
     for (double m : moves)
         if (!(m >= 0)) return false;
@@ -150,6 +160,8 @@ bool ColumnSample::wellFormed() const {
         if (!(faces[k] > lo() && faces[k] < hi()) || (k > 0 && !(faces[k] > faces[k - 1]))) return false;
     return busiestBox >= 0 && startedAt >= 0;
 }
+
+double ColumnSample::crossingsAt(double x) const { return crossings ? std::max(0.0, below(edges, cross, x)) : 0.0; }
 
 double ColumnSample::total() const { return std::accumulate(mass.begin(), mass.end(), 0.0); }
 
@@ -231,25 +243,33 @@ std::vector<double> splitBySample(const ColumnSample& column, int count, double 
     return dearestPart(column, even) <= hi * (1 + 1e-9) ? even : planes;
 }
 
-double dearestPart(const ColumnSample& column, const std::vector<double>& planes) {
-    double most = 0, from = column.lo();
-    for (double x : planes) {
-        most = std::max(most, column.within(from, x));
-        from = x;
+namespace {
+// The work of each part between `planes`; with the crossings
+// (--sample-links on), a part at least as dear as its link up: the
+// sample's rays across its upper plane, each a ray's time on the wire.
+std::vector<double> partsOf(const ColumnSample& column, const std::vector<double>& planes) {
+    std::vector<double> parts;
+    double from = column.lo();
+    for (size_t i = 0; i <= planes.size(); ++i) {
+        const double to = i < planes.size() ? planes[i] : column.hi();
+        double work = column.within(from, to);
+        if (column.crossings && i < planes.size()) work = std::max(work, column.wirePs * column.crossingsAt(to));
+        parts.push_back(work);
+        from = to;
     }
-    return std::max(most, column.within(from, column.hi()));
+    return parts;
+}
+}  // namespace
+
+double dearestPart(const ColumnSample& column, const std::vector<double>& planes) {
+    const std::vector<double> parts = partsOf(column, planes);
+    return *std::max_element(parts.begin(), parts.end());
 }
 
 double dearestPartWithPasses(const ColumnSample& column, const std::vector<double>& planes,
                              const std::vector<std::vector<double>>& beside) {
     if (!column.sides || beside.empty()) return dearestPart(column, planes);
-    std::vector<double> parts;
-    double from = column.lo();
-    for (double x : planes) {
-        parts.push_back(column.within(from, x));
-        from = x;
-    }
-    parts.push_back(column.within(from, column.hi()));
+    std::vector<double> parts = partsOf(column, planes);
     const auto partOf = [](const std::vector<double>& faces, double x) {
         return size_t(std::upper_bound(faces.begin(), faces.end(), x) - faces.begin());
     };
@@ -281,6 +301,8 @@ double dearestPartWithPasses(const ColumnSample& column, const std::vector<doubl
 }
 
 double holdingPart(const ColumnSample& column, const std::vector<std::vector<double>>& beside) {
+    // (with the crossings, the faces as they stand may leave a box's link dearer than its work)
+    if (column.crossings) return std::max(column.busiestBox, dearestPartWithPasses(column, column.faces, beside));
     if (!column.sides || beside.empty()) return column.busiestBox;
     return std::max(column.busiestBox, dearestPartWithPasses(column, column.faces, beside));
 }

@@ -80,12 +80,28 @@ struct ColumnSample {
     // then `faces` (groupBoxes); with sides, empty: an entry a box.
     std::vector<double> boxes;
     bool sides = false;  // the column has columns beside it: the sum carries the faces and the sides
+    // With crossings (--sample-links on): per cell, the sample's ray
+    // segments along the axis that begin there (+1) and end there (-1):
+    // their sum below an edge is how many of them cross it, each a ray on
+    // the link a plane there would put between its boxes. `crossOver`:
+    // those that end past the last box added, through its upper face (they
+    // go on in the next box's first cell). Why: the sample's work does not
+    // show a link's load, and a plane moved towards the eye leaves more of
+    // the column's rays on the first box's link, whatever the work
+    // (doc/balancing.md, "The recommended policy": 1.215 of the unbalanced
+    // frame, the first box's link 97 % busy).
+    bool crossings = false;
+    std::vector<double> cross;  // K
+    double crossOver = 0;
+    double wirePs = 0;  // (the top node, as it decides; not carried) a ray's time on the column's link, in ps
     double busiestBox = 0;
     double startedAt = 0;  // ps into the frame
     // A node's bins over its box [lo, hi], above the cells so far (lo the
     // last edge), and what passing its objects on would cost.
     void add(double lo, double hi, const std::vector<double>& bins, const std::vector<double>& sideBins = {},
-             double passPs = 0);
+             double passPs = 0, const std::vector<double>& crossBins = {});
+    // With crossings: how many of the sample's rays cross x along the axis.
+    double crossingsAt(double x) const;
     // At most `cells` cells: each then an equal share of the work.
     void compress(int cells);
     // Without sides, at most `most` entries of `moves`: neighbouring ones

@@ -98,6 +98,23 @@ Picos MachineConfig::lookahead() const {
     return l;
 }
 
+const std::string& startMixHelp() {
+    static const std::string help =
+        "median and sample start with each column's boundaries at the quantiles of this share of its objects' centres "
+        "plus the rest of its length (1: the object median; 0: the uniform split); auto: median 1; sample 1 where an "
+        "intersection test costs at least a third of a ray's hop (weighing where the primary rays enter the world by a "
+        "ray's generation against " + std::to_string(kTestsPerGeneration) + " tests), else 0.5 (below a tenth of a hop, "
+        "of all the objects: the same planes in every column, 0 where they do not lighten the heaviest box by more than " +
+        std::to_string(kSpreadsLighter) + " standard deviations of an even spread's; 0 in a column whose heaviest box "
+        "by objects 0.5 leaves as heavy; and 0 where it leaves the heaviest box reaching into as many objects, whose "
+        "centres it holds or not), 0 where a hop's wire time is at least " + std::to_string(kWirePerHandling) +
+        " times its handling, 0 where 0.5's busiest box's primary rays would keep its link " +
+        formatNumber(kLinkOverUniformFrame) + " times longer than the uniform split's frame (a ray's work in the "
+        "heaviest box: its handling and " + std::to_string(kTestsPerRayInHeaviestBox) + " tests), and 0 on columns of "
+        "more than " + std::to_string(kLongestColumnStartedByObjects) + " boxes";
+    return help;
+}
+
 namespace {
 
 // Each row's value in its range (base/param.h), as the command line checks
@@ -226,6 +243,8 @@ void BalanceConfig::validate(Picos reportFloor, bool carriedBoundaries) const {
     checkRanges(balanceParams(), *this, "--");
     if (sampleCredit && policy != "sample")
         throw std::invalid_argument("--sample-end credit: only sample gathers a sample, not " + named);
+    if (sampleLinks && policy != "sample")
+        throw std::invalid_argument("--sample-links on: only sample gathers a sample, not " + named);
     if (startMix != kStartMixAuto && !startsAtObjects())  // (after the ranges: a nan is named as a bad value)
         throw std::invalid_argument("--start-mix " + formatNumber(startMix) + ": only median and sample start at a split of their own; " + named +
                                     " starts at the uniform split");

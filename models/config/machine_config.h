@@ -108,6 +108,9 @@ struct BalanceConfig {
     bool sampleCredit = false;
     bool sampleEndAuto = true;
     std::string sampleEndWhy;
+    // `sample`'s sum counts its rays across the planes; a part is at least its link up (ColumnSample::cross).
+    // Off by default: on, every sample table changes (doc/balancing.md, "The recommended policy").
+    bool sampleLinks = false;
     // Set where --balance recommended chose the policy (recommendedPolicy): which, and why.
     std::string recommendedWhy;
     // --balance as given, for a message: "recommended (sample here)" where
@@ -159,24 +162,13 @@ struct BalanceConfig {
     void validate(Picos reportFloor, bool carriedBoundaries) const;
 };
 
+// --start-mix's help: how auto chooses, with the constants it uses.
+const std::string& startMixHelp();
 // The balancing settings a flag sets (base/param.h), echoed in the report's
 // config.balance; --balance (the policy) and --no-guard are read by the
 // command line itself, and the echo's gain is gainOf().
 inline const std::vector<Param<BalanceConfig>>& balanceParams() {
     using B = BalanceConfig;
-    static const std::string startMixHelp =
-        "median and sample start with each column's boundaries at the quantiles of this share of its objects' centres "
-        "plus the rest of its length (1: the object median; 0: the uniform split); auto: median 1; sample 1 where an "
-        "intersection test costs at least a third of a ray's hop (weighing where the primary rays enter the world by a "
-        "ray's generation against " + std::to_string(kTestsPerGeneration) + " tests), else 0.5 (below a tenth of a hop, "
-        "of all the objects: the same planes in every column, 0 where they do not lighten the heaviest box by more than " +
-        std::to_string(kSpreadsLighter) + " standard deviations of an even spread's; 0 in a column whose heaviest box "
-        "by objects 0.5 leaves as heavy; and 0 where it leaves the heaviest box reaching into as many objects, whose "
-        "centres it holds or not), 0 where a hop's wire time is at least " + std::to_string(kWirePerHandling) +
-        " times its handling, 0 where 0.5's busiest box's primary rays would keep its link " +
-        formatNumber(kLinkOverUniformFrame) + " times longer than the uniform split's frame (a ray's work in the "
-        "heaviest box: its handling and " + std::to_string(kTestsPerRayInHeaviestBox) + " tests), and 0 on columns of "
-        "more than " + std::to_string(kLongestColumnStartedByObjects) + " boxes";
     static const std::vector<Param<B>> rows = {
         specialParam<B>("balance", nullptr),
         timeParam("balance-interval", &B::interval, "/interval_ns", "time between load reports"),
@@ -187,7 +179,7 @@ inline const std::vector<Param<BalanceConfig>>& balanceParams() {
         numberParam("deadband", &B::deadband, 0.0, 0.999, "/deadband", "no slide while the load difference is at most this"),
         numberParam("min-thickness", &B::minThickness, 1e-6, 1.0, "/min_thickness",
                     "guard: a box keeps at least this fraction of its initial thickness"),
-        orWord(numberParam("start-mix", &B::startMix, 0.0, 1.0, "/start_mix", startMixHelp.c_str()),
+        orWord(numberParam("start-mix", &B::startMix, 0.0, 1.0, "/start_mix", startMixHelp().c_str()),
                "auto", kStartMixAuto),
         orWord(choiceParam("sample-end", &B::sampleCredit, "credit", "generated", "/sample_end",
                            "sample: when a column's gather starts: generated, once its lowest node has generated its "
@@ -197,6 +189,10 @@ inline const std::vector<Param<BalanceConfig>>& balanceParams() {
                            "ray's hop (as --start-mix auto's object median), or where only the columns' top nodes generate "
                            "the sample's primary rays (a view from beyond the axis's far end), else generated"),
                "auto", &B::sampleEndAuto),
+        choiceParam("sample-links", &B::sampleLinks, "on", "off", "/sample_links",
+                    "sample: on, the sample also counts where its rays cross the column (a third value a cell in the "
+                    "sum's message, so fewer cells), and no part of a split is cheaper than its link up, the sample's "
+                    "rays across its upper plane on the wire; off, the work alone"),
         specialParam<B>("no-guard", "no guard: slide on loads however old, and whatever the slide costs against the work it moves"),
         numberParam("max-age", &B::maxAge, 0.0, 1e9, "/max_age_intervals", "guard: no slide on loads older than this many intervals"),
         numberParam("guard-hop", &B::hopRatio, 0.0, 1e9, "/guard_hop_steps",

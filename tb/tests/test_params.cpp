@@ -97,8 +97,8 @@ TEST(Parameters, EachRowMakesItsFlagItsCheckAndItsEcho) {
         SCOPED_TRACE(r.flag);
         // (A balancing policy, so that every balancing setting has a meaning:
         // --faces ideal-layer needs slide, --start-mix a policy that starts at the objects,
-        // --sample-end sample, --polish-tries planes held between frames; --fidelity express boxes that stay put, as median's.)
-        const bool sample = r.flag == "--start-mix" || r.flag == "--sample-end" || r.flag == "--polish-tries";
+        // --sample-end and --sample-links sample, --polish-tries planes held between frames; --fidelity express boxes that stay put, as median's.)
+        const bool sample = r.flag == "--start-mix" || r.flag == "--sample-end" || r.flag == "--sample-links" || r.flag == "--polish-tries";
         const char* policy = sample ? "sample" : r.flag == "--fidelity" ? "median" : "slide";
         const std::string context = std::string("balance = \"") + policy + "\"\n";
         const json defaults = machineConfigJson(parsed(context).machine, 8, 8);

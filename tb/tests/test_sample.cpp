@@ -86,6 +86,52 @@ TEST(SampleSplit, AColumnsSampleSpreadsEachCellEvenly) {
     EXPECT_EQ(ColumnSample{}.cellsWithin(kSampleValues), kSampleCells);  // a column of one box
 }
 
+// --sample-links on, by hand. Two boxes [0, 1] and [1, 3], the work 64
+// per unit length (192). Ten sample rays run from 0 to 2: the lower box
+// records each starting in its first bin and leaving by its upper face,
+// the upper box each starting in its first bin and ending at 2 (bin 32).
+// So 10 rays cross every plane below 2, none above. At a ray's 20 ps on
+// the wire, a part below a plane under 2 is at least 200 ps: planes at
+// 1.5 give parts of 96 and 96 by the work, 200 with the link; at 2.5,
+// 160 and 32 either way. Holding (the face at 1): the lower box's work
+// is 64, its link up 200.
+TEST(SampleSplit, WithLinksAPartIsAtLeastItsLinkUp) {
+    std::vector<double> lower(kSampleBins + 1, 0.0), upper(kSampleBins + 1, 0.0);
+    lower[0] = 10, lower[kSampleBins] = -10;  // (the last: past the upper face)
+    upper[0] = 10, upper[kSampleBins / 2] = -10;
+    ColumnSample c;
+    c.crossings = true;
+    c.add(0, 1, bins(1), {}, 0, lower);
+    c.add(1, 3, bins(2), {}, 0, upper);
+    ASSERT_TRUE(c.wellFormed());
+    EXPECT_NEAR(c.crossingsAt(0.5), 10, 1e-9);
+    EXPECT_NEAR(c.crossingsAt(1.5), 10, 1e-9);
+    EXPECT_NEAR(c.crossingsAt(2.5), 0, 1e-9);
+    c.wirePs = 20;
+    EXPECT_NEAR(dearestPart(c, {1.5}), 200, 1e-9);
+    EXPECT_NEAR(dearestPart(c, {2.5}), 160, 1e-9);
+    EXPECT_NEAR(holdingPart(c, {}), 200, 1e-9);
+    // As a message carries it: a third value a cell, and the rays past the top.
+    const ColumnSample back = ColumnSample::of(c.values());
+    EXPECT_EQ(c.values().size(), 4 + 1 + 2 + 2 + 129 + 2 * 128u + 1);
+    EXPECT_TRUE(back.crossings);
+    EXPECT_EQ(back.cross, c.cross);
+    EXPECT_EQ(back.mass, c.mass);
+    EXPECT_EQ(c.cellsWithin(kSampleValues), (kSampleValues - 5 - 1 - 4 - 1) / 3);
+    // Compressed, the crossings go with their cells.
+    c.compress(8);
+    ASSERT_TRUE(c.wellFormed());
+    EXPECT_NEAR(c.crossingsAt(1.5), 10, 1e-9);
+    EXPECT_NEAR(c.crossingsAt(2.5), 0, 1e-9);
+    // Off, the same work alone.
+    ColumnSample w;
+    w.add(0, 1, bins(1));
+    w.add(1, 3, bins(2));
+    w.wirePs = 20;
+    EXPECT_NEAR(dearestPart(w, {1.5}), 96, 1e-9);
+    EXPECT_NEAR(holdingPart(w, {}), 128, 1e-9);
+}
+
 // The passes a move would cause, by hand. Two boxes [0, 1] and [1, 3], the
 // work 64 per unit length throughout (192), and rays across the sides at 16
 // per unit length in [0, 1] only. A pass between two neighbouring nodes
@@ -619,6 +665,36 @@ TEST_F(Sample, AcrossTheAxisOnTheModernMachineTheFirstFrameDoesNotLoseWhereTheWo
     };
     EXPECT_LE(ratio("1"), 1.02);
     EXPECT_LT(ratio("0.125"), 0.65);
+}
+
+// The built-in scene along the axis at f = 1 on the modern machine,
+// 4x4x4 at 400 MB/s, 128x128: unbalanced, the first box of a column is
+// the busiest (209 us of a 216 us frame) and its link up 88 % busy.
+// sample's work alone thins it and the frame took 1.215 times the
+// unbalanced one, its first box's link 97 % busy; with --sample-links on
+// the sample sees the rays across each plane, and no part is cheaper than
+// its link up: the move no longer pays. The image is the unbalanced run's.
+TEST_F(Sample, WithSampleLinksOnTheFirstBoxsLinkIsPartOfTheSplit) {
+    const std::string point = "--config " RT_CONFIG_DIR "/modern.conf --spheres 1000 --radius 0.02 --seed 1 --axis x "
+                              "--size 128x128 --eye=-1.3,0.5,0.5 --look-at=0.5,0.5,0.5 --fov 50 --mesh 4 "
+                              "--concentration 1 --link-bandwidth 400MB/s -q --no-baseline";
+    const auto frame = [&](const std::string& how, const std::string& name) {
+        const test::Outcome o = run(point + " " + how + " --image " + (dir_ / (name + ".png")).string() + " --report " +
+                                    (dir_ / (name + ".json")).string());
+        EXPECT_EQ(o.code, 0) << o.err;
+        return json::parse(test::slurp(dir_ / (name + ".json")));
+    };
+    const double unbalanced = frame("--balance none", "none")["render_time_ns"].get<double>();
+    const double off = frame("--balance sample", "off")["render_time_ns"].get<double>();
+    const json on = frame("--balance sample --sample-links on", "on");
+    EXPECT_GT(off, 1.1 * unbalanced);
+    EXPECT_LE(on["render_time_ns"].get<double>(), 1.02 * unbalanced);
+    EXPECT_EQ(on["config"]["balance"]["sample_links"], "on");
+    EXPECT_EQ(test::slurp(dir_ / "on.png"), test::slurp(dir_ / "none.png"));
+    // Only sample gathers a sample.
+    const test::Outcome bad = run(point + " --balance measured --sample-links on");
+    EXPECT_EQ(bad.code, 2);
+    EXPECT_NE(bad.err.find("--sample-links on: only sample gathers a sample, not 'measured'"), std::string::npos) << bad.err;
 }
 
 // tetra-3 (64 triangles) on 8x8x8, viewed from below two sides at once:
