@@ -133,4 +133,7 @@ BALANCE_MUTANTS = [
      "if (column.crossings && i < planes.size()) work = std::max(work, column.wirePs * column.crossingsAt(to));",
      "if (false) work = std::max(work, column.wirePs * column.crossingsAt(to));",
      "--sample-links on carries the crossings but no part is bounded by its link up"),
+    ("sample-links-on-long-columns", "models/balance/balance_sample.cpp",
+     "g.sum.crossings = cfg_.sampleLinks && count_ <= kLongestColumnSampled;", "g.sum.crossings = cfg_.sampleLinks;",
+     "--sample-links on counts crossings on columns of any length, where the sum is left too few cells"),
 ]

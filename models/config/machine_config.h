@@ -190,9 +190,9 @@ inline const std::vector<Param<BalanceConfig>>& balanceParams() {
                            "the sample's primary rays (a view from beyond the axis's far end), else generated"),
                "auto", &B::sampleEndAuto),
         choiceParam("sample-links", &B::sampleLinks, "on", "off", "/sample_links",
-                    "sample: on, the sample also counts where its rays cross the column (a third value a cell in the "
-                    "sum's message, so fewer cells), and no part of a split is cheaper than its link up, the sample's "
-                    "rays across its upper plane on the wire; off, the work alone"),
+                    "sample only: on, on columns of at most 8 boxes the sample also counts where its rays cross the "
+                    "column (a third value a cell in the sum's message, so fewer cells), and no part of a split is "
+                    "cheaper than its link up, the sample's rays across its upper plane on the wire; off, the work alone"),
         specialParam<B>("no-guard", "no guard: slide on loads however old, and whatever the slide costs against the work it moves"),
         numberParam("max-age", &B::maxAge, 0.0, 1e9, "/max_age_intervals", "guard: no slide on loads older than this many intervals"),
         numberParam("guard-hop", &B::hopRatio, 0.0, 1e9, "/guard_hop_steps",
