@@ -302,8 +302,7 @@ double dearestPartWithPasses(const ColumnSample& column, const std::vector<doubl
 
 double holdingPart(const ColumnSample& column, const std::vector<std::vector<double>>& beside) {
     // (with the crossings, the faces as they stand may leave a box's link dearer than its work)
-    if (column.crossings) return std::max(column.busiestBox, dearestPartWithPasses(column, column.faces, beside));
-    if (!column.sides || beside.empty()) return column.busiestBox;
+    if (!column.crossings && (!column.sides || beside.empty())) return column.busiestBox;
     return std::max(column.busiestBox, dearestPartWithPasses(column, column.faces, beside));
 }
 

@@ -162,8 +162,9 @@ struct BalanceConfig {
     void validate(Picos reportFloor, bool carriedBoundaries) const;
 };
 
-// --start-mix's help: how auto chooses, with the constants it uses.
+// --start-mix's help: how auto chooses, with the constants it uses; --sample-links's, where it acts.
 const std::string& startMixHelp();
+const std::string& sampleLinksHelp();
 // The balancing settings a flag sets (base/param.h), echoed in the report's
 // config.balance; --balance (the policy) and --no-guard are read by the
 // command line itself, and the echo's gain is gainOf().
@@ -189,10 +190,7 @@ inline const std::vector<Param<BalanceConfig>>& balanceParams() {
                            "ray's hop (as --start-mix auto's object median), or where only the columns' top nodes generate "
                            "the sample's primary rays (a view from beyond the axis's far end), else generated"),
                "auto", &B::sampleEndAuto),
-        choiceParam("sample-links", &B::sampleLinks, "on", "off", "/sample_links",
-                    "sample only: on, on columns of at most 8 boxes the sample also counts where its rays cross the "
-                    "column (a third value a cell in the sum's message, so fewer cells), and no part of a split is "
-                    "cheaper than its link up, the sample's rays across its upper plane on the wire; off, the work alone"),
+        choiceParam("sample-links", &B::sampleLinks, "on", "off", "/sample_links", sampleLinksHelp().c_str()),
         specialParam<B>("no-guard", "no guard: slide on loads however old, and whatever the slide costs against the work it moves"),
         numberParam("max-age", &B::maxAge, 0.0, 1e9, "/max_age_intervals", "guard: no slide on loads older than this many intervals"),
         numberParam("guard-hop", &B::hopRatio, 0.0, 1e9, "/guard_hop_steps",
