@@ -71,6 +71,7 @@ void RtsimOptions::addMachineParams(CLI::App& app) {
                 if (b.kind == ParamKind::Special) addSpecial(app, b.name, b.help, group);
                 else addParam(app, b, m.balance, std::string("--") + b.name, b.help, group);
             }
+            sampleLinks_ = app.get_option("--sample-links");
         }
     }
 }
@@ -217,6 +218,13 @@ void RtsimOptions::finish() {
             PolicyChoice c = recommendedPolicy(meshDims.empty() ? machine.dims : parseMeshDims(meshDims), machine.balance.axis);
             machine.balance.policy = c.policy;
             machine.balance.recommendedWhy = std::move(c.why);
+        }
+        // --sample-links acts only where sample gathers a sample: given on
+        // under another policy it is refused, by default it is off there.
+        if (machine.balance.policy != "sample" && !asBaseline && !asComparison) {
+            if (machine.balance.sampleLinks && sampleLinks_ && sampleLinks_->count() > 0)
+                throw OptionError("--sample-links on", onlySampleGathers(machine.balance.named()));
+            machine.balance.sampleLinks = false;
         }
         // (given, not auto: a policy that holds no planes between frames has none to polish; a
         // reference run, which does not balance or balances the other way, takes the run's flags)

@@ -64,6 +64,7 @@ private:
     std::vector<std::string> nodeCostSpecs_, linkSpecs_, traceSpecs_, traceLinkSpecs_;
     std::string traceWindow_;
     bool noGuard_ = false, noBaseline_ = false;
+    CLI::Option* sampleLinks_ = nullptr;  // --sample-links: refused given on under a policy that gathers no sample
     bool recommended_ = false;  // --balance recommended: the policy is chosen for the mesh in finish()
     std::string rerun_;                 // --rerun: handled before parsing (command_line.h)
     std::vector<std::string> configs_;  // --config: likewise

@@ -115,9 +115,11 @@ const std::string& startMixHelp() {
     return help;
 }
 
+std::string onlySampleGathers(const std::string& named) { return "only sample gathers a sample, not " + named; }
+
 const std::string& sampleLinksHelp() {
     static const std::string help =
-        "sample only: on, on columns of at most " + std::to_string(kLongestColumnSampled) + " boxes the sample also "
+        "sample only (the default, on, is off under another policy): on, on columns of at most " + std::to_string(kLongestColumnSampled) + " boxes the sample also "
         "counts where its rays cross the column (a third value a cell in the sum's message, so fewer cells), and no part "
         "of a split is cheaper than its link up, the sample's rays across its upper plane on the wire; off, the work alone";
     return help;
@@ -249,8 +251,7 @@ void BalanceConfig::validate(Picos reportFloor, bool carriedBoundaries) const {
         throw std::invalid_argument("--faces ideal-layer: needs every column's faces in line at the start (one frame, "
                                     "no --boundaries-from)");
     checkRanges(balanceParams(), *this, "--");
-    for (const auto& [on, flag] : {std::pair{sampleCredit, "--sample-end credit"}, {sampleLinks, "--sample-links on"}})
-        if (on && policy != "sample") throw std::invalid_argument(std::string(flag) + ": only sample gathers a sample, not " + named);
+    if (sampleCredit && policy != "sample") throw std::invalid_argument("--sample-end credit: " + onlySampleGathers(named));
     if (startMix != kStartMixAuto && !startsAtObjects())  // (after the ranges: a nan is named as a bad value)
         throw std::invalid_argument("--start-mix " + formatNumber(startMix) + ": only median and sample start at a split of their own; " + named +
                                     " starts at the uniform split");

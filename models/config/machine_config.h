@@ -109,8 +109,9 @@ struct BalanceConfig {
     bool sampleEndAuto = true;
     std::string sampleEndWhy;
     // `sample`'s sum counts its rays across the planes; a part is at least its link up (ColumnSample::cross).
-    // Off by default: on, every sample table changes (doc/balancing.md, "The recommended policy").
-    bool sampleLinks = false;
+    // On by default; it acts only under sample (another policy gathers no sample: the command line
+    // refuses it given on there, and reports it off).
+    bool sampleLinks = true;
     // Set where --balance recommended chose the policy (recommendedPolicy): which, and why.
     std::string recommendedWhy;
     // --balance as given, for a message: "recommended (sample here)" where
@@ -165,6 +166,8 @@ struct BalanceConfig {
 // --start-mix's help: how auto chooses, with the constants it uses; --sample-links's, where it acts.
 const std::string& startMixHelp();
 const std::string& sampleLinksHelp();
+// The refusal of a sample's flag under another policy: "only sample gathers a sample, not 'measured'".
+std::string onlySampleGathers(const std::string& named);
 // The balancing settings a flag sets (base/param.h), echoed in the report's
 // config.balance; --balance (the policy) and --no-guard are read by the
 // command line itself, and the echo's gain is gainOf().
