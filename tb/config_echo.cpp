@@ -97,8 +97,12 @@ std::string newerSettingHint(const nlohmann::json& there, const nlohmann::json& 
     if (!differs || differs->empty()) return "";
     const std::string& where = *differs;
     const nlohmann::json::json_pointer path(where);
-    if (there.contains(path) || !here.contains(path)) return "";
-    const nlohmann::json& value = here[path];
+    if (!here.contains(path)) return "";
+    // Not in the report: a setting newer than its build, this build's value
+    // named. In it with another value: a default changed, the report's named.
+    const bool newer = !there.contains(path);
+    const nlohmann::json& value = newer ? here[path] : there[path];
+    if (!newer && value.is_structured()) return "";
     std::string flag;
     forEachParamRow([&](const auto& p, const std::string& name, const std::string& echo) {
         if (!flag.empty() || echo != where) return;
@@ -107,8 +111,10 @@ std::string newerSettingHint(const nlohmann::json& there, const nlohmann::json& 
         if (p.kind == ParamKind::Rate && value.is_number()) flag += "B/s";
     });
     if (flag.empty()) return "";
-    return "; a setting newer than the report's build: to rerun it as this build does, give it after the report (--rerun " +
-           report + " " + flag + "), which makes the rerun a what-if, not checked against the report";
+    const std::string whatIf = " (--rerun " + report + " " + flag + "), which makes the rerun a what-if, not checked against the report";
+    if (newer) return "; a setting newer than the report's build: to rerun it as this build does, give it after the report" + whatIf;
+    return "; the report's build ran it otherwise (a default changed since, or the report was edited): to rerun it as "
+           "it ran, give the report's value after it" + whatIf;
 }
 
 }  // namespace rt

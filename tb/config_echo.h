@@ -27,11 +27,12 @@ nlohmann::json sceneEcho(const RtsimOptions& o, const Scene& scene);
 // ("not in the report" where `there` lacks it, "not a setting of this run"
 // where `here` does); empty if none does.
 std::string firstDifference(const nlohmann::json& there, const nlohmann::json& here);
-// Where the first difference is a setting `there` (an older build's
-// report) lacks and a flag sets: how to rerun it with this build's value
-// anyway ("; ..."), else empty. Such a setting came after the report's
-// build, and a flag after --rerun makes the run a what-if, which is not
-// checked against the report.
+// Where the first difference is a setting a flag sets: how to rerun it
+// anyway ("; ..."), else empty. A setting `there` (an older build's
+// report) lacks came after the report's build: with this build's value.
+// One it holds otherwise (a default changed, or an edited report): with
+// the report's. A flag after --rerun makes the run a what-if, which is
+// not checked against the report.
 std::string newerSettingHint(const nlohmann::json& there, const nlohmann::json& here, const std::string& report);
 
 }  // namespace rt

@@ -219,13 +219,7 @@ void RtsimOptions::finish() {
             machine.balance.policy = c.policy;
             machine.balance.recommendedWhy = std::move(c.why);
         }
-        // --sample-links acts only where sample gathers a sample: given on
-        // under another policy it is refused, by default it is off there.
-        if (machine.balance.policy != "sample" && !asBaseline && !asComparison) {
-            if (machine.balance.sampleLinks && sampleLinks_ && sampleLinks_->count() > 0)
-                throw OptionError("--sample-links on", onlySampleGathers(machine.balance.named()));
-            machine.balance.sampleLinks = false;
-        }
+        if (!asBaseline && !asComparison) checkSampleLinks();
         // (given, not auto: a policy that holds no planes between frames has none to polish; a
         // reference run, which does not balance or balances the other way, takes the run's flags)
         if (machine.balance.polishTries > 0 && !machine.balance.betweenFrames() && !asBaseline && !asComparison)
@@ -249,6 +243,29 @@ void RtsimOptions::finish() {
         const size_t colon = msg.find(':');
         throw CLI::ValidationError(msg.substr(0, colon), msg.substr(colon + 2));
     }
+}
+
+// --sample-links acts only where sample gathers a sample, on columns of at
+// most kLongestColumnSampled boxes: given on elsewhere it is refused, and by
+// default it is off there (the report echoes what ran).
+void RtsimOptions::checkSampleLinks() {
+    BalanceConfig& b = machine.balance;
+    if (!b.sampleLinks) return;
+    const bool given = sampleLinks_ && sampleLinks_->count() > 0;
+    std::string why;
+    if (b.policy != "sample") {
+        why = onlySampleGathers(b.named());
+    } else if (!boundariesFrom.empty()) {
+        why = "the frame starts where --boundaries-from's run left its boundaries: sample gathers no sample";
+    } else {
+        const int column = (meshDims.empty() ? machine.dims : parseMeshDims(meshDims))[size_t(b.axis)];
+        if (column > kLongestColumnSampled)
+            why = "acts on columns of at most " + std::to_string(kLongestColumnSampled) + " boxes, these have " +
+                  std::to_string(column);
+    }
+    if (why.empty()) return;
+    if (given) throw OptionError("--sample-links on", why);
+    b.sampleLinks = false;
 }
 
 bool RtsimOptions::fullReport() const {

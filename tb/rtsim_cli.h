@@ -58,6 +58,7 @@ private:
     void addOutputFlags(CLI::App& app);
     void addFrameFlags(CLI::App& app);
     void actAsReference();
+    void checkSampleLinks();
     void readSpecs();
     void setQuantum();
 

@@ -109,8 +109,8 @@ struct BalanceConfig {
     bool sampleEndAuto = true;
     std::string sampleEndWhy;
     // `sample`'s sum counts its rays across the planes; a part is at least its link up (ColumnSample::cross).
-    // On by default; it acts only under sample (another policy gathers no sample: the command line
-    // refuses it given on there, and reports it off).
+    // On by default; it acts only where sample gathers a sample, on columns of at most
+    // kLongestColumnSampled boxes (elsewhere the command line refuses it given on, and reports it off).
     bool sampleLinks = true;
     // Set where --balance recommended chose the policy (recommendedPolicy): which, and why.
     std::string recommendedWhy;

@@ -674,3 +674,20 @@ TEST(Balance, ATargetThinnerThanTheMinimumIsRefused) {
         EXPECT_NE(std::string(e.what()).find("thinner than the minimum thickness"), std::string::npos) << e.what();
     }
 }
+
+// --sample-links acts on columns of at most kLongestColumnSampled boxes,
+// whatever the configuration says (one built in code is not normalised by
+// the command line): on longer ones the crossings' third value a cell
+// would leave the sum too few cells (gears-2 on 64x2x1 along x: 1.59 of
+// the unbalanced frame with it, 0.99 without).
+TEST(Balance, SampleLinksActOnlyOnColumnsOfAtMostEightBoxes) {
+    const Scene s = test::spd("gears-2");
+    MachineConfig c;
+    c.dims = {kLongestColumnSampled * 8, 2, 1};
+    c.width = c.height = 64;
+    c.balance.policy = "sample";
+    c.balance.sampleLinks = true;
+    const Picos on = runMachine(s, c).renderTime;
+    c.balance.sampleLinks = false;
+    EXPECT_EQ(on, runMachine(s, c).renderTime);
+}

@@ -150,6 +150,16 @@ TEST_F(Edges, ARerunOfAnOlderReportNamesTheFlagOfTheSettingItLacks) {
     EXPECT_EQ(noHint.code, 2);
     EXPECT_NE(noHint.err.find("/camera/fov_deg: not in the report, 40.0 here"), std::string::npos) << noHint.err;
     EXPECT_EQ(noHint.err.find("newer than"), std::string::npos) << noHint.err;
+    // A setting the report holds with another value than this build's
+    // default (a default changed since: --sample-links on came in so) names
+    // the report's value, which reruns it as it ran.
+    json d = baseReport();
+    d["config"]["primary_order"] = "spread";
+    write(dir_ / "d.json", d.dump());
+    bad("--rerun " + p("d.json") + " -q --image ''",
+        "/primary_order: \"spread\" there, \"scan\" here; the report's build ran it otherwise (a default changed since, or "
+        "the report was edited): to rerun it as it ran, give the report's value after it (--rerun " + p("d.json") +
+        " --primary-order spread)");
 }
 
 TEST_F(Edges, ARerunLoadsOnlyTheSceneItsReportRecords) {

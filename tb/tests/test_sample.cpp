@@ -692,10 +692,18 @@ TEST_F(Sample, WithSampleLinksOnTheFirstBoxsLinkIsPartOfTheSplit) {
     EXPECT_EQ(on["config"]["balance"]["sample_links"], "on");
     EXPECT_EQ(test::slurp(dir_ / "on.png"), test::slurp(dir_ / "none.png"));
     // On columns of more than 8 boxes (where recommended takes measured) it
-    // is off: the crossings' third value a cell would leave a long column's
-    // sum too few cells (gears-2 on 64x2x1: 1.59 of the unbalanced frame).
+    // does not act (the crossings' third value a cell would leave a long
+    // column's sum too few cells; Balance.SampleLinksActOnlyOnColumnsOfAtMostEightBoxes),
+    // nor where the frame starts from another run's boundaries: the report
+    // says off, and given on it is refused.
     const std::string longer = "--scene " RT_SCENE_DIR "/gears-2.nff --size 64x64 --mesh-dims 64x2x1 --axis x --balance sample";
-    EXPECT_EQ(report(longer + " --sample-links off", "long-off.json")["render_time_ns"], report(longer, "long-on.json")["render_time_ns"]);
+    EXPECT_EQ(report(longer, "long.json")["config"]["balance"]["sample_links"], "off");
+    const test::Outcome longOn = run(longer + " --sample-links on");
+    EXPECT_EQ(longOn.code, 2);
+    EXPECT_NE(longOn.err.find("--sample-links on: acts on columns of at most 8 boxes, these have 64"), std::string::npos) << longOn.err;
+    const std::string carried = point + " --balance sample --boundaries-from " + (dir_ / "on.json").string();
+    EXPECT_EQ(report(carried, "carried.json")["config"]["balance"]["sample_links"], "off");
+    EXPECT_NE(run(carried + " --sample-links on").err.find("--sample-links on: the frame starts where --boundaries-from's run"), std::string::npos);
     // Only sample gathers a sample: given on under another policy it is
     // refused; by default it is off there, and the report says so.
     EXPECT_EQ(report(point + " --balance measured", "measured.json")["config"]["balance"]["sample_links"], "off");
