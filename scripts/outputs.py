@@ -242,11 +242,7 @@ def run_child(cmd, timeout=None, **kw):
     kw.setdefault("errors", "backslashreplace")  # (a scene's stray bytes quoted in a child's message)
     p = subprocess.Popen(cmd, start_new_session=True, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                          text=True, **kw)
-    with _lock:
-        _children.add(p)
-        late = _stopping
-    if late:  # started by a thread that had not heard of the stop: the stop's clean_up missed it
-        _kill(p)
+    track_child(p)
     try:
         try:
             out, err = p.communicate(timeout=timeout)
@@ -255,9 +251,24 @@ def run_child(cmd, timeout=None, **kw):
             p.communicate()
             raise
     finally:
-        with _lock:
-            _children.discard(p)
+        untrack_child(p)
     return subprocess.CompletedProcess(cmd, p.returncode, out, err)
+
+
+def track_child(p):
+    """A child the caller started (Popen, start_new_session=True: its own
+    process group) that a stop must kill, with all of its group;
+    untrack_child once it has ended."""
+    with _lock:
+        _children.add(p)
+        late = _stopping
+    if late:  # started by a thread that had not heard of the stop: the stop's clean_up missed it
+        _kill(p)
+
+
+def untrack_child(p):
+    with _lock:
+        _children.discard(p)
 
 
 def _kill(p):

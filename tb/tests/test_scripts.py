@@ -412,6 +412,55 @@ def py(script, *args):
     return ["/usr/bin/python3", os.path.join(SCRIPTS, script), *args]
 
 
+class RerunTables(unittest.TestCase):
+    """rerun_tables.py: the tables a change of the recommended policy moves
+    are those with a `sample` or `recommended` point, each command once,
+    rerun with --fresh; a failing one is named, the rest still run."""
+
+    def test_the_published_tables_of_sample_are_listed_once_each(self):
+        p = subprocess.run(py("rerun_tables.py", "--list"), capture_output=True, text=True, timeout=60)
+        self.assertEqual(p.returncode, 0, p.stderr)
+        lines = p.stdout.splitlines()
+        self.assertEqual(len(lines), len(set(lines)))
+        self.assertTrue(any(line.startswith("scripts/experiments/fig4.py --preset paper --tag recommended ") for line in lines))
+        self.assertTrue(any("start_mix-auto.csv, start_mix-shapes.csv, start_mix.csv" in line for line in lines))
+        self.assertFalse(any("partition_search" in line for line in lines))  # (its points balance with none)
+        root = os.path.dirname(SCRIPTS)
+        for line in lines:
+            self.assertTrue(line.endswith(".csv"), line)
+            self.assertIn(" --fresh  # ", line)
+            self.assertTrue(os.path.isfile(os.path.join(root, line.split()[0])), line)
+
+    def test_each_matching_command_runs_once_and_a_failure_is_named(self):
+        import rerun_tables
+        from outputs import ToolError
+        with tempfile.TemporaryDirectory() as d:
+            os.makedirs(os.path.join(d, "doc", "results"))
+            os.makedirs(os.path.join(d, "scripts", "experiments"))
+            ran = os.path.join(d, "ran.txt")
+            for name, code in (("ok", 0), ("bad", 3)):
+                with open(os.path.join(d, "scripts", "experiments", name + ".py"), "w") as f:
+                    f.write(f"import sys\nopen({ran!r}, 'a').write(' '.join(sys.argv[1:]) + '\\n')\nsys.exit({code})\n")
+            pages = {"a": ("ok.py --n 'a b'", "--balance sample"), "a2": ("ok.py --n 'a b'", "--balance recommended --frames 3"),
+                     "b": ("bad.py", "--balance sample"), "c": ("ok.py --other", "--balance none")}
+            for page, (cmd, point) in pages.items():
+                with open(os.path.join(d, "doc", "results", page + ".md"), "w") as f:
+                    f.write(f"<!-- written by scripts/experiments/{cmd}; do not edit -->\n")
+                with open(os.path.join(d, "doc", "results", page + ".csv"), "w") as f:
+                    f.write(f"x,command\n1,build/rtsim {point}\n")
+            saved = rerun_tables.ROOT, rerun_tables.RESULTS
+            rerun_tables.ROOT, rerun_tables.RESULTS = d, os.path.join(d, "doc", "results")
+            try:
+                with contextlib.redirect_stderr(io.StringIO()):
+                    with self.assertRaises(ToolError) as e:
+                        rerun_tables.main(["--doc"])
+            finally:
+                rerun_tables.ROOT, rerun_tables.RESULTS = saved
+            self.assertIn("1 of 2 failed: scripts/experiments/bad.py --fresh --doc", str(e.exception))
+            with open(ran) as f:
+                self.assertEqual(sorted(f.read().splitlines()), ["--fresh --doc", "--n a b --fresh --doc"])
+
+
 class BadInput(unittest.TestCase):
     """Each tool answers bad input with one line naming the flag or file,
     exit 2, before any work (scripts/outputs.py: check_name, check_input,
@@ -448,6 +497,8 @@ class BadInput(unittest.TestCase):
                 (py("experiments/fig4.py", "--preset", "../x"), "a name, not a path"),
                 (py("experiments/fig4.py", "--tag", "a/b"), "a name, not a path"),
                 (py("experiments/fb_scaling.py", "--n", "x"), "--n"),
+                (py("rerun_tables.py", "--touching", "("), "--touching '(': not a regular expression"),
+                (py("rerun_tables.py", "--touching", "--balance nosuchpolicy"), "no table under doc/results/ has a point"),
                 (py("experiments/never_hurts_random.py", "--count", "0"), "--count '0'"),
                 (py("experiments/never_hurts_random.py", "--policy", "none"), "--policy none"),
                 (py("experiments/start_links.py", "--cases", "0.1:5"), "give f:N:side"),
