@@ -445,7 +445,7 @@ class RerunTables(unittest.TestCase):
                      "b": ("bad.py", "--balance sample"), "c": ("ok.py --other", "--balance none")}
             for page, (cmd, point) in pages.items():
                 with open(os.path.join(d, "doc", "results", page + ".md"), "w") as f:
-                    f.write(f"<!-- written by scripts/experiments/{cmd}; do not edit -->\n")
+                    f.write(f"<!-- written by {os.path.join('scripts', 'experiments', cmd)}; do not edit -->\n")
                 with open(os.path.join(d, "doc", "results", page + ".csv"), "w") as f:
                     f.write(f"x,command\n1,build/rtsim {point}\n")
             saved = rerun_tables.ROOT, rerun_tables.RESULTS
@@ -456,7 +456,7 @@ class RerunTables(unittest.TestCase):
                         rerun_tables.main(["--doc"])
             finally:
                 rerun_tables.ROOT, rerun_tables.RESULTS = saved
-            self.assertIn("1 of 2 failed: scripts/experiments/bad.py --fresh --doc", str(e.exception))
+            self.assertIn("1 of 2 failed: " + os.path.join("scripts", "experiments", "bad.py") + " --fresh --doc", str(e.exception))
             with open(ran) as f:
                 self.assertEqual(sorted(f.read().splitlines()), ["--fresh --doc", "--n a b --fresh --doc"])
 
