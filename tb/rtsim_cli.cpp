@@ -246,8 +246,8 @@ void RtsimOptions::finish() {
 }
 
 // --sample-links acts only where sample gathers a sample, on columns of at
-// most kLongestColumnSampled boxes: given on elsewhere it is refused, and by
-// default it is off there (the report echoes what ran).
+// most kLongestColumnSampled boxes: given on elsewhere it is refused (were
+// it on by default, it would be off there: the report echoes what ran).
 void RtsimOptions::checkSampleLinks() {
     BalanceConfig& b = machine.balance;
     if (!b.sampleLinks) return;

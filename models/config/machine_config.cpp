@@ -119,8 +119,8 @@ std::string onlySampleGathers(const std::string& named) { return "only sample ga
 
 const std::string& sampleLinksHelp() {
     static const std::string help =
-        "sample only, on columns of at most " + std::to_string(kLongestColumnSampled) + " boxes (the default, on, is off elsewhere, and "
-        "with --boundaries-from; given on there, refused): on, the sample also "
+        "sample only, on columns of at most " + std::to_string(kLongestColumnSampled) + " boxes, not with --boundaries-from (given on "
+        "elsewhere, refused): on, the sample also "
         "counts where its rays cross the column (a third value a cell in the sum's message, so fewer cells), and no part "
         "of a split is cheaper than its link up, the sample's rays across its upper plane on the wire; off, the work alone";
     return help;

@@ -109,9 +109,10 @@ struct BalanceConfig {
     bool sampleEndAuto = true;
     std::string sampleEndWhy;
     // `sample`'s sum counts its rays across the planes; a part is at least its link up (ColumnSample::cross).
-    // On by default; it acts only where sample gathers a sample, on columns of at most
-    // kLongestColumnSampled boxes (elsewhere the command line refuses it given on, and reports it off).
-    bool sampleLinks = true;
+    // It acts only where sample gathers a sample, on columns of at most kLongestColumnSampled
+    // boxes (elsewhere the command line refuses it given on). Off by default: on, Fig. 4's first
+    // frames on the 1987 machine along the axis at N = 7 and 8 lose (doc/balancing.md, "The recommended policy").
+    bool sampleLinks = false;
     // Set where --balance recommended chose the policy (recommendedPolicy): which, and why.
     std::string recommendedWhy;
     // --balance as given, for a message: "recommended (sample here)" where
