@@ -244,26 +244,30 @@ std::vector<double> splitBySample(const ColumnSample& column, int count, double 
 }
 
 namespace {
-// The work of each part between `planes`; with the crossings
-// (--sample-links on), a part at least as dear as its link up: the
-// sample's rays across its upper plane, each a ray's time on the wire.
+// The work of each part between `planes`.
 std::vector<double> partsOf(const ColumnSample& column, const std::vector<double>& planes) {
     std::vector<double> parts;
     double from = column.lo();
     for (size_t i = 0; i <= planes.size(); ++i) {
         const double to = i < planes.size() ? planes[i] : column.hi();
-        double work = column.within(from, to);
-        if (column.crossings && i < planes.size()) work = std::max(work, column.wirePs * column.crossingsAt(to));
-        parts.push_back(work);
+        parts.push_back(column.within(from, to));
         from = to;
     }
     return parts;
 }
+// The dearest of `parts`; with the crossings (--sample-links on), each at
+// least as dear as its link up: the sample's rays across its upper plane,
+// each a ray's time on the wire. (The link is a resource of its own: its
+// time bounds the part's, it does not add to the node's work and passes.)
+double dearestOf(const ColumnSample& column, const std::vector<double>& planes, std::vector<double> parts) {
+    if (column.crossings)
+        for (size_t i = 0; i < planes.size(); ++i) parts[i] = std::max(parts[i], column.wirePs * column.crossingsAt(planes[i]));
+    return *std::max_element(parts.begin(), parts.end());
+}
 }  // namespace
 
 double dearestPart(const ColumnSample& column, const std::vector<double>& planes) {
-    const std::vector<double> parts = partsOf(column, planes);
-    return *std::max_element(parts.begin(), parts.end());
+    return dearestOf(column, planes, partsOf(column, planes));
 }
 
 double dearestPartWithPasses(const ColumnSample& column, const std::vector<double>& planes,
@@ -297,7 +301,7 @@ double dearestPartWithPasses(const ColumnSample& column, const std::vector<doubl
             a = b;
         }
     }
-    return *std::max_element(parts.begin(), parts.end());
+    return dearestOf(column, planes, parts);
 }
 
 double holdingPart(const ColumnSample& column, const std::vector<std::vector<double>>& beside) {

@@ -132,6 +132,33 @@ TEST(SampleSplit, WithLinksAPartIsAtLeastItsLinkUp) {
     EXPECT_NEAR(holdingPart(w, {}), 128, 1e-9);
 }
 
+// The link and the passes, by hand: the boxes, work and rays of the test
+// above, and rays across the sides at 16 per unit length in [0, 1] (as in
+// the test below), one column beside at the face 1. Planes at 0.5: the
+// work 32 and 160, the passes 4 each (the side's [0.5, 1] is the upper
+// part's here, the lower's beside), the lower part's link up 10 rays of
+// 20 ps. The link is a resource of its own: it bounds the part's work and
+// passes (max(32 + 4, 200) = 200), it does not add to them (204 when it
+// did: on the 1987 machine along the axis at N = 8, f = 0.875, the passes
+// on top of the link kept 59 of 64 columns at their start beside the 5
+// that moved, and the frame took 1.303 of the unbalanced one).
+TEST(SampleSplit, WithLinksTheLinkBoundsAPartsWorkAndPassesWithoutAddingToThem) {
+    std::vector<double> lower(kSampleBins + 1, 0.0), upper(kSampleBins + 1, 0.0);
+    lower[0] = 10, lower[kSampleBins] = -10;
+    upper[0] = 10, upper[kSampleBins / 2] = -10;
+    ColumnSample c;
+    c.crossings = c.sides = true;
+    c.add(0, 1, bins(1), bins(0.25), 0, lower);
+    c.add(1, 3, bins(2), {}, 0, upper);
+    ASSERT_TRUE(c.wellFormed());
+    c.wirePs = 20;
+    const std::vector<std::vector<double>> one{{1}};
+    EXPECT_NEAR(dearestPartWithPasses(c, {0.5}, one), 200, 1e-9);
+    EXPECT_NEAR(dearestPartWithPasses(c, {2.5}, one), 160, 1e-9);  // (no pass, no ray across 2.5)
+    c.wirePs = 1;  // (the link below the work and passes: they are the part)
+    EXPECT_NEAR(dearestPartWithPasses(c, {0.5}, one), 164, 1e-9);
+}
+
 // The passes a move would cause, by hand. Two boxes [0, 1] and [1, 3], the
 // work 64 per unit length throughout (192), and rays across the sides at 16
 // per unit length in [0, 1] only. A pass between two neighbouring nodes
