@@ -234,15 +234,19 @@ def savefig(fig, path, **kw):
         fig.savefig(f, **kw)
 
 
-def run_child(cmd, timeout=None, **kw):
+def run_child(cmd, timeout=None, capture=True, **kw):
     """Like subprocess.run(cmd, capture_output=True, text=True), for a child
     a stop must end: registered while it runs, in its own process group so
     that a stop kills all of it; a timeout kills its whole group and raises
-    subprocess.TimeoutExpired."""
+    subprocess.TimeoutExpired. capture=False: its output is the tool's."""
     kw.setdefault("errors", "backslashreplace")  # (a scene's stray bytes quoted in a child's message)
-    p = subprocess.Popen(cmd, start_new_session=True, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                         text=True, **kw)
-    track_child(p)
+    pipe = subprocess.PIPE if capture else None
+    p = subprocess.Popen(cmd, start_new_session=True, stdout=pipe, stderr=pipe, text=True, **kw)
+    with _lock:
+        _children.add(p)
+        late = _stopping
+    if late:  # started by a thread that had not heard of the stop: the stop's clean_up missed it
+        _kill(p)
     try:
         try:
             out, err = p.communicate(timeout=timeout)
@@ -251,24 +255,9 @@ def run_child(cmd, timeout=None, **kw):
             p.communicate()
             raise
     finally:
-        untrack_child(p)
+        with _lock:
+            _children.discard(p)
     return subprocess.CompletedProcess(cmd, p.returncode, out, err)
-
-
-def track_child(p):
-    """A child the caller started (Popen, start_new_session=True: its own
-    process group) that a stop must kill, with all of its group;
-    untrack_child once it has ended."""
-    with _lock:
-        _children.add(p)
-        late = _stopping
-    if late:  # started by a thread that had not heard of the stop: the stop's clean_up missed it
-        _kill(p)
-
-
-def untrack_child(p):
-    with _lock:
-        _children.discard(p)
 
 
 def _kill(p):

@@ -22,7 +22,6 @@ import glob
 import os
 import re
 import shlex
-import subprocess
 import sys
 import time
 
@@ -89,12 +88,7 @@ def main(argv=None):
     for i, (cmd, (_, _, names)) in enumerate(zip(commands, todo), 1):
         print(f"rerun_tables: [{i}/{len(commands)}] {shlex.join(cmd[1:])} ({', '.join(names)})", file=sys.stderr, flush=True)
         start = time.monotonic()
-        p = subprocess.Popen(cmd, cwd=ROOT, start_new_session=True)  # (its own group: a stop kills all of it)
-        outputs.track_child(p)
-        try:
-            code = p.wait()
-        finally:
-            outputs.untrack_child(p)
+        code = outputs.run_child(cmd, capture=False, cwd=ROOT).returncode  # (its progress on the tool's stderr)
         print(f"rerun_tables: [{i}/{len(commands)}] exit {code}, {time.monotonic() - start:.0f} s", file=sys.stderr, flush=True)
         if code:
             failed.append(shlex.join(cmd[1:]))
