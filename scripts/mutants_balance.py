@@ -130,9 +130,15 @@ BALANCE_MUTANTS = [
      "if (m_.balance.polishTries > 0 && bestNs_ <= kTrialReach * firstNs_) {", "if (m_.balance.polishTries > 0) {",
      "a sequence whose re-split frames all took far longer than frame 1 polishes the fastest of them anyway"),
     ("sample-links-without-the-link", "models/balance/sample_split.cpp",
-     "if (column.crossings && i < planes.size()) work = std::max(work, column.wirePs * column.crossingsAt(to));",
-     "if (false) work = std::max(work, column.wirePs * column.crossingsAt(to));",
+     "    if (column.crossings)\n        for (size_t i = 0; i < planes.size(); ++i) parts[i] = std::max(",
+     "    if (false)\n        for (size_t i = 0; i < planes.size(); ++i) parts[i] = std::max(",
      "--sample-links on carries the crossings but no part is bounded by its link up"),
+    ("sample-links-link-adds-to-passes", "models/balance/sample_split.cpp",
+     "            a = b;\n        }\n    }\n    return dearestOf(column, planes, parts);",
+     "            a = b;\n        }\n    }\n    const std::vector<double> own = partsOf(column, planes);\n"
+     "    for (size_t i = 0; i < parts.size(); ++i) parts[i] += (i < planes.size() && column.crossings ? std::max(0.0, column.wirePs * column.crossingsAt(planes[i]) - own[i]) : 0.0);\n"
+     "    return *std::max_element(parts.begin(), parts.end());",
+     "--sample-links on: a part's link up adds to its passes, where it should bound the work and passes together"),
     ("sample-links-on-long-columns", "models/balance/balance_sample.cpp",
      "g.sum.crossings = cfg_.sampleLinks && count_ <= kLongestColumnSampled;", "g.sum.crossings = cfg_.sampleLinks;",
      "--sample-links on counts crossings on columns of any length, where the sum is left too few cells"),
