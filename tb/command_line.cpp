@@ -84,6 +84,8 @@ std::vector<std::string> checkedArgs(const ConfigLine& line, bool report, std::s
                           ": a file names a flag by its long name, " + opt->get_single_name());
     if (line.name == "config" || line.name == "rerun")
         throw ConfigError(line.where + ": --" + line.name + " is read only from the command line");
+    if (line.alone && opt->get_expected_min() > 0 && opt->get_type_size() != 0)  // (not a flag: the "true" is not the user's)
+        throw ConfigError(line.where + ": " + line.name + " alone: it takes a value ('" + line.name + " = ...')");
     name = opt->get_single_name();
     repeatable = opt->get_expected_max() > 1 || opt->get_multi_option_policy() == CLI::MultiOptionPolicy::TakeAll;  // (rtsim --help: "...")
     const std::vector<std::string> args = argsOf(line, *opt);

@@ -122,6 +122,7 @@ std::vector<ConfigLine> parseConfig(const std::string& text, const std::string& 
         c.name = r.name();
         if (r.atEnd()) {
             c.values = {"true"};  // a flag alone
+            c.alone = true;
         } else {
             r.expect('=');
             r.skipSpace();

@@ -30,6 +30,7 @@ struct ConfigLine {
     std::string name;                 // without "--"
     std::vector<std::string> values;  // one, or a list's
     bool list = false;                // written as [ ... ]
+    bool alone = false;               // the name alone, no '= value' (a flag: true)
     std::string where;                // "ORIGIN:LINE"
 };
 

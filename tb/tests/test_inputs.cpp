@@ -236,11 +236,16 @@ TEST(CommandLine, EachValueOfAFileIsCheckedAloneNamingItsLine) {
         {"quantum = soon\n", "f1:1: quantum = soon: --quantum"},
         {"mesh-dims = 2x2\n", "f1:1: mesh-dims = 2x2: --mesh-dims"},
         {"no-baseline = [true, false]\n", "f1:1: no-baseline is a flag"},
+        // A name alone is a flag set; a setting that takes a value says so
+        // (it said "sample-links = true: ... got 'true'", a value never written).
+        {"sample-links\n", "f1:1: sample-links alone: it takes a value ('sample-links = ...')"},
+        {"mesh\n", "f1:1: mesh alone: it takes a value"},
     };
     for (const auto& [text, mention] : bad) {
         SCOPED_TRACE(text);
         EXPECT_NE(thrown<ConfigError>([&] { merge({{text, false}}, {}); }).find(mention), std::string::npos);
     }
+    EXPECT_NO_THROW(merge({{"no-guard\n", false}}, {}));  // (a flag alone is the flag set)
 }
 
 TEST(CommandLine, AReportsFlagsNeverNameAnOutputOrAnInternalFlag) {
