@@ -44,7 +44,8 @@ void RtsimOptions::addTo(CLI::App& app) {
     // (Read before parsing, tb/command_line.h; here for --help.)
     app.add_option("--config", configs_,
                    "read flags from a file: name = value, one per line (repeatable: the files in order, then the "
-                   "command line; the last value of a flag wins)");
+                   "command line; the last value of a flag wins)")
+        ->expected(1);  // (one file a --config: the help shows no list)
     decimalNumbersOnly(app);
 }
 
