@@ -35,12 +35,17 @@ void boundCosts(const Costs& c, double speed, const std::string& speedFlag) {
 
 }  // namespace
 
-void MachineConfig::checkDerivedTimes(size_t objects) const {
+void MachineConfig::checkDerivedTimes(size_t objects, uint32_t sumBytes) const {
     const uint32_t rays = kHeaderBytes + uint32_t(rayBatch) * kRayBytes;
     const uint32_t contributions = kHeaderBytes + uint32_t(fbBatch) * kContributionBytes;
     boundWire(link, "--link-bandwidth with --ray-batch", rays, "a full ray message");
     for (const auto& [where, l] : linkOverride)
         boundWire(l, "--link-set " + cellText(where.first) + "," + dirName(where.second), rays, "a full ray message");
+    if (sumBytes > 0) {
+        boundWire(link, "--link-bandwidth with --balance " + balance.policy, sumBytes, "a sample's sum");
+        for (const auto& [where, l] : linkOverride)
+            boundWire(l, "--link-set " + cellText(where.first) + "," + dirName(where.second), sumBytes, "a sample's sum");
+    }
     boundWire(fbPort, "--fb-bandwidth with --fb-batch", contributions, "a full frame-buffer message");
     bound(double(hostCost) * fbBatch, "--cost-host with --fb-batch", "accumulating a full frame-buffer message");
     // Each node's costs at its speed.

@@ -378,7 +378,9 @@ struct MachineConfig {
     // `objects`, a load report's pacing gap. Throws std::invalid_argument
     // ("--flag: what") naming the flags (derived_times.cpp). Sums of them
     // are checked in the run as they are made (units.h).
-    void checkDerivedTimes(size_t objects) const;
+    // `sumBytes`: the largest balancing message the policy sends up a column
+    // (a sample's sum; 0: none), on every link's wire too.
+    void checkDerivedTimes(size_t objects, uint32_t sumBytes = 0) const;
 };
 
 // The machine's parameters in the order rtsim's --help lists them (and a

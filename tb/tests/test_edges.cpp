@@ -307,6 +307,11 @@ TEST_F(Edges, ADerivedTimePastTheCounterIsRefusedNamingItsFlags) {
     bad(std::string(kSmall) + " --balance slide --cost-rebuild 1000s", "--cost-rebuild: a slide's grid update for all 200 objects");
     bad(std::string(kSmall) + " --balance slide --link-bandwidth 10B/s --link-control-depth 2 --report-share 1e-6",
         "--link-bandwidth with --report-share");
+    // sample's sum climbs each column in one message of up to kSampleValues
+    // values (it stopped the run, exit 1, naming a link).
+    bad(std::string(kSmall) + " --balance sample --link-bandwidth 1B/s",
+        "--link-bandwidth with --balance sample: a sample's sum (1072 bytes) at 1 B/s");
+    bad(std::string(kSmall) + " --balance recommended --link-set 1,0,0,-x:bandwidth=1B/s", "--link-set 1,0,0,-x: a sample's sum");
 }
 
 TEST_F(Edges, ABacklogPastTheCounterStopsTheRunNamingTheLink) {
