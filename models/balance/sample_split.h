@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "balance/move_forecast.h"
+#include "channel/message.h"
 
 namespace rt {
 
@@ -42,6 +43,9 @@ constexpr int kSampleBins = 64;
 // more a box (what passing its objects on costs).
 constexpr int kSampleCells = 64;
 constexpr int kSampleValues = 2 * kSampleCells + 5;
+// The largest sum's message, the bytes it takes on a link's wire (checked
+// before the run: MachineConfig::checkDerivedTimes).
+constexpr uint32_t kSampleSumBytes = kHeaderBytes + uint32_t(kSampleValues) * kValueBytes;
 // The fewest cells a sum keeps to carry the sides: on a longer column
 // (more than 42 boxes) the faces would leave it fewer, and it goes without
 // the sides. On 64x2x1 from the object median, a sum of 21 cells with the
