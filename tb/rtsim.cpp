@@ -62,8 +62,9 @@
 // memory access, not arithmetic; 2 MB pages cut the TLB misses and the page
 // faults. Freed pages go back to the system over 30 s rather than the
 // default 10: a link's backlog grows to tens of megabytes, runs empty and
-// grows again, and each time it would find pages given back and the kernel would zero fresh
-// ones. (What each bought: doc/history.md, "Figures behind the code's comments".) jemalloc reads this at start-up.
+// grows again, and each time it would find pages given back and the kernel
+// would zero fresh ones. (What each bought: doc/history.md, "Figures behind
+// the code's comments".) jemalloc reads this at start-up.
 extern "C" {
 const char* malloc_conf = "thp:always,metadata_thp:always,dirty_decay_ms:30000,muzzy_decay_ms:30000";
 }
@@ -148,8 +149,7 @@ Stop loadScene(rt::RtsimOptions& o, const rt::CommandLine& cl, rt::Scene& scene,
             rt::weighStartLinks(o.machine, scene);  // (the camera's view: the half start's long boxes on their links)
             rt::chooseSampleEnd(o.machine, scene);
         }
-        const bool sums = o.machine.balance.policy == "sample" && o.boundariesFrom.empty();  // (its sum climbs each column)
-        o.machine.checkDerivedTimes(scene.objects.size(), sums ? rt::kSampleSumBytes : 0);  // (std::invalid_argument: exit 2 naming the flags)
+        o.machine.checkDerivedTimes(scene.objects.size(), o.gathersSample() ? rt::kSampleSumBytes : 0);  // (invalid_argument: exit 2)
         try {
             rt::refuseIfTooBig(o.scene.sizeNamed(o.machine.width, o.machine.height),
                                rt::kRtsimBytesPerPixel * o.machine.width * o.machine.height);

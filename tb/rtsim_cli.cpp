@@ -72,7 +72,6 @@ void RtsimOptions::addMachineParams(CLI::App& app) {
                 if (b.kind == ParamKind::Special) addSpecial(app, b.name, b.help, group);
                 else addParam(app, b, m.balance, std::string("--") + b.name, b.help, group);
             }
-            sampleLinks_ = app.get_option("--sample-links");
         }
     }
 }
@@ -246,27 +245,20 @@ void RtsimOptions::finish() {
     }
 }
 
-// --sample-links acts only where sample gathers a sample, on columns of at
-// most kLongestColumnSampled boxes: given on elsewhere it is refused (were
-// it on by default, it would be off there: the report echoes what ran).
-void RtsimOptions::checkSampleLinks() {
-    BalanceConfig& b = machine.balance;
+bool RtsimOptions::gathersSample() const { return machine.balance.policy == "sample" && boundariesFrom.empty(); }
+
+// --sample-links on acts only where sample gathers a sample, on columns of
+// at most kLongestColumnSampled boxes: elsewhere it is refused.
+void RtsimOptions::checkSampleLinks() const {
+    const BalanceConfig& b = machine.balance;
     if (!b.sampleLinks) return;
-    const bool given = sampleLinks_ && sampleLinks_->count() > 0;
-    std::string why;
-    if (b.policy != "sample") {
-        why = onlySampleGathers(b.named());
-    } else if (!boundariesFrom.empty()) {
-        why = "the frame starts where --boundaries-from's run left its boundaries: sample gathers no sample";
-    } else {
-        const int column = (meshDims.empty() ? machine.dims : parseMeshDims(meshDims))[size_t(b.axis)];
-        if (column > kLongestColumnSampled)
-            why = "acts on columns of at most " + std::to_string(kLongestColumnSampled) + " boxes, these have " +
-                  std::to_string(column);
-    }
-    if (why.empty()) return;
-    if (given) throw OptionError("--sample-links on", why);
-    b.sampleLinks = false;
+    if (b.policy != "sample") throw OptionError("--sample-links on", onlySampleGathers(b.named()));
+    if (!gathersSample())
+        throw OptionError("--sample-links on", "the frame starts where --boundaries-from's run left its boundaries: sample gathers no sample");
+    const int column = (meshDims.empty() ? machine.dims : parseMeshDims(meshDims))[size_t(b.axis)];
+    if (column > kLongestColumnSampled)
+        throw OptionError("--sample-links on", "acts on columns of at most " + std::to_string(kLongestColumnSampled) +
+                                                   " boxes, these have " + std::to_string(column));
 }
 
 bool RtsimOptions::fullReport() const {

@@ -40,6 +40,8 @@ struct RtsimOptions {
     // The report's detail as --report-detail chooses it for this mesh:
     // whether full, and why ("--report-detail auto: 32768 nodes, more than 4096").
     bool fullReport() const;
+    // Whether the frame's policy gathers a sample: sample, from a split of its own (not --boundaries-from's).
+    bool gathersSample() const;
     std::string reportDetailWhy() const;
 
     // Registers every flag on `app`.
@@ -58,14 +60,13 @@ private:
     void addOutputFlags(CLI::App& app);
     void addFrameFlags(CLI::App& app);
     void actAsReference();
-    void checkSampleLinks();
+    void checkSampleLinks() const;
     void readSpecs();
     void setQuantum();
 
     std::vector<std::string> nodeCostSpecs_, linkSpecs_, traceSpecs_, traceLinkSpecs_;
     std::string traceWindow_;
     bool noGuard_ = false, noBaseline_ = false;
-    CLI::Option* sampleLinks_ = nullptr;  // --sample-links: refused given on under a policy that gathers no sample
     bool recommended_ = false;  // --balance recommended: the policy is chosen for the mesh in finish()
     std::string rerun_;                 // --rerun: handled before parsing (command_line.h)
     std::vector<std::string> configs_;  // --config: likewise

@@ -110,15 +110,15 @@ void Node::recordSample(const BusyParts& parts, const TracedSpan& span, int from
     Picos tests = parts[kVoxelSteps], rest = sumOf(parts) - parts[kRayGeneration] - parts[kShading];
     for (int k = 0; k < kPrimitiveKinds; ++k) tests += parts[size_t(k)];
     rest -= tests;
+    const double lo = std::min(span.from, span.to), hi = std::max(span.from, span.to);
     if (params_.balance.sampleLinks) {  // where its segment runs along the axis (ColumnSample::cross)
         const int ax = params_.balance.axis;
         const Box& box = region_->box();
-        const double lo = std::min(span.from, span.to), hi = std::max(span.from, span.to);
         const double eps = 1e-9 * std::max(1.0, box.hi[ax] - box.lo[ax]);
         if (std::isfinite(lo) && std::isfinite(hi)) balance_->recordCrossing(lo, hi, hi >= box.hi[ax] - eps);
     }
-    const double a = std::max(std::min(span.from, span.to), occupied_[0]);
-    const double b = std::min(std::max(span.from, span.to), occupied_[1]);
+    const double a = std::max(lo, occupied_[0]);
+    const double b = std::min(hi, occupied_[1]);
     if (parts[kRayGeneration]) balance_->recordSample(span.from, parts[kRayGeneration]);
     if (parts[kShading]) balance_->recordSample(span.to, parts[kShading]);
     if (tests) balance_->recordSample(a <= b ? 0.5 * (a + b) : span.where, tests);
