@@ -70,7 +70,7 @@ MUTANTS = [
      "    if (!startTargets_) return false;", "    return false;",
      "a re-split frame's nodes generate primary rays before their faces reach their targets"),
     ("moves-cost-nothing", "models/balance/between_frames.cpp",
-     "        const double ns = t.frameNs + moveNs(r, m, out.now, planes);", "        const double ns = t.frameNs;",
+     "        const double ns = t.frameNs + moveNs(r, m, out.now, planes, objects);", "        const double ns = t.frameNs;",
      "resplit forecasts a move without what getting to its planes costs (slabs passed along chains)"),
     ("sample-planes-not-moved", "models/balance/balance_sample.cpp",
      "    g.adopt = !g.planes.empty();", "    g.adopt = false;", "sample gathers and splits but the faces never move to the planes"),

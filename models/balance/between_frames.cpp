@@ -96,7 +96,7 @@ Moves forecastMoves(const FrameState& r, const MachineConfig& m, const std::vect
     for (const auto& [what, planes] : candidates) {
         const FrameForecast::Forecast t = f.forecast(planes);
         const bool linkBound = t.passes > 0 && t.linkNs >= t.nodeNs;
-        const double ns = t.frameNs + moveNs(r, m, out.now, planes);  // and getting there (move_forecast.h)
+        const double ns = t.frameNs + moveNs(r, m, out.now, planes, objects);  // and getting there (move_forecast.h)
         out.moves.push_back({what, planes, ns, linkBound});
     }
     return out;
@@ -107,11 +107,10 @@ ResplitChoice choose(const Moves& f, double gain) {
     ResplitChoice c{"held", f.now, f.heldNs, f.heldNs};
     // Columns' own planes pass rays on between columns, which the
     // forecast counts short where the links are the frame: there they
-    // must beat the aligned planes by the margin a move needs to beat
-    // holding (the case that showed it: doc/history.md, "Figures behind
-    // the code's comments").
+    // must beat the aligned planes by kColumnsOwnMargin (the cases that
+    // showed it: doc/history.md, "Figures behind the code's comments").
     for (const Moves::Move& k : f.moves) {
-        const double beat = k.linkBound ? (1 - kMinForecastGain) * c.forecastNs : c.forecastNs;
+        const double beat = k.linkBound ? (1 - kColumnsOwnMargin) * c.forecastNs : c.forecastNs;
         if (k.ns < beat && k.ns < (1 - gain) * c.heldNs) c = {k.what, k.planes, k.ns, c.heldNs};
     }
     return c;
@@ -230,7 +229,7 @@ std::optional<InnerPlanes> ResplitSequence::tryMove(const FrameState& r) {
             now = lastBoundaries(r, m_);
             roomNs = (1 - kPolishRoom) * f->forecast(start_).frameNs;
         }
-        if (f->forecast(next).frameNs + moveNs(r, m_, now, next) > roomNs) continue;
+        if (f->forecast(next).frameNs + moveNs(r, m_, now, next, objects_) > roomNs) continue;
         trying_ = true;
         said_["next"] = "a move tried";
         said_["held_ns"] = baseNs_;
