@@ -50,6 +50,15 @@ void checkTriples(const std::vector<std::string>& args, const std::vector<std::s
         }
 }
 
+void checkNoEmptyValues(const std::vector<std::string>& args) {
+    for (const std::string& a : args) {
+        if (a.size() > 3 && a.rfind("--", 0) == 0 && a.back() == '=' && a.find('=') == a.size() - 1) {
+            const std::string flag = a.substr(0, a.size() - 1);
+            throw CLI::ValidationError(flag, "nothing after '=' in '" + a + "': write " + flag + " VALUE (an empty value: " + flag + " '')");
+        }
+    }
+}
+
 void decimalNumbersOnly(CLI::App& app) {
     const CLI::Validator decimal(
         [](std::string& s) {

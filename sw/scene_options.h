@@ -46,6 +46,12 @@ CLI::Validator finiteNumber();
 // Throws CLI::ValidationError naming the flag.
 void checkTriples(const std::vector<std::string>& args, const std::vector<std::string>& flags);
 
+// No argument "--flag=" with nothing after the '=': CLI11 takes the next
+// argument as its value ("--sample-links= --mesh 2" said "got '--mesh'",
+// "--image= --size 8x8" wrote an image named "--size"). Call it on the
+// command line's arguments (without the program) before parsing.
+void checkNoEmptyValues(const std::vector<std::string>& args);
+
 // Every integer option of `app` (CLI11's types INT and UINT) takes decimal
 // digits only, and every FLOAT one no hexadecimal: CLI11 reads integers as
 // C's strtol in base 0 does, so that "--mesh 010" ran an 8 x 8 x 8 mesh and

@@ -220,6 +220,7 @@ CommandLine assembleCommandLine(int argc, char** argv) {
             rest.push_back(argv[i]);
         }
     }
+    checkNoEmptyValues(rest);
     if (rerunPath && !configs.empty())
         throw std::invalid_argument("--rerun: cannot be combined with --config (give the flags to change instead)");
     std::vector<ConfigSource> sources;

@@ -26,6 +26,13 @@ struct Progress {
     bool woken = false;
     void mark(Picos t) {
         if (t > last) last = t;
+        poll();
+    }
+    // The look for a stop alone, where no ray moved (a balancing interval):
+    // on links of 2 B/s a ray takes a minute of simulated time, the
+    // watchdog's period is as long, and the intervals between took 28 s of
+    // wall-clock time to answer a SIGTERM.
+    void poll() {
         if ((stopSignal | wallExpired) && wake && !woken) {
             woken = true;
             wake->notify(sc_core::SC_ZERO_TIME);

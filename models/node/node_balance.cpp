@@ -138,6 +138,7 @@ void Node::recordSample(const BusyParts& parts, const TracedSpan& span, int from
 // At the end of each interval: the agent records the node's load over it,
 // and reports and decides with each neighbour as far as the lockstep allows.
 void Node::closeInterval() {
+    if (progress_) progress_->poll();
     balance_->closeInterval(now_, stats_.busy, stats_.wait, input_.depth(now_));
 }
 

@@ -571,6 +571,10 @@ TEST_F(Rtsim, BadConfigurationExits2NamingTheFlag) {
     expectBad("--eye 1,2,3,4", "--eye: expected three numbers x y z (or x,y,z), got 4");
     expectBad("--look-at 0.5,0.5 0.5,0.5", "--look-at: expected three numbers x y z (or x,y,z), got 4");
     expectBad("--eye-step 1,2,3,4 --frames 2", "--eye-step: expected three numbers");
+    // "--flag=" with nothing after it: CLI11 took the next argument as its value
+    // (--sample-links= --mesh 2 said "got '--mesh'"; --image= --size 8x8 named the image "--size").
+    expectBad("--balance sample --sample-links= --mesh 2", "--sample-links: nothing after '=' in '--sample-links='");
+    expectBad("--image= --size 8x8", "--image: nothing after '=' in '--image=': write --image VALUE (an empty value: --image '')");
     std::ofstream(dir_ / "eye.ini") << "eye = [1, 2, 3, 4]\n";
     expectBad("--config " + (dir_ / "eye.ini").string(), "eye.ini:1: --eye: expected three numbers");
     // A camera path onto the point looked at, or along `up`: each frame's view checked first

@@ -177,6 +177,23 @@ TEST_F(RtsimTimed, WatchdogSpanAndWallClockLimit) {
                                                 " --watchdog-wall 0.5 --no-baseline -q --image ''");
     EXPECT_EQ(w.code, 3) << w.err;
     EXPECT_NE(w.err.find("the wall-clock limit of 0.5 s was reached"), std::string::npos) << w.err;
+    // Links of 2 B/s: a ray takes a minute on the wire, no ray moves for
+    // that long, and the watchdog's period is as long; the balancing
+    // intervals between look for the stop themselves. It stopped at 66 s of
+    // simulated time (57 s of wall-clock time for a limit of 1 s, on 4x4x4
+    // with two other jobs on the host); now within
+    // about 1 s of simulated time here (an interval every 2 us), 60 on a
+    // host 50 times as fast.
+    const Outcome slow = run(std::string(kSmall) + " --mesh 2 --balance sample --balance-interval 2us --link-bandwidth 2B/s"
+                                                   " --watchdog-wall 1 --no-baseline -q --image ''");
+    EXPECT_EQ(slow.code, 3) << slow.err;
+    const size_t reached = slow.err.find("was reached at ");
+    ASSERT_NE(reached, std::string::npos) << slow.err;
+    std::istringstream when(slow.err.substr(reached + 15));
+    double t = 0;
+    std::string tunit;
+    when >> t >> tunit;
+    EXPECT_TRUE(tunit == "s" ? t < 60 : tunit != "ks") << slow.err;
 }
 
 // A busy run stopped midway (here by the wall clock) ends at the kernel's
