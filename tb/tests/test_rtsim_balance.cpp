@@ -713,7 +713,7 @@ TEST_F(Rtsim, TheRecommendedPolicyNeverLosesOnALongColumn) {
 // plane moved into the crowd waits for the one below it, and each slab
 // carries nearly every sphere (they are wider than the boxes). Seen
 // across the axis, the forecast with the longest plane's chain alone (90.3
-// ms) moved, and the move took about 207 ms: frame 2 was 1.632 of the
+// ms) moved, and the move took about 228 ms: frame 2 was 1.632 of the
 // unbalanced frame. Followed handover by handover (172.6 ms) the planes
 // hold. Seen along the axis, where the frame is 4 times longer, they
 // still move, and frame 2 gains.
