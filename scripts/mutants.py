@@ -46,7 +46,7 @@ MUTANTS = [
      "for (const std::vector<double>& below : c.lateralBelow) rays = std::max(rays, below[size_t(j)] - below[size_t(i)]);",
      "", "resplit's searches ignore the rays a node sends to neighbouring columns (a long part's lateral link looks free)"),
     ("columns-own-planes-pass-freely", "models/balance/between_frames.cpp",
-     "const bool linkBound = t.passes > 0 && t.linkNs >= t.nodeNs;", "const bool linkBound = false;",
+     "const bool passesShort = t.passes > 0 && (t.linkNs >= t.nodeNs || latency);", "const bool passesShort = false;",
      "resplit takes columns' own planes for any forecast edge over aligned ones, even where the links are the frame"),
     ("work-placed-past-the-hit", "models/node/node.cpp", "span.where = w.job.ray.at(0.5 * (t0 + stop))[ax];",
      "span.where = w.job.ray.at(0.5 * (t0 + std::min(w.job.tEnd, box.span.hi)))[ax];",
