@@ -10,8 +10,6 @@
 #include "balance/frame_forecast.h"
 #include "balance/move_forecast.h"
 #include "balance/plane_spacing.h"
-#include "channel/link_params.h"
-#include "channel/message.h"
 #include "lattice.h"
 
 namespace rt {
@@ -83,33 +81,23 @@ struct Moves {
         const char* what;
         InnerPlanes planes;
         double ns;
-        bool passesShort;  // it passes rays on between columns, and the forecast counts them short
+        bool linkBound;  // the links are its frame, and it passes rays on between columns
     };
     std::vector<Move> moves;
 };
 
-// The forecast counts a pass as its handling on the nodes and its time on
-// the wire; where a hop's latency is kLatencyOverPass times that or more,
-// what a pass adds is mostly latency on the ray's way, which the forecast
-// has no term for. (The paper's machine: 111.5 us a hop and nothing else.)
-bool latencyOverPasses(const MachineConfig& m) {
-    const double handling = m.hopsByLinks ? 0.0 : double(m.costs.send + m.costs.recv) / m.speed;
-    return double(m.link.latency) >= kLatencyOverPass * (handling + wirePicos(m.link, kHeaderBytes + kRayBytes));
-}
-
 Moves forecastMoves(const FrameState& r, const MachineConfig& m, const std::vector<Shape>* objects) {
     Moves out;
     out.now = lastBoundaries(r, m);
-    const bool latency = latencyOverPasses(m);
     const FrameForecast f(r, m, averagedBoundaries(r, m), objects);
     out.heldNs = f.forecast(out.now).frameNs;
     const FrameForecast::Splits s = f.splits();
     const std::pair<const char*, InnerPlanes> candidates[] = {{"aligned", s.aligned}, {"per column", s.perColumn}};
     for (const auto& [what, planes] : candidates) {
         const FrameForecast::Forecast t = f.forecast(planes);
-        const bool passesShort = t.passes > 0 && (t.linkNs >= t.nodeNs || latency);
-        const double ns = t.frameNs + moveNs(r, m, out.now, planes, objects);  // and getting there (move_forecast.h)
-        out.moves.push_back({what, planes, ns, passesShort});
+        const bool linkBound = t.passes > 0 && t.linkNs >= t.nodeNs;
+        const double ns = t.frameNs + moveNs(r, m, out.now, planes);  // and getting there (move_forecast.h)
+        out.moves.push_back({what, planes, ns, linkBound});
     }
     return out;
 }
@@ -118,12 +106,12 @@ Moves forecastMoves(const FrameState& r, const MachineConfig& m, const std::vect
 ResplitChoice choose(const Moves& f, double gain) {
     ResplitChoice c{"held", f.now, f.heldNs, f.heldNs};
     // Columns' own planes pass rays on between columns, which the
-    // forecast counts short where the links are the frame or a hop's
-    // latency dwarfs a pass's handling and wire: there they must beat the
-    // aligned planes by kColumnsOwnMargin (the cases that showed it:
-    // doc/history.md, "Figures behind the code's comments").
+    // forecast counts short where the links are the frame: there they
+    // must beat the aligned planes by the margin a move needs to beat
+    // holding (the case that showed it: doc/history.md, "Figures behind
+    // the code's comments").
     for (const Moves::Move& k : f.moves) {
-        const double beat = k.passesShort ? (1 - kColumnsOwnMargin) * c.forecastNs : c.forecastNs;
+        const double beat = k.linkBound ? (1 - kMinForecastGain) * c.forecastNs : c.forecastNs;
         if (k.ns < beat && k.ns < (1 - gain) * c.heldNs) c = {k.what, k.planes, k.ns, c.heldNs};
     }
     return c;
@@ -242,7 +230,7 @@ std::optional<InnerPlanes> ResplitSequence::tryMove(const FrameState& r) {
             now = lastBoundaries(r, m_);
             roomNs = (1 - kPolishRoom) * f->forecast(start_).frameNs;
         }
-        if (f->forecast(next).frameNs + moveNs(r, m_, now, next, objects_) > roomNs) continue;
+        if (f->forecast(next).frameNs + moveNs(r, m_, now, next) > roomNs) continue;
         trying_ = true;
         said_["next"] = "a move tried";
         said_["held_ns"] = baseNs_;

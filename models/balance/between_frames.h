@@ -38,17 +38,12 @@ InnerPlanes averagedBoundaries(const FrameState& r, const MachineConfig& m);
 // included (move_forecast.h); the planes move only if that forecast is at
 // least kMinForecastGain shorter than the forecast for holding them: the
 // forecast misses the frames measured by some per cent, and a move that
-// gains less than its miss can lose. Where the links are the frame, or a
-// hop's latency is kLatencyOverPass times a pass's handling and wire time
-// or more, the columns' own planes must also be kColumnsOwnMargin shorter
-// than the aligned ones: the rays they pass on between columns are what
-// the forecast counts short there (by about a fifth on slow links; on the
-// paper's machine, whose passes are latency alone, by 5 times). (Why 4 %
-// and 20 %, and the misses measured: doc/history.md, "Figures behind the
-// code's comments".)
+// gains less than its miss can lose. Where the links are the frame, the
+// columns' own planes must also be kMinForecastGain shorter than the
+// aligned ones: the rays they pass on between columns are what the
+// forecast counts short there. (Why 4 %, and the misses measured:
+// doc/history.md, "Figures behind the code's comments".)
 constexpr double kMinForecastGain = 0.04;
-constexpr double kColumnsOwnMargin = 0.2;
-constexpr double kLatencyOverPass = 10;
 struct ResplitChoice {
     const char* what;  // "held", "per column" or "aligned"
     InnerPlanes planes;

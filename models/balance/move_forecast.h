@@ -8,8 +8,7 @@
 //
 // Without it a forecast can miss by a factor: on a long column the slabs
 // pass along chains of boxes, and each box on the chain updates its grid
-// for them; and the planes move one after another, each waiting for the
-// one below (doc/balancing.md, "The rule, and how it runs").
+// for them (doc/balancing.md, "The rule, and how it runs").
 #pragma once
 #include "balance/frame_forecast.h"
 #include "config/machine_config.h"
@@ -33,15 +32,13 @@ struct BoxPass {
 };
 double chainPs(const std::vector<BoxPass>& boxes, double a, double b, double hopPs);
 
-// How long moving each column's planes from `from` to `to` takes, in ns:
-// the slowest column's handovers, followed event by event as the nodes
-// make them (a plane that crosses k boxes waits for the planes below or
-// above it, and each object is updated at every box it passes): per give,
-// the giver's send and grid updates, the slab's latency and bytes on the
-// link, the taker's receive and grid updates. The objects a slab carries
-// are counted from `objects` (the scene's) where given, else from the
-// boxes' counts in frame `r`, shared out by length.
-double moveNs(const FrameState& r, const MachineConfig& m, const InnerPlanes& from, const InnerPlanes& to,
-              const std::vector<Shape>* objects = nullptr);
+// The longest chain of handovers that moving each column's planes from
+// `from` to `to` takes, in ns: per box a plane crosses, a slide's latency
+// and handling on both nodes, and for each object between the plane's old
+// and new place (the boxes' object counts in frame `r`, shared out by
+// length, at their box's mean size) its bytes on the link and the grid
+// updates on both nodes, once per box it is passed through (on average
+// half the chain).
+double moveNs(const FrameState& r, const MachineConfig& m, const InnerPlanes& from, const InnerPlanes& to);
 
 }  // namespace rt
