@@ -30,7 +30,7 @@ struct Progress {
     }
     // The look for a stop alone, where no ray moved (a balancing interval):
     // on links of 2 B/s a ray takes a minute of simulated time, the
-    // watchdog's period is as long, and the intervals between took 28 s of
+    // watchdog's period is as long, and the intervals between took 48 s of
     // wall-clock time to answer a SIGTERM.
     void poll() {
         if ((stopSignal | wallExpired) && wake && !woken) {

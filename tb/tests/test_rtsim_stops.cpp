@@ -181,9 +181,8 @@ TEST_F(RtsimTimed, WatchdogSpanAndWallClockLimit) {
     // that long, and the watchdog's period is as long; the balancing
     // intervals between look for the stop themselves. It stopped at 66 s of
     // simulated time (57 s of wall-clock time for a limit of 1 s, on 4x4x4
-    // with two other jobs on the host); now within
-    // about 1 s of simulated time here (an interval every 2 us), 60 on a
-    // host 50 times as fast.
+    // with two other jobs on the host); now within about 1 s of simulated
+    // time here (an interval every 2 us), 60 on a host 50 times as fast.
     const Outcome slow = run(std::string(kSmall) + " --mesh 2 --balance sample --balance-interval 2us --link-bandwidth 2B/s"
                                                    " --watchdog-wall 1 --no-baseline -q --image ''");
     EXPECT_EQ(slow.code, 3) << slow.err;
