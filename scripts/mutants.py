@@ -145,6 +145,8 @@ MUTANTS = [
     ("slab-recv-free", "models/node/node_balance.cpp",
      "finishControlStep(1, moved);", "finishControlStep(0, moved);",
      "taking a slide's message costs nothing"),
+    ("stop-not-looked-for-at-intervals", "models/node/node_balance.cpp", "    if (progress_) progress_->poll();\n", "",
+     "a stop (signal, --watchdog-wall) is looked for only where a ray moves: at 2 B/s a 1 s limit stopped at 66 s simulated"),
     ("fb-cost-dropped", "models/framebuffer/frame_buffer.cpp",
      "return cost_ * cs.size();", "return 0 * cost_ * cs.size();",
      "the frame buffer accumulates contributions for free"),

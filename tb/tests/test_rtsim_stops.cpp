@@ -157,17 +157,24 @@ TEST_F(RtsimTimed, AStopWhileTheMapIsDrawnKeepsTheFrame) {
         EXPECT_EQ(e.path().string().find(".incomplete-"), std::string::npos) << e.path();
 }
 
+namespace {
+// The time a message gives after `marker` ("50.4 us"): false if it names none.
+bool timeAfter(const std::string& err, const std::string& marker, double& value, std::string& unit) {
+    const size_t at = err.find(marker);
+    if (at == std::string::npos) return false;
+    std::istringstream(err.substr(at + marker.size())) >> value >> unit;
+    return true;
+}
+}  // namespace
+
 TEST_F(RtsimTimed, WatchdogSpanAndWallClockLimit) {
     // The span as given: stopped at the first check at least a span after
     // the last progress (checks every span up to 1 ms).
     const Outcome s = run(std::string(kSmall) + " --mesh 2 --fault-drop-credit --watchdog 50us --no-baseline -q --image ''");
     EXPECT_EQ(s.code, 3) << s.err;
-    const size_t at = s.err.find("moved for ");
-    ASSERT_NE(at, std::string::npos) << s.err;
-    std::istringstream moved(s.err.substr(at + 10));
     double quiet = 0;
     std::string unit;
-    moved >> quiet >> unit;
+    ASSERT_TRUE(timeAfter(s.err, "moved for ", quiet, unit)) << s.err;
     EXPECT_EQ(unit, "us") << s.err;
     EXPECT_GE(quiet, 50.0) << s.err;  // a span, and less than two
     EXPECT_LT(quiet, 100.0) << s.err;
@@ -186,12 +193,9 @@ TEST_F(RtsimTimed, WatchdogSpanAndWallClockLimit) {
     const Outcome slow = run(std::string(kSmall) + " --mesh 2 --balance sample --balance-interval 2us --link-bandwidth 2B/s"
                                                    " --watchdog-wall 1 --no-baseline -q --image ''");
     EXPECT_EQ(slow.code, 3) << slow.err;
-    const size_t reached = slow.err.find("was reached at ");
-    ASSERT_NE(reached, std::string::npos) << slow.err;
-    std::istringstream when(slow.err.substr(reached + 15));
     double t = 0;
     std::string tunit;
-    when >> t >> tunit;
+    ASSERT_TRUE(timeAfter(slow.err, "was reached at ", t, tunit)) << slow.err;
     EXPECT_TRUE(tunit == "s" ? t < 60 : tunit != "ks") << slow.err;
 }
 
