@@ -77,11 +77,13 @@ namespace {
 struct Moves {
     InnerPlanes now;
     double heldNs;
+    double uniformNs;  // the unbalanced frame's: the uniform split held
     struct Move {
         const char* what;
         InnerPlanes planes;
         double ns;
         bool linkBound;  // the links are its frame, and it passes rays on between columns
+        double inPlaceNs;  // its frame, each node starting when its faces are in place (facesInPlaceNs)
     };
     std::vector<Move> moves;
 };
@@ -91,13 +93,15 @@ Moves forecastMoves(const FrameState& r, const MachineConfig& m, const std::vect
     out.now = lastBoundaries(r, m);
     const FrameForecast f(r, m, averagedBoundaries(r, m), objects);
     out.heldNs = f.forecast(out.now).frameNs;
+    out.uniformNs = f.forecast(uniformBoundaries(r, m)).frameNs;
     const FrameForecast::Splits s = f.splits();
     const std::pair<const char*, InnerPlanes> candidates[] = {{"aligned", s.aligned}, {"per column", s.perColumn}};
     for (const auto& [what, planes] : candidates) {
         const FrameForecast::Forecast t = f.forecast(planes);
         const bool linkBound = t.passes > 0 && t.linkNs >= t.nodeNs;
         const double ns = t.frameNs + moveNs(r, m, out.now, planes);  // and getting there (move_forecast.h)
-        out.moves.push_back({what, planes, ns, linkBound});
+        const InnerPlanes start = facesInPlaceNs(r, m, out.now, planes, objects);
+        out.moves.push_back({what, planes, ns, linkBound, f.forecast(planes, &start).frameNs});
     }
     return out;
 }
@@ -110,10 +114,21 @@ ResplitChoice choose(const Moves& f, double gain) {
     // must beat the aligned planes by the margin a move needs to beat
     // holding (the case that showed it: doc/history.md, "Figures behind
     // the code's comments").
+    const Moves::Move* chosen = nullptr;
     for (const Moves::Move& k : f.moves) {
         const double beat = k.linkBound ? (1 - kMinForecastGain) * c.forecastNs : c.forecastNs;
-        if (k.ns < beat && k.ns < (1 - gain) * c.heldNs) c = {k.what, k.planes, k.ns, c.heldNs};
+        if (k.ns < beat && k.ns < (1 - gain) * c.heldNs) {
+            c = {k.what, k.planes, k.ns, c.heldNs};
+            chosen = &k;
+        }
     }
+    // Nor may the move, its handovers followed one by one, make the frame
+    // slower than not balancing (ResplitChoice).
+    if (!chosen) return c;
+    if (chosen->inPlaceNs > (1 + kMinForecastGain) * f.uniformNs)
+        return {"held", f.now, f.heldNs, f.heldNs, chosen->inPlaceNs, chosen->what, f.uniformNs};
+    c.inPlaceNs = chosen->inPlaceNs;
+    c.uniformNs = f.uniformNs;
     return c;
 }
 
@@ -139,6 +154,9 @@ std::optional<InnerPlanes> ResplitSequence::forecast(const FrameState& r) {
         }
     }
     said_ = {{"next", what}, {"forecast_ns", c.forecastNs}, {"held_forecast_ns", c.heldNs}};
+    if (c.inPlaceNs > 0) said_["faces_in_place_forecast_ns"] = c.inPlaceNs;
+    if (c.refused) said_["refused"] = c.refused;
+    if (c.uniformNs > 0) said_["unbalanced_forecast_ns"] = c.uniformNs;
     return c.planes;
 }
 

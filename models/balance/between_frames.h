@@ -44,10 +44,30 @@ InnerPlanes averagedBoundaries(const FrameState& r, const MachineConfig& m);
 // forecast counts short there. (Why 4 %, and the misses measured:
 // doc/history.md, "Figures behind the code's comments".)
 constexpr double kMinForecastGain = 0.04;
+// The choice between planes prices getting there by the longest chain
+// (moveNs) added to the frame. A move is then refused where, each node
+// starting its frame when its faces are in place (the handovers followed
+// one by one: facesInPlaceNs), the frame would be more than
+// kMinForecastGain slower than the unbalanced split's (both forecast):
+// there moving makes the frame lose against not balancing. On 33x1x1 (the
+// paper's machine, 1,000 spheres in 5 % of the axis, across it) the planes
+// moved one after another, the move took about 228 ms where the chain said
+// 90.3, and frame 2 took 1.632 of the unbalanced frame; forecast so, 267.9
+// ms against the unbalanced 153.1 (it took 258.7). Against the unbalanced
+// frame, not the frame held: a move that costs its own frame more than
+// holding can still pay in the frames after it (balls-5 on 16x16x4 on the
+// paper's machine under sample: 0.644 of the unbalanced frame, then
+// 0.162, where holding gave 0.614), and the choice itself keeps the
+// chain's price: a move priced exactly made the columns' own planes win
+// where their frame's forecast misses the latency of the rays they pass
+// between columns (doc/history.md).
 struct ResplitChoice {
     const char* what;  // "held", "per column" or "aligned"
     InnerPlanes planes;
     double forecastNs, heldNs;  // the next frame, forecast: with these planes; with the planes held
+    double inPlaceNs = 0;       // the move's frame, each node starting when its faces are in place (0: no move weighed)
+    const char* refused = nullptr;  // held: the move the chain's price chose, refused
+    double uniformNs = 0;           // the unbalanced split's frame, forecast (where a move was weighed)
 };
 // With the scene's `objects` the forecast counts the grids a move would
 // coarsen (FrameForecast, kCoarser).

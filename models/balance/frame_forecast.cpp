@@ -306,7 +306,7 @@ int FrameForecast::ownerOf(const std::vector<double>& planes, double x) const {
     return int(std::upper_bound(planes.begin(), planes.end(), x) - planes.begin());
 }
 
-FrameForecast::Forecast FrameForecast::forecast(const InnerPlanes& planes) const {
+FrameForecast::Forecast FrameForecast::forecast(const InnerPlanes& planes, const InnerPlanes* startNs) const {
     if (planes.size() != columns_.size()) throw std::invalid_argument("forecast: planes for another mesh");
     Forecast f;
     std::vector<std::vector<double>> busy(columns_.size()), up(columns_.size()), down(columns_.size());
@@ -335,7 +335,10 @@ FrameForecast::Forecast FrameForecast::forecast(const InnerPlanes& planes) const
     }
     double rays = 0;
     for (size_t c = 0; c < columns_.size(); ++c) {
-        for (double b : busy[c]) f.nodeNs = std::max(f.nodeNs, b);
+        for (size_t j = 0; j < busy[c].size(); ++j) {
+            const double start = startNs && c < startNs->size() && j < (*startNs)[c].size() ? (*startNs)[c][j] : 0.0;
+            f.nodeNs = std::max(f.nodeNs, start + busy[c][j]);
+        }
         for (double x : up[c]) rays = std::max(rays, x);
         for (double x : down[c]) rays = std::max(rays, x);
     }

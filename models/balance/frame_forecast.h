@@ -83,7 +83,11 @@ public:
         double linkNs = 0;   // the busiest link's wire time
         double passes = 0;   // rays passed on untraced
     };
-    Forecast forecast(const InnerPlanes& planes) const;
+    // With `startNs` (per column, per node: when it can start, ns: its
+    // faces in place after a move, facesInPlaceNs), the busiest node is the
+    // one that ends last: a node that waits for its faces renders the
+    // frame's work after them, and one already in place renders meanwhile.
+    Forecast forecast(const InnerPlanes& planes, const InnerPlanes* startNs = nullptr) const;
 
     // The planes of least forecast busy time for the busiest node, each
     // column on its own (rays crossing columns are passed on where they

@@ -139,6 +139,22 @@ TEST(FrameForecast, BusyTimesAndCutsByHand) {
     EXPECT_EQ(f.forecast(p).linkNs, 0);
 }
 
+// A node that waits for its faces (facesInPlaceNs) ends its frame's work
+// that much later; one in place does not (frame_forecast.h).
+TEST(FrameForecast, ANodeStartingLateEndsLate) {
+    const nlohmann::json r = forecastReport(2, 100);
+    const FrameForecast f(frameStateFromReport(r), forecastMesh(2), InnerPlanes{{0.5}, {0.5}});
+    const InnerPlanes planes{{0.5}, {0.5}};
+    const InnerPlanes none{{0, 0}, {0, 0}}, late{{0, 30}, {0, 0}}, later{{0, 30}, {45, 0}};
+    EXPECT_NEAR(f.forecast(planes, &none).nodeNs, 100, 1e-9);
+    EXPECT_NEAR(f.forecast(planes, &late).nodeNs, 130, 1e-9);
+    EXPECT_NEAR(f.forecast(planes, &later).frameNs, 145, 1e-9);
+    // At 0.25, node 1 of column 0 has 150 ns of work: started at 30, 180;
+    // node 0 of column 1 ends at 145 still.
+    EXPECT_NEAR(f.forecast({{0.25}, {0.5}}, &later).nodeNs, 180, 1e-9);
+    EXPECT_NEAR(f.forecast({{0.25}, {0.5}}).nodeNs, 150, 1e-9);
+}
+
 TEST(FrameForecast, OneCellGrowthIsTheNewCellOverTheOld) {
     EXPECT_DOUBLE_EQ(oneCellGrowth(1.0, 1.0), 1.0);
     EXPECT_DOUBLE_EQ(oneCellGrowth(1.4, 1.0), 1.4);   // still one cell, 1.4 times as thick
@@ -365,4 +381,93 @@ TEST(Resplit, GettingToNewPlanesCostsItsChainOfSlabs) {
     // objects of 5 and 7 ns.
     m.speed = 2;
     EXPECT_NEAR(moveNs(r, m, from, to), 280 + 1.5 * (20 * 5 + 15 * 7), 1e-9);
+}
+
+// When each node's faces are in place (move_forecast.h, facesInPlaceNs),
+// by hand: the handovers as the nodes make them. Boxes [0,1], [1,2], [2,3]
+// along x holding 10, 20 and 30 objects; links of 100 ns and 42 GB/s (1 ns
+// an object's 42 bytes); a send and a receive 40 ns each; grid updates 4
+// ns an object on each node; the least thickness 0.05. Planes (1, 2) move
+// to (2.4, 2.7), both up:
+// - at 0, node 1 gives [1, 1.95] (as far as its box allows: 19 objects)
+//   to node 0: it is free at 40 + 76 = 116, the slab arrives at 116 + 100
+//   + 19 = 235; node 2 gives [2, 2.7] (21 objects) to node 1: free at 124,
+//   arrives at 245. Node 2 is in place at 124;
+// - node 0 takes its slab at 235 (a receive, an acknowledgement's send and
+//   76 of updates: done at 391);
+// - node 1 takes its slab at 245 (done at 245 + 80 + 84 = 409), its box
+//   now [1.95, 2.7], and gives again towards 2.4: [1.95, 2.4], 1 + 12 =
+//   13 objects, free at 409 + 40 + 52 = 501, in place; arriving at 614;
+// - node 0 takes it: in place at 614 + 80 + 52 = 746 ns.
+// Plane 1 waited for plane 2: its chain alone (moveNs) says 792 ns.
+TEST(Resplit, FacesInPlaceFollowTheHandoversOneAfterAnother) {
+    FrameState r;
+    const size_t objects[] = {10, 20, 30};
+    for (int k = 0; k < 3; ++k) {
+        NodeFrameState n;
+        n.cell = {k, 0, 0};
+        n.box = Box{Vec3(double(k), 0.0, 0.0), Vec3(double(k + 1), 1.0, 1.0)};
+        n.objects = objects[k];
+        r.nodes.push_back(n);
+    }
+    MachineConfig m;
+    m.dims = {3, 1, 1};
+    m.link.latency = 100000;
+    m.link.bandwidth = 42e9;
+    m.costs.send = m.costs.recv = 40000;
+    m.balance.rebuildCost = 4000;
+    m.balance.minThickness = 0.05;
+    const InnerPlanes from{{1.0, 2.0}}, to{{2.4, 2.7}};
+    auto near = [](const InnerPlanes& got, const std::vector<double>& want) {
+        ASSERT_EQ(got.size(), 1u);
+        ASSERT_EQ(got[0].size(), want.size());
+        for (size_t i = 0; i < want.size(); ++i) EXPECT_NEAR(got[0][i], want[i], 1e-9) << "node " << i;
+    };
+    near(facesInPlaceNs(r, m, from, to), {746, 501, 124});
+    near(facesInPlaceNs(r, m, from, from), {0, 0, 0});
+    // With the hops on the links (--hop-handling link): no sends or
+    // receives on the nodes; node 1 gives 19 objects (free at 76, arriving
+    // at 195), node 2 21 (in place at 84, arriving at 205); node 1 done at
+    // 289, gives 13 (in place at 341, arriving at 454); node 0 in place at
+    // 454 + 52 = 506.
+    m.hopsByLinks = true;
+    near(facesInPlaceNs(r, m, from, to), {506, 341, 84});
+    m.hopsByLinks = false;
+    // The third box's objects three times a sphere's size (126 bytes, 3 ns
+    // on the wire): node 2's slab arrives at 124 + 100 + 63 = 287, node 1
+    // is done with it at 451 and gives 1 + 12 objects of 42 and 126 bytes
+    // (37 ns on the wire; in place at 543, arriving at 680); node 0 is in
+    // place at 812.
+    r.nodes[2].objectBytes = 30 * 126;
+    near(facesInPlaceNs(r, m, from, to), {812, 543, 124});
+    r.nodes[2].objectBytes = 0;  // (not known: a sphere's)
+    // Nodes twice as fast: handling and updates halve, the link does not.
+    // Node 1 free at 58, arriving at 177; node 2 in place at 62, arriving
+    // at 183; node 1 done at 183 + 40 + 42 = 265, gives 13 (in place at
+    // 311, arriving at 424); node 0 in place at 424 + 40 + 26 = 490.
+    m.speed = 2;
+    near(facesInPlaceNs(r, m, from, to), {490, 311, 62});
+    m.speed = 1;
+    // With the scene's objects, a slab carries those whose bounds reach
+    // into it, once each, at their own sizes: a sphere over [1.4, 1.6], a
+    // triangle over [2.1, 2.3] (85 bytes: 85 / 42 ns on the wire) and a
+    // sphere over [2.85, 2.95]. The first gives carry one object each
+    // (free at 44; arriving at 145 and 146 + 1 / 42); node 1 is done with
+    // its slab at 230 + 1 / 42 and gives [1.95, 2.4] with the triangle
+    // (in place at 274 + 1 / 42, arriving at 376 + 2 / 42); node 0 is in
+    // place at 460 + 2 / 42.
+    Polygon triangle;
+    triangle.vertices = {Vec3(2.1, 0.4, 0.5), Vec3(2.3, 0.4, 0.5), Vec3(2.2, 0.6, 0.5)};
+    ASSERT_TRUE(triangle.finish());
+    const std::vector<Shape> scene{Shape{Sphere{Vec3(1.5, 0.5, 0.5), 0.1, false}, 0, 0}, Shape{triangle, 0, 1},
+                                   Shape{Sphere{Vec3(2.9, 0.5, 0.5), 0.05, false}, 0, 2}};
+    near(facesInPlaceNs(r, m, from, to, &scene), {460 + 2.0 / 42, 274 + 1.0 / 42, 44});
+    // The planes back down, from (2.4, 2.7) to (1, 2): node 0 gives [1,
+    // 2.4] with the first sphere and the triangle (in place at 48, arriving
+    // at 151 + 1 / 42); node 1 gives [2.45, 2.7] (as far as its box
+    // allows), empty (free at 40, arriving at 140); node 2 takes it (in
+    // place at 220); node 1 is done with its slab at 239 + 1 / 42 and gives
+    // [2, 2.45] with the triangle (in place at 283 + 1 / 42, arriving at
+    // 385 + 2 / 42); node 2 is in place at 469 + 2 / 42.
+    near(facesInPlaceNs(r, m, to, from, &scene), {48, 283 + 1.0 / 42, 469 + 2.0 / 42});
 }
