@@ -100,35 +100,44 @@ Moves forecastMoves(const FrameState& r, const MachineConfig& m, const std::vect
         const FrameForecast::Forecast t = f.forecast(planes);
         const bool linkBound = t.passes > 0 && t.linkNs >= t.nodeNs;
         const double ns = t.frameNs + moveNs(r, m, out.now, planes);  // and getting there (move_forecast.h)
-        const InnerPlanes start = facesInPlaceNs(r, m, out.now, planes, objects);
-        out.moves.push_back({what, planes, ns, linkBound, f.forecast(planes, &start).frameNs});
+        double inPlaceNs = 0;
+        if (ns < (1 - std::min(kMinForecastGain, kTryGain)) * out.heldNs) {  // (only where choose() can take it)
+            const InnerPlanes start = facesInPlaceNs(r, m, out.now, planes, objects);
+            inPlaceNs = f.forecast(planes, &start).frameNs;
+        }
+        out.moves.push_back({what, planes, ns, linkBound, inPlaceNs});
     }
     return out;
 }
 
-// The planes of the shortest forecast frame, moving only for `gain` over holding.
+// The planes of the shortest forecast frame, moving only for `gain` over
+// holding, and only where the move would not lose against not balancing.
 ResplitChoice choose(const Moves& f, double gain) {
     ResplitChoice c{"held", f.now, f.heldNs, f.heldNs};
+    const Moves::Move* refused = nullptr;
     // Columns' own planes pass rays on between columns, which the
     // forecast counts short where the links are the frame: there they
     // must beat the aligned planes by the margin a move needs to beat
     // holding (the case that showed it: doc/history.md, "Figures behind
     // the code's comments").
-    const Moves::Move* chosen = nullptr;
     for (const Moves::Move& k : f.moves) {
         const double beat = k.linkBound ? (1 - kMinForecastGain) * c.forecastNs : c.forecastNs;
-        if (k.ns < beat && k.ns < (1 - gain) * c.heldNs) {
-            c = {k.what, k.planes, k.ns, c.heldNs};
-            chosen = &k;
+        if (!(k.ns < beat && k.ns < (1 - gain) * c.heldNs)) continue;
+        // A move whose frame, its handovers followed one by one, is
+        // forecast more than kMinForecastGain slower than the uniform
+        // split's is refused (ResplitChoice).
+        if (k.inPlaceNs > (1 + kMinForecastGain) * f.uniformNs) {
+            refused = &k;
+            continue;
         }
+        c = {k.what, k.planes, k.ns, c.heldNs, k.inPlaceNs};
     }
-    // Nor may the move, its handovers followed one by one, make the frame
-    // slower than not balancing (ResplitChoice).
-    if (!chosen) return c;
-    if (chosen->inPlaceNs > (1 + kMinForecastGain) * f.uniformNs)
-        return {"held", f.now, f.heldNs, f.heldNs, chosen->inPlaceNs, chosen->what, f.uniformNs};
-    c.inPlaceNs = chosen->inPlaceNs;
-    c.uniformNs = f.uniformNs;
+    if (refused) {
+        c.refused = refused->what;
+        c.refusedNs = refused->ns;
+        c.refusedInPlaceNs = refused->inPlaceNs;
+    }
+    if (c.inPlaceNs > 0 || refused) c.uniformNs = f.uniformNs;
     return c;
 }
 
@@ -147,15 +156,23 @@ std::optional<InnerPlanes> ResplitSequence::forecast(const FrameState& r) {
     ResplitChoice c = choose(moves, kMinForecastGain);
     std::string what = c.what;
     if (tries_ && !tried_ && what == "held") {  // One try (between_frames.h)
+        const ResplitChoice held = c;
         c = choose(moves, kTryGain);
         if (std::string(c.what) != "held") {
             tried_ = true;
             what = std::string("one try: ") + c.what;
         }
+        if (!c.refused && held.refused) {  // (what the margin's choice refused, said)
+            c.refused = held.refused;
+            c.refusedNs = held.refusedNs;
+            c.refusedInPlaceNs = held.refusedInPlaceNs;
+            c.uniformNs = held.uniformNs;
+        }
     }
     said_ = {{"next", what}, {"forecast_ns", c.forecastNs}, {"held_forecast_ns", c.heldNs}};
     if (c.inPlaceNs > 0) said_["faces_in_place_forecast_ns"] = c.inPlaceNs;
-    if (c.refused) said_["refused"] = c.refused;
+    if (c.refused)
+        said_["refused"] = {{"what", c.refused}, {"forecast_ns", c.refusedNs}, {"faces_in_place_forecast_ns", c.refusedInPlaceNs}};
     if (c.uniformNs > 0) said_["unbalanced_forecast_ns"] = c.uniformNs;
     return c.planes;
 }

@@ -65,9 +65,11 @@ struct ResplitChoice {
     const char* what;  // "held", "per column" or "aligned"
     InnerPlanes planes;
     double forecastNs, heldNs;  // the next frame, forecast: with these planes; with the planes held
-    double inPlaceNs = 0;       // the move's frame, each node starting when its faces are in place (0: no move weighed)
-    const char* refused = nullptr;  // held: the move the chain's price chose, refused
-    double uniformNs = 0;           // the unbalanced split's frame, forecast (where a move was weighed)
+    double inPlaceNs = 0;  // with these planes, each node starting when its faces are in place (0: held)
+    // A move the chain's price would have taken, refused: its forecasts.
+    const char* refused = nullptr;
+    double refusedNs = 0, refusedInPlaceNs = 0;
+    double uniformNs = 0;  // the uniform split's frame, forecast (where a move was taken or refused)
 };
 // With the scene's `objects` the forecast counts the grids a move would
 // coarsen (FrameForecast, kCoarser).
@@ -160,8 +162,11 @@ public:
     // column" | "aligned" | "held" | "one try: per column" | "one try:
     // aligned" | "the fastest frame's planes" | "the
     // starting split" | "the uniform split" | "frame 1 again" | "a move
-    // tried"}, with the forecasts when it re-split, and when it tries a
-    // move, the time of the frame held (held_ns).
+    // tried"}, with the forecasts when it re-split (forecast_ns,
+    // held_forecast_ns; where a move was taken or refused,
+    // faces_in_place_forecast_ns, unbalanced_forecast_ns and refused:
+    // {what, forecast_ns, faces_in_place_forecast_ns}), and when it tries
+    // a move, the time of the frame held (held_ns).
     const nlohmann::json& said() const { return said_; }
 
 private:

@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <queue>
+#include <stdexcept>
 #include <utility>
 
 #include "base/mesh_geometry.h"
@@ -241,6 +242,16 @@ double moveNs(const FrameState& r, const MachineConfig& m, const InnerPlanes& fr
 InnerPlanes facesInPlaceNs(const FrameState& r, const MachineConfig& m, const InnerPlanes& from, const InnerPlanes& to,
                            const std::vector<Shape>* objects) {
     const ColumnGeometry g(m.balance.axis, m.dims);
+    const auto ofThisMesh = [&](const InnerPlanes& p) {
+        return p.size() == size_t(g.count()) &&
+               std::all_of(p.begin(), p.end(), [&](const std::vector<double>& c) { return c.size() + 1 == size_t(g.length()); });
+    };
+    const bool nodesFit = std::all_of(r.nodes.begin(), r.nodes.end(), [&](const NodeFrameState& n) {
+        for (size_t d = 0; d < 3; ++d)
+            if (n.cell[d] < 0 || n.cell[d] >= m.dims[d]) return false;
+        return true;
+    });
+    if (!ofThisMesh(from) || !ofThisMesh(to) || !nodesFit) throw std::invalid_argument("facesInPlaceNs: planes or a frame of another mesh");
     const LinkParams& l = m.link;
     const Costs& k = m.costs;
     const double handling = m.hopsByLinks ? 0.0 : 1.0;

@@ -47,14 +47,16 @@ double moveNs(const FrameState& r, const MachineConfig& m, const InnerPlanes& fr
 // a slab towards its targets as far as its box allows and again after each
 // take, one thing at a time. A give costs the giver its send and a grid
 // update per object moved, then the slab's latency and wire time; the
-// taker its receive and the same updates. So a plane that crosses k boxes
+// taker its receive, its acknowledgement's send and the same updates. So
+// a plane that crosses k boxes
 // waits for the planes on its way, and an object is updated at every box
 // it passes. A slab's objects are counted from the scene's `objects` where
 // given (those whose bounds reach into it), else from the boxes' counts in
 // frame `r` shared out by length. The rays traced meanwhile are not in it.
 // Why beside moveNs: on 33x1x1 the planes moved one after another, and the
 // move took about 228 ms where the longest chain said 90.3
-// (doc/balancing.md, "A move whose faces wait for each other").
+// (doc/balancing.md, "A move that would lose against not balancing").
+// Throws std::invalid_argument where `r`, `from` or `to` are of another mesh.
 InnerPlanes facesInPlaceNs(const FrameState& r, const MachineConfig& m, const InnerPlanes& from, const InnerPlanes& to,
                            const std::vector<Shape>* objects = nullptr);
 

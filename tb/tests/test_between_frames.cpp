@@ -399,7 +399,9 @@ TEST(Resplit, GettingToNewPlanesCostsItsChainOfSlabs) {
 //   now [1.95, 2.7], and gives again towards 2.4: [1.95, 2.4], 1 + 12 =
 //   13 objects, free at 409 + 40 + 52 = 501, in place; arriving at 614;
 // - node 0 takes it: in place at 614 + 80 + 52 = 746 ns.
-// Plane 1 waited for plane 2: its chain alone (moveNs) says 792 ns.
+// (moveNs, plane 1's chain alone with each object passed half of it, says
+// 792 ns; the handovers show node 0 waiting for its second slab until node
+// 1 has taken node 2's.)
 TEST(Resplit, FacesInPlaceFollowTheHandoversOneAfterAnother) {
     FrameState r;
     const size_t objects[] = {10, 20, 30};
@@ -425,6 +427,10 @@ TEST(Resplit, FacesInPlaceFollowTheHandoversOneAfterAnother) {
     };
     near(facesInPlaceNs(r, m, from, to), {746, 501, 124});
     near(facesInPlaceNs(r, m, from, from), {0, 0, 0});
+    EXPECT_THROW(facesInPlaceNs(r, m, InnerPlanes{{1.0}}, to), std::invalid_argument);  // planes of another mesh
+    m.dims = {2, 1, 1};
+    EXPECT_THROW(facesInPlaceNs(r, m, InnerPlanes{{1.0}}, InnerPlanes{{1.5}}), std::invalid_argument);  // a frame of another
+    m.dims = {3, 1, 1};
     // With the hops on the links (--hop-handling link): no sends or
     // receives on the nodes; node 1 gives 19 objects (free at 76, arriving
     // at 195), node 2 21 (in place at 84, arriving at 205); node 1 done at
