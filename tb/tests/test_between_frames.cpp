@@ -340,15 +340,11 @@ TEST(Resplit, TimeAveragedPosition) {
     EXPECT_DOUBLE_EQ(timeAveraged({{0, 5}}, 10), 5.0);
 }
 
-// What getting to new planes costs, by hand (move_forecast.h): boxes [0,1],
-// [1,2], [2,3] along x holding 10, 20 and 30 objects; links of 100 ns and
-// 42 GB/s (1 ns an object's 42 bytes), handling 40 + 40 ns a slide, grid
-// updates 4 ns an object on each node (9 ns an object in all). Plane 1 from
-// 1 to 2.5 crosses the second box and half the third: 2 hops of 180 ns,
-// and 20 + 15 objects passed on average half of the chain's 2 + 1:
-// 360 + 35 x 1.5 x 9 = 832.5 ns. Plane 2 stays. With the hops on the
-// links (--hop-handling link), no handling: 200 + 472.5.
-TEST(Resplit, GettingToNewPlanesCostsItsChainOfSlabs) {
+namespace {
+// The moves' hand-worked column: boxes [0,1], [1,2], [2,3] along x holding
+// 10, 20 and 30 objects, on a 3x1x1 mesh whose links take 100 ns and 42
+// GB/s (1 ns an object's 42 bytes).
+FrameState threeBoxColumn() {
     FrameState r;
     const size_t objects[] = {10, 20, 30};
     for (int k = 0; k < 3; ++k) {
@@ -358,10 +354,28 @@ TEST(Resplit, GettingToNewPlanesCostsItsChainOfSlabs) {
         n.objects = objects[k];
         r.nodes.push_back(n);
     }
+    return r;
+}
+MachineConfig threeBoxMachine() {
     MachineConfig m;
     m.dims = {3, 1, 1};
     m.link.latency = 100000;
     m.link.bandwidth = 42e9;
+    return m;
+}
+}  // namespace
+
+// What getting to new planes costs, by hand (move_forecast.h): boxes [0,1],
+// [1,2], [2,3] along x holding 10, 20 and 30 objects; links of 100 ns and
+// 42 GB/s (1 ns an object's 42 bytes), handling 40 + 40 ns a slide, grid
+// updates 4 ns an object on each node (9 ns an object in all). Plane 1 from
+// 1 to 2.5 crosses the second box and half the third: 2 hops of 180 ns,
+// and 20 + 15 objects passed on average half of the chain's 2 + 1:
+// 360 + 35 x 1.5 x 9 = 832.5 ns. Plane 2 stays. With the hops on the
+// links (--hop-handling link), no handling: 200 + 472.5.
+TEST(Resplit, GettingToNewPlanesCostsItsChainOfSlabs) {
+    FrameState r = threeBoxColumn();
+    MachineConfig m = threeBoxMachine();
     m.balance.rebuildCost = 4000;
     const InnerPlanes from{{1.0, 2.0}}, to{{2.5, 2.0}};
     EXPECT_NEAR(moveNs(r, m, from, to), 832.5, 1e-9);
@@ -403,19 +417,8 @@ TEST(Resplit, GettingToNewPlanesCostsItsChainOfSlabs) {
 // 792 ns; the handovers show node 0 waiting for its second slab until node
 // 1 has taken node 2's.)
 TEST(Resplit, FacesInPlaceFollowTheHandoversOneAfterAnother) {
-    FrameState r;
-    const size_t objects[] = {10, 20, 30};
-    for (int k = 0; k < 3; ++k) {
-        NodeFrameState n;
-        n.cell = {k, 0, 0};
-        n.box = Box{Vec3(double(k), 0.0, 0.0), Vec3(double(k + 1), 1.0, 1.0)};
-        n.objects = objects[k];
-        r.nodes.push_back(n);
-    }
-    MachineConfig m;
-    m.dims = {3, 1, 1};
-    m.link.latency = 100000;
-    m.link.bandwidth = 42e9;
+    FrameState r = threeBoxColumn();
+    MachineConfig m = threeBoxMachine();
     m.costs.send = m.costs.recv = 40000;
     m.balance.rebuildCost = 4000;
     m.balance.minThickness = 0.05;
