@@ -309,8 +309,9 @@ int finish(const rt::CommandLine& cl, const rt::RtsimOptions& o, const rt::Scene
     wall.writing = assembling + rt::secondsBetween(refsDone, rt::WallClock::now());
     if (rt::stopSignal || ref.stopCode)
         return stopped(rt::stopSignal ? 128 + int(rt::stopSignal) : ref.stopCode,
-                       mapped ? "the frame is done and written; its reference runs were stopped"
-                              : "the frame is done and written, but for its map: stopped while it was drawn");
+                       !mapped         ? "the frame is done and written, but for its map: stopped while it was drawn"
+                       : ref.stopCode  ? "the frame is done and written; its reference runs were stopped"
+                                       : "the frame is done and written; the stop came as it was written");
     if (!o.quiet) rt::printSummary(scene, o, r, report.json, ref.baselineNs, wall);
     return 0;
 }
