@@ -74,7 +74,10 @@ struct LinkTrace {
 // machine has tens of thousands of links (a frame-buffer port from every node
 // to every unit), which SystemC's object hierarchy registers by name and
 // unregisters one linear search at a time.
-class Link final : public LinkSendIf, public LinkRecvIf {
+// (Aligned to a cache line: the fields a message sent or taken reads are
+// its first two lines, where a link of 160 bytes at any multiple of 32
+// spanned two or three; 192 bytes, about 25 MB more at 32x32x32.)
+class alignas(64) Link final : public LinkSendIf, public LinkRecvIf {
 public:
     // `smallest`: the fewest bytes a message on it may have (message.h,
     // smallestMeshMessage); its receiver's lookahead counts on it, and send
