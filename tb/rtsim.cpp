@@ -295,8 +295,7 @@ int finish(const rt::CommandLine& cl, const rt::RtsimOptions& o, const rt::Scene
     const auto refsFrom = rt::WallClock::now();
     const rt::ReferenceRuns ref = rt::addReferenceRuns(report.json, cl.args, o);
     const auto refsDone = rt::WallClock::now();
-    // (Without any, the moment it took is the report's assembling.)
-    wall.referenceRuns = ref.ran ? rt::secondsBetween(refsFrom, refsDone) : 0;
+    wall.referenceRuns = ref.ran ? rt::secondsBetween(refsFrom, refsDone) : 0;  // (none: the report's assembling)
     const double assembling = rt::secondsBetween(frameDone, refsDone) - wall.referenceRuns;
     out.image(r.image);
     // The report holds the parts up to its own writing; the summary's line

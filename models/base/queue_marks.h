@@ -72,10 +72,12 @@ private:
         Picos t;
         uint64_t own, taken;
     };
+    // (What a message taken reads and writes first, in one cache line.)
     size_t& mark_;
+    uint64_t taken_ = 0;
     std::vector<Deferred> deferred_;
     std::vector<Picos> takenArrivals_;  // of the messages taken since the first deferred step, in the order taken
-    uint64_t taken_ = 0, takenBase_ = 0;
+    uint64_t takenBase_ = 0;
 };
 
 }  // namespace rt

@@ -20,9 +20,14 @@ constexpr Picos kMaxSimTime = Picos(1) << 62;                  // about 53 days
 // Throws std::runtime_error naming `who` once `t` is past kMaxSimTime.
 // (Inline, the throw out of line: every step, message and express hop
 // checks; doc/history.md, "Figures behind the code's comments".)
+// `who` is a callable giving the name, asked only once the check fails: a
+// name was read at every node's step and every message sent, where it was
+// a cache line nothing else read (on a large mesh a miss each time: the
+// compiler loads an argument before the call, whatever the branch).
 [[noreturn]] void throwSimTimePast(const char* who);
-inline void checkSimTime(Picos t, const char* who) {
-    if (t > kMaxSimTime) throwSimTimePast(who);
+template <class Who>
+inline void checkSimTime(Picos t, const Who& who) {
+    if (__builtin_expect(t > kMaxSimTime, 0)) throwSimTimePast(who());
 }
 // A time the model computes in floating point (an estimate, a wire time)
 // as picoseconds: truncated (as a cast), saturated at kMaxSimTime (converting

@@ -220,7 +220,7 @@ void Link::putOnWire(int lane, Picos slot, const Waiting& w) {
         start = scheduleControl(ready, transfer);
     }
     const Picos arrival = start + transfer + params_->latency;
-    checkSimTime(arrival, name_.get());  // (a backlog of long messages can pass the counter)
+    checkSimTime(arrival, [this] { return name_.get(); });  // (a backlog of long messages can pass the counter)
     // Messages sent before this one and still off the wire when it was sent.
     if (distributions_) {
         while (!l.waitedUntil.empty() && l.waitedUntil.front() <= sent) l.waitedUntil.pop_front();

@@ -134,7 +134,7 @@ void FrameBufferUnit::run() {
         const Picos cost = take(m);
         traceTake(cost);
         now_ += cost;
-        checkSimTime(now_, name());
+        checkSimTime(now_, [this] { return name(); });
         stats_.busy += cost;
         if (cost) stats_.lastActive = now_;
         if (controller()) {

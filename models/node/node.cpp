@@ -115,9 +115,9 @@ void Node::proceed() {
         flushToFrameBuffer();
         return;
     }
-    int fromDir = -1;
+    int fromDir = -1;  // a control message's link: -1 for a ray (control_ is a cache line of its own, not read for one)
     if (takeWork(work_, control_, fromDir)) {
-        if (control_) {
+        if (fromDir >= 0) {
             Message m = std::move(*control_);
             control_.reset();
             control(m, fromDir);
@@ -204,6 +204,7 @@ bool Node::takeWork(Work& w, std::optional<Message>& control, int& controlDir) {
         if (control->type == MsgType::Ray) {  // a ray of the sample, on the control lane (--sample-end credit)
             input_.takePriorityRay(*control, controlDir, w);
             control.reset();
+            controlDir = -1;  // (a ray: proceed steps it)
         }
         return true;
     }
@@ -363,7 +364,7 @@ void Node::markQueueDepth() {
 void Node::chargeAndSend(const BusyParts& parts, bool mayWaitForWork) {
     const Picos cost = sumOf(parts);
     now_ += cost;
-    checkSimTime(now_, name());
+    checkSimTime(now_, [this] { return name(); });
     if (expressSelf_) expressSelf_->processorFree = std::max(expressSelf_->processorFree, now_);  // (express.h)
     ledger_.charge(parts, now_, [this] { return kernel(); });
     sendCost_ = cost;
@@ -385,8 +386,10 @@ void Node::finishControlStep(uint64_t recvs, size_t movedObjects, bool balancing
 void Node::endSend() {
     stats_.messagesSent += outbox_.size() + expressOut_.size();
     outbox_.clear();
-    expressOut_.clear();
-    expressHops_.clear();
+    if (!expressOut_.empty()) {  // (their hops with them: without express, a cache line not read at every send)
+        expressOut_.clear();
+        expressHops_.clear();
+    }
     outboxNext_ = 0;
     Picos cost = sendCost_;
     if (sendBlocked_) {

@@ -166,7 +166,8 @@ private:
     // for room in an output buffer (sendOutbox, then endSend).
     enum class Resume : uint8_t { Start, Synced, Input, Room };
     void suspend(Resume r);  // the process returns; its next activation is armed
-    // Takes the next ray (or control message, into `control`); false if none.
+    // Takes the next ray (or control message, into `control`, and its link's
+    // direction into `controlDir`, which a ray leaves as it was); false if none.
     bool takeWork(Work& w, std::optional<Message>& control, int& controlDir);
     bool generatePrimary(Work& w);
     bool takeControl(std::optional<Message>& control, int& controlDir);  // control messages first
@@ -188,7 +189,9 @@ private:
     void terminate(const Work& w, std::vector<RayJob>& spawned);
     void giveBack(const Work& w, int e, uint64_t k = 1);
     // `sample`'s first frame under --sample-end credit (its rays first, their credit apart).
-    bool sampleCredit() const { return sample_ && params_.balance.sampleCredit; }
+    // (The shared flag first: the node's sample_ is a cache line of its own,
+    // which most steps need not read.)
+    bool sampleCredit() const { return params_.balance.sampleCredit && sample_; }
     // Whether rays travel in batches (--ray-batch above 1). Asked of the
     // shared parameters, not the batcher: with a message per ray it holds
     // none, and on a large mesh its batches are a cold line or three.

@@ -66,7 +66,7 @@ void ExpressRelay::launch(uint32_t slot, ExpressLink& l, Picos ready, bool first
     ray.number = l.wired;
     l.putOnWire();
     const Picos at = start + l.hop();
-    checkSimTime(at, name());
+    checkSimTime(at, [this] { return name(); });
     events_.push(at, slot);
     if (at < wakeAt_) {  // sooner than the relay expects to run
         wakeAt_ = at;
