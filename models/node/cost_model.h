@@ -32,6 +32,7 @@ public:
     // step(...) exactly.
     BusyParts stepParts(const Counters& before, const Counters& c, uint64_t sends, uint64_t recvs, uint64_t generated) const {
         const BusyParts p = operationParts(before, c, sends, recvs, generated);
+        if (speed_ == 1.0) return p;  // (at speed 1 the parts are the sum: a node's every step came here)
         return scaledTo(p, atSpeed(sumOf(p)));
     }
     // A step of messages alone: its messages' handling (balancing's, or a

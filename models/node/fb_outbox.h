@@ -4,6 +4,8 @@
 // FIFO ports (credit.h, frame_buffer.h). Plain C++.
 #pragma once
 #include <cstdint>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "channel/credit.h"
@@ -55,8 +57,13 @@ public:
     // since it last returned credit. Unit 0's own contributions travel
     // ahead of the credit on the same port; for the others, unit 0 checks
     // the counts with each unit once the credit is whole. Throws
-    // std::logic_error (naming `who`) if contributions went without credit.
-    void flush(Outbox& out, const std::string& who);
+    // std::logic_error if contributions went without credit, naming `who()`
+    // (asked only then: a node's name is a cold read on a large mesh, and a
+    // string built at every flush was a tenth of the flush's instructions).
+    template <class Who>
+    void flush(Outbox& out, const Who& who) {
+        if (!flushAll(out)) throw std::logic_error(std::string(who()) + ": contributions sent without credit to cover them");
+    }
 
     bool owes() const { return count_ || holdsCredit(); }  // contributions or credit not yet sent
     size_t contributions() const { return count_; }
@@ -69,6 +76,7 @@ public:
 private:
     int unitOf(const Contribution& c) const { return int(c.pixel % uint32_t(pending_.size())); }
     void send(int unit, Outbox& out);  // the unit's batch, now
+    bool flushAll(Outbox& out);  // flush; false if contributions went without credit
 
     std::vector<std::vector<Contribution>> pending_;  // per unit: contributions not yet sent
     size_t count_ = 0;                                // in all of them

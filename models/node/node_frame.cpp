@@ -74,7 +74,7 @@ bool Node::flushRays() {
 // The node hands the frame buffer what it owes (fb_outbox.h).
 void Node::flushToFrameBuffer() {
     traceState(true, false);
-    fbOut_.flush(outbox_, name());
+    fbOut_.flush(outbox_, [this] { return name(); });
     finishControlStep(0, 0, false);
 }
 

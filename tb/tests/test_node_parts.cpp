@@ -395,7 +395,7 @@ TEST(FrameBufferOutbox, ContributionsByUnitThenCreditWithTheCounts) {
     EXPECT_EQ(fb.contributions(), 1u);
     EXPECT_TRUE(fb.owes());
     fb.addCredit(3);
-    fb.flush(out, "n");
+    fb.flush(out, [] { return "n"; });
     ASSERT_EQ(out.size(), 3u);  // unit 1's part batch, then the credit to unit 0
     EXPECT_EQ(out[1].first, FrameBufferOutbox::target(1));
     EXPECT_EQ(out[1].second.body().contributions.size(), 1u);
@@ -413,7 +413,7 @@ TEST(FrameBufferOutbox, ContributionsWithoutCreditAreABug) {
     FrameBufferOutbox fb(2, 1);
     fb.setCredit(Credit(8));
     fb.add({contribution(1)}, out);
-    EXPECT_THROW(fb.flush(out, "n"), std::logic_error);
+    EXPECT_THROW(fb.flush(out, [] { return "n"; }), std::logic_error);
 }
 
 // ---- The queue's high-water mark (queue_marks.h) ----
