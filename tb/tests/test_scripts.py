@@ -213,6 +213,23 @@ class Scripts(unittest.TestCase):
         self.assertEqual((p.returncode, p.stdout, p.stderr.count("\n")), (2, "", 1), p.stderr)
         self.assertIn("--mib", p.stderr)
 
+    def test_the_split_against_rtref_says_what_the_target_leaves_the_rest(self):
+        """bench_rtsim.py's split against rtref: at 1.5 x rtref's whole run
+        (1.2 + 0.4 s), with 0.6 s of rtsim's tracing, the rest may take
+        1.5 x 1.6 - 0.6 = 1.8 s; at 2.4 s that is a quarter less."""
+        import argparse
+        import bench_rtsim
+        a = argparse.Namespace(scene="/x/balls-4.nff", size="512x512", mesh=4, split_runs=3, version="v")
+        text = bench_rtsim.split_text(a, (0.6, 2.4), (1.2, 0.4), 4_000_000, 999)
+        self.assertIn("| rtsim, exact | 0.60 s | 2.40 s | 3.00 s | 1.88 |", text)
+        self.assertIn("tracing takes 0.50 of rtref's", text)
+        self.assertIn("600 ns a message", text)
+        self.assertIn("at most 1.80 s: 25% less than now.", text)
+        # met: the rest within what the target leaves
+        self.assertIn("(met)", bench_rtsim.split_text(a, (0.6, 1.0), (1.2, 0.4), 4_000_000, 999))
+        # the tracing alone over the target
+        self.assertIn("its tracing alone", bench_rtsim.split_text(a, (3.0, 1.0), (1.2, 0.4), 4_000_000, 999))
+
     def test_the_scaling_split_reads_perf_and_weighs_the_mix(self):
         """bench_scaling.py's split of a profile: the tracing's symbols from
         perf's lines, each kind's cost, and the ratio the mix of events alone
