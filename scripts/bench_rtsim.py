@@ -370,7 +370,8 @@ def split_against_rtref(a, tmp, runs):
     bench_scaling.build("build.sh", "rtsim", "rtref")
     sim_cmd = [RTSIM, "--scene", a.scene, "--size", a.size, "--mesh", str(a.mesh), "--no-baseline", "-q",
                "--image", "", "--report", runs.report]
-    ref_cmd = [RTREF, a.scene, "--size", a.size, "-o", os.path.join(tmp, "split.png")]
+    ref_stats = os.path.join(tmp, "split.json")
+    ref_cmd = [RTREF, a.scene, "--size", a.size, "-o", os.path.join(tmp, "split.png"), "--stats", ref_stats]
     sim, ref = [], []
     for i in range(a.split_runs):
         for name, cmd, into in (("rtref", ref_cmd, ref), ("rtsim", sim_cmd, sim)) if i % 2 else \
@@ -378,17 +379,24 @@ def split_against_rtref(a, tmp, runs):
             into.append(bench_scaling.profiled(cmd, tmp))
             print(f"split, {name}, run {i + 1}: tracing {into[-1][0]:.2f} s, the rest {into[-1][1]:.2f} s",
                   file=sys.stderr)
-    messages = sum(runs.last_report()["totals"]["messages"].values())
+    r = runs.last_report()
+    with open(ref_stats) as f:
+        st = json.load(f)
+    counts = {"messages": sum(r["totals"]["messages"].values()),
+              "tests": sum(n["counters"]["intersection_tests"] for n in r["nodes"]),
+              "ref_tests": st["intersection_tests"], "ref_grid": st["accelerator"]}
     text = split_text(a, [statistics.median(x) for x in zip(*sim)], [statistics.median(x) for x in zip(*ref)],
-                      messages, bench_scaling.PERF_HZ)
+                      counts, bench_scaling.PERF_HZ)
     print(text)
     if a.doc:
         update_doc_section(os.path.join(ROOT, "doc", "exploration.md"), "time against rtref", text)
 
 
-def split_text(a, sim, ref, messages, hz, target=TARGET_EXACT):
+def split_text(a, sim, ref, counts, hz, target=TARGET_EXACT):
     """The split's table and what the target leaves the rest of rtsim:
-    `sim` and `ref` are (tracing, rest) in seconds of samples."""
+    `sim` and `ref` are (tracing, rest) in seconds of samples; `counts`
+    rtsim's messages and intersection tests, rtref's tests and grid."""
+    messages = counts["messages"]
     job = f"{os.path.splitext(os.path.basename(a.scene))[0]} at {a.size}, N = {a.mesh}"
     allowed = target * sum(ref) - sim[0]  # what rtsim's rest may take at the target
     rows = ["| program | tracing | the rest | whole run | against rtref's whole run |", "|---|---:|---:|---:|---:|",
@@ -397,8 +405,9 @@ def split_text(a, sim, ref, messages, hz, target=TARGET_EXACT):
             "",
             f"{job}; medians of {a.split_runs} runs of each under `perf record` ({hz} samples a second, "
             f"alternated), the plain Release build; {machine(BUILD)}; {a.version}. rtsim's tracing takes "
-            f"{sim[0] / ref[0]:.2f} of rtref's (its boxes' grids are finer than rtref's one grid, so a ray tests "
-            f"fewer objects). The rest is {messages:,} messages' handling, {1e9 * sim[1] / messages:.0f} ns a "
+            f"{sim[0] / ref[0]:.2f} of rtref's: its boxes' grids are finer than rtref's one grid "
+            f"({counts['ref_grid']}), and it makes {counts['tests'] / 1e6:.1f} M intersection tests where rtref "
+            f"makes {counts['ref_tests'] / 1e6:.1f} M. The rest is {messages:,} messages' handling, {1e9 * sim[1] / messages:.0f} ns a "
             f"message. At the target, {target} x rtref's whole run, rtsim's rest could take at most "
             f"{max(allowed, 0):.2f} s: " +
             (f"{1 - allowed / sim[1]:.0%} less than now." if 0 < allowed < sim[1] else
