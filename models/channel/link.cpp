@@ -77,17 +77,14 @@ void Link::restart() {
     quiet();
 }
 
-// (Most messages on a link are of one size: rays, or full batches.)
-Picos Link::transferTime(uint32_t bytes) const {
-    if (bytes != lastBytes_) {
-        // (A message of a size the configuration did not bound: a slab of
-        // many objects at a low bandwidth; machine_config.h checks the rest.)
-        if (!(wirePicos(*params_, bytes) <= double(kMaxTimeValue)))
-            throw std::runtime_error(name() + ": a message of " + std::to_string(bytes) + " bytes would take more than 1,000 s on the wire at " +
-                                     formatRate(params_->bandwidth) + " (--link-bandwidth, --link-set)");
-        lastBytes_ = bytes;
-        lastTransfer_ = wireTime(*params_, bytes);
-    }
+Picos Link::newTransferTime(uint32_t bytes) const {
+    // (A message of a size the configuration did not bound: a slab of many
+    // objects at a low bandwidth; machine_config.h checks the rest.)
+    if (!(wirePicos(*params_, bytes) <= double(kMaxTimeValue)))
+        throw std::runtime_error(name() + ": a message of " + std::to_string(bytes) + " bytes would take more than 1,000 s on the wire at " +
+                                 formatRate(params_->bandwidth) + " (--link-bandwidth, --link-set)");
+    lastBytes_ = bytes;
+    lastTransfer_ = wireTime(*params_, bytes);
     return lastTransfer_;
 }
 

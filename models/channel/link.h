@@ -332,7 +332,10 @@ private:
     // back behind it.
     Picos scheduleControl(Picos ready, Picos transfer);
     Message take(int lane, Picos t);
-    Picos transferTime(uint32_t bytes) const;
+    // A message's time on the wire (most messages on a link are of one
+    // size, rays or full batches: the last size's time is kept, inline).
+    Picos transferTime(uint32_t bytes) const { return bytes == lastBytes_ ? lastTransfer_ : newTransferTime(bytes); }
+    Picos newTransferTime(uint32_t bytes) const;
     // The oldest unconsumed message's arrival (~0 if none), and telling the listener.
     Picos headArrival() const {
         const Lane &d = carried().lane(kData), &c = carried().lane(kControl);

@@ -82,6 +82,7 @@ private:
     size_t count_ = 0;                                // in all of them
     bool holds_ = false, holdsSample_ = false;        // credit_, sampleCredit_ not zero
     std::vector<uint32_t> sentSince_;  // per unit: contributions sent since the last credit return
+    bool sentAny_ = false;             // any of them not zero
     int batch_;
     Credit credit_;  // returned credit not yet sent
     Credit sampleCredit_;  // of it apart, the sample's (--sample-end credit)
