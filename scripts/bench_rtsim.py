@@ -3,9 +3,8 @@
 same scene (default balls-4 at 512x512, N = 4) in each fidelity mode, each
 rtsim run between two rtref runs on the same CPU; messages per wall second;
 peak memory; the 16x16x16 mesh on balls-5 at 1024x1024 (time and memory);
-how wall time grows with the mesh size N = 1..8; and where rtsim's time
-goes against rtref's (both under perf: the tracing and the rest, and the
-cut issue 64's target needs in the rest). Prints tables; with
+and how wall time grows with the mesh size N = 1..8 (where rtsim's time
+goes against rtref's: bench_split.py). Prints tables; with
 --doc writes them to doc/benchmarks/rtsim.md. Standard library only; run
 with /usr/bin/python3."""
 import argparse
@@ -19,7 +18,7 @@ import time
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import outputs  # noqa: E402
 from bench_rtref import add_cpu_option, build_fast, machine, pin_to_cpu  # noqa: E402
-from project import BUILD, FAST_BUILD, ROOT, RTREF, RTSIM, run_rtsim, spd_scene, update_doc_section, version  # noqa: E402
+from project import FAST_BUILD, ROOT, run_rtsim, spd_scene, update_doc_section, version  # noqa: E402
 
 
 def timed(cmd):
@@ -56,9 +55,6 @@ def timed(cmd):
 # marks in the report, the same timing), and the fastest setting swept. The
 # target table takes the fastest mode whose error here is under 1 %, and
 # names the fastest that keeps the full report beside it.
-# Issue 64's: the exact mode at most this many times rtref's wall time.
-TARGET_EXACT = 1.5
-
 MODES = [
     ("exact, lockstep", ["--quantum", "0"]),
     ("exact, quantum = lookahead (the default)", []),
@@ -83,10 +79,6 @@ def main():
     ap.add_argument("--tracing-runs", type=int, default=3,
                     help="runs of each tracing case (0 to skip); --tracing-only: only those")
     ap.add_argument("--tracing-only", action="store_true")
-    ap.add_argument("--split-runs", type=int, default=3,
-                    help="runs of rtsim (exact) and of rtref each under perf, for where their time goes (0 to skip); "
-                         "--split-only: only those")
-    ap.add_argument("--split-only", action="store_true")
     ap.add_argument("--against", metavar="BUILD",
                     help="only compare this build's rtsim with BUILD's (an older build folder), alternated run by "
                          "run, --against-runs times each mode; with --doc into doc/benchmarks/rtsim-against.md")
@@ -97,8 +89,7 @@ def main():
                          "doc/exploration.md and doc/waveforms.md (without it: the tables to stdout only)")
     a = ap.parse_args()
     check_arguments(a)
-    if not a.split_only:  # (the split runs the plain build)
-        build_fast()
+    build_fast()
     # The script pins itself: every run, GNU time's child too, inherits it.
     pin = pin_to_cpu(a.cpu, "bench_rtsim")
     # The tree's version before anything is written: the tracing section goes
@@ -111,7 +102,7 @@ def main():
 def check_arguments(a):
     """The inputs and the doc pages written with --doc, before any work."""
     outputs.image_size(a.size)
-    for flag in ("runs", "growth_runs", "big_runs", "tracing_runs", "split_runs", "against_runs"):
+    for flag in ("runs", "growth_runs", "big_runs", "tracing_runs", "against_runs"):
         if getattr(a, flag) < (1 if flag in ("runs", "against_runs") else 0):
             raise outputs.ToolError(f"--{flag.replace('_', '-')} {getattr(a, flag)}: too few")
     outputs.check_input(a.scene, "--scene")
@@ -294,11 +285,9 @@ def benchmark(a, pin, tmp):
     runs = Runs(a, tmp)
     if a.against:
         return against(a, tmp, runs.rtsim, pin)
-    if a.tracing_runs and not a.split_only:
+    if a.tracing_runs:
         tracing(a, tmp, runs.rtsim, runs.report)
-    if a.split_runs and not a.tracing_only:
-        split_against_rtref(a, tmp, runs)
-    if a.tracing_only or a.split_only:
+    if a.tracing_only:
         return
     redos, reruns = {}, {}  # by mode: runs made again, modes measured again
     measured = measure_modes(runs, redos, reruns)
@@ -351,68 +340,6 @@ def tracing(a, tmp, rtsim, report):
     print(text)
     if a.doc:
         update_doc_section(os.path.join(ROOT, "doc", "waveforms.md"), "tracing overhead", text)
-
-
-def split_against_rtref(a, tmp, runs):
-    """Where rtsim's time goes against rtref's, on the benchmark's job in
-    the exact mode: each program run --split-runs times under `perf record`,
-    alternated, in the plain Release build (whose profile keeps the
-    region's trace a function of its own), its samples split as
-    bench_scaling.py splits them: the tracing (the grid walk, intersection
-    tests, shading: work both programs do) and the rest (for rtsim the
-    messages, links, frame buffer, the nodes' loops and the kernel; for
-    rtref the scene's parse and the PNG). From the medians, what issue 64's
-    target (rtsim at most 1.5 x rtref) leaves the rest of rtsim, and the
-    cut that needs. Into doc/exploration.md's "time against rtref"
-    section."""
-    import bench_scaling  # (here: it imports this script's timed)
-    bench_scaling.build("setup.sh", "bench")  # perf
-    bench_scaling.build("build.sh", "rtsim", "rtref")
-    sim_cmd = [RTSIM, "--scene", a.scene, "--size", a.size, "--mesh", str(a.mesh), "--no-baseline", "-q",
-               "--image", "", "--report", runs.report]
-    ref_stats = os.path.join(tmp, "split.json")
-    ref_cmd = [RTREF, a.scene, "--size", a.size, "-o", os.path.join(tmp, "split.png"), "--stats", ref_stats]
-    sim, ref = [], []
-    for i in range(a.split_runs):
-        for name, cmd, into in (("rtref", ref_cmd, ref), ("rtsim", sim_cmd, sim)) if i % 2 else \
-                (("rtsim", sim_cmd, sim), ("rtref", ref_cmd, ref)):
-            into.append(bench_scaling.profiled(cmd, tmp))
-            print(f"split, {name}, run {i + 1}: tracing {into[-1][0]:.2f} s, the rest {into[-1][1]:.2f} s",
-                  file=sys.stderr)
-    r = runs.last_report()
-    with open(ref_stats) as f:
-        st = json.load(f)
-    counts = {"messages": sum(r["totals"]["messages"].values()),
-              "tests": sum(n["counters"]["intersection_tests"] for n in r["nodes"]),
-              "ref_tests": st["intersection_tests"], "ref_grid": st["accelerator"]}
-    text = split_text(a, [statistics.median(x) for x in zip(*sim)], [statistics.median(x) for x in zip(*ref)],
-                      counts, bench_scaling.PERF_HZ)
-    print(text)
-    if a.doc:
-        update_doc_section(os.path.join(ROOT, "doc", "exploration.md"), "time against rtref", text)
-
-
-def split_text(a, sim, ref, counts, hz, target=TARGET_EXACT):
-    """The split's table and what the target leaves the rest of rtsim:
-    `sim` and `ref` are (tracing, rest) in seconds of samples; `counts`
-    rtsim's messages and intersection tests, rtref's tests and grid."""
-    messages = counts["messages"]
-    job = f"{os.path.splitext(os.path.basename(a.scene))[0]} at {a.size}, N = {a.mesh}"
-    allowed = target * sum(ref) - sim[0]  # what rtsim's rest may take at the target
-    rows = ["| program | tracing | the rest | whole run | against rtref's whole run |", "|---|---:|---:|---:|---:|",
-            f"| rtref | {ref[0]:.2f} s | {ref[1]:.2f} s | {sum(ref):.2f} s | 1.00 |",
-            f"| rtsim, exact | {sim[0]:.2f} s | {sim[1]:.2f} s | {sum(sim):.2f} s | {sum(sim) / sum(ref):.2f} |",
-            "",
-            f"{job}; medians of {a.split_runs} runs of each under `perf record` ({hz} samples a second, "
-            f"alternated), the plain Release build; {machine(BUILD)}; {a.version}. rtsim's tracing takes "
-            f"{sim[0] / ref[0]:.2f} of rtref's: its boxes' grids are finer than rtref's one grid "
-            f"({counts['ref_grid']}), and it makes {counts['tests'] / 1e6:.1f} M intersection tests where rtref "
-            f"makes {counts['ref_tests'] / 1e6:.1f} M. The rest is {messages:,} messages' handling, {1e9 * sim[1] / messages:.0f} ns a "
-            f"message. At the target, {target} x rtref's whole run, rtsim's rest could take at most "
-            f"{max(allowed, 0):.2f} s: " +
-            (f"{1 - allowed / sim[1]:.0%} less than now." if 0 < allowed < sim[1] else
-             "as now or more (met)." if allowed >= sim[1] else "nothing: its tracing alone is over the target.")]
-    return "\n".join(rows)
 
 
 def against(a, tmp, rtsim, pin):

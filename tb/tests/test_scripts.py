@@ -214,23 +214,23 @@ class Scripts(unittest.TestCase):
         self.assertIn("--mib", p.stderr)
 
     def test_the_split_against_rtref_says_what_the_target_leaves_the_rest(self):
-        """bench_rtsim.py's split against rtref: at 1.5 x rtref's whole run
+        """bench_split.py's split against rtref: at 1.5 x rtref's whole run
         (1.2 + 0.4 s), with 0.6 s of rtsim's tracing, the rest may take
         1.5 x 1.6 - 0.6 = 1.8 s; at 2.4 s that is a quarter less."""
         import argparse
-        import bench_rtsim
-        a = argparse.Namespace(scene="/x/balls-4.nff", size="512x512", mesh=4, split_runs=3, version="v")
+        import bench_split
+        a = argparse.Namespace(scene="/x/balls-4.nff", size="512x512", mesh=4, runs=3, version="v")
         counts = {"messages": 4_000_000, "tests": 3_000_000, "ref_tests": 30_000_000, "ref_grid": "grid 2x2x2"}
-        text = bench_rtsim.split_text(a, (0.6, 2.4), (1.2, 0.4), counts, 999)
+        text = bench_split.split_text(a, (0.6, 2.4), (1.2, 0.4), counts, 999)
         self.assertIn("| rtsim, exact | 0.60 s | 2.40 s | 3.00 s | 1.88 |", text)
         self.assertIn("tracing takes 0.50 of rtref's: its boxes' grids are finer than rtref's one grid (grid 2x2x2), "
                       "and it makes 3.0 M intersection tests where rtref makes 30.0 M.", text)
         self.assertIn("600 ns a message", text)
         self.assertIn("at most 1.80 s: 25% less than now.", text)
         # met: the rest within what the target leaves
-        self.assertIn("(met)", bench_rtsim.split_text(a, (0.6, 1.0), (1.2, 0.4), counts, 999))
+        self.assertIn("(met)", bench_split.split_text(a, (0.6, 1.0), (1.2, 0.4), counts, 999))
         # the tracing alone over the target
-        self.assertIn("its tracing alone", bench_rtsim.split_text(a, (3.0, 1.0), (1.2, 0.4), counts, 999))
+        self.assertIn("its tracing alone", bench_split.split_text(a, (3.0, 1.0), (1.2, 0.4), counts, 999))
 
     def test_the_scaling_split_reads_perf_and_weighs_the_mix(self):
         """bench_scaling.py's split of a profile: the tracing's symbols from
