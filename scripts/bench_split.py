@@ -45,7 +45,7 @@ def main():
 
 def split_against_rtref(a, tmp):
     """Where rtsim's time goes against rtref's, on the benchmark's job in
-    the exact mode: each program run --split-runs times under `perf record`,
+    the exact mode: each program run --runs times under `perf record`,
     alternated, in the plain Release build (whose profile keeps the
     region's trace a function of its own), its samples split as
     bench_scaling.py splits them: the tracing (the grid walk, intersection
@@ -71,9 +71,8 @@ def split_against_rtref(a, tmp):
         r = json.load(f)
     with open(ref_stats) as f:
         st = json.load(f)
-    counts = {"messages": sum(r["totals"]["messages"].values()),
-              "tests": sum(n["counters"]["intersection_tests"] for n in r["nodes"]),
-              "ref_tests": st["intersection_tests"], "ref_grid": st["accelerator"]}
+    _, tests, messages = bench_scaling.events(r)
+    counts = {"messages": messages, "tests": tests, "ref_tests": st["intersection_tests"], "ref_grid": st["accelerator"]}
     text = split_text(a, [statistics.median(x) for x in zip(*sim)], [statistics.median(x) for x in zip(*ref)],
                       counts, bench_scaling.PERF_HZ)
     print(text)
